@@ -1,0 +1,148 @@
+#include "engine/profile.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace ringtol::engine {
+
+PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Harmonic> harmonics)
+    : radius_(radius), mean_deviation_(mean_deviation), harmonics_(std::move(harmonics)) {
+  if (!(radius > 0.0) || !std::isfinite(radius)) {
+    throw std::invalid_argument("PolarProfile: radius must be positive and finite");
+  }
+  int max_order = 0;
+  for (const Harmonic& h : harmonics_) {
+    if (h.order < 1) throw std::invalid_argument("PolarProfile: harmonic order must be >= 1");
+    if (h.amplitude != 0.0) max_order = std::max(max_order, h.order);
+  }
+  cos_coefficients_.assign(static_cast<std::size_t>(max_order) + 1, 0.0);
+  sin_coefficients_.assign(static_cast<std::size_t>(max_order) + 1, 0.0);
+  for (const Harmonic& h : harmonics_) {
+    if (h.amplitude == 0.0) continue;
+    const auto n = static_cast<std::size_t>(h.order);
+    cos_coefficients_[n] += h.amplitude * std::cos(h.phase);
+    sin_coefficients_[n] += h.amplitude * std::sin(h.phase);
+  }
+}
+
+double PolarProfile::cos_coefficient(int n) const {
+  return n >= 0 && n <= max_order() ? cos_coefficients_[static_cast<std::size_t>(n)] : 0.0;
+}
+
+double PolarProfile::sin_coefficient(int n) const {
+  return n >= 0 && n <= max_order() ? sin_coefficients_[static_cast<std::size_t>(n)] : 0.0;
+}
+
+RadiusDerivatives PolarProfile::Evaluate(double theta) const {
+  RadiusDerivatives d{radius_ + mean_deviation_, 0.0, 0.0};
+  const std::size_t orders = cos_coefficients_.size();
+  if (orders == 1) return d;
+  // cos(n theta), sin(n theta) by the angle-addition recurrence: one sincos per call
+  // instead of one per order, which dominates the cost of a contact search.
+  const double c1 = std::cos(theta);
+  const double s1 = std::sin(theta);
+  double cn = c1;
+  double sn = s1;
+  for (std::size_t n = 1; n < orders; ++n) {
+    const double a = cos_coefficients_[n];
+    const double b = sin_coefficients_[n];
+    const double nn = static_cast<double>(n);
+    const double value = a * cn - b * sn;
+    d.r += value;
+    d.dr -= nn * (a * sn + b * cn);
+    d.ddr -= nn * nn * value;
+    const double next_c = cn * c1 - sn * s1;
+    sn = sn * c1 + cn * s1;
+    cn = next_c;
+  }
+  return d;
+}
+
+double Curvature(const RadiusDerivatives& d) {
+  const double q = d.r * d.r + d.dr * d.dr;
+  return (q + d.dr * d.dr - d.r * d.ddr) / (q * std::sqrt(q));
+}
+
+SupportPoint PolarProfile::Support(double phi, double theta_guess) const {
+  if (is_circle()) {
+    const double r = radius_ + mean_deviation_;
+    return {phi, r, 0.0, r};
+  }
+  // Solve nu(theta) = theta - atan2(r', r) = phi. |atan2(r', r)| < pi/2 while r > 0, so
+  // the root lies in (phi - pi/2, phi + pi/2): a bracket that makes the safeguarded
+  // Newton iteration below converge for any amplitude as long as the outline is convex.
+  constexpr double kHalfPi = std::numbers::pi / 2.0;
+  constexpr double kThetaTolerance = 1e-14;  // [rad] ~ 50 ulp of 2 pi
+  constexpr int kMaxIterations = 100;        // bisection alone needs < 60 from width pi
+  double lo = phi - kHalfPi;
+  double hi = phi + kHalfPi;
+  double theta = phi + std::remainder(theta_guess - phi, 2.0 * std::numbers::pi);
+  if (!(theta > lo && theta < hi)) theta = phi;
+  RadiusDerivatives d{};
+  for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+    d = Evaluate(theta);
+    const double q = d.r * d.r + d.dr * d.dr;
+    const double f = theta - std::atan2(d.dr, d.r) - phi;
+    const double df = (q + d.dr * d.dr - d.r * d.ddr) / q;
+    if (f < 0.0) lo = theta; else hi = theta;
+    const double step = -f / df;
+    if (df > 0.0 && std::abs(step) <= kThetaTolerance) break;  // h is stationary in theta
+    double next = theta + step;
+    if (!(df > 0.0) || !(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    theta = next;
+  }
+  // At the root cos(theta - phi) = r / sqrt(q) and sin(theta - phi) = r' / sqrt(q).
+  const double q = d.r * d.r + d.dr * d.dr;
+  const double root_q = std::sqrt(q);
+  return {theta, d.r * d.r / root_q, d.r * d.dr / root_q,
+          q * root_q / (q + d.dr * d.dr - d.r * d.ddr)};
+}
+
+template <typename F>
+double PolarProfile::ExtremeOverOutline(F f, bool maximum) const {
+  const int samples = 64 * std::max(1, max_order());
+  const double step = 2.0 * std::numbers::pi / samples;
+  const double sign = maximum ? -1.0 : 1.0;  // minimise sign * f
+  int best = 0;
+  double best_value = sign * f(0.0);
+  for (int k = 1; k < samples; ++k) {
+    const double value = sign * f(k * step);
+    if (value < best_value) {
+      best_value = value;
+      best = k;
+    }
+  }
+  // Golden-section refinement of the sampled extreme within its neighbouring samples.
+  const double inv_phi = (std::sqrt(5.0) - 1.0) / 2.0;
+  double a = (best - 1) * step;
+  double b = (best + 1) * step;
+  double x1 = b - inv_phi * (b - a);
+  double x2 = a + inv_phi * (b - a);
+  double f1 = sign * f(x1);
+  double f2 = sign * f(x2);
+  while (b - a > 1e-10) {
+    if (f1 < f2) {
+      b = x2; x2 = x1; f2 = f1; x1 = b - inv_phi * (b - a); f1 = sign * f(x1);
+    } else {
+      a = x1; x1 = x2; f1 = f2; x2 = a + inv_phi * (b - a); f2 = sign * f(x2);
+    }
+  }
+  return sign * std::min({best_value, f1, f2});
+}
+
+double PolarProfile::MinCurvature() const {
+  return ExtremeOverOutline([this](double t) { return Curvature(Evaluate(t)); }, false);
+}
+double PolarProfile::MaxCurvature() const {
+  return ExtremeOverOutline([this](double t) { return Curvature(Evaluate(t)); }, true);
+}
+double PolarProfile::MinRadius() const {
+  return ExtremeOverOutline([this](double t) { return Evaluate(t).r; }, false);
+}
+double PolarProfile::MaxRadius() const {
+  return ExtremeOverOutline([this](double t) { return Evaluate(t).r; }, true);
+}
+
+}  // namespace ringtol::engine

@@ -1,0 +1,88 @@
+// A closed convex outline given as a polar Fourier series about its body's centre:
+//   r(theta) = radius + mean_deviation + sum_n C_n cos(n theta + phi_n)      [m], theta [rad]
+// The ring's inner surface and each roller's outer surface are PolarProfiles.
+//
+// Support(phi) answers the question contact geometry asks of a convex body: which point
+// of the outline has its outward normal at body-frame angle phi, how far does the body
+// reach in that direction (the support function h), and how curved is it there. For a
+// convex outline the normal angle nu(theta) = theta - atan2(r', r) increases
+// monotonically, which makes that inverse well posed and bracketed.
+#pragma once
+
+#include <vector>
+
+namespace ringtol::engine {
+
+struct Harmonic {
+  int order = 0;           // [-] undulations per revolution, >= 1
+  double amplitude = 0.0;  // [m] radial deviation C_n, >= 0
+  double phase = 0.0;      // [rad] phi_n in C_n cos(n theta + phi_n)
+};
+
+// r and its first two derivatives with respect to the body angle.
+struct RadiusDerivatives {
+  double r = 0.0;    // [m]
+  double dr = 0.0;   // [m/rad]
+  double ddr = 0.0;  // [m/rad^2]
+};
+
+// The outline's reach in one direction.
+struct SupportPoint {
+  double theta = 0.0;             // [rad] body angle of the touching point
+  double h = 0.0;                 // [m] support function: max over the outline of x . n(phi)
+  double dh = 0.0;                // [m/rad] dh/dphi: the touching point's coordinate along the tangent
+  double curvature_radius = 0.0;  // [m] radius of curvature at the touching point; h'' = this - h
+};
+
+class PolarProfile {
+ public:
+  PolarProfile() = default;
+  // radius > 0 [m]; harmonics of equal order add up. Throws std::invalid_argument for a
+  // non-positive radius or an order < 1 (callers validate input files before this).
+  PolarProfile(double radius, double mean_deviation, std::vector<Harmonic> harmonics);
+
+  double radius() const { return radius_; }  // nominal radius [m]
+  double mean_deviation() const { return mean_deviation_; }
+  const std::vector<Harmonic>& harmonics() const { return harmonics_; }
+  int max_order() const { return static_cast<int>(cos_coefficients_.size()) - 1; }
+  bool is_circle() const { return max_order() == 0; }
+  // a_n and b_n of r = radius + mean + sum_n (a_n cos n theta - b_n sin n theta) [m];
+  // zero for orders above max_order().
+  double cos_coefficient(int n) const;
+  double sin_coefficient(int n) const;
+
+  RadiusDerivatives Evaluate(double theta) const;
+
+  // Support point for the outward normal at body angle phi [rad]. theta_guess speeds up
+  // the search when close (warm start along a trajectory); the answer does not depend on
+  // it. Requires IsConvex(); on a non-convex outline the result is one of the points with
+  // that normal, not necessarily the outermost.
+  SupportPoint Support(double phi, double theta_guess) const;
+
+  // Radius of curvature extremes over the whole outline [m], found by dense sampling
+  // (64 points per undulation of the highest order) refined by golden-section search.
+  // Negative curvature radius (or a sign change of the curvature) means non-convex.
+  double MinCurvature() const;  // [1/m] smallest signed curvature over the outline
+  double MaxCurvature() const;  // [1/m] largest signed curvature over the outline
+  bool IsConvex() const { return MinCurvature() > 0.0; }
+
+  // Bounds of r(theta) over the outline [m] (dense sampling, same as above).
+  double MinRadius() const;
+  double MaxRadius() const;
+
+ private:
+  template <typename F>
+  double ExtremeOverOutline(F f, bool maximum) const;
+
+  double radius_ = 0.0;
+  double mean_deviation_ = 0.0;
+  std::vector<Harmonic> harmonics_;
+  // r = radius + mean + sum_n (a_n cos n theta - b_n sin n theta), index n = 0..max_order
+  std::vector<double> cos_coefficients_{0.0};
+  std::vector<double> sin_coefficients_{0.0};
+};
+
+// Signed curvature of a polar curve [1/m]: (r^2 + 2 r'^2 - r r'') / (r^2 + r'^2)^(3/2).
+double Curvature(const RadiusDerivatives& d);
+
+}  // namespace ringtol::engine

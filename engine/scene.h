@@ -1,0 +1,121 @@
+// The assembly ringtol simulates (model.md §1–§4), in SI units. Conventions are in
+// engine/conventions.h. A Scene is a plain value: the input reader in jobs/ fills it and
+// validates every field; solvers take it by const reference and never keep it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/conventions.h"
+#include "engine/profile.h"
+
+namespace ringtol::engine {
+
+struct Ring {
+  PolarProfile inner;          // inner (running) surface in the ring frame; radius() = R [m]
+  double outer_radius = 0.0;   // [m]
+  double thickness = 0.0;      // [m] axial
+  double mass = 0.0;           // [kg]
+  double spin_inertia = 0.0;   // [kg m^2] about z through the centre
+};
+
+enum class RollerMount { kFixed, kSpring };
+
+struct Spring {
+  double stiffness = 0.0;     // [N/m] k_b >= 0
+  double preload = 0.0;       // [N] > 0, force at zero travel, pushing the roller along +axis
+  double axis_angle = 0.0;    // [rad] global angle of the travel axis u
+  double travel_limit = 0.0;  // [m] > 0; |travel| beyond it means the assembly cannot close
+};
+
+struct Roller {
+  std::string name;
+  double angle = 0.0;               // [rad] nominal angle of the centre
+  double centre_radius = 0.0;       // [m] nominal radius of the centre circle (R - r_b)
+  double radial_offset = 0.0;       // [m] own position error, outward
+  double tangential_offset = 0.0;   // [m] own position error, counter-clockwise
+  PolarProfile outline;             // outer surface in the roller frame; radius() = r_b
+  ShapePhaseReference phase_reference = ShapePhaseReference::kRadial;
+  double spin_phase = 0.0;          // [rad] extra body rotation at psi = 0
+  RollerMount mount = RollerMount::kFixed;
+  Spring spring;                    // used when mount == kSpring
+  double mass = 0.0;                // [kg]
+  double spin_inertia = 0.0;        // [kg m^2]
+};
+
+// Normal contact law, model.md §4: F = k delta^e + STEP(delta, 0, 0, d, c_max) delta'.
+struct ContactLaw {
+  enum class Model { kRigid, kPenalty };
+  Model model = Model::kPenalty;
+  double stiffness = 1.0e7;                 // [N/m^e] k
+  double exponent = 1.5;                    // [-] e >= 1
+  double max_damping = 1.0e5;               // [N s/m] c_max
+  double full_damping_penetration = 1e-6;   // [m] d
+};
+
+// Coulomb friction with stiction, model.md §4 (used by the dynamic solver).
+struct Friction {
+  double static_coefficient = 0.61;   // [-] mu_s
+  double dynamic_coefficient = 0.47;  // [-] mu_d
+  double stiction_velocity = 0.010;   // [m/s] v_s
+  double transition_velocity = 0.050; // [m/s] v_d > v_s
+};
+
+struct Scene {
+  Ring ring;
+  std::vector<Roller> rollers;
+  // The paper's form of roller position errors: a radial series evaluated at each
+  // roller's nominal angle on the centre circle, added to each roller's own offsets.
+  // Its radius() is unused (only mean_deviation and harmonics).
+  PolarProfile roller_positions{1.0, 0.0, {}};
+  ContactLaw contact;
+  Friction friction;
+  double sensor_angle = 0.0;  // [rad] global direction in which the runout sensor looks
+};
+
+// Unit vector at angle a.
+inline Eigen::Vector2d Direction(double a) { return {std::cos(a), std::sin(a)}; }
+
+// Radial position error of roller i: own offset plus the scene's series at its angle [m].
+double RadialPositionError(const Scene& scene, int i);
+
+// Centre of roller i at zero spring travel, position errors included [m].
+Eigen::Vector2d RollerCentre(const Scene& scene, int i);
+
+// Spin ratio R / r_b of roller i: radians of roller spin per radian of ring rotation.
+double SpinRatio(const Scene& scene, int i);
+
+// Global angle of roller i's body x axis when the ring has turned by psi [rad].
+double RollerBodyAngle(const Scene& scene, int i, double psi);
+
+// Travel axis of roller i (spring rollers), unit vector.
+Eigen::Vector2d SpringAxis(const Scene& scene, int i);
+
+int SpringRollerCount(const Scene& scene);
+int FixedRollerCount(const Scene& scene);
+
+// The same assembly with every shape and position error removed: the reference for the
+// static offset, so the contact compliance of a perfect assembly is not counted as error.
+Scene WithoutErrors(const Scene& scene);
+
+// Fastest undulation rate the centre path can contain [cycles per ring revolution]:
+// ring orders pass at their order, roller orders at order * R / r_b.
+double FastestHarmonicRate(const Scene& scene);
+
+// What stops a scene from being simulated at all, found from geometry alone.
+enum class GeometryIssue {
+  kNone,
+  kRingNotConvex,     // the ring's bore has an inward bump: contact is not unique
+  kRollerNotConvex,   // a roller's outline has a dent
+  kRollerDoesNotFit,  // a roller reaches beyond the ring's bore or through its own centre
+};
+struct GeometryCheck {
+  GeometryIssue issue = GeometryIssue::kNone;
+  int roller = -1;       // the roller concerned, or -1
+  std::string message;   // human-readable reason with numbers in mm
+};
+GeometryCheck CheckGeometry(const Scene& scene);
+
+}  // namespace ringtol::engine

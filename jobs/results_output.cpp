@@ -1,0 +1,136 @@
+#include "jobs/results_output.h"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <numbers>
+
+namespace ringtol::jobs {
+namespace {
+
+constexpr double kMm = 1e3;  // metres -> millimetres
+
+// The columns of the sweep table and CSV, in order, with their display format.
+struct Column {
+  const char* key;
+  const char* header;
+  int width;
+  int decimals;
+};
+constexpr Column kColumns[] = {
+    {"d_trajectory_mm", "D_traj mm", 10, 4},   {"dist_init_mm", "Dist_init mm", 12, 4},
+    {"static_offset_mm", "offset mm", 10, 4},  {"runout_mm", "runout mm", 10, 4},
+    {"min_contact_force_N", "min F N", 8, 3},
+};
+
+std::string Cell(const nlohmann::json& value, int decimals) {
+  if (value.is_null()) return "-";
+  if (value.is_number()) return fmt::format("{:.{}f}", value.get<double>(), decimals);
+  if (value.is_string()) return value.get<std::string>();
+  return value.dump();
+}
+
+}  // namespace
+
+nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationResult& result,
+                          std::string_view solver, double solve_seconds, const std::string& case_name) {
+  nlohmann::json j;
+  if (!case_name.empty()) j["case"] = case_name;
+  j["solver"] = std::string(solver);
+  j["status"] = std::string(solvers::StatusName(result.status));
+  if (result.status != solvers::Status::kOk) j["message"] = result.message;
+  j["steps"] = result.steps;
+  const bool ok = result.status == solvers::Status::kOk;
+  auto metric = [&](double value, double scale) { return ok ? nlohmann::json(value * scale) : nlohmann::json(); };
+  j["d_trajectory_mm"] = metric(result.d_trajectory, kMm);
+  j["dist_init_mm"] = metric(result.dist_init, kMm);
+  j["static_offset_mm"] = metric(result.static_offset, kMm);
+  j["runout_mm"] = metric(result.runout, kMm);
+  j["runout_total_mm"] = metric(result.runout_total, kMm);
+  j["min_contact_force_N"] = metric(result.min_contact_force, 1.0);
+  nlohmann::json forces = nlohmann::json::array();
+  if (ok) {
+    for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+      forces.push_back({{"roller", scene.rollers[i].name},
+                        {"min", result.contact_force[i].min},
+                        {"max", result.contact_force[i].max}});
+    }
+  }
+  j["contact_force_N"] = forces;
+  j["solve_time_ms"] = solve_seconds * 1e3;
+  return j;
+}
+
+void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::SimulationResult& result,
+                 std::string_view solver, double solve_seconds) {
+  fmt::print(out, "solver            {} ({} steps, {:.3f} ms)\n", solver, result.steps, solve_seconds * 1e3);
+  fmt::print(out, "status            {}\n", solvers::StatusName(result.status));
+  if (result.status != solvers::Status::kOk) {
+    fmt::print(out, "reason            {}\n", result.message);
+    return;
+  }
+  fmt::print(out, "D_trajectory      {:.4f} mm\n", result.d_trajectory * kMm);
+  fmt::print(out, "Dist_init         {:.4f} mm\n", result.dist_init * kMm);
+  fmt::print(out, "static offset     {:.4f} mm\n", result.static_offset * kMm);
+  fmt::print(out, "runout            {:.4f} mm peak to nearest valley, {:.4f} mm total (sensor at {:g} deg)\n",
+             result.runout * kMm, result.runout_total * kMm, scene.sensor_angle * 180.0 / std::numbers::pi);
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    fmt::print(out, "contact force     {:<10} {:.3f} .. {:.3f} N\n", scene.rollers[i].name,
+               result.contact_force[i].min, result.contact_force[i].max);
+  }
+}
+
+void PrintSweepTable(std::ostream& out, const std::vector<nlohmann::json>& rows) {
+  std::size_t case_width = 4;
+  for (const nlohmann::json& row : rows) case_width = std::max(case_width, row.value("case", std::string()).size());
+  fmt::print(out, "{:<{}}  {:<10}", "case", case_width, "status");
+  for (const Column& c : kColumns) fmt::print(out, "  {:>{}}", c.header, c.width);
+  fmt::print(out, "\n");
+  for (const nlohmann::json& row : rows) {
+    fmt::print(out, "{:<{}}  {:<10}", row.value("case", std::string()), case_width, row["status"].get<std::string>());
+    for (const Column& c : kColumns) fmt::print(out, "  {:>{}}", Cell(row[c.key], c.decimals), c.width);
+    if (row.contains("message")) fmt::print(out, "  {}", row["message"].get<std::string>());
+    fmt::print(out, "\n");
+  }
+}
+
+void WriteSweepCsv(std::ostream& out, const std::vector<nlohmann::json>& rows) {
+  fmt::print(out, "case,solver,status,steps");
+  for (const Column& c : kColumns) fmt::print(out, ",{}", c.key);
+  fmt::print(out, ",runout_total_mm,solve_time_ms,message\n");
+  auto quoted = [](const std::string& s) {
+    std::string q = "\"";
+    for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+    return q + "\"";
+  };
+  for (const nlohmann::json& row : rows) {
+    fmt::print(out, "{},{},{},{}", quoted(row.value("case", std::string())), row["solver"].get<std::string>(),
+               row["status"].get<std::string>(), row["steps"].get<int>());
+    for (const Column& c : kColumns) fmt::print(out, ",{}", row[c.key].is_null() ? "" : fmt::format("{:.9g}", row[c.key].get<double>()));
+    fmt::print(out, ",{},{:.6g},{}\n",
+               row["runout_total_mm"].is_null() ? "" : fmt::format("{:.9g}", row["runout_total_mm"].get<double>()),
+               row["solve_time_ms"].get<double>(), quoted(row.value("message", std::string())));
+  }
+}
+
+void WriteTrajectoryCsv(std::ostream& out, const engine::Scene& scene, const solvers::SimulationResult& result) {
+  const solvers::Trajectory& path = result.trajectory;
+  const std::size_t z = scene.rollers.size();
+  fmt::print(out, "psi_deg,x_mm,y_mm,sensor_mm");
+  for (const engine::Roller& r : scene.rollers) {
+    if (r.mount == engine::RollerMount::kSpring) fmt::print(out, ",travel_{}_mm", r.name);
+  }
+  for (const engine::Roller& r : scene.rollers) fmt::print(out, ",force_{}_N", r.name);
+  fmt::print(out, "\n");
+  for (std::size_t k = 0; k < path.psi.size(); ++k) {
+    fmt::print(out, "{:.9g},{:.9g},{:.9g},{:.9g}", path.psi[k] * 180.0 / std::numbers::pi, path.centre[k].x() * kMm,
+               path.centre[k].y() * kMm, k < result.sensor.size() ? result.sensor[k] * kMm : 0.0);
+    for (std::size_t i = 0; i < z; ++i) {
+      if (scene.rollers[i].mount == engine::RollerMount::kSpring) fmt::print(out, ",{:.9g}", path.travel[k * z + i] * kMm);
+    }
+    for (std::size_t i = 0; i < z; ++i) fmt::print(out, ",{:.9g}", path.contact_force[k * z + i]);
+    fmt::print(out, "\n");
+  }
+}
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,38 @@
+// How simulation results leave ringtol: JSON objects (the stable interface for scripts),
+// aligned text tables for people, and CSV files. Output units are mm, N and degrees,
+// with the unit in every key name.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/scene.h"
+#include "solvers/simulation.h"
+
+namespace ringtol::jobs {
+
+// One simulation as a JSON object: solver, status (and message when not "ok"), steps,
+// d_trajectory_mm, dist_init_mm, static_offset_mm, runout_mm, runout_total_mm,
+// min_contact_force_N, contact_force_N (per roller min/max), solve_time_ms. Metrics are
+// null when the status is not "ok". `case_name` adds a "case" key when non-empty.
+nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationResult& result,
+                          std::string_view solver, double solve_seconds, const std::string& case_name = "");
+
+// Human-readable block for `ringtol simulate`.
+void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::SimulationResult& result,
+                 std::string_view solver, double solve_seconds);
+
+// Aligned table, one row per sweep case.
+void PrintSweepTable(std::ostream& out, const std::vector<nlohmann::json>& rows);
+
+// CSV with one row per sweep case and the JSON keys as columns.
+void WriteSweepCsv(std::ostream& out, const std::vector<nlohmann::json>& rows);
+
+// The path over the revolution: psi_deg, x_mm, y_mm, sensor_mm, then travel_<roller>_mm
+// for spring rollers and force_<roller>_N for every roller.
+void WriteTrajectoryCsv(std::ostream& out, const engine::Scene& scene, const solvers::SimulationResult& result);
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,81 @@
+// Force balance of the ring and its spring rollers at one ring angle: the system of
+// equations the quasistatic solver iterates on and the linear solver linearises.
+//
+// Unknowns x = [ring centre (2) [m]; travel of each spring roller (m) [m];
+//               contact force of each roller (Z) [N], rigid contact only].
+// Equations:  sum_i F_i n_i = 0                               ring, 2 rows [N]
+//             (P_j - k_j s_j) - F_j (n_j . u_j) = 0            each spring roller [N]
+//             K_ref g_i = 0                                    each contact, rigid only [N]
+// with F_i = k max(-g_i, 0)^e under the penalty law. Because the contact search minimises
+// the gap over the normal direction, dg/dx is the normal (envelope theorem) and the
+// normal turns at dphi/dx = -(dg'/dx) / g'': the Jacobian is analytic.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/contact.h"
+#include "engine/scene.h"
+
+namespace ringtol::solvers {
+
+// A contact followed along a trajectory: the last answer is the next search's start.
+struct TrackedContact {
+  engine::Contact contact;
+  bool valid = false;
+  double ring_offset = 0.0;    // [rad] touching point's body angle minus its normal's body angle
+  double roller_offset = 0.0;  // [rad] same for the roller
+};
+
+class EquilibriumSystem {
+ public:
+  // Keeps a reference: the scene must outlive the system.
+  explicit EquilibriumSystem(const engine::Scene& scene);
+
+  int size() const { return size_; }
+  int rollers() const { return static_cast<int>(scene_.rollers.size()); }
+  bool rigid() const { return rigid_; }
+  const engine::Scene& scene() const { return scene_; }
+  // Index of roller i's travel in x, or -1 for a fixed roller.
+  int travel_index(int i) const { return travel_index_[static_cast<std::size_t>(i)]; }
+  // Index of roller i's contact force in x (rigid only), or -1.
+  int force_index(int i) const { return rigid_ ? 2 + springs_ + i : -1; }
+
+  // Scale of the rigid gap rows [N/m]: makes 1e-12 m of gap weigh like 1e-6 N of force.
+  static constexpr double kGapRowScale = 1e6;
+
+  engine::BodyPose RingPose(double psi, const Eigen::VectorXd& x) const;
+  engine::BodyPose RollerPose(int i, double psi, const Eigen::VectorXd& x) const;
+
+  // Finds every contact for state x at ring angle psi, warm-started from `contacts`.
+  // Returns the index of the first roller whose search failed, or -1.
+  int UpdateContacts(double psi, const Eigen::VectorXd& x, std::vector<TrackedContact>& contacts) const;
+
+  // Contact force of roller i [N] and its derivative with respect to the gap [N/m]
+  // (penalty law; rigid forces are unknowns of x).
+  double ContactForce(int i, const Eigen::VectorXd& x, const engine::Contact& c) const;
+
+  // Residual at x for the given contacts; optionally the Jacobian d r/d x and the
+  // sensitivity d r/d(additive gap offset of each contact), size() x rollers().
+  void Evaluate(const Eigen::VectorXd& x, const std::vector<TrackedContact>& contacts, Eigen::VectorXd& residual,
+                Eigen::MatrixXd* jacobian, Eigen::MatrixXd* gap_sensitivity = nullptr) const;
+
+  // Convergence scale of each unknown: position tolerance for lengths, force tolerance
+  // for forces.
+  Eigen::VectorXd Tolerances(double position_tolerance, double force_tolerance) const;
+
+ private:
+  double PenaltyForce(double gap) const;
+  double PenaltyStiffness(double gap) const;
+
+  const engine::Scene& scene_;
+  bool rigid_ = false;
+  int springs_ = 0;
+  int size_ = 0;
+  std::vector<int> travel_index_;
+  std::vector<Eigen::Vector2d> roller_centres_;  // [m] at zero travel, errors included
+  std::vector<Eigen::Vector2d> axes_;            // unit travel axes (spring rollers)
+};
+
+}  // namespace ringtol::solvers

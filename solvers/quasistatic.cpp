@@ -1,0 +1,318 @@
+#include "solvers/quasistatic.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include <Eigen/LU>
+#include <Eigen/QR>
+
+namespace ringtol::solvers {
+namespace {
+
+using engine::Scene;
+
+struct NewtonOutcome {
+  bool converged = false;
+  int iterations = 0;
+};
+
+// Newton's method with a backtracking line search on the residual norm; with `damped` it
+// also regularises singular steps (Levenberg), which the static solve needs when a
+// penalty contact starts out open and carries no stiffness.
+NewtonOutcome Newton(const EquilibriumSystem& system, double psi, Eigen::VectorXd& x,
+                     std::vector<TrackedContact>& contacts, const Eigen::VectorXd& tolerance, int max_iterations,
+                     bool damped) {
+  // Residuals below this are round-off [N]: the line search accepts any step there.
+  constexpr double kResidualFloor = 1e-9;
+  constexpr int kMaxHalvings = 30;
+  NewtonOutcome outcome;
+  if (system.UpdateContacts(psi, x, contacts) >= 0) return outcome;
+  Eigen::VectorXd residual;
+  Eigen::MatrixXd jacobian;
+  system.Evaluate(x, contacts, residual, &jacobian);
+  Eigen::VectorXd trial_residual;
+  Eigen::MatrixXd trial_jacobian;
+  std::vector<TrackedContact> trial_contacts;
+  double damping = 0.0;
+  for (int iteration = 1; iteration <= max_iterations; ++iteration) {
+    outcome.iterations = iteration;
+    Eigen::MatrixXd system_matrix = jacobian;
+    if (damping > 0.0) system_matrix.diagonal().array() -= damping;
+    const Eigen::VectorXd step = system_matrix.partialPivLu().solve(-residual);
+    if (!step.allFinite()) {
+      if (!damped) return outcome;
+      damping = std::max(10.0 * damping, 1e-6 * jacobian.cwiseAbs().maxCoeff() + 1e-3);
+      continue;
+    }
+    if ((step.cwiseAbs().array() <= tolerance.array()).all()) {
+      x += step;
+      outcome.converged = true;
+      return outcome;
+    }
+    double alpha = 1.0;
+    bool accepted = false;
+    for (int halving = 0; halving < kMaxHalvings && !accepted; ++halving, alpha *= 0.5) {
+      const Eigen::VectorXd candidate = x + alpha * step;
+      trial_contacts = contacts;
+      if (system.UpdateContacts(psi, candidate, trial_contacts) >= 0) continue;
+      system.Evaluate(candidate, trial_contacts, trial_residual, &trial_jacobian);
+      if (trial_residual.norm() <= (1.0 - 1e-4 * alpha) * residual.norm() || residual.norm() <= kResidualFloor) {
+        x = candidate;
+        contacts.swap(trial_contacts);
+        residual.swap(trial_residual);
+        jacobian.swap(trial_jacobian);
+        accepted = true;
+      }
+    }
+    if (!accepted) {
+      if (!damped) return outcome;
+      damping = std::max(10.0 * damping, 1e-6 * jacobian.cwiseAbs().maxCoeff() + 1e-3);
+    } else {
+      damping *= 0.1;
+    }
+  }
+  return outcome;
+}
+
+std::string Micrometres(double metres) {
+  std::ostringstream out;
+  out.precision(4);
+  out << metres * 1e6 << " um";
+  return out.str();
+}
+
+std::string Degrees(double radians) {
+  std::ostringstream out;
+  out.precision(6);
+  out << radians * 180.0 / std::numbers::pi << " deg";
+  return out.str();
+}
+
+// Curvature bounds that let Blaschke's rolling theorem certify single-point contact.
+struct CurvatureBounds {
+  double ring_min_radius = 0.0;                // [m] smallest curvature radius of the bore
+  std::vector<double> roller_max_radius;       // [m] largest curvature radius per roller
+};
+
+CurvatureBounds Bounds(const Scene& scene) {
+  CurvatureBounds bounds;
+  bounds.ring_min_radius = 1.0 / scene.ring.inner.MaxCurvature();
+  for (const engine::Roller& roller : scene.rollers) {
+    bounds.roller_max_radius.push_back(1.0 / roller.outline.MinCurvature());
+  }
+  return bounds;
+}
+
+// Why a converged configuration is not a valid one, if it is not.
+Status Classify(const EquilibriumSystem& system, const CurvatureBounds& bounds, double psi, const Eigen::VectorXd& x,
+                const std::vector<TrackedContact>& contacts, double two_point_tolerance, std::string& message) {
+  const Scene& scene = system.scene();
+  for (int i = 0; i < system.rollers(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const engine::Contact& c = contacts[k].contact;
+    const double force = system.ContactForce(i, x, c);
+    const engine::Roller& roller = scene.rollers[k];
+    const bool open = system.rigid() ? force < 0.0 : c.gap >= 0.0;
+    if (open) {
+      message = "roller " + roller.name + " lifts off at psi = " + Degrees(psi) +
+                (system.rigid() ? " (it would have to pull with " + std::to_string(force) + " N)"
+                                : " (clearance " + Micrometres(c.gap) + ")");
+      return Status::kLiftOff;
+    }
+    const int s = system.travel_index(i);
+    if (s >= 0 && std::abs(x[s]) > roller.spring.travel_limit) {
+      message = "spring roller " + roller.name + " would travel " + Micrometres(x[s]) + " at psi = " + Degrees(psi) +
+                ", beyond its travel limit of " + Micrometres(roller.spring.travel_limit);
+      return Status::kRollerDoesNotFit;
+    }
+    if (bounds.roller_max_radius[k] + c.gap >= bounds.ring_min_radius &&
+        !engine::IsSinglePoint(scene.ring.inner, system.RingPose(psi, x), roller.outline,
+                               system.RollerPose(i, psi, x), c, two_point_tolerance)) {
+      message = "roller " + roller.name + " touches the bore at two points at psi = " + Degrees(psi) +
+                ": the bore curves tighter than the roller there";
+      return Status::kTwoPointContact;
+    }
+  }
+  return Status::kOk;
+}
+
+Equilibrium Record(const EquilibriumSystem& system, const Eigen::VectorXd& x,
+                   const std::vector<TrackedContact>& contacts) {
+  Equilibrium e;
+  e.centre = x.head<2>();
+  for (int i = 0; i < system.rollers(); ++i) {
+    const int s = system.travel_index(i);
+    e.travel.push_back(s >= 0 ? x[s] : 0.0);
+    e.contact_force.push_back(system.ContactForce(i, x, contacts[static_cast<std::size_t>(i)].contact));
+  }
+  return e;
+}
+
+Status GeometryStatus(const Scene& scene, std::string& message) {
+  const engine::GeometryCheck check = engine::CheckGeometry(scene);
+  message = check.message;
+  switch (check.issue) {
+    case engine::GeometryIssue::kNone: return Status::kOk;
+    case engine::GeometryIssue::kRingNotConvex: return Status::kRingNotConvex;
+    case engine::GeometryIssue::kRollerNotConvex: return Status::kRollerNotConvex;
+    case engine::GeometryIssue::kRollerDoesNotFit: return Status::kRollerDoesNotFit;
+  }
+  return Status::kOk;
+}
+
+}  // namespace
+
+Equilibrium QuasistaticSolver::SolveStatic(const EquilibriumSystem& system, Eigen::VectorXd& x,
+                                           std::vector<TrackedContact>& contacts) const {
+  const Scene& scene = system.scene();
+  Equilibrium result;
+  result.status = GeometryStatus(scene, result.message);
+  if (result.status != Status::kOk) return result;
+  const int fixed = engine::FixedRollerCount(scene);
+  const Eigen::VectorXd tolerance = system.Tolerances(options_.position_tolerance, options_.force_tolerance);
+  // The static solve starts far from the answer; allow many more iterations than a step.
+  const int static_iterations = 10 * options_.max_iterations;
+
+  NewtonOutcome outcome;
+  if (system.rigid()) {
+    if (fixed > 2) {
+      result.status = Status::kStaticallyIndeterminate;
+      result.message = "rigid contact with " + std::to_string(fixed) +
+                       " fixed rollers is statically indeterminate: use the penalty contact law";
+      return result;
+    }
+    x.setZero(system.size());
+    contacts.clear();
+    outcome = Newton(system, 0.0, x, contacts, tolerance, static_iterations, false);
+  } else {
+    x.setZero(system.size());
+    contacts.clear();
+    Scene rigid_scene = scene;
+    rigid_scene.contact.model = engine::ContactLaw::Model::kRigid;
+    const EquilibriumSystem rigid(rigid_scene);
+    Eigen::VectorXd xr = Eigen::VectorXd::Zero(rigid.size());
+    std::vector<TrackedContact> rigid_contacts;
+    if (fixed <= 2 &&
+        Newton(rigid, 0.0, xr, rigid_contacts, rigid.Tolerances(options_.position_tolerance, options_.force_tolerance),
+               static_iterations, false)
+            .converged) {
+      // Compliance correction: make each contact penetrate by the depth that carries its
+      // rigid force, solving dg/dx * dx = -delta in the least-squares sense.
+      const int z = system.rollers();
+      Eigen::MatrixXd gap_gradient = Eigen::MatrixXd::Zero(z, system.size());
+      Eigen::VectorXd depth(z);
+      for (int i = 0; i < z; ++i) {
+        const engine::Contact& c = rigid_contacts[static_cast<std::size_t>(i)].contact;
+        gap_gradient.block<1, 2>(i, 0) = c.normal.transpose();
+        const int s = system.travel_index(i);
+        if (s >= 0) gap_gradient(i, s) = -engine::SpringAxis(scene, i).dot(c.normal);
+        depth[i] = std::pow(std::max(xr[rigid.force_index(i)], 0.0) / scene.contact.stiffness, 1.0 / scene.contact.exponent);
+      }
+      x = xr.head(system.size()) + gap_gradient.completeOrthogonalDecomposition().solve(-depth);
+      contacts = rigid_contacts;
+    } else {
+      for (int i = 0; i < system.rollers(); ++i) {
+        const int s = system.travel_index(i);
+        if (s < 0) continue;
+        const double preload = scene.rollers[static_cast<std::size_t>(i)].spring.preload;
+        x[s] = std::pow(preload / scene.contact.stiffness, 1.0 / scene.contact.exponent);
+      }
+    }
+    outcome = Newton(system, 0.0, x, contacts, tolerance, static_iterations, true);
+  }
+  result.iterations = outcome.iterations;
+  if (!outcome.converged) {
+    result.status = Status::kNotConverged;
+    result.message = "no static equilibrium found in " + std::to_string(outcome.iterations) + " Newton iterations";
+    for (int i = 0; i < system.rollers() && !contacts.empty(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      if (k < contacts.size() && contacts[k].valid && system.ContactForce(i, x, contacts[k].contact) <= 0.0) {
+        result.status = Status::kLiftOff;
+        result.message = "roller " + scene.rollers[k].name + " carries no load in the static equilibrium";
+      }
+    }
+    return result;
+  }
+  system.UpdateContacts(0.0, x, contacts);
+  const Status status = Classify(system, Bounds(scene), 0.0, x, contacts, options_.two_point_tolerance, result.message);
+  Equilibrium recorded = Record(system, x, contacts);
+  recorded.iterations = outcome.iterations;
+  recorded.status = status;
+  recorded.message = result.message;
+  return recorded;
+}
+
+Equilibrium QuasistaticSolver::SolveStatic(const Scene& scene) const {
+  const EquilibriumSystem system(scene);
+  Eigen::VectorXd x;
+  std::vector<TrackedContact> contacts;
+  return SolveStatic(system, x, contacts);
+}
+
+Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) const {
+  Trajectory trajectory;
+  const EquilibriumSystem system(scene);
+  Eigen::VectorXd x;
+  std::vector<TrackedContact> contacts;
+  trajectory.initial = SolveStatic(system, x, contacts);
+  if (trajectory.initial.status != Status::kOk) {
+    trajectory.status = trajectory.initial.status;
+    trajectory.message = trajectory.initial.message;
+    return trajectory;
+  }
+  const auto z = static_cast<std::size_t>(system.rollers());
+  const auto n = static_cast<std::size_t>(steps);
+  trajectory.psi.reserve(n);
+  trajectory.centre.reserve(n);
+  trajectory.travel.reserve(n * z);
+  trajectory.contact_force.reserve(n * z);
+  const CurvatureBounds bounds = Bounds(scene);
+  const Eigen::VectorXd tolerance = system.Tolerances(options_.position_tolerance, options_.force_tolerance);
+  Eigen::VectorXd previous[3] = {x, x, x};  // converged states at the last three angles
+  for (int k = 0; k < steps; ++k) {
+    const double psi = 2.0 * std::numbers::pi * k / steps;
+    if (k > 0) {
+      // Quadratic extrapolation: the predictor error is O(dpsi^3), below 1e-7 m at
+      // 720 steps for the paper's orders, so Newton converges in one or two steps.
+      if (k >= 3) x = 3.0 * previous[0] - 3.0 * previous[1] + previous[2];
+      else if (k == 2) x = 2.0 * previous[0] - previous[1];
+      const NewtonOutcome outcome = Newton(system, psi, x, contacts, tolerance, options_.max_iterations, false);
+      trajectory.total_iterations += outcome.iterations;
+      if (!outcome.converged) {
+        trajectory.status = Status::kNotConverged;
+        trajectory.message = "Newton iteration did not converge at psi = " + Degrees(psi);
+        std::string reason;
+        x = previous[0];
+        contacts.clear();
+        if (system.UpdateContacts(psi, x, contacts) < 0 &&
+            Classify(system, bounds, psi, x, contacts, options_.two_point_tolerance, reason) == Status::kLiftOff) {
+          trajectory.status = Status::kLiftOff;
+          trajectory.message = reason;
+        }
+        trajectory.failure_angle = psi;
+        return trajectory;
+      }
+      const Status status = Classify(system, bounds, psi, x, contacts, options_.two_point_tolerance, trajectory.message);
+      if (status != Status::kOk) {
+        trajectory.status = status;
+        trajectory.failure_angle = psi;
+        return trajectory;
+      }
+    }
+    previous[2] = previous[1];
+    previous[1] = previous[0];
+    previous[0] = x;
+    trajectory.psi.push_back(psi);
+    trajectory.centre.push_back(x.head<2>());
+    for (int i = 0; i < static_cast<int>(z); ++i) {
+      const int s = system.travel_index(i);
+      trajectory.travel.push_back(s >= 0 ? x[s] : 0.0);
+      trajectory.contact_force.push_back(system.ContactForce(i, x, contacts[static_cast<std::size_t>(i)].contact));
+    }
+  }
+  return trajectory;
+}
+
+}  // namespace ringtol::solvers

@@ -1,0 +1,44 @@
+// The exact-geometry quasi-static rung: no inertia, the ring centre and the spring
+// rollers' travel from force balance at each ring angle (solvers/equilibrium.h), with
+// rigid contact or the penalty law of model.md §4.
+//
+// Each angle is a Newton iteration with the analytic Jacobian, started from a quadratic
+// extrapolation of the three previous angles, so one or two iterations usually suffice.
+// The static equilibrium before rotation is found from scratch: rigid contact first, then,
+// for the penalty law, a compliance correction and a damped Newton iteration.
+#pragma once
+
+#include "solvers/equilibrium.h"
+#include "solvers/solver.h"
+
+namespace ringtol::solvers {
+
+struct QuasistaticOptions {
+  // Converged when every Newton update is below its tolerance: |dx_centre|, |dx_travel|
+  // <= position_tolerance [m] (1 pm: ~1e4 ulp of a 0.3 m coordinate, far below any
+  // tolerance studied) and, for rigid contact, |dF| <= force_tolerance [N].
+  double position_tolerance = 1e-12;
+  double force_tolerance = 1e-9;
+  int max_iterations = 30;  // per angle, [1, 1000]
+  // A second touching point within this distance of touching makes the contact two-point
+  // [m]; checked only where Blaschke's rolling theorem cannot rule it out (a roller
+  // whose largest curvature radius plus the gap reaches the bore's smallest).
+  double two_point_tolerance = 1e-9;
+};
+
+class QuasistaticSolver final : public Solver {
+ public:
+  explicit QuasistaticSolver(QuasistaticOptions options = {}) : options_(options) {}
+  std::string_view name() const override { return "quasistatic"; }
+  Equilibrium SolveStatic(const engine::Scene& scene) const override;
+  Trajectory SolveRevolution(const engine::Scene& scene, int steps) const override;
+
+  // Static equilibrium plus the contacts found there (the linear solver linearises at it).
+  Equilibrium SolveStatic(const EquilibriumSystem& system, Eigen::VectorXd& x,
+                          std::vector<TrackedContact>& contacts) const;
+
+ private:
+  QuasistaticOptions options_;
+};
+
+}  // namespace ringtol::solvers

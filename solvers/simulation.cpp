@@ -1,0 +1,76 @@
+#include "solvers/simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "engine/sensor.h"
+
+namespace ringtol::solvers {
+
+int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options) {
+  if (options.steps > 0) return options.steps;
+  const double fastest = 2.0 * engine::FastestHarmonicRate(scene);
+  const double wanted = std::ceil(options.samples_per_undulation * fastest);
+  return static_cast<int>(std::clamp(wanted, static_cast<double>(options.min_steps),
+                                     static_cast<double>(options.max_steps)));
+}
+
+SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options) {
+  SimulationResult result;
+  result.steps = ChooseSteps(scene, options);
+  const engine::GeometryCheck geometry = engine::CheckGeometry(scene);
+  if (geometry.issue != engine::GeometryIssue::kNone) {
+    result.status = geometry.issue == engine::GeometryIssue::kRingNotConvex     ? Status::kRingNotConvex
+                    : geometry.issue == engine::GeometryIssue::kRollerNotConvex ? Status::kRollerNotConvex
+                                                                                 : Status::kRollerDoesNotFit;
+    result.message = geometry.message;
+    return result;
+  }
+  result.trajectory = solver.SolveRevolution(scene, result.steps);
+  const Trajectory& path = result.trajectory;
+  if (path.status != Status::kOk) {
+    result.status = path.status;
+    result.message = path.message;
+    return result;
+  }
+  const Equilibrium nominal = solver.SolveStatic(engine::WithoutErrors(scene));
+  if (nominal.status != Status::kOk) {
+    result.status = nominal.status;
+    result.message = "the error-free assembly has no valid static equilibrium: " + nominal.message;
+    return result;
+  }
+  result.enclosing_circle = engine::MinimumEnclosingCircle(path.centre);
+  result.d_trajectory = 2.0 * result.enclosing_circle.radius;
+  result.dist_init = (path.initial.centre - result.enclosing_circle.centre).norm();
+  result.static_offset = (path.initial.centre - nominal.centre).norm();
+
+  result.sensor.reserve(path.psi.size());
+  double theta = scene.sensor_angle;
+  for (std::size_t k = 0; k < path.psi.size(); ++k) {
+    const engine::SensorReading reading =
+        engine::ReadSensor(scene.ring.inner, {path.centre[k], path.psi[k]}, scene.sensor_angle, theta);
+    theta = reading.ring_theta;
+    result.sensor.push_back(reading.distance);
+  }
+  const engine::Runout runout = engine::MeasureRunout(result.sensor);
+  result.runout = runout.peak_to_nearest_valley;
+  result.runout_total = runout.total;
+
+  const std::size_t z = scene.rollers.size();
+  result.contact_force.assign(z, {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()});
+  for (std::size_t k = 0; k < path.psi.size(); ++k) {
+    for (std::size_t i = 0; i < z; ++i) {
+      const double f = path.contact_force[k * z + i];
+      result.contact_force[i].min = std::min(result.contact_force[i].min, f);
+      result.contact_force[i].max = std::max(result.contact_force[i].max, f);
+    }
+  }
+  result.min_contact_force = std::numeric_limits<double>::infinity();
+  for (const RollerForceRange& range : result.contact_force) {
+    result.min_contact_force = std::min(result.min_contact_force, range.min);
+  }
+  return result;
+}
+
+}  // namespace ringtol::solvers

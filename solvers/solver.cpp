@@ -1,0 +1,34 @@
+#include "solvers/solver.h"
+
+#include <stdexcept>
+
+#include "solvers/linear.h"
+#include "solvers/quasistatic.h"
+
+namespace ringtol::solvers {
+
+std::string_view StatusName(Status status) {
+  switch (status) {
+    case Status::kOk: return "ok";
+    case Status::kLiftOff: return "lift_off";
+    case Status::kNotConverged: return "not_converged";
+    case Status::kTwoPointContact: return "two_point_contact";
+    case Status::kRingNotConvex: return "ring_not_convex";
+    case Status::kRollerNotConvex: return "roller_not_convex";
+    case Status::kRollerDoesNotFit: return "roller_does_not_fit";
+    case Status::kStaticallyIndeterminate: return "statically_indeterminate";
+  }
+  return "unknown";
+}
+
+std::vector<std::string> SolverNames() { return {"linear", "quasistatic"}; }
+
+std::unique_ptr<Solver> MakeSolver(std::string_view name) {
+  if (name == "linear") return std::make_unique<LinearSolver>();
+  if (name == "quasistatic") return std::make_unique<QuasistaticSolver>();
+  std::string valid;
+  for (const std::string& n : SolverNames()) valid += (valid.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown solver '" + std::string(name) + "' (valid: " + valid + ")");
+}
+
+}  // namespace ringtol::solvers

@@ -1,0 +1,76 @@
+// The common interface of the solver ladder. Every rung (linear, quasistatic, and the
+// dynamic solver of a later issue) turns a Scene into the ring centre's path over one
+// revolution plus the static equilibrium before rotation; solvers/simulation.h turns that
+// into the published metrics. A solver never throws for a numerical outcome: it returns a
+// Status saying whether its numbers are usable.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/scene.h"
+
+namespace ringtol::solvers {
+
+enum class Status {
+  kOk,                       // every number is usable
+  kLiftOff,                  // a contact would have to pull (force <= 0): the assembly rattles; path unusable
+  kNotConverged,             // the iteration failed at some angle; path unusable
+  kTwoPointContact,          // a roller touches the bore at two places; the model does not apply
+  kRingNotConvex,            // scene cannot be simulated (see message)
+  kRollerNotConvex,          // scene cannot be simulated (see message)
+  kRollerDoesNotFit,         // a roller is too large, or a spring roller's travel exceeds its limit
+  kStaticallyIndeterminate,  // rigid contact with more than two fixed rollers: use the penalty law
+};
+
+// Stable lower_snake_case names used in every output file ("ok", "lift_off", ...).
+std::string_view StatusName(Status status);
+
+// Static equilibrium (or any single configuration) of the assembly.
+struct Equilibrium {
+  Status status = Status::kOk;
+  std::string message;                                  // reason when status != kOk
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();     // [m] ring centre
+  std::vector<double> travel;                           // [m] per roller, along its axis; 0 for fixed
+  std::vector<double> contact_force;                    // [N] per roller, >= 0 when usable
+  int iterations = 0;                                   // Newton iterations used
+};
+
+// The path over one revolution, psi_k = 2 pi k / steps, k = 0 .. steps-1.
+struct Trajectory {
+  Status status = Status::kOk;
+  std::string message;
+  double failure_angle = 0.0;                  // [rad] where status != kOk arose
+  Equilibrium initial;                         // static equilibrium before rotation starts
+  std::vector<double> psi;                     // [rad]
+  std::vector<Eigen::Vector2d> centre;         // [m]
+  std::vector<double> travel;                  // [m] psi-major: travel[k * rollers + i]
+  std::vector<double> contact_force;           // [N] psi-major: contact_force[k * rollers + i]
+  int total_iterations = 0;                    // Newton iterations over the revolution
+};
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  virtual std::string_view name() const = 0;
+
+  // Static equilibrium at psi = 0, before rotation starts.
+  virtual Equilibrium SolveStatic(const engine::Scene& scene) const = 0;
+
+  // One revolution in `steps` equal increments (steps >= 1). On failure the trajectory
+  // holds the angles solved so far and the status says why it stopped.
+  virtual Trajectory SolveRevolution(const engine::Scene& scene, int steps) const = 0;
+};
+
+// Names accepted by MakeSolver, in ladder order.
+std::vector<std::string> SolverNames();
+
+// A solver with default options by name; throws std::invalid_argument for an unknown name
+// (the message lists the valid ones).
+std::unique_ptr<Solver> MakeSolver(std::string_view name);
+
+}  // namespace ringtol::solvers

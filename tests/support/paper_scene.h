@@ -1,0 +1,55 @@
+// The article's nominal assembly (model.md §1, examples/paper/scene.toml) built in code,
+// so physics tests do not depend on the input reader.
+#pragma once
+
+#include <numbers>
+#include <vector>
+
+#include "engine/scene.h"
+
+namespace ringtol::testing {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+inline engine::Roller PaperRoller(const char* name, double angle_deg, bool spring) {
+  engine::Roller r;
+  r.name = name;
+  r.angle = angle_deg * kDeg;
+  r.outline = engine::PolarProfile(0.005, 0.0, {});
+  r.centre_radius = 0.302 - 0.005;
+  r.mass = 2.47e-3;
+  r.spin_inertia = 3.08e-8;
+  if (spring) {
+    r.mount = engine::RollerMount::kSpring;
+    r.spring = {1334.0, 19.3, r.angle, 0.005};
+  }
+  return r;
+}
+
+// Spring roller at 90 deg, fixed rollers at 210 and 330 deg, sensor at 0 deg.
+inline engine::Scene PaperScene(engine::ContactLaw::Model law = engine::ContactLaw::Model::kPenalty) {
+  engine::Scene scene;
+  scene.ring.inner = engine::PolarProfile(0.302, 0.0, {});
+  scene.ring.outer_radius = 0.33985;
+  scene.ring.thickness = 0.006;
+  scene.ring.mass = 1.236;
+  scene.ring.spin_inertia = 0.1277;
+  scene.rollers = {PaperRoller("spring", 90.0, true), PaperRoller("fixed_a", 210.0, false),
+                   PaperRoller("fixed_b", 330.0, false)};
+  scene.contact.model = law;
+  return scene;
+}
+
+inline void SetRing(engine::Scene& scene, std::vector<engine::Harmonic> harmonics) {
+  scene.ring.inner = engine::PolarProfile(scene.ring.inner.radius(), 0.0, std::move(harmonics));
+}
+
+inline void SetRollerShapes(engine::Scene& scene, const std::vector<engine::Harmonic>& harmonics) {
+  for (engine::Roller& r : scene.rollers) r.outline = engine::PolarProfile(r.outline.radius(), 0.0, harmonics);
+}
+
+inline void SetRollerPositions(engine::Scene& scene, std::vector<engine::Harmonic> harmonics) {
+  scene.roller_positions = engine::PolarProfile(1.0, 0.0, std::move(harmonics));
+}
+
+}  // namespace ringtol::testing
