@@ -32,10 +32,12 @@ double GapAlong(const PolarProfile& ring, const BodyPose& ring_pose, const Polar
 Contact FindContact(const PolarProfile& ring, const BodyPose& ring_pose, const PolarProfile& roller,
                     const BodyPose& roller_pose, const ContactGuess* guess) {
   constexpr double kHalfPi = std::numbers::pi / 2.0;
-  // g' is converged when the touching points differ along the tangent by less than this;
-  // at 0.3 m lever arms it is ~10 ulp of the coordinates.
-  constexpr double kTangentialTolerance = 1e-15;  // [m]
-  constexpr double kAngleTolerance = 1e-14;       // [rad]
+  // g' carries the round-off of the bore's support point: its body angle is resolved to
+  // 1e-14 rad at a 0.3 m radius, ~3e-15 m. Stop at three times that.
+  constexpr double kTangentialTolerance = 1e-14;  // [m]
+  // A Newton update this small changes g by g'' dphi^2 / 2 < 1e-26 m and turns the normal
+  // by a relative 1e-13: both far below anything a force balance can feel.
+  constexpr double kAngleTolerance = 1e-13;       // [rad]
   constexpr int kMaxIterations = 100;
 
   double phi;
@@ -67,7 +69,7 @@ Contact FindContact(const PolarProfile& ring, const BodyPose& ring_pose, const P
     }
     if (d.dg < 0.0) lo = phi; else hi = phi;
     const double step = -d.dg / d.ddg;
-    if (d.ddg > 0.0 && std::abs(step) <= kAngleTolerance) {
+    if (d.ddg > 0.0 && (std::abs(step) <= kAngleTolerance || hi - lo <= kAngleTolerance)) {
       // The remaining step moves g by ~g'' step^2 / 2 < 1e-28 m: keep the evaluated point.
       contact.converged = true;
       break;

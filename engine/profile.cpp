@@ -36,13 +36,12 @@ double PolarProfile::sin_coefficient(int n) const {
 }
 
 RadiusDerivatives PolarProfile::Evaluate(double theta) const {
-  RadiusDerivatives d{radius_ + mean_deviation_, 0.0, 0.0};
-  const std::size_t orders = cos_coefficients_.size();
-  if (orders == 1) return d;
   // cos(n theta), sin(n theta) by the angle-addition recurrence: one sincos per call
   // instead of one per order, which dominates the cost of a contact search.
   const double c1 = std::cos(theta);
   const double s1 = std::sin(theta);
+  RadiusDerivatives d{radius_ + mean_deviation_, 0.0, 0.0, c1, s1};
+  const std::size_t orders = cos_coefficients_.size();
   double cn = c1;
   double sn = s1;
   for (std::size_t n = 1; n < orders; ++n) {
@@ -70,34 +69,39 @@ SupportPoint PolarProfile::Support(double phi, double theta_guess) const {
     const double r = radius_ + mean_deviation_;
     return {phi, r, 0.0, r};
   }
-  // Solve nu(theta) = theta - atan2(r', r) = phi. |atan2(r', r)| < pi/2 while r > 0, so
-  // the root lies in (phi - pi/2, phi + pi/2): a bracket that makes the safeguarded
-  // Newton iteration below converge for any amplitude as long as the outline is convex.
+  // The touching point maximises r(theta) cos(theta - phi): solve its derivative
+  //   f(theta) = r' cos(theta - phi) - r sin(theta - phi) = 0.
+  // f > 0 at phi - pi/2 and f < 0 at phi + pi/2 while r > 0, and f is monotone between
+  // for a convex outline: a bracket that makes the safeguarded Newton iteration converge
+  // for any amplitude.
   constexpr double kHalfPi = std::numbers::pi / 2.0;
   constexpr double kThetaTolerance = 1e-14;  // [rad] ~ 50 ulp of 2 pi
   constexpr int kMaxIterations = 100;        // bisection alone needs < 60 from width pi
+  const double cos_phi = std::cos(phi);
+  const double sin_phi = std::sin(phi);
   double lo = phi - kHalfPi;
   double hi = phi + kHalfPi;
-  double theta = phi + std::remainder(theta_guess - phi, 2.0 * std::numbers::pi);
+  double theta = theta_guess;
+  if (!(theta > lo && theta < hi)) theta = phi + std::remainder(theta_guess - phi, 2.0 * std::numbers::pi);
   if (!(theta > lo && theta < hi)) theta = phi;
   RadiusDerivatives d{};
+  double c = 1.0;  // cos(theta - phi)
+  double s = 0.0;  // sin(theta - phi)
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     d = Evaluate(theta);
-    const double q = d.r * d.r + d.dr * d.dr;
-    const double f = theta - std::atan2(d.dr, d.r) - phi;
-    const double df = (q + d.dr * d.dr - d.r * d.ddr) / q;
-    if (f < 0.0) lo = theta; else hi = theta;
+    c = d.cos_theta * cos_phi + d.sin_theta * sin_phi;
+    s = d.sin_theta * cos_phi - d.cos_theta * sin_phi;
+    const double f = d.dr * c - d.r * s;
+    const double df = (d.ddr - d.r) * c - 2.0 * d.dr * s;  // < 0 near the root
+    if (f > 0.0) lo = theta; else hi = theta;
     const double step = -f / df;
-    if (df > 0.0 && std::abs(step) <= kThetaTolerance) break;  // h is stationary in theta
+    if (df < 0.0 && std::abs(step) <= kThetaTolerance) break;  // h is stationary in theta
     double next = theta + step;
-    if (!(df > 0.0) || !(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (!(df < 0.0) || !(next > lo && next < hi)) next = 0.5 * (lo + hi);
     theta = next;
   }
-  // At the root cos(theta - phi) = r / sqrt(q) and sin(theta - phi) = r' / sqrt(q).
   const double q = d.r * d.r + d.dr * d.dr;
-  const double root_q = std::sqrt(q);
-  return {theta, d.r * d.r / root_q, d.r * d.dr / root_q,
-          q * root_q / (q + d.dr * d.dr - d.r * d.ddr)};
+  return {theta, d.r * c, d.r * s, q * std::sqrt(q) / (q + d.dr * d.dr - d.r * d.ddr)};
 }
 
 template <typename F>

@@ -24,6 +24,8 @@ struct RadiusDerivatives {
   double r = 0.0;    // [m]
   double dr = 0.0;   // [m/rad]
   double ddr = 0.0;  // [m/rad^2]
+  double cos_theta = 1.0;  // [-] of the angle evaluated, reused by callers
+  double sin_theta = 0.0;  // [-]
 };
 
 // The outline's reach in one direction.

@@ -72,21 +72,10 @@ std::string Millimetres(double metres) {
 }  // namespace
 
 GeometryCheck CheckGeometry(const Scene& scene) {
-  const double ring_min_curvature = scene.ring.inner.MinCurvature();
-  if (!(ring_min_curvature > 0.0)) {
-    return {GeometryIssue::kRingNotConvex, -1,
-            "the ring's inner profile is not convex (its curvature reaches " +
-                std::to_string(ring_min_curvature) +
-                " 1/m): an inward bump makes contact ambiguous; reduce the amplitude of high orders "
-                "(convexity needs roughly sum (n^2-1) C_n < R)"};
-  }
+  // Fit first: a roller that does not fit is an input error, whatever else is wrong.
   const double bore = scene.ring.inner.MinRadius();
   for (int i = 0; i < static_cast<int>(scene.rollers.size()); ++i) {
     const Roller& roller = scene.rollers[static_cast<std::size_t>(i)];
-    if (!(roller.outline.MinCurvature() > 0.0)) {
-      return {GeometryIssue::kRollerNotConvex, i,
-              "roller " + roller.name + "'s outline is not convex: reduce its high-order amplitudes"};
-    }
     const double reach = roller.outline.MaxRadius();
     const double centre = RollerCentre(scene, i).norm();
     const double interference = centre + reach - bore;
@@ -95,6 +84,21 @@ GeometryCheck CheckGeometry(const Scene& scene) {
               "roller " + roller.name + " does not fit in the ring: it reaches " + Millimetres(centre + reach) +
                   " from the ring's centre against a bore of " + Millimetres(bore) +
                   " (overlap may not exceed the roller's radius " + Millimetres(roller.outline.radius()) + ")"};
+    }
+  }
+  const double ring_min_curvature = scene.ring.inner.MinCurvature();
+  if (!(ring_min_curvature > 0.0)) {
+    return {GeometryIssue::kRingNotConvex, -1,
+            "the ring's inner profile is not convex (its curvature reaches " +
+                std::to_string(ring_min_curvature) +
+                " 1/m): an inward bump makes contact ambiguous; reduce the amplitude of high orders "
+                "(convexity needs roughly sum (n^2-1) C_n < R)"};
+  }
+  for (int i = 0; i < static_cast<int>(scene.rollers.size()); ++i) {
+    const Roller& roller = scene.rollers[static_cast<std::size_t>(i)];
+    if (!(roller.outline.MinCurvature() > 0.0)) {
+      return {GeometryIssue::kRollerNotConvex, i,
+              "roller " + roller.name + "'s outline is not convex: reduce its high-order amplitudes"};
     }
   }
   return {};

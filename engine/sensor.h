@@ -27,8 +27,9 @@ struct Runout {
   double total = 0.0;  // [m] max - min over the revolution
 };
 
-// Runout of a signal sampled uniformly over one revolution (first sample at psi = 0, no
-// repeated endpoint). Plateaus count as one extreme. Empty input gives zeros.
+// Runout of a signal sampled uniformly over one revolution, treated as periodic (a
+// closing sample equal to the first is harmless). Plateaus count as one extreme. Empty
+// input gives zeros.
 Runout MeasureRunout(std::span<const double> signal);
 
 }  // namespace ringtol::engine

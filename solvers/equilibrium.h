@@ -56,10 +56,13 @@ class EquilibriumSystem {
   // (penalty law; rigid forces are unknowns of x).
   double ContactForce(int i, const Eigen::VectorXd& x, const engine::Contact& c) const;
 
-  // Residual at x for the given contacts; optionally the Jacobian d r/d x and the
-  // sensitivity d r/d(additive gap offset of each contact), size() x rollers().
+  // Residual at x for the given contacts; optionally the Jacobian d r/d x, and the
+  // sensitivities to a small change of each contact's gap function g_i(phi) that the
+  // linear rung needs (both size() x rollers()): to its value at the contact, and to its
+  // slope dg_i/dphi there, which turns the contact normal by -slope / g''.
   void Evaluate(const Eigen::VectorXd& x, const std::vector<TrackedContact>& contacts, Eigen::VectorXd& residual,
-                Eigen::MatrixXd* jacobian, Eigen::MatrixXd* gap_sensitivity = nullptr) const;
+                Eigen::MatrixXd* jacobian, Eigen::MatrixXd* gap_sensitivity = nullptr,
+                Eigen::MatrixXd* slope_sensitivity = nullptr) const;
 
   // Convergence scale of each unknown: position tolerance for lengths, force tolerance
   // for forces.

@@ -263,7 +263,7 @@ Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) con
     return trajectory;
   }
   const auto z = static_cast<std::size_t>(system.rollers());
-  const auto n = static_cast<std::size_t>(steps);
+  const auto n = static_cast<std::size_t>(steps) + 1;
   trajectory.psi.reserve(n);
   trajectory.centre.reserve(n);
   trajectory.travel.reserve(n * z);
@@ -271,7 +271,7 @@ Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) con
   const CurvatureBounds bounds = Bounds(scene);
   const Eigen::VectorXd tolerance = system.Tolerances(options_.position_tolerance, options_.force_tolerance);
   Eigen::VectorXd previous[3] = {x, x, x};  // converged states at the last three angles
-  for (int k = 0; k < steps; ++k) {
+  for (int k = 0; k <= steps; ++k) {
     const double psi = 2.0 * std::numbers::pi * k / steps;
     if (k > 0) {
       // Quadratic extrapolation: the predictor error is O(dpsi^3), below 1e-7 m at

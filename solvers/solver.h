@@ -40,7 +40,9 @@ struct Equilibrium {
   int iterations = 0;                                   // Newton iterations used
 };
 
-// The path over one revolution, psi_k = 2 pi k / steps, k = 0 .. steps-1.
+// The path over one whole revolution, psi_k = 2 pi k / steps, k = 0 .. steps: steps + 1
+// samples, because with roller lobes (R / r_b is rarely an integer) the path does not
+// close, and the enclosing circle must see its end.
 struct Trajectory {
   Status status = Status::kOk;
   std::string message;
@@ -61,7 +63,8 @@ class Solver {
   // Static equilibrium at psi = 0, before rotation starts.
   virtual Equilibrium SolveStatic(const engine::Scene& scene) const = 0;
 
-  // One revolution in `steps` equal increments (steps >= 1). On failure the trajectory
+  // One revolution in `steps` equal increments (steps >= 1, steps + 1 samples including
+  // both ends). On failure the trajectory
   // holds the angles solved so far and the status says why it stopped.
   virtual Trajectory SolveRevolution(const engine::Scene& scene, int steps) const = 0;
 };

@@ -1,0 +1,298 @@
+#include "jobs/scene_file.h"
+
+#include <cstddef>
+#include <numbers>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "jobs/toml_fields.h"
+
+namespace ringtol::jobs {
+namespace {
+
+using engine::RollerMount;
+using engine::ShapePhaseReference;
+
+constexpr std::size_t kMinRollers = 3;  // fewer cannot hold the ring's centre in its plane
+constexpr std::string_view kMassAllowed = "exactly one of density_kg_per_m3 > 0 or mass_kg > 0";
+constexpr std::string_view kSpringOnly = "mount = \"spring\"";
+
+double Millimetres(double metres) { return metres / kMetresPerMillimetre; }
+
+// The polar form r = r0 + dr0 + sum C_n cos(n theta + phi_n) only describes an outline
+// while every deviation stays below r0; beyond, r can reach zero and the body is not a
+// body. radius_key names the key that set r0, for the message.
+void RequireDeviationsBelowRadius(const TableReader& table, const engine::PolarProfile& profile,
+                                  std::string_view radius_key) {
+  const double bound = DeviationBound(profile);
+  if (bound < profile.radius()) return;
+  const std::string_view key = table.Has("harmonics") ? "harmonics" : "mean_deviation_mm";
+  table.FailAbout(key,
+                  fmt::format("{} (|mean_deviation_mm| + sum of amplitude_mm = {})", table.KeyPath(key),
+                              ShowDerived(Millimetres(bound))),
+                  "amplitudes larger than the radius",
+                  fmt::format("< {} ({})", ShowDerived(Millimetres(profile.radius())), table.KeyPath(radius_key)));
+}
+
+// ---- [ring]
+
+struct RingInput {
+  double inner_radius = 0.0;           // [m]
+  double outer_radius = 0.0;           // [m]
+  double thickness = 0.0;              // [m]
+  std::optional<double> density;       // [kg/m^3]
+  std::optional<double> mass;          // [kg]
+  std::optional<double> spin_inertia;  // [kg m^2]
+  double mean_deviation = 0.0;         // [m]
+  std::vector<engine::Harmonic> harmonics;
+};
+
+std::vector<Field<RingInput>> RingFields() {
+  return {
+      Number("inner_radius_mm", Presence::kRequired, kMetresPerMillimetre, Above(0.0), &RingInput::inner_radius),
+      Number("outer_radius_mm", Presence::kRequired, kMetresPerMillimetre, Above(0.0), &RingInput::outer_radius),
+      Number("thickness_mm", Presence::kRequired, kMetresPerMillimetre, Above(0.0), &RingInput::thickness),
+      Number("density_kg_per_m3", Presence::kOptional, kSameUnit, Above(0.0), &RingInput::density),
+      Number("mass_kg", Presence::kOptional, kSameUnit, Above(0.0), &RingInput::mass),
+      Number("spin_inertia_kg_m2", Presence::kOptional, kSameUnit, Above(0.0), &RingInput::spin_inertia),
+      Number("mean_deviation_mm", Presence::kOptional, kMetresPerMillimetre, AnyFinite(), &RingInput::mean_deviation),
+      HarmonicList("harmonics", Presence::kOptional, &RingInput::harmonics),
+  };
+}
+
+void ReadRing(const TableReader& table, engine::Scene& scene) {
+  RingInput in;
+  table.Read(RingFields(), in);
+  if (!(in.outer_radius > in.inner_radius)) {
+    table.Fail("outer_radius_mm", "not larger than the inner radius",
+               fmt::format("> {} (ring.inner_radius_mm)", ShowDerived(Millimetres(in.inner_radius))));
+  }
+  table.RequireExactlyOne("density_kg_per_m3", "mass_kg", kMassAllowed);
+
+  engine::Ring& ring = scene.ring;
+  ring.inner = engine::PolarProfile(in.inner_radius, in.mean_deviation, in.harmonics);
+  ring.outer_radius = in.outer_radius;
+  ring.thickness = in.thickness;
+  // A plain annulus: the gear teeth on the outer flank are ignored (model.md §1).
+  const double ro2 = in.outer_radius * in.outer_radius;
+  const double ri2 = in.inner_radius * in.inner_radius;
+  ring.mass = in.mass ? *in.mass : *in.density * std::numbers::pi * (ro2 - ri2) * in.thickness;
+  ring.spin_inertia = in.spin_inertia.value_or(ring.mass * (ro2 + ri2) / 2.0);
+  RequireDeviationsBelowRadius(table, ring.inner, "inner_radius_mm");
+}
+
+// ---- [roller_positions]
+
+struct ErrorSeriesInput {
+  double mean_deviation = 0.0;  // [m]
+  std::vector<engine::Harmonic> harmonics;
+};
+
+std::vector<Field<ErrorSeriesInput>> RollerPositionFields() {
+  return {
+      Number("mean_deviation_mm", Presence::kOptional, kMetresPerMillimetre, AnyFinite(),
+             &ErrorSeriesInput::mean_deviation),
+      HarmonicList("harmonics", Presence::kOptional, &ErrorSeriesInput::harmonics),
+  };
+}
+
+void ReadRollerPositions(const TableReader& table, engine::Scene& scene) {
+  ErrorSeriesInput in;
+  table.Read(RollerPositionFields(), in);
+  // The radius of this series is never used (engine/scene.h); 1 m keeps PolarProfile valid.
+  scene.roller_positions = engine::PolarProfile(1.0, in.mean_deviation, in.harmonics);
+}
+
+// ---- [[rollers]]
+
+struct RollerInput {
+  std::string name;
+  double angle = 0.0;                     // [rad]
+  double radius = 0.0;                    // [m]
+  std::optional<double> centre_radius;    // [m]
+  double radial_offset = 0.0;             // [m]
+  double tangential_offset = 0.0;         // [m]
+  RollerMount mount = RollerMount::kFixed;
+  double spring_stiffness = 0.0;          // [N/m]
+  double spring_preload = 0.0;            // [N]
+  std::optional<double> spring_axis;      // [rad]
+  std::optional<double> spring_travel_limit;  // [m]
+  double width = 0.0;                     // [m]
+  std::optional<double> density;          // [kg/m^3]
+  std::optional<double> mass;             // [kg]
+  std::optional<double> spin_inertia;     // [kg m^2]
+  ShapePhaseReference phase_reference = ShapePhaseReference::kRadial;
+  double spin_phase = 0.0;                // [rad]
+  double mean_deviation = 0.0;            // [m]
+  std::vector<engine::Harmonic> harmonics;
+};
+
+std::vector<Field<RollerInput>> RollerFields() {
+  const auto is_spring = [](const RollerInput& roller) { return roller.mount == RollerMount::kSpring; };
+  // mount comes before the spring keys: whether they are allowed depends on it.
+  return {
+      Text("name", Presence::kOptional, "a non-empty string, unique among the rollers", &RollerInput::name),
+      Number("angle_deg", Presence::kRequired, kRadiansPerDegree, AnyFinite(), &RollerInput::angle),
+      Number("radius_mm", Presence::kRequired, kMetresPerMillimetre, Above(0.0), &RollerInput::radius),
+      Number("centre_radius_mm", Presence::kOptional, kMetresPerMillimetre, Above(0.0), &RollerInput::centre_radius),
+      Number("radial_offset_mm", Presence::kOptional, kMetresPerMillimetre, AnyFinite(), &RollerInput::radial_offset),
+      Number("tangential_offset_mm", Presence::kOptional, kMetresPerMillimetre, AnyFinite(),
+             &RollerInput::tangential_offset),
+      Choice<RollerInput, RollerMount>("mount", Presence::kRequired,
+                                       {{"fixed", RollerMount::kFixed}, {"spring", RollerMount::kSpring}},
+                                       &RollerInput::mount),
+      Number("spring_stiffness_N_per_m", Presence::kRequired, kSameUnit, AtLeast(0.0), &RollerInput::spring_stiffness)
+          .When(is_spring, kSpringOnly),
+      Number("spring_preload_N", Presence::kRequired, kSameUnit, Above(0.0), &RollerInput::spring_preload)
+          .When(is_spring, kSpringOnly),
+      Number("spring_axis_deg", Presence::kOptional, kRadiansPerDegree, AnyFinite(), &RollerInput::spring_axis)
+          .When(is_spring, kSpringOnly),
+      Number("spring_travel_limit_mm", Presence::kOptional, kMetresPerMillimetre, Above(0.0),
+             &RollerInput::spring_travel_limit)
+          .When(is_spring, kSpringOnly),
+      Number("width_mm", Presence::kRequired, kMetresPerMillimetre, Above(0.0), &RollerInput::width),
+      Number("density_kg_per_m3", Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::density),
+      Number("mass_kg", Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::mass),
+      Number("spin_inertia_kg_m2", Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::spin_inertia),
+      Choice<RollerInput, ShapePhaseReference>(
+          "shape_phase_reference", Presence::kOptional,
+          {{"radial", ShapePhaseReference::kRadial}, {"global", ShapePhaseReference::kGlobal}},
+          &RollerInput::phase_reference),
+      Number("spin_phase_deg", Presence::kOptional, kRadiansPerDegree, AnyFinite(), &RollerInput::spin_phase),
+      Number("mean_deviation_mm", Presence::kOptional, kMetresPerMillimetre, AnyFinite(), &RollerInput::mean_deviation),
+      HarmonicList("harmonics", Presence::kOptional, &RollerInput::harmonics),
+  };
+}
+
+void ReadRoller(const TableReader& table, std::size_t index, engine::Scene& scene) {
+  RollerInput in;
+  in.name = fmt::format("roller{}", index + 1);
+  table.Read(RollerFields(), in);
+  const double ring_radius = scene.ring.inner.radius();
+  if (!(in.radius < ring_radius)) {
+    table.Fail("radius_mm", "not smaller than the ring's inner radius",
+               fmt::format("> 0 and < {} (ring.inner_radius_mm)", ShowDerived(Millimetres(ring_radius))));
+  }
+  table.RequireExactlyOne("density_kg_per_m3", "mass_kg", kMassAllowed);
+  for (std::size_t other = 0; other < scene.rollers.size(); ++other) {
+    if (scene.rollers[other].name != in.name) continue;
+    table.FailAbout("name", fmt::format("{} = \"{}\"", table.KeyPath("name"), in.name),
+                    fmt::format("the same name as rollers[{}]", other), "a name no other roller has");
+  }
+
+  engine::Roller roller;
+  roller.name = in.name;
+  roller.angle = in.angle;
+  roller.centre_radius = in.centre_radius.value_or(ring_radius - in.radius);
+  roller.radial_offset = in.radial_offset;
+  roller.tangential_offset = in.tangential_offset;
+  roller.outline = engine::PolarProfile(in.radius, in.mean_deviation, in.harmonics);
+  roller.phase_reference = in.phase_reference;
+  roller.spin_phase = in.spin_phase;
+  roller.mount = in.mount;
+  if (in.mount == RollerMount::kSpring) {
+    roller.spring = {in.spring_stiffness, in.spring_preload, in.spring_axis.value_or(in.angle),
+                     in.spring_travel_limit.value_or(in.radius)};
+  }
+  // A solid cylinder: the bearing's bore and its inner ring standing still are ignored,
+  // which overstates the spinning mass by a few per cent (model.md §1).
+  const double r2 = in.radius * in.radius;
+  roller.mass = in.mass ? *in.mass : *in.density * std::numbers::pi * r2 * in.width;
+  roller.spin_inertia = in.spin_inertia.value_or(roller.mass * r2 / 2.0);
+  RequireDeviationsBelowRadius(table, roller.outline, "radius_mm");
+  scene.rollers.push_back(std::move(roller));
+}
+
+// ---- [contact], [friction], [sensor]: straight into the engine's structs, whose in-class
+// defaults are the documented defaults.
+
+std::vector<Field<engine::ContactLaw>> ContactFields() {
+  using Law = engine::ContactLaw;
+  return {
+      Choice<Law, Law::Model>("law", Presence::kOptional,
+                              {{"rigid", Law::Model::kRigid}, {"penalty", Law::Model::kPenalty}}, &Law::model),
+      Number("stiffness_N_per_m_e", Presence::kOptional, kSameUnit, Above(0.0), &Law::stiffness),
+      Number("exponent", Presence::kOptional, kSameUnit, Between(1.0, 3.0), &Law::exponent),
+      Number("max_damping_N_s_per_m", Presence::kOptional, kSameUnit, AtLeast(0.0), &Law::max_damping),
+      Number("full_damping_penetration_mm", Presence::kOptional, kMetresPerMillimetre, Above(0.0),
+             &Law::full_damping_penetration),
+  };
+}
+
+std::vector<Field<engine::Friction>> FrictionFields() {
+  using engine::Friction;
+  return {
+      Number("static_coefficient", Presence::kOptional, kSameUnit, AtLeast(0.0), &Friction::static_coefficient),
+      Number("dynamic_coefficient", Presence::kOptional, kSameUnit, AtLeast(0.0), &Friction::dynamic_coefficient),
+      Number("stiction_velocity_mm_per_s", Presence::kOptional, kMetresPerMillimetre, Above(0.0),
+             &Friction::stiction_velocity),
+      Number("transition_velocity_mm_per_s", Presence::kOptional, kMetresPerMillimetre, Above(0.0),
+             &Friction::transition_velocity),
+  };
+}
+
+void ReadFriction(const TableReader& table, engine::Scene& scene) {
+  table.Read(FrictionFields(), scene.friction);
+  const engine::Friction& friction = scene.friction;
+  if (friction.transition_velocity > friction.stiction_velocity) return;
+  // mu(v) falls from mu_s at v_s to mu_d at v_d: the two must be in that order.
+  const std::string allowed =
+      fmt::format("> stiction_velocity_mm_per_s = {}", ShowDerived(Millimetres(friction.stiction_velocity)));
+  constexpr std::string_view kTransition = "transition_velocity_mm_per_s";
+  if (table.Has(kTransition)) table.Fail(kTransition, "not above the stiction velocity", allowed);
+  table.FailAbout("stiction_velocity_mm_per_s",
+                  fmt::format("{} = {} (default)", table.KeyPath(kTransition),
+                              ShowDerived(Millimetres(friction.transition_velocity))),
+                  "not above the stiction velocity", allowed);
+}
+
+std::vector<Field<engine::Scene>> SensorFields() {
+  return {Number("angle_deg", Presence::kOptional, kRadiansPerDegree, AnyFinite(), &engine::Scene::sensor_angle)};
+}
+
+std::vector<Field<engine::Scene>> SceneFields() {
+  using engine::Scene;
+  // The ring comes first: the rollers' limits depend on its radius.
+  return {
+      Section<Scene>("ring", Presence::kRequired, ReadRing),
+      Section<Scene>("roller_positions", Presence::kOptional, ReadRollerPositions),
+      Sections<Scene>("rollers", Presence::kRequired, kMinRollers, ReadRoller),
+      Section<Scene>("contact", Presence::kOptional,
+                     [](const TableReader& table, Scene& scene) { table.Read(ContactFields(), scene.contact); }),
+      Section<Scene>("friction", Presence::kOptional, ReadFriction),
+      Section<Scene>("sensor", Presence::kOptional,
+                     [](const TableReader& table, Scene& scene) { table.Read(SensorFields(), scene); }),
+  };
+}
+
+engine::Scene SceneFromTable(const toml::table& document, const std::string& source_name) {
+  const TableReader root(document, "", source_name);
+  engine::Scene scene;
+  root.Read(SceneFields(), scene);
+  // Non-convex outlines are left to the solvers, which report them as a status.
+  const engine::GeometryCheck check = engine::CheckGeometry(scene);
+  if (check.issue == engine::GeometryIssue::kRollerDoesNotFit) {
+    const TableReader roller = root.Element("rollers", static_cast<std::size_t>(check.roller));
+    // An explicit centre radius is the likelier culprit; by default the radius sets it.
+    roller.Fail(roller.Has("centre_radius_mm") ? "centre_radius_mm" : "radius_mm", check.message,
+                FitRule(scene.ring.inner.radius()));
+  }
+  return scene;
+}
+
+}  // namespace
+
+engine::Scene ParseScene(std::string_view toml_text, const std::string& source_name) {
+  const toml::table document = ParseToml(toml_text, source_name);
+  return SceneFromTable(document, source_name);
+}
+
+engine::Scene ReadScene(const std::filesystem::path& file) {
+  const std::string source_name = file.string();
+  return ParseScene(ReadTextFile(file), source_name);
+}
+
+}  // namespace ringtol::jobs

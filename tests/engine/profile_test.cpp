@@ -1,0 +1,594 @@
+// PolarProfile against references built here from the definition alone:
+//   r(theta) = R + mean + sum_n C_n cos(n theta + phi_n),
+// evaluated term by term in long double; the support function by brute force over a dense
+// sampling of the outline; the curvature by the textbook polar formula; and the exact
+// convexity limit of a single harmonic (derived below).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "engine/profile.h"
+
+namespace ringtol::engine {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kLongEps = std::numeric_limits<long double>::epsilon();
+
+// ---------------------------------------------------------------------------------------
+// Test profiles as compile-time data (template arguments), so that every tolerance below
+// is a constexpr derived from the profile it applies to.
+
+constexpr int kMaxTerms = 6;
+
+struct Spec {
+  double radius = 0.0;  // [m]
+  double mean = 0.0;    // [m]
+  int count = 0;        // harmonics used
+  std::array<Harmonic, kMaxTerms> terms{};
+};
+
+PolarProfile Make(const Spec& spec) {
+  return PolarProfile(spec.radius, spec.mean, {spec.terms.begin(), spec.terms.begin() + spec.count});
+}
+
+// sum_n n^power C_n [m]
+constexpr double Moment(const Spec& spec, int power) {
+  double sum = 0.0;
+  for (int i = 0; i < spec.count; ++i) {
+    double weight = 1.0;
+    for (int k = 0; k < power; ++k) weight *= spec.terms[static_cast<std::size_t>(i)].order;
+    sum += weight * spec.terms[static_cast<std::size_t>(i)].amplitude;
+  }
+  return sum;
+}
+
+constexpr double Power(double x, int k) {
+  double p = 1.0;
+  for (int i = 0; i < k; ++i) p *= x;
+  return p;
+}
+
+constexpr int MaxOrder(const Spec& spec) {
+  int n = 0;
+  for (int i = 0; i < spec.count; ++i) n = std::max(n, spec.terms[static_cast<std::size_t>(i)].order);
+  return n;
+}
+
+constexpr double MaxReach(const Spec& spec) { return spec.radius + spec.mean + Moment(spec, 0); }  // [m]
+constexpr double MinReach(const Spec& spec) { return spec.radius + spec.mean - Moment(spec, 0); }  // [m]
+// |x'| = sqrt(r^2 + r'^2) <= r_max + r'_max [m/rad]
+constexpr double MaxSpeed(const Spec& spec) { return MaxReach(spec) + Moment(spec, 1); }
+
+// |kappa| = |r^2 + 2 r'^2 - r r''| / (r^2 + r'^2)^(3/2) <= (r_max^2 + 2 r'_max^2 + r_max r''_max) / r_min^3.
+constexpr double CurvatureBound(const Spec& spec) {
+  const double r = MaxReach(spec);
+  const double dr = Moment(spec, 1);
+  const double r_min = MinReach(spec);
+  return (r * r + 2.0 * dr * dr + r * Moment(spec, 2)) / (r_min * r_min * r_min);
+}
+
+// Bound of the k-th theta derivative of the curvature [1/m]: kappa is a ratio of
+// trigonometric polynomials of degree <= 2 n_max; Bernstein's inequality bounds a
+// polynomial's k-th derivative by degree^k times its size; a factor 4 covers the ratio.
+constexpr double CurvatureDerivativeBound(const Spec& spec, int k) {
+  return 4.0 * Power(2.0 * MaxOrder(spec), k) * CurvatureBound(spec);
+}
+
+// Exact smallest curvature of a single harmonic r = R + C cos(n theta + phi): the
+// numerator r^2 + 2 r'^2 - r r'' is, in c = cos(n theta + phi),
+//   R^2 + (n^2 + 2) R C c + (1 - n^2) C^2 c^2 + 2 n^2 C^2,
+// concave in c, so smallest at c = -1 where r' = 0 and it equals (R - C)(R - (n^2 + 1) C):
+//   kappa_min = (R - (n^2 + 1) C) / (R - C)^2,   convex iff C < R / (n^2 + 1).
+// (The linearised rule (n^2 - 1) C < R is too generous: for n = 1 it misses the limacon's
+// dimple at C = R / 2, for n = 5 the limit is R / 26, not R / 24.) At c = +1 the same
+// algebra gives kappa = (R + (n^2 + 1) C) / (R + C)^2, the largest curvature.
+constexpr double SingleOrderMinCurvature(double radius, int n, double amplitude) {
+  return (radius - (n * n + 1) * amplitude) / ((radius - amplitude) * (radius - amplitude));
+}
+constexpr double SingleOrderMaxCurvature(double radius, int n, double amplitude) {
+  return (radius + (n * n + 1) * amplitude) / ((radius + amplitude) * (radius + amplitude));
+}
+
+// Lower bound of the curvature [1/m]: exact for a single order; for several orders the
+// numerator is >= r_min^2 - r_max r''_max and the denominator <= (r_max + r'_max)^3.
+constexpr double MinCurvatureBound(const Spec& spec) {
+  if (spec.count == 1) {
+    return SingleOrderMinCurvature(spec.radius + spec.mean, spec.terms[0].order, spec.terms[0].amplitude);
+  }
+  const double r_min = MinReach(spec);
+  return (r_min * r_min - MaxReach(spec) * Moment(spec, 2)) / Power(MaxSpeed(spec), 3);
+}
+
+// ---------------------------------------------------------------------------------------
+// Independent references.
+
+template <typename T>
+struct Terms {
+  T r = 0, dr = 0, ddr = 0;
+};
+using Exact = Terms<long double>;
+
+// Term by term; in long double (64-bit mantissa: n theta is exact for n <= 60) for the
+// pointwise references, in double for the dense samplings.
+template <typename T>
+Terms<T> DirectSumAs(const Spec& spec, T theta) {
+  Terms<T> e{static_cast<T>(spec.radius) + static_cast<T>(spec.mean), 0, 0};
+  for (int i = 0; i < spec.count; ++i) {
+    const Harmonic& h = spec.terms[static_cast<std::size_t>(i)];
+    const T n = static_cast<T>(h.order);
+    const T arg = n * theta + static_cast<T>(h.phase);
+    const T c = std::cos(arg);
+    e.r += static_cast<T>(h.amplitude) * c;
+    e.dr -= n * static_cast<T>(h.amplitude) * std::sin(arg);
+    e.ddr -= n * n * static_cast<T>(h.amplitude) * c;
+  }
+  return e;
+}
+Exact DirectSum(const Spec& spec, long double theta) { return DirectSumAs<long double>(spec, theta); }
+
+template <typename T>
+T PolarCurvature(const Terms<T>& e) {
+  const T q = e.r * e.r + e.dr * e.dr;
+  return (e.r * e.r + 2 * e.dr * e.dr - e.r * e.ddr) / (q * std::sqrt(q));
+}
+
+// d/dtheta of x(theta) . n(phi): r' cos(theta - phi) - r sin(theta - phi).
+long double SupportSlope(const Spec& spec, long double theta, long double phi) {
+  const Exact e = DirectSum(spec, theta);
+  return e.dr * std::cos(theta - phi) - e.r * std::sin(theta - phi);
+}
+
+constexpr int kOutlinePoints = 200000;
+constexpr double kOutlineStep = 2.0 * kPi / kOutlinePoints;  // [rad]
+
+// The outline sampled at kOutlinePoints equally spaced body angles.
+struct Outline {
+  std::vector<double> theta, x, y;
+};
+
+Outline SampleOutline(const Spec& spec) {
+  Outline o;
+  for (int j = 0; j < kOutlinePoints; ++j) {
+    const double theta = j * kOutlineStep;
+    const double r = DirectSumAs<double>(spec, theta).r;
+    o.theta.push_back(theta);
+    o.x.push_back(r * std::cos(theta));
+    o.y.push_back(r * std::sin(theta));
+  }
+  return o;
+}
+
+// One sampling per profile, shared by the tests that use it.
+template <Spec kSpec>
+const Outline& OutlineOf() {
+  static const Outline outline = SampleOutline(kSpec);
+  return outline;
+}
+
+struct BruteSupport {
+  double h = 0.0;      // [m] max over the samples of x . n(phi)
+  double theta = 0.0;  // [rad] body angle of the best sample
+};
+
+BruteSupport BruteForceSupport(const Outline& o, double phi) {
+  const double c = std::cos(phi);
+  const double s = std::sin(phi);
+  BruteSupport best{-std::numeric_limits<double>::infinity(), 0.0};
+  for (std::size_t j = 0; j < o.x.size(); ++j) {
+    const double value = o.x[j] * c + o.y[j] * s;
+    if (value > best.h) best = {value, o.theta[j]};
+  }
+  return best;
+}
+
+// The brute force refined to full precision: the best sample's neighbours bracket the
+// touching point, where x . n(phi) has its single maximum, and bisection on the long double
+// slope of x . n(phi) finds it.
+struct RefinedSupport {
+  long double theta = 0.0L, h = 0.0L, dh = 0.0L;
+  double kappa = 0.0;  // [1/m] polar curvature at theta
+};
+
+RefinedSupport ReferenceSupport(const Spec& spec, const Outline& o, long double phi) {
+  const BruteSupport brute = BruteForceSupport(o, static_cast<double>(phi));
+  long double lo = static_cast<long double>(brute.theta) - kOutlineStep;
+  long double hi = static_cast<long double>(brute.theta) + kOutlineStep;
+  EXPECT_GT(SupportSlope(spec, lo, phi), 0.0L) << "brute force bracket lost at phi " << static_cast<double>(phi);
+  EXPECT_LT(SupportSlope(spec, hi, phi), 0.0L) << "brute force bracket lost at phi " << static_cast<double>(phi);
+  for (int k = 0; k < 80; ++k) {
+    const long double mid = 0.5L * (lo + hi);
+    (SupportSlope(spec, mid, phi) > 0.0L ? lo : hi) = mid;
+  }
+  RefinedSupport ref;
+  ref.theta = 0.5L * (lo + hi);
+  const Exact e = DirectSum(spec, ref.theta);
+  ref.h = e.r * std::cos(ref.theta - phi);
+  ref.dh = e.r * std::sin(ref.theta - phi);
+  ref.kappa = static_cast<double>(PolarCurvature(e));
+  return ref;
+}
+
+double WrapAngle(double a) { return std::remainder(a, 2.0 * kPi); }
+
+double Uniform(std::mt19937_64& rng, double lo, double hi) {
+  return lo + (hi - lo) * static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
+
+// ---------------------------------------------------------------------------------------
+// The profiles.
+
+constexpr double kR = 0.302;  // [m] the article's ring bore
+
+// Six orders up to 60 with amplitudes spread over three decades.
+constexpr Spec kMixed{kR, 2.0e-5, 6,
+                      {{{1, 2.0e-4, 0.3}, {2, 1.4e-4, 0.785}, {5, 3.0e-5, -1.1}, {13, 8.0e-6, 2.0},
+                        {31, 1.0e-6, -2.7}, {60, 2.0e-7, 0.9}}}};
+// The paper's study orders at moderate size.
+constexpr Spec kRingLike{kR, 0.0, 5,
+                         {{{2, 1.4e-4, 0.785}, {3, 5.0e-5, 1.0}, {7, 3.0e-5, -2.0}, {12, 1.0e-5, 0.3},
+                           {20, 5.0e-6, 2.5}}}};
+// A single order 2 at 10 % of the radius: far from small, far from the convexity limit.
+constexpr Spec kOvalModerate{kR, 0.0, 1, {{{2, 0.10 * kR, 0.4}}}};
+// Order 2 at 19 % of the radius: 95 % of its exact convexity limit R / 5.
+constexpr Spec kOvalLarge{kR, 0.0, 1, {{{2, 0.19 * kR, -0.7}}}};
+// Order 5 at 99 % of its exact convexity limit R / 26.
+constexpr Spec kFiveNearLimit{kR, 0.0, 1, {{{5, 0.99 * kR / 26.0, 1.3}}}};
+// Order 40 at small amplitude: (n^2 + 1) C = 0.053 R.
+constexpr Spec kOrderForty{kR, 0.0, 1, {{{40, 1.0e-5, 0.2}}}};
+// Not convex: order 6 at 5 % of R, (n^2 + 1) C = 1.85 R.
+constexpr Spec kDented{kR, 0.0, 2, {{{6, 0.05 * kR, 0.3}, {2, 2.0e-3, 1.0}}}};
+
+static_assert(MinCurvatureBound(kRingLike) > 0.0 && MinCurvatureBound(kMixed) > 0.0);
+
+// ---------------------------------------------------------------------------------------
+// Evaluate
+
+// The engine's angle-addition recurrence for cos(n theta), sin(n theta) drifts by about
+// one rounding per order, so term n carries ~n eps relative error: 4 n_max eps times the
+// matching moment, plus 4 roundings of the constant part.
+template <Spec kSpec>
+void ExpectEvaluateMatchesDirectSum(const std::vector<double>& thetas) {
+  constexpr double kRecurrence = 4.0 * MaxOrder(kSpec) * kEps;
+  constexpr double kRTolerance = kRecurrence * Moment(kSpec, 0) + 4.0 * kEps * MaxReach(kSpec);  // [m]
+  constexpr double kDrTolerance = kRecurrence * Moment(kSpec, 1);                                // [m/rad]
+  constexpr double kDdrTolerance = kRecurrence * Moment(kSpec, 2);                               // [m/rad^2]
+  const PolarProfile profile = Make(kSpec);
+  for (const double theta : thetas) {
+    const RadiusDerivatives d = profile.Evaluate(theta);
+    const Exact e = DirectSum(kSpec, theta);
+    EXPECT_NEAR(d.r, static_cast<double>(e.r), kRTolerance) << "theta " << theta;
+    EXPECT_NEAR(d.dr, static_cast<double>(e.dr), kDrTolerance) << "theta " << theta;
+    EXPECT_NEAR(d.ddr, static_cast<double>(e.ddr), kDdrTolerance) << "theta " << theta;
+  }
+}
+
+TEST(PolarProfile, EvaluateMatchesDirectSumOfHarmonicsAndTheirDerivatives) {
+  std::mt19937_64 rng(20250101);
+  std::vector<double> thetas;
+  for (int k = 0; k < 2000; ++k) thetas.push_back(Uniform(rng, -20.0, 20.0));
+  ExpectEvaluateMatchesDirectSum<kMixed>(thetas);
+  ExpectEvaluateMatchesDirectSum<kOrderForty>(thetas);
+  ExpectEvaluateMatchesDirectSum<kOvalLarge>(thetas);
+}
+
+TEST(PolarProfile, HarmonicsOfEqualOrderAddUp) {
+  // Two order-3 terms and two order-7 terms; the phasor sums give the coefficients.
+  constexpr Spec kDuplicated{kR, -1.0e-5, 5,
+                             {{{3, 4.0e-5, 0.5}, {7, 1.0e-5, -1.0}, {3, 2.5e-5, 2.2}, {7, 3.0e-6, 0.1},
+                               {2, 6.0e-5, 0.0}}}};
+  const PolarProfile profile = Make(kDuplicated);
+  EXPECT_EQ(profile.max_order(), 7);
+  // A coefficient sums two products of size <= 4e-5 m: 4 roundings.
+  constexpr double kCoefficientTolerance = 4.0 * kEps * 4.0e-5;  // [m]
+  EXPECT_NEAR(profile.cos_coefficient(3), 4.0e-5 * std::cos(0.5) + 2.5e-5 * std::cos(2.2), kCoefficientTolerance);
+  EXPECT_NEAR(profile.sin_coefficient(3), 4.0e-5 * std::sin(0.5) + 2.5e-5 * std::sin(2.2), kCoefficientTolerance);
+  EXPECT_NEAR(profile.cos_coefficient(7), 1.0e-5 * std::cos(-1.0) + 3.0e-6 * std::cos(0.1), kCoefficientTolerance);
+  EXPECT_NEAR(profile.sin_coefficient(7), 1.0e-5 * std::sin(-1.0) + 3.0e-6 * std::sin(0.1), kCoefficientTolerance);
+  EXPECT_NEAR(profile.cos_coefficient(2), 6.0e-5, kCoefficientTolerance);
+  EXPECT_EQ(profile.sin_coefficient(2), 0.0);
+  EXPECT_EQ(profile.cos_coefficient(4), 0.0);
+  EXPECT_EQ(profile.cos_coefficient(8), 0.0);
+  EXPECT_EQ(profile.sin_coefficient(60), 0.0);
+  EXPECT_EQ(profile.cos_coefficient(-1), 0.0);
+
+  std::vector<double> thetas;
+  for (int k = 0; k < 97; ++k) thetas.push_back(-7.0 + 0.15 * k);
+  ExpectEvaluateMatchesDirectSum<kDuplicated>(thetas);
+}
+
+TEST(PolarProfile, ZeroAmplitudesLeaveACircle) {
+  const PolarProfile profile(kR, 3.0e-5, {{4, 0.0, 1.0}, {9, 0.0, -0.5}});
+  EXPECT_TRUE(profile.is_circle());
+  EXPECT_EQ(profile.max_order(), 0);
+  const RadiusDerivatives d = profile.Evaluate(1.234);
+  EXPECT_EQ(d.r, kR + 3.0e-5);
+  EXPECT_EQ(d.dr, 0.0);
+  EXPECT_EQ(d.ddr, 0.0);
+  const SupportPoint s = profile.Support(0.7, -2.0);
+  EXPECT_EQ(s.h, kR + 3.0e-5);
+  EXPECT_EQ(s.dh, 0.0);
+  EXPECT_EQ(s.curvature_radius, kR + 3.0e-5);
+  EXPECT_EQ(WrapAngle(s.theta - 0.7), 0.0);
+}
+
+TEST(PolarProfile, ConstructorRejectsNonPositiveRadiusAndOrdersBelowOne) {
+  EXPECT_THROW(PolarProfile(0.0, 0.0, {}), std::invalid_argument);
+  EXPECT_THROW(PolarProfile(-0.302, 0.0, {}), std::invalid_argument);
+  EXPECT_THROW(PolarProfile(-1e-300, 0.0, {{2, 1e-4, 0.0}}), std::invalid_argument);
+  EXPECT_THROW(PolarProfile(kR, 0.0, {{0, 1e-4, 0.0}}), std::invalid_argument);
+  EXPECT_THROW(PolarProfile(kR, 0.0, {{2, 1e-4, 0.0}, {-3, 1e-4, 0.0}}), std::invalid_argument);
+  EXPECT_THROW(PolarProfile(kR, 0.0, {{0, 0.0, 0.0}}), std::invalid_argument);  // even when inert
+  EXPECT_NO_THROW(PolarProfile(1e-9, 0.0, {{1, 1e-10, 0.0}}));
+  EXPECT_NO_THROW(PolarProfile(kR, -1e-3, {}));
+}
+
+// ---------------------------------------------------------------------------------------
+// Support
+
+// The engine stops Newton when its step is below 1e-14 rad (the returned angle is the one
+// before that step); rounding of its slope f = r' cos - r sin (~8 eps r) divided by the
+// slope's derivative kappa (r^2 + r'^2) >= kappa_min r_min^2 adds the rest [rad].
+template <Spec kSpec>
+constexpr double kThetaTolerance =
+    2e-14 + 8.0 * kEps * MaxReach(kSpec) / (MinCurvatureBound(kSpec) * MinReach(kSpec) * MinReach(kSpec));
+
+// Checks Support(phi) at 36 directions against the brute force:
+//  - h lies between the best sample and the best sample plus its sagitta, and equals the
+//    refined brute force up to rounding;
+//  - theta is within one sample step of the best sample and within the engine's stopping
+//    tolerance of the refined touching point;
+//  - dh and the curvature match their values at the refined touching point.
+template <Spec kSpec>
+void ExpectSupportMatchesBruteForce() {
+  SCOPED_TRACE(::testing::Message() << "profile with max order " << MaxOrder(kSpec));
+  // The best sample misses the support by at most the sagitta of half a sample step,
+  // |x'|^2 (dtheta / 2)^2 kappa / 2 [m].
+  constexpr double kSagitta = MaxSpeed(kSpec) * MaxSpeed(kSpec) * kOutlineStep * kOutlineStep * CurvatureBound(kSpec) / 8.0;
+  constexpr double kHRounding = 16.0 * kEps * MaxReach(kSpec);  // [m] products and sums at the reach
+  constexpr double kTheta = kThetaTolerance<kSpec>;             // [rad]
+  // dh = r sin(theta - phi) moves by at most |x'| per radian of theta [m].
+  constexpr double kDhTolerance = MaxSpeed(kSpec) * kTheta + kHRounding;
+  // Curvature: 32 roundings of its bound plus its drift over the theta tolerance [1/m].
+  constexpr double kCurvatureTolerance =
+      32.0 * kEps * CurvatureBound(kSpec) + CurvatureDerivativeBound(kSpec, 1) * kTheta;
+
+  const PolarProfile profile = Make(kSpec);
+  ASSERT_TRUE(profile.IsConvex());
+  const Outline& outline = OutlineOf<kSpec>();
+  for (int k = 0; k < 36; ++k) {
+    const double phi = -kPi + (k + 0.37) * (2.0 * kPi / 36.0);
+    const SupportPoint s = profile.Support(phi, phi);
+    const BruteSupport brute = BruteForceSupport(outline, phi);
+    const RefinedSupport ref = ReferenceSupport(kSpec, outline, phi);
+    EXPECT_LE(brute.h - s.h, kHRounding) << "phi " << phi << ": a sample reaches further than h";
+    EXPECT_LE(s.h - brute.h, kSagitta + kHRounding) << "phi " << phi;
+    EXPECT_NEAR(s.h, static_cast<double>(ref.h), kHRounding) << "phi " << phi;
+    EXPECT_LE(std::abs(WrapAngle(s.theta - brute.theta)), kOutlineStep) << "phi " << phi;
+    EXPECT_NEAR(WrapAngle(s.theta - static_cast<double>(ref.theta)), 0.0, kTheta) << "phi " << phi;
+    EXPECT_NEAR(s.dh, static_cast<double>(ref.dh), kDhTolerance) << "phi " << phi;
+    EXPECT_NEAR(1.0 / s.curvature_radius, ref.kappa, kCurvatureTolerance) << "phi " << phi;
+  }
+}
+
+TEST(PolarProfileSupport, MatchesBruteForceForMixedOrders) { ExpectSupportMatchesBruteForce<kRingLike>(); }
+
+TEST(PolarProfileSupport, MatchesBruteForceForOrdersUpToSixty) { ExpectSupportMatchesBruteForce<kMixed>(); }
+
+TEST(PolarProfileSupport, MatchesBruteForceForOrderFortyAtSmallAmplitude) {
+  ExpectSupportMatchesBruteForce<kOrderForty>();
+}
+
+TEST(PolarProfileSupport, MatchesBruteForceForAnOvalOfTenPercent) { ExpectSupportMatchesBruteForce<kOvalModerate>(); }
+
+TEST(PolarProfileSupport, MatchesBruteForceForAnOvalAtNinetyFivePercentOfTheConvexityLimit) {
+  ExpectSupportMatchesBruteForce<kOvalLarge>();
+}
+
+TEST(PolarProfileSupport, MatchesBruteForceForOrderFiveJustInsideTheConvexityLimit) {
+  ExpectSupportMatchesBruteForce<kFiveNearLimit>();
+}
+
+// dh/dphi and h + h'' against central differences of the refined brute-force support.
+template <Spec kSpec>
+void ExpectSupportDerivativesMatchFiniteDifferences() {
+  SCOPED_TRACE(::testing::Message() << "profile with max order " << MaxOrder(kSpec));
+  constexpr double kStep = 1e-5;  // [rad]
+  // To second order in C the support function is r(phi) + r'(phi)^2 / (2 r): its k-th
+  // derivative is bounded by sum n^k C_n plus (2 n_max)^k r'_max^2 / r_min (Bernstein on
+  // the degree-2 n_max square); double that for the higher orders [m/rad^k].
+  constexpr auto kDerivativeBound = [](int k) {
+    return 2.0 * (Moment(kSpec, k) + Power(2.0 * MaxOrder(kSpec), k) * Moment(kSpec, 1) * Moment(kSpec, 1) / MinReach(kSpec));
+  };
+  // The refined reference carries ~4 long double roundings of the reach [m].
+  constexpr double kReferenceError = 4.0 * kLongEps * MaxReach(kSpec);
+  // Central first difference: h''' step^2 / 6 + 2 e / (2 step) [m].
+  constexpr double kSlopeFd = kDerivativeBound(3) * kStep * kStep / 6.0 + kReferenceError / kStep;
+  // The engine's dh moves by |x'| per radian of its theta tolerance [m].
+  constexpr double kDhTolerance = kSlopeFd + MaxSpeed(kSpec) * kThetaTolerance<kSpec>;
+  // Central second difference: h'''' step^2 / 12 + 4 e / step^2; plus 32 roundings of the
+  // engine's curvature radius, at most 1 / kappa_min [m].
+  constexpr double kRhoTolerance = kDerivativeBound(4) * kStep * kStep / 12.0 +
+                                   4.0 * kReferenceError / (kStep * kStep) + 32.0 * kEps / MinCurvatureBound(kSpec);
+  const PolarProfile profile = Make(kSpec);
+  const Outline& outline = OutlineOf<kSpec>();
+  for (int k = 0; k < 24; ++k) {
+    const long double phi = -kPi + (k + 0.61) * (2.0 * kPi / 24.0);
+    const SupportPoint s = profile.Support(static_cast<double>(phi), static_cast<double>(phi) + 0.3);
+    const long double h0 = ReferenceSupport(kSpec, outline, phi).h;
+    const long double h_plus = ReferenceSupport(kSpec, outline, phi + kStep).h;
+    const long double h_minus = ReferenceSupport(kSpec, outline, phi - kStep).h;
+    const auto slope = static_cast<double>((h_plus - h_minus) / (2.0L * kStep));
+    const auto second = static_cast<double>((h_plus - 2.0L * h0 + h_minus) / (static_cast<long double>(kStep) * kStep));
+    EXPECT_NEAR(s.dh, slope, kDhTolerance) << "phi " << static_cast<double>(phi);
+    EXPECT_NEAR(s.curvature_radius, static_cast<double>(h0) + second, kRhoTolerance) << "phi " << static_cast<double>(phi);
+  }
+}
+
+TEST(PolarProfileSupport, SlopeAndCurvatureRadiusMatchFiniteDifferencesForMixedOrders) {
+  ExpectSupportDerivativesMatchFiniteDifferences<kRingLike>();
+}
+
+TEST(PolarProfileSupport, SlopeAndCurvatureRadiusMatchFiniteDifferencesForOrderForty) {
+  ExpectSupportDerivativesMatchFiniteDifferences<kOrderForty>();
+}
+
+TEST(PolarProfileSupport, SlopeAndCurvatureRadiusMatchFiniteDifferencesForOrdersUpToSixty) {
+  ExpectSupportDerivativesMatchFiniteDifferences<kMixed>();
+}
+
+TEST(PolarProfileSupport, AnswerDoesNotDependOnThetaGuess) {
+  constexpr double kTheta = kThetaTolerance<kRingLike>;         // [rad]
+  constexpr double kHTolerance = 16.0 * kEps * MaxReach(kRingLike);  // [m] rounding at the reach
+  constexpr double kDhTolerance = MaxSpeed(kRingLike) * kTheta + kHTolerance;  // [m] |x'| per radian
+  const PolarProfile profile = Make(kRingLike);
+  const Outline& outline = OutlineOf<kRingLike>();
+  std::mt19937_64 rng(77);
+  for (int k = 0; k < 8; ++k) {
+    const double phi = Uniform(rng, -2.0 * kPi, 2.0 * kPi);
+    const RefinedSupport ref = ReferenceSupport(kRingLike, outline, phi);
+    const auto nominal = static_cast<double>(ref.theta);
+    std::vector<double> guesses = {phi,
+                                   nominal,
+                                   nominal + 2.0 * kPi,
+                                   nominal - 6.0 * kPi,
+                                   nominal + 200.0 * kPi,
+                                   phi + kPi,
+                                   phi - kPi / 2.0,
+                                   phi + kPi / 2.0,
+                                   phi + 1.5,
+                                   phi - 3.0,
+                                   -1e6,
+                                   std::numeric_limits<double>::infinity(),
+                                   std::numeric_limits<double>::quiet_NaN()};
+    for (int g = 0; g < 8; ++g) guesses.push_back(Uniform(rng, -100.0, 100.0));
+    for (const double guess : guesses) {
+      const SupportPoint s = profile.Support(phi, guess);
+      EXPECT_NEAR(s.h, static_cast<double>(ref.h), kHTolerance) << "phi " << phi << " guess " << guess;
+      EXPECT_NEAR(WrapAngle(s.theta - nominal), 0.0, kTheta) << "phi " << phi << " guess " << guess;
+      EXPECT_NEAR(s.dh, static_cast<double>(ref.dh), kDhTolerance) << "phi " << phi << " guess " << guess;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Convexity and extremes
+
+TEST(PolarProfileConvexity, SingleOrderClearlyAboveTheLimitIsNotConvex) {
+  EXPECT_FALSE(Make(kDented).IsConvex());
+  // Order 6 at 5 % of R alone, and among small terms.
+  EXPECT_FALSE(PolarProfile(kR, 0.0, {{6, 0.05 * kR, 0.3}}).IsConvex());
+  EXPECT_FALSE(PolarProfile(kR, 0.0, {{2, 1e-4, 0.0}, {6, 0.05 * kR, 0.3}, {9, 1e-6, 1.0}}).IsConvex());
+  // Order 6 at 2 % of R: (n^2 + 1) C = 0.74 R.
+  EXPECT_TRUE(PolarProfile(kR, 0.0, {{6, 0.02 * kR, 0.3}}).IsConvex());
+}
+
+TEST(PolarProfileConvexity, SingleOrderLimitIsRadiusOverNSquaredPlusOne) {
+  for (const int n : {1, 2, 3, 5, 8, 20}) {
+    const double limit = kR / (n * n + 1);
+    EXPECT_TRUE(PolarProfile(kR, 0.0, {{n, 0.98 * limit, 0.6}}).IsConvex()) << "order " << n;
+    EXPECT_FALSE(PolarProfile(kR, 0.0, {{n, 1.02 * limit, 0.6}}).IsConvex()) << "order " << n;
+  }
+  // Just under the linearised limit R / (n^2 - 1) = R / 24 the order-5 outline already has
+  // a dent: IsConvex must not implement the linearised rule.
+  EXPECT_FALSE(PolarProfile(kR, 0.0, {{5, 0.99 * kR / 24.0, 0.0}}).IsConvex());
+}
+
+// Smallest and largest of f over kOutlinePoints equally spaced body angles.
+template <typename F>
+std::pair<double, double> DenseExtremes(F f) {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -lo;
+  for (int j = 0; j < kOutlinePoints; ++j) {
+    const double value = f(j * kOutlineStep);
+    lo = std::min(lo, value);
+    hi = std::max(hi, value);
+  }
+  return {lo, hi};
+}
+
+template <Spec kSpec>
+void ExpectCurvatureExtremesMatchDenseSampling() {
+  SCOPED_TRACE(::testing::Message() << "profile with max order " << MaxOrder(kSpec));
+  // The grid misses an extreme by at most |kappa''| (dtheta / 2)^2 / 2 [1/m].
+  constexpr double kSampling = CurvatureDerivativeBound(kSpec, 2) * kOutlineStep * kOutlineStep / 8.0;
+  constexpr double kRounding = 32.0 * kEps * CurvatureBound(kSpec);  // [1/m]
+  const PolarProfile profile = Make(kSpec);
+  const auto [lo, hi] =
+      DenseExtremes([](double t) { return PolarCurvature(DirectSumAs<double>(kSpec, t)); });
+  // The engine must find at least the sampled extreme, and not beyond what lies between samples.
+  EXPECT_LE(profile.MinCurvature(), lo + kRounding);
+  EXPECT_GE(profile.MinCurvature(), lo - kSampling - kRounding);
+  EXPECT_GE(profile.MaxCurvature(), hi - kRounding);
+  EXPECT_LE(profile.MaxCurvature(), hi + kSampling + kRounding);
+}
+
+TEST(PolarProfileConvexity, CurvatureExtremesMatchDenseSamplingOfThePolarFormula) {
+  ExpectCurvatureExtremesMatchDenseSampling<kMixed>();
+  ExpectCurvatureExtremesMatchDenseSampling<kRingLike>();
+  ExpectCurvatureExtremesMatchDenseSampling<kOvalModerate>();
+  ExpectCurvatureExtremesMatchDenseSampling<kOvalLarge>();
+  ExpectCurvatureExtremesMatchDenseSampling<kFiveNearLimit>();
+  ExpectCurvatureExtremesMatchDenseSampling<kOrderForty>();
+  ExpectCurvatureExtremesMatchDenseSampling<kDented>();
+}
+
+template <Spec kSpec>
+void ExpectSingleOrderExtremesMatchClosedForm() {
+  static_assert(kSpec.count == 1 && kSpec.mean == 0.0);
+  SCOPED_TRACE(::testing::Message() << "order " << kSpec.terms[0].order);
+  constexpr int kN = kSpec.terms[0].order;
+  constexpr double kC = kSpec.terms[0].amplitude;
+  // The engine's golden section stops within 1e-10 rad of the extreme, where the error is
+  // |kappa''| (1e-10)^2 / 2; plus 64 roundings of the curvature bound [1/m].
+  constexpr double kCurvatureTolerance =
+      CurvatureDerivativeBound(kSpec, 2) * 1e-20 / 2.0 + 64.0 * kEps * CurvatureBound(kSpec);
+  // r at an extreme: n^2 C (1e-10)^2 / 2 plus 4 roundings of the reach [m].
+  constexpr double kRadiusTolerance = kN * kN * kC * 1e-20 / 2.0 + 4.0 * kEps * MaxReach(kSpec);
+  const PolarProfile profile = Make(kSpec);
+  EXPECT_NEAR(profile.MinCurvature(), SingleOrderMinCurvature(kR, kN, kC), kCurvatureTolerance);
+  EXPECT_NEAR(profile.MaxCurvature(), SingleOrderMaxCurvature(kR, kN, kC), kCurvatureTolerance);
+  EXPECT_NEAR(profile.MinRadius(), kR - kC, kRadiusTolerance);
+  EXPECT_NEAR(profile.MaxRadius(), kR + kC, kRadiusTolerance);
+}
+
+TEST(PolarProfileConvexity, SingleOrderCurvatureExtremesMatchTheClosedForm) {
+  ExpectSingleOrderExtremesMatchClosedForm<kOvalModerate>();
+  ExpectSingleOrderExtremesMatchClosedForm<kOvalLarge>();
+  ExpectSingleOrderExtremesMatchClosedForm<kFiveNearLimit>();
+  ExpectSingleOrderExtremesMatchClosedForm<kOrderForty>();
+}
+
+template <Spec kSpec>
+void ExpectRadiusExtremesMatchDenseSampling() {
+  SCOPED_TRACE(::testing::Message() << "profile with max order " << MaxOrder(kSpec));
+  // The grid misses an extreme by at most |r''| (dtheta / 2)^2 / 2, |r''| <= sum n^2 C [m].
+  constexpr double kSampling = Moment(kSpec, 2) * kOutlineStep * kOutlineStep / 8.0;
+  constexpr double kRounding = 8.0 * kEps * MaxReach(kSpec);  // [m]
+  const PolarProfile profile = Make(kSpec);
+  const auto [lo, hi] = DenseExtremes([](double t) { return DirectSumAs<double>(kSpec, t).r; });
+  EXPECT_LE(profile.MinRadius(), lo + kRounding);
+  EXPECT_GE(profile.MinRadius(), lo - kSampling - kRounding);
+  EXPECT_GE(profile.MaxRadius(), hi - kRounding);
+  EXPECT_LE(profile.MaxRadius(), hi + kSampling + kRounding);
+}
+
+TEST(PolarProfileConvexity, RadiusExtremesMatchDenseSampling) {
+  ExpectRadiusExtremesMatchDenseSampling<kMixed>();
+  ExpectRadiusExtremesMatchDenseSampling<kRingLike>();
+  ExpectRadiusExtremesMatchDenseSampling<kOvalLarge>();
+  ExpectRadiusExtremesMatchDenseSampling<kOrderForty>();
+  ExpectRadiusExtremesMatchDenseSampling<kDented>();
+}
+
+}  // namespace
+}  // namespace ringtol::engine

@@ -1,0 +1,144 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine/contact.h"
+#include "solvers/equilibrium.h"
+#include "solvers/quasistatic.h"
+#include "tests/support/paper_scene.h"
+
+namespace ringtol {
+namespace {
+
+using testing::kDeg;
+
+// Potential energy of the penalty model [J]: contact energy k delta^(e+1) / (e+1) at every
+// contact plus the spring energy (k s^2 / 2 - P s) of every spring roller. Its gradient is
+// minus the force balance the solver zeroes, so the solver's equilibrium must be its minimum.
+double PotentialEnergy(const engine::Scene& scene, const Eigen::Vector2d& centre, const std::vector<double>& travel) {
+  double energy = 0.0;
+  const double e = scene.contact.exponent;
+  for (int i = 0; i < static_cast<int>(scene.rollers.size()); ++i) {
+    const engine::Roller& roller = scene.rollers[static_cast<std::size_t>(i)];
+    const double s = travel[static_cast<std::size_t>(i)];
+    const engine::BodyPose ring_pose{centre, 0.0};
+    const engine::BodyPose roller_pose{engine::RollerCentre(scene, i) + s * engine::SpringAxis(scene, i),
+                                       engine::RollerBodyAngle(scene, i, 0.0)};
+    const engine::Contact c = engine::FindContact(scene.ring.inner, ring_pose, roller.outline, roller_pose);
+    const double delta = std::max(-c.gap, 0.0);
+    energy += scene.contact.stiffness * std::pow(delta, e + 1.0) / (e + 1.0);
+    if (roller.mount == engine::RollerMount::kSpring) {
+      energy += 0.5 * roller.spring.stiffness * s * s - roller.spring.preload * s;
+    }
+  }
+  return energy;
+}
+
+TEST(QuasistaticPenalty, EquilibriumIsTheMinimumOfThePotentialEnergy) {
+  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
+  testing::SetRing(scene, {{3, 0.14e-3, 45.0 * kDeg}, {5, 0.03e-3, 10.0 * kDeg}});
+  testing::SetRollerShapes(scene, {{2, 0.014e-3, 30.0 * kDeg}});
+  const solvers::Equilibrium eq = solvers::QuasistaticSolver().SolveStatic(scene);
+  ASSERT_EQ(eq.status, solvers::Status::kOk) << eq.message;
+  const double minimum = PotentialEnergy(scene, eq.centre, eq.travel);
+  // Probe along each coordinate and along diagonals by h: the energy must rise by about
+  // K h^2 / 2 with K >= the spring stiffness (1334 N/m), i.e. >= 6e-10 J at h = 1 um,
+  // far above the round-off of the energy (~1e-3 J * 1e-16).
+  constexpr double kProbe = 1e-6;                // [m]
+  constexpr double kSmallestRise = 0.5 * 1334.0 * kProbe * kProbe / 2.0;  // half the weakest curvature
+  const Eigen::Vector2d directions[] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}, {0.6, 0.8}, {-0.8, 0.6}};
+  for (const Eigen::Vector2d& d : directions) {
+    EXPECT_GT(PotentialEnergy(scene, eq.centre + kProbe * d, eq.travel) - minimum, kSmallestRise);
+  }
+  for (double sign : {-1.0, 1.0}) {
+    std::vector<double> travel = eq.travel;
+    travel[0] += sign * kProbe;
+    EXPECT_GT(PotentialEnergy(scene, eq.centre, travel) - minimum, kSmallestRise);
+  }
+  // The central-difference gradient vanishes. Its truncation error is U''' h^2 / 6 with
+  // U''' ~ k e (e-1) delta^(e-2) ~ 6e8 N/m^2 at delta = 0.15 mm (1e-8 N at h = 10 nm), its
+  // round-off the gap noise (~1e-17 m) times the contact force (20 N) over h (2e-8 N), and
+  // the solver's own residual is below stiffness (2e5 N/m) times 1e-12 m.
+  constexpr double kGradientProbe = 1e-8;      // [m]
+  constexpr double kGradientTolerance = 1e-6;  // [N]
+  for (int axis = 0; axis < 2; ++axis) {
+    Eigen::Vector2d d = Eigen::Vector2d::Zero();
+    d[axis] = kGradientProbe;
+    const double gradient = (PotentialEnergy(scene, eq.centre + d, eq.travel) -
+                             PotentialEnergy(scene, eq.centre - d, eq.travel)) / (2.0 * kGradientProbe);
+    EXPECT_NEAR(gradient, 0.0, kGradientTolerance);
+  }
+}
+
+TEST(QuasistaticRigid, PerfectAssemblyRestsAtTheOriginWithForcesFromStatics) {
+  const engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kRigid);
+  const solvers::Equilibrium eq = solvers::QuasistaticSolver().SolveStatic(scene);
+  ASSERT_EQ(eq.status, solvers::Status::kOk) << eq.message;
+  constexpr double kPositionTolerance = 1e-12;  // [m] the solver's own tolerance
+  constexpr double kForceTolerance = 1e-9;      // [N]
+  EXPECT_NEAR(eq.centre.norm(), 0.0, kPositionTolerance);
+  // Spring at 90 deg pushes up with P; fixed rollers at 210/330 deg push along their
+  // normals: 2 F sin(30 deg) = P, so F = P.
+  for (double f : eq.contact_force) EXPECT_NEAR(f, 19.3, kForceTolerance);
+}
+
+TEST(QuasistaticFailure, FixedRollersThatCannotHoldTheSpringLiftOff) {
+  // The spring at 90 deg pushes the ring up; fixed rollers at 30 and 150 deg can only push
+  // it up as well, so force balance needs a pulling contact.
+  for (auto law : {engine::ContactLaw::Model::kRigid, engine::ContactLaw::Model::kPenalty}) {
+    engine::Scene scene = testing::PaperScene(law);
+    scene.rollers[1].angle = 30.0 * kDeg;
+    scene.rollers[2].angle = 150.0 * kDeg;
+    const solvers::Trajectory path = solvers::QuasistaticSolver().SolveRevolution(scene, 36);
+    EXPECT_EQ(path.status, law == engine::ContactLaw::Model::kRigid ? solvers::Status::kLiftOff
+                                                                     : path.status);
+    EXPECT_NE(path.status, solvers::Status::kOk);
+    EXPECT_FALSE(path.message.empty());
+    EXPECT_TRUE(path.centre.empty());
+  }
+}
+
+TEST(QuasistaticFailure, ARollerThatNeverTouchesIsReportedAsLiftOff) {
+  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
+  engine::Roller extra = testing::PaperRoller("extra", 270.0, false);
+  extra.radial_offset = -0.5e-3;  // mounted 0.5 mm too far in: the ring never reaches it
+  scene.rollers.push_back(extra);
+  const solvers::Trajectory path = solvers::QuasistaticSolver().SolveRevolution(scene, 36);
+  EXPECT_EQ(path.status, solvers::Status::kLiftOff) << path.message;
+  EXPECT_NE(path.message.find("extra"), std::string::npos) << path.message;
+}
+
+TEST(QuasistaticFailure, RigidContactWithThreeFixedRollersIsStaticallyIndeterminate) {
+  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kRigid);
+  scene.rollers.push_back(testing::PaperRoller("extra", 270.0, false));
+  const solvers::Trajectory path = solvers::QuasistaticSolver().SolveRevolution(scene, 36);
+  EXPECT_EQ(path.status, solvers::Status::kStaticallyIndeterminate);
+}
+
+TEST(QuasistaticFailure, NonConvexRingIsAStatusNotANumber) {
+  engine::Scene scene = testing::PaperScene();
+  // (400 - 1) C / R = 1.98 > 1: inward bumps, yet the rollers still fit (1.5 mm < r_b).
+  testing::SetRing(scene, {{20, 1.5e-3, 0.0}});
+  const solvers::Trajectory path = solvers::QuasistaticSolver().SolveRevolution(scene, 36);
+  EXPECT_EQ(path.status, solvers::Status::kRingNotConvex);
+  EXPECT_TRUE(path.centre.empty());
+}
+
+TEST(QuasistaticFailure, ARollerLargerThanTheBoreDoesNotFit) {
+  engine::Scene scene = testing::PaperScene();
+  scene.rollers[1].outline = engine::PolarProfile(0.35, 0.0, {});
+  const solvers::Trajectory path = solvers::QuasistaticSolver().SolveRevolution(scene, 36);
+  EXPECT_EQ(path.status, solvers::Status::kRollerDoesNotFit);
+}
+
+TEST(QuasistaticFailure, SpringTravelBeyondItsLimitMeansTheAssemblyCannotClose) {
+  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kRigid);
+  testing::SetRing(scene, {{3, 0.14e-3, 45.0 * kDeg}});
+  scene.rollers[0].spring.travel_limit = 0.1e-3;  // the order-3 lobe needs up to ~0.42 mm
+  const solvers::Trajectory path = solvers::QuasistaticSolver().SolveRevolution(scene, 360);
+  EXPECT_EQ(path.status, solvers::Status::kRollerDoesNotFit) << path.message;
+  EXPECT_NE(path.message.find("travel"), std::string::npos) << path.message;
+}
+
+}  // namespace
+}  // namespace ringtol
