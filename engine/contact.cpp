@@ -98,17 +98,39 @@ bool IsSinglePoint(const PolarProfile& ring, const BodyPose& ring_pose, const Po
   const double touching = std::max(contact.gap, 0.0) + tolerance;
   const double width = std::numbers::pi;
   const double step = width / samples;
+  auto gap_at = [&](double offset) { return GapAlong(ring, ring_pose, roller, roller_pose, contact.normal_angle + offset); };
+  // A grid value misses its basin's minimum by up to g'' (step/2)^2 / 2 (~1e-7 m here), far
+  // more than a tight tolerance: refine every candidate by golden section to 1e-12 rad.
+  auto refined_minimum = [&](double centre) {
+    const double inv_golden = (std::sqrt(5.0) - 1.0) / 2.0;
+    double a = centre - step;
+    double b = centre + step;
+    double x1 = b - inv_golden * (b - a);
+    double x2 = a + inv_golden * (b - a);
+    double f1 = gap_at(x1);
+    double f2 = gap_at(x2);
+    while (b - a > 1e-12) {
+      if (f1 < f2) {
+        b = x2; x2 = x1; f2 = f1; x1 = b - inv_golden * (b - a); f1 = gap_at(x1);
+      } else {
+        a = x1; x1 = x2; f1 = f2; x2 = a + inv_golden * (b - a); f2 = gap_at(x2);
+      }
+    }
+    return std::min(f1, f2);
+  };
   // Exclude the contact's own basin: the samples nearest to it always read ~its gap.
   const double own_basin = 2.0 * step;
-  double previous = GapAlong(ring, ring_pose, roller, roller_pose, contact.normal_angle - width / 2.0);
-  double current = GapAlong(ring, ring_pose, roller, roller_pose, contact.normal_angle - width / 2.0 + step);
+  double previous = gap_at(-width / 2.0);
+  double current = gap_at(-width / 2.0 + step);
   for (int k = 2; k <= samples; ++k) {
     const double offset = -width / 2.0 + k * step;
-    const double next = GapAlong(ring, ring_pose, roller, roller_pose, contact.normal_angle + offset);
+    const double next = gap_at(offset);
     const double centre_offset = offset - step;
     if (current < contact.gap - tolerance) return false;
     const bool local_minimum = current <= previous && current <= next;
-    if (local_minimum && std::abs(centre_offset) > own_basin && current <= touching) return false;
+    if (local_minimum && std::abs(centre_offset) > own_basin && refined_minimum(centre_offset) <= touching) {
+      return false;
+    }
     previous = current;
     current = next;
   }

@@ -530,11 +530,10 @@ struct TwoPointSetup {
   double Reach(double phi) const { return ring_set.Support(phi) - roller_centre.dot(Dir(phi)); }
 };
 
-TEST(IsSinglePoint, RollerBridgingTheEndOfAnOvalBoreTouchesTwice) {
-  const TwoPointSetup setup(0.06);
+// The radius of a circular roller at setup.roller_centre that clears the smallest reach on
+// the side psi < phi < psi + pi/2 by `clearance`, by brute force; side_phi is where [m].
+double BridgingRollerRadius(const TwoPointSetup& setup, double clearance, double* side_phi) {
   const double psi = setup.ring_pose.angle;
-  // Construct the roller radius: 1 um less than the smallest reach on one side.
-  constexpr double kClearance = 1e-6;  // [m]
   double grid_best = psi;
   double best = std::numeric_limits<double>::infinity();
   for (int i = 1; i < 100; ++i) {
@@ -545,10 +544,18 @@ TEST(IsSinglePoint, RollerBridgingTheEndOfAnOvalBoreTouchesTwice) {
       grid_best = phi;
     }
   }
-  double side_phi = 0.0;
   const double min_reach = GoldenMinimum([&setup](double phi) { return setup.Reach(phi); }, grid_best - kPi / 200.0,
-                                         grid_best + kPi / 200.0, &side_phi);
-  const double rho = min_reach - kClearance;
+                                         grid_best + kPi / 200.0, side_phi);
+  return min_reach - clearance;
+}
+
+TEST(IsSinglePoint, RollerBridgingTheEndOfAnOvalBoreTouchesTwice) {
+  const TwoPointSetup setup(0.06);
+  const double psi = setup.ring_pose.angle;
+  // Construct the roller radius: 1 um less than the smallest reach on one side.
+  constexpr double kClearance = 1e-6;  // [m]
+  double side_phi = 0.0;
+  const double rho = BridgingRollerRadius(setup, kClearance, &side_phi);
   const PolarProfile ring = Make(kOval);
   const PolarProfile roller(rho, 0.0, {});
   const BodyPose roller_pose{setup.roller_centre, 1.0};
@@ -596,6 +603,30 @@ TEST(IsSinglePoint, RollerBridgingTheEndOfAnOvalBoreTouchesTwice) {
   if (cold.converged) {
     EXPECT_NEAR(cold.gap, kClearance, kOvalReachError);
     EXPECT_FALSE(IsSinglePoint(ring, setup.ring_pose, roller, roller_pose, cold, kTouching));
+  }
+}
+
+TEST(IsSinglePoint, EqualSecondTouchingPointCountsHoweverSmallTheTolerance) {
+  // The construction above is symmetric about the end: the mirror touching point has the
+  // same gap as the contact to rounding, so it is within any tolerance of touching. (A
+  // sampled scan that compares its grid values, not refined minima, misses it once the
+  // tolerance is below the grid's miss g'' (step / 2)^2 / 2 ~ 1e-7 m.)
+  const TwoPointSetup setup(0.06);
+  constexpr double kClearance = 1e-6;  // [m]
+  double side_phi = 0.0;
+  const PolarProfile ring = Make(kOval);
+  const PolarProfile roller(BridgingRollerRadius(setup, kClearance, &side_phi), 0.0, {});
+  const BodyPose roller_pose{setup.roller_centre, 1.0};
+  const ContactGuess guess{side_phi, side_phi - setup.ring_pose.angle, side_phi - roller_pose.angle};
+  const Contact contact = FindContact(ring, setup.ring_pose, roller, roller_pose, &guess);
+  ASSERT_TRUE(contact.converged);
+  const double mirror = 2.0 * setup.ring_pose.angle - contact.normal_angle;
+  // Both gaps are the same evaluation mirrored: 4 roundings of 0.32 m [m].
+  constexpr double kMirrorRounding = 4.0 * kCoordinateRounding;
+  ASSERT_NEAR(GapAlong(ring, setup.ring_pose, roller, roller_pose, mirror), contact.gap, kMirrorRounding);
+  for (const double touching : {1e-7, 1e-8, 1e-9}) {
+    EXPECT_FALSE(IsSinglePoint(ring, setup.ring_pose, roller, roller_pose, contact, touching))
+        << "tolerance " << touching;
   }
 }
 

@@ -77,6 +77,21 @@ constexpr double CurvatureBound(const Spec& spec) {
   return (r * r + 2.0 * dr * dr + r * Moment(spec, 2)) / (r_min * r_min * r_min);
 }
 
+// |dkappa/dtheta| [1/(m rad)]: kappa = N / q^(3/2) with N = r^2 + 2 r'^2 - r r'',
+// q = r^2 + r'^2, so |kappa'| <= |N'| / r_min^3 + 1.5 |N| |q'| / r_min^5 with
+// |N'| <= 2 r r' + 5 r' r'' + r r''' and |q'| <= 2 r r' + 2 r' r'' at their bounds.
+constexpr double CurvatureSlopeBound(const Spec& spec) {
+  const double r = MaxReach(spec);
+  const double r1 = Moment(spec, 1);
+  const double r2 = Moment(spec, 2);
+  const double r3 = Moment(spec, 3);
+  const double r_min = MinReach(spec);
+  const double n_max = r * r + 2.0 * r1 * r1 + r * r2;
+  const double dn_max = 2.0 * r * r1 + 5.0 * r1 * r2 + r * r3;
+  const double dq_max = 2.0 * r * r1 + 2.0 * r1 * r2;
+  return dn_max / Power(r_min, 3) + 1.5 * n_max * dq_max / Power(r_min, 5);
+}
+
 // Bound of the k-th theta derivative of the curvature [1/m]: kappa is a ratio of
 // trigonometric polynomials of degree <= 2 n_max; Bernstein's inequality bounds a
 // polynomial's k-th derivative by degree^k times its size; a factor 4 covers the ratio.
@@ -335,9 +350,10 @@ TEST(PolarProfile, ConstructorRejectsNonPositiveRadiusAndOrdersBelowOne) {
 // ---------------------------------------------------------------------------------------
 // Support
 
-// The engine stops Newton when its step is below 1e-14 rad (the returned angle is the one
-// before that step); rounding of its slope f = r' cos - r sin (~8 eps r) divided by the
-// slope's derivative kappa (r^2 + r'^2) >= kappa_min r_min^2 adds the rest [rad].
+// Support's stopping rule (engine/profile.cpp): Newton stops once its step is below
+// 1e-14 rad and returns the angle before that step; doubled for margin. Rounding of the
+// slope f = r' cos - r sin (~8 eps r) over its derivative kappa (r^2 + r'^2) >=
+// kappa_min r_min^2 adds the rest [rad].
 template <Spec kSpec>
 constexpr double kThetaTolerance =
     2e-14 + 8.0 * kEps * MaxReach(kSpec) / (MinCurvatureBound(kSpec) * MinReach(kSpec) * MinReach(kSpec));
@@ -359,8 +375,7 @@ void ExpectSupportMatchesBruteForce() {
   // dh = r sin(theta - phi) moves by at most |x'| per radian of theta [m].
   constexpr double kDhTolerance = MaxSpeed(kSpec) * kTheta + kHRounding;
   // Curvature: 32 roundings of its bound plus its drift over the theta tolerance [1/m].
-  constexpr double kCurvatureTolerance =
-      32.0 * kEps * CurvatureBound(kSpec) + CurvatureDerivativeBound(kSpec, 1) * kTheta;
+  constexpr double kCurvatureTolerance = 32.0 * kEps * CurvatureBound(kSpec) + CurvatureSlopeBound(kSpec) * kTheta;
 
   const PolarProfile profile = Make(kSpec);
   ASSERT_TRUE(profile.IsConvex());
@@ -416,9 +431,12 @@ void ExpectSupportDerivativesMatchFiniteDifferences() {
   // The engine's dh moves by |x'| per radian of its theta tolerance [m].
   constexpr double kDhTolerance = kSlopeFd + MaxSpeed(kSpec) * kThetaTolerance<kSpec>;
   // Central second difference: h'''' step^2 / 12 + 4 e / step^2; plus 32 roundings of the
-  // engine's curvature radius, at most 1 / kappa_min [m].
+  // engine's curvature radius rho <= 1 / kappa_min, and its drift rho^2 |kappa'| over the
+  // theta tolerance [m].
+  constexpr double kRhoMax = 1.0 / MinCurvatureBound(kSpec);
   constexpr double kRhoTolerance = kDerivativeBound(4) * kStep * kStep / 12.0 +
-                                   4.0 * kReferenceError / (kStep * kStep) + 32.0 * kEps / MinCurvatureBound(kSpec);
+                                   4.0 * kReferenceError / (kStep * kStep) + 32.0 * kEps * kRhoMax +
+                                   kRhoMax * kRhoMax * CurvatureSlopeBound(kSpec) * kThetaTolerance<kSpec>;
   const PolarProfile profile = Make(kSpec);
   const Outline& outline = OutlineOf<kSpec>();
   for (int k = 0; k < 24; ++k) {

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Builds and runs every test, as the README's second command and CI (.ci/run) do:
+#   1. installs any missing Debian package of .ci/packages (needs root, as on a fresh machine),
+#   2. Release build with warnings as errors (benchmarks compiled, not run), all tests,
+#   3. RelWithDebInfo build under AddressSanitizer + UndefinedBehaviorSanitizer, all tests.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+missing=()
+while read -r package; do
+  [ -n "$package" ] || continue
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+done < .ci/packages
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  apt-get update
+  DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
+fi
+
+jobs=$(nproc)
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DRINGTOL_WERROR=ON -DRINGTOL_BENCHMARKS=ON
+cmake --build build/release -j "$jobs"
+ctest --test-dir build/release -j "$jobs" --output-on-failure
+
+cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRINGTOL_WERROR=ON -DRINGTOL_SANITIZE=ON
+cmake --build build/sanitize -j "$jobs"
+ctest --test-dir build/sanitize -j "$jobs" --output-on-failure
