@@ -36,12 +36,13 @@ double PolarProfile::sin_coefficient(int n) const {
 }
 
 RadiusDerivatives PolarProfile::Evaluate(double theta) const {
+  const std::size_t orders = cos_coefficients_.size();
+  if (orders == 1) return {radius_ + mean_deviation_, 0.0, 0.0, std::cos(theta), std::sin(theta)};
   // cos(n theta), sin(n theta) by the angle-addition recurrence: one sincos per call
   // instead of one per order, which dominates the cost of a contact search.
   const double c1 = std::cos(theta);
   const double s1 = std::sin(theta);
   RadiusDerivatives d{radius_ + mean_deviation_, 0.0, 0.0, c1, s1};
-  const std::size_t orders = cos_coefficients_.size();
   double cn = c1;
   double sn = s1;
   for (std::size_t n = 1; n < orders; ++n) {
@@ -136,16 +137,22 @@ double PolarProfile::ExtremeOverOutline(F f, bool maximum) const {
   return sign * std::min({best_value, f1, f2});
 }
 
+// A circle's extremes are its radius: skip the search, which every error-free scene
+// (the static-offset reference, the linear rung's nominal) would otherwise pay for.
 double PolarProfile::MinCurvature() const {
+  if (is_circle()) return 1.0 / (radius_ + mean_deviation_);
   return ExtremeOverOutline([this](double t) { return Curvature(Evaluate(t)); }, false);
 }
 double PolarProfile::MaxCurvature() const {
+  if (is_circle()) return 1.0 / (radius_ + mean_deviation_);
   return ExtremeOverOutline([this](double t) { return Curvature(Evaluate(t)); }, true);
 }
 double PolarProfile::MinRadius() const {
+  if (is_circle()) return radius_ + mean_deviation_;
   return ExtremeOverOutline([this](double t) { return Evaluate(t).r; }, false);
 }
 double PolarProfile::MaxRadius() const {
+  if (is_circle()) return radius_ + mean_deviation_;
   return ExtremeOverOutline([this](double t) { return Evaluate(t).r; }, true);
 }
 

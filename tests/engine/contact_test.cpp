@@ -262,7 +262,10 @@ Case MakeCase(int k, std::mt19937_64& rng) {
   for (int i = -30; i <= 30; ++i) {
     const double phi = alpha + i * kGrid;
     const double g = c.BruteGap(phi);
-    if (g < best) best = g, best_phi = phi;
+    if (g < best) {
+      best = g;
+      best_phi = phi;
+    }
   }
   c.gap = GoldenMinimum([&c](double phi) { return c.BruteGap(phi); }, best_phi - kGrid, best_phi + kGrid,
                         &c.normal_angle);
@@ -310,8 +313,8 @@ constexpr double kMinGapCurvature = 1.0 / MaxOf(kRings, [](const Spec& s) { retu
                                     1.0 / MinOf(kRollers, [](const Spec& s) { return MinCurvatureBound(s); }) -
                                     0.3e-3;
 static_assert(kMinGapCurvature > 0.2);
-// g'' <= rho_ring <= 1 / kappa_ring,min [m].
-constexpr double kMaxGapCurvature = 1.0 / MinOf(kRings, [](const Spec& s) { return MinCurvatureBound(s); });
+// g'' <= rho_ring + |g|max <= 1 / kappa_ring,min + |g|max [m].
+constexpr double kMaxGapCurvature = 1.0 / MinOf(kRings, [](const Spec& s) { return MinCurvatureBound(s); }) + 0.3e-3;
 
 // FindContact's stopping rule (engine/contact.cpp): |g'| <= 1e-14 m, or a Newton step (or
 // the bracket) below 1e-13 rad, the returned angle being the one before that step. At
@@ -369,8 +372,9 @@ TEST(FindContact, NormalIsTheBruteForceMinimisingDirection) {
 }
 
 TEST(FindContact, TouchingPointsLieOnTheOutlinesAndSpanTheGapAlongTheNormal) {
-  // Points are sums of terms up to 0.31 m: 8 roundings; their polar angle about a centre
-  // at distance rho is good to that over rho, and r moves by r' <= 3e-3 m/rad with it.
+  // Points are sums of terms up to 0.31 m (8 roundings each way); their polar angle about
+  // a body centre is good to that over the body's smallest radius (r moves by r' < 3e-3 m/rad
+  // with it: negligible).
   constexpr double kOnOutline = 2.0 * kCoordinateRounding;                 // [m]
   constexpr double kRingAngle = 2.0 * kCoordinateRounding / (kR - 1e-3);   // [rad]
   constexpr double kRollerAngle = 2.0 * kCoordinateRounding / (kRb - 2e-5);  // [rad]
