@@ -25,6 +25,7 @@ PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Har
     cos_coefficients_[n] += h.amplitude * std::cos(h.phase);
     sin_coefficients_[n] += h.amplitude * std::sin(h.phase);
   }
+  FindExtremes();
 }
 
 double PolarProfile::cos_coefficient(int n) const {
@@ -105,55 +106,59 @@ SupportPoint PolarProfile::Support(double phi, double theta_guess) const {
   return {theta, d.r * c, d.r * s, q * std::sqrt(q) / (q + d.dr * d.dr - d.r * d.ddr)};
 }
 
-template <typename F>
-double PolarProfile::ExtremeOverOutline(F f, bool maximum) const {
-  const int samples = 64 * std::max(1, max_order());
+void PolarProfile::FindExtremes() {
+  if (is_circle()) {
+    min_radius_ = max_radius_ = radius_ + mean_deviation_;
+    min_curvature_ = max_curvature_ = 1.0 / min_radius_;
+    return;
+  }
+  const int samples = 64 * max_order();
   const double step = 2.0 * std::numbers::pi / samples;
-  const double sign = maximum ? -1.0 : 1.0;  // minimise sign * f
-  int best = 0;
-  double best_value = sign * f(0.0);
-  for (int k = 1; k < samples; ++k) {
-    const double value = sign * f(k * step);
-    if (value < best_value) {
-      best_value = value;
-      best = k;
+  // One pass finds the best sample of all four quantities; each is then refined.
+  struct Extreme {
+    double sign;  // +1 to find a minimum, -1 a maximum
+    bool curvature;
+    int best = 0;
+    double value = 0.0;
+  };
+  Extreme extremes[4] = {{1.0, true}, {-1.0, true}, {1.0, false}, {-1.0, false}};
+  for (int k = 0; k < samples; ++k) {
+    const RadiusDerivatives d = Evaluate(k * step);
+    const double kappa = Curvature(d);
+    for (Extreme& e : extremes) {
+      const double value = e.sign * (e.curvature ? kappa : d.r);
+      if (k == 0 || value < e.value) {
+        e.value = value;
+        e.best = k;
+      }
     }
   }
-  // Golden-section refinement of the sampled extreme within its neighbouring samples.
-  const double inv_phi = (std::sqrt(5.0) - 1.0) / 2.0;
-  double a = (best - 1) * step;
-  double b = (best + 1) * step;
-  double x1 = b - inv_phi * (b - a);
-  double x2 = a + inv_phi * (b - a);
-  double f1 = sign * f(x1);
-  double f2 = sign * f(x2);
-  while (b - a > 1e-10) {
-    if (f1 < f2) {
-      b = x2; x2 = x1; f2 = f1; x1 = b - inv_phi * (b - a); f1 = sign * f(x1);
-    } else {
-      a = x1; x1 = x2; f1 = f2; x2 = a + inv_phi * (b - a); f2 = sign * f(x2);
+  // Golden-section refinement within the neighbouring samples of each best sample.
+  const double inv_golden = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (Extreme& e : extremes) {
+    auto f = [&](double t) {
+      const RadiusDerivatives d = Evaluate(t);
+      return e.sign * (e.curvature ? Curvature(d) : d.r);
+    };
+    double a = (e.best - 1) * step;
+    double b = (e.best + 1) * step;
+    double x1 = b - inv_golden * (b - a);
+    double x2 = a + inv_golden * (b - a);
+    double f1 = f(x1);
+    double f2 = f(x2);
+    while (b - a > 1e-10) {
+      if (f1 < f2) {
+        b = x2; x2 = x1; f2 = f1; x1 = b - inv_golden * (b - a); f1 = f(x1);
+      } else {
+        a = x1; x1 = x2; f1 = f2; x2 = a + inv_golden * (b - a); f2 = f(x2);
+      }
     }
+    e.value = e.sign * std::min({e.value, f1, f2});
   }
-  return sign * std::min({best_value, f1, f2});
-}
-
-// A circle's extremes are its radius: skip the search, which every error-free scene
-// (the static-offset reference, the linear rung's nominal) would otherwise pay for.
-double PolarProfile::MinCurvature() const {
-  if (is_circle()) return 1.0 / (radius_ + mean_deviation_);
-  return ExtremeOverOutline([this](double t) { return Curvature(Evaluate(t)); }, false);
-}
-double PolarProfile::MaxCurvature() const {
-  if (is_circle()) return 1.0 / (radius_ + mean_deviation_);
-  return ExtremeOverOutline([this](double t) { return Curvature(Evaluate(t)); }, true);
-}
-double PolarProfile::MinRadius() const {
-  if (is_circle()) return radius_ + mean_deviation_;
-  return ExtremeOverOutline([this](double t) { return Evaluate(t).r; }, false);
-}
-double PolarProfile::MaxRadius() const {
-  if (is_circle()) return radius_ + mean_deviation_;
-  return ExtremeOverOutline([this](double t) { return Evaluate(t).r; }, true);
+  min_curvature_ = extremes[0].value;
+  max_curvature_ = extremes[1].value;
+  min_radius_ = extremes[2].value;
+  max_radius_ = extremes[3].value;
 }
 
 }  // namespace ringtol::engine

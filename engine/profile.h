@@ -61,20 +61,17 @@ class PolarProfile {
   // that normal, not necessarily the outermost.
   SupportPoint Support(double phi, double theta_guess) const;
 
-  // Radius of curvature extremes over the whole outline [m], found by dense sampling
-  // (64 points per undulation of the highest order) refined by golden-section search.
-  // Negative curvature radius (or a sign change of the curvature) means non-convex.
-  double MinCurvature() const;  // [1/m] smallest signed curvature over the outline
-  double MaxCurvature() const;  // [1/m] largest signed curvature over the outline
+  // Extremes over the whole outline, found once at construction by dense sampling (64
+  // points per undulation of the highest order) refined by golden-section search: every
+  // simulation asks for them (convexity, fit, the two-point certificate).
+  double MinCurvature() const { return min_curvature_; }  // [1/m] smallest signed curvature
+  double MaxCurvature() const { return max_curvature_; }  // [1/m] largest signed curvature
   bool IsConvex() const { return MinCurvature() > 0.0; }
-
-  // Bounds of r(theta) over the outline [m] (dense sampling, same as above).
-  double MinRadius() const;
-  double MaxRadius() const;
+  double MinRadius() const { return min_radius_; }  // [m] smallest r(theta)
+  double MaxRadius() const { return max_radius_; }  // [m] largest r(theta)
 
  private:
-  template <typename F>
-  double ExtremeOverOutline(F f, bool maximum) const;
+  void FindExtremes();
 
   double radius_ = 0.0;
   double mean_deviation_ = 0.0;
@@ -82,6 +79,10 @@ class PolarProfile {
   // r = radius + mean + sum_n (a_n cos n theta - b_n sin n theta), index n = 0..max_order
   std::vector<double> cos_coefficients_{0.0};
   std::vector<double> sin_coefficients_{0.0};
+  double min_curvature_ = 0.0;
+  double max_curvature_ = 0.0;
+  double min_radius_ = 0.0;
+  double max_radius_ = 0.0;
 };
 
 // Signed curvature of a polar curve [1/m]: (r^2 + 2 r'^2 - r r'') / (r^2 + r'^2)^(3/2).

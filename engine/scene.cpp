@@ -92,7 +92,7 @@ GeometryCheck CheckGeometry(const Scene& scene) {
             "the ring's inner profile is not convex (its curvature reaches " +
                 std::to_string(ring_min_curvature) +
                 " 1/m): an inward bump makes contact ambiguous; reduce the amplitude of high orders "
-                "(convexity needs roughly sum (n^2-1) C_n < R)"};
+                "(a single harmonic is convex while C_n < R / (n^2 + 1))"};
   }
   for (int i = 0; i < static_cast<int>(scene.rollers.size()); ++i) {
     const Roller& roller = scene.rollers[static_cast<std::size_t>(i)];

@@ -1,6 +1,8 @@
 #include "solvers/equilibrium.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ringtol::solvers {
 
@@ -59,6 +61,90 @@ int EquilibriumSystem::UpdateContacts(double psi, const Eigen::VectorXd& x,
 }
 
 // The article's exponent 1.5 is the common case: sqrt is several times cheaper than pow.
+double EquilibriumSystem::StepContacts(double psi, const Eigen::VectorXd& x,
+                                       std::vector<TrackedContact>& contacts) const {
+  const engine::PolarProfile& bore = scene_.ring.inner;
+  const double cos_psi = std::cos(psi);
+  const double sin_psi = std::sin(psi);
+  const Eigen::Vector2d ring_centre = x.head<2>();
+  double largest_step = 0.0;
+  for (int i = 0; i < rollers(); ++i) {
+    TrackedContact& tracked = contacts[static_cast<std::size_t>(i)];
+    Contact& c = tracked.contact;
+    const engine::BodyPose roller = RollerPose(i, psi, x);
+    const engine::PolarProfile& outline = scene_.rollers[static_cast<std::size_t>(i)].outline;
+    const engine::RadiusDerivatives d = bore.Evaluate(c.ring_theta);
+    // Radial and tangential unit vectors of the bore point in the global frame.
+    const Eigen::Vector2d radial(d.cos_theta * cos_psi - d.sin_theta * sin_psi,
+                                 d.sin_theta * cos_psi + d.cos_theta * sin_psi);
+    const Eigen::Vector2d across(-radial.y(), radial.x());
+    const double q = d.r * d.r + d.dr * d.dr;
+    const double root_q = std::sqrt(q);
+    const double turning = q + d.dr * d.dr - d.r * d.ddr;  // nu' q: > 0 on a convex bore
+    const Eigen::Vector2d normal = (d.r * radial - d.dr * across) / root_q;
+    const Eigen::Vector2d tangent(-normal.y(), normal.x());
+    const Eigen::Vector2d ring_point = ring_centre + d.r * radial;
+    double roller_h = outline.radius() + outline.mean_deviation();
+    double roller_dh = 0.0;
+    double roller_rho = roller_h;
+    double roller_theta = c.roller_theta;
+    if (!outline.is_circle()) {
+      const double phi = std::atan2(normal.y(), normal.x());
+      const engine::SupportPoint b = outline.Support(phi - roller.angle, c.roller_theta);
+      roller_h = b.h;
+      roller_dh = b.dh;
+      roller_rho = b.curvature_radius;
+      roller_theta = b.theta;
+    }
+    const Eigen::Vector2d offset = ring_point - roller.centre;
+    const double gap = offset.dot(normal) - roller_h;
+    const double slope = offset.dot(tangent) - roller_dh;
+    const double curvature = q * root_q / turning - roller_rho - gap;
+    if (!(curvature > 0.0 && turning > 0.0 && std::isfinite(gap))) return std::numeric_limits<double>::infinity();
+    const double dphi = -slope / curvature;
+    largest_step = std::max(largest_step, std::abs(dphi));
+    // The force balance that follows must use the normal the contact steps to, or the
+    // forces converge only linearly. The gap is stationary there: it keeps its value to
+    // g'' dphi^2 / 2. Rotation by dphi to fourth order.
+    const double cos_step = 1.0 - 0.5 * dphi * dphi;
+    const double sin_step = dphi * (1.0 - dphi * dphi / 6.0);
+    c.gap = gap;
+    c.normal = cos_step * normal + sin_step * tangent;
+    c.tangent = cos_step * tangent - sin_step * normal;
+    c.gap_curvature = curvature;
+    c.ring_point = ring_point;
+    c.roller_point = roller.centre + roller_h * normal + roller_dh * tangent;
+    c.roller_theta = roller_theta;
+    // dtheta = dphi / nu' with nu' = turning / q.
+    tracked.theta_per_normal = q / turning;
+    c.ring_theta += dphi * tracked.theta_per_normal;
+  }
+  return largest_step;
+}
+
+void EquilibriumSystem::FinishContacts(double psi, std::vector<TrackedContact>& contacts) const {
+  for (int i = 0; i < rollers(); ++i) {
+    TrackedContact& tracked = contacts[static_cast<std::size_t>(i)];
+    engine::Contact& c = tracked.contact;
+    c.normal_angle = std::atan2(c.normal.y(), c.normal.x());
+    const double roller_angle = engine::RollerBodyAngle(scene_, i, psi);
+    if (scene_.rollers[static_cast<std::size_t>(i)].outline.is_circle()) c.roller_theta = c.normal_angle - roller_angle;
+    tracked.ring_offset = c.ring_theta - (c.normal_angle - psi);
+    tracked.roller_offset = c.roller_theta - (c.normal_angle - roller_angle);
+  }
+}
+
+void EquilibriumSystem::FollowContacts(const Eigen::VectorXd& dx, std::vector<TrackedContact>& contacts) const {
+  for (int i = 0; i < rollers(); ++i) {
+    TrackedContact& tracked = contacts[static_cast<std::size_t>(i)];
+    const Contact& c = tracked.contact;
+    double dg_slope = c.tangent.dot(dx.head<2>());  // d g' from moving the ring
+    const int s = travel_index_[static_cast<std::size_t>(i)];
+    if (s >= 0) dg_slope -= axes_[static_cast<std::size_t>(i)].dot(c.tangent) * dx[s];
+    tracked.contact.ring_theta -= dg_slope / c.gap_curvature * tracked.theta_per_normal;
+  }
+}
+
 double EquilibriumSystem::PenaltyForce(double gap) const {
   if (!(gap < 0.0)) return 0.0;
   const double e = scene_.contact.exponent;
@@ -83,9 +169,12 @@ void EquilibriumSystem::Evaluate(const Eigen::VectorXd& x, const std::vector<Tra
   if (jacobian != nullptr) jacobian->setZero(size_, size_);
   if (gap_sensitivity != nullptr) gap_sensitivity->setZero(size_, z);
   if (slope_sensitivity != nullptr) slope_sensitivity->setZero(size_, z);
-  Eigen::VectorXd dgap(size_);   // d g_i / d x
-  Eigen::VectorXd dphi(size_);   // d phi_i / d x
-  Eigen::VectorXd dforce(size_); // d F_i / d x
+  Eigen::VectorXd& dgap = dgap_;      // d g_i / d x
+  Eigen::VectorXd& dphi = dphi_;      // d phi_i / d x
+  Eigen::VectorXd& dforce = dforce_;  // d F_i / d x
+  dgap.resize(size_);
+  dphi.resize(size_);
+  dforce.resize(size_);
   for (int i = 0; i < z; ++i) {
     const Contact& c = contacts[static_cast<std::size_t>(i)].contact;
     const int s = travel_index_[static_cast<std::size_t>(i)];

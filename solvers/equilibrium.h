@@ -26,11 +26,13 @@ struct TrackedContact {
   bool valid = false;
   double ring_offset = 0.0;    // [rad] touching point's body angle minus its normal's body angle
   double roller_offset = 0.0;  // [rad] same for the roller
+  double theta_per_normal = 1.0;  // [-] d ring_theta / d normal_angle at the touching point
 };
 
 class EquilibriumSystem {
  public:
-  // Keeps a reference: the scene must outlive the system.
+  // Keeps a reference: the scene must outlive the system. A system holds scratch space:
+  // one system per solve (and per thread).
   explicit EquilibriumSystem(const engine::Scene& scene);
 
   int size() const { return size_; }
@@ -51,6 +53,24 @@ class EquilibriumSystem {
   // Finds every contact for state x at ring angle psi, warm-started from `contacts`.
   // Returns the index of the first roller whose search failed, or -1.
   int UpdateContacts(double psi, const Eigen::VectorXd& x, std::vector<TrackedContact>& contacts) const;
+
+  // One Newton step of every contact search, parametrised by the bore's touching angle
+  // theta (for a circular roller the common normal then needs no inner search):
+  // evaluates each contact exactly at its current theta (the gap along that normal, an
+  // upper bound of the true gap that differs from it by g'' dphi^2 / 2), then advances
+  // theta by -g' / (g'' nu'). Used inside the continuation Newton iteration, where the
+  // contacts converge together with x. Requires valid contacts; returns the largest
+  // normal-angle update taken [rad], or infinity if a contact cannot be stepped.
+  double StepContacts(double psi, const Eigen::VectorXd& x, std::vector<TrackedContact>& contacts) const;
+
+  // Moves every contact's touching angle along with a change dx of the unknowns, by the
+  // implicit derivative dphi/dx = -(dg'/dx) / g'': with it, StepContacts followed by a
+  // force-balance step is a full Newton step of the joint system.
+  void FollowContacts(const Eigen::VectorXd& dx, std::vector<TrackedContact>& contacts) const;
+
+  // Fills what StepContacts leaves out of its inner loop (normal angles, warm-start
+  // offsets), once per converged angle.
+  void FinishContacts(double psi, std::vector<TrackedContact>& contacts) const;
 
   // Contact force of roller i [N] and its derivative with respect to the gap [N/m]
   // (penalty law; rigid forces are unknowns of x).
@@ -79,6 +99,8 @@ class EquilibriumSystem {
   std::vector<int> travel_index_;
   std::vector<Eigen::Vector2d> roller_centres_;  // [m] at zero travel, errors included
   std::vector<Eigen::Vector2d> axes_;            // unit travel axes (spring rollers)
+  // Per-contact derivatives assembled by Evaluate, kept to avoid three allocations a call.
+  mutable Eigen::VectorXd dgap_, dphi_, dforce_;
 };
 
 }  // namespace ringtol::solvers

@@ -76,6 +76,58 @@ NewtonOutcome Newton(const EquilibriumSystem& system, double psi, Eigen::VectorX
   return outcome;
 }
 
+// Solves J dx = -r. The systems are tiny (3 unknowns for the article's penalty scene, 6
+// for rigid contact); Eigen's fixed-size LU is unrolled and allocation-free there.
+template <int N>
+bool SolveFixed(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual, Eigen::VectorXd& step) {
+  const Eigen::Matrix<double, N, N> j = jacobian;
+  const Eigen::Matrix<double, N, 1> r = residual;
+  step = j.partialPivLu().solve(-r);
+  return step.allFinite();
+}
+
+bool SolveNewtonStep(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual, Eigen::VectorXd& step) {
+  switch (jacobian.rows()) {
+    case 3: return SolveFixed<3>(jacobian, residual, step);
+    case 4: return SolveFixed<4>(jacobian, residual, step);
+    case 5: return SolveFixed<5>(jacobian, residual, step);
+    case 6: return SolveFixed<6>(jacobian, residual, step);
+    case 7: return SolveFixed<7>(jacobian, residual, step);
+    case 8: return SolveFixed<8>(jacobian, residual, step);
+    default:
+      step = jacobian.partialPivLu().solve(-residual);
+      return step.allFinite();
+  }
+}
+
+// Newton's method for one angle of a revolution, started from a good prediction: each
+// iteration steps the contact searches and the force balance together, so an iteration
+// costs one bore evaluation per contact. Returns false (leaving x and the contacts
+// unusable) when it does not converge; the caller then falls back to Newton().
+bool ContinuationNewton(const EquilibriumSystem& system, double psi, Eigen::VectorXd& x,
+                        std::vector<TrackedContact>& contacts, const Eigen::VectorXd& tolerance, int max_iterations,
+                        int& iterations, Eigen::VectorXd& residual, Eigen::MatrixXd& jacobian,
+                        Eigen::VectorXd& step) {
+  // Contact normals within this of the common normal: the gap is then exact to
+  // g'' dphi^2 / 2 < 1e-20 m and the force direction to 1e-10, which moves the centre by
+  // ~1e-14 m, far below the position tolerance.
+  constexpr double kNormalTolerance = 1e-10;  // [rad]
+  for (int iteration = 1; iteration <= max_iterations; ++iteration) {
+    iterations = iteration;
+    const double contact_step = system.StepContacts(psi, x, contacts);
+    if (!std::isfinite(contact_step)) return false;
+    system.Evaluate(x, contacts, residual, &jacobian);
+    if (!SolveNewtonStep(jacobian, residual, step)) return false;
+    x += step;
+    system.FollowContacts(step, contacts);
+    if (contact_step <= kNormalTolerance && (step.cwiseAbs().array() <= tolerance.array()).all()) {
+      system.FinishContacts(psi, contacts);
+      return true;
+    }
+  }
+  return false;
+}
+
 std::string Micrometres(double metres) {
   std::ostringstream out;
   out.precision(4);
@@ -270,17 +322,44 @@ Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) con
   trajectory.contact_force.reserve(n * z);
   const CurvatureBounds bounds = Bounds(scene);
   const Eigen::VectorXd tolerance = system.Tolerances(options_.position_tolerance, options_.force_tolerance);
-  Eigen::VectorXd previous[3] = {x, x, x};  // converged states at the last three angles
+  // Converged states and touching angles at the last three angles, for the predictor.
+  Eigen::VectorXd previous[3] = {x, x, x};
+  std::vector<double> previous_theta[3];
+  for (auto& thetas : previous_theta) {
+    for (const TrackedContact& c : contacts) thetas.push_back(c.contact.ring_theta);
+  }
+  Eigen::VectorXd residual;
+  Eigen::MatrixXd jacobian;
+  Eigen::VectorXd newton_step;
   for (int k = 0; k <= steps; ++k) {
     const double psi = 2.0 * std::numbers::pi * k / steps;
     if (k > 0) {
       // Quadratic extrapolation: the predictor error is O(dpsi^3), below 1e-7 m at
       // 720 steps for the paper's orders, so Newton converges in one or two steps.
-      if (k >= 3) x = 3.0 * previous[0] - 3.0 * previous[1] + previous[2];
-      else if (k == 2) x = 2.0 * previous[0] - previous[1];
-      const NewtonOutcome outcome = Newton(system, psi, x, contacts, tolerance, options_.max_iterations, false);
-      trajectory.total_iterations += outcome.iterations;
-      if (!outcome.converged) {
+      auto extrapolate = [k](double a, double b, double c) {
+        return k >= 3 ? 3.0 * a - 3.0 * b + c : k == 2 ? 2.0 * a - b : a;
+      };
+      const Eigen::VectorXd predicted = k >= 3 ? Eigen::VectorXd(3.0 * previous[0] - 3.0 * previous[1] + previous[2])
+                                        : k == 2 ? Eigen::VectorXd(2.0 * previous[0] - previous[1])
+                                                 : previous[0];
+      x = predicted;
+      for (std::size_t i = 0; i < contacts.size(); ++i) {
+        contacts[i].contact.ring_theta =
+            extrapolate(previous_theta[0][i], previous_theta[1][i], previous_theta[2][i]);
+      }
+      int iterations = 0;
+      bool converged = ContinuationNewton(system, psi, x, contacts, tolerance, options_.max_iterations, iterations,
+                                          residual, jacobian, newton_step);
+      trajectory.total_iterations += iterations;
+      if (!converged) {
+        // The robust path: a full contact search at every iteration, with line search.
+        x = predicted;
+        for (TrackedContact& c : contacts) c.valid = false;
+        const NewtonOutcome outcome = Newton(system, psi, x, contacts, tolerance, options_.max_iterations, false);
+        trajectory.total_iterations += outcome.iterations;
+        converged = outcome.converged;
+      }
+      if (!converged) {
         trajectory.status = Status::kNotConverged;
         trajectory.message = "Newton iteration did not converge at psi = " + Degrees(psi);
         std::string reason;
@@ -304,6 +383,9 @@ Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) con
     previous[2] = previous[1];
     previous[1] = previous[0];
     previous[0] = x;
+    previous_theta[2].swap(previous_theta[1]);
+    previous_theta[1].swap(previous_theta[0]);
+    for (std::size_t i = 0; i < contacts.size(); ++i) previous_theta[0][i] = contacts[i].contact.ring_theta;
     trajectory.psi.push_back(psi);
     trajectory.centre.push_back(x.head<2>());
     for (int i = 0; i < static_cast<int>(z); ++i) {
