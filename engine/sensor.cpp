@@ -19,12 +19,16 @@ SensorReading ReadSensor(const PolarProfile& ring, const BodyPose& ring_pose, do
   const double aim = sensor_angle - ring_pose.angle;
   double lo = aim - std::numbers::pi / 2.0;
   double hi = aim + std::numbers::pi / 2.0;
-  double theta = aim + std::remainder(theta_guess - aim, 2.0 * std::numbers::pi);
+  double theta = theta_guess;
+  if (!(theta > lo && theta < hi)) theta = aim + std::remainder(theta_guess - aim, 2.0 * std::numbers::pi);
   if (!(theta > lo && theta < hi)) theta = aim;
+  const double cos_aim = std::cos(aim);
+  const double sin_aim = std::sin(aim);
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     const RadiusDerivatives d = ring.Evaluate(theta);
-    const double s = std::sin(theta - aim);  // cross(e_s, e(theta + psi))
-    const double c = std::cos(theta - aim);
+    // sin and cos of theta - aim from the sincos Evaluate already took.
+    const double s = d.sin_theta * cos_aim - d.cos_theta * sin_aim;  // cross(e_s, e(theta + psi))
+    const double c = d.cos_theta * cos_aim + d.sin_theta * sin_aim;
     const double f = centre_cross + d.r * s;
     const double df = d.dr * s + d.r * c;
     if (f < 0.0) lo = theta; else hi = theta;

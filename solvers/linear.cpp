@@ -1,5 +1,6 @@
 #include "solvers/linear.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -111,33 +112,60 @@ Linearisation Linearise(const Scene& scene, const QuasistaticOptions& options) {
   return lin;
 }
 
-// Outputs at psi_k = 2 pi k / steps for k = 0 .. samples - 1, one column per angle.
-Eigen::MatrixXd EvaluatePath(const Linearisation& lin, int steps, int samples) {
+// Outputs y at psi_k = 2 pi k / steps for k = 0 .. samples - 1, handed to
+// sink(k, y) one angle at a time. Angles go in chunks through one small matrix product
+// each: whole-revolution temporaries of ~150 KB cost more in heap traffic (glibc returns
+// them to the kernel on free) than the arithmetic.
+template <typename Sink>
+void EvaluatePath(const Linearisation& lin, int steps, int samples, Sink sink) {
+  constexpr int kChunk = 256;
   const auto terms = lin.phasors.cols();
-  Eigen::MatrixXd cosines(terms, samples);
-  Eigen::MatrixXd sines(terms, samples);
+  const Eigen::MatrixXd real = lin.phasors.real();
+  const Eigen::MatrixXd imag = lin.phasors.imag();
   const double dpsi = 2.0 * std::numbers::pi / steps;
-  for (Eigen::Index p = 0; p < terms; ++p) {
-    // Rotate a unit phasor by a fixed increment: one complex product per angle; the
-    // accumulated round-off after 1e5 steps is ~1e-11 relative.
-    const Complex increment = std::polar(1.0, -lin.rates[static_cast<std::size_t>(p)] * dpsi);
-    Complex z(1.0, 0.0);
-    for (int k = 0; k < samples; ++k) {
-      cosines(p, k) = z.real();
-      sines(p, k) = z.imag();
-      z *= increment;
+  // Rotate a unit phasor per term by a fixed increment: one complex product per angle;
+  // the accumulated round-off after 1e5 steps is ~1e-11 relative.
+  std::vector<Complex> phasor(static_cast<std::size_t>(terms), Complex(1.0, 0.0));
+  std::vector<Complex> increment;
+  for (const double rate : lin.rates) increment.push_back(std::polar(1.0, -rate * dpsi));
+  Eigen::MatrixXd cosines(terms, kChunk);
+  Eigen::MatrixXd sines(terms, kChunk);
+  Eigen::MatrixXd chunk(lin.offset.size(), kChunk);
+  for (int first = 0; first < samples; first += kChunk) {
+    const int count = std::min(kChunk, samples - first);
+    for (Eigen::Index p = 0; p < terms; ++p) {
+      // Written out: std::complex's product carries Inf/NaN recovery that costs more
+      // than the product itself, and these phasors are unit-modulus and finite.
+      double re = phasor[static_cast<std::size_t>(p)].real();
+      double im = phasor[static_cast<std::size_t>(p)].imag();
+      const double step_re = increment[static_cast<std::size_t>(p)].real();
+      const double step_im = increment[static_cast<std::size_t>(p)].imag();
+      for (int k = 0; k < count; ++k) {
+        cosines(p, k) = re;
+        sines(p, k) = im;
+        const double next_re = re * step_re - im * step_im;
+        im = re * step_im + im * step_re;
+        re = next_re;
+      }
+      phasor[static_cast<std::size_t>(p)] = Complex(re, im);
     }
+    chunk.leftCols(count).noalias() = real * cosines.leftCols(count);
+    chunk.leftCols(count).noalias() -= imag * sines.leftCols(count);
+    chunk.leftCols(count).colwise() += lin.offset;
+    for (int k = 0; k < count; ++k) sink(first + k, chunk.col(k));
   }
-  Eigen::MatrixXd path = lin.phasors.real() * cosines - lin.phasors.imag() * sines;
-  path.colwise() += lin.offset;
-  return path;
 }
 
-void FillEquilibrium(const Linearisation& lin, const Eigen::VectorXd& y, Equilibrium& e) {
+template <typename Column>
+void FillEquilibrium(const Linearisation& lin, const Column& y, Equilibrium& e) {
   const int z = lin.rollers;
-  e.centre = y.head<2>();
-  e.travel.assign(y.data() + 2, y.data() + 2 + z);
-  e.contact_force.assign(y.data() + 2 + z, y.data() + 2 + 2 * z);
+  e.centre = y.template head<2>();
+  e.travel.resize(static_cast<std::size_t>(z));
+  e.contact_force.resize(static_cast<std::size_t>(z));
+  for (int i = 0; i < z; ++i) {
+    e.travel[static_cast<std::size_t>(i)] = y(2 + i);
+    e.contact_force[static_cast<std::size_t>(i)] = y(2 + z + i);
+  }
 }
 
 }  // namespace
@@ -146,7 +174,7 @@ Equilibrium LinearSolver::SolveStatic(const Scene& scene) const {
   const Linearisation lin = Linearise(scene, options_.nominal);
   if (lin.nominal.status != Status::kOk) return lin.nominal;
   Equilibrium e;
-  FillEquilibrium(lin, EvaluatePath(lin, 1, 1).col(0), e);
+  EvaluatePath(lin, 1, 1, [&](int, const auto& y) { FillEquilibrium(lin, y, e); });
   return e;
 }
 
@@ -159,30 +187,29 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
     trajectory.initial = lin.nominal;
     return trajectory;
   }
-  const Eigen::MatrixXd path = EvaluatePath(lin, steps, steps + 1);
   const int z = lin.rollers;
-  FillEquilibrium(lin, path.col(0), trajectory.initial);
   const auto n = static_cast<std::size_t>(steps) + 1;
   trajectory.psi.resize(n);
   trajectory.centre.resize(n);
   trajectory.travel.resize(n * static_cast<std::size_t>(z));
   trajectory.contact_force.resize(n * static_cast<std::size_t>(z));
-  for (int k = 0; k <= steps; ++k) {
+  EvaluatePath(lin, steps, steps + 1, [&](int k, const auto& y) {
     const auto kk = static_cast<std::size_t>(k);
+    if (k == 0) FillEquilibrium(lin, y, trajectory.initial);
     trajectory.psi[kk] = 2.0 * std::numbers::pi * k / steps;
-    trajectory.centre[kk] = path.block<2, 1>(0, k);
+    trajectory.centre[kk] = y.template head<2>();
     for (int i = 0; i < z; ++i) {
       const auto slot = kk * static_cast<std::size_t>(z) + static_cast<std::size_t>(i);
-      trajectory.travel[slot] = path(2 + i, k);
-      trajectory.contact_force[slot] = path(2 + z + i, k);
-      if (trajectory.status == Status::kOk && path(2 + z + i, k) <= 0.0) {
+      trajectory.travel[slot] = y(2 + i);
+      trajectory.contact_force[slot] = y(2 + z + i);
+      if (trajectory.status == Status::kOk && y(2 + z + i) <= 0.0) {
         trajectory.status = Status::kLiftOff;
         trajectory.failure_angle = trajectory.psi[kk];
         trajectory.message = "roller " + scene.rollers[static_cast<std::size_t>(i)].name +
                              "'s linearised contact force turns tensile";
       }
     }
-  }
+  });
   return trajectory;
 }
 

@@ -50,7 +50,10 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
   for (std::size_t k = 0; k < path.psi.size(); ++k) {
     const engine::SensorReading reading =
         engine::ReadSensor(scene.ring.inner, {path.centre[k], path.psi[k]}, scene.sensor_angle, theta);
-    theta = reading.ring_theta;
+    // The bore turns under the fixed sensor: the next ray meets it dpsi earlier in the
+    // ring's body frame.
+    const double next_psi = k + 1 < path.psi.size() ? path.psi[k + 1] : path.psi[k];
+    theta = reading.ring_theta - (next_psi - path.psi[k]);
     result.sensor.push_back(reading.distance);
   }
   const engine::Runout runout = engine::MeasureRunout(result.sensor);

@@ -37,6 +37,19 @@ BENCHMARK_CAPTURE(Revolution, linear_penalty, "linear", engine::ContactLaw::Mode
 BENCHMARK_CAPTURE(Revolution, quasistatic_rigid, "quasistatic", engine::ContactLaw::Model::kRigid)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(Revolution, quasistatic_penalty, "quasistatic", engine::ContactLaw::Model::kPenalty)->Unit(benchmark::kMicrosecond);
 
+// The static equilibrium alone: for the linear rung this is its linearisation of the
+// error-free assembly plus one angle, the part of a revolution that is not the path.
+void StaticEquilibrium(benchmark::State& state, const char* solver_name) {
+  const engine::Scene scene = EightHarmonics(engine::ContactLaw::Model::kPenalty);
+  const auto solver = solvers::MakeSolver(solver_name);
+  for (auto _ : state) {
+    solvers::Equilibrium equilibrium = solver->SolveStatic(scene);
+    benchmark::DoNotOptimize(equilibrium.centre.data());
+  }
+}
+BENCHMARK_CAPTURE(StaticEquilibrium, linear, "linear")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(StaticEquilibrium, quasistatic, "quasistatic")->Unit(benchmark::kMicrosecond);
+
 void FullSimulation(benchmark::State& state, const char* solver_name) {
   const engine::Scene scene = EightHarmonics(engine::ContactLaw::Model::kPenalty);
   const auto solver = solvers::MakeSolver(solver_name);
