@@ -1,6 +1,10 @@
 #include "engine/contact.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include <boost/math/tools/minima.hpp>
 #include <numbers>
 
 namespace ringtol::engine {
@@ -100,23 +104,12 @@ bool IsSinglePoint(const PolarProfile& ring, const BodyPose& ring_pose, const Po
   const double step = width / samples;
   auto gap_at = [&](double offset) { return GapAlong(ring, ring_pose, roller, roller_pose, contact.normal_angle + offset); };
   // A grid value misses its basin's minimum by up to g'' (step/2)^2 / 2 (~1e-7 m here), far
-  // more than a tight tolerance: refine every candidate by golden section to 1e-12 rad.
+  // more than a tight tolerance: refine every candidate with Brent's method, whose
+  // minimum value is exact to second order in its sqrt(eps) placement.
   auto refined_minimum = [&](double centre) {
-    const double inv_golden = (std::sqrt(5.0) - 1.0) / 2.0;
-    double a = centre - step;
-    double b = centre + step;
-    double x1 = b - inv_golden * (b - a);
-    double x2 = a + inv_golden * (b - a);
-    double f1 = gap_at(x1);
-    double f2 = gap_at(x2);
-    while (b - a > 1e-12) {
-      if (f1 < f2) {
-        b = x2; x2 = x1; f2 = f1; x1 = b - inv_golden * (b - a); f1 = gap_at(x1);
-      } else {
-        a = x1; x1 = x2; f1 = f2; x2 = a + inv_golden * (b - a); f2 = gap_at(x2);
-      }
-    }
-    return std::min(f1, f2);
+    return boost::math::tools::brent_find_minima(gap_at, centre - step, centre + step,
+                                                 std::numeric_limits<double>::digits)
+        .second;
   };
   // Exclude the contact's own basin: the samples nearest to it always read ~its gap.
   const double own_basin = 2.0 * step;

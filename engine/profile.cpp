@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <limits>
 #include <stdexcept>
+
+#include <boost/math/tools/minima.hpp>
 
 namespace ringtol::engine {
 
@@ -133,27 +136,16 @@ void PolarProfile::FindExtremes() {
       }
     }
   }
-  // Golden-section refinement within the neighbouring samples of each best sample.
-  const double inv_golden = (std::sqrt(5.0) - 1.0) / 2.0;
+  // Brent's minimisation within the neighbouring samples of each best sample. It places
+  // the argument to sqrt(eps); the value, stationary there, is exact to second order.
   for (Extreme& e : extremes) {
     auto f = [&](double t) {
       const RadiusDerivatives d = Evaluate(t);
       return e.sign * (e.curvature ? Curvature(d) : d.r);
     };
-    double a = (e.best - 1) * step;
-    double b = (e.best + 1) * step;
-    double x1 = b - inv_golden * (b - a);
-    double x2 = a + inv_golden * (b - a);
-    double f1 = f(x1);
-    double f2 = f(x2);
-    while (b - a > 1e-10) {
-      if (f1 < f2) {
-        b = x2; x2 = x1; f2 = f1; x1 = b - inv_golden * (b - a); f1 = f(x1);
-      } else {
-        a = x1; x1 = x2; f1 = f2; x2 = a + inv_golden * (b - a); f2 = f(x2);
-      }
-    }
-    e.value = e.sign * std::min({e.value, f1, f2});
+    const auto refined = boost::math::tools::brent_find_minima(f, (e.best - 1) * step, (e.best + 1) * step,
+                                                               std::numeric_limits<double>::digits);
+    e.value = e.sign * std::min(e.value, refined.second);
   }
   min_curvature_ = extremes[0].value;
   max_curvature_ = extremes[1].value;

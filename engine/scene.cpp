@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 namespace ringtol::engine {
@@ -14,9 +15,8 @@ double RadialPositionError(const Scene& scene, int i) {
 
 Eigen::Vector2d RollerCentre(const Scene& scene, int i) {
   const Roller& roller = scene.rollers[static_cast<std::size_t>(i)];
-  const double pi_half = 1.5707963267948966;
   return (roller.centre_radius + RadialPositionError(scene, i)) * Direction(roller.angle) +
-         roller.tangential_offset * Direction(roller.angle + pi_half);
+         roller.tangential_offset * Direction(roller.angle + std::numbers::pi / 2.0);
 }
 
 double SpinRatio(const Scene& scene, int i) {
