@@ -76,6 +76,16 @@ NewtonOutcome Newton(const EquilibriumSystem& system, double psi, Eigen::VectorX
   return outcome;
 }
 
+// Quadratic extrapolation through the states at the last three angles (newest first);
+// with fewer known, linear or constant. Its error is O(dpsi^3): below 1e-7 m at 720 steps
+// for the article's orders, so Newton converges in one or two steps.
+template <typename T>
+T Extrapolate(int known, const T& newest, const T& middle, const T& oldest) {
+  if (known >= 3) return T(3.0 * newest - 3.0 * middle + oldest);
+  if (known == 2) return T(2.0 * newest - middle);
+  return newest;
+}
+
 // Solves J dx = -r. The systems are tiny (3 unknowns for the article's penalty scene, 6
 // for rigid contact); Eigen's fixed-size LU is unrolled and allocation-free there.
 template <int N>
@@ -334,18 +344,10 @@ Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) con
   for (int k = 0; k <= steps; ++k) {
     const double psi = 2.0 * std::numbers::pi * k / steps;
     if (k > 0) {
-      // Quadratic extrapolation: the predictor error is O(dpsi^3), below 1e-7 m at
-      // 720 steps for the paper's orders, so Newton converges in one or two steps.
-      auto extrapolate = [k](double a, double b, double c) {
-        return k >= 3 ? 3.0 * a - 3.0 * b + c : k == 2 ? 2.0 * a - b : a;
-      };
-      const Eigen::VectorXd predicted = k >= 3 ? Eigen::VectorXd(3.0 * previous[0] - 3.0 * previous[1] + previous[2])
-                                        : k == 2 ? Eigen::VectorXd(2.0 * previous[0] - previous[1])
-                                                 : previous[0];
+      const Eigen::VectorXd predicted = Extrapolate(k, previous[0], previous[1], previous[2]);
       x = predicted;
       for (std::size_t i = 0; i < contacts.size(); ++i) {
-        contacts[i].contact.ring_theta =
-            extrapolate(previous_theta[0][i], previous_theta[1][i], previous_theta[2][i]);
+        contacts[i].contact.ring_theta = Extrapolate(k, previous_theta[0][i], previous_theta[1][i], previous_theta[2][i]);
       }
       int iterations = 0;
       bool converged = ContinuationNewton(system, psi, x, contacts, tolerance, options_.max_iterations, iterations,
