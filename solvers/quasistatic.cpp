@@ -212,25 +212,13 @@ Equilibrium Record(const EquilibriumSystem& system, const Eigen::VectorXd& x,
   return e;
 }
 
-Status GeometryStatus(const Scene& scene, std::string& message) {
-  const engine::GeometryCheck check = engine::CheckGeometry(scene);
-  message = check.message;
-  switch (check.issue) {
-    case engine::GeometryIssue::kNone: return Status::kOk;
-    case engine::GeometryIssue::kRingNotConvex: return Status::kRingNotConvex;
-    case engine::GeometryIssue::kRollerNotConvex: return Status::kRollerNotConvex;
-    case engine::GeometryIssue::kRollerDoesNotFit: return Status::kRollerDoesNotFit;
-  }
-  return Status::kOk;
-}
-
 }  // namespace
 
 Equilibrium QuasistaticSolver::SolveStatic(const EquilibriumSystem& system, Eigen::VectorXd& x,
                                            std::vector<TrackedContact>& contacts) const {
   const Scene& scene = system.scene();
   Equilibrium result;
-  result.status = GeometryStatus(scene, result.message);
+  result.status = CheckSceneGeometry(scene, result.message);
   if (result.status != Status::kOk) return result;
   const int fixed = engine::FixedRollerCount(scene);
   const Eigen::VectorXd tolerance = system.Tolerances(options_.position_tolerance, options_.force_tolerance);

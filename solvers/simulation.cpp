@@ -19,14 +19,8 @@ int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options) {
 SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options) {
   SimulationResult result;
   result.steps = ChooseSteps(scene, options);
-  const engine::GeometryCheck geometry = engine::CheckGeometry(scene);
-  if (geometry.issue != engine::GeometryIssue::kNone) {
-    result.status = geometry.issue == engine::GeometryIssue::kRingNotConvex     ? Status::kRingNotConvex
-                    : geometry.issue == engine::GeometryIssue::kRollerNotConvex ? Status::kRollerNotConvex
-                                                                                 : Status::kRollerDoesNotFit;
-    result.message = geometry.message;
-    return result;
-  }
+  result.status = CheckSceneGeometry(scene, result.message);
+  if (result.status != Status::kOk) return result;
   result.trajectory = solver.SolveRevolution(scene, result.steps);
   const Trajectory& path = result.trajectory;
   if (path.status != Status::kOk) {

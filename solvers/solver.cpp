@@ -21,6 +21,18 @@ std::string_view StatusName(Status status) {
   return "unknown";
 }
 
+Status CheckSceneGeometry(const engine::Scene& scene, std::string& message) {
+  const engine::GeometryCheck check = engine::CheckGeometry(scene);
+  message = check.message;
+  switch (check.issue) {
+    case engine::GeometryIssue::kNone: return Status::kOk;
+    case engine::GeometryIssue::kRingNotConvex: return Status::kRingNotConvex;
+    case engine::GeometryIssue::kRollerNotConvex: return Status::kRollerNotConvex;
+    case engine::GeometryIssue::kRollerDoesNotFit: return Status::kRollerDoesNotFit;
+  }
+  return Status::kOk;
+}
+
 std::vector<std::string> SolverNames() { return {"linear", "quasistatic"}; }
 
 std::unique_ptr<Solver> MakeSolver(std::string_view name) {

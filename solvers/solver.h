@@ -30,6 +30,10 @@ enum class Status {
 // Stable lower_snake_case names used in every output file ("ok", "lift_off", ...).
 std::string_view StatusName(Status status);
 
+// engine::CheckGeometry as a solver status (kOk when the scene can be simulated), with
+// its reason in `message`.
+Status CheckSceneGeometry(const engine::Scene& scene, std::string& message);
+
 // Static equilibrium (or any single configuration) of the assembly.
 struct Equilibrium {
   Status status = Status::kOk;

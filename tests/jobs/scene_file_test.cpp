@@ -14,9 +14,13 @@
 #include <gtest/gtest.h>
 
 #include "jobs/input_error.h"
+#include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
 namespace {
+
+using ringtol::testing::ReadText;
+using ringtol::testing::ReplaceOnce;
 
 using ::testing::AllOf;
 using ::testing::HasSubstr;
@@ -30,25 +34,7 @@ constexpr double kQuotedMassRelative = 1e-3;
 
 constexpr const char* kPaperScenePath = RINGTOL_SOURCE_DIR "/examples/paper/scene.toml";
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 std::string PaperSceneText() { return ReadText(kPaperScenePath); }
-
-// Replaces the only occurrence of `from`: an anchor that vanished or became ambiguous
-// must break the test, not silently test something else.
-std::string ReplaceOnce(std::string text, std::string_view from, std::string_view to) {
-  const std::size_t at = text.find(from);
-  if (at == std::string::npos || text.find(from, at + 1) != std::string::npos) {
-    throw std::logic_error("test anchor not found exactly once: " + std::string(from));
-  }
-  text.replace(at, from.size(), to);
-  return text;
-}
 
 // The paper scene with one edit.
 std::string PaperSceneWith(std::string_view from, std::string_view to) {

@@ -14,9 +14,13 @@
 #include <gtest/gtest.h>
 
 #include "jobs/input_error.h"
+#include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
 namespace {
+
+using ringtol::testing::ReadText;
+using ringtol::testing::ReplaceOnce;
 
 namespace fs = std::filesystem;
 using ::testing::AllOf;
@@ -25,26 +29,10 @@ using ::testing::HasSubstr;
 
 const fs::path kExamples = fs::path(RINGTOL_SOURCE_DIR) / "examples" / "paper";
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 void WriteText(const fs::path& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
   if (!out) throw std::runtime_error("test cannot write " + path.string());
-}
-
-std::string ReplaceOnce(std::string text, std::string_view from, std::string_view to) {
-  const std::size_t at = text.find(from);
-  if (at == std::string::npos || text.find(from, at + 1) != std::string::npos) {
-    throw std::logic_error("test anchor not found exactly once: " + std::string(from));
-  }
-  text.replace(at, from.size(), to);
-  return text;
 }
 
 // A fresh folder per test under the test temp dir, so tests never see each other's files.
