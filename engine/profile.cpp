@@ -40,16 +40,16 @@ double PolarProfile::sin_coefficient(int n) const {
 }
 
 RadiusDerivatives PolarProfile::Evaluate(double theta) const {
-  const std::size_t orders = cos_coefficients_.size();
-  if (orders == 1) return {radius_ + mean_deviation_, 0.0, 0.0, std::cos(theta), std::sin(theta)};
-  // cos(n theta), sin(n theta) by the angle-addition recurrence: one sincos per call
-  // instead of one per order, which dominates the cost of a contact search.
-  const double c1 = std::cos(theta);
-  const double s1 = std::sin(theta);
-  RadiusDerivatives d{radius_ + mean_deviation_, 0.0, 0.0, c1, s1};
-  double cn = c1;
-  double sn = s1;
-  for (std::size_t n = 1; n < orders; ++n) {
+  return EvaluateAt(std::cos(theta), std::sin(theta));
+}
+
+RadiusDerivatives PolarProfile::EvaluateAt(double cos_theta, double sin_theta) const {
+  RadiusDerivatives d{radius_ + mean_deviation_, 0.0, 0.0, cos_theta, sin_theta};
+  // cos(n theta), sin(n theta) by the angle-addition recurrence: no sincos per order,
+  // which would dominate the cost of a contact search.
+  double cn = cos_theta;
+  double sn = sin_theta;
+  for (std::size_t n = 1; n < cos_coefficients_.size(); ++n) {
     const double a = cos_coefficients_[n];
     const double b = sin_coefficients_[n];
     const double nn = static_cast<double>(n);
@@ -57,11 +57,26 @@ RadiusDerivatives PolarProfile::Evaluate(double theta) const {
     d.r += value;
     d.dr -= nn * (a * sn + b * cn);
     d.ddr -= nn * nn * value;
-    const double next_c = cn * c1 - sn * s1;
-    sn = sn * c1 + cn * s1;
+    const double next_c = cn * cos_theta - sn * sin_theta;
+    sn = sn * cos_theta + cn * sin_theta;
     cn = next_c;
   }
   return d;
+}
+
+void NearbyAngle::Evaluate(double theta, double& cos_theta, double& sin_theta) {
+  double delta = theta - reference_;
+  if (!(std::abs(delta) <= kReach)) {
+    reference_ = theta;
+    cos_reference_ = std::cos(theta);
+    sin_reference_ = std::sin(theta);
+    delta = 0.0;
+  }
+  const double d2 = delta * delta;
+  const double cos_delta = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0)));
+  const double sin_delta = delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
+  cos_theta = cos_reference_ * cos_delta - sin_reference_ * sin_delta;
+  sin_theta = sin_reference_ * cos_delta + cos_reference_ * sin_delta;
 }
 
 double Curvature(const RadiusDerivatives& d) {

@@ -54,6 +54,8 @@ class PolarProfile {
   double sin_coefficient(int n) const;
 
   RadiusDerivatives Evaluate(double theta) const;
+  // The same at the body angle whose cosine and sine are given (from a NearbyAngle).
+  RadiusDerivatives EvaluateAt(double cos_theta, double sin_theta) const;
 
   // Support point for the outward normal at body angle phi [rad]. theta_guess speeds up
   // the search when close (warm start along a trajectory); the answer does not depend on
@@ -83,6 +85,24 @@ class PolarProfile {
   double max_curvature_ = 0.0;
   double min_radius_ = 0.0;
   double max_radius_ = 0.0;
+};
+
+// cos and sin of an angle that moves in small steps, as a contact's touching point does
+// along a trajectory: one libm sincos at a reference angle, then the rotation of that
+// reference by the offset, with cos and sin of the offset from their Taylor series. Within
+// kReach of the reference the series is exact to round-off (truncation
+// delta^10 / 10! < 3e-20), and the reference is exact, so nothing accumulates; a libm
+// sincos costs about ten rotations.
+class NearbyAngle {
+ public:
+  static constexpr double kReach = 0.05;  // [rad]
+
+  void Evaluate(double theta, double& cos_theta, double& sin_theta);
+
+ private:
+  double reference_ = 0.0;
+  double cos_reference_ = 1.0;
+  double sin_reference_ = 0.0;
 };
 
 // Signed curvature of a polar curve [1/m]: (r^2 + 2 r'^2 - r r'') / (r^2 + r'^2)^(3/2).

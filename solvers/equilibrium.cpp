@@ -73,7 +73,10 @@ double EquilibriumSystem::StepContacts(double psi, const Eigen::VectorXd& x,
     Contact& c = tracked.contact;
     const engine::BodyPose roller = RollerPose(i, psi, x);
     const engine::PolarProfile& outline = scene_.rollers[static_cast<std::size_t>(i)].outline;
-    const engine::RadiusDerivatives d = bore.Evaluate(c.ring_theta);
+    double cos_theta = 0.0;
+    double sin_theta = 0.0;
+    tracked.bore_angle.Evaluate(c.ring_theta, cos_theta, sin_theta);
+    const engine::RadiusDerivatives d = bore.EvaluateAt(cos_theta, sin_theta);
     // Radial and tangential unit vectors of the bore point in the global frame.
     const Eigen::Vector2d radial(d.cos_theta * cos_psi - d.sin_theta * sin_psi,
                                  d.sin_theta * cos_psi + d.cos_theta * sin_psi);
@@ -81,7 +84,7 @@ double EquilibriumSystem::StepContacts(double psi, const Eigen::VectorXd& x,
     const double q = d.r * d.r + d.dr * d.dr;
     const double root_q = std::sqrt(q);
     const double turning = q + d.dr * d.dr - d.r * d.ddr;  // nu' q: > 0 on a convex bore
-    const Eigen::Vector2d normal = (d.r * radial - d.dr * across) / root_q;
+    const Eigen::Vector2d normal = (d.r / root_q) * radial - (d.dr / root_q) * across;
     const Eigen::Vector2d tangent(-normal.y(), normal.x());
     const Eigen::Vector2d ring_point = ring_centre + d.r * radial;
     double roller_h = outline.radius() + outline.mean_deviation();
@@ -122,26 +125,21 @@ double EquilibriumSystem::StepContacts(double psi, const Eigen::VectorXd& x,
   return largest_step;
 }
 
-void EquilibriumSystem::FinishContacts(double psi, std::vector<TrackedContact>& contacts) const {
-  for (int i = 0; i < rollers(); ++i) {
-    TrackedContact& tracked = contacts[static_cast<std::size_t>(i)];
-    engine::Contact& c = tracked.contact;
-    c.normal_angle = std::atan2(c.normal.y(), c.normal.x());
-    const double roller_angle = engine::RollerBodyAngle(scene_, i, psi);
-    if (scene_.rollers[static_cast<std::size_t>(i)].outline.is_circle()) c.roller_theta = c.normal_angle - roller_angle;
-    tracked.ring_offset = c.ring_theta - (c.normal_angle - psi);
-    tracked.roller_offset = c.roller_theta - (c.normal_angle - roller_angle);
-  }
-}
-
 void EquilibriumSystem::FollowContacts(const Eigen::VectorXd& dx, std::vector<TrackedContact>& contacts) const {
   for (int i = 0; i < rollers(); ++i) {
     TrackedContact& tracked = contacts[static_cast<std::size_t>(i)];
-    const Contact& c = tracked.contact;
-    double dg_slope = c.tangent.dot(dx.head<2>());  // d g' from moving the ring
+    Contact& c = tracked.contact;
+    // The gap and its slope move with the bodies: d g = n . dx_ring - n . u ds, and the
+    // same along the tangent for g'. The gap then matches x to first order, which is what
+    // an iteration accepted after one update reports as its contact force.
+    Eigen::Vector2d roller_shift = Eigen::Vector2d::Zero();
     const int s = travel_index_[static_cast<std::size_t>(i)];
-    if (s >= 0) dg_slope -= axes_[static_cast<std::size_t>(i)].dot(c.tangent) * dx[s];
-    tracked.contact.ring_theta -= dg_slope / c.gap_curvature * tracked.theta_per_normal;
+    if (s >= 0) roller_shift = dx[s] * axes_[static_cast<std::size_t>(i)];
+    const Eigen::Vector2d relative = dx.head<2>() - roller_shift;
+    c.gap += c.normal.dot(relative);
+    c.ring_point += dx.head<2>();
+    c.roller_point += roller_shift;
+    c.ring_theta -= c.tangent.dot(relative) / c.gap_curvature * tracked.theta_per_normal;
   }
 }
 
@@ -169,66 +167,63 @@ void EquilibriumSystem::Evaluate(const Eigen::VectorXd& x, const std::vector<Tra
   if (jacobian != nullptr) jacobian->setZero(size_, size_);
   if (gap_sensitivity != nullptr) gap_sensitivity->setZero(size_, z);
   if (slope_sensitivity != nullptr) slope_sensitivity->setZero(size_, z);
-  Eigen::VectorXd& dgap = dgap_;      // d g_i / d x
-  Eigen::VectorXd& dphi = dphi_;      // d phi_i / d x
-  Eigen::VectorXd& dforce = dforce_;  // d F_i / d x
-  dgap.resize(size_);
-  dphi.resize(size_);
-  dforce.resize(size_);
   for (int i = 0; i < z; ++i) {
     const Contact& c = contacts[static_cast<std::size_t>(i)].contact;
     const int s = travel_index_[static_cast<std::size_t>(i)];
+    const int f = force_index(i);
     const Eigen::Vector2d& u = axes_[static_cast<std::size_t>(i)];
+    const Eigen::Vector2d& n = c.normal;
+    const Eigen::Vector2d& t = c.tangent;
     const double force = ContactForce(i, x, c);
-    residual.head<2>() += force * c.normal;
+    residual.head<2>() += force * n;
     if (s >= 0) {
       const engine::Spring& spring = scene_.rollers[static_cast<std::size_t>(i)].spring;
-      residual[s] += spring.preload - spring.stiffness * x[s] - force * c.normal.dot(u);
+      residual[s] += spring.preload - spring.stiffness * x[s] - force * n.dot(u);
     }
-    if (rigid_) residual[force_index(i)] = kGapRowScale * c.gap;
+    if (rigid_) residual[f] = kGapRowScale * c.gap;
     if (jacobian == nullptr && gap_sensitivity == nullptr && slope_sensitivity == nullptr) continue;
 
-    dgap.setZero();
-    dphi.setZero();
-    dgap.head<2>() = c.normal;
-    dphi.head<2>() = -c.tangent / c.gap_curvature;
-    if (s >= 0) {
-      dgap[s] = -u.dot(c.normal);
-      dphi[s] = u.dot(c.tangent) / c.gap_curvature;
-    }
+    // The derivatives are sparse: a contact's gap and normal depend only on the ring's
+    // centre (columns 0, 1) and its own roller's travel (column s):
+    //   dg/dc = n, dg/ds = -u . n, dphi/dc = -t / g'', dphi/ds = (u . t) / g'',
+    // and its force on its own force unknown (rigid, column f) or on its gap (penalty).
+    const double n_u = n.dot(u);
+    const double t_u = t.dot(u);
+    const double turn = 1.0 / c.gap_curvature;
     const double stiffness = rigid_ ? 0.0 : PenaltyStiffness(c.gap);
-    if (rigid_) {
-      dforce.setZero();
-      dforce[force_index(i)] = 1.0;
-    } else {
-      dforce = -stiffness * dgap;
-    }
     if (jacobian != nullptr) {
+      // Ring rows: d(F n)/dx = n dF/dx + F t dphi/dx; spring row: -(n . u) dF/dx -
+      // F (t . u) dphi/dx - k_spring.
       Eigen::MatrixXd& J = *jacobian;
-      J.topRows<2>() += c.normal * dforce.transpose() + force * c.tangent * dphi.transpose();
+      J.block<2, 2>(0, 0) -= stiffness * n * n.transpose() + (force * turn) * t * t.transpose();
+      if (rigid_) J.block<2, 1>(0, f) += n;
       if (s >= 0) {
-        const engine::Spring& spring = scene_.rollers[static_cast<std::size_t>(i)].spring;
-        J(s, s) -= spring.stiffness;
-        J.row(s) -= c.normal.dot(u) * dforce.transpose() + force * c.tangent.dot(u) * dphi.transpose();
+        J.block<2, 1>(0, s) += (stiffness * n_u) * n + (force * turn * t_u) * t;
+        J.block<1, 2>(s, 0) += (stiffness * n_u) * n.transpose() + (force * turn * t_u) * t.transpose();
+        J(s, s) -= scene_.rollers[static_cast<std::size_t>(i)].spring.stiffness + stiffness * n_u * n_u +
+                   force * turn * t_u * t_u;
+        if (rigid_) J(s, f) -= n_u;
       }
-      if (rigid_) J.row(force_index(i)) = kGapRowScale * dgap.transpose();
+      if (rigid_) {
+        J.block<1, 2>(f, 0) = kGapRowScale * n.transpose();
+        if (s >= 0) J(f, s) = -kGapRowScale * n_u;
+      }
     }
     if (gap_sensitivity != nullptr) {
       Eigen::MatrixXd& B = *gap_sensitivity;
       if (rigid_) {
-        B(force_index(i), i) = kGapRowScale;
+        B(f, i) = kGapRowScale;
       } else {
-        B.block<2, 1>(0, i) = -stiffness * c.normal;
-        if (s >= 0) B(s, i) = stiffness * c.normal.dot(u);
+        B.block<2, 1>(0, i) = -stiffness * n;
+        if (s >= 0) B(s, i) = stiffness * n_u;
       }
     }
     if (slope_sensitivity != nullptr) {
       // A slope change dg' moves the minimum of g by dphi = -dg' / g''; the gap itself is
       // stationary there, so only the force direction turns.
       Eigen::MatrixXd& S = *slope_sensitivity;
-      const double turn = -1.0 / c.gap_curvature;  // dphi per unit slope change
-      S.block<2, 1>(0, i) = force * turn * c.tangent;
-      if (s >= 0) S(s, i) = -force * turn * c.tangent.dot(u);
+      S.block<2, 1>(0, i) = -force * turn * t;
+      if (s >= 0) S(s, i) = force * turn * t_u;
     }
   }
 }

@@ -27,6 +27,7 @@ struct TrackedContact {
   double ring_offset = 0.0;    // [rad] touching point's body angle minus its normal's body angle
   double roller_offset = 0.0;  // [rad] same for the roller
   double theta_per_normal = 1.0;  // [-] d ring_theta / d normal_angle at the touching point
+  engine::NearbyAngle bore_angle;  // cos and sin of ring_theta, which moves in small steps
 };
 
 class EquilibriumSystem {
@@ -60,17 +61,16 @@ class EquilibriumSystem {
   // upper bound of the true gap that differs from it by g'' dphi^2 / 2), then advances
   // theta by -g' / (g'' nu'). Used inside the continuation Newton iteration, where the
   // contacts converge together with x. Requires valid contacts; returns the largest
-  // normal-angle update taken [rad], or infinity if a contact cannot be stepped.
+  // normal-angle update taken [rad], or infinity if a contact cannot be stepped. Leaves
+  // normal_angle, and the warm-start offsets UpdateContacts uses, as they were: the
+  // normal vector is current, its angle would cost an atan2 per contact and step.
   double StepContacts(double psi, const Eigen::VectorXd& x, std::vector<TrackedContact>& contacts) const;
 
-  // Moves every contact's touching angle along with a change dx of the unknowns, by the
-  // implicit derivative dphi/dx = -(dg'/dx) / g'': with it, StepContacts followed by a
-  // force-balance step is a full Newton step of the joint system.
+  // Moves every contact along with a change dx of the unknowns: its touching angle by
+  // the implicit derivative dphi/dx = -(dg'/dx) / g'' (with it, StepContacts followed by
+  // a force-balance step is a full Newton step of the joint system), its gap and touching
+  // points to first order.
   void FollowContacts(const Eigen::VectorXd& dx, std::vector<TrackedContact>& contacts) const;
-
-  // Fills what StepContacts leaves out of its inner loop (normal angles, warm-start
-  // offsets), once per converged angle.
-  void FinishContacts(double psi, std::vector<TrackedContact>& contacts) const;
 
   // Contact force of roller i [N] and its derivative with respect to the gap [N/m]
   // (penalty law; rigid forces are unknowns of x).
@@ -99,8 +99,6 @@ class EquilibriumSystem {
   std::vector<int> travel_index_;
   std::vector<Eigen::Vector2d> roller_centres_;  // [m] at zero travel, errors included
   std::vector<Eigen::Vector2d> axes_;            // unit travel axes (spring rollers)
-  // Per-contact derivatives assembled by Evaluate, kept to avoid three allocations a call.
-  mutable Eigen::VectorXd dgap_, dphi_, dforce_;
 };
 
 }  // namespace ringtol::solvers

@@ -76,62 +76,150 @@ NewtonOutcome Newton(const EquilibriumSystem& system, double psi, Eigen::VectorX
   return outcome;
 }
 
-// Quadratic extrapolation through the states at the last three angles (newest first);
-// with fewer known, linear or constant. Its error is O(dpsi^3): below 1e-7 m at 720 steps
-// for the article's orders, so Newton converges in one or two steps.
-template <typename T>
-T Extrapolate(int known, const T& newest, const T& middle, const T& oldest) {
-  if (known >= 3) return T(3.0 * newest - 3.0 * middle + oldest);
-  if (known == 2) return T(2.0 * newest - middle);
-  return newest;
-}
+// Polynomial extrapolation of the converged states (unknowns and touching angles) at the
+// last few equally spaced angles to the next: with degree d its error is O(dpsi^(d+1)).
+// Newton's first update is about that error e, its second about K e^2 (K ~ 4e3 /m for
+// the article's penalty contacts): at 720 steps degree 2 leaves e ~ 3e-8 m and needs a
+// second iteration, degree 4 leaves e ~ 1e-10 m and one suffices. Higher degrees gain
+// little more and amplify round-off by sum |binomial| = 2^(d+1) - 1.
+class Predictor {
+ public:
+  static constexpr int kDegree = 4;
 
-// Solves J dx = -r. The systems are tiny (3 unknowns for the article's penalty scene, 6
-// for rigid contact); Eigen's fixed-size LU is unrolled and allocation-free there.
+  void Push(const Eigen::VectorXd& x, const std::vector<TrackedContact>& contacts) {
+    const auto rows = x.size() + static_cast<Eigen::Index>(contacts.size());
+    if (history_.rows() != rows) history_.resize(rows, kDegree + 1);
+    newest_ = (newest_ + 1) % (kDegree + 1);
+    auto column = history_.col(newest_);
+    column.head(x.size()) = x;
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+      column[x.size() + static_cast<Eigen::Index>(i)] = contacts[i].contact.ring_theta;
+    }
+    known_ = std::min(known_ + 1, kDegree + 1);
+  }
+
+  // Overwrites x and each contact's touching angle with the prediction.
+  void Predict(Eigen::VectorXd& x, std::vector<TrackedContact>& contacts) const {
+    // Weights (-1)^(j+1) binomial(d+1, j) of the newest j = 1 .. d+1 states: the
+    // polynomial of degree d = known - 1 through them, evaluated one step ahead.
+    prediction_.setZero(history_.rows());
+    double binomial = 1.0;
+    for (int j = 1; j <= known_; ++j) {
+      binomial *= static_cast<double>(known_ - j + 1) / j;
+      const double weight = (j % 2 == 1 ? 1.0 : -1.0) * binomial;
+      prediction_ += weight * history_.col((newest_ - (j - 1) + kDegree + 1) % (kDegree + 1));
+    }
+    x = prediction_.head(x.size());
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+      contacts[i].contact.ring_theta = prediction_[x.size() + static_cast<Eigen::Index>(i)];
+    }
+  }
+
+ private:
+  Eigen::MatrixXd history_;  // one column per angle, a ring buffer
+  int newest_ = -1;
+  int known_ = 0;
+  mutable Eigen::VectorXd prediction_;
+};
+
+// Solves J dx = -r for a Newton step. The systems are tiny (3 unknowns for the article's
+// penalty scene, 6 for rigid contact): fixed-size, allocation-free, with Eigen's
+// closed-form inverse up to 4 x 4, several times cheaper there than a pivoted LU. Rigid
+// contact with as many contacts as position unknowns (the article's 2 fixed + 1 spring)
+// is block triangular, since the gaps do not depend on the forces:
+// [A B; G 0] [dp; dF] = -[r_p; r_g] gives dp from G dp = -r_g and then dF from
+// B dF = -r_p - A dp, two 3 x 3 solves instead of one 6 x 6.
 template <int N>
 bool SolveFixed(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual, Eigen::VectorXd& step) {
   const Eigen::Matrix<double, N, N> j = jacobian;
   const Eigen::Matrix<double, N, 1> r = residual;
-  step = j.partialPivLu().solve(-r);
+  step = -(j.inverse() * r);
   return step.allFinite();
 }
 
-bool SolveNewtonStep(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual, Eigen::VectorXd& step) {
+template <int P>
+bool SolveBlockTriangular(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual, Eigen::VectorXd& step) {
+  const Eigen::Matrix<double, P, P> a = jacobian.topLeftCorner<P, P>();
+  const Eigen::Matrix<double, P, P> b = jacobian.topRightCorner<P, P>();
+  const Eigen::Matrix<double, P, P> g = jacobian.bottomLeftCorner<P, P>();
+  const Eigen::Matrix<double, P, 1> dp = -(g.inverse() * residual.tail<P>());
+  const Eigen::Matrix<double, P, 1> df = -(b.inverse() * (residual.head<P>() + a * dp));
+  step.resize(2 * P);
+  step << dp, df;
+  return step.allFinite();
+}
+
+bool SolveNewtonStep(const EquilibriumSystem& system, const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual,
+                     Eigen::VectorXd& step) {
+  if (system.rigid() && system.size() == 2 * system.rollers()) {
+    switch (system.rollers()) {
+      case 3: return SolveBlockTriangular<3>(jacobian, residual, step);
+      case 4: return SolveBlockTriangular<4>(jacobian, residual, step);
+      default: break;
+    }
+  }
   switch (jacobian.rows()) {
+    case 2: return SolveFixed<2>(jacobian, residual, step);
     case 3: return SolveFixed<3>(jacobian, residual, step);
     case 4: return SolveFixed<4>(jacobian, residual, step);
-    case 5: return SolveFixed<5>(jacobian, residual, step);
-    case 6: return SolveFixed<6>(jacobian, residual, step);
-    case 7: return SolveFixed<7>(jacobian, residual, step);
-    case 8: return SolveFixed<8>(jacobian, residual, step);
     default:
       step = jacobian.partialPivLu().solve(-residual);
       return step.allFinite();
   }
 }
 
+// What the continuation iteration has learnt of its own convergence. Newton converges
+// quadratically: an update of size e is followed by one of about K e^2. Where the
+// prediction is good, K e^2 is far below the tolerance after the first update, and the
+// iteration that would only confirm it (half the cost of an angle) can be skipped.
+struct ConvergenceModel {
+  // Largest K observed [1/m]: the ratio of a second update to the square of the first,
+  // at angles that ran a second iteration. Zero until the first observation.
+  double constant = 0.0;
+  int angles_since_check = 0;
+};
+
+// Trust in the model: accept one update only when K e^2 times this is within tolerance,
+// and run the confirming iteration anyway at every kCheckInterval-th angle so a K that
+// grows along the revolution (a contact unloading, a tighter bore) is noticed.
+constexpr double kConvergenceSafety = 4.0;
+constexpr int kCheckInterval = 16;
+
 // Newton's method for one angle of a revolution, started from a good prediction: each
 // iteration steps the contact searches and the force balance together, so an iteration
-// costs one bore evaluation per contact. Returns false (leaving x and the contacts
-// unusable) when it does not converge; the caller then falls back to Newton().
+// costs one bore evaluation per contact. Converged when the last update (or the update
+// the convergence model predicts next) is within tolerance. Returns false (leaving x and
+// the contacts unusable) when it does not converge; the caller then falls back to Newton().
 bool ContinuationNewton(const EquilibriumSystem& system, double psi, Eigen::VectorXd& x,
                         std::vector<TrackedContact>& contacts, const Eigen::VectorXd& tolerance, int max_iterations,
-                        int& iterations, Eigen::VectorXd& residual, Eigen::MatrixXd& jacobian,
-                        Eigen::VectorXd& step) {
+                        ConvergenceModel& model, int& iterations, Eigen::VectorXd& residual,
+                        Eigen::MatrixXd& jacobian, Eigen::VectorXd& step) {
   // Contact normals within this of the common normal: the gap is then exact to
   // g'' dphi^2 / 2 < 1e-20 m and the force direction to 1e-10, which moves the centre by
   // ~1e-14 m, far below the position tolerance.
   constexpr double kNormalTolerance = 1e-10;  // [rad]
+  // Updates are compared as lengths: each unknown and the normal angles by its tolerance.
+  const double length = tolerance[0];
+  // A second update below this is round-off, not a measure of K [m].
+  const double round_off = 1e-3 * length;
+  const bool check = ++model.angles_since_check >= kCheckInterval || model.constant == 0.0;
+  double first_update = 0.0;
   for (int iteration = 1; iteration <= max_iterations; ++iteration) {
     iterations = iteration;
     const double contact_step = system.StepContacts(psi, x, contacts);
     if (!std::isfinite(contact_step)) return false;
     system.Evaluate(x, contacts, residual, &jacobian);
-    if (!SolveNewtonStep(jacobian, residual, step)) return false;
+    if (!SolveNewtonStep(system, jacobian, residual, step)) return false;
     x += step;
     system.FollowContacts(step, contacts);
-    if (contact_step <= kNormalTolerance && (step.cwiseAbs().array() <= tolerance.array()).all()) {
-      system.FinishContacts(psi, contacts);
+    const double update =
+        length * std::max((step.cwiseAbs().array() / tolerance.array()).maxCoeff(), contact_step / kNormalTolerance);
+    if (iteration == 2) model.constant = std::max(model.constant, std::max(update, round_off) / (first_update * first_update));
+    if (iteration == 1) first_update = update;
+    const bool predicted = iteration == 1 && !check &&
+                           kConvergenceSafety * model.constant * update * update <= length;
+    if (update <= length || predicted) {
+      if (iteration >= 2) model.angles_since_check = 0;
       return true;
     }
   }
@@ -167,6 +255,13 @@ CurvatureBounds Bounds(const Scene& scene) {
   return bounds;
 }
 
+// The continuation iteration carries contact normals as vectors only: their angle costs
+// an atan2, and only the rare two-point check needs it.
+engine::Contact WithNormalAngle(engine::Contact c) {
+  c.normal_angle = std::atan2(c.normal.y(), c.normal.x());
+  return c;
+}
+
 // Why a converged configuration is not a valid one, if it is not.
 Status Classify(const EquilibriumSystem& system, const CurvatureBounds& bounds, double psi, const Eigen::VectorXd& x,
                 const std::vector<TrackedContact>& contacts, double two_point_tolerance, std::string& message) {
@@ -191,7 +286,7 @@ Status Classify(const EquilibriumSystem& system, const CurvatureBounds& bounds, 
     }
     if (bounds.roller_max_radius[k] + c.gap >= bounds.ring_min_radius &&
         !engine::IsSinglePoint(scene.ring.inner, system.RingPose(psi, x), roller.outline,
-                               system.RollerPose(i, psi, x), c, two_point_tolerance)) {
+                               system.RollerPose(i, psi, x), WithNormalAngle(c), two_point_tolerance)) {
       message = "roller " + roller.name + " touches the bore at two points at psi = " + Degrees(psi) +
                 ": the bore curves tighter than the roller there";
       return Status::kTwoPointContact;
@@ -320,26 +415,22 @@ Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) con
   trajectory.contact_force.reserve(n * z);
   const CurvatureBounds bounds = Bounds(scene);
   const Eigen::VectorXd tolerance = system.Tolerances(options_.position_tolerance, options_.force_tolerance);
-  // Converged states and touching angles at the last three angles, for the predictor.
-  Eigen::VectorXd previous[3] = {x, x, x};
-  std::vector<double> previous_theta[3];
-  for (auto& thetas : previous_theta) {
-    for (const TrackedContact& c : contacts) thetas.push_back(c.contact.ring_theta);
-  }
+  Predictor predictor;
   Eigen::VectorXd residual;
   Eigen::MatrixXd jacobian;
   Eigen::VectorXd newton_step;
+  ConvergenceModel model;
+  Eigen::VectorXd previous;
+  Eigen::VectorXd predicted;
   for (int k = 0; k <= steps; ++k) {
     const double psi = 2.0 * std::numbers::pi * k / steps;
     if (k > 0) {
-      const Eigen::VectorXd predicted = Extrapolate(k, previous[0], previous[1], previous[2]);
-      x = predicted;
-      for (std::size_t i = 0; i < contacts.size(); ++i) {
-        contacts[i].contact.ring_theta = Extrapolate(k, previous_theta[0][i], previous_theta[1][i], previous_theta[2][i]);
-      }
+      previous = x;
+      predictor.Predict(x, contacts);
+      predicted = x;
       int iterations = 0;
-      bool converged = ContinuationNewton(system, psi, x, contacts, tolerance, options_.max_iterations, iterations,
-                                          residual, jacobian, newton_step);
+      bool converged = ContinuationNewton(system, psi, x, contacts, tolerance, options_.max_iterations, model,
+                                          iterations, residual, jacobian, newton_step);
       trajectory.total_iterations += iterations;
       if (!converged) {
         // The robust path: a full contact search at every iteration, with line search.
@@ -353,7 +444,7 @@ Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) con
         trajectory.status = Status::kNotConverged;
         trajectory.message = "Newton iteration did not converge at psi = " + Degrees(psi);
         std::string reason;
-        x = previous[0];
+        x = previous;
         contacts.clear();
         if (system.UpdateContacts(psi, x, contacts) < 0 &&
             Classify(system, bounds, psi, x, contacts, options_.two_point_tolerance, reason) == Status::kLiftOff) {
@@ -370,12 +461,7 @@ Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) con
         return trajectory;
       }
     }
-    previous[2] = previous[1];
-    previous[1] = previous[0];
-    previous[0] = x;
-    previous_theta[2].swap(previous_theta[1]);
-    previous_theta[1].swap(previous_theta[0]);
-    for (std::size_t i = 0; i < contacts.size(); ++i) previous_theta[0][i] = contacts[i].contact.ring_theta;
+    predictor.Push(x, contacts);
     trajectory.psi.push_back(psi);
     trajectory.centre.push_back(x.head<2>());
     for (int i = 0; i < static_cast<int>(z); ++i) {
