@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include <Eigen/Core>
 #include <boost/math/tools/minima.hpp>
 
 namespace ringtol::engine {
@@ -28,6 +29,12 @@ PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Har
     cos_coefficients_[n] += h.amplitude * std::cos(h.phase);
     sin_coefficients_[n] += h.amplitude * std::sin(h.phase);
   }
+  for (std::size_t n = 1; n < cos_coefficients_.size(); ++n) {
+    const double a = cos_coefficients_[n];
+    const double b = sin_coefficients_[n];
+    const auto order = static_cast<double>(n);
+    terms_.push_back({a, b, order * a, order * b, order * order * a, order * order * b});
+  }
   FindExtremes();
 }
 
@@ -49,19 +56,36 @@ RadiusDerivatives PolarProfile::EvaluateAt(double cos_theta, double sin_theta) c
   // which would dominate the cost of a contact search.
   double cn = cos_theta;
   double sn = sin_theta;
-  for (std::size_t n = 1; n < cos_coefficients_.size(); ++n) {
-    const double a = cos_coefficients_[n];
-    const double b = sin_coefficients_[n];
-    const double nn = static_cast<double>(n);
-    const double value = a * cn - b * sn;
-    d.r += value;
-    d.dr -= nn * (a * sn + b * cn);
-    d.ddr -= nn * nn * value;
+  for (const Term& t : terms_) {
+    d.r += t.a * cn - t.b * sn;
+    d.dr -= t.na * sn + t.nb * cn;
+    d.ddr -= t.nna * cn - t.nnb * sn;
     const double next_c = cn * cos_theta - sn * sin_theta;
     sn = sn * cos_theta + cn * sin_theta;
     cn = next_c;
   }
   return d;
+}
+
+void PolarProfile::EvaluatePairAt(const double (&cos_theta)[2], const double (&sin_theta)[2],
+                                  RadiusDerivatives (&out)[2]) const {
+  using Pair = Eigen::Array2d;
+  const Pair c1(cos_theta[0], cos_theta[1]);
+  const Pair s1(sin_theta[0], sin_theta[1]);
+  Pair r = Pair::Constant(radius_ + mean_deviation_);
+  Pair dr = Pair::Zero();
+  Pair ddr = Pair::Zero();
+  Pair cn = c1;
+  Pair sn = s1;
+  for (const Term& t : terms_) {
+    r += t.a * cn - t.b * sn;
+    dr -= t.na * sn + t.nb * cn;
+    ddr -= t.nna * cn - t.nnb * sn;
+    const Pair next_c = cn * c1 - sn * s1;
+    sn = sn * c1 + cn * s1;
+    cn = next_c;
+  }
+  for (int k = 0; k < 2; ++k) out[k] = {r[k], dr[k], ddr[k], cos_theta[k], sin_theta[k]};
 }
 
 void NearbyAngle::Evaluate(double theta, double& cos_theta, double& sin_theta) {

@@ -89,8 +89,12 @@ class EquilibriumSystem {
   Eigen::VectorXd Tolerances(double position_tolerance, double force_tolerance) const;
 
  private:
-  double PenaltyForce(double gap) const;
-  double PenaltyStiffness(double gap) const;
+  // The penalty law at a gap: force k delta^e [N] and stiffness dF/d delta [N/m].
+  struct Penalty {
+    double force = 0.0;
+    double stiffness = 0.0;
+  };
+  Penalty PenaltyLaw(double gap) const;
 
   const engine::Scene& scene_;
   bool rigid_ = false;

@@ -13,10 +13,13 @@ namespace {
 using engine::Scene;
 using Complex = std::complex<double>;
 
-// Outputs y = [centre (2); travel per roller (Z); contact force per roller (Z)].
+// Outputs y = [centre (2); travel per spring roller; contact force per roller (Z)]: the
+// travel rows are x's (fixed rollers do not travel, and carry no rows to evaluate).
 struct Linearisation {
   Equilibrium nominal;
   int rollers = 0;
+  std::vector<int> travel_row;       // row of roller i's travel in y, or -1 (fixed)
+  int first_force_row = 0;           // row of roller 0's contact force in y
   Eigen::VectorXd offset;            // y at psi-independent errors: y0 + Y dg_constant
   Eigen::MatrixXcd phasors;          // one column per error term: y += Re[v e^{-i rate psi}]
   std::vector<double> rates;         // [rad of phase per rad of ring angle]
@@ -44,7 +47,9 @@ Linearisation Linearise(const Scene& scene, const QuasistaticOptions& options) {
   Eigen::MatrixXd dx(system.size(), 2 * z);
   dx << -lu.solve(gap_sensitivity), -lu.solve(slope_sensitivity);
 
-  const int outputs = 2 + 2 * z;
+  const int springs = system.size() - 2 - (system.rigid() ? z : 0);
+  lin.first_force_row = 2 + springs;
+  const int outputs = lin.first_force_row + z;
   Eigen::MatrixXd response = Eigen::MatrixXd::Zero(outputs, 2 * z);
   Eigen::VectorXd y0 = Eigen::VectorXd::Zero(outputs);
   y0.head<2>() = x.head<2>();
@@ -52,13 +57,15 @@ Linearisation Linearise(const Scene& scene, const QuasistaticOptions& options) {
   for (int i = 0; i < z; ++i) {
     const engine::Contact& c = contacts[static_cast<std::size_t>(i)].contact;
     const int s = system.travel_index(i);
+    lin.travel_row.push_back(s);
     if (s >= 0) {
-      y0[2 + i] = x[s];
-      response.row(2 + i) = dx.row(s);
+      y0[s] = x[s];
+      response.row(s) = dx.row(s);
     }
-    y0[2 + z + i] = system.ContactForce(i, x, c);
+    const int f = lin.first_force_row + i;
+    y0[f] = system.ContactForce(i, x, c);
     if (system.rigid()) {
-      response.row(2 + z + i) = dx.row(system.force_index(i));
+      response.row(f) = dx.row(system.force_index(i));
     } else {
       // F = k delta^e with delta = -(g + dg_i + dg/dx dx): dF = -k e delta^(e-1) (dg_i + dg/dx dx).
       const double e = scene.contact.exponent;
@@ -68,7 +75,7 @@ Linearisation Linearise(const Scene& scene, const QuasistaticOptions& options) {
       if (s >= 0) gap_gradient[s] = -engine::SpringAxis(perfect, i).dot(c.normal);
       Eigen::RowVectorXd row = gap_gradient * dx;
       row[i] += 1.0;
-      response.row(2 + z + i) = -stiffness * row;
+      response.row(f) = -stiffness * row;
     }
   }
 
@@ -113,7 +120,7 @@ Linearisation Linearise(const Scene& scene, const QuasistaticOptions& options) {
 }
 
 // Outputs y at psi_k = 2 pi k / steps for k = 0 .. samples - 1, handed to
-// sink(k, y) one angle at a time. Angles go in chunks through one small matrix product
+// sink(first, y) a chunk of angles (columns of y, from angle `first`) at a time. Angles go in chunks through one small matrix product
 // each: whole-revolution temporaries of ~150 KB cost more in heap traffic (glibc returns
 // them to the kernel on free) than the arithmetic.
 template <typename Sink>
@@ -123,36 +130,39 @@ void EvaluatePath(const Linearisation& lin, int steps, int samples, Sink sink) {
   const Eigen::MatrixXd real = lin.phasors.real();
   const Eigen::MatrixXd imag = lin.phasors.imag();
   const double dpsi = 2.0 * std::numbers::pi / steps;
-  // Rotate a unit phasor per term by a fixed increment: one complex product per angle;
-  // the accumulated round-off after 1e5 steps is ~1e-11 relative.
-  std::vector<Complex> phasor(static_cast<std::size_t>(terms), Complex(1.0, 0.0));
-  std::vector<Complex> increment;
-  for (const double rate : lin.rates) increment.push_back(std::polar(1.0, -rate * dpsi));
+  // Unit phasors of every term, turned by a fixed increment per angle: one complex product
+  // per term and angle, the terms side by side so their recurrences run in parallel
+  // rather than as one long dependency chain. The round-off accumulated after 1e5 steps
+  // is ~1e-11 relative.
+  const auto n_terms = static_cast<std::size_t>(terms);
+  std::vector<double> re(n_terms, 1.0);
+  std::vector<double> im(n_terms, 0.0);
+  std::vector<double> step_re(n_terms);
+  std::vector<double> step_im(n_terms);
+  for (std::size_t p = 0; p < n_terms; ++p) {
+    step_re[p] = std::cos(lin.rates[p] * dpsi);
+    step_im[p] = -std::sin(lin.rates[p] * dpsi);
+  }
   Eigen::MatrixXd cosines(terms, kChunk);
   Eigen::MatrixXd sines(terms, kChunk);
   Eigen::MatrixXd chunk(lin.offset.size(), kChunk);
   for (int first = 0; first < samples; first += kChunk) {
     const int count = std::min(kChunk, samples - first);
-    for (Eigen::Index p = 0; p < terms; ++p) {
-      // Written out: std::complex's product carries Inf/NaN recovery that costs more
-      // than the product itself, and these phasors are unit-modulus and finite.
-      double re = phasor[static_cast<std::size_t>(p)].real();
-      double im = phasor[static_cast<std::size_t>(p)].imag();
-      const double step_re = increment[static_cast<std::size_t>(p)].real();
-      const double step_im = increment[static_cast<std::size_t>(p)].imag();
-      for (int k = 0; k < count; ++k) {
-        cosines(p, k) = re;
-        sines(p, k) = im;
-        const double next_re = re * step_re - im * step_im;
-        im = re * step_im + im * step_re;
-        re = next_re;
+    for (int k = 0; k < count; ++k) {
+      double* cos_column = cosines.col(k).data();
+      double* sin_column = sines.col(k).data();
+      for (std::size_t p = 0; p < n_terms; ++p) {
+        cos_column[p] = re[p];
+        sin_column[p] = im[p];
+        const double next_re = re[p] * step_re[p] - im[p] * step_im[p];
+        im[p] = re[p] * step_im[p] + im[p] * step_re[p];
+        re[p] = next_re;
       }
-      phasor[static_cast<std::size_t>(p)] = Complex(re, im);
     }
     chunk.leftCols(count).noalias() = real * cosines.leftCols(count);
     chunk.leftCols(count).noalias() -= imag * sines.leftCols(count);
     chunk.leftCols(count).colwise() += lin.offset;
-    for (int k = 0; k < count; ++k) sink(first + k, chunk.col(k));
+    sink(first, chunk.leftCols(count));
   }
 }
 
@@ -163,8 +173,9 @@ void FillEquilibrium(const Linearisation& lin, const Column& y, Equilibrium& e) 
   e.travel.resize(static_cast<std::size_t>(z));
   e.contact_force.resize(static_cast<std::size_t>(z));
   for (int i = 0; i < z; ++i) {
-    e.travel[static_cast<std::size_t>(i)] = y(2 + i);
-    e.contact_force[static_cast<std::size_t>(i)] = y(2 + z + i);
+    const int s = lin.travel_row[static_cast<std::size_t>(i)];
+    e.travel[static_cast<std::size_t>(i)] = s >= 0 ? y(s) : 0.0;
+    e.contact_force[static_cast<std::size_t>(i)] = y(lin.first_force_row + i);
   }
 }
 
@@ -174,7 +185,7 @@ Equilibrium LinearSolver::SolveStatic(const Scene& scene) const {
   const Linearisation lin = Linearise(scene, options_.nominal);
   if (lin.nominal.status != Status::kOk) return lin.nominal;
   Equilibrium e;
-  EvaluatePath(lin, 1, 1, [&](int, const auto& y) { FillEquilibrium(lin, y, e); });
+  EvaluatePath(lin, 1, 1, [&](int, const auto& y) { FillEquilibrium(lin, y.col(0), e); });
   return e;
 }
 
@@ -193,23 +204,33 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
   trajectory.centre.resize(n);
   trajectory.travel.resize(n * static_cast<std::size_t>(z));
   trajectory.contact_force.resize(n * static_cast<std::size_t>(z));
-  EvaluatePath(lin, steps, steps + 1, [&](int k, const auto& y) {
-    const auto kk = static_cast<std::size_t>(k);
-    if (k == 0) FillEquilibrium(lin, y, trajectory.initial);
-    trajectory.psi[kk] = 2.0 * std::numbers::pi * k / steps;
-    trajectory.centre[kk] = y.template head<2>();
+  // The trajectory's arrays as matrices with one column per angle.
+  Eigen::Map<Eigen::Matrix2Xd> centre(trajectory.centre.front().data(), 2, static_cast<Eigen::Index>(n));
+  Eigen::Map<Eigen::MatrixXd> travel(trajectory.travel.data(), z, static_cast<Eigen::Index>(n));
+  Eigen::Map<Eigen::MatrixXd> force(trajectory.contact_force.data(), z, static_cast<Eigen::Index>(n));
+  EvaluatePath(lin, steps, steps + 1, [&](int first, const auto& y) {
+    const auto count = y.cols();
+    if (first == 0) FillEquilibrium(lin, y.col(0), trajectory.initial);
+    centre.middleCols(first, count) = y.template topRows<2>();
+    force.middleCols(first, count) = y.middleRows(lin.first_force_row, z);
     for (int i = 0; i < z; ++i) {
-      const auto slot = kk * static_cast<std::size_t>(z) + static_cast<std::size_t>(i);
-      trajectory.travel[slot] = y(2 + i);
-      trajectory.contact_force[slot] = y(2 + z + i);
-      if (trajectory.status == Status::kOk && y(2 + z + i) <= 0.0) {
-        trajectory.status = Status::kLiftOff;
-        trajectory.failure_angle = trajectory.psi[kk];
-        trajectory.message = "roller " + scene.rollers[static_cast<std::size_t>(i)].name +
-                             "'s linearised contact force turns tensile";
-      }
+      const int s = lin.travel_row[static_cast<std::size_t>(i)];
+      if (s >= 0) travel.row(i).segment(first, count) = y.row(s);
     }
   });
+  for (std::size_t k = 0; k < n; ++k) trajectory.psi[k] = 2.0 * std::numbers::pi * static_cast<double>(k) / steps;
+  Eigen::Index roller = 0;
+  Eigen::Index angle = 0;
+  if (force.minCoeff(&roller, &angle) <= 0.0) {
+    // The first angle at which any force turns tensile, as the quasistatic rung reports.
+    for (angle = 0; angle < force.cols(); ++angle) {
+      if (force.col(angle).minCoeff(&roller) <= 0.0) break;
+    }
+    trajectory.status = Status::kLiftOff;
+    trajectory.failure_angle = trajectory.psi[static_cast<std::size_t>(angle)];
+    trajectory.message = "roller " + scene.rollers[static_cast<std::size_t>(roller)].name +
+                         "'s linearised contact force turns tensile";
+  }
   return trajectory;
 }
 

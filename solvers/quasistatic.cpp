@@ -1,6 +1,7 @@
 #include "solvers/quasistatic.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -85,41 +86,47 @@ NewtonOutcome Newton(const EquilibriumSystem& system, double psi, Eigen::VectorX
 class Predictor {
  public:
   static constexpr int kDegree = 4;
+  static constexpr int kDepth = kDegree + 1;
 
   void Push(const Eigen::VectorXd& x, const std::vector<TrackedContact>& contacts) {
-    const auto rows = x.size() + static_cast<Eigen::Index>(contacts.size());
-    if (history_.rows() != rows) history_.resize(rows, kDegree + 1);
-    newest_ = (newest_ + 1) % (kDegree + 1);
-    auto column = history_.col(newest_);
-    column.head(x.size()) = x;
-    for (std::size_t i = 0; i < contacts.size(); ++i) {
-      column[x.size() + static_cast<Eigen::Index>(i)] = contacts[i].contact.ring_theta;
+    const auto unknowns = static_cast<std::size_t>(x.size());
+    rows_ = unknowns + contacts.size();
+    history_.resize(rows_ * kDepth);
+    newest_ = (newest_ + 1) % kDepth;
+    double* column = history_.data() + static_cast<std::size_t>(newest_) * rows_;
+    for (std::size_t r = 0; r < unknowns; ++r) column[r] = x[static_cast<Eigen::Index>(r)];
+    for (std::size_t i = 0; i < contacts.size(); ++i) column[unknowns + i] = contacts[i].contact.ring_theta;
+    // Weights (-1)^(j+1) binomial(d+1, j) of the newest j = 1 .. d+1 states: the
+    // polynomial of degree d = known - 1 through them, evaluated one step ahead. Stored
+    // by ring-buffer slot.
+    known_ = std::min(known_ + 1, kDepth);
+    weights_.fill(0.0);
+    double binomial = 1.0;
+    for (int j = 1; j <= known_; ++j) {
+      binomial *= static_cast<double>(known_ - j + 1) / j;
+      weights_[static_cast<std::size_t>((newest_ - (j - 1) + kDepth) % kDepth)] = (j % 2 == 1 ? 1.0 : -1.0) * binomial;
     }
-    known_ = std::min(known_ + 1, kDegree + 1);
   }
 
   // Overwrites x and each contact's touching angle with the prediction.
   void Predict(Eigen::VectorXd& x, std::vector<TrackedContact>& contacts) const {
-    // Weights (-1)^(j+1) binomial(d+1, j) of the newest j = 1 .. d+1 states: the
-    // polynomial of degree d = known - 1 through them, evaluated one step ahead.
-    prediction_.setZero(history_.rows());
-    double binomial = 1.0;
-    for (int j = 1; j <= known_; ++j) {
-      binomial *= static_cast<double>(known_ - j + 1) / j;
-      const double weight = (j % 2 == 1 ? 1.0 : -1.0) * binomial;
-      prediction_ += weight * history_.col((newest_ - (j - 1) + kDegree + 1) % (kDegree + 1));
+    const auto unknowns = static_cast<std::size_t>(x.size());
+    prediction_.assign(rows_, 0.0);
+    for (std::size_t slot = 0; slot < kDepth; ++slot) {
+      const double* column = history_.data() + slot * rows_;
+      for (std::size_t r = 0; r < rows_; ++r) prediction_[r] += weights_[slot] * column[r];
     }
-    x = prediction_.head(x.size());
-    for (std::size_t i = 0; i < contacts.size(); ++i) {
-      contacts[i].contact.ring_theta = prediction_[x.size() + static_cast<Eigen::Index>(i)];
-    }
+    for (std::size_t r = 0; r < unknowns; ++r) x[static_cast<Eigen::Index>(r)] = prediction_[r];
+    for (std::size_t i = 0; i < contacts.size(); ++i) contacts[i].contact.ring_theta = prediction_[unknowns + i];
   }
 
  private:
-  Eigen::MatrixXd history_;  // one column per angle, a ring buffer
+  std::size_t rows_ = 0;
+  std::vector<double> history_;  // kDepth columns of rows_ values, a ring buffer
+  std::array<double, kDepth> weights_{};
   int newest_ = -1;
   int known_ = 0;
-  mutable Eigen::VectorXd prediction_;
+  mutable std::vector<double> prediction_;
 };
 
 // Solves J dx = -r for a Newton step. The systems are tiny (3 unknowns for the article's
