@@ -127,8 +127,12 @@ template <typename Sink>
 void EvaluatePath(const Linearisation& lin, int steps, int samples, Sink sink) {
   constexpr int kChunk = 256;
   const auto terms = lin.phasors.cols();
-  const Eigen::MatrixXd real = lin.phasors.real();
-  const Eigen::MatrixXd imag = lin.phasors.imag();
+  const auto outputs = lin.offset.size();
+  // y_k = offset + [cos(rate psi_k), sin(rate psi_k)] . [Re v; Im v] per output: one
+  // product of a (angles x 2 terms) table with (2 terms x outputs) weights per chunk,
+  // long along the angles so that the product kernel vectorises over them.
+  Eigen::MatrixXd weights(2 * terms, outputs);
+  weights << lin.phasors.real().transpose(), lin.phasors.imag().transpose();
   const double dpsi = 2.0 * std::numbers::pi / steps;
   // Unit phasors of every term, turned by a fixed increment per angle: one complex product
   // per term and angle, the terms side by side so their recurrences run in parallel
@@ -143,26 +147,22 @@ void EvaluatePath(const Linearisation& lin, int steps, int samples, Sink sink) {
     step_re[p] = std::cos(lin.rates[p] * dpsi);
     step_im[p] = -std::sin(lin.rates[p] * dpsi);
   }
-  Eigen::MatrixXd cosines(terms, kChunk);
-  Eigen::MatrixXd sines(terms, kChunk);
-  Eigen::MatrixXd chunk(lin.offset.size(), kChunk);
+  Eigen::MatrixXd table(kChunk, 2 * terms);
+  Eigen::MatrixXd chunk(kChunk, outputs);
   for (int first = 0; first < samples; first += kChunk) {
     const int count = std::min(kChunk, samples - first);
     for (int k = 0; k < count; ++k) {
-      double* cos_column = cosines.col(k).data();
-      double* sin_column = sines.col(k).data();
       for (std::size_t p = 0; p < n_terms; ++p) {
-        cos_column[p] = re[p];
-        sin_column[p] = im[p];
+        table(k, static_cast<Eigen::Index>(p)) = re[p];
+        table(k, terms + static_cast<Eigen::Index>(p)) = -im[p];
         const double next_re = re[p] * step_re[p] - im[p] * step_im[p];
         im[p] = re[p] * step_im[p] + im[p] * step_re[p];
         re[p] = next_re;
       }
     }
-    chunk.leftCols(count).noalias() = real * cosines.leftCols(count);
-    chunk.leftCols(count).noalias() -= imag * sines.leftCols(count);
-    chunk.leftCols(count).colwise() += lin.offset;
-    sink(first, chunk.leftCols(count));
+    chunk.topRows(count).noalias() = table.topRows(count) * weights;
+    chunk.topRows(count).rowwise() += lin.offset.transpose();
+    sink(first, chunk.topRows(count).transpose());
   }
 }
 
