@@ -17,6 +17,7 @@ struct Harmonic {
   int order = 0;           // [-] undulations per revolution, >= 1
   double amplitude = 0.0;  // [m] radial deviation C_n, >= 0
   double phase = 0.0;      // [rad] phi_n in C_n cos(n theta + phi_n)
+  bool operator==(const Harmonic&) const = default;
 };
 
 // r and its first two derivatives with respect to the body angle.
@@ -75,6 +76,8 @@ class PolarProfile {
   double MinRadius() const { return min_radius_; }  // [m] smallest r(theta)
   double MaxRadius() const { return max_radius_; }  // [m] largest r(theta)
 
+  bool operator==(const PolarProfile&) const = default;
+
  private:
   void FindExtremes();
 
@@ -88,6 +91,7 @@ class PolarProfile {
   // once, here, rather than at every evaluation.
   struct Term {
     double a, b, na, nb, nna, nnb;
+    bool operator==(const Term&) const = default;
   };
   std::vector<Term> terms_;
   double min_curvature_ = 0.0;

@@ -19,6 +19,8 @@ struct Ring {
   double thickness = 0.0;      // [m] axial
   double mass = 0.0;           // [kg]
   double spin_inertia = 0.0;   // [kg m^2] about z through the centre
+
+  bool operator==(const Ring&) const = default;
 };
 
 enum class RollerMount { kFixed, kSpring };
@@ -28,6 +30,8 @@ struct Spring {
   double preload = 0.0;       // [N] > 0, force at zero travel, pushing the roller along +axis
   double axis_angle = 0.0;    // [rad] global angle of the travel axis u
   double travel_limit = 0.0;  // [m] > 0; |travel| beyond it means the assembly cannot close
+
+  bool operator==(const Spring&) const = default;
 };
 
 struct Roller {
@@ -43,6 +47,8 @@ struct Roller {
   Spring spring;                    // used when mount == kSpring
   double mass = 0.0;                // [kg]
   double spin_inertia = 0.0;        // [kg m^2]
+
+  bool operator==(const Roller&) const = default;
 };
 
 // Normal contact law, model.md §4: F = k delta^e + STEP(delta, 0, 0, d, c_max) delta'.
@@ -53,6 +59,8 @@ struct ContactLaw {
   double exponent = 1.5;                    // [-] e >= 1
   double max_damping = 1.0e5;               // [N s/m] c_max
   double full_damping_penetration = 1e-6;   // [m] d
+
+  bool operator==(const ContactLaw&) const = default;
 };
 
 // Coulomb friction with stiction, model.md §4 (used by the dynamic solver).
@@ -61,6 +69,8 @@ struct Friction {
   double dynamic_coefficient = 0.47;  // [-] mu_d
   double stiction_velocity = 0.010;   // [m/s] v_s
   double transition_velocity = 0.050; // [m/s] v_d > v_s
+
+  bool operator==(const Friction&) const = default;
 };
 
 struct Scene {
@@ -73,6 +83,8 @@ struct Scene {
   ContactLaw contact;
   Friction friction;
   double sensor_angle = 0.0;  // [rad] global direction in which the runout sensor looks
+
+  bool operator==(const Scene&) const = default;
 };
 
 // Unit vector at angle a.

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
+#include <mutex>
 #include <numbers>
 
 #include <Eigen/LU>
@@ -16,27 +18,44 @@ using Complex = std::complex<double>;
 // Outputs y = [centre (2); travel per spring roller; contact force per roller (Z)]: the
 // travel rows are x's (fixed rollers do not travel, and carry no rows to evaluate).
 struct Linearisation {
-  Equilibrium nominal;
-  int rollers = 0;
-  std::vector<int> travel_row;       // row of roller i's travel in y, or -1 (fixed)
-  int first_force_row = 0;           // row of roller 0's contact force in y
+  std::shared_ptr<const NominalResponse> nominal;
   Eigen::VectorXd offset;            // y at psi-independent errors: y0 + Y dg_constant
   Eigen::MatrixXcd phasors;          // one column per error term: y += Re[v e^{-i rate psi}]
   std::vector<double> rates;         // [rad of phase per rad of ring angle]
 };
 
-Linearisation Linearise(const Scene& scene, const QuasistaticOptions& options) {
-  Linearisation lin;
-  const Scene perfect = engine::WithoutErrors(scene);
-  const EquilibriumSystem system(perfect);
+}  // namespace
+
+// The error-free assembly's response: everything of the linearisation that does not
+// depend on the errors, and the costly part (a static solve and a factorisation).
+struct NominalResponse {
+  engine::Scene perfect;             // the key: the scene without its errors
+  Equilibrium equilibrium;           // its static equilibrium, with a status
+  int rollers = 0;
+  std::vector<int> travel_row;       // row of roller i's travel in y, or -1 (fixed)
+  int first_force_row = 0;           // row of roller 0's contact force in y
+  std::vector<engine::Contact> contacts;  // at the equilibrium
+  Eigen::VectorXd y0;                // outputs at the equilibrium
+  // Response of the outputs to each contact's gap value (columns 0..Z-1) and gap slope
+  // (Z..2Z-1).
+  Eigen::MatrixXd response;
+};
+
+namespace {
+
+std::shared_ptr<const NominalResponse> ComputeNominal(engine::Scene perfect, const QuasistaticOptions& options) {
+  auto nominal = std::make_shared<NominalResponse>();
+  nominal->perfect = std::move(perfect);
+  const engine::Scene& scene = nominal->perfect;
+  const EquilibriumSystem system(scene);
   const QuasistaticSolver quasistatic(options);
   Eigen::VectorXd x;
   std::vector<TrackedContact> contacts;
-  lin.nominal = quasistatic.SolveStatic(system, x, contacts);
-  if (lin.nominal.status != Status::kOk) return lin;
+  nominal->equilibrium = quasistatic.SolveStatic(system, x, contacts);
+  if (nominal->equilibrium.status != Status::kOk) return nominal;
 
   const int z = system.rollers();
-  lin.rollers = z;
+  nominal->rollers = z;
   Eigen::VectorXd residual;
   Eigen::MatrixXd jacobian;
   Eigen::MatrixXd gap_sensitivity;
@@ -48,21 +67,24 @@ Linearisation Linearise(const Scene& scene, const QuasistaticOptions& options) {
   dx << -lu.solve(gap_sensitivity), -lu.solve(slope_sensitivity);
 
   const int springs = system.size() - 2 - (system.rigid() ? z : 0);
-  lin.first_force_row = 2 + springs;
-  const int outputs = lin.first_force_row + z;
-  Eigen::MatrixXd response = Eigen::MatrixXd::Zero(outputs, 2 * z);
-  Eigen::VectorXd y0 = Eigen::VectorXd::Zero(outputs);
+  nominal->first_force_row = 2 + springs;
+  const int outputs = nominal->first_force_row + z;
+  Eigen::MatrixXd& response = nominal->response;
+  Eigen::VectorXd& y0 = nominal->y0;
+  response = Eigen::MatrixXd::Zero(outputs, 2 * z);
+  y0 = Eigen::VectorXd::Zero(outputs);
   y0.head<2>() = x.head<2>();
   response.topRows<2>() = dx.topRows<2>();
   for (int i = 0; i < z; ++i) {
     const engine::Contact& c = contacts[static_cast<std::size_t>(i)].contact;
+    nominal->contacts.push_back(c);
     const int s = system.travel_index(i);
-    lin.travel_row.push_back(s);
+    nominal->travel_row.push_back(s);
     if (s >= 0) {
       y0[s] = x[s];
       response.row(s) = dx.row(s);
     }
-    const int f = lin.first_force_row + i;
+    const int f = nominal->first_force_row + i;
     y0[f] = system.ContactForce(i, x, c);
     if (system.rigid()) {
       response.row(f) = dx.row(system.force_index(i));
@@ -72,12 +94,23 @@ Linearisation Linearise(const Scene& scene, const QuasistaticOptions& options) {
       const double stiffness = scene.contact.stiffness * e * std::pow(std::max(-c.gap, 0.0), e - 1.0);
       Eigen::RowVectorXd gap_gradient = Eigen::RowVectorXd::Zero(system.size());
       gap_gradient.head<2>() = c.normal.transpose();
-      if (s >= 0) gap_gradient[s] = -engine::SpringAxis(perfect, i).dot(c.normal);
+      if (s >= 0) gap_gradient[s] = -engine::SpringAxis(scene, i).dot(c.normal);
       Eigen::RowVectorXd row = gap_gradient * dx;
       row[i] += 1.0;
       response.row(f) = -stiffness * row;
     }
   }
+  return nominal;
+}
+
+Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalResponse> nominal_response) {
+  Linearisation lin;
+  lin.nominal = std::move(nominal_response);
+  const NominalResponse& nominal = *lin.nominal;
+  if (nominal.equilibrium.status != Status::kOk) return lin;
+  const int z = nominal.rollers;
+  const Eigen::MatrixXd& response = nominal.response;
+  const auto outputs = response.rows();
 
   // Every error term as a change of each contact's gap function near its nominal
   // direction phi_i: a bore harmonic a e^{i n theta} adds Re[a e^{i n (phi - psi)}] to
@@ -93,16 +126,16 @@ Linearisation Linearise(const Scene& scene, const QuasistaticOptions& options) {
     if (a == Complex(0.0)) continue;
     Eigen::VectorXcd v = Eigen::VectorXcd::Zero(outputs);
     for (int i = 0; i < z; ++i) {
-      const double phi = contacts[static_cast<std::size_t>(i)].contact.normal_angle;
+      const double phi = nominal.contacts[static_cast<std::size_t>(i)].normal_angle;
       v += gap_and_slope(i, a * std::polar(1.0, n * phi), n);
     }
     columns.push_back(v);
     lin.rates.push_back(n);
   }
   for (int i = 0; i < z; ++i) {
-    const engine::Contact& c = contacts[static_cast<std::size_t>(i)].contact;
+    const engine::Contact& c = nominal.contacts[static_cast<std::size_t>(i)];
     const engine::PolarProfile& outline = scene.rollers[static_cast<std::size_t>(i)].outline;
-    const Eigen::Vector2d shift = engine::RollerCentre(scene, i) - engine::RollerCentre(perfect, i);
+    const Eigen::Vector2d shift = engine::RollerCentre(scene, i) - engine::RollerCentre(nominal.perfect, i);
     constant[i] = ring.mean_deviation() - outline.mean_deviation() - shift.dot(c.normal);
     constant[z + i] = -shift.dot(c.tangent);
     const double body0 = engine::RollerBodyAngle(scene, i, 0.0);
@@ -113,7 +146,7 @@ Linearisation Linearise(const Scene& scene, const QuasistaticOptions& options) {
       lin.rates.push_back(m * engine::SpinRatio(scene, i));
     }
   }
-  lin.offset = y0 + response * constant;
+  lin.offset = nominal.y0 + response * constant;
   lin.phasors.resize(outputs, static_cast<Eigen::Index>(columns.size()));
   for (std::size_t p = 0; p < columns.size(); ++p) lin.phasors.col(static_cast<Eigen::Index>(p)) = columns[p];
   return lin;
@@ -168,22 +201,35 @@ void EvaluatePath(const Linearisation& lin, int steps, int samples, Sink sink) {
 
 template <typename Column>
 void FillEquilibrium(const Linearisation& lin, const Column& y, Equilibrium& e) {
-  const int z = lin.rollers;
+  const NominalResponse& nominal = *lin.nominal;
+  const int z = nominal.rollers;
   e.centre = y.template head<2>();
   e.travel.resize(static_cast<std::size_t>(z));
   e.contact_force.resize(static_cast<std::size_t>(z));
   for (int i = 0; i < z; ++i) {
-    const int s = lin.travel_row[static_cast<std::size_t>(i)];
+    const int s = nominal.travel_row[static_cast<std::size_t>(i)];
     e.travel[static_cast<std::size_t>(i)] = s >= 0 ? y(s) : 0.0;
-    e.contact_force[static_cast<std::size_t>(i)] = y(lin.first_force_row + i);
+    e.contact_force[static_cast<std::size_t>(i)] = y(nominal.first_force_row + i);
   }
 }
 
 }  // namespace
 
+std::shared_ptr<const NominalResponse> LinearSolver::Nominal(const Scene& scene) const {
+  engine::Scene perfect = engine::WithoutErrors(scene);
+  {
+    const std::lock_guard<std::mutex> lock(cache_mutex_);
+    if (cache_ != nullptr && cache_->perfect == perfect) return cache_;
+  }
+  std::shared_ptr<const NominalResponse> nominal = ComputeNominal(std::move(perfect), options_.nominal);
+  const std::lock_guard<std::mutex> lock(cache_mutex_);
+  cache_ = nominal;
+  return nominal;
+}
+
 Equilibrium LinearSolver::SolveStatic(const Scene& scene) const {
-  const Linearisation lin = Linearise(scene, options_.nominal);
-  if (lin.nominal.status != Status::kOk) return lin.nominal;
+  const Linearisation lin = Linearise(scene, Nominal(scene));
+  if (lin.nominal->equilibrium.status != Status::kOk) return lin.nominal->equilibrium;
   Equilibrium e;
   EvaluatePath(lin, 1, 1, [&](int, const auto& y) { FillEquilibrium(lin, y.col(0), e); });
   return e;
@@ -191,14 +237,15 @@ Equilibrium LinearSolver::SolveStatic(const Scene& scene) const {
 
 Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
   Trajectory trajectory;
-  const Linearisation lin = Linearise(scene, options_.nominal);
-  if (lin.nominal.status != Status::kOk) {
-    trajectory.status = lin.nominal.status;
-    trajectory.message = "the error-free assembly cannot be linearised: " + lin.nominal.message;
-    trajectory.initial = lin.nominal;
+  const Linearisation lin = Linearise(scene, Nominal(scene));
+  const NominalResponse& nominal = *lin.nominal;
+  if (nominal.equilibrium.status != Status::kOk) {
+    trajectory.status = nominal.equilibrium.status;
+    trajectory.message = "the error-free assembly cannot be linearised: " + nominal.equilibrium.message;
+    trajectory.initial = nominal.equilibrium;
     return trajectory;
   }
-  const int z = lin.rollers;
+  const int z = nominal.rollers;
   const auto n = static_cast<std::size_t>(steps) + 1;
   trajectory.psi.resize(n);
   trajectory.centre.resize(n);
@@ -212,9 +259,9 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
     const auto count = y.cols();
     if (first == 0) FillEquilibrium(lin, y.col(0), trajectory.initial);
     centre.middleCols(first, count) = y.template topRows<2>();
-    force.middleCols(first, count) = y.middleRows(lin.first_force_row, z);
+    force.middleCols(first, count) = y.middleRows(nominal.first_force_row, z);
     for (int i = 0; i < z; ++i) {
-      const int s = lin.travel_row[static_cast<std::size_t>(i)];
+      const int s = nominal.travel_row[static_cast<std::size_t>(i)];
       if (s >= 0) travel.row(i).segment(first, count) = y.row(s);
     }
   });

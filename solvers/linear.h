@@ -7,6 +7,9 @@
 // angle: exact to first order in amplitude / radius, with a second-order error.
 #pragma once
 
+#include <memory>
+#include <mutex>
+
 #include "solvers/quasistatic.h"
 #include "solvers/solver.h"
 
@@ -17,6 +20,11 @@ struct LinearOptions {
   QuasistaticOptions nominal;
 };
 
+struct NominalResponse;
+
+// Thread-safe. Keeps the linearisation of the last error-free assembly it saw (a static
+// solve and a factorisation, about a third of a revolution's cost) and reuses it while
+// the scene without its errors stays the same, as it does for every sample of a campaign.
 class LinearSolver final : public Solver {
  public:
   explicit LinearSolver(LinearOptions options = {}) : options_(options) {}
@@ -25,7 +33,11 @@ class LinearSolver final : public Solver {
   Trajectory SolveRevolution(const engine::Scene& scene, int steps) const override;
 
  private:
+  std::shared_ptr<const NominalResponse> Nominal(const engine::Scene& scene) const;
+
   LinearOptions options_;
+  mutable std::mutex cache_mutex_;
+  mutable std::shared_ptr<const NominalResponse> cache_;
 };
 
 }  // namespace ringtol::solvers

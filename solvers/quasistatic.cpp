@@ -210,7 +210,7 @@ bool ContinuationNewton(const EquilibriumSystem& system, double psi, Eigen::Vect
   // A second update below this is round-off, not a measure of K [m].
   const double round_off = 1e-3 * length;
   const bool check = ++model.angles_since_check >= kCheckInterval || model.constant == 0.0;
-  double first_update = 0.0;
+  double previous_update = 0.0;
   for (int iteration = 1; iteration <= max_iterations; ++iteration) {
     iterations = iteration;
     const double contact_step = system.StepContacts(psi, x, contacts);
@@ -221,10 +221,11 @@ bool ContinuationNewton(const EquilibriumSystem& system, double psi, Eigen::Vect
     system.FollowContacts(step, contacts);
     const double update =
         length * std::max((step.cwiseAbs().array() / tolerance.array()).maxCoeff(), contact_step / kNormalTolerance);
-    if (iteration == 2) model.constant = std::max(model.constant, std::max(update, round_off) / (first_update * first_update));
-    if (iteration == 1) first_update = update;
-    const bool predicted = iteration == 1 && !check &&
-                           kConvergenceSafety * model.constant * update * update <= length;
+    if (iteration >= 2) {
+      model.constant = std::max(model.constant, std::max(update, round_off) / (previous_update * previous_update));
+    }
+    previous_update = update;
+    const bool predicted = !check && kConvergenceSafety * model.constant * update * update <= length;
     if (update <= length || predicted) {
       if (iteration >= 2) model.angles_since_check = 0;
       return true;
