@@ -15,10 +15,20 @@ struct SensorReading {
   double ring_theta = 0.0;  // [rad] ring body angle seen (warm start for the next reading)
 };
 
+// Cosines and sines of the angles a reading needs, which move in small steps from one
+// reading to the next along a trajectory: pass the same object to every reading of a
+// trajectory and most sincos calls, the bulk of a reading's cost, are saved.
+struct SensorTrack {
+  NearbyAngle sensor;
+  NearbyAngle aim;   // the sensor's direction in the ring's body frame
+  NearbyAngle bore;  // the bore angle being iterated on
+};
+
 // Exact ray/bore intersection by bracketed Newton iteration in the ring body angle.
-// Requires the origin to lie inside the bore (always true for a supported ring).
+// Requires the origin to lie inside the bore (always true for a supported ring). The
+// answer does not depend on theta_guess or track (to round-off).
 SensorReading ReadSensor(const PolarProfile& ring, const BodyPose& ring_pose, double sensor_angle,
-                         double theta_guess);
+                         double theta_guess, SensorTrack* track = nullptr);
 
 struct Runout {
   // [m] largest rise or fall between neighbouring extremes of the signal over one

@@ -41,9 +41,10 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
 
   result.sensor.reserve(path.psi.size());
   double theta = scene.sensor_angle;
+  engine::SensorTrack track;
   for (std::size_t k = 0; k < path.psi.size(); ++k) {
     const engine::SensorReading reading =
-        engine::ReadSensor(scene.ring.inner, {path.centre[k], path.psi[k]}, scene.sensor_angle, theta);
+        engine::ReadSensor(scene.ring.inner, {path.centre[k], path.psi[k]}, scene.sensor_angle, theta, &track);
     // The bore turns under the fixed sensor: the next ray meets it dpsi earlier in the
     // ring's body frame.
     const double next_psi = k + 1 < path.psi.size() ? path.psi[k + 1] : path.psi[k];
