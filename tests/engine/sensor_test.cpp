@@ -161,6 +161,30 @@ TEST(ReadSensor, AnswerDoesNotDependOnThetaGuess) {
   }
 }
 
+// Along a trajectory the readings share one SensorTrack (cached trigonometry, warm
+// starts a step apart). Each must still match the brute-force intersection, as a reading
+// taken alone does.
+TEST(ReadSensor, ReadingsAlongATrajectoryWithASharedTrackMatchBruteForce) {
+  const RingSpec& spec = kRings[1];
+  const PolarProfile ring = Make(spec);
+  constexpr double kSensorAngle = 0.3;
+  constexpr int kSteps = 720;
+  SensorTrack track;
+  double theta = kSensorAngle;
+  for (int k = 0; k <= kSteps; k += 1) {
+    const double psi = 2.0 * kPi * k / kSteps;
+    const BodyPose pose{Eigen::Vector2d(2e-4 * std::cos(3.0 * psi), -1e-4 * std::sin(2.0 * psi)), psi};
+    const SensorReading reading = ReadSensor(ring, pose, kSensorAngle, theta, &track);
+    if (k % 24 == 0) {
+      const Hit expected = BruteForceHit(spec, pose, kSensorAngle);
+      EXPECT_NEAR(reading.distance, expected.distance, kDistanceTolerance) << "step " << k;
+      EXPECT_NEAR(WrapAngle(reading.ring_theta - expected.theta), 0.0, kThetaTolerance) << "step " << k;
+    }
+    EXPECT_NEAR(reading.distance, ReadSensor(ring, pose, kSensorAngle, theta).distance, 4.0 * kEps * kR) << "step " << k;
+    theta = reading.ring_theta - 2.0 * kPi / kSteps;
+  }
+}
+
 // ---------------------------------------------------------------------------------------
 // MeasureRunout
 
