@@ -170,7 +170,9 @@ TEST(QuasistaticRevolution, OneUpdatePerAngleStaysWithinThePositionTolerance) {
         largest = std::max(largest, (path.centre[k] - reference.centre[k]).cwiseAbs().maxCoeff());
       }
       EXPECT_LE(largest, defaults.position_tolerance) << steps << " steps";
-      if (steps == automatic) EXPECT_LT(path.total_iterations, 1.2 * steps);
+      if (steps == automatic) {
+        EXPECT_LT(path.total_iterations, 1.2 * steps);
+      }
     }
   }
 }
