@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "solvers/dynamic.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
 
@@ -17,6 +18,8 @@ std::string_view StatusName(Status status) {
     case Status::kRollerNotConvex: return "roller_not_convex";
     case Status::kRollerDoesNotFit: return "roller_does_not_fit";
     case Status::kStaticallyIndeterminate: return "statically_indeterminate";
+    case Status::kIntegrationFailed: return "integration_failed";
+    case Status::kNonFinite: return "non_finite";
   }
   return "unknown";
 }
@@ -33,11 +36,12 @@ Status CheckSceneGeometry(const engine::Scene& scene, std::string& message) {
   return Status::kOk;
 }
 
-std::vector<std::string> SolverNames() { return {"linear", "quasistatic"}; }
+std::vector<std::string> SolverNames() { return {"linear", "quasistatic", "dynamic"}; }
 
 std::unique_ptr<Solver> MakeSolver(std::string_view name) {
   if (name == "linear") return std::make_unique<LinearSolver>();
   if (name == "quasistatic") return std::make_unique<QuasistaticSolver>();
+  if (name == "dynamic") return std::make_unique<DynamicSolver>();
   std::string valid;
   for (const std::string& n : SolverNames()) valid += (valid.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown solver '" + std::string(name) + "' (valid: " + valid + ")");

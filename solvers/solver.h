@@ -1,5 +1,5 @@
-// The common interface of the solver ladder. Every rung (linear, quasistatic, and the
-// dynamic solver of a later issue) turns a Scene into the ring centre's path over one
+// The common interface of the solver ladder. Every rung (linear, quasistatic, dynamic)
+// turns a Scene into the ring centre's path over one
 // revolution plus the static equilibrium before rotation; solvers/simulation.h turns that
 // into the published metrics. A solver never throws for a numerical outcome: it returns a
 // Status saying whether its numbers are usable.
@@ -25,6 +25,8 @@ enum class Status {
   kRollerNotConvex,          // scene cannot be simulated (see message)
   kRollerDoesNotFit,         // a roller is too large, or a spring roller's travel exceeds its limit
   kStaticallyIndeterminate,  // rigid contact with more than two fixed rollers: use the penalty law
+  kIntegrationFailed,        // the dynamic integrator gave up (step-size collapse, repeated failures; see message)
+  kNonFinite,                // the dynamic state turned NaN or infinite
 };
 
 // Stable lower_snake_case names used in every output file ("ok", "lift_off", ...).
