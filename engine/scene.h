@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "engine/conventions.h"
+#include "engine/motion_law.h"
 #include "engine/profile.h"
 
 namespace ringtol::engine {
@@ -64,6 +65,26 @@ struct ContactLaw {
 };
 
 // Coulomb friction with stiction, model.md §4 (used by the dynamic solver).
+// What the dynamic solver models beyond the ring's (x, y). Each reduction drops states and
+// stiffness a scene may not need (model.md §4).
+struct DynamicModel {
+  // Coulomb friction with stiction at the contacts. Off, nothing turns the rollers:
+  // combine with rolling_without_slip unless still rollers are what is meant. Safe when
+  // tangential forces do not move the centre, as for round rollers at steady speed.
+  bool friction = true;
+  // Rollers turn at exactly R / r_b times the ring's rate: no spin states, no stiction
+  // dynamics, no tangential force. Safe away from starts, stops and reversals, once the
+  // rollers have spun up (they do within a millisecond of a step to 270 deg/s).
+  bool rolling_without_slip = false;
+  // Spring rollers without mass: their travel follows from the force balance of spring,
+  // contact stiffness and contact damping, with no inertia. Removes the fastest mode
+  // (grams against c_max, near -4e7 1/s). Safe while the roller's own natural frequency
+  // (kHz) is far above every excitation, which holds for every speed the article uses.
+  bool massless_spring_rollers = false;
+
+  bool operator==(const DynamicModel&) const = default;
+};
+
 struct Friction {
   double static_coefficient = 0.61;   // [-] mu_s
   double dynamic_coefficient = 0.47;  // [-] mu_d
@@ -83,6 +104,10 @@ struct Scene {
   ContactLaw contact;
   Friction friction;
   double sensor_angle = 0.0;  // [rad] global direction in which the runout sensor looks
+  // The imposed rotation psi(t) and what of the bodies' dynamics to keep; only the
+  // dynamic solver reads them (the others follow psi quasi-statically).
+  MotionLaw motion = ArticleLaw();
+  DynamicModel dynamics;
 
   bool operator==(const Scene&) const = default;
 };

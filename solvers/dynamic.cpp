@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <sstream>
 
@@ -43,12 +44,15 @@ std::string Seconds(double t) {
 }
 
 // The equations of motion. State y = [centre (2) [m]; centre velocity (2) [m/s];
-// per spring roller: travel [m], travel rate [m/s]; per roller with spin dynamics:
-// spin angle [rad], spin rate [rad/s]].
+// per spring roller: travel [m], then its rate [m/s] unless massless; per roller with
+// spin dynamics: spin angle [rad], spin rate [rad/s]].
 class RingDynamics {
  public:
   RingDynamics(const Scene& scene, const DynamicOptions& options)
-      : scene_(scene), options_(options), spin_states_(options.friction && !options.rolling_without_slip) {
+      : scene_(scene),
+        options_(options),
+        model_(scene.dynamics),
+        spin_states_(model_.friction && !model_.rolling_without_slip) {
     const int z = rollers();
     int next = 4;
     for (int i = 0; i < z; ++i) {
@@ -56,22 +60,27 @@ class RingDynamics {
       centres_.push_back(engine::RollerCentre(scene, i));
       axes_.push_back(engine::SpringAxis(scene, i));
       travel_.push_back(roller.mount == engine::RollerMount::kSpring ? next : -1);
-      if (roller.mount == engine::RollerMount::kSpring) next += 2;
+      if (roller.mount == engine::RollerMount::kSpring) next += model_.massless_spring_rollers ? 1 : 2;
     }
     for (int i = 0; i < z; ++i) {
       spin_.push_back(spin_states_ ? next : -1);
       if (spin_states_) next += 2;
     }
     size_ = next;
-    guesses_.resize(static_cast<std::size_t>(z));
-    have_guess_.assign(static_cast<std::size_t>(z), false);
-    normal_force_.assign(static_cast<std::size_t>(z), 0.0);
+    const auto n = static_cast<std::size_t>(z);
+    guesses_.resize(n);
+    have_guess_.assign(n, false);
+    normal_force_.assign(n, 0.0);
+    friction_force_.assign(n, 0.0);
+    slip_.assign(n, 0.0);
+    spin_angle_.assign(n, 0.0);
+    spin_rate_.assign(n, 0.0);
+    travel_rate_.assign(n, 0.0);
   }
 
   int rollers() const { return static_cast<int>(scene_.rollers.size()); }
   int size() const { return size_; }
   int travel_index(int i) const { return travel_[static_cast<std::size_t>(i)]; }
-  const std::vector<double>& normal_force() const { return normal_force_; }
   const std::string& failure() const { return failure_; }
 
   // The motion-law segment whose polynomial Derivatives uses, whatever t it is given: an
@@ -83,26 +92,37 @@ class RingDynamics {
     if (!(scene_.ring.mass > 0.0)) return "the ring needs a positive mass";
     for (int i = 0; i < rollers(); ++i) {
       const engine::Roller& roller = scene_.rollers[static_cast<std::size_t>(i)];
-      if (travel_index(i) >= 0 && !(roller.mass > 0.0)) return "spring roller " + roller.name + " needs a positive mass";
+      if (travel_index(i) >= 0 && !model_.massless_spring_rollers && !(roller.mass > 0.0)) {
+        return "spring roller " + roller.name + " needs a positive mass (or massless_spring_rollers)";
+      }
       if (spin_[static_cast<std::size_t>(i)] >= 0 && !(roller.spin_inertia > 0.0)) {
         return "roller " + roller.name + " needs a positive spin inertia (or rolling_without_slip)";
       }
     }
+    if (model_.massless_spring_rollers && !(scene_.contact.max_damping > 0.0)) {
+      return "massless spring rollers need contact damping (max_damping > 0)";
+    }
     return {};
   }
 
+  // The ring centred and at rest, rollers at their psi = 0 spin angle. Spring rollers with
+  // mass start at zero travel and fly out to the bore under their preload within
+  // microseconds; massless ones have no such flight and start where spring and contact
+  // stiffness balance against the centred ring.
   void InitialState(double* y) const {
     std::fill(y, y + size_, 0.0);
     for (int i = 0; i < rollers(); ++i) {
-      if (spin_[static_cast<std::size_t>(i)] >= 0) y[spin_[static_cast<std::size_t>(i)]] = engine::RollerBodyAngle(scene_, i, 0.0);
+      const auto k = static_cast<std::size_t>(i);
+      if (spin_[k] >= 0) y[spin_[k]] = engine::RollerBodyAngle(scene_, i, 0.0);
+      if (travel_[k] >= 0 && model_.massless_spring_rollers) y[travel_[k]] = BalancedTravel(i);
     }
   }
 
   // dy/dt at (t, y). Returns 0, or 1 (recoverable: CVODE retries with a smaller step) when
-  // a contact search fails or a roller sinks deeper than half its radius, with the reason
-  // in failure().
+  // a contact search fails, a roller sinks deeper than half its radius or a massless
+  // spring roller leaves the bore, with the reason in failure().
   int Derivatives(double t, const double* y, double* dydt) {
-    const MotionLaw& law = options_.law;
+    const engine::MotionLaw& law = scene_.motion;
     const double psi = law.AngleIn(segment_, t);
     const double ring_rate = law.RateIn(segment_, t);
     const Eigen::Vector2d centre(y[0], y[1]);
@@ -111,33 +131,26 @@ class RingDynamics {
     std::fill(dydt, dydt + size_, 0.0);
     dydt[0] = y[2];
     dydt[1] = y[3];
-    const engine::ContactLaw& contact_law = scene_.contact;
     for (int i = 0; i < rollers(); ++i) {
       const auto k = static_cast<std::size_t>(i);
       const engine::Roller& roller = scene_.rollers[k];
       const int s = travel_[k];
       const int b = spin_[k];
       Eigen::Vector2d roller_centre = centres_[k];
-      Eigen::Vector2d roller_velocity = Eigen::Vector2d::Zero();
-      if (s >= 0) {
-        roller_centre += y[s] * axes_[k];
-        roller_velocity = y[s + 1] * axes_[k];
-      }
-      double spin_angle = 0.0;
-      double spin_rate = 0.0;
+      if (s >= 0) roller_centre += y[s] * axes_[k];
       if (b >= 0) {
-        spin_angle = y[b];
-        spin_rate = y[b + 1];
-      } else if (options_.rolling_without_slip) {
-        spin_angle = engine::RollerBodyAngle(scene_, i, psi);
-        spin_rate = engine::SpinRatio(scene_, i) * ring_rate;
+        spin_angle_[k] = y[b];
+        spin_rate_[k] = y[b + 1];
+      } else if (model_.rolling_without_slip) {
+        spin_angle_[k] = engine::RollerBodyAngle(scene_, i, psi);
+        spin_rate_[k] = engine::SpinRatio(scene_, i) * ring_rate;
       } else {
-        spin_angle = engine::RollerBodyAngle(scene_, i, 0.0);
+        spin_angle_[k] = engine::RollerBodyAngle(scene_, i, 0.0);
+        spin_rate_[k] = 0.0;
       }
-      const engine::BodyPose ring_pose{centre, psi};
-      const engine::BodyPose roller_pose{roller_centre, spin_angle};
-      const engine::Contact c = engine::FindContact(scene_.ring.inner, ring_pose, roller.outline, roller_pose,
-                                                    have_guess_[k] ? &guesses_[k] : nullptr);
+      const engine::Contact c =
+          engine::FindContact(scene_.ring.inner, {centre, psi}, roller.outline, {roller_centre, spin_angle_[k]},
+                              have_guess_[k] ? &guesses_[k] : nullptr);
       if (!c.converged) {
         failure_ = "the contact search of roller " + roller.name + " failed at t = " + Seconds(t);
         have_guess_[k] = false;
@@ -151,38 +164,42 @@ class RingDynamics {
                    Seconds(t);
         return 1;
       }
-      // Velocities of the two touching material points; their difference along the
-      // normal is the gap rate, along the tangent the slip.
+      // Velocities of the two touching material points, the roller's without its travel
+      // rate: their difference along the normal is the gap rate, along the tangent the slip.
       const Eigen::Vector2d across_ring = c.ring_point - centre;
       const Eigen::Vector2d across_roller = c.roller_point - roller_centre;
-      const Eigen::Vector2d ring_point_velocity = velocity + ring_rate * Eigen::Vector2d(-across_ring.y(), across_ring.x());
-      const Eigen::Vector2d roller_point_velocity =
-          roller_velocity + spin_rate * Eigen::Vector2d(-across_roller.y(), across_roller.x());
-      const Eigen::Vector2d relative = ring_point_velocity - roller_point_velocity;
-      double normal = 0.0;
-      if (depth > 0.0) {
-        const double depth_rate = -relative.dot(c.normal);
-        const double elastic = contact_law.stiffness * std::pow(depth, contact_law.exponent);
-        const double damping = Step(depth, 0.0, 0.0, contact_law.full_damping_penetration, contact_law.max_damping);
-        normal = std::max(elastic + damping * depth_rate, 0.0);
+      const Eigen::Vector2d relative = velocity + ring_rate * Eigen::Vector2d(-across_ring.y(), across_ring.x()) -
+                                       spin_rate_[k] * Eigen::Vector2d(-across_roller.y(), across_roller.x());
+      double travel_rate = 0.0;
+      if (s >= 0 && !model_.massless_spring_rollers) travel_rate = y[s + 1];
+      const ContactLoad load = [&] {
+        if (s >= 0 && model_.massless_spring_rollers) {
+          return MasslessTravelRate(roller, y[s], depth, relative, c, axes_[k], travel_rate);
+        }
+        return Load(depth, relative - travel_rate * axes_[k], c);
+      }();
+      if (!load.valid) {
+        failure_ = "massless spring roller " + roller.name + " leaves the bore at t = " + Seconds(t);
+        return 1;
       }
-      normal_force_[k] = normal;
-      const double slip = relative.dot(c.tangent);
-      const double tangential =
-          options_.friction && !options_.rolling_without_slip ? FrictionCoefficient(slip, scene_.friction) * normal : 0.0;
-      // On the ring: pushed outward along n, dragged against the slip. On the roller: the
-      // reaction.
-      const Eigen::Vector2d on_ring = normal * c.normal - tangential * c.tangent;
+      travel_rate_[k] = travel_rate;
+      normal_force_[k] = load.normal;
+      friction_force_[k] = load.friction;
+      slip_[k] = load.slip;
+      // On the ring: pushed outward along n and dragged against its slip. On the roller:
+      // the reaction.
+      const Eigen::Vector2d on_ring = load.normal * c.normal - load.friction * c.tangent;
       ring_force += on_ring;
       if (s >= 0) {
         const engine::Spring& spring = roller.spring;
-        dydt[s] = y[s + 1];
-        dydt[s + 1] = (spring.preload - spring.stiffness * y[s] - on_ring.dot(axes_[k])) / roller.mass;
+        dydt[s] = travel_rate;
+        if (!model_.massless_spring_rollers) {
+          dydt[s + 1] = (spring.preload - spring.stiffness * y[s] - on_ring.dot(axes_[k])) / roller.mass;
+        }
       }
       if (b >= 0) {
-        const Eigen::Vector2d on_roller = -on_ring;
         dydt[b] = y[b + 1];
-        dydt[b + 1] = (across_roller.x() * on_roller.y() - across_roller.y() * on_roller.x()) / roller.spin_inertia;
+        dydt[b + 1] = -(across_roller.x() * on_ring.y() - across_roller.y() * on_ring.x()) / roller.spin_inertia;
       }
     }
     dydt[2] = ring_force.x() / scene_.ring.mass;
@@ -192,23 +209,131 @@ class RingDynamics {
 
   // Absolute tolerance of each state.
   void Tolerances(double* tolerance) const {
-    for (int j = 0; j < 4; ++j) tolerance[j] = j < 2 ? options_.position_tolerance : options_.velocity_tolerance;
+    const double scale = options_.relative_tolerance / 1e-8;
+    const double position = 1e-11 * scale;  // [m]
+    const double speed = 1e-8 * scale;      // [m/s]
+    const double angle = 1e-9 * scale;      // [rad]
+    const double spin_rate = 1e-6 * scale;  // [rad/s]
+    for (int j = 0; j < 4; ++j) tolerance[j] = j < 2 ? position : speed;
     for (int i = 0; i < rollers(); ++i) {
       const auto k = static_cast<std::size_t>(i);
       if (travel_[k] >= 0) {
-        tolerance[travel_[k]] = options_.position_tolerance;
-        tolerance[travel_[k] + 1] = options_.velocity_tolerance;
+        tolerance[travel_[k]] = position;
+        if (!model_.massless_spring_rollers) tolerance[travel_[k] + 1] = speed;
       }
       if (spin_[k] >= 0) {
-        tolerance[spin_[k]] = options_.angle_tolerance;
-        tolerance[spin_[k] + 1] = options_.spin_rate_tolerance;
+        tolerance[spin_[k]] = angle;
+        tolerance[spin_[k] + 1] = spin_rate;
       }
     }
   }
 
+  // The sample at the state last given to Derivatives.
+  DynamicSample Sample(double t, const double* y) const {
+    DynamicSample sample;
+    sample.time = t;
+    sample.psi = scene_.motion.AngleIn(segment_, t);
+    sample.centre = Eigen::Vector2d(y[0], y[1]);
+    for (int i = 0; i < rollers(); ++i) sample.travel.push_back(travel_index(i) >= 0 ? y[travel_index(i)] : 0.0);
+    sample.spin_angle = spin_angle_;
+    sample.spin_rate = spin_rate_;
+    sample.normal_force = normal_force_;
+    sample.friction_force = friction_force_;
+    sample.slip = slip_;
+    return sample;
+  }
+
  private:
+  struct ContactLoad {
+    double normal = 0.0;    // [N]
+    double friction = 0.0;  // [N] on the ring, against +tangent when the slip is positive
+    double slip = 0.0;      // [m/s]
+    bool valid = true;
+  };
+
+  // The contact law at penetration `depth` with the touching points moving apart at
+  // `relative` (ring point minus roller point).
+  ContactLoad Load(double depth, const Eigen::Vector2d& relative, const engine::Contact& c) const {
+    ContactLoad load;
+    load.slip = relative.dot(c.tangent);
+    if (depth <= 0.0) return load;
+    const engine::ContactLaw& law = scene_.contact;
+    const double depth_rate = -relative.dot(c.normal);
+    load.normal = std::max(law.stiffness * std::pow(depth, law.exponent) + Damping(depth) * depth_rate, 0.0);
+    if (spin_states_) load.friction = FrictionCoefficient(load.slip, scene_.friction) * load.normal;
+    return load;
+  }
+
+  double Damping(double depth) const {
+    const engine::ContactLaw& law = scene_.contact;
+    return Step(depth, 0.0, 0.0, law.full_damping_penetration, law.max_damping);
+  }
+
+  // A massless spring roller moves so that spring, contact stiffness and contact damping
+  // balance along its axis a: preload - k_s s = F_n (n . a) - F_t (t . a). Given the
+  // friction coefficient, that fixes F_n, and F_n = k delta^e + c (delta'_0 + v (n . a))
+  // fixes the travel rate v in closed form. Friction depends on v only through the slip's
+  // share along the axis (t . a, zero for a roller on a round bore), so a fixed point on
+  // mu converges in a couple of passes. Invalid when the contact carries no damping there
+  // or pulls: no rate balances it.
+  ContactLoad MasslessTravelRate(const engine::Roller& roller, double travel, double depth,
+                                 const Eigen::Vector2d& relative, const engine::Contact& c, const Eigen::Vector2d& axis,
+                                 double& rate) const {
+    const double damping = Damping(depth);
+    const double along_normal = axis.dot(c.normal);
+    const double along_tangent = axis.dot(c.tangent);
+    if (!(depth > 0.0) || !(damping * along_normal > 0.0)) return {.valid = false};
+    const double wanted = roller.spring.preload - roller.spring.stiffness * travel;
+    const engine::ContactLaw& law = scene_.contact;
+    const double elastic = law.stiffness * std::pow(depth, law.exponent);
+    const double depth_rate_at_rest = -relative.dot(c.normal);
+    ContactLoad load;
+    double mu = 0.0;
+    for (int pass = 0; pass < 8; ++pass) {
+      const double normal = wanted / (along_normal - mu * along_tangent);
+      const double next = ((normal - elastic) / damping - depth_rate_at_rest) / along_normal;
+      const bool settled = std::abs(next - rate) <= 1e-14 * std::max(1.0, std::abs(next));
+      rate = next;
+      load = Load(depth, relative - rate * axis, c);
+      if (!spin_states_ || settled) break;
+      mu = FrictionCoefficient(load.slip, scene_.friction);
+    }
+    load.valid = load.normal > 0.0;
+    return load;
+  }
+
+  // [m] Travel at which spring roller i, at rest against the centred ring at psi = 0,
+  // pushes with exactly its contact's elastic force: preload - k_s s = k delta(s)^e (n . a).
+  // Newton on s; the contact search gives delta(s) and n exactly.
+  double BalancedTravel(int i) const {
+    const auto k = static_cast<std::size_t>(i);
+    const engine::Roller& roller = scene_.rollers[k];
+    const engine::ContactLaw& law = scene_.contact;
+    const engine::BodyPose ring{Eigen::Vector2d::Zero(), 0.0};
+    const double spin = engine::RollerBodyAngle(scene_, i, 0.0);
+    double travel = 0.0;
+    for (int iteration = 0; iteration < 50; ++iteration) {
+      const engine::Contact c =
+          engine::FindContact(scene_.ring.inner, ring, roller.outline, {centres_[k] + travel * axes_[k], spin});
+      const double depth = std::max(-c.gap, 0.0);
+      const double along = axes_[k].dot(c.normal);
+      const double residual = roller.spring.preload - roller.spring.stiffness * travel -
+                              law.stiffness * std::pow(depth, law.exponent) * along;
+      // d(residual)/ds: the spring, and the contact stiffening as the roller digs in
+      // (d delta / ds = n . a); beyond the bore, only the spring until delta > 0.
+      const double slope = -roller.spring.stiffness -
+                           (depth > 0.0 ? law.stiffness * law.exponent * std::pow(depth, law.exponent - 1.0) * along * along : 0.0);
+      double step = -residual / slope;
+      if (depth == 0.0) step = c.gap / along + 1e-9;  // reach the bore first
+      travel += step;
+      if (std::abs(step) < 1e-15) break;
+    }
+    return travel;
+  }
+
   const Scene& scene_;
   const DynamicOptions& options_;
+  engine::DynamicModel model_;
   bool spin_states_;
   int size_ = 0;
   std::vector<Eigen::Vector2d> centres_;  // [m] roller centres at zero travel, errors included
@@ -218,7 +343,13 @@ class RingDynamics {
   // Warm starts of the contact searches: the answer does not depend on them.
   std::vector<engine::ContactGuess> guesses_;
   std::vector<bool> have_guess_;
-  std::vector<double> normal_force_;  // [N] at the last evaluation
+  // Per roller at the last evaluation, for Sample.
+  std::vector<double> normal_force_;    // [N]
+  std::vector<double> friction_force_;  // [N]
+  std::vector<double> slip_;            // [m/s]
+  std::vector<double> spin_angle_;      // [rad]
+  std::vector<double> spin_rate_;       // [rad/s]
+  std::vector<double> travel_rate_;     // [m/s]
   std::size_t segment_ = 0;
   std::string failure_;
 };
@@ -227,8 +358,8 @@ class RingDynamics {
 // dynamics through the motion law's breakpoints. Owns every SUNDIALS object it creates.
 class Integrator {
  public:
-  Integrator(RingDynamics& dynamics, const DynamicOptions& options)
-      : dynamics_(dynamics), options_(options), breakpoints_(options.law.Breakpoints()) {
+  Integrator(RingDynamics& dynamics, const engine::MotionLaw& law, const DynamicOptions& options)
+      : dynamics_(dynamics), law_(law), breakpoints_(law.Breakpoints()) {
     SUNContext_Create(nullptr, &context_);
     const auto n = static_cast<sunindextype>(dynamics.size());
     y_ = N_VNew_Serial(n, context_);
@@ -276,7 +407,7 @@ class Integrator {
       const auto next = std::upper_bound(breakpoints_.begin(), breakpoints_.end(), t_);
       const double breakpoint = next == breakpoints_.end() ? std::numeric_limits<double>::max() : *next;
       const double target = std::min(t_out, breakpoint);
-      dynamics_.set_segment(options_.law.SegmentAt(t_));
+      dynamics_.set_segment(law_.SegmentAt(t_));
       CVodeSetStopTime(cvode_, breakpoint);
       double reached = t_;
       const int flag = CVode(cvode_, target, y_, &reached, CV_NORMAL);
@@ -324,7 +455,7 @@ class Integrator {
   static void SilentErrors(int, const char*, const char*, char*, void*) {}
 
   RingDynamics& dynamics_;
-  const DynamicOptions& options_;
+  const engine::MotionLaw& law_;
   std::vector<double> breakpoints_;
   SUNContext context_ = nullptr;
   N_Vector y_ = nullptr;
@@ -339,34 +470,28 @@ class Integrator {
   std::string message_;
 };
 
-Equilibrium Record(const RingDynamics& dynamics, const double* y) {
+Equilibrium Record(const DynamicSample& sample) {
   Equilibrium e;
-  e.centre = Eigen::Vector2d(y[0], y[1]);
-  for (int i = 0; i < dynamics.rollers(); ++i) {
-    const int s = dynamics.travel_index(i);
-    e.travel.push_back(s >= 0 ? y[s] : 0.0);
-    e.contact_force.push_back(dynamics.normal_force()[static_cast<std::size_t>(i)]);
-  }
+  e.centre = sample.centre;
+  e.travel = sample.travel;
+  e.contact_force = sample.normal_force;
   return e;
 }
 
-// Evaluates the dynamics at the integrator's current state so that the recorded contact
-// forces belong to it.
-void Refresh(RingDynamics& dynamics, const Integrator& integrator) {
+// The sample at the integrator's current state: evaluating the dynamics there makes the
+// contact loads belong to it.
+DynamicSample Observe(RingDynamics& dynamics, const Integrator& integrator) {
   std::vector<double> scratch(static_cast<std::size_t>(dynamics.size()));
   dynamics.Derivatives(integrator.time(), integrator.state(), scratch.data());
+  return dynamics.Sample(integrator.time(), integrator.state());
 }
 
 // Checks what a dynamic run needs before it starts; kOk when it can run.
-Status Prepare(const Scene& scene, const RingDynamics& dynamics, const MotionLaw& law, std::string& message) {
+Status Prepare(const Scene& scene, const RingDynamics& dynamics, std::string& message) {
   Status status = CheckSceneGeometry(scene, message);
   if (status != Status::kOk) return status;
   message = dynamics.MissingInertia();
   if (!message.empty()) return Status::kIntegrationFailed;
-  if (!std::isfinite(law.RotationStart())) {
-    message = "the motion law never turns the ring";
-    return Status::kIntegrationFailed;
-  }
   if (scene.contact.model != engine::ContactLaw::Model::kPenalty) {
     message = "the dynamic solver needs the penalty contact law";
     return Status::kIntegrationFailed;
@@ -374,72 +499,131 @@ Status Prepare(const Scene& scene, const RingDynamics& dynamics, const MotionLaw
   return Status::kOk;
 }
 
-}  // namespace
-
-Equilibrium DynamicSolver::SolveStatic(const Scene& scene) const {
-  Equilibrium result;
-  RingDynamics dynamics(scene, options_);
-  result.status = Prepare(scene, dynamics, options_.law, result.message);
-  if (result.status != Status::kOk) return result;
-  Integrator integrator(dynamics, options_);
-  if (!integrator.AdvanceTo(options_.law.RotationStart())) {
-    result.status = integrator.status();
-    result.message = integrator.message();
-    return result;
-  }
-  Refresh(dynamics, integrator);
-  result = Record(dynamics, integrator.state());
-  result.iterations = static_cast<int>(integrator.steps());
-  return result;
-}
-
-Trajectory DynamicSolver::SolveRevolution(const Scene& scene, int steps) const {
+// Samples revolution `revolution` (0 = the first after rotation starts) of a run already
+// at or before its start. The status is kOk, a lift-off or the integrator's failure.
+Trajectory SampleRevolution(const Scene& scene, RingDynamics& dynamics, Integrator& integrator, int revolution,
+                            int steps) {
   Trajectory trajectory;
-  RingDynamics dynamics(scene, options_);
-  trajectory.status = Prepare(scene, dynamics, options_.law, trajectory.message);
-  if (trajectory.status != Status::kOk) return trajectory;
-  const MotionLaw& law = options_.law;
+  const engine::MotionLaw& law = scene.motion;
   const double start = law.RotationStart();
-  Integrator integrator(dynamics, options_);
-  auto fail = [&](double psi) {
-    trajectory.status = integrator.status();
-    trajectory.message = integrator.message();
-    trajectory.failure_angle = psi;
-    return trajectory;
-  };
-  if (!integrator.AdvanceTo(start)) return fail(0.0);
-  Refresh(dynamics, integrator);
-  trajectory.initial = Record(dynamics, integrator.state());
-  const double first_angle = 2.0 * std::numbers::pi * options_.revolution;
-  const int z = dynamics.rollers();
+  const double first_angle = 2.0 * std::numbers::pi * revolution;
+  const auto z = static_cast<std::size_t>(dynamics.rollers());
   for (int k = 0; k <= steps; ++k) {
     const double psi = 2.0 * std::numbers::pi * k / steps;
-    const double t = k == 0 && options_.revolution == 0 ? start : law.TimeAtAngle(first_angle + psi, start);
+    const double t = k == 0 && revolution == 0 ? start : law.TimeAtAngle(first_angle + psi, start);
     if (!std::isfinite(t)) {
       trajectory.status = Status::kIntegrationFailed;
-      trajectory.message = "the motion law stops before the revolution ends";
+      trajectory.message = "the motion law stops before revolution " + std::to_string(revolution + 1) + " ends";
       trajectory.failure_angle = psi;
       return trajectory;
     }
-    if (!integrator.AdvanceTo(t)) return fail(psi);
-    Refresh(dynamics, integrator);
-    const Equilibrium sample = Record(dynamics, integrator.state());
+    if (!integrator.AdvanceTo(t)) {
+      trajectory.status = integrator.status();
+      trajectory.message = integrator.message();
+      trajectory.failure_angle = psi;
+      return trajectory;
+    }
+    const DynamicSample sample = Observe(dynamics, integrator);
     trajectory.psi.push_back(psi);
     trajectory.centre.push_back(sample.centre);
-    for (int i = 0; i < z; ++i) {
-      const double force = sample.contact_force[static_cast<std::size_t>(i)];
-      trajectory.travel.push_back(sample.travel[static_cast<std::size_t>(i)]);
-      trajectory.contact_force.push_back(force);
-      if (trajectory.status == Status::kOk && force <= 0.0) {
+    for (std::size_t i = 0; i < z; ++i) {
+      trajectory.travel.push_back(sample.travel[i]);
+      trajectory.contact_force.push_back(sample.normal_force[i]);
+      if (trajectory.status == Status::kOk && sample.normal_force[i] <= 0.0) {
         trajectory.status = Status::kLiftOff;
         trajectory.failure_angle = psi;
-        trajectory.message = "roller " + scene.rollers[static_cast<std::size_t>(i)].name + " separates from the bore at t = " +
-                             Seconds(t);
+        trajectory.message = "roller " + scene.rollers[i].name + " separates from the bore at t = " + Seconds(t);
       }
     }
   }
   trajectory.total_iterations = static_cast<int>(integrator.steps());
   return trajectory;
+}
+
+}  // namespace
+
+namespace {
+
+// A run integrated to the moment rotation starts, or the reason it could not get there.
+struct SettledRun {
+  RingDynamics dynamics;
+  std::unique_ptr<Integrator> integrator;  // null when status != kOk before integrating
+  Status status = Status::kOk;
+  std::string message;
+
+  SettledRun(const Scene& scene, const DynamicOptions& options) : dynamics(scene, options) {
+    status = Prepare(scene, dynamics, message);
+    if (status != Status::kOk) return;
+    const double start = scene.motion.RotationStart();
+    if (!std::isfinite(start)) {
+      status = Status::kIntegrationFailed;
+      message = "the motion law never turns the ring";
+      return;
+    }
+    integrator = std::make_unique<Integrator>(dynamics, scene.motion, options);
+    if (!integrator->AdvanceTo(start)) {
+      status = integrator->status();
+      message = integrator->message();
+    }
+  }
+};
+
+}  // namespace
+
+Equilibrium DynamicSolver::SolveStatic(const Scene& scene) const {
+  SettledRun run(scene, options_);
+  Equilibrium result;
+  if (run.status != Status::kOk) {
+    result.status = run.status;
+    result.message = run.message;
+    return result;
+  }
+  result = Record(Observe(run.dynamics, *run.integrator));
+  result.iterations = static_cast<int>(run.integrator->steps());
+  return result;
+}
+
+Trajectory DynamicSolver::SolveRevolution(const Scene& scene, int steps) const {
+  SettledRun run(scene, options_);
+  if (run.status != Status::kOk) {
+    Trajectory failed;
+    failed.status = run.status;
+    failed.message = run.message;
+    return failed;
+  }
+  RingDynamics& dynamics = run.dynamics;
+  Integrator& integrator = *run.integrator;
+  const double start = scene.motion.RotationStart();
+  const Equilibrium initial = Record(Observe(dynamics, integrator));
+  Trajectory trajectory = SampleRevolution(scene, dynamics, integrator, 0, steps);
+  trajectory.initial = initial;
+  const int later = options_.steady_revolution;
+  if (trajectory.status == Status::kOk && later > 0 &&
+      std::isfinite(scene.motion.TimeAtAngle(2.0 * std::numbers::pi * (later + 1), start))) {
+    auto steady = std::make_shared<Trajectory>(SampleRevolution(scene, dynamics, integrator, later, steps));
+    steady->initial = initial;
+    trajectory.total_iterations = steady->total_iterations;
+    trajectory.steady = std::move(steady);
+  }
+  return trajectory;
+}
+
+DynamicHistory DynamicSolver::SolveHistory(const Scene& scene, double interval, double duration) const {
+  DynamicHistory history;
+  RingDynamics dynamics(scene, options_);
+  history.status = Prepare(scene, dynamics, history.message);
+  if (history.status != Status::kOk) return history;
+  Integrator integrator(dynamics, scene.motion, options_);
+  const auto count = static_cast<long>(std::floor(duration / interval + 1e-9));
+  for (long k = 0; k <= count; ++k) {
+    if (!integrator.AdvanceTo(static_cast<double>(k) * interval)) {
+      history.status = integrator.status();
+      history.message = integrator.message();
+      return history;
+    }
+    history.samples.push_back(Observe(dynamics, integrator));
+  }
+  return history;
 }
 
 }  // namespace ringtol::solvers

@@ -16,28 +16,16 @@ int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options) {
                                      static_cast<double>(options.max_steps)));
 }
 
-SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options) {
-  SimulationResult result;
-  result.steps = ChooseSteps(scene, options);
-  result.status = CheckSceneGeometry(scene, result.message);
-  if (result.status != Status::kOk) return result;
-  result.trajectory = solver.SolveRevolution(scene, result.steps);
-  const Trajectory& path = result.trajectory;
-  if (path.status != Status::kOk) {
-    result.status = path.status;
-    result.message = path.message;
-    return result;
-  }
-  const Equilibrium nominal = solver.SolveStatic(engine::WithoutErrors(scene));
-  if (nominal.status != Status::kOk) {
-    result.status = nominal.status;
-    result.message = "the error-free assembly has no valid static equilibrium: " + nominal.message;
-    return result;
-  }
+namespace {
+
+// The article's metrics of one sampled revolution; `nominal` is the error-free assembly's
+// static equilibrium.
+void Measure(const engine::Scene& scene, const Trajectory& path, const Eigen::Vector2d& nominal,
+             SimulationResult& result) {
   result.enclosing_circle = engine::MinimumEnclosingCircle(path.centre);
   result.d_trajectory = 2.0 * result.enclosing_circle.radius;
   result.dist_init = (path.initial.centre - result.enclosing_circle.centre).norm();
-  result.static_offset = (path.initial.centre - nominal.centre).norm();
+  result.static_offset = (path.initial.centre - nominal).norm();
 
   result.sensor.reserve(path.psi.size());
   double theta = scene.sensor_angle;
@@ -67,6 +55,37 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
   result.min_contact_force = std::numeric_limits<double>::infinity();
   for (const RollerForceRange& range : result.contact_force) {
     result.min_contact_force = std::min(result.min_contact_force, range.min);
+  }
+}
+
+}  // namespace
+
+SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options) {
+  SimulationResult result;
+  result.steps = ChooseSteps(scene, options);
+  result.status = CheckSceneGeometry(scene, result.message);
+  if (result.status != Status::kOk) return result;
+  result.trajectory = solver.SolveRevolution(scene, result.steps);
+  const Trajectory& path = result.trajectory;
+  if (path.status != Status::kOk) {
+    result.status = path.status;
+    result.message = path.message;
+    return result;
+  }
+  const Equilibrium nominal = solver.SolveStatic(engine::WithoutErrors(scene));
+  if (nominal.status != Status::kOk) {
+    result.status = nominal.status;
+    result.message = "the error-free assembly has no valid static equilibrium: " + nominal.message;
+    return result;
+  }
+  Measure(scene, path, nominal.centre, result);
+  if (path.steady) {
+    auto steady = std::make_shared<SimulationResult>();
+    steady->steps = result.steps;
+    steady->status = path.steady->status;
+    steady->message = path.steady->message;
+    if (steady->status == Status::kOk) Measure(scene, *path.steady, nominal.centre, *steady);
+    result.steady = std::move(steady);
   }
   return result;
 }

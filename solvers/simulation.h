@@ -3,6 +3,7 @@
 // sensor runout and the contact-force range.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "engine/enclosing_circle.h"
@@ -47,6 +48,9 @@ struct SimulationResult {
   engine::Circle enclosing_circle;              // [m]
   std::vector<double> sensor;                   // [m] sensor reading per angle
   Trajectory trajectory;
+  // The same metrics over the trajectory's later, steady revolution (Trajectory::steady)
+  // when the solver gives one; its own status says whether they are usable.
+  std::shared_ptr<const SimulationResult> steady;
 };
 
 // Never throws for numerical outcomes; status says whether the numbers are usable (they

@@ -58,7 +58,11 @@ struct Trajectory {
   std::vector<Eigen::Vector2d> centre;         // [m]
   std::vector<double> travel;                  // [m] psi-major: travel[k * rollers + i]
   std::vector<double> contact_force;           // [N] psi-major: contact_force[k * rollers + i]
-  int total_iterations = 0;                    // Newton iterations over the revolution
+  int total_iterations = 0;                    // Newton iterations (dynamic: integrator steps) over the run
+  // A later revolution of the same run, for a solver that simulates time (dynamic): the
+  // steady state after the start transient, with `initial` still the state at rotation
+  // start. Null for the time-free rungs and when not asked for.
+  std::shared_ptr<const Trajectory> steady;
 };
 
 class Solver {

@@ -1,11 +1,11 @@
-#include "solvers/motion_law.h"
+#include "engine/motion_law.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-namespace ringtol::solvers {
+namespace ringtol::engine {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -52,8 +52,8 @@ MotionLaw::MotionLaw(std::vector<MotionSegment> segments) : segments_(std::move(
       throw std::invalid_argument(where + "duration must be positive and finite, got " + std::to_string(s.duration));
     }
     if (!std::isfinite(s.acceleration)) throw std::invalid_argument(where + "acceleration must be finite");
-    if (std::isinf(s.start_rate)) throw std::invalid_argument(where + "start rate must be finite (or NaN to continue)");
-    if (!std::isnan(s.start_rate)) rate = s.start_rate;
+    if (s.start_rate && !std::isfinite(*s.start_rate)) throw std::invalid_argument(where + "start rate must be finite");
+    if (s.start_rate) rate = *s.start_rate;
     starts_.push_back(t);
     start_angle_.push_back(angle);
     start_rate_.push_back(rate);
@@ -135,8 +135,8 @@ MotionLaw TestBenchLaw(double settle) {
   constexpr double kRamp = kRate / kAcceleration;    // [s] 1/3 s: 45 deg at mean 135 deg/s
   constexpr double kCruise = 810.0 * kDegree / kRate;  // [s] 3 s
   return AfterSettle(settle, {{.duration = kRamp, .acceleration = kAcceleration, .start_rate = 0.0},
-                              {.duration = kCruise, .acceleration = 0.0},
-                              {.duration = kRamp, .acceleration = -kAcceleration}});
+                              {.duration = kCruise, .acceleration = 0.0, .start_rate = std::nullopt},
+                              {.duration = kRamp, .acceleration = -kAcceleration, .start_rate = std::nullopt}});
 }
 
-}  // namespace ringtol::solvers
+}  // namespace ringtol::engine

@@ -3,7 +3,7 @@
 // integrator can restart exactly where the acceleration or the rate jumps.
 //
 // Segment j starts at t_j = sum of the earlier durations, with the rate it is given
-// (start_rate) or, when that is NaN, the rate the previous segment ended with (0 before
+// (start_rate) or, when that is unset, the rate the previous segment ended with (0 before
 // the first). Its rate is then rate_j + a_j (t - t_j). After the last segment the ring
 // keeps the last rate forever: a law that ends at rest stays at rest. Before t = 0 the
 // ring is at rest at psi = 0.
@@ -11,16 +11,19 @@
 
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <vector>
 
-namespace ringtol::solvers {
+namespace ringtol::engine {
 
 struct MotionSegment {
   double duration = 0.0;      // [s] > 0, finite
   double acceleration = 0.0;  // [rad/s^2] finite; negative slows, and reverses past rest
-  // [rad/s] rate at the segment's start; NaN continues the previous segment's end rate,
-  // a finite value makes a step in rate (the article's law starts with one).
-  double start_rate = std::numeric_limits<double>::quiet_NaN();
+  // [rad/s] rate at the segment's start, finite; unset continues the previous segment's
+  // end rate, a value makes a step in rate (the article's law starts with one).
+  std::optional<double> start_rate;
+
+  bool operator==(const MotionSegment&) const = default;
 };
 
 class MotionLaw {
@@ -66,7 +69,7 @@ class MotionLaw {
   std::vector<double> starts_;       // [s]
   std::vector<double> ends_;         // [s]
   std::vector<double> start_angle_;  // [rad]
-  std::vector<double> start_rate_;   // [rad/s] resolved (never NaN)
+  std::vector<double> start_rate_;   // [rad/s] resolved
   double end_angle_ = 0.0;           // [rad] after the last segment
   double end_rate_ = 0.0;            // [rad/s]
 };
@@ -80,4 +83,4 @@ MotionLaw ArticleLaw(double settle = 0.5, double rate = 1.5 * std::numbers::pi, 
 // deg/s over 810 deg and 810 deg/s^2 down over 45 deg: 2.5 revolutions, ending at rest.
 MotionLaw TestBenchLaw(double settle = 0.5);
 
-}  // namespace ringtol::solvers
+}  // namespace ringtol::engine
