@@ -168,7 +168,7 @@ TEST(DynamicSolver, AContactThatOpensIsReportedAsLiftOff) {
 }
 
 // A velocity step with no settle: the ring starts centred and at rest, touching its
-// rollers with zero force, and is turned at once. The contacts are open at the first
+// fixed rollers with zero force, and is turned at once. The contacts are open at the first
 // sample, and ringtol must say so rather than report a path from an unloaded start.
 TEST(DynamicSolver, AStepWithoutSettleIsReportedAsLiftOffAtTheStart) {
   engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
