@@ -1,6 +1,7 @@
 #include "solvers/dynamic.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -26,6 +27,13 @@ double Step(double x, double x0, double h0, double x1, double h1) {
   return h0 + (h1 - h0) * a * a * (3.0 - 2.0 * a);
 }
 
+// d STEP / dx.
+double StepSlope(double x, double x0, double h0, double x1, double h1) {
+  const double a = (x - x0) / (x1 - x0);
+  if (a <= 0.0 || a >= 1.0) return 0.0;
+  return (h1 - h0) * 6.0 * a * (1.0 - a) / (x1 - x0);
+}
+
 // mu(v) of model.md §4 in Adams' contact form: odd in v, through 0 with slope
 // 1.5 mu_s / v_s as the cubic step from -mu_s at -v_s to mu_s at v_s, then a step from
 // mu_s down to mu_d between v_s and v_d. Smooth through v = 0, where a rolling roller's
@@ -38,6 +46,15 @@ double FrictionCoefficient(double v, const engine::Friction& f) {
   }
   return std::copysign(
       Step(speed, f.stiction_velocity, f.static_coefficient, f.transition_velocity, f.dynamic_coefficient), v);
+}
+
+// d mu / dv of FrictionCoefficient (even in v).
+double FrictionSlope(double v, const engine::Friction& f) {
+  const double speed = std::abs(v);
+  if (speed < f.stiction_velocity) {
+    return StepSlope(v, -f.stiction_velocity, -f.static_coefficient, f.stiction_velocity, f.static_coefficient);
+  }
+  return StepSlope(speed, f.stiction_velocity, f.static_coefficient, f.transition_velocity, f.dynamic_coefficient);
 }
 
 std::string Seconds(double t) {
@@ -74,6 +91,7 @@ class RingDynamics {
     const auto n = static_cast<std::size_t>(z);
     guesses_.resize(n);
     have_guess_.assign(n, false);
+    touching_.resize(n);
     normal_force_.assign(n, 0.0);
     friction_force_.assign(n, 0.0);
     slip_.assign(n, 0.0);
@@ -187,6 +205,17 @@ class RingDynamics {
         return 1;
       }
       travel_rate_[k] = travel_rate;
+      touching_[k] = {c.normal,
+                      c.tangent,
+                      relative - travel_rate * axes_[k],
+                      velocity - travel_rate * axes_[k],
+                      depth,
+                      c.normal_angle,
+                      c.ring_theta,
+                      c.roller_theta,
+                      c.gap_curvature,
+                      psi,
+                      ring_rate};
       normal_force_[k] = load.normal;
       friction_force_[k] = load.friction;
       slip_[k] = load.slip;
@@ -208,6 +237,142 @@ class RingDynamics {
     }
     dydt[2] = ring_force.x() / scene_.ring.mass;
     dydt[3] = ring_force.y() / scene_.ring.mass;
+    return 0;
+  }
+
+  // d(dy/dt)/dy at (t, y), dense, column-major with leading dimension size(); `jacobian`
+  // must hold size()^2 zeros. Exact, including the contact's slide along both surfaces
+  // as the state moves: the slip is a difference of two surface speeds near 1.4 m/s and
+  // the friction law turns a slip of um/s into newtons, so that geometric term dominates
+  // the spin rows. Returns what Derivatives returns.
+  //
+  // With the contact normal at angle phi, h_ring and h_roller the two support functions
+  // (body frames) and u the ring's velocity minus the roller's translation:
+  //   depth = -g,  slip = u . t + psi' h_ring(phi) - omega h_roller(phi),
+  //   depth rate = -u . n + psi' h_ring'(phi) - omega h_roller'(phi),
+  // and phi moves with the state as d phi = -(d g' / d q) / g'' (g' = 0 at the contact).
+  int Jacobian(double t, const double* y, double* jacobian) {
+    std::vector<double> rates(static_cast<std::size_t>(size_));
+    if (const int flag = Derivatives(t, y, rates.data()); flag != 0) return flag;
+    const auto n = static_cast<std::size_t>(size_);
+    auto at = [&](int row, int column) -> double& {
+      return jacobian[static_cast<std::size_t>(column) * n + static_cast<std::size_t>(row)];
+    };
+    at(0, 2) = 1.0;
+    at(1, 3) = 1.0;
+    // Local variables of one contact: ring x, y, vx, vy, roller travel, travel rate, spin
+    // angle, spin rate.
+    enum { kX, kY, kVx, kVy, kTravel, kTravelRate, kSpin, kSpinRate, kLocal };
+    using Row = Eigen::Matrix<double, 1, kLocal>;
+    const engine::ContactLaw& law = scene_.contact;
+    for (int i = 0; i < rollers(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      const engine::Roller& roller = scene_.rollers[k];
+      const Touching& touch = touching_[k];
+      const Eigen::Vector2d& normal = touch.normal;
+      const Eigen::Vector2d& tangent = touch.tangent;
+      const Eigen::Vector2d& axis = axes_[k];
+      const engine::SupportPoint ring =
+          scene_.ring.inner.Support(touch.normal_angle - touch.psi, touch.ring_theta);
+      const engine::SupportPoint body =
+          roller.outline.Support(touch.normal_angle - spin_angle_[k], touch.roller_theta);
+      const double ring_bend = ring.curvature_radius - ring.h;  // h_ring''
+      const double body_bend = body.curvature_radius - body.h;  // h_roller''
+      const double psi_rate = touch.ring_rate;
+      const double omega = spin_rate_[k];
+      // The contact direction: g' = (x - c) . t + h_ring' - h_roller'.
+      Row phi = Row::Zero();
+      if (touch.gap_curvature > 0.0) {
+        phi(kX) = -tangent.x() / touch.gap_curvature;
+        phi(kY) = -tangent.y() / touch.gap_curvature;
+        phi(kTravel) = axis.dot(tangent) / touch.gap_curvature;
+        phi(kSpin) = -body_bend / touch.gap_curvature;
+      }
+      Row spin_frame = phi;  // the roller's body angle of the contact, phi - beta
+      spin_frame(kSpin) -= 1.0;
+      Row depth = Row::Zero();
+      depth(kX) = -normal.x();
+      depth(kY) = -normal.y();
+      depth(kTravel) = axis.dot(normal);
+      depth(kSpin) = -body.dh;
+      Row depth_rate = (-touch.motion.dot(tangent) + psi_rate * ring_bend - omega * body_bend) * phi;
+      depth_rate(kVx) -= normal.x();
+      depth_rate(kVy) -= normal.y();
+      depth_rate(kTravelRate) += axis.dot(normal);
+      depth_rate(kSpinRate) -= body.dh;
+      depth_rate(kSpin) += omega * body_bend;
+      Row slip = (-touch.motion.dot(normal) + psi_rate * ring.dh - omega * body.dh) * phi;
+      slip(kVx) += tangent.x();
+      slip(kVy) += tangent.y();
+      slip(kTravelRate) -= axis.dot(tangent);
+      slip(kSpinRate) -= body.h;
+      slip(kSpin) += omega * body.dh;
+      const double normal_force = normal_force_[k];
+      const double friction = friction_force_[k];
+      Row d_normal = Row::Zero();
+      Row d_friction = Row::Zero();
+      if (normal_force > 0.0) {
+        const double d = touch.depth;
+        const double rate = -touch.relative.dot(normal);
+        const double stiffness = law.stiffness * law.exponent * std::pow(d, law.exponent - 1.0) +
+                                 StepSlope(d, 0.0, 0.0, law.full_damping_penetration, law.max_damping) * rate;
+        d_normal = stiffness * depth + Damping(d) * depth_rate;
+        if (spin_states_) {
+          const double v = touch.relative.dot(tangent);
+          d_friction = FrictionSlope(v, scene_.friction) * normal_force * slip +
+                       FrictionCoefficient(v, scene_.friction) * d_normal;
+        }
+      }
+      // On the ring F = F_n n - F_t t, with n and t turning with phi; on the roller the
+      // torque -(r x F) = h_roller F_t + h_roller' F_n, its lever turning with phi - beta.
+      Eigen::Matrix<double, 2, kLocal> force =
+          normal * d_normal - tangent * d_friction + (normal_force * tangent + friction * normal) * phi;
+      Row torque = body.h * d_friction + body.dh * d_normal + (friction * body.dh + normal_force * body_bend) * spin_frame;
+      const int s = travel_[k];
+      const int b = spin_[k];
+      const bool massless = s >= 0 && model_.massless_spring_rollers;
+      // A massless roller's travel rate follows the state through its axial balance
+      // P - k_s s - F . a = 0: dv = -(k_s ds + (dF/dq . a) dq) / (dF/dv . a).
+      Row travel_rate = Row::Zero();
+      if (massless) {
+        Row balance = -(axis.transpose() * force);
+        balance(kTravel) -= roller.spring.stiffness;
+        const double along_rate = -balance(kTravelRate);
+        balance(kTravelRate) = 0.0;
+        travel_rate = balance / along_rate;
+        const Eigen::Vector2d force_per_rate = force.col(kTravelRate);
+        const double torque_per_rate = torque(kTravelRate);
+        force += force_per_rate * travel_rate;
+        force.col(kTravelRate).setZero();
+        torque += torque_per_rate * travel_rate;
+        torque(kTravelRate) = 0.0;
+      }
+      // Global state index of each local variable, or -1 where it is not a state.
+      std::array<int, kLocal> index = {0, 1, 2, 3, -1, -1, -1, -1};
+      if (s >= 0) {
+        index[kTravel] = s;
+        if (!massless) index[kTravelRate] = s + 1;
+      }
+      if (b >= 0) {
+        index[kSpin] = b;
+        index[kSpinRate] = b + 1;
+      }
+      for (int local = 0; local < kLocal; ++local) {
+        const int column = index[static_cast<std::size_t>(local)];
+        if (column < 0) continue;
+        const Eigen::Vector2d d_force = force.col(local);
+        at(2, column) += d_force.x() / scene_.ring.mass;
+        at(3, column) += d_force.y() / scene_.ring.mass;
+        if (massless) at(s, column) += travel_rate(local);
+        if (s >= 0 && !massless) at(s + 1, column) -= d_force.dot(axis) / roller.mass;
+        if (b >= 0) at(b + 1, column) += torque(local) / roller.spin_inertia;
+      }
+      if (s >= 0 && !massless) {
+        at(s, s + 1) = 1.0;
+        at(s + 1, s) -= roller.spring.stiffness / roller.mass;
+      }
+      if (b >= 0) at(b, b + 1) = 1.0;
+    }
     return 0;
   }
 
@@ -347,6 +512,21 @@ class RingDynamics {
   // Warm starts of the contact searches: the answer does not depend on them.
   std::vector<engine::ContactGuess> guesses_;
   std::vector<bool> have_guess_;
+  // What the Jacobian needs of each contact at the last evaluation.
+  struct Touching {
+    Eigen::Vector2d normal = Eigen::Vector2d::UnitX();
+    Eigen::Vector2d tangent = Eigen::Vector2d::UnitY();
+    Eigen::Vector2d relative = Eigen::Vector2d::Zero();  // [m/s] ring point minus roller point
+    Eigen::Vector2d motion = Eigen::Vector2d::Zero();    // [m/s] ring velocity minus roller translation
+    double depth = 0.0;                                  // [m]
+    double normal_angle = 0.0;                           // [rad] phi
+    double ring_theta = 0.0;                             // [rad] warm starts of the support searches
+    double roller_theta = 0.0;                           // [rad]
+    double gap_curvature = 0.0;                          // [m] g''(phi)
+    double psi = 0.0;                                    // [rad] ring angle
+    double ring_rate = 0.0;                              // [rad/s]
+  };
+  std::vector<Touching> touching_;
   // Per roller at the last evaluation, for Sample.
   std::vector<double> normal_force_;    // [N]
   std::vector<double> friction_force_;  // [N]
@@ -358,7 +538,7 @@ class RingDynamics {
   std::string failure_;
 };
 
-// CVODE (BDF, dense direct linear solver, difference-quotient Jacobian) advancing the
+// CVODE (BDF, dense direct linear solver, analytic Jacobian) advancing the
 // dynamics through the motion law's breakpoints. Owns every SUNDIALS object it creates.
 class Integrator {
  public:
@@ -377,6 +557,7 @@ class Integrator {
           CVodeSVtolerances(cvode_, options.relative_tolerance, tolerance_) == CV_SUCCESS &&
           CVodeSetUserData(cvode_, this) == CV_SUCCESS &&
           CVodeSetLinearSolver(cvode_, linear_solver_, matrix_) == CV_SUCCESS &&
+          (!options.difference_quotient_jacobian ? CVodeSetJacFn(cvode_, &Jacobian) == CV_SUCCESS : true) &&
           CVodeSetMaxNumSteps(cvode_, options.max_steps) == CV_SUCCESS &&
           CVodeSetErrHandlerFn(cvode_, &SilentErrors, nullptr) == CV_SUCCESS;
     if (!ok_) message_ = "CVODE could not be set up";
@@ -452,6 +633,13 @@ class Integrator {
   static int Rhs(sunrealtype t, N_Vector y, N_Vector dydt, void* user_data) {
     auto* self = static_cast<Integrator*>(user_data);
     return self->dynamics_.Derivatives(t, N_VGetArrayPointer(y), N_VGetArrayPointer(dydt));
+  }
+
+  static int Jacobian(sunrealtype t, N_Vector y, N_Vector, SUNMatrix jacobian, void* user_data, N_Vector, N_Vector,
+                      N_Vector) {
+    auto* self = static_cast<Integrator*>(user_data);
+    SUNMatZero(jacobian);
+    return self->dynamics_.Jacobian(t, N_VGetArrayPointer(y), SUNDenseMatrix_Data(jacobian));
   }
 
   // Failures come back as a Status with CVODE's flag name; its own stderr report would
@@ -573,6 +761,34 @@ struct SettledRun {
 };
 
 }  // namespace
+
+Eigen::VectorXd InitialDynamicState(const Scene& scene, const DynamicOptions& options) {
+  const RingDynamics dynamics(scene, options);
+  Eigen::VectorXd state(dynamics.size());
+  dynamics.InitialState(state.data());
+  return state;
+}
+
+DynamicsEvaluation EvaluateDynamics(const Scene& scene, double t, const Eigen::VectorXd& state,
+                                    const DynamicOptions& options) {
+  RingDynamics dynamics(scene, options);
+  DynamicsEvaluation evaluation;
+  if (state.size() != dynamics.size()) {
+    evaluation.status = Status::kIntegrationFailed;
+    evaluation.message = "the state has " + std::to_string(state.size()) + " entries, the scene needs " +
+                         std::to_string(dynamics.size());
+    return evaluation;
+  }
+  dynamics.set_segment(scene.motion.SegmentAt(t));
+  evaluation.rates.resize(dynamics.size());
+  evaluation.jacobian = Eigen::MatrixXd::Zero(dynamics.size(), dynamics.size());
+  if (dynamics.Jacobian(t, state.data(), evaluation.jacobian.data()) != 0 ||
+      dynamics.Derivatives(t, state.data(), evaluation.rates.data()) != 0) {
+    evaluation.status = Status::kIntegrationFailed;
+    evaluation.message = dynamics.failure();
+  }
+  return evaluation;
+}
 
 Equilibrium DynamicSolver::SolveStatic(const Scene& scene) const {
   SettledRun run(scene, options_);

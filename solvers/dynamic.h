@@ -21,7 +21,10 @@
 // spring roller that leaves the bore) come back as a status, never as numbers.
 #pragma once
 
+#include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "solvers/solver.h"
 
@@ -39,6 +42,9 @@ struct DynamicOptions {
   // (so one knob trades accuracy for speed): 1e-11 m, 1e-8 m/s, 1e-9 rad, 1e-6 rad/s.
   double relative_tolerance = 1e-8;  // [-] > 0
   long max_steps = 20'000'000;       // integrator steps over the whole run
+  // Let CVODE build the Newton matrix by difference quotients (one dynamics evaluation
+  // per state) instead of the analytic Jacobian: a cross-check, and a fallback.
+  bool difference_quotient_jacobian = false;
 };
 
 // One sample of a time history: the state and what each contact carries.
@@ -59,6 +65,22 @@ struct DynamicHistory {
   std::string message;
   std::vector<DynamicSample> samples;  // up to the failure when status != kOk
 };
+
+// The equations of motion themselves, for tests and tools. The state is laid out as
+// [x, y [m], vx, vy [m/s]; per spring roller in scene order: travel [m], and its rate
+// [m/s] unless massless; per roller when friction turns them (friction on, rolling not
+// imposed): spin angle [rad], spin rate [rad/s]].
+struct DynamicsEvaluation {
+  Status status = Status::kOk;  // kIntegrationFailed (with message) where Derivatives would refuse
+  std::string message;
+  Eigen::VectorXd rates;        // dy/dt
+  Eigen::MatrixXd jacobian;     // d(dy/dt)/dy, the analytic one the integrator uses
+};
+// The state the integrator starts from at t = 0.
+Eigen::VectorXd InitialDynamicState(const engine::Scene& scene, const DynamicOptions& options = {});
+// dy/dt and its Jacobian at time t [s] and `state`.
+DynamicsEvaluation EvaluateDynamics(const engine::Scene& scene, double t, const Eigen::VectorXd& state,
+                                    const DynamicOptions& options = {});
 
 class DynamicSolver final : public Solver {
  public:
