@@ -8,6 +8,8 @@
 #include <numbers>
 #include <sstream>
 
+#include <arkode/arkode_erkstep.h>
+#include <Eigen/Eigenvalues>
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
@@ -538,32 +540,48 @@ class RingDynamics {
   std::string failure_;
 };
 
-// CVODE (BDF, dense direct linear solver, analytic Jacobian) advancing the
-// dynamics through the motion law's breakpoints. Owns every SUNDIALS object it creates.
+// Advances the dynamics through the motion law's breakpoints with the chosen method:
+// CVODE (variable-order BDF, dense direct linear solver, analytic Jacobian) or ARKODE's
+// explicit Runge-Kutta (ERKStep, 4th order, fixed step). Owns every SUNDIALS object it
+// creates.
 class Integrator {
  public:
   Integrator(RingDynamics& dynamics, const engine::MotionLaw& law, const DynamicOptions& options)
-      : dynamics_(dynamics), law_(law), breakpoints_(law.Breakpoints()) {
+      : dynamics_(dynamics), law_(law), breakpoints_(law.Breakpoints()),
+        explicit_(options.method == DynamicMethod::kExplicitRungeKutta) {
     SUNContext_Create(nullptr, &context_);
     const auto n = static_cast<sunindextype>(dynamics.size());
     y_ = N_VNew_Serial(n, context_);
-    tolerance_ = N_VNew_Serial(n, context_);
     dynamics.InitialState(N_VGetArrayPointer(y_));
-    dynamics.Tolerances(N_VGetArrayPointer(tolerance_));
-    matrix_ = SUNDenseMatrix(n, n, context_);
-    linear_solver_ = SUNLinSol_Dense(y_, matrix_, context_);
-    cvode_ = CVodeCreate(CV_BDF, context_);
-    ok_ = cvode_ != nullptr && CVodeInit(cvode_, &Rhs, 0.0, y_) == CV_SUCCESS &&
-          CVodeSVtolerances(cvode_, options.relative_tolerance, tolerance_) == CV_SUCCESS &&
-          CVodeSetUserData(cvode_, this) == CV_SUCCESS &&
-          CVodeSetLinearSolver(cvode_, linear_solver_, matrix_) == CV_SUCCESS &&
-          (!options.difference_quotient_jacobian ? CVodeSetJacFn(cvode_, &Jacobian) == CV_SUCCESS : true) &&
-          CVodeSetMaxNumSteps(cvode_, options.max_steps) == CV_SUCCESS &&
-          CVodeSetErrHandlerFn(cvode_, &SilentErrors, nullptr) == CV_SUCCESS;
-    if (!ok_) message_ = "CVODE could not be set up";
+    if (explicit_) {
+      erk_ = ERKStepCreate(&Rhs, 0.0, y_, context_);
+      ok_ = erk_ != nullptr && ERKStepSetTableNum(erk_, ARKODE_ZONNEVELD_5_3_4) == ARK_SUCCESS &&
+            ERKStepSetFixedStep(erk_, options.explicit_step) == ARK_SUCCESS &&
+            ERKStepSetUserData(erk_, this) == ARK_SUCCESS &&
+            ERKStepSetMaxNumSteps(erk_, options.max_steps) == ARK_SUCCESS &&
+            ERKStepSetErrHandlerFn(erk_, &SilentErrors, nullptr) == ARK_SUCCESS;
+    } else {
+      tolerance_ = N_VNew_Serial(n, context_);
+      dynamics.Tolerances(N_VGetArrayPointer(tolerance_));
+      matrix_ = SUNDenseMatrix(n, n, context_);
+      linear_solver_ = SUNLinSol_Dense(y_, matrix_, context_);
+      cvode_ = CVodeCreate(CV_BDF, context_);
+      ok_ = cvode_ != nullptr && CVodeInit(cvode_, &Rhs, 0.0, y_) == CV_SUCCESS &&
+            CVodeSVtolerances(cvode_, options.relative_tolerance, tolerance_) == CV_SUCCESS &&
+            CVodeSetUserData(cvode_, this) == CV_SUCCESS &&
+            CVodeSetLinearSolver(cvode_, linear_solver_, matrix_) == CV_SUCCESS &&
+            (options.difference_quotient_jacobian || CVodeSetJacFn(cvode_, &Jacobian) == CV_SUCCESS) &&
+            CVodeSetMaxNumSteps(cvode_, options.max_steps) == CV_SUCCESS &&
+            CVodeSetErrHandlerFn(cvode_, &SilentErrors, nullptr) == CV_SUCCESS;
+    }
+    if (!ok_) {
+      status_ = Status::kIntegrationFailed;
+      message_ = explicit_ ? "ARKODE could not be set up" : "CVODE could not be set up";
+    }
   }
 
   ~Integrator() {
+    ERKStepFree(&erk_);
     CVodeFree(&cvode_);
     SUNLinSolFree(linear_solver_);
     SUNMatDestroy(matrix_);
@@ -587,19 +605,27 @@ class Integrator {
   bool AdvanceTo(double t_out) {
     if (!ok_) return false;
     while (t_ < t_out) {
-      // Steps run freely past output times (CVODE interpolates there) but end exactly on
-      // the next breakpoint, where the integration restarts.
+      // Steps run freely past output times (the integrator interpolates there) but end
+      // exactly on the next breakpoint, where the integration restarts.
       const auto next = std::upper_bound(breakpoints_.begin(), breakpoints_.end(), t_);
       const double breakpoint = next == breakpoints_.end() ? std::numeric_limits<double>::max() : *next;
       const double target = std::min(t_out, breakpoint);
       dynamics_.set_segment(law_.SegmentAt(t_));
-      CVodeSetStopTime(cvode_, breakpoint);
       double reached = t_;
-      const int flag = CVode(cvode_, target, y_, &reached, CV_NORMAL);
+      int flag = 0;
+      if (explicit_) {
+        ERKStepSetStopTime(erk_, breakpoint);
+        flag = ERKStepEvolve(erk_, target, y_, &reached, ARK_NORMAL);
+      } else {
+        CVodeSetStopTime(cvode_, breakpoint);
+        flag = CVode(cvode_, target, y_, &reached, CV_NORMAL);
+      }
       if (flag < 0) {
         ok_ = false;
         status_ = Status::kIntegrationFailed;
-        message_ = std::string("CVODE stopped with ") + CVodeGetReturnFlagName(flag) + " at t = " + Seconds(reached);
+        message_ = explicit_ ? std::string("ARKODE stopped with ") + ERKStepGetReturnFlagName(flag)
+                             : std::string("CVODE stopped with ") + CVodeGetReturnFlagName(flag);
+        message_ += " at t = " + Seconds(reached);
         if (!dynamics_.failure().empty()) message_ += ": " + dynamics_.failure();
         return false;
       }
@@ -616,17 +642,24 @@ class Integrator {
       if (t_ >= breakpoint) {
         t_ = breakpoint;
         steps_before_restart_ += CurrentSteps();
-        CVodeReInit(cvode_, t_, y_);
+        if (explicit_) {
+          ERKStepReInit(erk_, &Rhs, t_, y_);
+        } else {
+          CVodeReInit(cvode_, t_, y_);
+        }
       }
     }
     return true;
   }
 
-
  private:
   long CurrentSteps() const {
     long count = 0;
-    CVodeGetNumSteps(cvode_, &count);
+    if (explicit_) {
+      ERKStepGetNumSteps(erk_, &count);
+    } else {
+      CVodeGetNumSteps(cvode_, &count);
+    }
     return count;
   }
 
@@ -642,19 +675,21 @@ class Integrator {
     return self->dynamics_.Jacobian(t, N_VGetArrayPointer(y), SUNDenseMatrix_Data(jacobian));
   }
 
-  // Failures come back as a Status with CVODE's flag name; its own stderr report would
-  // only duplicate that in every campaign log.
+  // Failures come back as a Status with the integrator's flag name; its own stderr
+  // report would only duplicate that in every campaign log.
   static void SilentErrors(int, const char*, const char*, char*, void*) {}
 
   RingDynamics& dynamics_;
   const engine::MotionLaw& law_;
   std::vector<double> breakpoints_;
+  bool explicit_;
   SUNContext context_ = nullptr;
   N_Vector y_ = nullptr;
   N_Vector tolerance_ = nullptr;
   SUNMatrix matrix_ = nullptr;
   SUNLinearSolver linear_solver_ = nullptr;
   void* cvode_ = nullptr;
+  void* erk_ = nullptr;
   double t_ = 0.0;
   long steps_before_restart_ = 0;
   bool ok_ = false;
@@ -732,9 +767,22 @@ Trajectory SampleRevolution(const Scene& scene, RingDynamics& dynamics, Integrat
   return trajectory;
 }
 
-}  // namespace
-
-namespace {
+// Empty when `step` [s] keeps h |lambda| within the explicit method's stability interval
+// on the negative real axis (2.78 for 4th-order Runge-Kutta) for every eigenvalue
+// lambda of the Jacobian at (t, y); else why not, with the limit.
+std::string ExplicitStepTooLarge(RingDynamics& dynamics, double t, const double* y, double step) {
+  constexpr double kStabilityInterval = 2.78;
+  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(dynamics.size(), dynamics.size());
+  if (dynamics.Jacobian(t, y, jacobian.data()) != 0) return {};
+  const double largest = jacobian.eigenvalues().cwiseAbs().maxCoeff();
+  const double limit = kStabilityInterval / largest;
+  if (step <= limit) return {};
+  std::ostringstream out;
+  out.precision(3);
+  out << "the explicit step " << step << " s exceeds the stability limit " << limit
+      << " s of this scene (largest |eigenvalue| " << largest << " 1/s at t = " << t << " s)";
+  return out.str();
+}
 
 // A run integrated to the moment rotation starts, or the reason it could not get there.
 struct SettledRun {
@@ -753,11 +801,31 @@ struct SettledRun {
       return;
     }
     integrator = std::make_unique<Integrator>(dynamics, scene.motion, options);
+    const bool is_explicit = options.method == DynamicMethod::kExplicitRungeKutta;
+    // An unstable explicit run need not blow up: the contact law's clamp at zero force
+    // bounds it into a rattle that looks like lift-off. So the step is checked against
+    // the spectrum before the run and again once the assembly has settled.
+    if (is_explicit) {
+      message = ExplicitStepTooLarge(dynamics, integrator->time(), integrator->state(), options.explicit_step);
+      if (!message.empty()) {
+        status = Status::kIntegrationFailed;
+        return;
+      }
+    }
     if (!integrator->AdvanceTo(start)) {
       status = integrator->status();
       message = integrator->message();
+      if (is_explicit) message += " (an explicit step above the stability limit ends runs this way)";
+      return;
+    }
+    // Settled, with the rollers still and every contact loaded, the spectrum is at its
+    // widest (stiction's slope is steepest at zero slip).
+    if (is_explicit) {
+      message = ExplicitStepTooLarge(dynamics, integrator->time(), integrator->state(), options.explicit_step);
+      if (!message.empty()) status = Status::kIntegrationFailed;
     }
   }
+
 };
 
 }  // namespace
@@ -834,6 +902,13 @@ DynamicHistory DynamicSolver::SolveHistory(const Scene& scene, double interval, 
   history.status = Prepare(scene, dynamics, history.message);
   if (history.status != Status::kOk) return history;
   Integrator integrator(dynamics, scene.motion, options_);
+  if (options_.method == DynamicMethod::kExplicitRungeKutta) {
+    history.message = ExplicitStepTooLarge(dynamics, 0.0, integrator.state(), options_.explicit_step);
+    if (!history.message.empty()) {
+      history.status = Status::kIntegrationFailed;
+      return history;
+    }
+  }
   const auto count = static_cast<long>(std::floor(duration / interval + 1e-9));
   for (long k = 0; k <= count; ++k) {
     if (!integrator.AdvanceTo(static_cast<double>(k) * interval)) {

@@ -30,7 +30,21 @@
 
 namespace ringtol::solvers {
 
+enum class DynamicMethod {
+  // CVODE's variable-order BDF with error control and the analytic Jacobian: the default,
+  // stable at any step the accuracy allows.
+  kImplicitBdf,
+  // ARKODE's explicit 4th-order Runge-Kutta (Zonneveld 5-3-4) at a fixed step, kept as a
+  // baseline. Stable only below ~2.8 / |lambda_max|: ~70 ns for the full model (spring
+  // roller against c_max), ~2 us with massless spring rollers (roller spin under
+  // stiction), ~30 us with rolling imposed too (the ring against c_max). Above it the
+  // state blows up and the run ends with kNonFinite or kIntegrationFailed.
+  kExplicitRungeKutta,
+};
+
 struct DynamicOptions {
+  DynamicMethod method = DynamicMethod::kImplicitBdf;
+  double explicit_step = 1e-6;  // [s] > 0, the fixed step of kExplicitRungeKutta
   // Which later revolution after rotation starts (counting the first as 0) is reported as
   // Trajectory::steady; 0 reports none. By the default, the fourth, the creep transient of
   // the start (time constant c_max / k_contact ~ 0.5 s, 4 s ago at 270 deg/s) has decayed
