@@ -41,7 +41,9 @@ TEST(DynamicSolver, SettlesToTheQuasistaticPenaltyEquilibrium) {
     scene.motion = engine::ArticleLaw(12.0);
     scene.dynamics.friction = friction;
     scene.dynamics.rolling_without_slip = !friction;
-    const solvers::Equilibrium settled = solvers::DynamicSolver(FirstRevolutionOnly()).SolveStatic(scene);
+    solvers::DynamicOptions options = FirstRevolutionOnly();
+    options.relative_tolerance = 1e-9;  // absolute 1e-12 m: integration error far below the bound
+    const solvers::Equilibrium settled = solvers::DynamicSolver(options).SolveStatic(scene);
     const solvers::Equilibrium reference = solvers::QuasistaticSolver().SolveStatic(scene);
     ASSERT_EQ(settled.status, solvers::Status::kOk) << settled.message;
     ASSERT_EQ(reference.status, solvers::Status::kOk) << reference.message;
@@ -158,7 +160,9 @@ TEST(DynamicSolver, AnalyticJacobianMatchesCentralDifferences) {
     testing::SetRing(scene, {{3, 0.14e-3, 45.0 * kDeg}, {5, 0.02e-3, 10.0 * kDeg}});
     testing::SetRollerShapes(scene, {{2, 0.007e-3, 30.0 * kDeg}});
     scene.dynamics.massless_spring_rollers = massless;
-    const solvers::DynamicHistory history = solvers::DynamicSolver().SolveHistory(scene, 0.1, 0.8);
+    solvers::DynamicOptions options;
+    options.relative_tolerance = 1e-8;
+    const solvers::DynamicHistory history = solvers::DynamicSolver(options).SolveHistory(scene, 0.1, 0.8);
     ASSERT_EQ(history.status, solvers::Status::kOk) << history.message;
     const solvers::DynamicSample& sample = history.samples.back();
     Eigen::VectorXd state = solvers::InitialDynamicState(scene);
