@@ -124,7 +124,7 @@ MotionLaw AfterSettle(double settle, std::vector<MotionSegment> motion) {
 }  // namespace
 
 MotionLaw ArticleLaw(double settle, double rate, double revolutions) {
-  return AfterSettle(settle, {{.duration = revolutions * 2.0 * std::numbers::pi / rate, .acceleration = 0.0,
+  return AfterSettle(settle, {{.duration = revolutions * 2.0 * std::numbers::pi / std::abs(rate), .acceleration = 0.0,
                                .start_rate = rate}});
 }
 

@@ -75,8 +75,8 @@ class MotionLaw {
 };
 
 // The article's law (its Eq. 1): at rest for `settle` [s] while the ring settles under
-// the preload (no rest when 0), then a step to `rate` [rad/s] held for `revolutions`
-// turns (and on).
+// the preload (no rest when 0), then a step to `rate` [rad/s] (negative turns the ring
+// clockwise) held for `revolutions` turns (and on).
 MotionLaw ArticleLaw(double settle = 0.5, double rate = 1.5 * std::numbers::pi, double revolutions = 3.0);
 
 // The test bench's trapezoid: at rest for `settle` [s], then 810 deg/s^2 over 45 deg, 270

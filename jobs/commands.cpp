@@ -4,16 +4,31 @@
 #include <fstream>
 #include <vector>
 
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "jobs/dynamic_study.h"
 #include "jobs/input_error.h"
 #include "jobs/results_output.h"
 #include "jobs/scene_file.h"
 #include "jobs/sweep_file.h"
+#include "solvers/dynamic.h"
 #include "solvers/simulation.h"
 
 namespace ringtol::jobs {
 namespace {
 
-std::unique_ptr<solvers::Solver> SolverByName(const std::string& name) {
+// The dynamic solver takes its tolerance from the command line; the others have nothing
+// to set there.
+std::unique_ptr<solvers::Solver> SolverByName(const std::string& name, double relative_tolerance) {
+  if (!(relative_tolerance > 0.0 && relative_tolerance < 1.0)) {
+    throw InputError("--relative-tolerance " + std::to_string(relative_tolerance) + ": allowed: > 0 and < 1");
+  }
+  if (name == "dynamic") {
+    solvers::DynamicOptions options;
+    options.relative_tolerance = relative_tolerance;
+    return std::make_unique<solvers::DynamicSolver>(options);
+  }
   try {
     return solvers::MakeSolver(name);
   } catch (const std::invalid_argument& e) {
@@ -46,22 +61,40 @@ Timed SimulateTimed(const engine::Scene& scene, const solvers::Solver& solver, i
 
 int RunSimulate(const SimulateCommand& command, std::ostream& out) {
   const engine::Scene scene = ReadScene(command.scene);
-  const auto solver = SolverByName(command.solver);
+  const auto solver = SolverByName(command.solver, command.relative_tolerance);
+  const auto* dynamic = dynamic_cast<const solvers::DynamicSolver*>(solver.get());
   std::ofstream trajectory;
   if (!command.trajectory_csv.empty()) trajectory = OpenOutput(command.trajectory_csv, "--trajectory");
-  const Timed run = SimulateTimed(scene, *solver, command.steps);
-  if (command.json) {
-    out << ResultJson(scene, run.result, solver->name(), run.seconds).dump(2) << "\n";
-  } else {
-    PrintResult(out, scene, run.result, solver->name(), run.seconds);
+  std::ofstream history_file;
+  if (!command.history_csv.empty()) {
+    if (dynamic == nullptr) throw InputError("--history: only the dynamic solver has a time history (--solver dynamic)");
+    if (!(command.history_interval_ms > 0.0)) {
+      throw InputError("--history-interval-ms " + std::to_string(command.history_interval_ms) + ": allowed: > 0");
+    }
+    history_file = OpenOutput(command.history_csv, "--history");
   }
+  const Timed run = SimulateTimed(scene, *solver, command.steps);
+  nlohmann::json json = ResultJson(scene, run.result, solver->name(), run.seconds);
+  if (!command.json) PrintResult(out, scene, run.result, solver->name(), run.seconds);
   if (trajectory.is_open()) WriteTrajectoryCsv(trajectory, scene, run.result);
+  if (history_file.is_open()) {
+    const solvers::DynamicHistory history =
+        dynamic->SolveHistory(scene, command.history_interval_ms * 1e-3, scene.motion.Duration());
+    WriteHistoryCsv(history_file, scene, history);
+    json["history_status"] = std::string(solvers::StatusName(history.status));
+    if (history.status != solvers::Status::kOk) json["history_message"] = history.message;
+    if (!command.json) {
+      fmt::print(out, "history           {} samples to {}, {}{}\n", history.samples.size(), command.history_csv.string(),
+                 solvers::StatusName(history.status), history.message.empty() ? "" : ": " + history.message);
+    }
+  }
+  if (command.json) out << json.dump(2) << "\n";
   return 0;
 }
 
 int RunSweep(const SweepCommand& command, std::ostream& out) {
   const Sweep sweep = ReadSweep(command.sweep);
-  const auto solver = SolverByName(command.solver);
+  const auto solver = SolverByName(command.solver, command.relative_tolerance);
   std::ofstream csv;
   if (!command.csv.empty()) csv = OpenOutput(command.csv, "--csv");
   std::vector<nlohmann::json> rows;
@@ -75,6 +108,19 @@ int RunSweep(const SweepCommand& command, std::ostream& out) {
     PrintSweepTable(out, rows);
   }
   if (csv.is_open()) WriteSweepCsv(csv, rows);
+  return 0;
+}
+
+int RunBenchDynamics(const BenchDynamicsCommand& command, std::ostream& out) {
+  const engine::Scene scene = ReadScene(command.scene);
+  DynamicStudyOptions options;
+  if (!command.orders.empty()) options.orders = command.orders;
+  if (!command.rates_deg_per_s.empty()) {
+    options.rates.clear();
+    for (const double rate : command.rates_deg_per_s) options.rates.push_back(rate * DynamicStudyOptions::kDegree);
+  }
+  const DynamicStudy study = RunDynamicStudy(scene, options, nullptr);
+  PrintDynamicStudy(out, study);
   return 0;
 }
 

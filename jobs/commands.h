@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace ringtol::jobs {
 
@@ -16,6 +17,9 @@ struct SimulateCommand {
   int steps = 0;                         // angles per revolution; 0 = automatic
   bool json = false;                     // one JSON object instead of text
   std::filesystem::path trajectory_csv;  // empty: no trajectory file
+  double relative_tolerance = 1e-6;      // dynamic solver only: solvers::DynamicOptions
+  std::filesystem::path history_csv;     // dynamic solver only: time history over the motion law's span
+  double history_interval_ms = 1.0;      // [ms] > 0, between history samples
 };
 // Returns the process exit code (0).
 int RunSimulate(const SimulateCommand& command, std::ostream& out);
@@ -26,7 +30,16 @@ struct SweepCommand {
   int steps = 0;
   bool json = false;                    // a JSON array instead of a table
   std::filesystem::path csv;            // empty: no CSV file
+  double relative_tolerance = 1e-6;     // dynamic solver only
 };
 int RunSweep(const SweepCommand& command, std::ostream& out);
+
+// `ringtol bench dynamics`: jobs/dynamic_study.h on one scene.
+struct BenchDynamicsCommand {
+  std::filesystem::path scene;
+  std::vector<int> orders;         // empty: the study's default (the article's orders)
+  std::vector<double> rates_deg_per_s;  // empty: the study's default
+};
+int RunBenchDynamics(const BenchDynamicsCommand& command, std::ostream& out);
 
 }  // namespace ringtol::jobs

@@ -14,35 +14,63 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("ringtol ") + RINGTOL_VERSION);
   app.require_subcommand(1);
   const std::vector<std::string> solver_names = ringtol::solvers::SolverNames();
+  std::string solver_help = "Solver:";
+  for (const std::string& name : solver_names) solver_help += " " + name;
 
   ringtol::jobs::SimulateCommand simulate;
   CLI::App* simulate_app = app.add_subcommand(
       "simulate", "Simulate one revolution of one scene and print D_trajectory, Dist_init, static offset, runout");
   simulate_app->add_option("scene", simulate.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
-  simulate_app->add_option("--solver", simulate.solver, "Solver: linear or quasistatic")
+  simulate_app->add_option("--solver", simulate.solver, solver_help)
       ->check(CLI::IsMember(solver_names))
       ->capture_default_str();
   simulate_app->add_option("--steps", simulate.steps, "Angles per revolution (default: chosen so no harmonic aliases)")
       ->check(CLI::Range(1, 100000000));
   simulate_app->add_flag("--json", simulate.json, "Print one JSON object");
   simulate_app->add_option("--trajectory", simulate.trajectory_csv, "Write the path to this CSV file");
+  simulate_app->add_option("--relative-tolerance", simulate.relative_tolerance,
+                           "Dynamic solver: integrator tolerance, > 0 and < 1")
+      ->capture_default_str();
+  simulate_app->add_option("--history", simulate.history_csv,
+                           "Dynamic solver: write the time history over the motion law's span to this CSV file");
+  simulate_app->add_option("--history-interval-ms", simulate.history_interval_ms,
+                           "Dynamic solver: time between history samples [ms], > 0")
+      ->capture_default_str();
 
   ringtol::jobs::SweepCommand sweep;
   CLI::App* sweep_app =
       app.add_subcommand("sweep", "Simulate every case of a sweep file (orders, amplitudes or named cases)");
   sweep_app->add_option("sweep", sweep.sweep, "Sweep file (TOML)")->required()->check(CLI::ExistingFile);
-  sweep_app->add_option("--solver", sweep.solver, "Solver: linear or quasistatic")
+  sweep_app->add_option("--solver", sweep.solver, solver_help)
       ->check(CLI::IsMember(solver_names))
       ->capture_default_str();
   sweep_app->add_option("--steps", sweep.steps, "Angles per revolution (default: chosen per case)")
       ->check(CLI::Range(1, 100000000));
   sweep_app->add_flag("--json", sweep.json, "Print a JSON array, one object per case");
   sweep_app->add_option("--csv", sweep.csv, "Write one row per case to this CSV file");
+  sweep_app->add_option("--relative-tolerance", sweep.relative_tolerance,
+                        "Dynamic solver: integrator tolerance, > 0 and < 1")
+      ->capture_default_str();
+
+  CLI::App* bench_app = app.add_subcommand("bench", "Studies of the solvers themselves");
+  bench_app->require_subcommand(1);
+  ringtol::jobs::BenchDynamicsCommand dynamics;
+  CLI::App* dynamics_app = bench_app->add_subcommand(
+      "dynamics", "Start transient and speed: where the quasistatic answer stops being within 1 um of the dynamic one");
+  dynamics_app->add_option("scene", dynamics.scene, "Scene file (TOML); its ring errors are replaced per order")
+      ->required()
+      ->check(CLI::ExistingFile);
+  dynamics_app->add_option("--orders", dynamics.orders, "Ring orders to study (default: the article's)")
+      ->check(CLI::Range(1, 1000));
+  dynamics_app->add_option("--rates-deg-per-s", dynamics.rates_deg_per_s,
+                           "Steady speeds to compare (default: 1 3 10 30 90 270)")
+      ->check(CLI::PositiveNumber);
 
   CLI11_PARSE(app, argc, argv);
   try {
     if (*simulate_app) return ringtol::jobs::RunSimulate(simulate, std::cout);
     if (*sweep_app) return ringtol::jobs::RunSweep(sweep, std::cout);
+    if (*dynamics_app) return ringtol::jobs::RunBenchDynamics(dynamics, std::cout);
   } catch (const ringtol::jobs::InputError& e) {
     std::cerr << "ringtol: error: " << e.what() << "\n";
     return 1;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <algorithm>
 #include <numbers>
 
 namespace ringtol::jobs {
@@ -32,14 +33,12 @@ std::string Cell(const nlohmann::json& value, int decimals) {
 
 }  // namespace
 
-nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationResult& result,
-                          std::string_view solver, double solve_seconds, const std::string& case_name) {
-  nlohmann::json j;
-  if (!case_name.empty()) j["case"] = case_name;
-  j["solver"] = std::string(solver);
+namespace {
+
+// The metric keys of one revolution (shared by the result and its steady revolution).
+void PutMetrics(nlohmann::json& j, const engine::Scene& scene, const solvers::SimulationResult& result) {
   j["status"] = std::string(solvers::StatusName(result.status));
   if (result.status != solvers::Status::kOk) j["message"] = result.message;
-  j["steps"] = result.steps;
   const bool ok = result.status == solvers::Status::kOk;
   auto metric = [&](double value, double scale) { return ok ? nlohmann::json(value * scale) : nlohmann::json(); };
   j["d_trajectory_mm"] = metric(result.d_trajectory, kMm);
@@ -57,6 +56,31 @@ nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationR
     }
   }
   j["contact_force_N"] = forces;
+}
+
+bool AnySteady(const std::vector<nlohmann::json>& rows) {
+  return std::any_of(rows.begin(), rows.end(), [](const nlohmann::json& row) { return row.contains("steady"); });
+}
+
+// The steady revolution's D_trajectory of a sweep row, or null.
+nlohmann::json SteadyDiameter(const nlohmann::json& row) {
+  return row.contains("steady") ? row["steady"]["d_trajectory_mm"] : nlohmann::json();
+}
+
+}  // namespace
+
+nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationResult& result,
+                          std::string_view solver, double solve_seconds, const std::string& case_name) {
+  nlohmann::json j;
+  if (!case_name.empty()) j["case"] = case_name;
+  j["solver"] = std::string(solver);
+  PutMetrics(j, scene, result);
+  j["steps"] = result.steps;
+  if (result.steady) {
+    nlohmann::json steady;
+    PutMetrics(steady, scene, *result.steady);
+    j["steady"] = steady;
+  }
   j["solve_time_ms"] = solve_seconds * 1e3;
   return j;
 }
@@ -78,26 +102,42 @@ void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::S
     fmt::print(out, "contact force     {:<10} {:.3f} .. {:.3f} N\n", scene.rollers[i].name,
                result.contact_force[i].min, result.contact_force[i].max);
   }
+  if (!result.steady) return;
+  const solvers::SimulationResult& steady = *result.steady;
+  fmt::print(out, "steady revolution {}\n", solvers::StatusName(steady.status));
+  if (steady.status != solvers::Status::kOk) {
+    fmt::print(out, "  reason          {}\n", steady.message);
+    return;
+  }
+  fmt::print(out, "  D_trajectory    {:.4f} mm\n", steady.d_trajectory * kMm);
+  fmt::print(out, "  Dist_init       {:.4f} mm\n", steady.dist_init * kMm);
+  fmt::print(out, "  runout          {:.4f} mm peak to nearest valley, {:.4f} mm total\n", steady.runout * kMm,
+             steady.runout_total * kMm);
+  fmt::print(out, "  min contact     {:.3f} N\n", steady.min_contact_force);
 }
 
 void PrintSweepTable(std::ostream& out, const std::vector<nlohmann::json>& rows) {
   std::size_t case_width = 4;
   for (const nlohmann::json& row : rows) case_width = std::max(case_width, row.value("case", std::string()).size());
+  const bool steady = AnySteady(rows);
   fmt::print(out, "{:<{}}  {:<10}", "case", case_width, "status");
   for (const Column& c : kColumns) fmt::print(out, "  {:>{}}", c.header, c.width);
+  if (steady) fmt::print(out, "  {:>12}", "D_steady mm");
   fmt::print(out, "\n");
   for (const nlohmann::json& row : rows) {
     fmt::print(out, "{:<{}}  {:<10}", row.value("case", std::string()), case_width, row["status"].get<std::string>());
     for (const Column& c : kColumns) fmt::print(out, "  {:>{}}", Cell(row[c.key], c.decimals), c.width);
+    if (steady) fmt::print(out, "  {:>12}", Cell(SteadyDiameter(row), 4));
     if (row.contains("message")) fmt::print(out, "  {}", row["message"].get<std::string>());
     fmt::print(out, "\n");
   }
 }
 
 void WriteSweepCsv(std::ostream& out, const std::vector<nlohmann::json>& rows) {
+  const bool steady = AnySteady(rows);
   fmt::print(out, "case,solver,status,steps");
   for (const Column& c : kColumns) fmt::print(out, ",{}", c.key);
-  fmt::print(out, ",runout_total_mm,solve_time_ms,message\n");
+  fmt::print(out, ",runout_total_mm,solve_time_ms,message{}\n", steady ? ",steady_d_trajectory_mm" : "");
   auto quoted = [](const std::string& s) {
     std::string q = "\"";
     for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
@@ -107,9 +147,14 @@ void WriteSweepCsv(std::ostream& out, const std::vector<nlohmann::json>& rows) {
     fmt::print(out, "{},{},{},{}", quoted(row.value("case", std::string())), row["solver"].get<std::string>(),
                row["status"].get<std::string>(), row["steps"].get<int>());
     for (const Column& c : kColumns) fmt::print(out, ",{}", row[c.key].is_null() ? "" : fmt::format("{:.9g}", row[c.key].get<double>()));
-    fmt::print(out, ",{},{:.6g},{}\n",
+    fmt::print(out, ",{},{:.6g},{}",
                row["runout_total_mm"].is_null() ? "" : fmt::format("{:.9g}", row["runout_total_mm"].get<double>()),
                row["solve_time_ms"].get<double>(), quoted(row.value("message", std::string())));
+    if (steady) {
+      const nlohmann::json d = SteadyDiameter(row);
+      fmt::print(out, ",{}", d.is_null() ? "" : fmt::format("{:.9g}", d.get<double>()));
+    }
+    fmt::print(out, "\n");
   }
 }
 
@@ -129,6 +174,25 @@ void WriteTrajectoryCsv(std::ostream& out, const engine::Scene& scene, const sol
       if (scene.rollers[i].mount == engine::RollerMount::kSpring) fmt::print(out, ",{:.9g}", path.travel[k * z + i] * kMm);
     }
     for (std::size_t i = 0; i < z; ++i) fmt::print(out, ",{:.9g}", path.contact_force[k * z + i]);
+    fmt::print(out, "\n");
+  }
+}
+
+void WriteHistoryCsv(std::ostream& out, const engine::Scene& scene, const solvers::DynamicHistory& history) {
+  constexpr double kUm = 1e6;
+  constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+  fmt::print(out, "time_s,psi_deg,x_um,y_um");
+  for (const engine::Roller& r : scene.rollers) {
+    fmt::print(out, ",{0}_travel_um,{0}_spin_deg,{0}_spin_rate_deg_per_s,{0}_normal_N,{0}_friction_N,{0}_slip_mm_per_s",
+               r.name);
+  }
+  fmt::print(out, "\n");
+  for (const solvers::DynamicSample& s : history.samples) {
+    fmt::print(out, "{:.9g},{:.9g},{:.9g},{:.9g}", s.time, s.psi * kDegPerRad, s.centre.x() * kUm, s.centre.y() * kUm);
+    for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+      fmt::print(out, ",{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}", s.travel[i] * kUm, s.spin_angle[i] * kDegPerRad,
+                 s.spin_rate[i] * kDegPerRad, s.normal_force[i], s.friction_force[i], s.slip[i] * kMm);
+    }
     fmt::print(out, "\n");
   }
 }

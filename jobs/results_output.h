@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/scene.h"
+#include "solvers/dynamic.h"
 #include "solvers/simulation.h"
 
 namespace ringtol::jobs {
@@ -17,7 +18,9 @@ namespace ringtol::jobs {
 // One simulation as a JSON object: solver, status (and message when not "ok"), steps,
 // d_trajectory_mm, dist_init_mm, static_offset_mm, runout_mm, runout_total_mm,
 // min_contact_force_N, contact_force_N (per roller min/max), solve_time_ms. Metrics are
-// null when the status is not "ok". `case_name` adds a "case" key when non-empty.
+// null when the status is not "ok". `case_name` adds a "case" key when non-empty. A
+// result with a steady revolution (dynamic solver) adds "steady": an object with the
+// same status and metric keys for that revolution.
 nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationResult& result,
                           std::string_view solver, double solve_seconds, const std::string& case_name = "");
 
@@ -34,5 +37,11 @@ void WriteSweepCsv(std::ostream& out, const std::vector<nlohmann::json>& rows);
 // The path over the revolution: psi_deg, x_mm, y_mm, sensor_mm, then travel_<roller>_mm
 // for spring rollers and force_<roller>_N for every roller.
 void WriteTrajectoryCsv(std::ostream& out, const engine::Scene& scene, const solvers::SimulationResult& result);
+
+// The dynamic solver's time history: time_s, psi_deg, x_um, y_um, then per roller
+// <name>_travel_um, _spin_deg, _spin_rate_deg_per_s, _normal_N, _friction_N (on the ring,
+// along the contact tangent) and _slip_mm_per_s. Every sample computed is written, also
+// when the history stopped early.
+void WriteHistoryCsv(std::ostream& out, const engine::Scene& scene, const solvers::DynamicHistory& history);
 
 }  // namespace ringtol::jobs

@@ -249,6 +249,87 @@ void ReadFriction(const TableReader& table, engine::Scene& scene) {
                   "not above the stiction velocity", allowed);
 }
 
+// ---- [motion], [dynamics]: read by the dynamic solver only.
+
+enum class MotionKind { kArticle, kTestBench, kPiecewise };
+
+struct MotionInput {
+  MotionKind law = MotionKind::kArticle;
+  std::optional<double> settle;       // [s]
+  std::optional<double> rate;         // [rad/s]
+  std::optional<double> revolutions;  // [-]
+  std::vector<engine::MotionSegment> segments;
+};
+
+constexpr std::string_view kSegmentsAllowed =
+    "an array of at least one table { duration_s > 0, acceleration_deg_per_s2 (default 0), "
+    "start_rate_deg_per_s (default: continue) }";
+
+std::vector<Field<engine::MotionSegment>> SegmentFields() {
+  using engine::MotionSegment;
+  return {
+      Number("duration_s", Presence::kRequired, kSameUnit, Above(0.0), &MotionSegment::duration),
+      Number("acceleration_deg_per_s2", Presence::kOptional, kRadiansPerDegree, AnyFinite(),
+             &MotionSegment::acceleration),
+      Number("start_rate_deg_per_s", Presence::kOptional, kRadiansPerDegree, AnyFinite(), &MotionSegment::start_rate),
+  };
+}
+
+std::vector<Field<MotionInput>> MotionFields() {
+  auto is = [](MotionKind kind) { return [kind](const MotionInput& in) { return in.law == kind; }; };
+  auto is_not_piecewise = [](const MotionInput& in) { return in.law != MotionKind::kPiecewise; };
+  return {
+      Choice<MotionInput, MotionKind>(
+          "law", Presence::kOptional,
+          {{"article", MotionKind::kArticle}, {"test_bench", MotionKind::kTestBench}, {"piecewise", MotionKind::kPiecewise}},
+          &MotionInput::law),
+      Number("settle_s", Presence::kOptional, kSameUnit, AtLeast(0.0), &MotionInput::settle)
+          .When(is_not_piecewise, "law = \"article\" or \"test_bench\""),
+      Number("rate_deg_per_s", Presence::kOptional, kRadiansPerDegree, AnyFinite(), &MotionInput::rate)
+          .When(is(MotionKind::kArticle), "law = \"article\""),
+      Number("revolutions", Presence::kOptional, kSameUnit, Above(0.0), &MotionInput::revolutions)
+          .When(is(MotionKind::kArticle), "law = \"article\""),
+      Field<MotionInput>{"segments", Presence::kRequired, std::string(kSegmentsAllowed),
+                         [](const Site& site, MotionInput& in) {
+                           for (const TableReader& table : ReadTableArray(site, 1, kSegmentsAllowed)) {
+                             engine::MotionSegment segment;
+                             table.Read(SegmentFields(), segment);
+                             in.segments.push_back(segment);
+                           }
+                         },
+                         {}, {}}
+          .When(is(MotionKind::kPiecewise), "law = \"piecewise\""),
+  };
+}
+
+void ReadMotion(const TableReader& table, engine::Scene& scene) {
+  MotionInput in;
+  table.Read(MotionFields(), in);
+  constexpr double kDegree = std::numbers::pi / 180.0;
+  switch (in.law) {
+    case MotionKind::kArticle:
+      if (in.rate && *in.rate == 0.0) table.Fail("rate_deg_per_s", "zero: the ring would never turn", "any non-zero number");
+      scene.motion = engine::ArticleLaw(in.settle.value_or(0.5), in.rate.value_or(270.0 * kDegree), in.revolutions.value_or(3.0));
+      break;
+    case MotionKind::kTestBench:
+      scene.motion = engine::TestBenchLaw(in.settle.value_or(0.5));
+      break;
+    case MotionKind::kPiecewise:
+      // Every segment was range-checked as it was read, so the law cannot refuse it.
+      scene.motion = engine::MotionLaw(in.segments);
+      break;
+  }
+}
+
+std::vector<Field<engine::DynamicModel>> DynamicsFields() {
+  using engine::DynamicModel;
+  return {
+      Flag("friction", Presence::kOptional, &DynamicModel::friction),
+      Flag("rolling_without_slip", Presence::kOptional, &DynamicModel::rolling_without_slip),
+      Flag("massless_spring_rollers", Presence::kOptional, &DynamicModel::massless_spring_rollers),
+  };
+}
+
 std::vector<Field<engine::Scene>> SensorFields() {
   return {Number("angle_deg", Presence::kOptional, kRadiansPerDegree, AnyFinite(), &engine::Scene::sensor_angle)};
 }
@@ -265,6 +346,9 @@ std::vector<Field<engine::Scene>> SceneFields() {
       Section<Scene>("friction", Presence::kOptional, ReadFriction),
       Section<Scene>("sensor", Presence::kOptional,
                      [](const TableReader& table, Scene& scene) { table.Read(SensorFields(), scene); }),
+      Section<Scene>("motion", Presence::kOptional, ReadMotion),
+      Section<Scene>("dynamics", Presence::kOptional,
+                     [](const TableReader& table, Scene& scene) { table.Read(DynamicsFields(), scene.dynamics); }),
   };
 }
 

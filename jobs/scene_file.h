@@ -49,6 +49,20 @@
 //     transition_velocity_mm_per_s  > stiction_velocity_mm_per_s, default 50
 //   [sensor]                     optional
 //     angle_deg                  default 0
+//   [motion]                     optional; the imposed rotation (engine/motion_law.h), read
+//                                by the dynamic solver only
+//     law                        "article" (default), "test_bench" or "piecewise"
+//     settle_s                   >= 0, default 0.5; article and test_bench: at rest first
+//     rate_deg_per_s             non-zero, default 270; article only (negative: clockwise)
+//     revolutions                > 0, default 3; article only: the law's listed span (the
+//                                ring keeps turning after it)
+//     segments                   piecewise only, required: [{ duration_s > 0,
+//                                acceleration_deg_per_s2 = 0, start_rate_deg_per_s (absent:
+//                                continue the previous segment's end rate) }, ...]
+//   [dynamics]                   optional; what the dynamic solver models (engine::DynamicModel)
+//     friction                   true (default) or false
+//     rolling_without_slip       false (default) or true
+//     massless_spring_rollers    false (default) or true
 //
 // Failure: InputError (jobs/input_error.h) for a missing, unreadable or malformed file,
 // an unknown or missing key (anywhere, including inside harmonic tables), a wrong type,

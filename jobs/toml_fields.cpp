@@ -145,6 +145,12 @@ std::string ReadText(const Site& site, std::string_view allowed) {
   return text->get();
 }
 
+bool ReadFlag(const Site& site) {
+  const auto* flag = site.node.as_boolean();
+  if (flag == nullptr) FailType(site, "a boolean", "true or false");
+  return flag->get();
+}
+
 const toml::table& ReadTable(const Site& site, std::string_view allowed) {
   const auto* table = site.node.as_table();
   if (table == nullptr) FailType(site, "a table", allowed);

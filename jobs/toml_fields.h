@@ -91,6 +91,7 @@ struct Site {
 double ReadNumber(const Site& site, const Range& range);  // in file units
 int ReadInteger(const Site& site, const Range& range);    // range within int
 std::string ReadText(const Site& site, std::string_view allowed);  // non-empty string
+bool ReadFlag(const Site& site);                                    // true or false
 const toml::table& ReadTable(const Site& site, std::string_view allowed);
 const toml::array& ReadArray(const Site& site, std::string_view allowed);
 // Array of harmonic tables {order, amplitude_mm, phase_deg}, converted to SI.
@@ -148,6 +149,12 @@ Field<T> Text(std::string_view key, Presence presence, std::string_view allowed,
             target.*member = ReadText(site, allowed);
           },
           {}, {}};
+}
+
+template <typename T>
+Field<T> Flag(std::string_view key, Presence presence, bool T::*member) {
+  return {key, presence, "true or false",
+          [member](const Site& site, T& target) { target.*member = ReadFlag(site); }, {}, {}};
 }
 
 // A string from a fixed set, stored as the matching enumerator.

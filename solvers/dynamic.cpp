@@ -733,10 +733,12 @@ Trajectory SampleRevolution(const Scene& scene, RingDynamics& dynamics, Integrat
   Trajectory trajectory;
   const engine::MotionLaw& law = scene.motion;
   const double start = law.RotationStart();
-  const double first_angle = 2.0 * std::numbers::pi * revolution;
+  // A law that starts clockwise samples the revolution at psi_k = -2 pi k / steps.
+  const double sense = law.RateIn(law.SegmentAt(start), start) < 0.0 ? -1.0 : 1.0;
+  const double first_angle = sense * 2.0 * std::numbers::pi * revolution;
   const auto z = static_cast<std::size_t>(dynamics.rollers());
   for (int k = 0; k <= steps; ++k) {
-    const double psi = 2.0 * std::numbers::pi * k / steps;
+    const double psi = sense * 2.0 * std::numbers::pi * k / steps;
     const double t = k == 0 && revolution == 0 ? start : law.TimeAtAngle(first_angle + psi, start);
     if (!std::isfinite(t)) {
       trajectory.status = Status::kIntegrationFailed;
@@ -886,8 +888,9 @@ Trajectory DynamicSolver::SolveRevolution(const Scene& scene, int steps) const {
   Trajectory trajectory = SampleRevolution(scene, dynamics, integrator, 0, steps);
   trajectory.initial = initial;
   const int later = options_.steady_revolution;
+  const double sense = scene.motion.RateIn(scene.motion.SegmentAt(start), start) < 0.0 ? -1.0 : 1.0;
   if (trajectory.status == Status::kOk && later > 0 &&
-      std::isfinite(scene.motion.TimeAtAngle(2.0 * std::numbers::pi * (later + 1), start))) {
+      std::isfinite(scene.motion.TimeAtAngle(sense * 2.0 * std::numbers::pi * (later + 1), start))) {
     auto steady = std::make_shared<Trajectory>(SampleRevolution(scene, dynamics, integrator, later, steps));
     steady->initial = initial;
     trajectory.total_iterations = steady->total_iterations;

@@ -62,6 +62,12 @@ TEST(Cli, EveryCommandHasHelp) {
     EXPECT_EQ(run.exit_code, 0) << command;
     EXPECT_THAT(run.out, HasSubstr("--solver")) << command;
     EXPECT_THAT(run.out, HasSubstr("--json")) << command;
+    EXPECT_THAT(run.out, HasSubstr("dynamic")) << command;
+  }
+  for (const char* command : {"bench", "bench dynamics"}) {
+    const Outcome run = Ringtol(std::string(command) + " --help");
+    EXPECT_EQ(run.exit_code, 0) << command;
+    EXPECT_THAT(run.out, HasSubstr("dynamics")) << command;
   }
 }
 
@@ -138,6 +144,61 @@ TEST(Cli, UnknownSolverIsRejected) {
   const Outcome run = Ringtol("simulate " + Example("scene.toml") + " --solver magic");
   EXPECT_NE(run.exit_code, 0);
   EXPECT_THAT(run.err, HasSubstr("magic"));
+}
+
+// A short dynamic scene: the order-3 example with a 0.05 s settle and a tenth of a
+// revolution listed, so a history is 100 ms long and a steady revolution exists.
+std::filesystem::path ShortDynamicScene() {
+  const std::filesystem::path scene = std::filesystem::path(::testing::TempDir()) / "ringtol_dynamic_scene.toml";
+  std::ifstream in(Example("order3.toml"));
+  std::stringstream text;
+  text << in.rdbuf() << "\n[motion]\nsettle_s = 0.05\nrevolutions = 0.1\n";
+  std::ofstream(scene) << text.str();
+  return scene;
+}
+
+TEST(Cli, DynamicSimulateWritesItsHistoryAndSteadyRevolution) {
+  const std::filesystem::path csv = std::filesystem::path(::testing::TempDir()) / "ringtol_history.csv";
+  const Outcome run = Ringtol("simulate " + ShortDynamicScene().string() +
+                              " --solver dynamic --steps 90 --json --history " + csv.string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["solver"], "dynamic");
+  EXPECT_EQ(j["status"], "ok") << j.dump();
+  ASSERT_TRUE(j.contains("steady"));
+  EXPECT_EQ(j["steady"]["status"], "ok");
+  EXPECT_TRUE(j["steady"]["d_trajectory_mm"].is_number());
+  EXPECT_EQ(j["history_status"], "ok");
+  std::ifstream in(csv);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_THAT(header, HasSubstr("time_s,psi_deg,x_um,y_um,spring_travel_um,spring_spin_deg,"));
+  EXPECT_THAT(header, HasSubstr("fixed_b_slip_mm_per_s"));
+  int rows = 0;
+  for (std::string line; std::getline(in, line);) ++rows;
+  // 0.05 s + 0.1 revolution at 270 deg/s (0.1333 s) = 0.1833 s at 1 ms: 184 samples.
+  EXPECT_EQ(rows, 184);
+}
+
+TEST(Cli, HistoryNeedsTheDynamicSolverAndSaysSoBeforeAnyWork) {
+  const Outcome run = Ringtol("simulate " + Example("scene.toml") + " --history /tmp/never.csv");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_THAT(run.err, HasSubstr("--history"));
+  EXPECT_THAT(run.err, HasSubstr("--solver dynamic"));
+  EXPECT_TRUE(run.out.empty()) << run.out;
+}
+
+TEST(Cli, QuasistaticJsonHasNoSteadyRevolution) {
+  const Outcome run = Ringtol("simulate " + Example("order3.toml") + " --json --steps 90");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_FALSE(nlohmann::json::parse(run.out).contains("steady"));
+}
+
+TEST(Cli, BenchDynamicsPrintsBothTables) {
+  const Outcome run = Ringtol("bench dynamics " + Example("scene.toml") + " --orders 3 --rates-deg-per-s 10 100");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("Start transient at 270 deg/s after a 0.5 s settle"));
+  EXPECT_THAT(run.out, HasSubstr("1 um above"));
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <fstream>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -456,6 +457,77 @@ TEST(SceneFile, RejectsATableWhereANumberIsExpected) {
   EXPECT_THAT(ErrorFor(PaperSceneWith("angle_deg = 0.0 ", "angle_deg = { value = 0 } ")),
               AllOf(HasSubstr("bad.toml:"), HasSubstr("sensor.angle_deg = { value = 0 }"),
                     HasSubstr("expected a number, found table")));
+}
+
+// ---- [motion] and [dynamics]
+
+engine::Scene SceneWith(const std::string& tables) { return ParseScene(std::string(kMinimalScene) + "\n" + tables, "bad.toml"); }
+
+TEST(SceneFile, DefaultsToTheArticleLawWithEveryStateModelled) {
+  const engine::Scene scene = ParseScene(PaperSceneText(), "scene.toml");
+  EXPECT_EQ(scene.motion, engine::ArticleLaw());
+  EXPECT_EQ(scene.dynamics, engine::DynamicModel{});
+}
+
+TEST(SceneFile, ReadsEachKindOfMotionLaw) {
+  EXPECT_EQ(SceneWith("[motion]\nsettle_s = 2\nrate_deg_per_s = -90\nrevolutions = 1.5\n").motion,
+            engine::ArticleLaw(2.0, -90.0 * kDeg, 1.5));
+  EXPECT_EQ(SceneWith("[motion]\nlaw = \"test_bench\"\nsettle_s = 0\n").motion, engine::TestBenchLaw(0.0));
+  const engine::MotionLaw piecewise = SceneWith(
+      "[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 0.5 }, { duration_s = 1, acceleration_deg_per_s2 = "
+      "90 }, { duration_s = 2, start_rate_deg_per_s = -30 }]\n").motion;
+  EXPECT_EQ(piecewise, engine::MotionLaw({{.duration = 0.5, .acceleration = 0.0, .start_rate = std::nullopt},
+                                          {.duration = 1.0, .acceleration = 90.0 * kDeg, .start_rate = std::nullopt},
+                                          {.duration = 2.0, .acceleration = 0.0, .start_rate = -30.0 * kDeg}}));
+}
+
+TEST(SceneFile, ReadsTheDynamicModelSwitches) {
+  const engine::Scene scene =
+      SceneWith("[dynamics]\nfriction = false\nrolling_without_slip = true\nmassless_spring_rollers = true\n");
+  EXPECT_FALSE(scene.dynamics.friction);
+  EXPECT_TRUE(scene.dynamics.rolling_without_slip);
+  EXPECT_TRUE(scene.dynamics.massless_spring_rollers);
+}
+
+TEST(SceneFile, RejectsKeysThatDoNotBelongToTheChosenLaw) {
+  try {
+    SceneWith("[motion]\nlaw = \"test_bench\"\nrate_deg_per_s = 100\n");
+    FAIL() << "accepted a rate for the test-bench law";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), AllOf(HasSubstr("bad.toml:"), HasSubstr("motion.rate_deg_per_s = 100"),
+                                HasSubstr("only when law = \"article\"")));
+  }
+  try {
+    SceneWith("[motion]\nsegments = [{ duration_s = 1 }]\n");
+    FAIL() << "accepted segments for the article law";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), AllOf(HasSubstr("motion.segments"), HasSubstr("only when law = \"piecewise\"")));
+  }
+}
+
+TEST(SceneFile, RejectsBadMotionValuesNamingKeyAndRange) {
+  auto error = [](const std::string& tables) {
+    try {
+      SceneWith(tables);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_THAT(error("[motion]\nlaw = \"spline\"\n"),
+              AllOf(HasSubstr("motion.law = \"spline\""), HasSubstr("\"article\", \"test_bench\", \"piecewise\"")));
+  EXPECT_THAT(error("[motion]\nrate_deg_per_s = 0\n"), AllOf(HasSubstr("motion.rate_deg_per_s = 0"), HasSubstr("non-zero")));
+  EXPECT_THAT(error("[motion]\nsettle_s = -1\n"), AllOf(HasSubstr("motion.settle_s = -1"), HasSubstr(">= 0")));
+  EXPECT_THAT(error("[motion]\nrevolutions = 0\n"), AllOf(HasSubstr("motion.revolutions = 0"), HasSubstr("> 0")));
+  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\n"), AllOf(HasSubstr("motion.segments"), HasSubstr("missing")));
+  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = []\n"), HasSubstr("motion.segments"));
+  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 0 }]\n"),
+              AllOf(HasSubstr("motion.segments[0].duration_s = 0"), HasSubstr("> 0")));
+  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 1, jerk = 2 }]\n"),
+              HasSubstr("unknown key 'motion.segments[0].jerk'"));
+  EXPECT_THAT(error("[dynamics]\nfriction = \"yes\"\n"),
+              AllOf(HasSubstr("dynamics.friction = \"yes\""), HasSubstr("true or false")));
+  EXPECT_THAT(error("[dynamics]\ninertia = false\n"), HasSubstr("unknown key 'dynamics.inertia'"));
 }
 
 }  // namespace

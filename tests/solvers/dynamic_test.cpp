@@ -240,6 +240,32 @@ TEST(DynamicSolver, ExplicitBaselineBelowItsLimitAgreesWithTheImplicitDefault) {
   EXPECT_LT(LargestDistance(implicit.centre, explicit_path.centre), kAgreement);
 }
 
+// Turning the other way samples the revolution at psi_k = -2 pi k / steps. With one ring
+// harmonic and the roller layout symmetric about the spring axis, mirroring the scene
+// (x -> -x, phase -> -phase) maps a clockwise run onto a counter-clockwise one, so the
+// two diameters agree to the integration tolerance.
+TEST(DynamicSolver, AClockwiseLawIsTheMirrorOfACounterClockwiseOne) {
+  constexpr double kMirror = 0.05e-6;  // [m] two runs at the default tolerance (~0.02 um each)
+  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
+  scene.dynamics = {.friction = false, .rolling_without_slip = true, .massless_spring_rollers = false};
+  testing::SetRing(scene, {{3, 0.14e-3, 20.0 * kDeg}});
+  scene.motion = engine::ArticleLaw(0.5, 270.0 * kDeg, 1.0);
+  const solvers::Trajectory forward = solvers::DynamicSolver(FirstRevolutionOnly()).SolveRevolution(scene, 72);
+  // Mirror about the y axis (the spring roller's axis): theta -> pi - theta turns
+  // cos(3 theta + phi) into cos(3 theta - phi + 3 pi) = -cos(3 theta - phi).
+  testing::SetRing(scene, {{3, 0.14e-3, 180.0 * kDeg - 20.0 * kDeg}});
+  scene.motion = engine::ArticleLaw(0.5, -270.0 * kDeg, 1.0);
+  const solvers::Trajectory backward = solvers::DynamicSolver(FirstRevolutionOnly()).SolveRevolution(scene, 72);
+  ASSERT_EQ(forward.status, solvers::Status::kOk) << forward.message;
+  ASSERT_EQ(backward.status, solvers::Status::kOk) << backward.message;
+  EXPECT_DOUBLE_EQ(backward.psi.back(), -2.0 * std::numbers::pi);
+  double largest = 0.0;
+  for (std::size_t k = 0; k < forward.centre.size(); ++k) {
+    largest = std::max(largest, (forward.centre[k] - Eigen::Vector2d(-backward.centre[k].x(), backward.centre[k].y())).norm());
+  }
+  EXPECT_LT(largest, kMirror);
+}
+
 TEST(DynamicSolver, ScenesWithoutMassOrWithRigidContactAreAStatus) {
   engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
   scene.ring.mass = 0.0;
