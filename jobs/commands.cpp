@@ -11,6 +11,7 @@
 #include "jobs/input_error.h"
 #include "jobs/results_output.h"
 #include "jobs/scene_file.h"
+#include "jobs/solver_ladder.h"
 #include "jobs/sweep_file.h"
 #include "solvers/dynamic.h"
 #include "solvers/simulation.h"
@@ -121,6 +122,23 @@ int RunBenchDynamics(const BenchDynamicsCommand& command, std::ostream& out) {
   }
   const DynamicStudy study = RunDynamicStudy(scene, options, nullptr);
   PrintDynamicStudy(out, study);
+  return 0;
+}
+
+int RunBenchLadder(const BenchLadderCommand& command, std::ostream& out, std::ostream& progress) {
+  const engine::Scene scene = ReadScene(command.scene);
+  std::ofstream csv;
+  if (!command.csv.empty()) csv = OpenOutput(command.csv, "--csv");
+  std::ofstream svg;
+  if (!command.svg.empty()) svg = OpenOutput(command.svg, "--svg");
+  LadderOptions options;
+  options.cases = command.cases;
+  options.repeats = command.repeats;
+  options.explicit_full_model = command.explicit_full_model;
+  const LadderResult result = RunLadder(scene, options, &progress);
+  PrintLadder(out, result);
+  if (csv.is_open()) WriteLadderCsv(csv, result);
+  if (svg.is_open()) WriteLadderSvg(svg, result);
   return 0;
 }
 

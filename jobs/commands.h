@@ -42,4 +42,15 @@ struct BenchDynamicsCommand {
 };
 int RunBenchDynamics(const BenchDynamicsCommand& command, std::ostream& out);
 
+// `ringtol bench ladder`: jobs/solver_ladder.h on one scene, as a table, a CSV and an SVG.
+struct BenchLadderCommand {
+  std::filesystem::path scene;
+  std::string cases = "all";
+  int repeats = 3;
+  bool explicit_full_model = false;
+  std::filesystem::path csv;  // empty: none
+  std::filesystem::path svg;  // empty: none
+};
+int RunBenchLadder(const BenchLadderCommand& command, std::ostream& out, std::ostream& progress);
+
 }  // namespace ringtol::jobs

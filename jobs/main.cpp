@@ -66,11 +66,29 @@ int main(int argc, char** argv) {
                            "Steady speeds to compare (default: 1 3 10 30 90 270)")
       ->check(CLI::PositiveNumber);
 
+  ringtol::jobs::BenchLadderCommand ladder;
+  CLI::App* ladder_app = bench_app->add_subcommand(
+      "ladder", "Speed against accuracy of every rung and setting on the article's order and amplitude studies");
+  ladder_app->add_option("scene", ladder.scene, "Scene file (TOML) whose error-free assembly the studies use")
+      ->required()
+      ->check(CLI::ExistingFile);
+  ladder_app->add_option("--cases", ladder.cases, "orders, amplitudes or all")
+      ->check(CLI::IsMember({"orders", "amplitudes", "all"}))
+      ->capture_default_str();
+  ladder_app->add_option("--repeats", ladder.repeats, "Timing repetitions per method and case (median)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  ladder_app->add_flag("--explicit-full-model", ladder.explicit_full_model,
+                       "Also run explicit RK4 on the full model at 65 ns (order-2 case only, about 3 minutes)");
+  ladder_app->add_option("--csv", ladder.csv, "Write one row per method to this CSV file");
+  ladder_app->add_option("--svg", ladder.svg, "Write the speed-against-accuracy chart to this SVG file");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*simulate_app) return ringtol::jobs::RunSimulate(simulate, std::cout);
     if (*sweep_app) return ringtol::jobs::RunSweep(sweep, std::cout);
     if (*dynamics_app) return ringtol::jobs::RunBenchDynamics(dynamics, std::cout);
+    if (*ladder_app) return ringtol::jobs::RunBenchLadder(ladder, std::cout, std::cerr);
   } catch (const ringtol::jobs::InputError& e) {
     std::cerr << "ringtol: error: " << e.what() << "\n";
     return 1;

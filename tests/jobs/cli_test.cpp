@@ -64,10 +64,14 @@ TEST(Cli, EveryCommandHasHelp) {
     EXPECT_THAT(run.out, HasSubstr("--json")) << command;
     EXPECT_THAT(run.out, HasSubstr("dynamic")) << command;
   }
-  for (const char* command : {"bench", "bench dynamics"}) {
+  const Outcome bench = Ringtol("bench --help");
+  EXPECT_EQ(bench.exit_code, 0);
+  EXPECT_THAT(bench.out, HasSubstr("dynamics"));
+  EXPECT_THAT(bench.out, HasSubstr("ladder"));
+  for (const char* command : {"bench dynamics", "bench ladder"}) {
     const Outcome run = Ringtol(std::string(command) + " --help");
     EXPECT_EQ(run.exit_code, 0) << command;
-    EXPECT_THAT(run.out, HasSubstr("dynamics")) << command;
+    EXPECT_THAT(run.out, HasSubstr("Scene file")) << command;
   }
 }
 
