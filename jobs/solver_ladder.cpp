@@ -197,7 +197,9 @@ LadderResult RunLadder(const engine::Scene& scene, const LadderOptions& options,
     std::vector<double> times;
     double numerical = 0.0;
     for (const Case& c : cases) {
-      if (!method.only_case.empty() && c.name != method.only_case) continue;
+      // The order and amplitude studies share a case: a method meant for one case runs
+      // on its first occurrence only.
+      if (!method.only_case.empty() && (c.name != method.only_case || row.cases_run > 0)) continue;
       engine::Scene scene_for_method = c.scene;
       method.adapt(scene_for_method);
       const int steps = std::max(1, static_cast<int>(std::lround(method.steps_factor * c.steps)));
