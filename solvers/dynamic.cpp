@@ -558,7 +558,7 @@ class Integrator {
       ok_ = erk_ != nullptr && ERKStepSetTableNum(erk_, ARKODE_ZONNEVELD_5_3_4) == ARK_SUCCESS &&
             ERKStepSetFixedStep(erk_, options.explicit_step) == ARK_SUCCESS &&
             ERKStepSetUserData(erk_, this) == ARK_SUCCESS &&
-            ERKStepSetMaxNumSteps(erk_, options.max_steps) == ARK_SUCCESS &&
+            ERKStepSetMaxNumSteps(erk_, -1) == ARK_SUCCESS &&
             ERKStepSetErrHandlerFn(erk_, &SilentErrors, nullptr) == ARK_SUCCESS;
     } else {
       tolerance_ = N_VNew_Serial(n, context_);
@@ -627,6 +627,10 @@ class Integrator {
                              : std::string("CVODE stopped with ") + CVodeGetReturnFlagName(flag);
         message_ += " at t = " + Seconds(reached);
         if (!dynamics_.failure().empty()) message_ += ": " + dynamics_.failure();
+        if (!explicit_ && flag == CV_TOO_MUCH_WORK) {
+          message_ += " (the step budget between two outputs ran out: a stiff switch such as stiction with a tiny "
+                      "transition velocity; rolling_without_slip removes it)";
+        }
         return false;
       }
       t_ = reached;

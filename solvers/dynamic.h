@@ -58,7 +58,11 @@ struct DynamicOptions {
   // ring orders 2 to 20 at 0.14 mm (README, `ringtol bench ladder`); 1e-5 is about 1.5
   // times faster at <= 0.13 um.
   double relative_tolerance = 1e-6;  // [-] > 0
-  long max_steps = 20'000'000;       // integrator steps between two outputs
+  // BDF steps allowed between two outputs (an output every sample angle, and at the end
+  // of the settle) before the run stops with kIntegrationFailed (CV_TOO_MUCH_WORK):
+  // the default runs take a few hundred. The explicit method's fixed step sets its work
+  // in advance and has no such limit.
+  long max_steps = 100'000;
   // Let CVODE build the Newton matrix by difference quotients (one dynamics evaluation
   // per state) instead of the analytic Jacobian: a cross-check, and a fallback.
   bool difference_quotient_jacobian = false;

@@ -266,6 +266,30 @@ TEST(DynamicSolver, AClockwiseLawIsTheMirrorOfACounterClockwiseOne) {
   EXPECT_LT(largest, kMirror);
 }
 
+// Stiction with a transition velocity 100 times smaller (0.1 mm/s) still integrates and
+// barely moves the path of round rollers, which need no torque once rolling (measured
+// 0.012 um on D). At 10000 times smaller (1 um/s) the friction law's slope, 1.5 mu_s /
+// v_s, makes the spin-up after the step a stiff and nearly discontinuous switch that
+// BDF cannot step through (at 10 um/s it sometimes can): the run must stop with the
+// integrator's reason within its step budget, not hang and not return a number.
+TEST(DynamicSolver, StictionWithATinyTransitionVelocityStopsWithAReason) {
+  constexpr double kStictionShare = 0.1e-6;  // [m] eight times the measured change
+  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
+  testing::SetRing(scene, {{2, 0.14e-3, 45.0 * kDeg}});
+  const solvers::Trajectory reference = solvers::DynamicSolver(FirstRevolutionOnly()).SolveRevolution(scene, 36);
+  scene.friction.stiction_velocity = 1e-4;
+  scene.friction.transition_velocity = 5e-4;
+  const solvers::Trajectory sharper = solvers::DynamicSolver(FirstRevolutionOnly()).SolveRevolution(scene, 36);
+  ASSERT_EQ(reference.status, solvers::Status::kOk) << reference.message;
+  ASSERT_EQ(sharper.status, solvers::Status::kOk) << sharper.message;
+  EXPECT_LT(LargestDistance(reference.centre, sharper.centre), kStictionShare);
+  scene.friction.stiction_velocity = 1e-6;
+  scene.friction.transition_velocity = 5e-6;
+  const solvers::Trajectory sharpest = solvers::DynamicSolver(FirstRevolutionOnly()).SolveRevolution(scene, 36);
+  EXPECT_EQ(sharpest.status, solvers::Status::kIntegrationFailed);
+  EXPECT_NE(sharpest.message.find("CV_TOO_MUCH_WORK"), std::string::npos) << sharpest.message;
+}
+
 TEST(DynamicSolver, ScenesWithoutMassOrWithRigidContactAreAStatus) {
   engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
   scene.ring.mass = 0.0;
