@@ -94,6 +94,7 @@ class RingDynamics {
     guesses_.resize(n);
     have_guess_.assign(n, false);
     touching_.resize(n);
+    push_.assign(n, 0.0);
     normal_force_.assign(n, 0.0);
     friction_force_.assign(n, 0.0);
     slip_.assign(n, 0.0);
@@ -146,6 +147,7 @@ class RingDynamics {
   // a contact search fails, a roller sinks deeper than half its radius or a massless
   // spring roller leaves the bore, with the reason in failure().
   int Derivatives(double t, const double* y, double* dydt) {
+    evaluated_at_ = t;
     const engine::MotionLaw& law = scene_.motion;
     const double psi = law.AngleIn(segment_, t);
     const double ring_rate = law.RateIn(segment_, t);
@@ -218,6 +220,7 @@ class RingDynamics {
                       c.gap_curvature,
                       psi,
                       ring_rate};
+      push_[k] = load.push;
       normal_force_[k] = load.normal;
       friction_force_[k] = load.friction;
       slip_[k] = load.slip;
@@ -239,6 +242,27 @@ class RingDynamics {
     }
     dydt[2] = ring_force.x() / scene_.ring.mass;
     dydt[3] = ring_force.y() / scene_.ring.mass;
+    return 0;
+  }
+
+  // The separation event functions at (t, y): each roller's ContactLoad::push. CVODE asks
+  // for them at the end of every accepted step, where its corrector has just evaluated
+  // the dynamics at that time (the kept values differ from exact ones by the corrector's
+  // tolerance, which only moves a sign change by as much), and at every output time,
+  // inside that same step. Answering an output time with the step end's values only
+  // hides an opening that also closes within the step, which checking at step ends
+  // misses anyway; so while every contact pushes with at least a quarter of the
+  // strongest one, the kept values serve. Otherwise, and while CVODE locates a sign
+  // change, they are evaluated exactly. (Exact evaluations at the ~360 outputs of a
+  // revolution would add a third to its cost.)
+  int Separation(double t, const double* y, double* push) {
+    const auto [weakest, strongest] = std::minmax_element(push_.begin(), push_.end());
+    const bool comfortable = *weakest > 0.25 * *strongest;
+    if (t != evaluated_at_ && !comfortable) {
+      std::vector<double> rates(static_cast<std::size_t>(size_));
+      if (const int flag = Derivatives(t, y, rates.data()); flag != 0) return flag;
+    }
+    std::copy(push_.begin(), push_.end(), push);
     return 0;
   }
 
@@ -399,6 +423,20 @@ class RingDynamics {
     }
   }
 
+  // The sample at (t, y), evaluated without disturbing what Separation keeps from the
+  // integrator's own last evaluation (an output between steps would otherwise force an
+  // exact re-evaluation at the next step's end).
+  DynamicSample Observe(double t, const double* y) {
+    const double evaluated_at = evaluated_at_;
+    const std::vector<double> push = push_;
+    std::vector<double> rates(static_cast<std::size_t>(size_));
+    Derivatives(t, y, rates.data());
+    DynamicSample sample = Sample(t, y);
+    evaluated_at_ = evaluated_at;
+    push_ = push;
+    return sample;
+  }
+
   // The sample at the state last given to Derivatives.
   DynamicSample Sample(double t, const double* y) const {
     DynamicSample sample;
@@ -416,6 +454,10 @@ class RingDynamics {
 
  private:
   struct ContactLoad {
+    // [N] k delta^e + c delta' before the clamp at zero when overlapping, k_lin * delta
+    // (negative) when apart: continuous through touching, negative exactly when the
+    // contact would have to pull or is open. Separation events watch its sign.
+    double push = 0.0;
     double normal = 0.0;    // [N]
     double friction = 0.0;  // [N] on the ring, against +tangent when the slip is positive
     double slip = 0.0;      // [m/s]
@@ -427,10 +469,14 @@ class RingDynamics {
   ContactLoad Load(double depth, const Eigen::Vector2d& relative, const engine::Contact& c) const {
     ContactLoad load;
     load.slip = relative.dot(c.tangent);
-    if (depth <= 0.0) return load;
     const engine::ContactLaw& law = scene_.contact;
+    if (depth <= 0.0) {
+      load.push = law.stiffness * depth;  // any negative slope keeps the sign; k itself keeps units
+      return load;
+    }
     const double depth_rate = -relative.dot(c.normal);
-    load.normal = std::max(law.stiffness * std::pow(depth, law.exponent) + Damping(depth) * depth_rate, 0.0);
+    load.push = law.stiffness * std::pow(depth, law.exponent) + Damping(depth) * depth_rate;
+    load.normal = std::max(load.push, 0.0);
     if (spin_states_) load.friction = FrictionCoefficient(load.slip, scene_.friction) * load.normal;
     return load;
   }
@@ -529,6 +575,8 @@ class RingDynamics {
     double ring_rate = 0.0;                              // [rad/s]
   };
   std::vector<Touching> touching_;
+  std::vector<double> push_;  // [N] ContactLoad::push per roller
+  double evaluated_at_ = std::numeric_limits<double>::quiet_NaN();  // [s] time of the last evaluation
   // Per roller at the last evaluation, for Sample.
   std::vector<double> normal_force_;    // [N]
   std::vector<double> friction_force_;  // [N]
@@ -600,6 +648,26 @@ class Integrator {
   // Integrator steps since the start, over every restart.
   long steps() const { return steps_before_restart_ + CurrentSteps(); }
 
+  // From now on, stop at every moment a contact starts to open (its push falls through
+  // zero) and record it in openings(): a separation between two samples is still found.
+  // BDF only; the explicit baseline sees contacts at its samples.
+  void WatchSeparations() {
+    if (explicit_ || !ok_) return;
+    watching_ = CVodeRootInit(cvode_, dynamics_.rollers(), &SeparationEvent) == CV_SUCCESS;
+    if (watching_) {
+      std::vector<int> falling(static_cast<std::size_t>(dynamics_.rollers()), -1);
+      CVodeSetRootDirection(cvode_, falling.data());
+      // A contact unloading onto zero exactly at a restart is no event.
+      CVodeSetNoInactiveRootWarn(cvode_);
+    }
+  }
+
+  struct Opening {
+    double time = 0.0;  // [s]
+    int roller = 0;
+  };
+  const std::vector<Opening>& openings() const { return openings_; }
+
   // Advances to t_out (>= time()), restarting at each breakpoint of the law on the way,
   // where the right-hand side jumps. False, with status() and message(), on failure.
   bool AdvanceTo(double t_out) {
@@ -619,6 +687,15 @@ class Integrator {
       } else {
         CVodeSetStopTime(cvode_, breakpoint);
         flag = CVode(cvode_, target, y_, &reached, CV_NORMAL);
+      }
+      if (flag == CV_ROOT_RETURN) {
+        std::vector<int> found(static_cast<std::size_t>(dynamics_.rollers()));
+        CVodeGetRootInfo(cvode_, found.data());
+        for (int i = 0; i < dynamics_.rollers(); ++i) {
+          if (found[static_cast<std::size_t>(i)] != 0) openings_.push_back({reached, i});
+        }
+        t_ = reached;
+        continue;
       }
       if (flag < 0) {
         ok_ = false;
@@ -672,6 +749,11 @@ class Integrator {
     return self->dynamics_.Derivatives(t, N_VGetArrayPointer(y), N_VGetArrayPointer(dydt));
   }
 
+  static int SeparationEvent(sunrealtype t, N_Vector y, sunrealtype* push, void* user_data) {
+    auto* self = static_cast<Integrator*>(user_data);
+    return self->dynamics_.Separation(t, N_VGetArrayPointer(y), push);
+  }
+
   static int Jacobian(sunrealtype t, N_Vector y, N_Vector, SUNMatrix jacobian, void* user_data, N_Vector, N_Vector,
                       N_Vector) {
     auto* self = static_cast<Integrator*>(user_data);
@@ -696,6 +778,8 @@ class Integrator {
   void* erk_ = nullptr;
   double t_ = 0.0;
   long steps_before_restart_ = 0;
+  bool watching_ = false;
+  std::vector<Opening> openings_;
   bool ok_ = false;
   Status status_ = Status::kOk;
   std::string message_;
@@ -712,9 +796,7 @@ Equilibrium Record(const DynamicSample& sample) {
 // The sample at the integrator's current state: evaluating the dynamics there makes the
 // contact loads belong to it.
 DynamicSample Observe(RingDynamics& dynamics, const Integrator& integrator) {
-  std::vector<double> scratch(static_cast<std::size_t>(dynamics.size()));
-  dynamics.Derivatives(integrator.time(), integrator.state(), scratch.data());
-  return dynamics.Sample(integrator.time(), integrator.state());
+  return dynamics.Observe(integrator.time(), integrator.state());
 }
 
 // Checks what a dynamic run needs before it starts; kOk when it can run.
@@ -741,6 +823,7 @@ Trajectory SampleRevolution(const Scene& scene, RingDynamics& dynamics, Integrat
   const double sense = law.RateIn(law.SegmentAt(start), start) < 0.0 ? -1.0 : 1.0;
   const double first_angle = sense * 2.0 * std::numbers::pi * revolution;
   const auto z = static_cast<std::size_t>(dynamics.rollers());
+  const std::size_t openings_before = integrator.openings().size();
   for (int k = 0; k <= steps; ++k) {
     const double psi = sense * 2.0 * std::numbers::pi * k / steps;
     const double t = k == 0 && revolution == 0 ? start : law.TimeAtAngle(first_angle + psi, start);
@@ -757,6 +840,13 @@ Trajectory SampleRevolution(const Scene& scene, RingDynamics& dynamics, Integrat
       return trajectory;
     }
     const DynamicSample sample = Observe(dynamics, integrator);
+    if (trajectory.status == Status::kOk && integrator.openings().size() > openings_before) {
+      const auto& opening = integrator.openings()[openings_before];
+      trajectory.status = Status::kLiftOff;
+      trajectory.failure_angle = law.Angle(opening.time) - law.Angle(start) - first_angle;
+      trajectory.message = "roller " + scene.rollers[static_cast<std::size_t>(opening.roller)].name +
+                           " starts to separate from the bore at t = " + Seconds(opening.time);
+    }
     trajectory.psi.push_back(psi);
     trajectory.centre.push_back(sample.centre);
     for (std::size_t i = 0; i < z; ++i) {
@@ -889,6 +979,9 @@ Trajectory DynamicSolver::SolveRevolution(const Scene& scene, int steps) const {
   Integrator& integrator = *run.integrator;
   const double start = scene.motion.RotationStart();
   const Equilibrium initial = Record(Observe(dynamics, integrator));
+  // The settle may bounce (the ring falls onto its fixed rollers); from rotation start on,
+  // any contact that opens, even between two samples, is lift-off.
+  integrator.WatchSeparations();
   Trajectory trajectory = SampleRevolution(scene, dynamics, integrator, 0, steps);
   trajectory.initial = initial;
   const int later = options_.steady_revolution;
