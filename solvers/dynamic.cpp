@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -57,6 +58,13 @@ double FrictionSlope(double v, const engine::Friction& f) {
     return StepSlope(v, -f.stiction_velocity, -f.static_coefficient, f.stiction_velocity, f.static_coefficient);
   }
   return StepSlope(speed, f.stiction_velocity, f.static_coefficient, f.transition_velocity, f.dynamic_coefficient);
+}
+
+// SUNDIALS' *GetReturnFlagName hand over a malloc'ed string the caller frees.
+std::string FlagName(char* name) {
+  const std::string copy = name != nullptr ? name : "an unknown flag";
+  std::free(name);
+  return copy;
 }
 
 std::string Seconds(double t) {
@@ -700,8 +708,8 @@ class Integrator {
       if (flag < 0) {
         ok_ = false;
         status_ = Status::kIntegrationFailed;
-        message_ = explicit_ ? std::string("ARKODE stopped with ") + ERKStepGetReturnFlagName(flag)
-                             : std::string("CVODE stopped with ") + CVodeGetReturnFlagName(flag);
+        message_ = explicit_ ? "ARKODE stopped with " + FlagName(ERKStepGetReturnFlagName(flag))
+                             : "CVODE stopped with " + FlagName(CVodeGetReturnFlagName(flag));
         message_ += " at t = " + Seconds(reached);
         if (!dynamics_.failure().empty()) message_ += ": " + dynamics_.failure();
         if (!explicit_ && flag == CV_TOO_MUCH_WORK) {

@@ -2,13 +2,14 @@
 // motion law), of each spring roller along its axis and of each roller's spin, with the
 // contact and friction laws of model.md §4:
 //   F_n = k delta^e + STEP(delta, 0, 0, d, c_max) delta'   (clamped at 0: no adhesion)
-//   F_t = mu(v_slip) F_n against the slip, mu rising to mu_s at v_s, falling to mu_d at v_d.
+//   F_t = mu(v_slip) F_n against the slip, mu the cubic STEP from -mu_s at -v_s to mu_s at
+//         v_s (Adams' contact friction: smooth through zero slip), then to mu_d at v_d.
 // Roller shape errors follow each roller's actual spin angle, which friction drives. The
 // scene's DynamicModel (engine/scene.h) says which of these states to keep.
 //
-// The ring starts centred and at rest, every roller at zero travel and zero spin, and
-// settles under the preload while the law holds the ring still; SolveStatic reports the
-// state when rotation starts. SolveRevolution samples the first revolution after that at
+// The ring starts centred and at rest, spring rollers pressed against it where spring and
+// contact stiffness balance, every roller still, and settles under the preload while the
+// law holds the ring still; SolveStatic reports the state when rotation starts. SolveRevolution samples the first revolution after that at
 // the times the imposed angle passes psi_k = 2 pi k / steps and, from the same run, a later
 // revolution as Trajectory::steady, so the start transient's share is visible.
 //
@@ -18,7 +19,10 @@
 // breakpoint of the motion law, where the rate or the acceleration jumps. Failures
 // (step-size collapse, repeated error-test or Newton failures, a contact search that
 // fails, a non-finite state, penetration deeper than half a roller's radius, a massless
-// spring roller that leaves the bore) come back as a status, never as numbers.
+// spring roller that leaves the bore, an explicit step above its stability limit) come
+// back as a status, never as numbers. From rotation start on, CVODE's root finder watches
+// each contact's push (k delta^e + c delta' before the clamp): a contact that opens, even
+// between two samples, is kLiftOff at the moment it opens.
 #pragma once
 
 #include <string>
