@@ -102,7 +102,7 @@ class RingDynamics {
     guesses_.resize(n);
     have_guess_.assign(n, false);
     touching_.resize(n);
-    push_.assign(n, 0.0);
+    depth_.assign(n, 0.0);
     normal_force_.assign(n, 0.0);
     friction_force_.assign(n, 0.0);
     slip_.assign(n, 0.0);
@@ -228,7 +228,7 @@ class RingDynamics {
                       c.gap_curvature,
                       psi,
                       ring_rate};
-      push_[k] = load.push;
+      depth_[k] = depth;
       normal_force_[k] = load.normal;
       friction_force_[k] = load.friction;
       slip_[k] = load.slip;
@@ -253,24 +253,27 @@ class RingDynamics {
     return 0;
   }
 
-  // The separation event functions at (t, y): each roller's ContactLoad::push. CVODE asks
+  // The separation event functions at (t, y): each roller's penetration [m], which falls
+  // through zero when its contact opens. (A force that drops to zero while the bodies
+  // still overlap is not an opening: at an ideal step in speed the damping term does that
+  // for a fraction of a microsecond, until the spring catches the roller up.) CVODE asks
   // for them at the end of every accepted step, where its corrector has just evaluated
   // the dynamics at that time (the kept values differ from exact ones by the corrector's
-  // tolerance, which only moves a sign change by as much), and at every output time,
+  // tolerance, which only moves a sign change by as much), and at every output time
   // inside that same step. Answering an output time with the step end's values only
   // hides an opening that also closes within the step, which checking at step ends
-  // misses anyway; so while every contact pushes with at least a quarter of the
-  // strongest one, the kept values serve. Otherwise, and while CVODE locates a sign
-  // change, they are evaluated exactly. (Exact evaluations at the ~360 outputs of a
-  // revolution would add a third to its cost.)
-  int Separation(double t, const double* y, double* push) {
-    const auto [weakest, strongest] = std::minmax_element(push_.begin(), push_.end());
-    const bool comfortable = *weakest > 0.25 * *strongest;
+  // misses anyway; so while every contact overlaps by at least a quarter of the deepest,
+  // the kept values serve. Otherwise, and while CVODE locates a sign change, they are
+  // evaluated exactly. (Exact evaluations at the ~360 outputs of a revolution would add
+  // a third to its cost.)
+  int Separation(double t, const double* y, double* depth) {
+    const auto [shallowest, deepest] = std::minmax_element(depth_.begin(), depth_.end());
+    const bool comfortable = *shallowest > 0.25 * *deepest;
     if (t != evaluated_at_ && !comfortable) {
       std::vector<double> rates(static_cast<std::size_t>(size_));
       if (const int flag = Derivatives(t, y, rates.data()); flag != 0) return flag;
     }
-    std::copy(push_.begin(), push_.end(), push);
+    std::copy(depth_.begin(), depth_.end(), depth);
     return 0;
   }
 
@@ -436,12 +439,12 @@ class RingDynamics {
   // exact re-evaluation at the next step's end).
   DynamicSample Observe(double t, const double* y) {
     const double evaluated_at = evaluated_at_;
-    const std::vector<double> push = push_;
+    const std::vector<double> depth = depth_;
     std::vector<double> rates(static_cast<std::size_t>(size_));
     Derivatives(t, y, rates.data());
     DynamicSample sample = Sample(t, y);
     evaluated_at_ = evaluated_at;
-    push_ = push;
+    depth_ = depth;
     return sample;
   }
 
@@ -454,6 +457,7 @@ class RingDynamics {
     for (int i = 0; i < rollers(); ++i) sample.travel.push_back(travel_index(i) >= 0 ? y[travel_index(i)] : 0.0);
     sample.spin_angle = spin_angle_;
     sample.spin_rate = spin_rate_;
+    sample.penetration = depth_;
     sample.normal_force = normal_force_;
     sample.friction_force = friction_force_;
     sample.slip = slip_;
@@ -462,10 +466,6 @@ class RingDynamics {
 
  private:
   struct ContactLoad {
-    // [N] k delta^e + c delta' before the clamp at zero when overlapping, k_lin * delta
-    // (negative) when apart: continuous through touching, negative exactly when the
-    // contact would have to pull or is open. Separation events watch its sign.
-    double push = 0.0;
     double normal = 0.0;    // [N]
     double friction = 0.0;  // [N] on the ring, against +tangent when the slip is positive
     double slip = 0.0;      // [m/s]
@@ -478,13 +478,9 @@ class RingDynamics {
     ContactLoad load;
     load.slip = relative.dot(c.tangent);
     const engine::ContactLaw& law = scene_.contact;
-    if (depth <= 0.0) {
-      load.push = law.stiffness * depth;  // any negative slope keeps the sign; k itself keeps units
-      return load;
-    }
+    if (depth <= 0.0) return load;
     const double depth_rate = -relative.dot(c.normal);
-    load.push = law.stiffness * std::pow(depth, law.exponent) + Damping(depth) * depth_rate;
-    load.normal = std::max(load.push, 0.0);
+    load.normal = std::max(law.stiffness * std::pow(depth, law.exponent) + Damping(depth) * depth_rate, 0.0);
     if (spin_states_) load.friction = FrictionCoefficient(load.slip, scene_.friction) * load.normal;
     return load;
   }
@@ -583,7 +579,7 @@ class RingDynamics {
     double ring_rate = 0.0;                              // [rad/s]
   };
   std::vector<Touching> touching_;
-  std::vector<double> push_;  // [N] ContactLoad::push per roller
+  std::vector<double> depth_;  // [m] penetration per roller
   double evaluated_at_ = std::numeric_limits<double>::quiet_NaN();  // [s] time of the last evaluation
   // Per roller at the last evaluation, for Sample.
   std::vector<double> normal_force_;    // [N]
@@ -656,7 +652,7 @@ class Integrator {
   // Integrator steps since the start, over every restart.
   long steps() const { return steps_before_restart_ + CurrentSteps(); }
 
-  // From now on, stop at every moment a contact starts to open (its push falls through
+  // From now on, stop at every moment a contact opens (its penetration falls through
   // zero) and record it in openings(): a separation between two samples is still found.
   // BDF only; the explicit baseline sees contacts at its samples.
   void WatchSeparations() {
@@ -757,9 +753,9 @@ class Integrator {
     return self->dynamics_.Derivatives(t, N_VGetArrayPointer(y), N_VGetArrayPointer(dydt));
   }
 
-  static int SeparationEvent(sunrealtype t, N_Vector y, sunrealtype* push, void* user_data) {
+  static int SeparationEvent(sunrealtype t, N_Vector y, sunrealtype* depth, void* user_data) {
     auto* self = static_cast<Integrator*>(user_data);
-    return self->dynamics_.Separation(t, N_VGetArrayPointer(y), push);
+    return self->dynamics_.Separation(t, N_VGetArrayPointer(y), depth);
   }
 
   static int Jacobian(sunrealtype t, N_Vector y, N_Vector, SUNMatrix jacobian, void* user_data, N_Vector, N_Vector,
@@ -852,15 +848,15 @@ Trajectory SampleRevolution(const Scene& scene, RingDynamics& dynamics, Integrat
       const auto& opening = integrator.openings()[openings_before];
       trajectory.status = Status::kLiftOff;
       trajectory.failure_angle = law.Angle(opening.time) - law.Angle(start) - first_angle;
-      trajectory.message = "roller " + scene.rollers[static_cast<std::size_t>(opening.roller)].name +
-                           " starts to separate from the bore at t = " + Seconds(opening.time);
+      trajectory.message = "the contact of roller " + scene.rollers[static_cast<std::size_t>(opening.roller)].name +
+                           " opens at t = " + Seconds(opening.time);
     }
     trajectory.psi.push_back(psi);
     trajectory.centre.push_back(sample.centre);
     for (std::size_t i = 0; i < z; ++i) {
       trajectory.travel.push_back(sample.travel[i]);
       trajectory.contact_force.push_back(sample.normal_force[i]);
-      if (trajectory.status == Status::kOk && sample.normal_force[i] <= 0.0) {
+      if (trajectory.status == Status::kOk && !(sample.penetration[i] > 0.0)) {
         trajectory.status = Status::kLiftOff;
         trajectory.failure_angle = psi;
         trajectory.message = "roller " + scene.rollers[i].name + " separates from the bore at t = " + Seconds(t);

@@ -21,8 +21,8 @@
 // fails, a non-finite state, penetration deeper than half a roller's radius, a massless
 // spring roller that leaves the bore, an explicit step above its stability limit) come
 // back as a status, never as numbers. From rotation start on, CVODE's root finder watches
-// each contact's push (k delta^e + c delta' before the clamp): a contact that opens, even
-// between two samples, is kLiftOff at the moment it opens.
+// each contact's penetration: a contact that opens, even between two samples, is kLiftOff
+// at the moment it opens (at samples too, a contact without overlap is kLiftOff).
 #pragma once
 
 #include <string>
@@ -80,6 +80,7 @@ struct DynamicSample {
   std::vector<double> travel;                      // [m] per roller, 0 for fixed ones
   std::vector<double> spin_angle;                  // [rad] per roller, body x axis from global +x
   std::vector<double> spin_rate;                   // [rad/s] per roller
+  std::vector<double> penetration;                 // [m] per roller, > 0 while touching
   std::vector<double> normal_force;                // [N] per roller, >= 0
   std::vector<double> friction_force;              // [N] per roller, on the ring along the contact tangent
   std::vector<double> slip;                        // [m/s] per roller, ring point minus roller point, along the tangent
