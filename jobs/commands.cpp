@@ -64,16 +64,17 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out) {
   const engine::Scene scene = ReadScene(command.scene);
   const auto solver = SolverByName(command.solver, command.relative_tolerance);
   const auto* dynamic = dynamic_cast<const solvers::DynamicSolver*>(solver.get());
-  std::ofstream trajectory;
-  if (!command.trajectory_csv.empty()) trajectory = OpenOutput(command.trajectory_csv, "--trajectory");
-  std::ofstream history_file;
+  // Every option is checked before any output file is opened (and so emptied).
   if (!command.history_csv.empty()) {
     if (dynamic == nullptr) throw InputError("--history: only the dynamic solver has a time history (--solver dynamic)");
     if (!(command.history_interval_ms > 0.0)) {
       throw InputError("--history-interval-ms " + std::to_string(command.history_interval_ms) + ": allowed: > 0");
     }
-    history_file = OpenOutput(command.history_csv, "--history");
   }
+  std::ofstream trajectory;
+  if (!command.trajectory_csv.empty()) trajectory = OpenOutput(command.trajectory_csv, "--trajectory");
+  std::ofstream history_file;
+  if (!command.history_csv.empty()) history_file = OpenOutput(command.history_csv, "--history");
   const Timed run = SimulateTimed(scene, *solver, command.steps);
   nlohmann::json json = ResultJson(scene, run.result, solver->name(), run.seconds);
   if (!command.json) PrintResult(out, scene, run.result, solver->name(), run.seconds);

@@ -1,8 +1,10 @@
 #include "jobs/scene_file.h"
 
+#include <cmath>
 #include <cstddef>
 #include <numbers>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -306,18 +308,31 @@ void ReadMotion(const TableReader& table, engine::Scene& scene) {
   MotionInput in;
   table.Read(MotionFields(), in);
   constexpr double kDegree = std::numbers::pi / 180.0;
-  switch (in.law) {
-    case MotionKind::kArticle:
-      if (in.rate && *in.rate == 0.0) table.Fail("rate_deg_per_s", "zero: the ring would never turn", "any non-zero number");
-      scene.motion = engine::ArticleLaw(in.settle.value_or(0.5), in.rate.value_or(270.0 * kDegree), in.revolutions.value_or(3.0));
-      break;
-    case MotionKind::kTestBench:
-      scene.motion = engine::TestBenchLaw(in.settle.value_or(0.5));
-      break;
-    case MotionKind::kPiecewise:
-      // Every segment was range-checked as it was read, so the law cannot refuse it.
-      scene.motion = engine::MotionLaw(in.segments);
-      break;
+  if (in.law == MotionKind::kArticle && in.rate && *in.rate == 0.0) {
+    table.Fail("rate_deg_per_s", "zero: the ring would never turn", "any non-zero number");
+  }
+  // Each value was range-checked as it was read; what remains is a law whose durations,
+  // angles or rates overflow a double (a rate of 1e-320 deg/s takes forever to turn).
+  try {
+    switch (in.law) {
+      case MotionKind::kArticle:
+        scene.motion =
+            engine::ArticleLaw(in.settle.value_or(0.5), in.rate.value_or(270.0 * kDegree), in.revolutions.value_or(3.0));
+        break;
+      case MotionKind::kTestBench:
+        scene.motion = engine::TestBenchLaw(in.settle.value_or(0.5));
+        break;
+      case MotionKind::kPiecewise:
+        scene.motion = engine::MotionLaw(in.segments);
+        break;
+    }
+  } catch (const std::invalid_argument& e) {
+    table.FailAbout("law", "motion", e.what(), "durations, angles and rates that stay finite");
+  }
+  const engine::MotionLaw& law = scene.motion;
+  const double end = law.Duration();
+  if (!std::isfinite(end) || !std::isfinite(law.Angle(end)) || !std::isfinite(law.Rate(end))) {
+    table.FailAbout("law", "motion", "the law's time, angle or rate overflows", "durations, angles and rates that stay finite");
   }
 }
 

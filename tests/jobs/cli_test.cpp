@@ -185,11 +185,20 @@ TEST(Cli, DynamicSimulateWritesItsHistoryAndSteadyRevolution) {
 }
 
 TEST(Cli, HistoryNeedsTheDynamicSolverAndSaysSoBeforeAnyWork) {
-  const Outcome run = Ringtol("simulate " + Example("scene.toml") + " --history /tmp/never.csv");
+  // An existing trajectory file must survive the refusal: options are checked before any
+  // output is opened.
+  const std::filesystem::path kept = std::filesystem::path(::testing::TempDir()) / "ringtol_kept_trajectory.csv";
+  std::ofstream(kept) << "earlier results\n";
+  const Outcome run =
+      Ringtol("simulate " + Example("scene.toml") + " --trajectory " + kept.string() + " --history /tmp/never.csv");
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_THAT(run.err, HasSubstr("--history"));
   EXPECT_THAT(run.err, HasSubstr("--solver dynamic"));
   EXPECT_TRUE(run.out.empty()) << run.out;
+  std::ifstream in(kept);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "earlier results");
 }
 
 TEST(Cli, QuasistaticJsonHasNoSteadyRevolution) {

@@ -528,6 +528,11 @@ TEST(SceneFile, RejectsBadMotionValuesNamingKeyAndRange) {
   EXPECT_THAT(error("[dynamics]\nfriction = \"yes\"\n"),
               AllOf(HasSubstr("dynamics.friction = \"yes\""), HasSubstr("true or false")));
   EXPECT_THAT(error("[dynamics]\ninertia = false\n"), HasSubstr("unknown key 'dynamics.inertia'"));
+  // Values in range whose law still overflows a double: refused as input, not thrown
+  // from the engine or passed on as infinities.
+  EXPECT_THAT(error("[motion]\nrate_deg_per_s = 1e-320\n"), AllOf(HasSubstr("bad.toml:"), HasSubstr("motion")));
+  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 1e300, acceleration_deg_per_s2 = 1e300 }]\n"),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("overflows")));
 }
 
 }  // namespace
