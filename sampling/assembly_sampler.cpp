@@ -1,0 +1,405 @@
+#include "sampling/assembly_sampler.h"
+
+#include <algorithm>
+#include <boost/math/special_functions/erf.hpp>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "sampling/random.h"
+
+namespace ringtol::sampling {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kMicrometresPerMetre = 1e6;
+constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
+constexpr double kMaxFormCp = 1.33;
+
+// Inverse CDFs of the unit coordinates.
+double Rayleigh(double sigma, double u) { return sigma * std::sqrt(-2.0 * std::log(u)); }
+double UniformPhase(double v) { return kTwoPi * v - std::numbers::pi; }
+double StandardNormal(double u) { return std::numbers::sqrt2 * boost::math::erf_inv(2.0 * u - 1.0); }
+
+// Rayleigh scale sigma with P(R <= limit) = p: 1 - exp(-limit^2 / (2 sigma^2)) = p.
+double RayleighScaleFor(double limit, double p) { return limit / std::sqrt(-2.0 * std::log1p(-p)); }
+
+void CheckTolerance(double value, const std::string& what, bool zero_allowed) {
+  if (!std::isfinite(value) || value < 0.0 || (!zero_allowed && value == 0.0))
+    throw std::invalid_argument(what + " = " + std::to_string(value) + ": allowed: " + (zero_allowed ? ">= 0" : "> 0") +
+                                " and finite");
+}
+
+void CheckCapability(const Capability& c, const std::string& what, bool form) {
+  const double max = form ? kMaxFormCp : 1e3;
+  if (!(c.cp > 0.0 && c.cp <= max))
+    throw std::invalid_argument(what + " capability Cp = " + std::to_string(c.cp) + ": allowed: > 0 and <= " +
+                                (form ? "1.33 (the calibration of form spectra "
+                                        "resolves coverages up to 99.993 %)"
+                                      : std::string("1000")));
+}
+
+}  // namespace
+
+double Capability::Coverage() const { return std::erf(3.0 * cp / std::numbers::sqrt2); }
+
+const char* ErrorSourceName(ErrorSource source) {
+  switch (source) {
+    case ErrorSource::kRingShape:
+      return "ring_shape";
+    case ErrorSource::kRollerShape:
+      return "roller_shape";
+    case ErrorSource::kRollerPosition:
+      return "roller_position";
+    case ErrorSource::kSpring:
+      return "spring";
+  }
+  return "?";
+}
+
+const char* InputGroupingName(InputGrouping grouping) {
+  switch (grouping) {
+    case InputGrouping::kCoordinate:
+      return "coordinate";
+    case InputGrouping::kQuantity:
+      return "quantity";
+    case InputGrouping::kComponent:
+      return "component";
+    case InputGrouping::kSource:
+      return "source";
+    case InputGrouping::kOrder:
+      return "order";
+  }
+  return "?";
+}
+
+// One toleranced part of the assembly and the coordinates it draws from.
+struct AssemblySampler::Component {
+  enum class Kind { kRingForm, kRollerEccentricity, kRollerForm, kRollerSize, kPosition, kStiffness, kPreload };
+  explicit Component(Kind k, int r = -1) : kind(k), roller(r) {}
+  Kind kind;
+  int roller;
+  int first = 0;  // first coordinate
+  int count = 0;
+  bool inspected = false;
+  double tolerance = 0.0;           // [m] or [-], what inspection checks
+  double sigma = 0.0;               // scale of the draw: Rayleigh or normal sigma, or spectrum scale c
+  double mean = 0.0;                // normal draws: centre of the interval
+  double lower = 0.0, upper = 0.0;  // size: accepted interval [m]
+  SpectrumShape shape;              // form only
+};
+
+AssemblySampler::AssemblySampler(engine::Scene base, AssemblyTolerances tolerances, AssemblySamplerOptions options)
+    : base_(std::move(base)), tolerances_(std::move(tolerances)), options_(std::move(options)) {
+  const std::size_t rollers = base_.rollers.size();
+  auto check_size = [&](std::size_t size, const char* what) {
+    if (size != 0 && size != rollers)
+      throw std::invalid_argument(std::string(what) + " lists " + std::to_string(size) + " rollers; the scene has " +
+                                  std::to_string(rollers));
+  };
+  check_size(tolerances_.roller_shapes.size(), "roller shape tolerances");
+  check_size(tolerances_.roller_positions.size(), "roller position tolerances");
+  check_size(tolerances_.springs.size(), "spring tolerances");
+
+  std::vector<Component> components;
+  auto add_inputs = [&](Component c, ErrorSource source, const std::string& component,
+                        const std::vector<std::pair<std::string, int>>& names_and_orders,
+                        const std::string& quantity_prefix) {
+    c.first = static_cast<int>(inputs_.size());
+    c.count = static_cast<int>(names_and_orders.size());
+    for (const auto& [name, order] : names_and_orders) {
+      std::string quantity = quantity_prefix;
+      if (order > 0 && c.kind != Component::Kind::kRollerEccentricity) quantity += ".order" + std::to_string(order);
+      inputs_.push_back({quantity + "." + name, source, c.roller, order, quantity, component});
+    }
+    components.push_back(std::move(c));
+  };
+  auto spectrum_inputs = [](const SpectrumShape& shape) {
+    std::vector<std::pair<std::string, int>> list;
+    for (int n = shape.min_order; n <= shape.max_order; ++n) {
+      list.emplace_back("amplitude_um", n);
+      list.emplace_back("phase_deg", n);
+    }
+    return list;
+  };
+  auto calibrate = [&](Component& c, const std::string& component, FormMeasure measure, const Capability& cap) {
+    const double p = cap.Coverage();
+    ComponentScale scale{component, measure, c.tolerance, p,
+                         CalibrateSpectrum(c.shape, measure, c.tolerance, p, options_.calibration)};
+    c.sigma = scale.calibration.scale;
+    scales_.push_back(std::move(scale));
+  };
+
+  if (tolerances_.ring) {
+    const RingFormTolerance& t = *tolerances_.ring;
+    CheckTolerance(t.circularity, "ring circularity", false);
+    CheckCapability(t.capability, "ring form", true);
+    CheckSpectrumShape(t.spectrum);
+    if (t.spectrum.min_order < 2)
+      throw std::invalid_argument("ring form spectrum starts at order " + std::to_string(t.spectrum.min_order) +
+                                  "; allowed: >= 2 (order 1 is the bore's eccentricity, not form)");
+    Component c(Component::Kind::kRingForm);
+    c.inspected = t.capability.mode == ToleranceMode::kInspected;
+    c.tolerance = t.circularity;
+    c.shape = t.spectrum;
+    calibrate(c, "ring", FormMeasure::kRoundness, t.capability);
+    add_inputs(std::move(c), ErrorSource::kRingShape, "ring", spectrum_inputs(t.spectrum), "ring");
+  }
+
+  for (std::size_t i = 0; i < rollers; ++i) {
+    const engine::Roller& roller = base_.rollers[i];
+    const std::string prefix = "roller." + roller.name;
+    const int index = static_cast<int>(i);
+    if (i < tolerances_.roller_shapes.size() && tolerances_.roller_shapes[i]) {
+      const RollerShapeTolerance& t = *tolerances_.roller_shapes[i];
+      const std::string component = prefix + ".shape";
+      CheckTolerance(t.kea, component + " Kea", true);
+      CheckTolerance(t.vdsp, component + " VDsp", true);
+      if (!(t.mean_diameter_lower <= t.mean_diameter_upper) || !std::isfinite(t.mean_diameter_lower) ||
+          !std::isfinite(t.mean_diameter_upper))
+        throw std::invalid_argument(component +
+                                    " mean diameter deviation interval must be "
+                                    "finite with lower <= upper");
+      CheckCapability(t.capability, component, t.vdsp > 0.0);
+      const bool inspected = t.capability.mode == ToleranceMode::kInspected;
+      const double p = t.capability.Coverage();
+      if (t.kea > 0.0) {
+        Component c(Component::Kind::kRollerEccentricity, index);
+        c.inspected = inspected;
+        c.tolerance = t.kea;
+        c.sigma = RayleighScaleFor(t.kea / 2.0, p);
+        add_inputs(std::move(c), ErrorSource::kRollerShape, component, {{"amplitude_um", 1}, {"phase_deg", 1}},
+                   prefix + ".order1");
+      }
+      if (t.vdsp > 0.0) {
+        CheckSpectrumShape(t.form);
+        if (t.form.min_order < 2)
+          throw std::invalid_argument(component + " form spectrum starts at order " + std::to_string(t.form.min_order) +
+                                      "; allowed: >= 2 (order 1 is the eccentricity Kea sets)");
+        Component c(Component::Kind::kRollerForm, index);
+        c.inspected = inspected;
+        c.tolerance = t.vdsp;
+        c.shape = t.form;
+        calibrate(c, component, FormMeasure::kTwoPointVariation, t.capability);
+        add_inputs(std::move(c), ErrorSource::kRollerShape, component, spectrum_inputs(t.form), prefix);
+      }
+      if (t.mean_diameter_upper > t.mean_diameter_lower) {
+        Component c(Component::Kind::kRollerSize, index);
+        c.inspected = inspected;
+        c.lower = t.mean_diameter_lower;
+        c.upper = t.mean_diameter_upper;
+        c.mean = 0.5 * (c.lower + c.upper);
+        c.sigma = (c.upper - c.lower) / (6.0 * t.capability.cp);
+        add_inputs(std::move(c), ErrorSource::kRollerShape, component, {{"mean_diameter_deviation_um", 0}},
+                   prefix + ".size");
+      }
+    }
+    if (i < tolerances_.roller_positions.size() && tolerances_.roller_positions[i]) {
+      const PositionTolerance& t = *tolerances_.roller_positions[i];
+      const std::string component = prefix + ".position";
+      CheckTolerance(t.zone_diameter, component + " zone diameter", false);
+      CheckCapability(t.capability, component, false);
+      Component c(Component::Kind::kPosition, index);
+      c.inspected = t.capability.mode == ToleranceMode::kInspected;
+      c.tolerance = t.zone_diameter / 2.0;
+      c.sigma = RayleighScaleFor(c.tolerance, t.capability.Coverage());
+      add_inputs(std::move(c), ErrorSource::kRollerPosition, component, {{"offset_um", 0}, {"direction_deg", 0}},
+                 component);
+    }
+    if (i < tolerances_.springs.size() && tolerances_.springs[i]) {
+      const SpringTolerance& t = *tolerances_.springs[i];
+      const std::string component = prefix + ".spring";
+      if (roller.mount != engine::RollerMount::kSpring)
+        throw std::invalid_argument(component + ": roller '" + roller.name +
+                                    "' is fixed; spring tolerances apply to spring rollers only");
+      CheckTolerance(t.stiffness, component + " stiffness tolerance", true);
+      CheckTolerance(t.preload, component + " preload tolerance", true);
+      if (t.preload >= 1.0) throw std::invalid_argument(component + " preload tolerance must be below 100 %");
+      CheckCapability(t.capability, component, false);
+      const bool inspected = t.capability.mode == ToleranceMode::kInspected;
+      for (const auto& [kind, tolerance, name] :
+           {std::tuple{Component::Kind::kStiffness, t.stiffness, "stiffness_deviation_percent"},
+            std::tuple{Component::Kind::kPreload, t.preload, "preload_deviation_percent"}}) {
+        if (tolerance == 0.0) continue;
+        Component c(kind, index);
+        c.inspected = inspected;
+        c.tolerance = tolerance;
+        c.sigma = tolerance / (3.0 * t.capability.cp);
+        add_inputs(std::move(c), ErrorSource::kSpring, component, {{name, 0}}, component);
+      }
+    }
+  }
+  components_ = std::move(components);
+}
+
+AssemblySampler::~AssemblySampler() = default;
+AssemblySampler::AssemblySampler(const AssemblySampler&) = default;
+AssemblySampler::AssemblySampler(AssemblySampler&&) noexcept = default;
+
+InputGroups AssemblySampler::Groups(InputGrouping grouping) const {
+  InputGroups groups;
+  std::map<std::string, std::size_t> index;
+  for (std::size_t k = 0; k < inputs_.size(); ++k) {
+    const SampledInput& in = inputs_[k];
+    std::string key;
+    switch (grouping) {
+      case InputGrouping::kCoordinate:
+        key = in.name;
+        break;
+      case InputGrouping::kQuantity:
+        key = in.quantity;
+        break;
+      case InputGrouping::kComponent:
+        key = in.component;
+        break;
+      case InputGrouping::kSource:
+        key = ErrorSourceName(in.source);
+        break;
+      case InputGrouping::kOrder:
+        if (in.order > 0)
+          key = "order" + std::to_string(in.order);
+        else if (in.source == ErrorSource::kRollerShape)
+          key = "roller_size";
+        else
+          key = ErrorSourceName(in.source);
+        break;
+    }
+    auto [it, inserted] = index.try_emplace(key, groups.names.size());
+    if (inserted) {
+      groups.names.push_back(key);
+      groups.coordinates.emplace_back();
+    }
+    groups.coordinates[it->second].push_back(static_cast<int>(k));
+  }
+  return groups;
+}
+
+SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const double> u) const {
+  if (static_cast<int>(u.size()) != dimension())
+    throw std::invalid_argument("design point has " + std::to_string(u.size()) + " coordinates; the sampler draws " +
+                                std::to_string(dimension()));
+  SampledAssembly out;
+  out.index = index;
+  out.u.assign(u.begin(), u.end());
+  out.values.assign(u.size(), 0.0);
+  out.scene = base_;
+  engine::Scene& scene = out.scene;
+
+  std::vector<engine::Harmonic> ring_harmonics;
+  std::vector<std::vector<engine::Harmonic>> roller_harmonics(scene.rollers.size());
+  std::vector<double> roller_mean(scene.rollers.size(), 0.0);
+
+  for (const Component& c : components_) {
+    std::span<double> w(out.u.data() + c.first, static_cast<std::size_t>(c.count));
+    std::span<double> values(out.values.data() + c.first, static_cast<std::size_t>(c.count));
+    std::vector<engine::Harmonic> harmonics;
+    double drawn = 0.0;  // the scalar drawn, for non-spectrum components
+    for (int attempt = 0;; ++attempt) {
+      if (attempt > 0) {
+        if (attempt >= options_.max_attempts)
+          throw std::runtime_error("sample " + std::to_string(index) + ": " +
+                                   inputs_[static_cast<std::size_t>(c.first)].component + " failed inspection " +
+                                   std::to_string(attempt) + " times");
+        ++out.redraws;
+        for (int k = 0; k < c.count; ++k)
+          w[static_cast<std::size_t>(k)] =
+              RandomUnit(options_.seed, RandomStream::kRedraw, static_cast<std::uint64_t>(index),
+                         static_cast<std::uint64_t>(c.first + k), static_cast<std::uint64_t>(attempt));
+      }
+      bool inside = true;
+      switch (c.kind) {
+        case Component::Kind::kRingForm:
+        case Component::Kind::kRollerForm: {
+          const std::size_t orders = static_cast<std::size_t>(c.shape.order_count());
+          std::vector<double> a(orders), v(orders);
+          for (std::size_t k = 0; k < orders; ++k) {
+            a[k] = w[2 * k];
+            v[k] = w[2 * k + 1];
+          }
+          harmonics = DrawHarmonics(c.shape, c.sigma, a, v);
+          const FormMeasure measure =
+              c.kind == Component::Kind::kRingForm ? FormMeasure::kRoundness : FormMeasure::kTwoPointVariation;
+          if (c.inspected) inside = MeasureForm(measure, harmonics) <= c.tolerance;
+          break;
+        }
+        case Component::Kind::kRollerEccentricity:
+          harmonics = {{1, Rayleigh(c.sigma, w[0]), UniformPhase(w[1])}};
+          inside = 2.0 * harmonics[0].amplitude <= c.tolerance;
+          break;
+        case Component::Kind::kPosition:
+          drawn = Rayleigh(c.sigma, w[0]);
+          inside = drawn <= c.tolerance;
+          break;
+        case Component::Kind::kRollerSize:
+          drawn = c.mean + c.sigma * StandardNormal(w[0]);
+          inside = drawn >= c.lower && drawn <= c.upper;
+          break;
+        case Component::Kind::kStiffness:
+        case Component::Kind::kPreload:
+          drawn = c.sigma * StandardNormal(w[0]);
+          inside = std::abs(drawn) <= c.tolerance;
+          break;
+      }
+      if (!c.inspected || inside) break;
+    }
+
+    const auto r = static_cast<std::size_t>(std::max(c.roller, 0));
+    switch (c.kind) {
+      case Component::Kind::kRingForm:
+      case Component::Kind::kRollerForm:
+      case Component::Kind::kRollerEccentricity: {
+        for (std::size_t k = 0; k < harmonics.size(); ++k) {
+          values[2 * k] = harmonics[k].amplitude * kMicrometresPerMetre;
+          values[2 * k + 1] = harmonics[k].phase * kDegreesPerRadian;
+        }
+        auto& target = c.kind == Component::Kind::kRingForm ? ring_harmonics : roller_harmonics[r];
+        target.insert(target.end(), harmonics.begin(), harmonics.end());
+        break;
+      }
+      case Component::Kind::kRollerSize:
+        values[0] = drawn * kMicrometresPerMetre;
+        roller_mean[r] += drawn / 2.0;  // the profile's mean radius deviation
+        break;
+      case Component::Kind::kPosition: {
+        const double direction = UniformPhase(w[1]);
+        values[0] = drawn * kMicrometresPerMetre;
+        values[1] = direction * kDegreesPerRadian;
+        scene.rollers[r].radial_offset += drawn * std::cos(direction);
+        scene.rollers[r].tangential_offset += drawn * std::sin(direction);
+        break;
+      }
+      case Component::Kind::kStiffness:
+        values[0] = 100.0 * drawn;
+        scene.rollers[r].spring.stiffness *= 1.0 + drawn;
+        break;
+      case Component::Kind::kPreload:
+        values[0] = 100.0 * drawn;
+        scene.rollers[r].spring.preload *= 1.0 + drawn;
+        break;
+    }
+  }
+
+  auto rebuild = [](engine::PolarProfile& profile, const std::vector<engine::Harmonic>& added, double mean) {
+    if (added.empty() && mean == 0.0) return;
+    std::vector<engine::Harmonic> all = profile.harmonics();
+    all.insert(all.end(), added.begin(), added.end());
+    profile = engine::PolarProfile(profile.radius(), profile.mean_deviation() + mean, std::move(all));
+  };
+  rebuild(scene.ring.inner, ring_harmonics, 0.0);
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i)
+    rebuild(scene.rollers[i].outline, roller_harmonics[i], roller_mean[i]);
+  return out;
+}
+
+SampledAssembly AssemblySampler::Sample(Design& design, std::int64_t index) const {
+  if (design.dimension() != dimension())
+    throw std::invalid_argument("the design has " + std::to_string(design.dimension()) +
+                                " dimensions; the sampler draws " + std::to_string(dimension()));
+  std::vector<double> u(static_cast<std::size_t>(dimension()));
+  design.Point(index, u);
+  return Realise(index, u);
+}
+
+}  // namespace ringtol::sampling

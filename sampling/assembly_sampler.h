@@ -1,0 +1,178 @@
+// From tolerances to assemblies: a base scene plus the tolerance of each error source
+// becomes, for every design point u in (0, 1)^d, one realistic random assembly.
+//
+// Every scalar random input is one coordinate of u, mapped by its own inverse CDF, so that
+// designs (sampling/design.h) stratify each input and Sobol' groups are clean:
+//   ring form        orders 2..cutoff: Rayleigh amplitude and uniform phase per order
+//                    (sampling/spectrum.h), scale calibrated to the circularity on RONt
+//   roller shape     order 1: eccentricity e of the running surface about the axis,
+//                    Rayleigh with P(2e <= Kea) = p, uniform phase;
+//                    orders 2..cutoff: spectrum calibrated to VDsp on the two-point variation;
+//                    size: mean diameter deviation, normal on the ΔDmp interval
+//   roller position  offset of the axis from its nominal place: Rayleigh magnitude with
+//                    P(2 |offset| <= zone diameter) = p, uniform direction
+//   spring           relative stiffness and preload deviations, normal on +-tolerance
+// Capability: p = erf(3 Cp / sqrt 2) is the fraction of parts inside their tolerance
+// (Cp = 1: 99.73 %; a normal quantity's +-tolerance is then 3 sigma Cp). Mode kProcess
+// keeps every part, as made; kInspected rejects parts outside the tolerance and draws
+// them again, as after a 100 % inspection. Redraws come from the counter-based generator
+// keyed by (seed, sample, input, attempt), not from the design: the design stratifies the
+// first attempt only.
+//
+// Sampled errors add to those of the base scene (harmonics of equal order add, offsets
+// add, the spring's stiffness and preload scale by 1 + deviation).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+#include "sampling/catalogue.h"
+#include "sampling/design.h"
+#include "sampling/spectrum.h"
+
+namespace ringtol::sampling {
+
+enum class ToleranceMode { kProcess, kInspected };
+
+struct Capability {
+  ToleranceMode mode = ToleranceMode::kProcess;
+  double cp = 1.0;          // [-] > 0; spectra (form errors) accept up to 1.33 (CalibrationOptions)
+  double Coverage() const;  // p = erf(3 cp / sqrt 2)
+};
+
+struct RingFormTolerance {
+  std::string class_name;    // provenance only; empty when given as a number
+  double circularity = 0.0;  // [m] RONt tolerance t > 0
+  SpectrumShape spectrum;    // default orders 2..50 (ISO 12181's classic 50 UPR), n^-1
+  Capability capability;
+};
+
+struct RollerShapeTolerance {
+  std::string class_name;
+  double kea = 0.0;                  // [m] >= 0; 0: no eccentricity drawn
+  double vdsp = 0.0;                 // [m] >= 0; 0: no form drawn
+  double mean_diameter_lower = 0.0;  // [m] ΔDmp interval; equal bounds: no size drawn
+  double mean_diameter_upper = 0.0;
+  // Default orders 2..8: a roller's order n passes n R / r_b (~60 n) times per revolution,
+  // so each order costs solver steps; raise it where rollers are known to be lobed.
+  SpectrumShape form{2, 8, 1.0, {}};
+  Capability capability;
+};
+
+struct PositionTolerance {
+  std::string class_name;
+  double zone_diameter = 0.0;  // [m] > 0
+  Capability capability;
+};
+
+struct SpringTolerance {
+  std::string class_name;
+  double stiffness = 0.0;  // [-] relative +-tolerance >= 0
+  double preload = 0.0;    // [-] relative +-tolerance >= 0 and < 1
+  Capability capability;
+};
+
+// What is toleranced; an absent entry is an error source held at its nominal value.
+struct AssemblyTolerances {
+  std::optional<RingFormTolerance> ring;
+  std::vector<std::optional<RollerShapeTolerance>> roller_shapes;  // empty or one per scene roller
+  std::vector<std::optional<PositionTolerance>> roller_positions;  // empty or one per scene roller
+  std::vector<std::optional<SpringTolerance>> springs;             // empty or one per scene roller; springs only
+};
+
+enum class ErrorSource { kRingShape, kRollerShape, kRollerPosition, kSpring };
+const char* ErrorSourceName(ErrorSource source);  // "ring_shape", "roller_shape", ...
+
+// One coordinate of the design: what it draws, for records and for grouping.
+struct SampledInput {
+  std::string name;  // e.g. "ring.order3.amplitude_um", "roller.spring.position.offset_um"
+  ErrorSource source;
+  int roller = -1;        // scene roller index, -1 for the ring
+  int order = 0;          // harmonic order (1 = eccentricity), 0 for sizes, positions, springs
+  std::string quantity;   // the physical input it belongs to, e.g. "ring.order3", "roller.spring.position"
+  std::string component;  // e.g. "ring", "roller.spring.shape", "roller.spring.position", "roller.spring.spring"
+};
+
+// How Saltelli groups are formed from the inputs.
+enum class InputGrouping {
+  kCoordinate,  // every coordinate alone (an amplitude apart from its phase)
+  kQuantity,    // every physical input: a harmonic (amplitude + phase), a size, a position, ...
+  kComponent,   // the ring's form; each roller's shape; each roller's position; each spring
+  kSource,      // ring shape, roller shape, roller position, spring
+  kOrder,       // each harmonic order across ring and rollers; sizes, positions, springs apart
+};
+const char* InputGroupingName(InputGrouping grouping);  // "coordinate", "quantity", ...
+
+struct InputGroups {
+  std::vector<std::string> names;
+  std::vector<std::vector<int>> coordinates;  // per group, the design coordinates it holds
+};
+
+// One realised assembly.
+struct SampledAssembly {
+  std::int64_t index = 0;
+  engine::Scene scene;
+  std::vector<double> u;       // the coordinates used, after any redraws
+  std::vector<double> values;  // per input, the drawn value in the unit its name states
+  int redraws = 0;             // inspected parts rejected and drawn again
+};
+
+// What a component's calibration came to, for provenance and reports.
+struct ComponentScale {
+  std::string component;
+  FormMeasure measure;
+  double tolerance = 0.0;  // [m]
+  double coverage = 0.0;   // [-]
+  SpectrumCalibration calibration;
+};
+
+struct AssemblySamplerOptions {
+  std::uint64_t seed = 1;  // the campaign seed (redraws)
+  // Attempts per inspected component before the sample is refused. With p >= 0.24 (Cp >=
+  // 0.1), 200 attempts all failing has probability below 1e-23.
+  int max_attempts = 200;
+  CalibrationOptions calibration;
+};
+
+class AssemblySampler {
+ public:
+  // Validates the tolerances against the scene and calibrates every spectrum. Throws
+  // std::invalid_argument naming the roller and quantity for vectors of the wrong size, a
+  // spring tolerance on a fixed roller, non-positive or non-finite tolerances, a
+  // capability outside (0, 1.33] for form errors, and what CalibrateSpectrum refuses.
+  AssemblySampler(engine::Scene base, AssemblyTolerances tolerances, AssemblySamplerOptions options = {});
+  ~AssemblySampler();
+  AssemblySampler(const AssemblySampler&);
+  AssemblySampler(AssemblySampler&&) noexcept;
+
+  int dimension() const { return static_cast<int>(inputs_.size()); }
+  const std::vector<SampledInput>& inputs() const { return inputs_; }
+  const std::vector<ComponentScale>& scales() const { return scales_; }
+  const engine::Scene& base() const { return base_; }
+  const AssemblyTolerances& tolerances() const { return tolerances_; }
+
+  InputGroups Groups(InputGrouping grouping) const;
+
+  // The assembly of sample `index` at design point u (size dimension()). A pure function
+  // of (base, tolerances, options, index, u). Throws std::runtime_error if an inspected
+  // component fails max_attempts times (not reachable at p >= 0.24, see above).
+  SampledAssembly Realise(std::int64_t index, std::span<const double> u) const;
+
+  // Design point and assembly of sample `index` in one step.
+  SampledAssembly Sample(Design& design, std::int64_t index) const;
+
+ private:
+  struct Component;
+  engine::Scene base_;
+  AssemblyTolerances tolerances_;
+  AssemblySamplerOptions options_;
+  std::vector<SampledInput> inputs_;
+  std::vector<ComponentScale> scales_;
+  std::vector<Component> components_;
+};
+
+}  // namespace ringtol::sampling

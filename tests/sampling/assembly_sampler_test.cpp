@@ -1,0 +1,170 @@
+#include "sampling/assembly_sampler.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "tests/support/paper_scene.h"
+#include "tests/support/statistics.h"
+
+namespace ringtol::sampling {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr double kUm = 1e-6;
+// Values are recorded in um and degrees from the SI numbers put in the scene: one
+// multiplication apart, so they agree to a few ulps.
+constexpr double kRecordTolerance = 1e-12;
+
+AssemblyTolerances Everything(Capability capability, int rollers) {
+  AssemblyTolerances t;
+  t.ring = RingFormTolerance{"", 200 * kUm, {2, 12, 1.0, {}}, capability};
+  RollerShapeTolerance shape{"", 15 * kUm, 10 * kUm, -8 * kUm, 0.0, {2, 4, 1.0, {}}, capability};
+  for (int i = 0; i < rollers; ++i) {
+    t.roller_shapes.push_back(shape);
+    t.roller_positions.push_back(PositionTolerance{"", 50 * kUm, capability});
+    t.springs.push_back(i == 0 ? std::optional(SpringTolerance{"", 0.1, 0.1, capability}) : std::nullopt);
+  }
+  return t;
+}
+
+AssemblySamplerOptions Fast() {
+  AssemblySamplerOptions options;
+  options.calibration.min_draws = 4096;
+  return options;
+}
+
+TEST(AssemblySampler, NamesEveryCoordinateAndGroupsThemBySourceAndOrder) {
+  const engine::Scene scene = testing::PaperScene();
+  const AssemblySampler sampler(scene, Everything({}, 3), Fast());
+  // ring 11 orders x 2; per roller: eccentricity 2 + 3 form orders x 2 + size 1 + position 2;
+  // one spring: 2.
+  EXPECT_EQ(sampler.dimension(), 22 + 3 * (2 + 6 + 1 + 2) + 2);
+  EXPECT_EQ(sampler.inputs().front().name, "ring.order2.amplitude_um");
+  const InputGroups sources = sampler.Groups(InputGrouping::kSource);
+  EXPECT_EQ(sources.names, (std::vector<std::string>{"ring_shape", "roller_shape", "roller_position", "spring"}));
+  const InputGroups orders = sampler.Groups(InputGrouping::kOrder);
+  // order 2 gathers the ring's and the three rollers' order-2 amplitude and phase.
+  EXPECT_EQ(orders.names.front(), "order2");
+  EXPECT_EQ(orders.coordinates.front().size(), 8u);
+  std::size_t total = 0;
+  for (const auto& g : sampler.Groups(InputGrouping::kQuantity).coordinates) total += g.size();
+  EXPECT_EQ(total, static_cast<std::size_t>(sampler.dimension()));
+}
+
+TEST(AssemblySampler, RealisedSceneCarriesExactlyTheRecordedDraws) {
+  engine::Scene scene = testing::PaperScene();
+  testing::SetRing(scene, {{3, 10 * kUm, 0.0}});
+  const AssemblySampler sampler(scene, Everything({}, 3), Fast());
+  Design design(sampler.dimension(), {});
+  const SampledAssembly a = sampler.Sample(design, 17);
+  const auto& inputs = sampler.inputs();
+  // The base scene's order-3 error stays, the drawn order 3 adds to it.
+  double drawn3 = 0.0, drawn3_phase = 0.0;
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    if (inputs[k].name == "ring.order3.amplitude_um") drawn3 = a.values[k] * kUm;
+    if (inputs[k].name == "ring.order3.phase_deg") drawn3_phase = a.values[k] * std::numbers::pi / 180;
+  }
+  const engine::PolarProfile& ring = a.scene.ring.inner;
+  EXPECT_NEAR(ring.cos_coefficient(3), 10 * kUm + drawn3 * std::cos(drawn3_phase), kRecordTolerance * kUm);
+  EXPECT_NEAR(ring.sin_coefficient(3), drawn3 * std::sin(drawn3_phase), kRecordTolerance * kUm);
+  // Position offsets and spring deviations land on the right roller.
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    if (inputs[k].name == "roller.spring.spring.stiffness_deviation_percent") {
+      EXPECT_NEAR(a.scene.rollers[0].spring.stiffness / scene.rollers[0].spring.stiffness - 1, a.values[k] / 100,
+                  kRecordTolerance);
+    }
+    if (inputs[k].name == "roller.fixed_a.position.offset_um") {
+      const engine::Roller& r = a.scene.rollers[1];
+      EXPECT_NEAR(std::hypot(r.radial_offset, r.tangential_offset), a.values[k] * kUm, kRecordTolerance * kUm);
+    }
+  }
+  EXPECT_EQ(a.scene.rollers[1].spring, scene.rollers[1].spring);  // a fixed roller has no spring draw
+}
+
+TEST(AssemblySampler, SampleIReplaysAloneBitForBit) {
+  const AssemblySampler sampler(testing::PaperScene(), Everything({ToleranceMode::kInspected, 0.5}, 3), Fast());
+  DesignOptions options;
+  options.kind = DesignKind::kSobol;
+  options.seed = 3;
+  Design forward(sampler.dimension(), options);
+  std::vector<SampledAssembly> first;
+  for (int i = 0; i < 16; ++i) first.push_back(sampler.Sample(forward, i));
+  Design alone(sampler.dimension(), options);
+  for (int i = 15; i >= 0; --i) {
+    const SampledAssembly again = sampler.Sample(alone, i);
+    EXPECT_EQ(again.scene, first[static_cast<std::size_t>(i)].scene) << i;
+    EXPECT_EQ(again.values, first[static_cast<std::size_t>(i)].values) << i;
+  }
+}
+
+TEST(AssemblySampler, InspectedPartsAllMeetTheirTolerances) {
+  // Cp = 0.5 puts 13 % of parts outside: inspection must reject and redraw every one.
+  const AssemblySampler sampler(testing::PaperScene(), Everything({ToleranceMode::kInspected, 0.5}, 3), Fast());
+  Design design(sampler.dimension(), {});
+  int redraws = 0;
+  for (int i = 0; i < 200; ++i) {
+    const SampledAssembly a = sampler.Sample(design, i);
+    redraws += a.redraws;
+    EXPECT_LE(MeasureForm(FormMeasure::kRoundness, a.scene.ring.inner.harmonics()), 200 * kUm);
+    for (const engine::Roller& r : a.scene.rollers) {
+      std::vector<engine::Harmonic> form;
+      double eccentricity = 0.0;
+      for (const auto& h : r.outline.harmonics()) {
+        if (h.order == 1) eccentricity = h.amplitude;
+        form.push_back(h);
+      }
+      EXPECT_LE(2 * eccentricity, 15 * kUm);
+      EXPECT_LE(MeasureForm(FormMeasure::kTwoPointVariation, form), 10 * kUm);
+      EXPECT_LE(2 * r.outline.mean_deviation(), 0.0);
+      EXPECT_GE(2 * r.outline.mean_deviation(), -8 * kUm);
+      EXPECT_LE(std::hypot(r.radial_offset, r.tangential_offset), 25 * kUm);
+    }
+  }
+  EXPECT_GT(redraws, 0);
+}
+
+TEST(AssemblySampler, ProcessPartsMeetTheirToleranceAtTheStatedCoverage) {
+  // Positions are exact Rayleigh draws: P(2|offset| <= zone) = erf(3 Cp / sqrt 2). With
+  // Cp = 0.5 that is 86.6 %; binomial z-test over 3 x 4000 offsets at significance 1e-3.
+  const Capability cp{ToleranceMode::kProcess, 0.5};
+  AssemblyTolerances t;
+  t.roller_positions.assign(3, PositionTolerance{"", 50 * kUm, cp});
+  const AssemblySampler sampler(testing::PaperScene(), t, Fast());
+  Design design(sampler.dimension(), {});
+  int inside = 0, total = 0;
+  for (int i = 0; i < 4000; ++i) {
+    for (const engine::Roller& r : sampler.Sample(design, i).scene.rollers) {
+      inside += 2 * std::hypot(r.radial_offset, r.tangential_offset) <= 50 * kUm;
+      ++total;
+    }
+  }
+  const double p = cp.Coverage(), f = static_cast<double>(inside) / total;
+  EXPECT_LT(std::abs(f - p) / std::sqrt(p * (1 - p) / total), testing::TwoSidedNormalQuantile(1e-3));
+}
+
+TEST(AssemblySampler, RefusesTolerancesItCannotDraw) {
+  const engine::Scene scene = testing::PaperScene();
+  AssemblyTolerances spring_on_fixed;
+  spring_on_fixed.springs = {std::nullopt, SpringTolerance{"", 0.1, 0.1, {}}, std::nullopt};
+  EXPECT_THAT([&] { AssemblySampler(scene, spring_on_fixed, Fast()); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("spring rollers only")));
+  AssemblyTolerances low_cutoff;
+  low_cutoff.ring = RingFormTolerance{"", 100 * kUm, {2, 1, 1.0, {}}, {}};
+  EXPECT_THAT([&] { AssemblySampler(scene, low_cutoff, Fast()); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("cutoff 1 is below")));
+  AssemblyTolerances negative;
+  negative.roller_positions.assign(3, PositionTolerance{"", -1 * kUm, {}});
+  EXPECT_THROW(AssemblySampler(scene, negative, Fast()), std::invalid_argument);
+  AssemblyTolerances too_capable;
+  too_capable.ring = RingFormTolerance{"", 100 * kUm, {2, 10, 1.0, {}}, {ToleranceMode::kProcess, 2.0}};
+  EXPECT_THAT([&] { AssemblySampler(scene, too_capable, Fast()); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("<= 1.33")));
+}
+
+}  // namespace
+}  // namespace ringtol::sampling
