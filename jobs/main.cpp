@@ -5,6 +5,7 @@
 
 #include "jobs/commands.h"
 #include "jobs/input_error.h"
+#include "jobs/sample_command.h"
 #include "solvers/solver.h"
 
 int main(int argc, char** argv) {
@@ -52,6 +53,21 @@ int main(int argc, char** argv) {
                         "Dynamic solver: integrator tolerance, > 0 and < 1")
       ->capture_default_str();
 
+  ringtol::jobs::SampleCommand sample;
+  CLI::App* sample_app = app.add_subcommand(
+      "sample", "Draw the assemblies of a sampling file (tolerance classes and a design) without simulating them");
+  sample_app->add_option("file", sample.file, "Sampling file (TOML)")->required()->check(CLI::ExistingFile);
+  sample_app->add_option("--samples", sample.samples, "Number of samples (default: the file's design.samples)")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));
+  sample_app->add_option("--seed", sample.seed, "Campaign seed (default: the file's)");
+  sample_app->add_option("--csv", sample.csv, "Write every sample's drawn inputs to this CSV file");
+  sample_app->add_option("--index", sample.index, "With --scene: the sample to write (0-based)");
+  sample_app->add_option("--scene", sample.scene, "Write sample --index as a standalone scene file, to replay it");
+
+  bool classes_toml = false;
+  CLI::App* classes_app = app.add_subcommand("classes", "List the tolerance classes of the built-in catalogue");
+  classes_app->add_flag("--toml", classes_toml, "Print the catalogue file itself, every row with its source");
+
   CLI::App* bench_app = app.add_subcommand("bench", "Studies of the solvers themselves");
   bench_app->require_subcommand(1);
   ringtol::jobs::BenchDynamicsCommand dynamics;
@@ -87,6 +103,8 @@ int main(int argc, char** argv) {
   try {
     if (*simulate_app) return ringtol::jobs::RunSimulate(simulate, std::cout);
     if (*sweep_app) return ringtol::jobs::RunSweep(sweep, std::cout);
+    if (*sample_app) return ringtol::jobs::RunSample(sample, std::cout);
+    if (*classes_app) return ringtol::jobs::RunClasses(classes_toml, std::cout);
     if (*dynamics_app) return ringtol::jobs::RunBenchDynamics(dynamics, std::cout);
     if (*ladder_app) return ringtol::jobs::RunBenchLadder(ladder, std::cout, std::cerr);
   } catch (const ringtol::jobs::InputError& e) {
