@@ -124,12 +124,22 @@ AssemblySampler::AssemblySampler(engine::Scene base, AssemblyTolerances toleranc
     }
     return list;
   };
+  // Rollers of one class share a calibration: it depends only on what is compared here.
+  std::vector<SpectrumShape> calibrated_shapes;
   auto calibrate = [&](Component& c, const std::string& component, FormMeasure measure, const Capability& cap) {
     const double p = cap.Coverage();
-    ComponentScale scale{component, measure, c.tolerance, p,
-                         CalibrateSpectrum(c.shape, measure, c.tolerance, p, options_.calibration)};
+    ComponentScale scale{component, measure, c.tolerance, p, {}};
+    for (std::size_t k = 0; k < scales_.size(); ++k) {
+      const ComponentScale& done = scales_[k];
+      if (done.measure == measure && done.tolerance == c.tolerance && done.coverage == p &&
+          calibrated_shapes[k] == c.shape)
+        scale.calibration = done.calibration;
+    }
+    if (scale.calibration.draws == 0)
+      scale.calibration = CalibrateSpectrum(c.shape, measure, c.tolerance, p, options_.calibration);
     c.sigma = scale.calibration.scale;
     scales_.push_back(std::move(scale));
+    calibrated_shapes.push_back(c.shape);
   };
 
   if (tolerances_.ring) {

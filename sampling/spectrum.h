@@ -47,6 +47,7 @@ struct SpectrumShape {
 
   int order_count() const { return max_order - min_order + 1; }
   double RelativeScale(int order) const;  // s_n [-]
+  bool operator==(const SpectrumShape&) const = default;
 };
 
 // The harmonics of one draw: orders min..max in order, from u (amplitude draws) and v
