@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "jobs/commands.h"
+#include "jobs/fit_command.h"
 #include "jobs/input_error.h"
 #include "jobs/sample_command.h"
 #include "solvers/solver.h"
@@ -64,6 +65,18 @@ int main(int argc, char** argv) {
   sample_app->add_option("--index", sample.index, "With --scene: the sample to write (0-based)");
   sample_app->add_option("--scene", sample.scene, "Write sample --index as a standalone scene file, to replay it");
 
+  ringtol::jobs::FitCommand fit;
+  CLI::App* fit_app = app.add_subcommand(
+      "fit", "Fit a Fourier series to a roundness tester's export (angle, radius or deviation CSV)");
+  fit_app->add_option("profile", fit.profile, "Profile CSV: angle_deg, radius_mm | deviation_mm | deviation_um")
+      ->required()
+      ->check(CLI::ExistingFile);
+  fit_app->add_option("--orders", fit.orders, "Highest order fitted (1..1000)")->required();
+  fit_app->add_flag("--keep-eccentricity", fit.keep_eccentricity,
+                    "Keep order 1 in the fragment (by default it is the tester's set-up eccentricity)");
+  fit_app->add_option("--fragment", fit.fragment, "Write the [ring] keys of a scene file to this TOML file");
+  fit_app->add_flag("--json", fit.json, "Print one JSON object");
+
   bool classes_toml = false;
   CLI::App* classes_app = app.add_subcommand("classes", "List the tolerance classes of the built-in catalogue");
   classes_app->add_flag("--toml", classes_toml, "Print the catalogue file itself, every row with its source");
@@ -104,6 +117,7 @@ int main(int argc, char** argv) {
     if (*simulate_app) return ringtol::jobs::RunSimulate(simulate, std::cout);
     if (*sweep_app) return ringtol::jobs::RunSweep(sweep, std::cout);
     if (*sample_app) return ringtol::jobs::RunSample(sample, std::cout);
+    if (*fit_app) return ringtol::jobs::RunFit(fit, std::cout);
     if (*classes_app) return ringtol::jobs::RunClasses(classes_toml, std::cout);
     if (*dynamics_app) return ringtol::jobs::RunBenchDynamics(dynamics, std::cout);
     if (*ladder_app) return ringtol::jobs::RunBenchLadder(ladder, std::cout, std::cerr);

@@ -355,6 +355,20 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file) {
 }
 
 Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name) {
+  auto check_count = [&](const sampling::Design& design) {
+    const std::string problem = design.CheckSampleCount(plan.samples);
+    if (!problem.empty())
+      throw InputError(source_name + ": design.samples = " + std::to_string(plan.samples) + ": " + problem);
+  };
+  // Outside Saltelli the count's rules do not depend on the inputs: refuse a bad count
+  // before the calibration's second of work.
+  if (plan.design.kind != sampling::DesignKind::kSaltelli) {
+    try {
+      check_count(sampling::Design(1, plan.design));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(source_name + ": [design]: " + e.what());
+    }
+  }
   std::optional<sampling::AssemblySampler> sampler;
   try {
     sampling::AssemblySamplerOptions options;
@@ -374,8 +388,7 @@ Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name) 
   } catch (const std::invalid_argument& e) {
     throw InputError(source_name + ": [design]: " + e.what());
   }
-  const std::string problem = design->CheckSampleCount(plan.samples);
-  if (!problem.empty()) throw InputError(source_name + ": design.samples = " + std::to_string(plan.samples) + ": " + problem);
+  check_count(*design);
   return {std::move(*sampler), std::move(*design)};
 }
 

@@ -2,14 +2,20 @@
 
 #include <cmath>
 #include <cstddef>
+#include <filesystem>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <string_view>
+#include <system_error>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "jobs/fit_command.h"
+#include "jobs/input_error.h"
 #include "jobs/toml_fields.h"
 
 namespace ringtol::jobs {
@@ -31,15 +37,70 @@ void RequireDeviationsBelowRadius(const TableReader& table, const engine::PolarP
                                   std::string_view radius_key) {
   const double bound = DeviationBound(profile);
   if (bound < profile.radius()) return;
-  const std::string_view key = table.Has("harmonics") ? "harmonics" : "mean_deviation_mm";
+  // A measured profile is the likelier culprit: a fit of too many orders across a gap.
+  const bool measured = table.Has("measured_profile");
+  const std::string_view key = measured ? "measured_profile" : table.Has("harmonics") ? "harmonics" : "mean_deviation_mm";
   table.FailAbout(key,
                   fmt::format("{} (|mean_deviation_mm| + sum of amplitude_mm = {})", table.KeyPath(key),
                               ShowDerived(Millimetres(bound))),
-                  "amplitudes larger than the radius",
+                  measured ? "amplitudes larger than the radius (`ringtol fit` shows the fit: fewer orders?)"
+                           : "amplitudes larger than the radius",
                   fmt::format("< {} ({})", ShowDerived(Millimetres(profile.radius())), table.KeyPath(radius_key)));
 }
 
 // ---- [ring]
+
+// ring.measured_profile: a roundness tester's export, fitted on reading.
+struct MeasuredProfileInput {
+  std::filesystem::path file;  // resolved against the scene file's folder
+  int orders = 0;
+  bool keep_eccentricity = false;
+};
+
+constexpr std::string_view kProfileFileAllowed =
+    "the path of an existing CSV file (jobs/profile_csv.h), relative to the scene file's folder";
+constexpr std::string_view kMeasuredProfileAllowed =
+    "a table { file = \"profile.csv\", orders = integer 1..1000, keep_eccentricity = false }";
+
+// The file named at `site`, resolved against `folder` (an absolute path stays as it is).
+std::filesystem::path ReadProfilePath(const Site& site, const std::filesystem::path& folder) {
+  const std::filesystem::path file = folder / ReadText(site, kProfileFileAllowed);
+  std::error_code error;
+  if (std::filesystem::is_regular_file(file, error)) return file;
+  const bool exists = std::filesystem::exists(file, error);
+  site.Fail(fmt::format("{}: {}", exists ? "not a file" : "no such file", file.string()), kProfileFileAllowed);
+}
+
+std::vector<Field<MeasuredProfileInput>> MeasuredProfileFields(const std::filesystem::path& folder) {
+  return {
+      Field<MeasuredProfileInput>{
+          "file", Presence::kRequired, std::string(kProfileFileAllowed),
+          [folder](const Site& site, MeasuredProfileInput& in) { in.file = ReadProfilePath(site, folder); }, {}, {}},
+      Integer("orders", Presence::kRequired, Between(1.0, kMaxHarmonicOrder), &MeasuredProfileInput::orders),
+      Flag("keep_eccentricity", Presence::kOptional, &MeasuredProfileInput::keep_eccentricity),
+  };
+}
+
+// What a measured profile adds to the ring's keys.
+struct MeasuredRing {
+  ProfileQuantity quantity = ProfileQuantity::kRadius;
+  double mean = 0.0;  // [m] fitted order 0: a radius or a mean deviation, as the file holds
+  std::vector<engine::Harmonic> harmonics;
+};
+
+// Errors of the CSV and of the fit come with the key's position and path in front:
+// "scene.toml:5:1: ring.measured_profile: ring.csv:7: radius_mm = abc: ...".
+MeasuredRing ReadMeasuredProfile(const Site& site, const std::filesystem::path& folder) {
+  const TableReader table(ReadTable(site, kMeasuredProfileAllowed), site.key_path, site.file);
+  MeasuredProfileInput in;
+  table.Read(MeasuredProfileFields(folder), in);
+  try {
+    const MeasuredFit measured = FitProfileFile(in.file, in.orders);
+    return {measured.quantity, measured.fit.mean, FormHarmonics(measured.fit, in.keep_eccentricity)};
+  } catch (const InputError& error) {
+    throw InputError(fmt::format("{}: {}: {}", Where(site.file, site.node.source()), site.key_path, error.what()));
+  }
+}
 
 struct RingInput {
   double inner_radius = 0.0;           // [m]
@@ -50,9 +111,10 @@ struct RingInput {
   std::optional<double> spin_inertia;  // [kg m^2]
   double mean_deviation = 0.0;         // [m]
   std::vector<engine::Harmonic> harmonics;
+  std::optional<MeasuredRing> measured;
 };
 
-std::vector<Field<RingInput>> RingFields() {
+std::vector<Field<RingInput>> RingFields(const std::filesystem::path& folder) {
   return {
       Number("inner_radius_mm", Presence::kRequired, kMetresPerMillimetre, Above(0.0), &RingInput::inner_radius),
       Number("outer_radius_mm", Presence::kRequired, kMetresPerMillimetre, Above(0.0), &RingInput::outer_radius),
@@ -62,12 +124,22 @@ std::vector<Field<RingInput>> RingFields() {
       Number("spin_inertia_kg_m2", Presence::kOptional, kSameUnit, Above(0.0), &RingInput::spin_inertia),
       Number("mean_deviation_mm", Presence::kOptional, kMetresPerMillimetre, AnyFinite(), &RingInput::mean_deviation),
       HarmonicList("harmonics", Presence::kOptional, &RingInput::harmonics),
+      Field<RingInput>{"measured_profile", Presence::kOptional, std::string(kMeasuredProfileAllowed),
+                       [folder](const Site& site, RingInput& in) { in.measured = ReadMeasuredProfile(site, folder); },
+                       {}, {}},
   };
 }
 
-void ReadRing(const TableReader& table, engine::Scene& scene) {
+// folder: the scene file's, against which ring.measured_profile.file is resolved.
+void ReadRing(const TableReader& table, const std::filesystem::path& folder, engine::Scene& scene) {
   RingInput in;
-  table.Read(RingFields(), in);
+  table.Read(RingFields(folder), in);
+  if (in.measured) {
+    // A measured radius is the nominal radius plus the mean deviation.
+    in.mean_deviation +=
+        in.measured->quantity == ProfileQuantity::kRadius ? in.measured->mean - in.inner_radius : in.measured->mean;
+    in.harmonics.insert(in.harmonics.end(), in.measured->harmonics.begin(), in.measured->harmonics.end());
+  }
   if (!(in.outer_radius > in.inner_radius)) {
     table.Fail("outer_radius_mm", "not larger than the inner radius",
                fmt::format("> {} (ring.inner_radius_mm)", ShowDerived(Millimetres(in.inner_radius))));
@@ -349,11 +421,12 @@ std::vector<Field<engine::Scene>> SensorFields() {
   return {Number("angle_deg", Presence::kOptional, kRadiansPerDegree, AnyFinite(), &engine::Scene::sensor_angle)};
 }
 
-std::vector<Field<engine::Scene>> SceneFields() {
+std::vector<Field<engine::Scene>> SceneFields(const std::filesystem::path& folder) {
   using engine::Scene;
   // The ring comes first: the rollers' limits depend on its radius.
   return {
-      Section<Scene>("ring", Presence::kRequired, ReadRing),
+      Section<Scene>("ring", Presence::kRequired,
+                     [folder](const TableReader& table, Scene& scene) { ReadRing(table, folder, scene); }),
       Section<Scene>("roller_positions", Presence::kOptional, ReadRollerPositions),
       Sections<Scene>("rollers", Presence::kRequired, kMinRollers, ReadRoller),
       Section<Scene>("contact", Presence::kOptional,
@@ -367,10 +440,12 @@ std::vector<Field<engine::Scene>> SceneFields() {
   };
 }
 
-engine::Scene SceneFromTable(const toml::table& document, const std::string& source_name) {
+engine::Scene SceneFromText(std::string_view toml_text, const std::string& source_name,
+                            const std::filesystem::path& folder) {
+  const toml::table document = ParseToml(toml_text, source_name);
   const TableReader root(document, "", source_name);
   engine::Scene scene;
-  root.Read(SceneFields(), scene);
+  root.Read(SceneFields(folder), scene);
   // Non-convex outlines are left to the solvers, which report them as a status.
   const engine::GeometryCheck check = engine::CheckGeometry(scene);
   if (check.issue == engine::GeometryIssue::kRollerDoesNotFit) {
@@ -385,13 +460,11 @@ engine::Scene SceneFromTable(const toml::table& document, const std::string& sou
 }  // namespace
 
 engine::Scene ParseScene(std::string_view toml_text, const std::string& source_name) {
-  const toml::table document = ParseToml(toml_text, source_name);
-  return SceneFromTable(document, source_name);
+  return SceneFromText(toml_text, source_name, std::filesystem::path());
 }
 
 engine::Scene ReadScene(const std::filesystem::path& file) {
-  const std::string source_name = file.string();
-  return ParseScene(ReadTextFile(file), source_name);
+  return SceneFromText(ReadTextFile(file), file.string(), file.parent_path());
 }
 
 }  // namespace ringtol::jobs

@@ -16,6 +16,24 @@
 //     mean_deviation_mm          default 0
 //     harmonics                  default []; [{ order = integer 1..1000, amplitude_mm >= 0,
 //                                phase_deg = 0 }, ...] in the ring frame
+//     measured_profile           optional: a roundness tester's export fitted on reading,
+//                                { file = "ring.csv", orders = 20, keep_eccentricity = false }
+//       file                     required: a CSV file (jobs/profile_csv.h), relative to the
+//                                scene file's folder (ParseScene, which has text but no file:
+//                                relative to the current directory); an absolute path as is
+//       orders                   required, integer 1..1000: orders 0..orders are fitted
+//                                (sampling/profile_fit.h, jobs/fit_command.h)
+//       keep_eccentricity        default false: order 1 is the tester's set-up eccentricity
+//                                and is dropped; true keeps it
+//                                The fit a_0 + sum_n C_n cos(n theta + phi_n) joins the ring's
+//                                own keys: orders 2..orders (1..orders when kept) are appended
+//                                to harmonics (equal orders add up), and mean_deviation_mm
+//                                gains a_0 - inner_radius_mm when the file holds radii
+//                                (radius_mm), a_0 when it holds deviations (deviation_mm,
+//                                deviation_um). With radii and no other ring errors, r(theta)
+//                                is the fitted outline. CSV and fit errors are InputErrors
+//                                with this key's position and path in front, e.g.
+//                                "scene.toml:9:20: ring.measured_profile: ring.csv:7: ..."
 //   [roller_positions]           optional: mean_deviation_mm, harmonics (as above), the
 //                                radial position series evaluated at each roller's angle
 //   [[rollers]]                  at least 3
@@ -66,7 +84,8 @@
 //
 // Failure: InputError (jobs/input_error.h) for a missing, unreadable or malformed file,
 // an unknown or missing key (anywhere, including inside harmonic tables), a wrong type,
-// a value out of range, a profile whose |mean_deviation| + sum of amplitudes reaches its
+// a value out of range, a measured profile that is missing, unreadable or cannot support
+// the orders asked for, a profile whose |mean_deviation| + sum of amplitudes reaches its
 // radius (the polar form breaks down there), and a roller that does not fit in the ring
 // (engine::CheckGeometry). A ring or roller that is not convex is NOT an input error: the
 // solvers report it as a status, so a sweep can include such cases.
@@ -80,10 +99,12 @@
 
 namespace ringtol::jobs {
 
-// Reads and validates a scene file. Messages name the file as given.
+// Reads and validates a scene file. Messages name the file as given; files it names
+// (ring.measured_profile.file) are resolved against its folder.
 engine::Scene ReadScene(const std::filesystem::path& file);
 
 // The same for TOML text already in memory; source_name stands for the file in messages.
+// Files the text names are resolved against the current directory.
 engine::Scene ParseScene(std::string_view toml_text, const std::string& source_name);
 
 }  // namespace ringtol::jobs

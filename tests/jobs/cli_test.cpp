@@ -73,6 +73,57 @@ TEST(Cli, EveryCommandHasHelp) {
     EXPECT_EQ(run.exit_code, 0) << command;
     EXPECT_THAT(run.out, HasSubstr("Scene file")) << command;
   }
+  for (const auto& [command, option] : {std::pair{"sample", "--scene"}, {"classes", "--toml"}, {"fit", "--orders"}}) {
+    const Outcome run = Ringtol(std::string(command) + " --help");
+    EXPECT_EQ(run.exit_code, 0) << command;
+    EXPECT_THAT(run.out, HasSubstr(option)) << command;
+  }
+}
+
+TEST(Cli, SampleWritesInputsAndASceneThatReplays) {
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir());
+  const std::string csv = (dir / "ringtol_cli_inputs.csv").string(), scene = (dir / "ringtol_cli_sample3.toml").string();
+  const Outcome run = Ringtol(std::string("sample ") + RINGTOL_SOURCE_DIR +
+                              "/examples/tolerances/normal_waterjet.toml --samples 8 --csv " + csv +
+                              " --index 3 --scene " + scene);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("sobol, 8 samples"));
+  std::ifstream inputs(csv);
+  std::string header, line;
+  std::getline(inputs, header);
+  EXPECT_THAT(header, HasSubstr("ring.order2.amplitude_um"));
+  int rows = 0;
+  while (std::getline(inputs, line)) ++rows;
+  EXPECT_EQ(rows, 8);
+  const Outcome replay = Ringtol("simulate " + scene + " --solver linear --json");
+  ASSERT_EQ(replay.exit_code, 0) << replay.err;
+  EXPECT_EQ(nlohmann::json::parse(replay.out)["status"], "ok");
+}
+
+TEST(Cli, SampleRefusesABadDesignSizeBeforeAnyWork) {
+  const Outcome run = Ringtol(std::string("sample ") + RINGTOL_SOURCE_DIR +
+                              "/examples/tolerances/normal_waterjet.toml --samples 1000");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_THAT(run.err, HasSubstr("design.samples = 1000"));
+  EXPECT_EQ(run.out, "");
+}
+
+TEST(Cli, ClassesListsTheCatalogueAndItsSources) {
+  const Outcome list = Ringtol("classes");
+  EXPECT_EQ(list.exit_code, 0);
+  EXPECT_THAT(list.out, HasSubstr("Normal, P0"));
+  EXPECT_THAT(list.out, HasSubstr("waterjet"));
+  const Outcome toml = Ringtol("classes --toml");
+  EXPECT_THAT(toml.out, HasSubstr("source = "));
+}
+
+TEST(Cli, FitPrintsTheHarmonicsOfTheExampleExport) {
+  const Outcome run =
+      Ringtol(std::string("fit ") + RINGTOL_SOURCE_DIR + "/examples/measured/ring_profile.csv --orders 10 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json fit = nlohmann::json::parse(run.out);
+  EXPECT_EQ(fit["harmonics"].size(), 10u);
+  EXPECT_EQ(fit["harmonics"][1]["order"], 2);
 }
 
 TEST(Cli, SimulateJsonHasEveryDocumentedKey) {

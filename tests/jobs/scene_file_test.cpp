@@ -535,5 +535,228 @@ TEST(SceneFile, RejectsBadMotionValuesNamingKeyAndRange) {
               AllOf(HasSubstr("bad.toml:"), HasSubstr("overflows")));
 }
 
+// ---- ring.measured_profile
+
+// A fresh folder for this test, so tests run in parallel processes share nothing.
+std::filesystem::path MeasuredFolder() {
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const std::filesystem::path folder = std::filesystem::path(::testing::TempDir()) / ("scene_file_" + test);
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  return folder;
+}
+
+void WriteTextFile(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream(file, std::ios::binary) << text;
+}
+
+constexpr double kBoreRadius = 0.302;  // [m] of the paper scene
+// A set-up eccentricity (order 1) and form errors, as a roundness tester sees them.
+const std::vector<engine::Harmonic> kMeasuredForm = {
+    {1, 4e-6, -0.6}, {2, 30e-6, 0.3}, {3, 12e-6, 2.0}, {5, 6e-6, -2.2}};
+constexpr int kMeasuredOrders = 6;  // above every order of kMeasuredForm: 4 and 6 must come out zero
+constexpr double kEps = 0x1p-52;    // DBL_EPSILON
+// Noise-free readings are rounded twice (17 digits in the file, times the unit on
+// reading): <= 2 eps R each. Least squares amplifies that by the condition number (< 10
+// for a reading per degree, a 30 degree gap and 6 orders; fit_command_test asserts it for
+// 8) and rounds once per unknown: (2 x 6 + 1) x 2 eps x 10 x R.
+constexpr double kFitRoundOff = (2 * kMeasuredOrders + 1) * 2.0 * kEps * 10.0 * kBoreRadius;  // [m], 1.7e-14
+
+// A roundness tester's export of `mean + harmonics` [m] in `column`'s unit (metres per
+// unit): a reading per degree, none strictly between 100 and 130 degrees.
+std::string MeasuredCsv(std::string_view column, double unit, double mean,
+                        const std::vector<engine::Harmonic>& harmonics) {
+  std::ostringstream text;
+  text.precision(17);
+  text << "# measured by scene_file_test\nangle_deg, " << column << "\n";
+  for (int degree = 0; degree < 360; ++degree) {
+    if (degree > 100 && degree < 130) continue;
+    double value = mean;
+    for (const engine::Harmonic& h : harmonics) value += h.amplitude * std::cos(h.order * degree * kDeg + h.phase);
+    text << degree << ", " << value / unit << "\n";
+  }
+  return text.str();
+}
+
+std::string MeasuredRadii(double mean = kBoreRadius) { return MeasuredCsv("radius_mm", 1e-3, mean, kMeasuredForm); }
+
+// a_n and b_n of r = ... + sum_n (a_n cos n theta - b_n sin n theta) for `harmonics` [m].
+double CosCoefficient(const std::vector<engine::Harmonic>& harmonics, int n) {
+  double a = 0.0;
+  for (const engine::Harmonic& h : harmonics) a += h.order == n ? h.amplitude * std::cos(h.phase) : 0.0;
+  return a;
+}
+double SinCoefficient(const std::vector<engine::Harmonic>& harmonics, int n) {
+  double b = 0.0;
+  for (const engine::Harmonic& h : harmonics) b += h.order == n ? h.amplitude * std::sin(h.phase) : 0.0;
+  return b;
+}
+
+// The paper scene whose ring has `harmonics_line` and measured_profile = `measured`.
+std::string PaperSceneMeasuring(std::string_view measured, std::string_view harmonics_line = "harmonics = []") {
+  return PaperSceneWith(kRingHarmonics, std::string(harmonics_line) + "\nmeasured_profile = " + std::string(measured) +
+                                            "\n#");
+}
+
+// ReadScene's message for the paper scene with measured_profile = `measured`, written as
+// scene.toml in `folder`.
+std::string MeasuredErrorFor(const std::filesystem::path& folder, std::string_view measured) {
+  WriteTextFile(folder / "scene.toml", PaperSceneMeasuring(measured));
+  try {
+    ReadScene(folder / "scene.toml");
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "ReadScene accepted measured_profile = " << measured;
+  return "";
+}
+
+TEST(SceneFile, MeasuredProfileGivesTheRingTheFittedHarmonics) {
+  const std::filesystem::path folder = MeasuredFolder();
+  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  for (const bool keep : {false, true}) {
+    SCOPED_TRACE(keep ? "keep_eccentricity = true" : "keep_eccentricity = false");
+    WriteTextFile(folder / "scene.toml", PaperSceneMeasuring("{ file = \"ring.csv\", orders = 6, keep_eccentricity = " +
+                                                             std::string(keep ? "true" : "false") + " }"));
+    const engine::PolarProfile& bore = ReadScene(folder / "scene.toml").ring.inner;
+    EXPECT_EQ(bore.radius(), kBoreRadius);
+    // The export's mean radius is the nominal radius: no mean deviation.
+    EXPECT_NEAR(bore.mean_deviation(), 0.0, kFitRoundOff);
+    const int first = keep ? 1 : 2;
+    ASSERT_EQ(bore.harmonics().size(), static_cast<std::size_t>(kMeasuredOrders - first + 1));
+    EXPECT_EQ(bore.harmonics().front().order, first);
+    EXPECT_EQ(bore.harmonics().back().order, kMeasuredOrders);
+    for (int n = 1; n <= kMeasuredOrders; ++n) {
+      SCOPED_TRACE("order " + std::to_string(n));
+      const bool kept = n >= first;
+      EXPECT_NEAR(bore.cos_coefficient(n), kept ? CosCoefficient(kMeasuredForm, n) : 0.0, kFitRoundOff);
+      EXPECT_NEAR(bore.sin_coefficient(n), kept ? SinCoefficient(kMeasuredForm, n) : 0.0, kFitRoundOff);
+    }
+  }
+}
+
+TEST(SceneFile, MeasuredProfileAddsToTheRingsOwnHarmonicsAndMeanDeviation) {
+  const std::filesystem::path folder = MeasuredFolder();
+  constexpr std::string_view kOwnKeys = "mean_deviation_mm = 0.0\nharmonics = []                    # e.g.";
+  constexpr std::string_view kOwnHarmonic = "{ order = 3, amplitude_mm = 0.01, phase_deg = 90 }";
+  const engine::Harmonic own{3, 1e-5, std::numbers::pi / 2.0};
+  constexpr double kOwnMeanDeviation = 2e-6;   // [m], mean_deviation_mm = 0.002
+  constexpr double kMeasuredOffset = 1.5e-6;   // [m] the export's mean deviation, or its radius above 302 mm
+  const std::vector<std::pair<std::string, std::string>> exports = {
+      {"deviations", MeasuredCsv("deviation_um", 1e-6, kMeasuredOffset, kMeasuredForm)},
+      {"radii", MeasuredRadii(kBoreRadius + kMeasuredOffset)}};
+  for (const auto& [name, csv] : exports) {
+    SCOPED_TRACE(name);
+    WriteTextFile(folder / "ring.csv", csv);
+    WriteTextFile(folder / "scene.toml",
+                  PaperSceneWith(kOwnKeys, "mean_deviation_mm = 0.002\nharmonics = [" + std::string(kOwnHarmonic) +
+                                               "]\nmeasured_profile = { file = \"ring.csv\", orders = 6 } #"));
+    const engine::PolarProfile& bore = ReadScene(folder / "scene.toml").ring.inner;
+    // 2 um + 1.5 um: the explicit key's rounding (eps x 2 um) vanishes in the fit's.
+    EXPECT_NEAR(bore.mean_deviation(), kOwnMeanDeviation + kMeasuredOffset, kFitRoundOff);
+    // The ring's own harmonic first, as written, then the fitted orders 2..6.
+    ASSERT_EQ(bore.harmonics().size(), static_cast<std::size_t>(1 + kMeasuredOrders - 1));
+    EXPECT_EQ(bore.harmonics().front(), own);
+    EXPECT_EQ(bore.harmonics()[1].order, 2);
+    // Equal orders add up: order 3 is the own harmonic plus the fitted one.
+    EXPECT_NEAR(bore.cos_coefficient(3), own.amplitude * std::cos(own.phase) + CosCoefficient(kMeasuredForm, 3),
+                kFitRoundOff);
+    EXPECT_NEAR(bore.sin_coefficient(3), own.amplitude * std::sin(own.phase) + SinCoefficient(kMeasuredForm, 3),
+                kFitRoundOff);
+  }
+}
+
+TEST(SceneFile, MeasuredProfileIsFoundRelativeToTheSceneFilesFolder) {
+  const std::filesystem::path folder = MeasuredFolder();
+  std::filesystem::create_directories(folder / "scenes" / "profiles");
+  WriteTextFile(folder / "scenes" / "profiles" / "ring.csv", MeasuredRadii());
+  const std::string text = PaperSceneMeasuring("{ file = \"profiles/ring.csv\", orders = 6 }");
+  WriteTextFile(folder / "scenes" / "scene.toml", text);
+  const engine::Scene scene = ReadScene(folder / "scenes" / "scene.toml");
+  EXPECT_EQ(scene.ring.inner.harmonics().size(), static_cast<std::size_t>(kMeasuredOrders - 1));
+
+  // Text without a file resolves against the current directory, which has no profiles/.
+  EXPECT_THAT(ErrorFor(text), AllOf(HasSubstr("ring.measured_profile.file = \"profiles/ring.csv\""),
+                                    HasSubstr("no such file: profiles/ring.csv")));
+  // An absolute path is taken as it is.
+  const std::string absolute = (folder / "scenes" / "profiles" / "ring.csv").string();
+  const engine::Scene parsed =
+      ParseScene(PaperSceneMeasuring("{ file = \"" + absolute + "\", orders = 6 }"), "text.toml");
+  EXPECT_EQ(parsed.ring.inner.harmonics(), scene.ring.inner.harmonics());
+}
+
+TEST(SceneFile, RejectsAMissingMeasuredProfileNamingKeyValueAndPath) {
+  const std::filesystem::path folder = MeasuredFolder();
+  const std::string scene = (folder / "scene.toml").string();
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"missing.csv\", orders = 6 }"),
+              AllOf(HasSubstr(scene + ":"), HasSubstr("ring.measured_profile.file = \"missing.csv\": no such file: " +
+                                                      (folder / "missing.csv").string()),
+                    HasSubstr("allowed: the path of an existing CSV file")));
+  std::filesystem::create_directories(folder / "profiles");
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"profiles\", orders = 6 }"),
+              HasSubstr("ring.measured_profile.file = \"profiles\": not a file"));
+}
+
+TEST(SceneFile, RejectsMeasuredProfileOrdersOutOfRange) {
+  const std::filesystem::path folder = MeasuredFolder();
+  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 0 }"),
+              AllOf(HasSubstr((folder / "scene.toml").string() + ":"),
+                    HasSubstr("ring.measured_profile.orders = 0: out of range; allowed: an integer >= 1 and <= 1000")));
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 1001 }"),
+              HasSubstr("ring.measured_profile.orders = 1001: out of range"));
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 6.5 }"),
+              HasSubstr("ring.measured_profile.orders = 6.5: wrong type: expected an integer, found float"));
+}
+
+TEST(SceneFile, RejectsUnknownMissingAndMistypedKeysOfTheMeasuredProfile) {
+  const std::filesystem::path folder = MeasuredFolder();
+  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", order = 6 }"),
+              HasSubstr("unknown key 'ring.measured_profile.order'; valid keys here: file, orders, keep_eccentricity"));
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\" }"),
+              AllOf(HasSubstr("ring.measured_profile.orders: missing required key"),
+                    HasSubstr("allowed: an integer >= 1 and <= 1000")));
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 6, keep_eccentricity = 1 }"),
+              HasSubstr("ring.measured_profile.keep_eccentricity = 1: wrong type: expected a boolean"));
+  EXPECT_THAT(MeasuredErrorFor(folder, "\"ring.csv\""),
+              AllOf(HasSubstr("ring.measured_profile = \"ring.csv\": wrong type: expected a table"),
+                    HasSubstr("allowed: a table { file = \"profile.csv\", orders = integer 1..1000")));
+}
+
+TEST(SceneFile, PassesCsvAndFitErrorsThroughAfterTheKeyPath) {
+  const std::filesystem::path folder = MeasuredFolder();
+  const std::string csv = (folder / "ring.csv").string();
+  // measured_profile is on the line of the paper scene's ring harmonics, plus one.
+  const std::string text = PaperSceneText();
+  const std::size_t line = 2 + static_cast<std::size_t>(std::count(
+                                   text.begin(), text.begin() + static_cast<std::ptrdiff_t>(text.find(kRingHarmonics)),
+                                   '\n'));
+  const std::string where = (folder / "scene.toml").string() + ":" + std::to_string(line) + ":";
+
+  WriteTextFile(folder / "ring.csv", "angle_deg,radius_mm\n0,1\n1,1\n2,1\n3,1\n4,1\n5,abc\n");
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 2 }"),
+              AllOf(::testing::StartsWith(where),
+                    HasSubstr(": ring.measured_profile: " + csv +
+                              ":7: radius_mm = abc: not a number; allowed: a finite number > 0")));
+
+  WriteTextFile(folder / "ring.csv", "angle_deg,radius_mm\n0,302\n72,302.01\n144,302\n216,301.99\n288,302\n");
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 6 }"),
+              AllOf(::testing::StartsWith(where),
+                    HasSubstr(": ring.measured_profile: " + csv +
+                              ": fitting orders up to 6 needs at least 2*6+1 = 13 points at distinct angles; got 5")));
+}
+
+TEST(SceneFile, BlamesTheMeasuredProfileForAmplitudesLargerThanTheRadius) {
+  // 60 orders across the example's 30 degree gap: well enough conditioned to be fitted,
+  // but the 1 um noise comes out amplified to amplitudes that add up to more than the radius.
+  const std::string example = RINGTOL_SOURCE_DIR "/examples/measured/ring_profile.csv";
+  EXPECT_THAT(ErrorFor(PaperSceneMeasuring("{ file = \"" + example + "\", orders = 60 }")),
+              AllOf(HasSubstr("bad.toml:"),
+                    HasSubstr("ring.measured_profile (|mean_deviation_mm| + sum of amplitude_mm"),
+                    HasSubstr("amplitudes larger than the radius (`ringtol fit` shows the fit: fewer orders?)"),
+                    HasSubstr("allowed: < 302 (ring.inner_radius_mm)")));
+}
+
 }  // namespace
 }  // namespace ringtol::jobs
