@@ -107,6 +107,36 @@ TEST(DrawHarmonics, AmplitudesAreRayleighAndPhasesUniform) {
   }
 }
 
+TEST(MeasureForm, PeakToValleyOfOneDrawnOrderHasItsExactDistribution) {
+  // One order n drawn at scale c: C ~ Rayleigh(c n^-a), so RONt = 2C and, for even n,
+  // VDsp = 4C; for odd n VDsp = 0. Kolmogorov-Smirnov against those laws, significance 1e-3
+  // split over 3 tests.
+  constexpr double kAlpha = 1e-3 / 3.0;
+  const auto rayleigh = [](double x) { return 1 - std::exp(-x * x / 2); };
+  constexpr int kDraws = 4000;
+  constexpr double kScale = 3e-6;
+  for (const int n : {4, 7}) {
+    const SpectrumShape shape{n, n, 1.0, {}};
+    const double sigma = kScale / n;
+    std::vector<double> roundness, two_point;
+    for (int i = 0; i < kDraws; ++i) {
+      const auto u = Draws(9, static_cast<std::uint64_t>(i), 1, 0), v = Draws(9, static_cast<std::uint64_t>(i), 1, 1);
+      const auto hs = DrawHarmonics(shape, kScale, u, v);
+      roundness.push_back(MeasureForm(FormMeasure::kRoundness, hs) / (2 * sigma));
+      two_point.push_back(MeasureForm(FormMeasure::kTwoPointVariation, hs));
+    }
+    const double d = testing::KolmogorovSmirnovStatistic(roundness, rayleigh);
+    EXPECT_GT(testing::KolmogorovSmirnovPValue(d, roundness.size()), kAlpha) << "order " << n;
+    if (n % 2 == 1) {
+      EXPECT_EQ(*std::max_element(two_point.begin(), two_point.end()), 0.0);
+    } else {
+      for (double& x : two_point) x /= 4 * sigma;
+      const double d2 = testing::KolmogorovSmirnovStatistic(two_point, rayleigh);
+      EXPECT_GT(testing::KolmogorovSmirnovPValue(d2, two_point.size()), kAlpha) << "order " << n;
+    }
+  }
+}
+
 TEST(CalibrateSpectrum, CalibratedPartsMeetTheirToleranceAtTheStatedCoverage) {
   // Fresh draws at the calibrated scale: the fraction inside differs from p by the calibration's
   // own sampling error (the coverage of an order statistic has variance p(1-p)/K) plus the check's
