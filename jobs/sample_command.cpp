@@ -36,6 +36,11 @@ int RunSample(const SampleCommand& command, std::ostream& out) {
     throw InputError("--index and --scene go together: the sample to write and the file to write it to");
   if (command.index && (*command.index < 0 || *command.index >= plan.samples))
     throw InputError("--index " + std::to_string(*command.index) + ": allowed: 0.." + std::to_string(plan.samples - 1));
+  if (!command.scene.empty()) {
+    const std::filesystem::path folder = command.scene.parent_path().empty() ? "." : command.scene.parent_path();
+    if (!std::filesystem::is_directory(folder))
+      throw InputError(command.scene.string() + ": cannot be written: folder " + folder.string() + " does not exist");
+  }
   Sampling sampling = MakeSampling(plan, source);
   std::ofstream csv, scene;
   if (!command.csv.empty()) csv = OpenOutput(command.csv);

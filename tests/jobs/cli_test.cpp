@@ -106,6 +106,11 @@ TEST(Cli, SampleRefusesABadDesignSizeBeforeAnyWork) {
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_THAT(run.err, HasSubstr("design.samples = 1000"));
   EXPECT_EQ(run.out, "");
+  const Outcome nowhere = Ringtol(std::string("sample ") + RINGTOL_SOURCE_DIR +
+                                  "/examples/tolerances/normal_waterjet.toml --index 0 --scene /nonexistent/s.toml");
+  EXPECT_EQ(nowhere.exit_code, 1);
+  EXPECT_THAT(nowhere.err, HasSubstr("/nonexistent/s.toml"));
+  EXPECT_EQ(nowhere.out, "");
 }
 
 TEST(Cli, ClassesListsTheCatalogueAndItsSources) {
