@@ -15,12 +15,6 @@ constexpr double kMetresPerMicrometre = 1e-6;
 constexpr double kPerPercent = 1e-2;
 const std::string kShippedName = "catalogue.toml (built into ringtol)";
 
-template <typename Row>
-struct ClassInput {
-  sampling::ToleranceClass<Row> value;
-  std::vector<std::string> aliases;
-};
-
 std::vector<std::string> ReadTextList(const Site& site) {
   const toml::array& array = ReadArray(site, "an array of names");
   std::vector<std::string> names;
@@ -90,10 +84,6 @@ void AddClasses(const TableReader& root, std::string_view key, std::vector<Field
     }
   }
 }
-
-struct VersionOnly {
-  std::string version;
-};
 
 }  // namespace
 

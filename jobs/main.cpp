@@ -6,7 +6,6 @@
 #include "jobs/commands.h"
 #include "jobs/fit_command.h"
 #include "jobs/input_error.h"
-#include "jobs/sample_command.h"
 #include "solvers/solver.h"
 
 int main(int argc, char** argv) {

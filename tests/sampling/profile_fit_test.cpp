@@ -39,16 +39,13 @@ double ProfileValue(double theta, const std::vector<engine::Harmonic>& harmonics
   return value;
 }
 
-// a_n and b_n of value = a_0 + sum_n (a_n cos n theta - b_n sin n theta) [m].
+// a_n and b_n of r = ... + sum_n (a_n cos n theta - b_n sin n theta) for `harmonics` [m], as
+// PolarProfile sums harmonics of equal order.
 double CosCoefficient(const std::vector<engine::Harmonic>& harmonics, int n) {
-  double a = 0.0;
-  for (const engine::Harmonic& h : harmonics) a += h.order == n ? h.amplitude * std::cos(h.phase) : 0.0;
-  return a;
+  return engine::PolarProfile(1.0, 0.0, harmonics).cos_coefficient(n);
 }
 double SinCoefficient(const std::vector<engine::Harmonic>& harmonics, int n) {
-  double b = 0.0;
-  for (const engine::Harmonic& h : harmonics) b += h.order == n ? h.amplitude * std::sin(h.phase) : 0.0;
-  return b;
+  return engine::PolarProfile(1.0, 0.0, harmonics).sin_coefficient(n);
 }
 
 std::vector<ProfileSample> Sample(const std::vector<double>& angles, const std::vector<engine::Harmonic>& harmonics) {
