@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+
+#include <Eigen/Eigenvalues>
 
 #include "engine/sensor.h"
 
@@ -12,8 +15,50 @@ int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options) {
   if (options.steps > 0) return options.steps;
   const double fastest = 2.0 * engine::FastestHarmonicRate(scene);
   const double wanted = std::ceil(options.samples_per_undulation * fastest);
-  return static_cast<int>(std::clamp(wanted, static_cast<double>(options.min_steps),
-                                     static_cast<double>(options.max_steps)));
+  const int undulation_rule = static_cast<int>(
+      std::clamp(wanted, static_cast<double>(options.min_steps), static_cast<double>(options.max_steps)));
+  if (!(options.path_tolerance > 0.0)) return undulation_rule;
+  // The bound falls monotonically with steps: bisect for the fewest that meet the budget,
+  // never more than the undulation rule, which resolves every term.
+  if (SamplingErrorBound(scene, options.min_steps) <= options.path_tolerance) return options.min_steps;
+  int low = options.min_steps;
+  int high = undulation_rule;
+  if (SamplingErrorBound(scene, high) > options.path_tolerance) return high;
+  while (high - low > 1) {
+    const int middle = low + (high - low) / 2;
+    (SamplingErrorBound(scene, middle) <= options.path_tolerance ? high : low) = middle;
+  }
+  return high;
+}
+
+double SamplingErrorBound(const engine::Scene& scene, int steps) {
+  const int rollers = static_cast<int>(scene.rollers.size());
+  Eigen::Matrix2d normal_products = Eigen::Matrix2d::Zero();
+  int fixed = 0;
+  for (int i = 0; i < rollers; ++i) {
+    if (scene.rollers[static_cast<std::size_t>(i)].mount != engine::RollerMount::kFixed) continue;
+    const Eigen::Vector2d normal = engine::Direction(scene.rollers[static_cast<std::size_t>(i)].angle);
+    normal_products += normal * normal.transpose();
+    ++fixed;
+  }
+  const double sigma_min_squared = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(normal_products).eigenvalues()(0);
+  if (fixed < 2 || !(sigma_min_squared > 0.0)) return std::numeric_limits<double>::infinity();
+  const double gain = 1.0 / std::sqrt(sigma_min_squared);
+  const double dpsi = 2.0 * std::numbers::pi / static_cast<double>(steps);
+  const auto straying = [dpsi](double rate) { return std::min(2.0, rate * rate * dpsi * dpsi / 8.0); };
+
+  double bound = 0.0;
+  const double ring_gain = gain * std::sqrt(static_cast<double>(fixed));
+  for (const engine::Harmonic& h : scene.ring.inner.harmonics()) {
+    bound += ring_gain * h.amplitude * straying(static_cast<double>(h.order));
+  }
+  for (int i = 0; i < rollers; ++i) {
+    const double spin = engine::SpinRatio(scene, i);
+    for (const engine::Harmonic& h : scene.rollers[static_cast<std::size_t>(i)].outline.harmonics()) {
+      bound += gain * h.amplitude * straying(static_cast<double>(h.order) * spin);
+    }
+  }
+  return 2.0 * bound;
 }
 
 namespace {

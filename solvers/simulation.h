@@ -21,6 +21,11 @@ struct SimulationOptions {
   double samples_per_undulation = 32.0;
   int min_steps = 360;       // floor of the automatic resolution
   int max_steps = 2000000;   // ceiling of the automatic resolution
+  // > 0 [m]: instead of resolving every undulation, the fewest steps whose bound on the
+  // sampling error of D_trajectory (SamplingErrorBound) is at most this. Tiny fast terms
+  // (a roller's high lobes pass ~60 n times per revolution at sub-micrometre amplitude)
+  // then cost what they are worth; campaigns set it, single runs keep the exact rule.
+  double path_tolerance = 0.0;
 };
 
 // Steps for one revolution: options.steps if set, else enough that the fastest term of
@@ -28,6 +33,20 @@ struct SimulationOptions {
 // revolution, and the exact model's second-order products twice as fast) is sampled
 // `samples_per_undulation` times per period, so no harmonic aliases.
 int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options);
+
+// Upper bound [m] on how much D_trajectory sampled at `steps` angles can fall short of the
+// continuous path's, to first order in the error amplitudes. The path is a sum of terms,
+// one per error harmonic: amplitude G A (A the harmonic's radial amplitude, G the gain
+// from a contact's gap to the centre, below) at rate w per revolution (ring order n:
+// w = n; roller order m: w = m R / r_b). Between two samples dpsi apart a term strays
+// from the chord by at most min(2, w^2 dpsi^2 / 8) G A; the true path lies within the sum
+// of these of the sampled polygon, so within that much of the sampled enclosing circle,
+// whose diameter is short by at most twice the sum. G = 1 / sigma_min of the fixed
+// rollers' unit contact normals (rigid support by the fixed rollers, the spring roller
+// following); a ring harmonic meets every fixed contact at once, so its gain is
+// sqrt(fixed rollers) times that. Second-order products of amplitudes are left out. With
+// fewer than two fixed rollers the bound is infinite.
+double SamplingErrorBound(const engine::Scene& scene, int steps);
 
 struct RollerForceRange {
   double min = 0.0;  // [N]

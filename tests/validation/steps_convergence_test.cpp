@@ -103,5 +103,31 @@ TEST(StepConvergence, QuasistaticAtAutomaticStepsAgreesWithFourTimesFinerWithinT
   EXPECT_LE(error, bound + kNewtonTolerance);
 }
 
+// Campaigns choose steps from an error budget (SimulationOptions::path_tolerance) rather
+// than resolving every roller lobe. The budget must hold against a path resolved in full,
+// and the choice must be the fewest steps whose bound meets it.
+TEST(StepConvergence, PathToleranceStepsKeepTheDiameterWithinTheirBudget) {
+  engine::Scene scene = testing::PaperScene();
+  testing::SetRing(scene, {{3, 0.05e-3, 10.0 * kDeg}, {17, 4e-6, 0.0}});
+  // Roller lobes pass order x R / r_b (about 60) times per revolution: the expensive terms.
+  scene.rollers[0].outline = engine::PolarProfile(0.005, 0.0, {{1, 3e-6, 0.2}, {5, 1e-6, 1.0}});
+  scene.rollers[1].outline = engine::PolarProfile(0.005, 0.0, {{7, 0.5e-6, 2.0}});
+  scene.rollers[2].outline = engine::PolarProfile(0.005, 0.0, {{3, 1.5e-6, 0.5}});
+  const solvers::LinearSolver solver;
+  const int resolved = solvers::ChooseSteps(scene, {});
+  const double reference = Diameter(scene, solver, 4 * resolved);
+  for (const double budget : {2e-6, 0.5e-6, 0.1e-6}) {
+    solvers::SimulationOptions options;
+    options.path_tolerance = budget;
+    const int steps = solvers::ChooseSteps(scene, options);
+    EXPECT_LT(steps, resolved) << budget;
+    EXPECT_LE(solvers::SamplingErrorBound(scene, steps), budget);
+    if (steps > options.min_steps) {
+      EXPECT_GT(solvers::SamplingErrorBound(scene, steps - 1), budget);
+    }
+    EXPECT_LE(std::abs(reference - Diameter(scene, solver, steps)), budget) << steps;
+  }
+}
+
 }  // namespace
 }  // namespace ringtol
