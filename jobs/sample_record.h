@@ -1,0 +1,51 @@
+// One simulated sample of a campaign as it travels from the rank that computed it to the
+// results file: its identity, its inputs (enough to replay it alone) and its outputs.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "solvers/solver.h"
+
+namespace ringtol::jobs {
+
+// A sample's outcome. Values 0..9 are solvers::Status (same numbers, same names); the
+// campaign adds its own failures and the marker of a sample not yet on disk.
+enum class SampleStatus : std::int8_t {
+  kPending = -1,          // not computed (the results file's fill value)
+  kOk = 0,
+  // 1..9: the remaining solvers::Status values, in their order
+  kException = 64,        // the sample threw (message: what()); the campaign goes on
+  kNonFiniteOutput = 65,  // the solver said ok but an output is NaN or infinite
+  kSamplingFailed = 66,   // the sampler could not realise the assembly (message says why)
+};
+
+SampleStatus FromSolverStatus(solvers::Status status);
+// "pending", "ok", the solvers::StatusName of 1..9, "exception", "non_finite_output",
+// "sampling_failed".
+std::string_view SampleStatusName(SampleStatus status);
+// Every status, pending first, for enumerations in output files.
+const std::vector<SampleStatus>& AllSampleStatuses();
+
+// The per-sample outputs, in the order of kOutputNames (units in the names).
+inline constexpr std::array<const char*, 7> kOutputNames = {
+    "d_trajectory_mm", "dist_init_mm",        "static_offset_mm",   "runout_mm",
+    "runout_total_mm", "min_contact_force_N", "max_contact_force_N"};
+inline constexpr std::size_t kOutputCount = kOutputNames.size();
+
+struct SampleRecord {
+  std::int64_t index = 0;
+  SampleStatus status = SampleStatus::kPending;
+  std::string message;                   // why, when status != kOk; empty otherwise
+  std::vector<double> u;                 // the design point (before inspection redraws): the replay key
+  std::vector<double> values;            // drawn values per sampler input, in the units of their names
+  std::int32_t redraws = 0;              // inspected parts rejected and drawn again
+  std::int32_t steps = 0;                // angles per revolution the solver used
+  std::array<double, kOutputCount> outputs{};  // NaN when status != kOk
+  double solve_time = 0.0;               // [s] wall time of realise + simulate
+};
+
+}  // namespace ringtol::jobs
