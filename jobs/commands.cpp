@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "jobs/campaign_file.h"
 #include "jobs/catalogue_file.h"
 #include "jobs/dynamic_study.h"
 #include "jobs/input_error.h"
@@ -151,10 +152,9 @@ int RunBenchLadder(const BenchLadderCommand& command, std::ostream& out, std::os
 
 int RunSample(const SampleCommand& command, std::ostream& out) {
   const std::string source = command.file.string();
-  SamplingPlan plan = ReadSamplingFile(command.file);
-  if (command.samples) plan.samples = *command.samples;
-  if (plan.design.kind == sampling::DesignKind::kLatinHypercube) plan.design.latin_samples = plan.samples;
-  if (command.seed) plan.seed = plan.design.seed = *command.seed;
+  // A campaign file is a sampling file too: its solver and spec are not needed here.
+  SamplingPlan plan = ReadSamplingFile(command.file, kCampaignTables);
+  OverridePlan(plan, command.samples, command.seed);
   if (command.index.has_value() != !command.scene.empty())
     throw InputError("--index and --scene go together: the sample to write and the file to write it to");
   if (command.index && (*command.index < 0 || *command.index >= plan.samples))

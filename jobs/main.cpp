@@ -1,12 +1,53 @@
 // ringtol: the command line. Parsing only; the work is in jobs/commands.h.
+#include <mpi.h>
+
+#include <cstdlib>
 #include <iostream>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "jobs/campaign_command.h"
 #include "jobs/commands.h"
 #include "jobs/fit_command.h"
 #include "jobs/input_error.h"
 #include "solvers/solver.h"
+
+namespace {
+
+// `ringtol campaign` is the one MPI command: it runs alone as a singleton or under mpirun.
+int RunCampaignCommand(const ringtol::jobs::CampaignCommand& command) {
+  int provided = 0;
+  if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
+    std::cerr << "ringtol: error: MPI could not start (MPI_Init_thread failed); under mpirun as root, pass "
+                 "--allow-run-as-root\n";
+    return 1;
+  }
+  MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  int code = 0;
+  if (provided < MPI_THREAD_FUNNELED) {
+    if (rank == 0) std::cerr << "ringtol: error: this MPI library cannot run a computing thread beside MPI calls "
+                                "(MPI_THREAD_FUNNELED)\n";
+    code = 1;
+  } else {
+    try {
+      code = ringtol::jobs::RunCampaign(command, std::cout, std::cerr);
+    } catch (const ringtol::jobs::InputError& e) {
+      if (rank == 0) std::cerr << "ringtol: error: " << e.what() << "\n";
+      code = 1;
+    } catch (const std::exception& e) {
+      // A failure after the start (disk full, a lost rank): what is committed stays on disk.
+      std::cerr << "ringtol: error: rank " << rank << ": " << e.what() << "; --resume continues from the file\n";
+      MPI_Abort(MPI_COMM_WORLD, 2);
+    }
+  }
+  MPI_Finalize();
+  return code;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"ringtol: statistical tolerancing of rings guided by rollers.\n"
@@ -111,7 +152,43 @@ int main(int argc, char** argv) {
   ladder_app->add_option("--csv", ladder.csv, "Write one row per method to this CSV file");
   ladder_app->add_option("--svg", ladder.svg, "Write the speed-against-accuracy chart to this SVG file");
 
+  ringtol::jobs::CampaignCommand campaign;
+  CLI::App* campaign_app = app.add_subcommand(
+      "campaign", "Run a Monte Carlo campaign into an HDF5 results file, alone or under mpirun, and summarise it");
+  campaign_app->add_option("file", campaign.file, "Campaign file (TOML)")->required()->check(CLI::ExistingFile);
+  campaign_app->add_option("--out", campaign.out, "Results file (HDF5); never overwritten")->required();
+  campaign_app->add_option("--samples", campaign.samples, "Number of samples (default: the file's design.samples)")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));
+  campaign_app->add_option("--seed", campaign.seed, "Campaign seed (default: the file's)");
+  campaign_app->add_flag("--resume", campaign.resume,
+                         "Continue --out after an interruption, or grow it to --samples: compute only what it lacks");
+  campaign_app->add_flag("--json", campaign.json, "Print the summary as one JSON object");
+  campaign_app->add_flag("--quiet", campaign.quiet, "No progress on stderr");
+  campaign_app->add_option("--progress-seconds", campaign.progress_seconds,
+                           "Seconds between progress lines when stderr is not a terminal")
+      ->capture_default_str();
+  campaign_app->add_option("--chunk", campaign.pool.chunk_samples,
+                           "Samples per chunk handed to a rank (default 0: adaptive)")
+      ->capture_default_str();
+  campaign_app->add_option("--chunk-seconds", campaign.pool.chunk_seconds, "Adaptive chunks' target duration [s]")
+      ->capture_default_str();
+  campaign_app->add_option("--commit-seconds", campaign.pool.commit_seconds,
+                           "Longest time results wait before they are written to the file [s]")
+      ->capture_default_str();
+  campaign_app->add_option("--coordinator-computes", campaign.pool.coordinator_computes,
+                           "Whether rank 0 also computes: 1 yes, 0 no, -1 below 16 ranks")
+      ->check(CLI::Range(-1, 1))
+      ->capture_default_str();
+  campaign_app->add_option("--threads", campaign.pool.threads,
+                           "Computing threads of rank 0 (default 0: every core alone, one under mpirun)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  // Test hooks standing in for kill -9 (tests/jobs/campaign_cli_test.cpp); not for users.
+  campaign_app->add_option("--test-kill-after", campaign.pool.kill_after_committed)->group("");
+  campaign_app->add_option("--test-kill-rank", campaign.pool.kill_rank)->group("");
+
   CLI11_PARSE(app, argc, argv);
+  if (*campaign_app) return RunCampaignCommand(campaign);
   try {
     if (*simulate_app) return ringtol::jobs::RunSimulate(simulate, std::cout);
     if (*sweep_app) return ringtol::jobs::RunSweep(sweep, std::cout);

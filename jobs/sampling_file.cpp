@@ -142,7 +142,7 @@ TableReader SubTable(const TableReader& parent, std::string_view key) {
 
 }  // namespace
 
-SamplingPlan ReadSamplingFile(const std::filesystem::path& file) {
+SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const std::string_view> other_tables) {
   const std::string source = file.string();
   SamplingPlan plan;
   plan.text = ReadTextFile(file);
@@ -214,7 +214,7 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file) {
                             springs = r;
                           }),
   };
-  const std::vector<Field<FileInput>> fields{
+  std::vector<Field<FileInput>> fields{
       Text("scene", Presence::kRequired, "a scene file, relative to this file", &FileInput::scene),
       {"seed", Presence::kOptional, "an integer >= 0",
        [](const Site& site, FileInput& f) {
@@ -232,6 +232,9 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file) {
                            AddCatalogueClasses(t.table(), "catalogue", source, false, plan.catalogue);
                          }),
   };
+  for (const std::string_view key : other_tables) {
+    fields.push_back(Section<FileInput>(key, Presence::kOptional, [](const TableReader&, FileInput&) {}));
+  }
   root.Read(fields, in);
 
   // The base scene.
@@ -352,6 +355,12 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file) {
     }
   }
   return plan;
+}
+
+void OverridePlan(SamplingPlan& plan, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed) {
+  if (samples) plan.samples = *samples;
+  if (plan.design.kind == sampling::DesignKind::kLatinHypercube) plan.design.latin_samples = plan.samples;
+  if (seed) plan.seed = plan.design.seed = *seed;
 }
 
 Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name) {

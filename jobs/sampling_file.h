@@ -1,6 +1,6 @@
-// Sampling files: what to sample and how, the part of a campaign file (issue 5) that the
-// sampler reads. `ringtol sample` takes one; a campaign file will add its solver and
-// spec tables beside these. examples/tolerances/normal_waterjet.toml is the reference.
+// Sampling files: what to sample and how. They are the sampling half of a campaign file
+// (jobs/campaign_file.h), which adds its solver and spec tables beside these; `ringtol
+// sample` reads either. examples/tolerances/normal_waterjet.toml is the reference.
 //
 //   scene = "scene.toml"            required: base scene, relative to this file
 //   seed = 1                        integer >= 0, default 1: the campaign seed
@@ -42,7 +42,10 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "engine/scene.h"
 #include "sampling/assembly_sampler.h"
@@ -63,7 +66,13 @@ struct SamplingPlan {
   std::string text;                        // the file as read, for provenance
 };
 
-SamplingPlan ReadSamplingFile(const std::filesystem::path& file);
+// `other_tables`: root tables of a larger file (a campaign file's [solver] and [spec]) that
+// its own reader reads; accepted here as tables and otherwise left alone.
+SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const std::string_view> other_tables = {});
+
+// Command-line overrides of the file's design.samples and seed (a Latin hypercube's size
+// follows the sample count).
+void OverridePlan(SamplingPlan& plan, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed);
 
 // The sampler and the design of a plan, checked: the sample count fits the design.
 struct Sampling {

@@ -1,0 +1,65 @@
+// A campaign ready to run: its plan read and checked, the sampler calibrated, the design
+// made, the solver chosen. Every rank builds its own from the same file, so a sample is a
+// pure function of (campaign, index) wherever it is computed.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+
+#include "jobs/campaign_file.h"
+#include "jobs/campaign_store.h"
+#include "jobs/sample_record.h"
+#include "solvers/simulation.h"
+#include "solvers/solver.h"
+
+namespace ringtol::jobs {
+
+class Campaign {
+ public:
+  // Reads the campaign file, applies the overrides and calibrates. Throws InputError for
+  // everything ReadCampaignFile and MakeSampling refuse.
+  Campaign(const std::filesystem::path& file, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed);
+
+  const CampaignPlan& plan() const { return plan_; }
+  const Sampling& sampling() const { return sampling_; }
+  const CampaignIdentity& identity() const { return identity_; }
+  std::int64_t samples() const { return plan_.sampling.samples; }
+  const solvers::SimulationOptions& simulation() const { return simulation_; }
+  // A solver of the campaign's kind and options (each thread makes its own).
+  std::unique_ptr<solvers::Solver> MakeSolver() const;
+
+ private:
+  CampaignPlan plan_;
+  Sampling sampling_;
+  solvers::SimulationOptions simulation_;
+  CampaignIdentity identity_;
+};
+
+// Seams for tests: faults injected into one sample, to show they stay in that sample.
+struct EvaluatorFaults {
+  std::function<void(std::int64_t index)> before_simulate;                           // may throw
+  std::function<void(std::int64_t index, solvers::SimulationResult&)> after_simulate;  // may spoil outputs
+};
+
+// Computes samples of one campaign. Not thread-safe (it owns a Design, whose Sobol'
+// engine is stateful): one per thread.
+class SampleEvaluator {
+ public:
+  explicit SampleEvaluator(const Campaign& campaign, EvaluatorFaults faults = {});
+
+  // Never throws for the sample's own failure: an exception inside sampling or the solver,
+  // or a non-finite output, becomes the record's status and message. Outputs are NaN
+  // unless status is kOk.
+  SampleRecord Evaluate(std::int64_t index);
+
+ private:
+  const Campaign* campaign_;
+  sampling::Design design_;
+  std::unique_ptr<solvers::Solver> solver_;
+  EvaluatorFaults faults_;
+  std::vector<double> u_;
+};
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,358 @@
+// `ringtol campaign` as users run it: alone and under mpirun, killed and resumed, given
+// bad inputs. Results must not depend on the number of ranks, the chunk sizes or
+// interruptions: every dataset but the solve times is compared bit for bit.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "jobs/campaign_store.h"
+#include "tests/support/text_files.h"
+
+namespace ringtol::jobs {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+// dependencies.md §4: root needs explicit permission; 3 ranks on 2 cores need
+// oversubscription; shared memory only (no network probing); no core binding, since ctest
+// runs tests side by side. Open MPI's own start-up allocations are never freed, so leak
+// checking is off for these runs (the library code is leak-checked by in-process tests).
+const std::string kEnvironment =
+    "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 "
+    "OMPI_MCA_pml=ob1 OMPI_MCA_btl=self,vader OMPI_MCA_btl_vader_single_copy_mechanism=none "
+    "OMPI_MCA_hwloc_base_binding_policy=none ASAN_OPTIONS=detect_leaks=0 ";
+
+const std::string kScene = (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/paper/scene.toml").string();
+
+// Quick to calibrate and to solve, with every kind of input.
+const std::string kCampaign = "scene = \"" + kScene + R"("
+seed = 11
+[design]
+kind = "monte_carlo"
+samples = 48
+[tolerances.ring]
+circularity_mm = 0.2
+max_order = 6
+[tolerances.rollers]
+class = "Normal"
+max_order = 2
+mode = "inspected"
+[tolerances.roller_positions]
+zone_diameter_mm = 0.05
+[tolerances.springs]
+class = "pm10"
+[solver]
+name = "quasistatic"
+path_tolerance_um = 2.0
+[spec]
+d_trajectory_mm = 0.2
+)";
+
+struct Outcome {
+  int exit_code = -1;  // 128 + signal when killed
+  std::string out;
+  std::string err;
+};
+
+// This test's own folder (ctest runs tests in parallel).
+std::filesystem::path TestFolder() {
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  return std::filesystem::temp_directory_path() /
+         (std::string("ringtol_campaign_") + test->test_suite_name() + "_" + test->name());
+}
+
+// The test's folder, emptied.
+std::filesystem::path Folder() {
+  const std::filesystem::path folder = TestFolder();
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  return folder;
+}
+
+std::filesystem::path Write(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream(file) << text;
+  return file;
+}
+
+std::string Mpirun(int ranks) {
+  return std::string(MPIEXEC_EXECUTABLE) + " -n " + std::to_string(ranks) +
+         (geteuid() == 0 ? " --allow-run-as-root" : "") + " --oversubscribe ";
+}
+
+// Runs `prefix ringtol arguments` through the shell; `timeout` guards against a hang.
+Outcome RunRingtol(const std::string& prefix, const std::string& arguments) {
+  std::filesystem::create_directories(TestFolder());
+  const std::filesystem::path err_file = TestFolder() / "stderr.txt";
+  const std::string command =
+      kEnvironment + "timeout 120 " + prefix + RINGTOL_EXECUTABLE + " " + arguments + " 2>" + err_file.string();
+  Outcome run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  std::array<char, 4096> buffer{};
+  while (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe) != nullptr) run.out += buffer.data();
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.err = testing::ReadText(err_file);
+  return run;
+}
+
+Outcome Campaign(const std::filesystem::path& file, const std::filesystem::path& out, const std::string& options = "",
+                 const std::string& prefix = "") {
+  return RunRingtol(prefix, "campaign " + file.string() + " --out " + out.string() + " --quiet " + options);
+}
+
+bool SameBits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+// Every sample of two results files, field by field, solve time aside.
+void ExpectSameResults(const std::filesystem::path& a, const std::filesystem::path& b) {
+  const CampaignReader x(a);
+  const CampaignReader y(b);
+  ASSERT_EQ(x.samples(), y.samples());
+  for (std::int64_t i = 0; i < x.samples(); ++i) {
+    const SampleRecord p = x.ReadSample(i);
+    const SampleRecord q = y.ReadSample(i);
+    ASSERT_NE(p.status, SampleStatus::kPending) << a << " sample " << i;
+    EXPECT_EQ(p.status, q.status) << i;
+    EXPECT_EQ(p.message, q.message) << i;
+    EXPECT_EQ(p.redraws, q.redraws) << i;
+    EXPECT_EQ(p.steps, q.steps) << i;
+    EXPECT_TRUE(SameBits(p.u, q.u)) << i;
+    EXPECT_TRUE(SameBits(p.values, q.values)) << i;
+    EXPECT_EQ(std::memcmp(p.outputs.data(), q.outputs.data(), sizeof(p.outputs)), 0) << i;
+  }
+}
+
+std::int64_t Pending(const std::filesystem::path& file) {
+  const CampaignReader results(file);
+  const std::vector<SampleStatus> status = results.ReadStatus(0, results.samples());
+  return std::count(status.begin(), status.end(), SampleStatus::kPending);
+}
+
+TEST(Campaign, AloneItComputesEverySampleAndSummarisesThem) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  const Outcome run = Campaign(file, folder / "results.h5", "--json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(run.err, "");  // --quiet
+  const nlohmann::json summary = nlohmann::json::parse(run.out);
+  EXPECT_EQ(summary["samples"], 48);
+  EXPECT_EQ(summary["samples_done"], 48);
+  EXPECT_EQ(summary["run"]["computed"], 48);
+  EXPECT_EQ(summary["outputs"]["d_trajectory_mm"]["quantiles"].size(), 4u);
+  EXPECT_EQ(summary["outputs"]["d_trajectory_mm"]["upper_spec_limit"], 0.2);
+  EXPECT_EQ(summary["in_spec"]["trials"], 48);
+  EXPECT_EQ(Pending(folder / "results.h5"), 0);
+}
+
+TEST(Campaign, OneTwoAndThreeRanksAndAnyChunkSizeWriteIdenticalResults) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  ASSERT_EQ(Campaign(file, folder / "alone.h5").exit_code, 0);
+  const Outcome two = Campaign(file, folder / "two.h5", "--chunk 1", Mpirun(2));
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  const Outcome three = Campaign(file, folder / "three.h5", "--chunk 7", Mpirun(3));
+  ASSERT_EQ(three.exit_code, 0) << three.err;
+  const Outcome dedicated = Campaign(file, folder / "dedicated.h5", "--coordinator-computes 0", Mpirun(3));
+  ASSERT_EQ(dedicated.exit_code, 0) << dedicated.err;
+  ExpectSameResults(folder / "alone.h5", folder / "two.h5");
+  ExpectSameResults(folder / "alone.h5", folder / "three.h5");
+  ExpectSameResults(folder / "alone.h5", folder / "dedicated.h5");
+}
+
+TEST(Campaign, AfterTheCoordinatorIsKilledResumeComputesOnlyWhatIsMissing) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  const Outcome killed = Campaign(file, folder / "killed.h5", "--chunk 3 --commit-seconds 0 --test-kill-after 10");
+  constexpr int kKilledBySigkill = 128 + SIGKILL;  // the shell's report of a child killed by signal 9
+  ASSERT_EQ(killed.exit_code, kKilledBySigkill) << killed.err;
+  const std::int64_t missing = Pending(folder / "killed.h5");
+  EXPECT_GT(missing, 0);
+  EXPECT_LE(missing, 48 - 10);
+  const Outcome resumed = Campaign(file, folder / "killed.h5", "--resume --json");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  const nlohmann::json summary = nlohmann::json::parse(resumed.out);
+  EXPECT_EQ(summary["run"]["computed"], missing);
+  EXPECT_EQ(summary["run"]["already_done"], 48 - missing);
+  ExpectSameResults(folder / "whole.h5", folder / "killed.h5");
+}
+
+TEST(Campaign, AfterAWorkerIsKilledUnderMpirunResumeCompletesTheSameFile) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  const Outcome killed = Campaign(file, folder / "killed.h5", "--chunk 2 --commit-seconds 0 --test-kill-rank 1", Mpirun(2));
+  EXPECT_NE(killed.exit_code, 0);
+  const Outcome resumed = Campaign(file, folder / "killed.h5", "--resume", Mpirun(2));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  ExpectSameResults(folder / "whole.h5", folder / "killed.h5");
+}
+
+TEST(Campaign, ResumeWithMoreSamplesGrowsTheFileAsIfRunWhole) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  ASSERT_EQ(Campaign(file, folder / "grown.h5", "--samples 20").exit_code, 0);
+  const Outcome grown = Campaign(file, folder / "grown.h5", "--resume --samples 48 --json");
+  ASSERT_EQ(grown.exit_code, 0) << grown.err;
+  EXPECT_EQ(nlohmann::json::parse(grown.out)["run"]["computed"], 28);
+  ExpectSameResults(folder / "whole.h5", folder / "grown.h5");
+  const Outcome shrink = Campaign(file, folder / "grown.h5", "--resume --samples 10");
+  EXPECT_NE(shrink.exit_code, 0);
+  EXPECT_THAT(shrink.err, HasSubstr("grown.h5"));
+}
+
+TEST(Campaign, ProgressGoesToStderrAsPlainLinesWhenNotATerminal) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  const Outcome run = RunRingtol("", "campaign " + file.string() + " --out " + (folder / "r.h5").string() +
+                                  " --progress-seconds 0.001");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_THAT(run.err, HasSubstr("campaign: 48/48 samples (100.0 %)"));
+  EXPECT_THAT(run.err, HasSubstr("failed"));
+  EXPECT_THAT(run.out, AllOf(HasSubstr("d_trajectory_mm"), HasSubstr("within spec"), HasSubstr("samples/s")));
+}
+
+TEST(Campaign, AnExistingResultsFileIsNeverOverwrittenOrTakenForAnother) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  const auto text = Write(folder / "notes.h5", "not hdf5\n");
+  const Outcome exists = Campaign(file, text);
+  EXPECT_EQ(exists.exit_code, 1);
+  EXPECT_THAT(exists.err, AllOf(HasSubstr("notes.h5"), HasSubstr("exists"), HasSubstr("--resume")));
+  const Outcome foreign = Campaign(file, text, "--resume");
+  EXPECT_EQ(foreign.exit_code, 1);
+  EXPECT_THAT(foreign.err, AllOf(HasSubstr("notes.h5"), HasSubstr("HDF5")));
+  EXPECT_EQ(testing::ReadText(text), "not hdf5\n");
+
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  std::string bytes = testing::ReadText(folder / "whole.h5");
+  bytes.resize(bytes.size() / 2);
+  Write(folder / "truncated.h5", bytes);
+  const Outcome truncated = Campaign(file, folder / "truncated.h5", "--resume");
+  EXPECT_EQ(truncated.exit_code, 1);
+  EXPECT_THAT(truncated.err, HasSubstr("truncated.h5"));
+  EXPECT_EQ(testing::ReadText(folder / "truncated.h5"), bytes);
+
+  const auto other = Write(folder / "other.toml", testing::ReplaceOnce(kCampaign, "seed = 11", "seed = 12"));
+  const Outcome another = Campaign(other, folder / "whole.h5", "--resume");
+  EXPECT_EQ(another.exit_code, 1);
+  EXPECT_THAT(another.err, AllOf(HasSubstr("whole.h5"), HasSubstr("another campaign")));
+  const Outcome missing = Campaign(file, folder / "absent.h5", "--resume");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_THAT(missing.err, AllOf(HasSubstr("absent.h5"), HasSubstr("--resume")));
+}
+
+TEST(Campaign, BadInputStopsEveryRankWithOneClearMessageBeforeAnySample) {
+  const std::filesystem::path folder = Folder();
+  const auto unknown_class =
+      Write(folder / "class.toml", testing::ReplaceOnce(kCampaign, "class = \"Normal\"", "class = \"P9\""));
+  const Outcome run = Campaign(unknown_class, folder / "r.h5", "", Mpirun(2));
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_THAT(run.err, AllOf(HasSubstr("class.toml"), HasSubstr("P9")));
+  EXPECT_FALSE(std::filesystem::exists(folder / "r.h5"));
+
+  const auto no_scene = Write(folder / "scene.toml", testing::ReplaceOnce(kCampaign, kScene, "/nonexistent/scene.toml"));
+  const Outcome scene = Campaign(no_scene, folder / "r.h5", "", Mpirun(2));
+  EXPECT_NE(scene.exit_code, 0);
+  EXPECT_THAT(scene.err, AllOf(HasSubstr("scene.toml"), HasSubstr("/nonexistent/scene.toml")));
+
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  const Outcome folderless = Campaign(file, folder / "no" / "such" / "r.h5", "", Mpirun(2));
+  EXPECT_NE(folderless.exit_code, 0);
+  EXPECT_THAT(folderless.err, AllOf(HasSubstr("r.h5"), HasSubstr("does not exist")));
+
+  const Outcome chunk = Campaign(file, folder / "r.h5", "--chunk-seconds 0");
+  EXPECT_NE(chunk.exit_code, 0);
+  EXPECT_THAT(chunk.err, AllOf(HasSubstr("--chunk-seconds"), HasSubstr("> 0")));
+}
+
+TEST(Campaign, ResultsReadInH5pyAndH5dumpWithTheDocumentedSchema) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  ASSERT_EQ(Campaign(file, folder / "r.h5").exit_code, 0);
+  const Outcome dump = RunRingtol("", "--version");  // the shell and environment work
+  ASSERT_EQ(dump.exit_code, 0);
+  const std::string h5dump = "h5dump -H " + (folder / "r.h5").string() + " > " + (folder / "dump.txt").string();
+  ASSERT_EQ(std::system(h5dump.c_str()), 0);
+  const std::string header = testing::ReadText(folder / "dump.txt");
+  for (const char* name : {"schema_version", "campaign_file", "base_scene", "\"u\"", "\"values\"", "\"status\"",
+                           "\"d_trajectory_mm\"", "\"solve_time_s\"", "H5T_ENUM", "\"pending\""}) {
+    EXPECT_THAT(header, HasSubstr(name));
+  }
+  const std::string script = std::string(RINGTOL_SOURCE_DIR) + "/tests/jobs/mpi/read_results.py";
+  const std::string python = "/usr/bin/python3 " + script + " " + (folder / "r.h5").string() + " > " +
+                             (folder / "python.txt").string() + " 2>&1";
+  EXPECT_EQ(std::system(python.c_str()), 0) << testing::ReadText(folder / "python.txt");
+  EXPECT_THAT(testing::ReadText(folder / "python.txt"), HasSubstr("48 samples ok"));
+}
+
+// Samples on disk in a results file being written (0 while it does not exist yet).
+std::int64_t Done(const std::filesystem::path& file) {
+  if (!std::filesystem::exists(file)) return 0;
+  try {
+    const CampaignReader results(file);
+    return results.samples() - Pending(file);
+  } catch (const std::exception&) {
+    return 0;  // caught between creation and its name appearing
+  }
+}
+
+// A real kill -9 while samples are being written, several times over, then a resume.
+TEST(CampaignSlow, SigkillWhileWritingThenResumeMatchesAnUninterruptedRun) {
+  const std::filesystem::path folder = Folder();
+  constexpr std::int64_t kSamples = 1200;
+  const auto file = Write(folder / "campaign.toml", testing::ReplaceOnce(kCampaign, "samples = 48", "samples = 1200"));
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  const std::filesystem::path out = folder / "killed.h5";
+  // After each run has put more samples on disk, kill it at a different moment of its
+  // commit cycle (commits every 50 ms).
+  for (const int extra_milliseconds : {0, 37, 5, 71}) {
+    const std::int64_t before = Done(out);
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      const std::string command = kEnvironment + "exec " + RINGTOL_EXECUTABLE + " campaign " + file.string() +
+                                  " --out " + out.string() + " --quiet --commit-seconds 0.05" +
+                                  (std::filesystem::exists(out) ? " --resume" : "") + " >/dev/null 2>&1";
+      execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (Done(out) <= before && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(extra_milliseconds));
+    kill(child, SIGKILL);
+    int status = 0;
+    waitpid(child, &status, 0);
+    EXPECT_TRUE(WIFSIGNALED(status)) << "the run finished before it was killed: make the campaign longer";
+  }
+  const std::int64_t missing = Pending(out);
+  EXPECT_GT(missing, 0);
+  EXPECT_LT(missing, kSamples);
+  const Outcome resumed = Campaign(file, out, "--resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  ExpectSameResults(folder / "whole.h5", out);
+}
+
+}  // namespace
+}  // namespace ringtol::jobs

@@ -1,0 +1,29 @@
+#!/usr/bin/python3
+"""Reads a ringtol results file as a user's script would (Debian's h5py), checking the
+schema README documents. Usage: read_results.py results.h5"""
+import sys
+
+import h5py
+import numpy as np
+
+with h5py.File(sys.argv[1], "r") as f:
+    assert f.attrs["format"] == "ringtol campaign", f.attrs["format"]
+    assert int(f.attrs["schema_version"]) == 1
+    for key in ("ringtol_version", "catalogue_version", "campaign_file", "base_scene", "design", "solver"):
+        assert isinstance(f.attrs[key], str) and f.attrs[key], key
+    n = int(f.attrs["samples"])
+    d = f["inputs/name"].shape[0]
+    assert f["inputs/u"].shape == (n, d) and f["inputs/values"].shape == (n, d)
+    assert f["inputs/u"].maxshape[0] is None, "extendable along samples"
+    assert f["outputs/message"].compression == "gzip" and f["outputs/status"].compression == "gzip"
+    names = [x.decode() for x in f["inputs/name"][:]]
+    assert all(name.endswith(("_um", "_deg", "_percent")) for name in names), names
+    status = f["outputs/status"]
+    mapping = h5py.check_enum_dtype(status.dtype)
+    assert mapping["pending"] == -1 and mapping["ok"] == 0, mapping
+    ok = status[:] == mapping["ok"]
+    d_trajectory = f["outputs/d_trajectory_mm"][:]
+    assert np.all(np.isfinite(d_trajectory[ok])) and np.all(np.isnan(d_trajectory[~ok]))
+    assert f["outputs/d_trajectory_mm"].attrs["upper_spec_limit"] == 0.2
+    assert f["timing/solve_time_s"].shape == (n,)
+    print(f"{int(ok.sum())} samples ok of {n}, {d} inputs")
