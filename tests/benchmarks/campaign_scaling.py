@@ -27,7 +27,9 @@ MPI_ENVIRONMENT = {
 
 def run(ringtol, campaign, samples, ranks, folder, index):
     out = os.path.join(folder, f"r{ranks}_{index}.h5")
-    command = [ringtol, "campaign", campaign, "--out", out, "--samples", str(samples), "--json", "--quiet"]
+    # One computing thread per rank, so that ranks are the only parallelism compared.
+    command = [ringtol, "campaign", campaign, "--out", out, "--samples", str(samples), "--json", "--quiet",
+               "--threads", "1"]
     if ranks > 1:
         command = ["mpirun", "-n", str(ranks)] + (["--allow-run-as-root"] if os.geteuid() == 0 else []) + command
     start = time.perf_counter()

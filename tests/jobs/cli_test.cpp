@@ -64,6 +64,12 @@ TEST(Cli, EveryCommandHasHelp) {
     EXPECT_THAT(run.out, HasSubstr("--json")) << command;
     EXPECT_THAT(run.out, HasSubstr("dynamic")) << command;
   }
+  const Outcome campaign = Ringtol("campaign --help");
+  EXPECT_EQ(campaign.exit_code, 0);
+  for (const char* option : {"--out", "--resume", "--samples", "--seed", "--json", "--quiet", "--chunk", "--threads"}) {
+    EXPECT_THAT(campaign.out, HasSubstr(option)) << option;
+  }
+  EXPECT_THAT(campaign.out, ::testing::Not(HasSubstr("--test-kill")));
   const Outcome bench = Ringtol("bench --help");
   EXPECT_EQ(bench.exit_code, 0);
   EXPECT_THAT(bench.out, HasSubstr("dynamics"));
