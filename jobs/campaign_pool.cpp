@@ -265,13 +265,18 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const Campaign& camp
   std::int64_t unassigned = pending;
   PendingCursor cursor(store);
 
-  double mean_time = 0.0;  // [s] per sample, over this run
+  // [s] per sample, over this run; the floor keeps the division finite should a clock
+  // ever read samples as taking no time.
+  constexpr double kShortestSample = 1e-9;
+  double mean_time = 0.0;
   auto next_chunk = [&]() {
     std::int64_t size = options.chunk_samples;
     if (size <= 0) {
       const std::int64_t share = std::max<std::int64_t>(1, unassigned / (2 * report.computing_ranks));
-      size = report.computed == 0 ? 1
-                                  : std::clamp<std::int64_t>(std::llround(options.chunk_seconds / mean_time), 1, share);
+      const double fitting = options.chunk_seconds / std::max(mean_time, kShortestSample);
+      size = report.computed == 0
+                 ? 1
+                 : std::clamp<std::int64_t>(std::llround(std::min(fitting, static_cast<double>(share))), 1, share);
     }
     std::vector<std::int64_t> chunk;
     while (static_cast<std::int64_t>(chunk.size()) < size) {

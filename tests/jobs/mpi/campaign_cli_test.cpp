@@ -231,6 +231,20 @@ TEST(Campaign, ProgressGoesToStderrAsPlainLinesWhenNotATerminal) {
   EXPECT_THAT(run.out, AllOf(HasSubstr("d_trajectory_mm"), HasSubstr("within spec"), HasSubstr("samples/s")));
 }
 
+TEST(Campaign, ProgressIsABarRedrawnInPlaceOnATerminal) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  // util-linux `script` runs the command on a pseudo-terminal and copies what it shows.
+  const std::string inner = kEnvironment + RINGTOL_EXECUTABLE + " campaign " + file.string() + " --out " +
+                            (folder / "r.h5").string() + " >/dev/null";
+  const std::string command = "script -qec '" + inner + "' " + (folder / "terminal.txt").string() + " >/dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  const std::string shown = testing::ReadText(folder / "terminal.txt");
+  EXPECT_THAT(shown, HasSubstr("\r["));
+  EXPECT_THAT(shown, HasSubstr("##############################] 48/48 samples (100.0 %)"));
+  EXPECT_THAT(shown, ::testing::Not(HasSubstr("campaign: ")));
+}
+
 TEST(Campaign, AnExistingResultsFileIsNeverOverwrittenOrTakenForAnother) {
   const std::filesystem::path folder = Folder();
   const auto file = Write(folder / "campaign.toml", kCampaign);
