@@ -42,12 +42,9 @@ Campaign::Campaign(const std::filesystem::path& file, std::optional<std::int64_t
 }
 
 std::unique_ptr<solvers::Solver> Campaign::MakeSolver() const {
-  if (plan_.solver.name == "dynamic") {
-    solvers::DynamicOptions options;
-    options.relative_tolerance = plan_.solver.relative_tolerance;
-    return std::make_unique<solvers::DynamicSolver>(options);
-  }
-  return solvers::MakeSolver(plan_.solver.name);
+  solvers::DynamicOptions dynamic;
+  dynamic.relative_tolerance = plan_.solver.relative_tolerance;
+  return solvers::MakeSolver(plan_.solver.name, dynamic);
 }
 
 SampleEvaluator::SampleEvaluator(const Campaign& campaign, EvaluatorFaults faults)

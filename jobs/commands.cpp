@@ -30,13 +30,10 @@ std::unique_ptr<solvers::Solver> SolverByName(const std::string& name, double re
   if (!(relative_tolerance > 0.0 && relative_tolerance < 1.0)) {
     throw InputError("--relative-tolerance " + std::to_string(relative_tolerance) + ": allowed: > 0 and < 1");
   }
-  if (name == "dynamic") {
-    solvers::DynamicOptions options;
-    options.relative_tolerance = relative_tolerance;
-    return std::make_unique<solvers::DynamicSolver>(options);
-  }
+  solvers::DynamicOptions dynamic;
+  dynamic.relative_tolerance = relative_tolerance;
   try {
-    return solvers::MakeSolver(name);
+    return solvers::MakeSolver(name, dynamic);
   } catch (const std::invalid_argument& e) {
     throw InputError(std::string("--solver: ") + e.what());
   }

@@ -82,8 +82,12 @@ class Solver {
 // Names accepted by MakeSolver, in ladder order.
 std::vector<std::string> SolverNames();
 
+struct DynamicOptions;  // solvers/dynamic.h
+
 // A solver with default options by name; throws std::invalid_argument for an unknown name
 // (the message lists the valid ones).
 std::unique_ptr<Solver> MakeSolver(std::string_view name);
+// The same, the dynamic rung with `dynamic` options (the other rungs have none to set).
+std::unique_ptr<Solver> MakeSolver(std::string_view name, const DynamicOptions& dynamic);
 
 }  // namespace ringtol::solvers

@@ -3,8 +3,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -12,33 +10,19 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/support/shell.h"
+
 namespace {
 
 using ::testing::HasSubstr;
 
-struct Outcome {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
+using Outcome = ringtol::testing::ShellOutcome;
 
 Outcome Ringtol(const std::string& arguments) {
   // ctest runs tests in parallel processes: one capture file per test.
   const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
   const std::filesystem::path err_file = std::filesystem::path(::testing::TempDir()) / ("ringtol_stderr_" + test + ".txt");
-  const std::string command = std::string(RINGTOL_EXECUTABLE) + " " + arguments + " 2>" + err_file.string();
-  Outcome run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe) != nullptr) run.out += buffer.data();
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream err(err_file);
-  std::stringstream text;
-  text << err.rdbuf();
-  run.err = text.str();
-  return run;
+  return ringtol::testing::RunShell(std::string(RINGTOL_EXECUTABLE) + " " + arguments, err_file);
 }
 
 std::string Example(const std::string& name) { return std::string(RINGTOL_SOURCE_DIR) + "/examples/paper/" + name; }

@@ -8,19 +8,17 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
 #include <chrono>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "jobs/campaign_store.h"
+#include "tests/support/shell.h"
 #include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
@@ -64,11 +62,7 @@ path_tolerance_um = 2.0
 d_trajectory_mm = 0.2
 )";
 
-struct Outcome {
-  int exit_code = -1;  // 128 + signal when killed
-  std::string out;
-  std::string err;
-};
+using Outcome = testing::ShellOutcome;  // exit code 128 + signal when killed
 
 // This test's own folder (ctest runs tests in parallel).
 std::filesystem::path TestFolder() {
@@ -98,18 +92,8 @@ std::string Mpirun(int ranks) {
 // Runs `prefix ringtol arguments` through the shell; `timeout` guards against a hang.
 Outcome RunRingtol(const std::string& prefix, const std::string& arguments) {
   std::filesystem::create_directories(TestFolder());
-  const std::filesystem::path err_file = TestFolder() / "stderr.txt";
-  const std::string command =
-      kEnvironment + "timeout 120 " + prefix + RINGTOL_EXECUTABLE + " " + arguments + " 2>" + err_file.string();
-  Outcome run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe) != nullptr) run.out += buffer.data();
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  run.err = testing::ReadText(err_file);
-  return run;
+  return testing::RunShell(kEnvironment + "timeout 120 " + prefix + RINGTOL_EXECUTABLE + " " + arguments,
+                           TestFolder() / "stderr.txt");
 }
 
 Outcome Campaign(const std::filesystem::path& file, const std::filesystem::path& out, const std::string& options = "",

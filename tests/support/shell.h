@@ -1,0 +1,35 @@
+// Running a command line the way a user's shell does, for tests of the executable.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "tests/support/text_files.h"
+
+namespace ringtol::testing {
+
+struct ShellOutcome {
+  int exit_code = -1;  // the shell's: 128 + signal for a child killed by a signal
+  std::string out;
+  std::string err;
+};
+
+// Runs `command` through /bin/sh with stderr captured in `err_file` (give each test its
+// own: ctest runs tests in parallel).
+inline ShellOutcome RunShell(const std::string& command, const std::filesystem::path& err_file) {
+  ShellOutcome run;
+  FILE* pipe = popen((command + " 2>" + err_file.string()).c_str(), "r");
+  if (pipe == nullptr) return run;
+  std::array<char, 4096> buffer{};
+  while (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe) != nullptr) run.out += buffer.data();
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.err = ReadText(err_file);
+  return run;
+}
+
+}  // namespace ringtol::testing
