@@ -1,9 +1,12 @@
 #include "jobs/campaign.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
 #include <limits>
+
+#include <fmt/format.h>
 
 #include "jobs/input_error.h"
 #include "jobs/scene_writer.h"
@@ -21,11 +24,37 @@ CampaignPlan ReadWithOverrides(const std::filesystem::path& file, std::optional<
   return plan;
 }
 
+CampaignPlan ReadStored(const CampaignIdentity& stored, std::int64_t samples) {
+  const StoredSampling text{stored.campaign_file, stored.base_scene};
+  CampaignPlan plan = ReadCampaignFile(stored.campaign_path, &text);
+  OverridePlan(plan.sampling, samples, stored.seed);
+  return plan;
+}
+
 }  // namespace
 
 Campaign::Campaign(const std::filesystem::path& file, std::optional<std::int64_t> samples,
                    std::optional<std::uint64_t> seed)
-    : plan_(ReadWithOverrides(file, samples, seed)), sampling_(MakeSampling(plan_.sampling, file.string())) {
+    : Campaign(ReadWithOverrides(file, samples, seed), file.string()) {}
+
+Campaign::Campaign(const CampaignIdentity& stored, std::int64_t samples)
+    : Campaign(ReadStored(stored, samples), stored.campaign_path + " (as stored)") {
+  const auto same = [](const sampling::SampledInput& a, const sampling::SampledInput& b) {
+    return a.name == b.name && a.quantity == b.quantity && a.component == b.component && a.source == b.source &&
+           a.roller == b.roller && a.order == b.order;
+  };
+  if (!std::equal(identity_.inputs.begin(), identity_.inputs.end(), stored.inputs.begin(), stored.inputs.end(), same)) {
+    throw InputError(
+        fmt::format("{}: the stored campaign makes other sampler inputs in this ringtol ({}) than in "
+                    "the one that ran it ({}); its samples cannot be replayed",
+                    stored.campaign_path, identity_.ringtol_version, stored.ringtol_version));
+  }
+  identity_.campaign_path = stored.campaign_path;
+}
+
+Campaign::Campaign(CampaignPlan plan, const std::string& source_name)
+    : plan_(std::move(plan)), sampling_(MakeSampling(plan_.sampling, source_name)) {
+  const std::filesystem::path& file = plan_.file;
   simulation_.steps = plan_.solver.steps;
   simulation_.path_tolerance = plan_.solver.path_tolerance;
 

@@ -21,6 +21,11 @@ class Campaign {
   // Reads the campaign file, applies the overrides and calibrates. Throws InputError for
   // everything ReadCampaignFile and MakeSampling refuse.
   Campaign(const std::filesystem::path& file, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed);
+  // The campaign a results file holds, rebuilt from the campaign file's text and base scene
+  // stored in it (the files on disk may have moved or changed), at its sample count and
+  // seed: replays its samples. Throws InputError when the stored text no longer reads
+  // (another ringtol version) or makes other inputs than the file lists.
+  Campaign(const CampaignIdentity& stored, std::int64_t samples);
 
   const CampaignPlan& plan() const { return plan_; }
   const Sampling& sampling() const { return sampling_; }
@@ -31,6 +36,8 @@ class Campaign {
   std::unique_ptr<solvers::Solver> MakeSolver() const;
 
  private:
+  Campaign(CampaignPlan plan, const std::string& source_name);
+
   CampaignPlan plan_;
   Sampling sampling_;
   solvers::SimulationOptions simulation_;
@@ -39,7 +46,7 @@ class Campaign {
 
 // Seams for tests: faults injected into one sample, to show they stay in that sample.
 struct EvaluatorFaults {
-  std::function<void(std::int64_t index)> before_simulate;                           // may throw
+  std::function<void(std::int64_t index)> before_simulate;                             // may throw
   std::function<void(std::int64_t index, solvers::SimulationResult&)> after_simulate;  // may spoil outputs
 };
 

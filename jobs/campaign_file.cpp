@@ -31,10 +31,10 @@ std::string SolverChoices() {
 
 }  // namespace
 
-CampaignPlan ReadCampaignFile(const std::filesystem::path& file) {
+CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSampling* stored) {
   CampaignPlan plan;
   plan.file = file;
-  plan.sampling = ReadSamplingFile(file, kCampaignTables);
+  plan.sampling = ReadSamplingFile(file, kCampaignTables, stored);
 
   const std::string source = file.string();
   const toml::table document = ParseToml(plan.sampling.text, source);

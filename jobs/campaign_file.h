@@ -44,6 +44,7 @@ struct CampaignPlan {
 // The root tables a campaign file adds to a sampling file.
 inline constexpr std::array<std::string_view, 2> kCampaignTables = {"solver", "spec"};
 
-CampaignPlan ReadCampaignFile(const std::filesystem::path& file);
+// `stored`: see ReadSamplingFile.
+CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSampling* stored = nullptr);
 
 }  // namespace ringtol::jobs

@@ -1259,6 +1259,34 @@ std::vector<double> CampaignReader::ReadOutput(std::string_view name, std::int64
   return values;
 }
 
+std::vector<double> CampaignReader::ReadValues(std::int64_t begin, std::int64_t count) const {
+  const QuietErrors quiet;
+  file_->CheckRows("CampaignReader::ReadValues", begin, count);
+  const std::size_t d = file_->stored.identity.inputs.size();
+  std::vector<float> stored(static_cast<std::size_t>(count) * d);
+  ReadRows(file_->where, file_->columns[kValues], kValues, H5T_NATIVE_FLOAT, static_cast<hsize_t>(begin),
+           static_cast<hsize_t>(count), d, stored.data());
+  return {stored.begin(), stored.end()};
+}
+
+std::vector<std::int32_t> CampaignReader::ReadRedraws(std::int64_t begin, std::int64_t count) const {
+  const QuietErrors quiet;
+  file_->CheckRows("CampaignReader::ReadRedraws", begin, count);
+  std::vector<std::int32_t> redraws(static_cast<std::size_t>(count));
+  ReadRows(file_->where, file_->columns[kRedraws], kRedraws, H5T_NATIVE_INT32, static_cast<hsize_t>(begin),
+           static_cast<hsize_t>(count), 1, redraws.data());
+  return redraws;
+}
+
+std::vector<double> CampaignReader::ReadSolveTime(std::int64_t begin, std::int64_t count) const {
+  const QuietErrors quiet;
+  file_->CheckRows("CampaignReader::ReadSolveTime", begin, count);
+  std::vector<double> seconds(static_cast<std::size_t>(count));
+  ReadRows(file_->where, file_->columns[kSolveTime], kSolveTime, H5T_NATIVE_DOUBLE, static_cast<hsize_t>(begin),
+           static_cast<hsize_t>(count), 1, seconds.data());
+  return seconds;
+}
+
 SampleRecord CampaignReader::ReadSample(std::int64_t index) const {
   const QuietErrors quiet;
   file_->CheckRows("CampaignReader::ReadSample", index, 1);

@@ -45,6 +45,7 @@
 // after a successful open (disk full) throw std::runtime_error naming the file and dataset.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -123,6 +124,20 @@ class CampaignStore {
 
 // Read-only access for summaries, reports, replays and tests. Opens a file a killed run
 // left behind as well as a finished one.
+// A whole per-sample column of a campaign of `samples`, read as read(begin, count) in
+// blocks of 2^20 samples, so no single HDF5 read holds more than one block's buffer.
+template <typename T, typename Read>
+std::vector<T> ReadInBlocks(std::int64_t samples, Read read) {
+  constexpr std::int64_t kBlock = std::int64_t{1} << 20;
+  std::vector<T> all;
+  all.reserve(static_cast<std::size_t>(samples));
+  for (std::int64_t begin = 0; begin < samples; begin += kBlock) {
+    const std::vector<T> block = read(begin, std::min(kBlock, samples - begin));
+    all.insert(all.end(), block.begin(), block.end());
+  }
+  return all;
+}
+
 class CampaignReader {
  public:
   // InputError for a missing, truncated, non-HDF5, non-ringtol or newer-schema file.
@@ -137,6 +152,10 @@ class CampaignReader {
   std::vector<SampleStatus> ReadStatus(std::int64_t begin, std::int64_t count) const;
   // One output over [begin, begin + count), by its name in kOutputNames.
   std::vector<double> ReadOutput(std::string_view name, std::int64_t begin, std::int64_t count) const;
+  // Row-major [count, d]: the drawn values of every input (stored as float32), as read.
+  std::vector<double> ReadValues(std::int64_t begin, std::int64_t count) const;
+  std::vector<std::int32_t> ReadRedraws(std::int64_t begin, std::int64_t count) const;
+  std::vector<double> ReadSolveTime(std::int64_t begin, std::int64_t count) const;  // [s]
   // Everything stored about one sample (solve_time included).
   SampleRecord ReadSample(std::int64_t index) const;
 

@@ -10,19 +10,6 @@
 namespace ringtol::jobs {
 namespace {
 
-constexpr std::int64_t kReadBlock = std::int64_t{1} << 20;  // samples read from the file at a time
-
-template <typename T, typename Read>
-std::vector<T> ReadAll(std::int64_t samples, Read read) {
-  std::vector<T> all;
-  all.reserve(static_cast<std::size_t>(samples));
-  for (std::int64_t begin = 0; begin < samples; begin += kReadBlock) {
-    const std::vector<T> block = read(begin, std::min(kReadBlock, samples - begin));
-    all.insert(all.end(), block.begin(), block.end());
-  }
-  return all;
-}
-
 std::string Percent(double probability) { return fmt::format("{:g} %", 100.0 * probability); }
 
 nlohmann::json Bound(double value) {
@@ -38,7 +25,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
   CampaignSummary summary;
   summary.confidence = confidence;
   summary.samples = results.samples();
-  const std::vector<SampleStatus> status = ReadAll<SampleStatus>(
+  const std::vector<SampleStatus> status = ReadInBlocks<SampleStatus>(
       summary.samples, [&](std::int64_t begin, std::int64_t count) { return results.ReadStatus(begin, count); });
   std::vector<bool> used(status.size());
   for (std::size_t i = 0; i < status.size(); ++i) {
@@ -62,7 +49,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     for (const SpecLimit& limit : results.identity().spec) {
       if (limit.output == name) output.upper_spec_limit = limit.upper;
     }
-    const std::vector<double> all = ReadAll<double>(summary.samples, [&](std::int64_t begin, std::int64_t count) {
+    const std::vector<double> all = ReadInBlocks<double>(summary.samples, [&](std::int64_t begin, std::int64_t count) {
       return results.ReadOutput(name, begin, count);
     });
     std::vector<double> values;

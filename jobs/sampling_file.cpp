@@ -142,10 +142,11 @@ TableReader SubTable(const TableReader& parent, std::string_view key) {
 
 }  // namespace
 
-SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const std::string_view> other_tables) {
+SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const std::string_view> other_tables,
+                              const StoredSampling* stored) {
   const std::string source = file.string();
   SamplingPlan plan;
-  plan.text = ReadTextFile(file);
+  plan.text = stored != nullptr ? stored->text : ReadTextFile(file);
   const toml::table document = ParseToml(plan.text, source);
   const TableReader root(document, "", source);
   plan.catalogue = ShippedCatalogue();
@@ -240,7 +241,8 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
   // The base scene.
   plan.scene_file = file.parent_path() / in.scene;
   try {
-    plan.scene = ReadScene(plan.scene_file);
+    plan.scene = stored != nullptr ? ParseScene(stored->base_scene, source + " (stored base scene)")
+                                   : ReadScene(plan.scene_file);
   } catch (const InputError& e) {
     root.Fail("scene", std::string("the scene does not read: ") + e.what(), "a valid scene file");
   }

@@ -68,7 +68,16 @@ struct SamplingPlan {
 
 // `other_tables`: root tables of a larger file (a campaign file's [solver] and [spec]) that
 // its own reader reads; accepted here as tables and otherwise left alone.
-SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const std::string_view> other_tables = {});
+//
+// `stored` (may be null): the file's text and its base scene as a results file keeps them
+// (jobs/campaign_store.h); they stand in for the files on disk, which may have moved or
+// changed since the campaign ran. `file` then only names the source in messages.
+struct StoredSampling {
+  std::string text;        // the sampling or campaign file as read
+  std::string base_scene;  // the base scene as a scene file (jobs/scene_writer.h)
+};
+SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const std::string_view> other_tables = {},
+                              const StoredSampling* stored = nullptr);
 
 // Command-line overrides of the file's design.samples and seed (a Latin hypercube's size
 // follows the sample count).
