@@ -11,6 +11,7 @@
 #include "jobs/commands.h"
 #include "jobs/fit_command.h"
 #include "jobs/input_error.h"
+#include "jobs/report_command.h"
 #include "solvers/solver.h"
 
 namespace {
@@ -187,6 +188,37 @@ int main(int argc, char** argv) {
   campaign_app->add_option("--test-kill-after", campaign.pool.kill_after_committed)->group("");
   campaign_app->add_option("--test-kill-rank", campaign.pool.kill_rank)->group("");
 
+  ringtol::jobs::ReportCommand report;
+  CLI::App* report_app = app.add_subcommand(
+      "report", "Turn a campaign's results file into a self-contained HTML report (and a JSON summary)");
+  report_app->add_option("results", report.results, "Results file (HDF5) of ringtol campaign")
+      ->required()
+      ->check(CLI::ExistingFile);
+  report_app->add_option("--out", report.out, "HTML report to write (replaced if it exists)")->required();
+  report_app->add_option("--json", report.json, "Also write every number of the report to this JSON file");
+  report_app->add_option("--confidence", report.options.confidence, "Level of every interval, in (0, 1)")
+      ->check(CLI::Range(0.5, 0.9999))
+      ->capture_default_str();
+  report_app->add_option("--estimator", report.estimator,
+                         "Sobol' estimators: saltelli2010-jansen, janon or martinez")
+      ->capture_default_str();
+  report_app->add_option("--bootstrap", report.options.bootstrap_resamples,
+                         "Bootstrap resamples of the Sobol' intervals (0: none)")
+      ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
+  report_app->add_option("--quantile-precision", report.options.quantile_precision,
+                         "Wanted half-width of the 99 % quantile's interval, as a fraction of it")
+      ->check(CLI::Range(1e-6, 1.0))
+      ->capture_default_str();
+  report_app->add_option("--yield-precision", report.options.yield_precision,
+                         "Wanted half-width of the yield's interval, as a fraction (0.005 = half a point)")
+      ->check(CLI::Range(1e-6, 0.5))
+      ->capture_default_str();
+  report_app->add_option("--screening-samples", report.options.screening_samples,
+                         "Samples read for the screening of non-Saltelli designs")
+      ->check(CLI::Range(std::int64_t{16}, std::int64_t{1} << 30))
+      ->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   if (*campaign_app) return RunCampaignCommand(campaign);
   try {
@@ -197,6 +229,7 @@ int main(int argc, char** argv) {
     if (*classes_app) return ringtol::jobs::RunClasses(classes_toml, std::cout);
     if (*dynamics_app) return ringtol::jobs::RunBenchDynamics(dynamics, std::cout);
     if (*ladder_app) return ringtol::jobs::RunBenchLadder(ladder, std::cout, std::cerr);
+    if (*report_app) return ringtol::jobs::RunReport(report, std::cout);
   } catch (const ringtol::jobs::InputError& e) {
     std::cerr << "ringtol: error: " << e.what() << "\n";
     return 1;

@@ -32,6 +32,7 @@ TEST(Cli, HelpListsEveryCommand) {
   EXPECT_EQ(run.exit_code, 0);
   EXPECT_THAT(run.out, HasSubstr("simulate"));
   EXPECT_THAT(run.out, HasSubstr("sweep"));
+  EXPECT_THAT(run.out, HasSubstr("report"));
 }
 
 TEST(Cli, VersionPrintsTheProjectVersion) {
@@ -63,7 +64,8 @@ TEST(Cli, EveryCommandHasHelp) {
     EXPECT_EQ(run.exit_code, 0) << command;
     EXPECT_THAT(run.out, HasSubstr("Scene file")) << command;
   }
-  for (const auto& [command, option] : {std::pair{"sample", "--scene"}, {"classes", "--toml"}, {"fit", "--orders"}}) {
+  for (const auto& [command, option] : {std::pair{"sample", "--scene"}, {"classes", "--toml"}, {"fit", "--orders"},
+                                        {"report", "--estimator"}}) {
     const Outcome run = Ringtol(std::string(command) + " --help");
     EXPECT_EQ(run.exit_code, 0) << command;
     EXPECT_THAT(run.out, HasSubstr(option)) << command;

@@ -1,0 +1,144 @@
+// `ringtol report` as a user runs it (label mpi: it runs campaigns first): on ringtol's own physics (the per-order Sobol'
+// indices of the article's three rollers) and in a browser (headless Chromium loads the
+// page offline and paints its charts).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/shell.h"
+#include "tests/support/text_files.h"
+
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+class CampaignReport : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() / (std::string("ringtol_report_cli_") + test->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  ringtol::testing::ShellOutcome Run(const std::string& command) {
+    return ringtol::testing::RunShell(command, dir_ / "stderr.txt");
+  }
+  // `ringtol campaign` starts MPI even alone: as root it needs permission, and Open MPI's
+  // start-up allocations are never freed (campaign_cli_test.cpp's environment, in short).
+  ringtol::testing::ShellOutcome Ringtol(const std::string& arguments) {
+    return Run(
+        "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1 OMPI_MCA_btl=self,vader "
+        "ASAN_OPTIONS=detect_leaks=0 " +
+        std::string(RINGTOL_EXECUTABLE) + " " + arguments);
+  }
+  std::string Example(const std::string& name) const {
+    return (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/campaigns" / name).string();
+  }
+
+  std::filesystem::path dir_;
+};
+
+// Three rollers 120 degrees apart, a ring whose orders 2..12 all have the same amplitude
+// scale, a Saltelli design with one group per order. Why the multiples of Z = 3 lead: the
+// ring's radius error of order n at roller k (angle theta_k = 2 pi k / 3) is
+// A cos(n (theta_k - psi) + phi). When 3 divides n, n theta_k is a multiple of 2 pi, so all
+// three contacts see the same error A cos(phi - n psi) at once: the ring swells and shrinks
+// as a whole. Held by the two fixed rollers, whose normals are 120 degrees apart, a bore
+// larger by delta moves the centre along their bisector by delta / cos(60 deg) = 2 delta,
+// so the centre swings 2 A either side: D_trajectory = 4 A. For other n the three errors
+// are 120 degrees out of phase, the pattern of a circle moved sideways by A, and the
+// centre only circles: D_trajectory = 2 A. Equal amplitudes, twice the swing: each
+// multiple of 3 carries about four times the variance of another order.
+TEST_F(CampaignReport, OrdersThatAreMultiplesOfTheRollerCountRankAboveTheOthers) {
+  const std::string results = (dir_ / "orders.h5").string(), json = (dir_ / "orders.json").string();
+  const auto campaign = Ringtol("campaign " + Example("ring_orders.toml") + " --out " + results + " --quiet");
+  ASSERT_EQ(campaign.exit_code, 0) << campaign.err;
+  const auto report = Ringtol("report " + results + " --out " + (dir_ / "orders.html").string() + " --json " + json);
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const nlohmann::json summary = nlohmann::json::parse(ringtol::testing::ReadText(json));
+  EXPECT_EQ(summary["campaign"]["rollers"], 3);
+  const nlohmann::json& by_order = summary["sensitivity"]["d_trajectory_mm"]["order"];
+  EXPECT_EQ(by_order["aggregation"], "exact");  // the design froze each order as one group
+  double lowest_multiple = INFINITY, highest_other = -INFINITY;
+  double lowest_multiple_lower = INFINITY, highest_other_upper = -INFINITY;
+  int multiples = 0, others = 0;
+  for (const nlohmann::json& entry : by_order["entries"]) {
+    const int order = entry["order"];
+    const double st = entry["ST"], lower = entry["ST_interval"][0], upper = entry["ST_interval"][1];
+    ASSERT_GE(order, 2);
+    if (order % 3 == 0) {
+      ++multiples;
+      lowest_multiple = std::min(lowest_multiple, st);
+      lowest_multiple_lower = std::min(lowest_multiple_lower, lower);
+    } else {
+      ++others;
+      highest_other = std::max(highest_other, st);
+      highest_other_upper = std::max(highest_other_upper, upper);
+    }
+  }
+  EXPECT_EQ(multiples, 4);  // 3, 6, 9, 12
+  EXPECT_EQ(others, 7);
+  EXPECT_GT(lowest_multiple, highest_other);
+  // Not by chance: the bootstrap intervals (95 %) do not overlap either.
+  EXPECT_GT(lowest_multiple_lower, highest_other_upper);
+  // The ranking the page shows is the JSON's.
+  EXPECT_THAT(ringtol::testing::ReadText(dir_ / "orders.html"), HasSubstr("Dominant orders, largest first: "));
+}
+
+TEST_F(CampaignReport, PageIsSelfContainedAndHeadlessChromiumPaintsItsCharts) {
+  const std::string results = (dir_ / "small.h5").string(), page = (dir_ / "report.html").string();
+  const auto campaign = Ringtol("campaign " + Example("default.toml") + " --samples 64 --out " + results + " --quiet");
+  ASSERT_EQ(campaign.exit_code, 0) << campaign.err;
+  const auto report = Ringtol("report " + results + " --out " + page);
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  EXPECT_THAT(report.out, HasSubstr("Report: " + page));
+
+  // Self-contained: nothing a browser would fetch (the SVG namespace is a name, not a fetch).
+  const std::string html = ringtol::testing::ReadText(page);
+  for (const char* fetch : {"<script", "<link", "<img", "<iframe", "src=", "url(", "@import", "href=\"http"}) {
+    EXPECT_THAT(html, Not(HasSubstr(fetch))) << fetch;
+  }
+  EXPECT_GE(std::count(html.begin(), html.end(), '<'), 100);
+
+  // Chromium renders the file offline; its log (stderr) shows page errors as "CONSOLE" lines.
+  const std::string profile = (dir_ / "chromium-profile").string(), png = (dir_ / "page.png").string();
+  const std::string chromium =
+      "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --no-first-run "
+      "--user-data-dir=" +
+      profile + " --enable-logging=stderr --v=0 --window-size=1000,2600 ";
+  const auto dom = Run("timeout 120 " + chromium + "--dump-dom file://" + page);
+  ASSERT_EQ(dom.exit_code, 0) << dom.err;
+  EXPECT_THAT(dom.err, Not(HasSubstr("CONSOLE")));
+  EXPECT_THAT(dom.err, Not(HasSubstr("net::ERR")));
+  std::size_t charts = 0;
+  for (std::size_t at = dom.out.find("<svg"); at != std::string::npos; at = dom.out.find("<svg", at + 1)) ++charts;
+  EXPECT_GE(charts, 6u) << "histogram, CDF, two convergence plots, sensitivity bars, trajectories";
+  EXPECT_THAT(dom.out, HasSubstr("Which tolerance to tighten first"));
+
+  const auto shot = Run("timeout 120 " + chromium + "--screenshot=" + png + " file://" + page);
+  ASSERT_EQ(shot.exit_code, 0) << shot.err;
+  // Non-blank: a page of charts paints many pixels that are neither white nor one flat colour.
+  const auto pixels =
+      Run("/usr/bin/python3 -c \"import sys; from PIL import Image; im = Image.open(sys.argv[1])"
+          ".convert('RGB'); px = list(im.getdata()); ink = sum(1 for p in px if p != (255, 255, 255));"
+          " print(ink / len(px), len(set(px)))\" " +
+          png);
+  ASSERT_EQ(pixels.exit_code, 0) << pixels.err;
+  double ink = 0.0;
+  std::size_t colours = 0;
+  std::istringstream(pixels.out) >> ink >> colours;
+  EXPECT_GT(ink, 0.03) << pixels.out;
+  EXPECT_GT(colours, 20u) << pixels.out;
+}
+
+}  // namespace
