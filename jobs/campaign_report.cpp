@@ -154,7 +154,7 @@ OutputSensitivity SobolSensitivity(const std::string& output, const std::vector<
   analysis::PickFreezeOutputs pick;
   pick.ab.resize(group_count);
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  std::int64_t unfinished = 0;
+  std::int64_t pending_rows = 0;
   for (std::int64_t row = 0; row < rows; ++row) {
     const auto at = [&](int matrix) {
       const auto i = static_cast<std::size_t>(row * per_row + matrix);
@@ -165,7 +165,7 @@ OutputSensitivity SobolSensitivity(const std::string& output, const std::vector<
       pending = pending || status[static_cast<std::size_t>(row * per_row + m)] == SampleStatus::kPending;
     }
     if (pending) {
-      ++unfinished;
+      ++pending_rows;
       continue;
     }
     pick.a.push_back(at(0));
@@ -183,6 +183,7 @@ OutputSensitivity SobolSensitivity(const std::string& output, const std::vector<
   const analysis::SobolIndices indices = analysis::EstimateSobolIndices(pick, sobol);
   out.rows = indices.rows;
   out.rows_excluded = indices.rows_excluded;
+  out.rows_pending = pending_rows;
   out.variance = indices.variance;
   {
     double sa = 0.0, sb = 0.0, saa = 0.0, sbb = 0.0, sab = 0.0, n = 0.0;
@@ -544,6 +545,7 @@ nlohmann::json ReportJson(const CampaignReport& report) {
                         {"estimator", s.estimator},
                         {"rows", s.rows},
                         {"rows_excluded", s.rows_excluded},
+                        {"rows_pending", s.rows_pending},
                         {"variance", Number(s.variance)},
                         {"rows_for_precision", OptionalInteger(s.rows_for_precision)}};
     o["r2"] = Optional(s.r2);

@@ -102,6 +102,7 @@ struct OutputSensitivity {
   std::string method;  // "sobol" (Saltelli design) or "screening"
   std::string estimator;
   std::int64_t rows = 0, rows_excluded = 0;  // Saltelli rows (or screening samples) used / with a failed sample
+  std::int64_t rows_pending = 0;             // Saltelli rows not finished yet (left out)
   double variance = 0.0;
   std::optional<double> r2, rank_r2;               // screening: of the linear and rank regressions
   std::optional<std::int64_t> rows_for_precision;  // for the widest ST conf to reach 0.05

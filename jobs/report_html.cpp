@@ -317,6 +317,10 @@ void SensitivitySection(std::string& html, const CampaignReport& report, const O
         EscapeXml(report.design), s.rows, s.r2 ? fmt::format("{:.3f}", *s.r2) : "n/a",
         s.rank_r2 ? fmt::format("{:.3f}", *s.rank_r2) : "n/a");
   }
+  if (s.rows_pending > 0) {
+    html += fmt::format("<p class=\"warn\">{} rows are not finished (pending samples) and were left out.</p>\n",
+                        s.rows_pending);
+  }
   if (s.rows_excluded > 0) {
     html += fmt::format("<p class=\"warn\">{} {} with a failed sample were excluded.</p>\n", s.rows_excluded,
                         sobol ? "rows" : "samples");

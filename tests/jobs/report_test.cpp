@@ -155,6 +155,30 @@ TEST_F(ReportTest, MedianAndWorstSamplesReplayToTheirStoredOutputsAfterTheFilesA
   }
 }
 
+TEST_F(ReportTest, AFileWithoutAnOkSampleGivesAReportThatSaysSo) {
+  const Campaign campaign(dir_ / "campaign.toml", std::nullopt, std::nullopt);
+  EvaluatorFaults faults;
+  faults.before_simulate = [](std::int64_t) { throw std::runtime_error("every sample fails"); };
+  SampleEvaluator evaluator(campaign, faults);
+  const std::filesystem::path results = dir_ / "failed.h5";
+  {
+    CampaignStore store = CampaignStore::Create(results, campaign.identity(), campaign.samples());
+    for (std::int64_t i = 0; i < 10; ++i) store.Add(evaluator.Evaluate(i));  // the other 30 stay pending
+  }
+  const CampaignReport report = BuildReport(results);
+  EXPECT_EQ(report.ok, 0);
+  EXPECT_EQ(report.done, 10);
+  EXPECT_EQ(report.pending, 30);
+  EXPECT_EQ(report.failures.at("exception"), 10);
+  EXPECT_FALSE(report.outputs.front().distribution.has_value());
+  EXPECT_TRUE(report.sensitivities.empty());
+  EXPECT_TRUE(report.trajectories.empty());
+  const std::string html = ReportHtml(report);
+  EXPECT_THAT(html, HasSubstr("No sample finished ok"));
+  EXPECT_THAT(html, HasSubstr("every sample fails"));
+  EXPECT_EQ(ReportJson(report)["samples"]["pending"], 30);
+}
+
 TEST_F(ReportTest, CommandRefusesBadPathsAndOptionsBeforeAnyWork) {
   const std::filesystem::path results = RunWithFailures();
   std::ostringstream out;
