@@ -54,10 +54,12 @@ constexpr double kColumnsPerPixel = 2.0;   // long lines keep <= 4 points per ha
 std::string Num(double value) {
   if (!std::isfinite(value)) value = 0.0;  // unreachable for clipped data; keeps the SVG valid regardless
   std::string text = fmt::format("{:.2f}", value);
-  while (text.back() == '0') text.pop_back();
-  if (text.back() == '.') text.pop_back();
-  if (text == "-0") text = "0";
-  return text;
+  // Trimmed by length, not pop_back: GCC 12 at -O2 with sanitizers misreads the pops
+  // followed by an assignment as an overlapping copy (-Wrestrict).
+  std::size_t length = text.find_last_not_of('0') + 1;
+  if (text[length - 1] == '.') --length;
+  text.resize(length);
+  return text == "-0" ? std::string("0") : text;
 }
 
 double TextWidth(std::string_view text, double font_size) {

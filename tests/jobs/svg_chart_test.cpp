@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <regex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -85,12 +84,35 @@ std::string Attribute(const std::string& tag, std::string_view name) {
 
 double NumberAttribute(const std::string& tag, std::string_view name) { return std::stod(Attribute(tag, name)); }
 
-std::vector<double> Numbers(const std::string& text) {
-  static const std::regex kNumber(R"(-?[0-9]+(\.[0-9]+)?)");
-  std::vector<double> numbers;
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), kNumber); it != std::sregex_iterator(); ++it) {
-    numbers.push_back(std::stod(it->str()));
+// The tokens of SVG text: decimal numbers (-?[0-9]+(.[0-9]+)?) and, with `commands`, the
+// path commands M H V L Z. A hand scanner: GCC 12 with sanitizers warns inside std::regex.
+std::vector<std::string> Tokens(const std::string& text, bool commands) {
+  std::vector<std::string> tokens;
+  const auto digit = [&](std::size_t i) { return i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])); };
+  for (std::size_t i = 0; i < text.size();) {
+    if (commands && std::string_view("MHVLZ").find(text[i]) != std::string_view::npos) {
+      tokens.emplace_back(1, text[i++]);
+      continue;
+    }
+    const std::size_t start = i;
+    if (text[i] == '-' && digit(i + 1)) ++i;
+    if (!digit(i)) {
+      i = start + 1;
+      continue;
+    }
+    while (digit(i)) ++i;
+    if (i < text.size() && text[i] == '.' && digit(i + 1)) {
+      ++i;
+      while (digit(i)) ++i;
+    }
+    tokens.push_back(text.substr(start, i - start));
   }
+  return tokens;
+}
+
+std::vector<double> Numbers(const std::string& text) {
+  std::vector<double> numbers;
+  for (const std::string& token : Tokens(text, false)) numbers.push_back(std::stod(token));
   return numbers;
 }
 
@@ -100,12 +122,10 @@ struct PathCoordinates {
 };
 
 PathCoordinates CoordinatesOf(const std::string& d) {
-  static const std::regex kToken(R"([MHVLZ]|-?[0-9]+(\.[0-9]+)?)");
   PathCoordinates coordinates;
   char command = 'M';
   bool next_is_x = true;  // within M and L pairs
-  for (auto it = std::sregex_iterator(d.begin(), d.end(), kToken); it != std::sregex_iterator(); ++it) {
-    const std::string token = it->str();
+  for (const std::string& token : Tokens(d, true)) {
     if (std::isalpha(static_cast<unsigned char>(token[0]))) {
       command = token[0];
       next_is_x = true;
