@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <string_view>
 
 #include <fmt/format.h>
@@ -13,8 +12,6 @@ namespace ringtol::jobs {
 namespace {
 
 using svg::EscapeXml;
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::string Num(double value) { return std::isfinite(value) ? fmt::format("{:.4g}", value) : "unbounded"; }
 
