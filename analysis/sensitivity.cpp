@@ -236,6 +236,7 @@ SobolIndices EstimateSobolIndices(const PickFreezeOutputs& outputs, const SobolO
 
   std::vector<std::size_t> rows(n);
   std::iota(rows.begin(), rows.end(), std::size_t{0});
+  result.ab_correlation = Correlation(y.a, y.b, rows);
   std::vector<double> first(groups), total(groups);
   const std::string undefined = EstimateOnRows(y, rows, options.estimator, first, total);
   if (!undefined.empty()) {

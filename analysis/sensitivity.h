@@ -85,6 +85,11 @@ struct SobolIndices {
   double variance = 0.0;                // V above: (1/2N) sum (f - mean)^2 over the used A and B rows [output unit^2]
   std::int64_t rows = 0;                // rows used, N
   std::int64_t rows_excluded = 0;       // rows with a non-finite output in a, b or any ab[g]
+  // Pearson correlation of f(A) and f(B) over the used rows: the design needs A and B
+  // independent, and |r| beyond about 3 / sqrt(N) says they are not (a Sobol' base in more
+  // dimensions than it has points repeats coordinates), which biases every index. NaN when
+  // either does not vary.
+  double ab_correlation = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Throws std::invalid_argument, with a message naming the quantity and its allowed range,

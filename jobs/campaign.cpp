@@ -70,6 +70,11 @@ Campaign::Campaign(CampaignPlan plan, const std::string& source_name)
   identity_.spec = plan_.spec;
 }
 
+bool Campaign::IndependentDraw(std::int64_t index) const {
+  const sampling::Design& design = sampling_.design;
+  return design.options().kind != sampling::DesignKind::kSaltelli || design.Locate(index).matrix < 2;
+}
+
 std::unique_ptr<solvers::Solver> Campaign::MakeSolver() const {
   solvers::DynamicOptions dynamic;
   dynamic.relative_tolerance = plan_.solver.relative_tolerance;

@@ -32,6 +32,9 @@ class Campaign {
   const CampaignIdentity& identity() const { return identity_; }
   std::int64_t samples() const { return plan_.sampling.samples; }
   const solvers::SimulationOptions& simulation() const { return simulation_; }
+  // Whether sample `index` is an independent draw, usable for distributions: every sample,
+  // except the AB matrices of a Saltelli design, which re-use the A and B coordinates.
+  bool IndependentDraw(std::int64_t index) const;
   // A solver of the campaign's kind and options (each thread makes its own).
   std::unique_ptr<solvers::Solver> MakeSolver() const;
 

@@ -156,13 +156,8 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   store.reset();  // closes the file: the summary reads what is on disk
 
   const CampaignReader results(command.out);
-  std::function<bool(std::int64_t)> independent;
-  if (campaign->plan().sampling.design.kind == sampling::DesignKind::kSaltelli) {
-    independent = [&design = campaign->sampling().design](std::int64_t index) {
-      return design.Locate(index).matrix < 2;
-    };
-  }
-  const CampaignSummary summary = Summarise(results, independent);
+  const CampaignSummary summary =
+      Summarise(results, [&campaign = *campaign](std::int64_t index) { return campaign.IndependentDraw(index); });
   if (command.json) {
     out << SummaryJson(summary, &run).dump(2) << "\n";
   } else {

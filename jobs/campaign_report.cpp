@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "jobs/campaign.h"
+#include "jobs/campaign_summary.h"
 #include "jobs/sample_record.h"
 #include "solvers/simulation.h"
 
@@ -75,61 +76,54 @@ std::optional<SensitivityLevel> Aggregate(const std::vector<SensitivityEntry>& f
   SensitivityLevel out;
   out.level = std::string(level);
   out.aggregation = Aggregation::kExact;
+  const bool sobol = finest.front().total_order.has_value();
   for (const std::string& category : order_of_categories) {
     const std::vector<std::size_t>& part = parts[category];
-    if (part.size() > 1) out.aggregation = Aggregation::kBounds;
-    SensitivityEntry sum;
-    sum.name = category;
-    sum.first_order = {0.0, 0.0, {0.0, 0.0}};
     std::vector<int> all_members;
-    double s1_conf2 = 0.0, st_conf2 = 0.0;
-    analysis::SobolIndex st{0.0, 0.0, {0.0, 0.0}};
-    for (const std::size_t g : part) {
-      const SensitivityEntry& e = finest[g];
-      all_members.insert(all_members.end(), members[g].begin(), members[g].end());
-      sum.first_order.value += e.first_order.value;
-      s1_conf2 += e.first_order.conf * e.first_order.conf;
-      sum.first_order.interval.lower += e.first_order.interval.lower;
-      sum.first_order.interval.upper += e.first_order.interval.upper;
-      if (e.total_order) {
-        st.value += e.total_order->value;
-        st_conf2 += e.total_order->conf * e.total_order->conf;
-        st.interval.lower += e.total_order->interval.lower;
-        st.interval.upper += e.total_order->interval.upper;
-      }
-      sum.src += e.src * e.src;
-      sum.srrc += e.srrc * e.srrc;
-    }
-    sum.first_order.conf = std::sqrt(s1_conf2);
-    if (finest.front().total_order) {
-      st.conf = std::sqrt(st_conf2);
-      sum.total_order = st;
+    for (const std::size_t g : part) all_members.insert(all_members.end(), members[g].begin(), members[g].end());
+    SensitivityEntry sum;
+    if (part.size() == 1) {
+      sum = finest[part.front()];  // the design froze exactly this category
     } else {
+      out.aggregation = Aggregation::kBounds;
+      // Sums of intervals are not intervals of the sum: the estimate and the quadrature
+      // half-width are kept. A total index never exceeds 1, so neither does its bound.
+      double s1 = 0.0, s1_conf2 = 0.0, st = 0.0, st_conf2 = 0.0;
+      for (const std::size_t g : part) {
+        const SensitivityEntry& e = finest[g];
+        s1 += e.first_order.value;
+        s1_conf2 += e.first_order.conf * e.first_order.conf;
+        if (sobol) {
+          st += e.total_order->value;
+          st_conf2 += e.total_order->conf * e.total_order->conf;
+        }
+        sum.src += e.src * e.src;
+        sum.srrc += e.srrc * e.srrc;
+      }
+      const double s1_conf = std::sqrt(s1_conf2), st_conf = std::sqrt(st_conf2);
+      sum.first_order = {s1, s1_conf, {s1 - s1_conf, s1 + s1_conf}};
+      if (sobol) {
+        st = std::min(st, 1.0);
+        sum.total_order = analysis::SobolIndex{st, st_conf, {st - st_conf, std::min(1.0, st + st_conf)}};
+      }
+    }
+    if (!sobol) {
       // Given-data estimates carry a bias of order (M - 1)/(n - 1) each (its sign depends on
       // how stratified the design is); summed over a hundred inputs it swamps the signal.
       // A screened group is measured by its regression shares alone.
       sum.first_order = analysis::SobolIndex{};
+      if (part.size() == 1) {
+        sum.src *= sum.src;
+        sum.srrc *= sum.srrc;
+      }
     }
+    sum.name = category;
     Describe(sum, inputs, all_members);
     if (level == "source") sum.order = 0;
-    sum.ranking = sum.total_order ? sum.total_order->value : sum.src;
+    sum.ranking = sobol ? sum.total_order->value : sum.src;
     out.entries.push_back(std::move(sum));
   }
   if (out.entries.size() < 2) return std::nullopt;  // one category holds everything: its share is 1
-  if (out.aggregation == Aggregation::kBounds) {
-    // Sums of intervals are not intervals of the sum: only the estimate and the
-    // quadrature half-width are kept.
-    // A total index never exceeds 1, so neither does the bound a sum gives.
-    for (SensitivityEntry& e : out.entries) {
-      e.first_order.interval = {e.first_order.value - e.first_order.conf, e.first_order.value + e.first_order.conf};
-      if (e.total_order) {
-        e.total_order->value = std::min(e.total_order->value, 1.0);
-        e.ranking = e.total_order->value;
-        e.total_order->interval = {e.total_order->value - e.total_order->conf,
-                                   std::min(1.0, e.total_order->value + e.total_order->conf)};
-      }
-    }
-  }
   SortLargestFirst(out.entries);
   return out;
 }
@@ -184,23 +178,7 @@ OutputSensitivity SobolSensitivity(const std::string& output, const std::vector<
   out.rows_excluded = indices.rows_excluded;
   out.rows_pending = pending_rows;
   out.variance = indices.variance;
-  {
-    double sa = 0.0, sb = 0.0, saa = 0.0, sbb = 0.0, sab = 0.0, n = 0.0;
-    for (std::size_t j = 0; j < pick.a.size(); ++j) {
-      if (!std::isfinite(pick.a[j]) || !std::isfinite(pick.b[j])) continue;
-      n += 1.0;
-      sa += pick.a[j];
-      sb += pick.b[j];
-    }
-    const double ma = sa / n, mb = sb / n;
-    for (std::size_t j = 0; j < pick.a.size(); ++j) {
-      if (!std::isfinite(pick.a[j]) || !std::isfinite(pick.b[j])) continue;
-      saa += (pick.a[j] - ma) * (pick.a[j] - ma);
-      sbb += (pick.b[j] - mb) * (pick.b[j] - mb);
-      sab += (pick.a[j] - ma) * (pick.b[j] - mb);
-    }
-    if (saa > 0.0 && sbb > 0.0) out.ab_correlation = sab / std::sqrt(saa * sbb);
-  }
+  if (std::isfinite(indices.ab_correlation)) out.ab_correlation = indices.ab_correlation;
   if (options.bootstrap_resamples > 0)
     out.rows_for_precision = analysis::RowsForSobolPrecision(indices, kSobolTargetConf);
   std::vector<SensitivityEntry> finest(group_count);
@@ -297,7 +275,7 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   std::vector<std::int64_t> used_ok;  // independent ok samples, in design order
   for (std::int64_t i = 0; i < report.samples; ++i) {
     const auto s = static_cast<std::size_t>(i);
-    if (saltelli && design.Locate(i).matrix > 1) continue;
+    if (!campaign.IndependentDraw(i)) continue;
     ++report.used;
     if (redraws[s] > 0) ++report.redrawn;
     if (status[s] == SampleStatus::kPending) {
@@ -316,7 +294,6 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
       report.failed.push_back({i, std::string(SampleStatusName(status[s])), record.message});
     }
   }
-  report.failed_listed_limit = static_cast<std::int64_t>(kFailedListed);
 
   report.primary_output = "d_trajectory_mm";
   for (const char* name : kOutputNames) {
@@ -351,11 +328,12 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   const sampling::InputGroups groups =
       saltelli ? campaign.sampling().sampler.Groups(campaign.plan().sampling.grouping) : sampling::InputGroups{};
   report.samples_per_draw = saltelli ? design.samples_per_row() / 2.0 : 1.0;
+  std::vector<double> trajectory_mm;  // kept from the loop for picking the samples to replay
   for (const char* name : kOutputNames) {
     OutputReport out;
     out.name = name;
     out.upper_spec_limit = SpecOf(report.identity, name);
-    const std::vector<double> all = ReadInBlocks<double>(
+    std::vector<double> all = ReadInBlocks<double>(
         report.samples, [&](std::int64_t begin, std::int64_t count) { return reader.ReadOutput(name, begin, count); });
     std::vector<double> values;
     values.reserve(used_ok.size());
@@ -364,16 +342,11 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
     analysis::SpecLimits limits;
     limits.upper = out.upper_spec_limit;
     if (!values.empty()) {
-      const double probabilities[] = {0.5, 0.9, 0.99, 0.999};
-      out.distribution = analysis::Describe(values, probabilities, limits, options.confidence);
+      out.distribution = analysis::Describe(values, kSummaryProbabilities, limits, options.confidence);
       out.convergence = analysis::TraceConvergence(values, kReportQuantile, limits, options.confidence);
-      const analysis::QuantileEstimate q = analysis::EstimateQuantile(
-          [&] {
-            std::vector<double> sorted = values;
-            std::sort(sorted.begin(), sorted.end());
-            return sorted;
-          }(),
-          kReportQuantile, options.confidence);
+      const analysis::QuantileEstimate& q =
+          *std::find_if(out.distribution->quantiles.begin(), out.distribution->quantiles.end(),
+                        [](const analysis::QuantileEstimate& e) { return e.probability == kReportQuantile; });
       if (q.value > 0.0) {
         out.samples_for_quantile =
             analysis::SamplesForQuantilePrecision(q, out.count, options.quantile_precision * std::abs(q.value));
@@ -400,12 +373,10 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
       }
     }
     report.outputs.push_back(std::move(out));
+    if (std::string_view(name) == "d_trajectory_mm") trajectory_mm = std::move(all);
   }
 
   if (options.replay && !used_ok.empty()) {
-    const std::vector<double> trajectory_mm = ReadInBlocks<double>(
-        report.samples,
-        [&](std::int64_t begin, std::int64_t count) { return reader.ReadOutput("d_trajectory_mm", begin, count); });
     std::vector<std::int64_t> by_d = used_ok;
     std::sort(by_d.begin(), by_d.end(), [&](std::int64_t a, std::int64_t b) {
       const double da = trajectory_mm[static_cast<std::size_t>(a)], db = trajectory_mm[static_cast<std::size_t>(b)];

@@ -106,10 +106,7 @@ struct OutputSensitivity {
   double variance = 0.0;
   std::optional<double> r2, rank_r2;               // screening: of the linear and rank regressions
   std::optional<std::int64_t> rows_for_precision;  // for the widest ST conf to reach 0.05
-  // Saltelli only: the correlation of f(A) and f(B) over the rows. A and B must be
-  // independent; |r| beyond about 3 / sqrt(rows) says they are not (a Sobol' base in more
-  // dimensions than it has points repeats coordinates), and the indices are biased.
-  std::optional<double> ab_correlation;
+  std::optional<double> ab_correlation;  // Saltelli only: analysis::SobolIndices::ab_correlation
   std::vector<SensitivityLevel> levels;
 };
 
@@ -135,7 +132,6 @@ struct CampaignReport {
   double samples_per_draw = 1.0;
   std::map<std::string, std::int64_t> failures;  // status name -> count, among used
   std::vector<FailedSample> failed;              // the first few, with their messages
-  std::int64_t failed_listed_limit = 0;
   std::vector<OutputReport> outputs;             // kOutputNames order
   std::string primary_output;                    // the spec'd output, else d_trajectory_mm
   std::vector<OutputSensitivity> sensitivities;  // one per output

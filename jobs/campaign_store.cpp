@@ -1186,6 +1186,18 @@ struct CampaignReader::File {
     CheckRange(what, begin, begin + count, stored.samples);
   }
 
+  // Rows [begin, begin + count) of one column, `width` values each, checked and read quietly.
+  template <typename T>
+  std::vector<T> Rows(std::string_view what, std::size_t column, hid_t memory_type, std::int64_t begin,
+                      std::int64_t count, std::size_t width) const {
+    const QuietErrors quiet;
+    CheckRows(what, begin, count);
+    std::vector<T> values(static_cast<std::size_t>(count) * width);
+    ReadRows(where, columns[column], column, memory_type, static_cast<hsize_t>(begin), static_cast<hsize_t>(count),
+             width, values.data());
+    return values;
+  }
+
   std::vector<SampleStatus> Statuses(std::int64_t begin, std::int64_t count) const {
     std::vector<std::int8_t> raw(static_cast<std::size_t>(count));
     ReadRows(where, columns[kStatus], kStatus, status_type.get(), static_cast<hsize_t>(begin),
@@ -1245,46 +1257,23 @@ std::vector<SampleStatus> CampaignReader::ReadStatus(std::int64_t begin, std::in
 }
 
 std::vector<double> CampaignReader::ReadOutput(std::string_view name, std::int64_t begin, std::int64_t count) const {
-  const QuietErrors quiet;
   const auto* found = std::find(kOutputNames.begin(), kOutputNames.end(), name);
   if (found == kOutputNames.end()) {
     throw std::invalid_argument(fmt::format("CampaignReader::ReadOutput: unknown output '{}'; outputs: {}", name,
                                             fmt::join(kOutputNames, ", ")));
   }
-  file_->CheckRows("CampaignReader::ReadOutput", begin, count);
   const std::size_t column = kFirstOutput + static_cast<std::size_t>(found - kOutputNames.begin());
-  std::vector<double> values(static_cast<std::size_t>(count));
-  ReadRows(file_->where, file_->columns[column], column, H5T_NATIVE_DOUBLE, static_cast<hsize_t>(begin),
-           static_cast<hsize_t>(count), 1, values.data());
-  return values;
+  return file_->Rows<double>("CampaignReader::ReadOutput", column, H5T_NATIVE_DOUBLE, begin, count, 1);
 }
 
 std::vector<double> CampaignReader::ReadValues(std::int64_t begin, std::int64_t count) const {
-  const QuietErrors quiet;
-  file_->CheckRows("CampaignReader::ReadValues", begin, count);
-  const std::size_t d = file_->stored.identity.inputs.size();
-  std::vector<float> stored(static_cast<std::size_t>(count) * d);
-  ReadRows(file_->where, file_->columns[kValues], kValues, H5T_NATIVE_FLOAT, static_cast<hsize_t>(begin),
-           static_cast<hsize_t>(count), d, stored.data());
+  const std::vector<float> stored = file_->Rows<float>("CampaignReader::ReadValues", kValues, H5T_NATIVE_FLOAT, begin,
+                                                       count, file_->stored.identity.inputs.size());
   return {stored.begin(), stored.end()};
 }
 
 std::vector<std::int32_t> CampaignReader::ReadRedraws(std::int64_t begin, std::int64_t count) const {
-  const QuietErrors quiet;
-  file_->CheckRows("CampaignReader::ReadRedraws", begin, count);
-  std::vector<std::int32_t> redraws(static_cast<std::size_t>(count));
-  ReadRows(file_->where, file_->columns[kRedraws], kRedraws, H5T_NATIVE_INT32, static_cast<hsize_t>(begin),
-           static_cast<hsize_t>(count), 1, redraws.data());
-  return redraws;
-}
-
-std::vector<double> CampaignReader::ReadSolveTime(std::int64_t begin, std::int64_t count) const {
-  const QuietErrors quiet;
-  file_->CheckRows("CampaignReader::ReadSolveTime", begin, count);
-  std::vector<double> seconds(static_cast<std::size_t>(count));
-  ReadRows(file_->where, file_->columns[kSolveTime], kSolveTime, H5T_NATIVE_DOUBLE, static_cast<hsize_t>(begin),
-           static_cast<hsize_t>(count), 1, seconds.data());
-  return seconds;
+  return file_->Rows<std::int32_t>("CampaignReader::ReadRedraws", kRedraws, H5T_NATIVE_INT32, begin, count, 1);
 }
 
 SampleRecord CampaignReader::ReadSample(std::int64_t index) const {

@@ -155,7 +155,6 @@ class CampaignReader {
   // Row-major [count, d]: the drawn values of every input (stored as float32), as read.
   std::vector<double> ReadValues(std::int64_t begin, std::int64_t count) const;
   std::vector<std::int32_t> ReadRedraws(std::int64_t begin, std::int64_t count) const;
-  std::vector<double> ReadSolveTime(std::int64_t begin, std::int64_t count) const;  // [s]
   // Everything stored about one sample (solve_time included).
   SampleRecord ReadSample(std::int64_t index) const;
 

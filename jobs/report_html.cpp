@@ -26,14 +26,13 @@ std::string PercentInterval(const analysis::Interval& i) {
 // "d_trajectory_mm" -> "D_trajectory [mm]": the unit key's suffix becomes the unit.
 std::string Label(std::string_view name) {
   const std::size_t cut = name.rfind('_');
-  std::string quantity(name.substr(0, cut));
-  if (quantity == "d_trajectory") quantity = "D_trajectory";
-  if (quantity == "dist_init") quantity = "Dist_init";
-  if (quantity == "runout_total") quantity = "total runout";
-  std::replace(quantity.begin(), quantity.end(), '_', ' ');
-  if (quantity == "D trajectory") quantity = "D_trajectory";
-  if (quantity == "Dist init") quantity = "Dist_init";
-  return fmt::format("{} [{}]", quantity, name.substr(cut + 1));
+  const std::string_view quantity = name.substr(0, cut);
+  std::string text = quantity == "d_trajectory"   ? "D_trajectory"
+                     : quantity == "dist_init"    ? "Dist_init"
+                     : quantity == "runout_total" ? "total runout"
+                                                  : std::string(quantity);
+  if (text.front() != 'D') std::replace(text.begin(), text.end(), '_', ' ');
+  return fmt::format("{} [{}]", text, name.substr(cut + 1));
 }
 
 std::string SourceLabel(std::string_view name) {

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "jobs/campaign_store.h"
+#include "tests/support/mpi_environment.h"
 #include "tests/support/shell.h"
 #include "tests/support/text_files.h"
 
@@ -27,14 +28,7 @@ namespace {
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-// dependencies.md §4: root needs explicit permission; 3 ranks on 2 cores need
-// oversubscription; shared memory only (no network probing); no core binding, since ctest
-// runs tests side by side. Open MPI's own start-up allocations are never freed, so leak
-// checking is off for these runs (the library code is leak-checked by in-process tests).
-const std::string kEnvironment =
-    "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 "
-    "OMPI_MCA_pml=ob1 OMPI_MCA_btl=self,vader OMPI_MCA_btl_vader_single_copy_mechanism=none "
-    "OMPI_MCA_hwloc_base_binding_policy=none ASAN_OPTIONS=detect_leaks=0 ";
+using testing::kMpiEnvironment;
 
 const std::string kScene = (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/paper/scene.toml").string();
 
@@ -92,7 +86,7 @@ std::string Mpirun(int ranks) {
 // Runs `prefix ringtol arguments` through the shell; `timeout` guards against a hang.
 Outcome RunRingtol(const std::string& prefix, const std::string& arguments) {
   std::filesystem::create_directories(TestFolder());
-  return testing::RunShell(kEnvironment + "timeout 120 " + prefix + RINGTOL_EXECUTABLE + " " + arguments,
+  return testing::RunShell(kMpiEnvironment + "timeout 120 " + prefix + RINGTOL_EXECUTABLE + " " + arguments,
                            TestFolder() / "stderr.txt");
 }
 
@@ -219,7 +213,7 @@ TEST(Campaign, ProgressIsABarRedrawnInPlaceOnATerminal) {
   const std::filesystem::path folder = Folder();
   const auto file = Write(folder / "campaign.toml", kCampaign);
   // util-linux `script` runs the command on a pseudo-terminal and copies what it shows.
-  const std::string inner = kEnvironment + RINGTOL_EXECUTABLE + " campaign " + file.string() + " --out " +
+  const std::string inner = kMpiEnvironment + RINGTOL_EXECUTABLE + " campaign " + file.string() + " --out " +
                             (folder / "r.h5").string() + " >/dev/null";
   const std::string command = "script -qec '" + inner + "' " + (folder / "terminal.txt").string() + " >/dev/null";
   ASSERT_EQ(std::system(command.c_str()), 0);
@@ -328,7 +322,7 @@ TEST(CampaignSlow, SigkillWhileWritingThenResumeMatchesAnUninterruptedRun) {
     const pid_t child = fork();
     ASSERT_GE(child, 0);
     if (child == 0) {
-      const std::string command = kEnvironment + "exec " + RINGTOL_EXECUTABLE + " campaign " + file.string() +
+      const std::string command = kMpiEnvironment + "exec " + RINGTOL_EXECUTABLE + " campaign " + file.string() +
                                   " --out " + out.string() + " --quiet --commit-seconds 0.05" +
                                   (std::filesystem::exists(out) ? " --resume" : "") + " >/dev/null 2>&1";
       execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));

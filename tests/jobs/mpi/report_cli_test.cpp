@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/support/mpi_environment.h"
 #include "tests/support/shell.h"
 #include "tests/support/text_files.h"
 
@@ -33,13 +34,9 @@ class CampaignReport : public ::testing::Test {
   ringtol::testing::ShellOutcome Run(const std::string& command) {
     return ringtol::testing::RunShell(command, dir_ / "stderr.txt");
   }
-  // `ringtol campaign` starts MPI even alone: as root it needs permission, and Open MPI's
-  // start-up allocations are never freed (campaign_cli_test.cpp's environment, in short).
+  // `ringtol campaign` starts MPI even alone.
   ringtol::testing::ShellOutcome Ringtol(const std::string& arguments) {
-    return Run(
-        "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1 OMPI_MCA_btl=self,vader "
-        "ASAN_OPTIONS=detect_leaks=0 " +
-        std::string(RINGTOL_EXECUTABLE) + " " + arguments);
+    return Run(ringtol::testing::kMpiEnvironment + RINGTOL_EXECUTABLE + " " + arguments);
   }
   std::string Example(const std::string& name) const {
     return (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/campaigns" / name).string();
