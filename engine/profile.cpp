@@ -88,6 +88,17 @@ void PolarProfile::EvaluatePairAt(const double (&cos_theta)[2], const double (&s
   for (int k = 0; k < 2; ++k) out[k] = {r[k], dr[k], ddr[k], cos_theta[k], sin_theta[k]};
 }
 
+void CosSinOfSmallAngle(double delta, double& cos_delta, double& sin_delta) {
+  if (!(std::abs(delta) <= NearbyAngle::kReach)) {
+    cos_delta = std::cos(delta);
+    sin_delta = std::sin(delta);
+    return;
+  }
+  const double d2 = delta * delta;
+  cos_delta = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0)));
+  sin_delta = delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
+}
+
 void NearbyAngle::Evaluate(double theta, double& cos_theta, double& sin_theta) {
   double delta = theta - reference_;
   if (!(std::abs(delta) <= kReach)) {
@@ -96,9 +107,9 @@ void NearbyAngle::Evaluate(double theta, double& cos_theta, double& sin_theta) {
     sin_reference_ = std::sin(theta);
     delta = 0.0;
   }
-  const double d2 = delta * delta;
-  const double cos_delta = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0)));
-  const double sin_delta = delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
+  double cos_delta;
+  double sin_delta;
+  CosSinOfSmallAngle(delta, cos_delta, sin_delta);
   cos_theta = cos_reference_ * cos_delta - sin_reference_ * sin_delta;
   sin_theta = sin_reference_ * cos_delta + cos_reference_ * sin_delta;
 }
@@ -109,43 +120,50 @@ double Curvature(const RadiusDerivatives& d) {
 }
 
 SupportPoint PolarProfile::Support(double phi, double theta_guess) const {
+  SupportPoint support =
+      SupportToward(std::cos(phi), std::sin(phi), std::remainder(theta_guess - phi, 2.0 * std::numbers::pi));
+  support.theta += phi;
+  return support;
+}
+
+SupportPoint PolarProfile::SupportToward(double cos_phi, double sin_phi, double offset_guess) const {
   if (is_circle()) {
     const double r = radius_ + mean_deviation_;
-    return {phi, r, 0.0, r};
+    return {0.0, r, 0.0, r, 0};
   }
   // The touching point maximises r(theta) cos(theta - phi): solve its derivative
-  //   f(theta) = r' cos(theta - phi) - r sin(theta - phi) = 0.
-  // f > 0 at phi - pi/2 and f < 0 at phi + pi/2 while r > 0, and f is monotone between
-  // for a convex outline: a bracket that makes the safeguarded Newton iteration converge
-  // for any amplitude.
+  //   f(delta) = r' cos(delta) - r sin(delta) = 0,  delta = theta - phi.
+  // f > 0 at delta = -pi/2 and f < 0 at +pi/2 while r > 0, and f is monotone between for
+  // a convex outline: a bracket that makes the safeguarded Newton iteration converge for
+  // any amplitude. Iterating on the offset rather than on theta keeps the tolerance above
+  // round-off however far a spinning roller has turned (its body angles reach hundreds of
+  // radians, where 1e-14 rad is below one ulp), and for a nearly round outline delta
+  // stays small enough for its cos and sin to come from a short series, not from libm.
   constexpr double kHalfPi = std::numbers::pi / 2.0;
-  constexpr double kThetaTolerance = 1e-14;  // [rad] ~ 50 ulp of 2 pi
-  constexpr int kMaxIterations = 100;        // bisection alone needs < 60 from width pi
-  const double cos_phi = std::cos(phi);
-  const double sin_phi = std::sin(phi);
-  double lo = phi - kHalfPi;
-  double hi = phi + kHalfPi;
-  double theta = theta_guess;
-  if (!(theta > lo && theta < hi)) theta = phi + std::remainder(theta_guess - phi, 2.0 * std::numbers::pi);
-  if (!(theta > lo && theta < hi)) theta = phi;
+  constexpr double kOffsetTolerance = 1e-14;  // [rad] ~ 10 ulp of pi / 2
+  constexpr int kMaxIterations = 100;         // bisection alone needs < 60 from width pi
+  double lo = -kHalfPi;
+  double hi = kHalfPi;
+  double delta = offset_guess > lo && offset_guess < hi ? offset_guess : 0.0;
   RadiusDerivatives d{};
-  double c = 1.0;  // cos(theta - phi)
-  double s = 0.0;  // sin(theta - phi)
+  double c = 1.0;  // cos(delta)
+  double s = 0.0;  // sin(delta)
+  int evaluations = 0;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
-    d = Evaluate(theta);
-    c = d.cos_theta * cos_phi + d.sin_theta * sin_phi;
-    s = d.sin_theta * cos_phi - d.cos_theta * sin_phi;
+    CosSinOfSmallAngle(delta, c, s);
+    d = EvaluateAt(cos_phi * c - sin_phi * s, sin_phi * c + cos_phi * s);
+    ++evaluations;
     const double f = d.dr * c - d.r * s;
     const double df = (d.ddr - d.r) * c - 2.0 * d.dr * s;  // < 0 near the root
-    if (f > 0.0) lo = theta; else hi = theta;
+    if (f > 0.0) lo = delta; else hi = delta;
     const double step = -f / df;
-    if (df < 0.0 && std::abs(step) <= kThetaTolerance) break;  // h is stationary in theta
-    double next = theta + step;
+    if (df < 0.0 && std::abs(step) <= kOffsetTolerance) break;  // h is stationary in theta
+    double next = delta + step;
     if (!(df < 0.0) || !(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    theta = next;
+    delta = next;
   }
   const double q = d.r * d.r + d.dr * d.dr;
-  return {theta, d.r * c, d.r * s, q * std::sqrt(q) / (q + d.dr * d.dr - d.r * d.ddr)};
+  return {delta, d.r * c, d.r * s, q * std::sqrt(q) / (q + d.dr * d.dr - d.r * d.ddr), evaluations};
 }
 
 void PolarProfile::FindExtremes() {

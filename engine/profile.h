@@ -35,6 +35,7 @@ struct SupportPoint {
   double h = 0.0;                 // [m] support function: max over the outline of x . n(phi)
   double dh = 0.0;                // [m/rad] dh/dphi: the touching point's coordinate along the tangent
   double curvature_radius = 0.0;  // [m] radius of curvature at the touching point; h'' = this - h
+  int evaluations = 0;            // [-] outline evaluations the search took (0 for a circle)
 };
 
 class PolarProfile {
@@ -66,6 +67,10 @@ class PolarProfile {
   // it. Requires IsConvex(); on a non-convex outline the result is one of the points with
   // that normal, not necessarily the outermost.
   SupportPoint Support(double phi, double theta_guess) const;
+  // The same search for a normal given as the unit vector (cos phi, sin phi), for callers
+  // that hold the normal but not its angle. Here `theta` of the result, and the guess,
+  // are the touching point's offset theta - phi, in (-pi/2, pi/2).
+  SupportPoint SupportToward(double cos_phi, double sin_phi, double offset_guess) const;
 
   // Extremes over the whole outline, found once at construction by dense sampling (64
   // points per undulation of the highest order) refined by golden-section search: every
@@ -99,6 +104,10 @@ class PolarProfile {
   double min_radius_ = 0.0;
   double max_radius_ = 0.0;
 };
+
+// cos and sin of |delta| <= NearbyAngle::kReach [rad] from their Taylor series, exact to
+// round-off there; std::cos and std::sin beyond.
+void CosSinOfSmallAngle(double delta, double& cos_delta, double& sin_delta);
 
 // cos and sin of an angle that moves in small steps, as a contact's touching point does
 // along a trajectory: one libm sincos at a reference angle, then the rotation of that

@@ -87,14 +87,18 @@ double EquilibriumSystem::StepContacts(double psi, const Eigen::VectorXd& x,
     double roller_h = outline.radius() + outline.mean_deviation();
     double roller_dh = 0.0;
     double roller_rho = roller_h;
-    double roller_theta = c.roller_theta;
     if (!outline.is_circle()) {
-      const double phi = std::atan2(normal.y(), normal.x());
-      const engine::SupportPoint b = outline.Support(phi - roller.angle, c.roller_theta);
+      // The normal in the roller's body frame, and the touching point as an offset from
+      // it, which changes slowly while the roller spins quickly: a warm start that holds.
+      const double cos_spin = std::cos(roller.angle);
+      const double sin_spin = std::sin(roller.angle);
+      const engine::SupportPoint b =
+          outline.SupportToward(normal.x() * cos_spin + normal.y() * sin_spin,
+                                normal.y() * cos_spin - normal.x() * sin_spin, tracked.roller_offset);
       roller_h = b.h;
       roller_dh = b.dh;
       roller_rho = b.curvature_radius;
-      roller_theta = b.theta;
+      tracked.roller_offset = b.theta;
     }
     const Eigen::Vector2d offset = ring_point - roller.centre;
     const double gap = offset.dot(normal) - roller_h;
@@ -114,7 +118,6 @@ double EquilibriumSystem::StepContacts(double psi, const Eigen::VectorXd& x,
     c.gap_curvature = curvature;
     c.ring_point = ring_point;
     c.roller_point = roller.centre + roller_h * normal + roller_dh * tangent;
-    c.roller_theta = roller_theta;
     // dtheta = dphi / nu' with nu' = turning / q.
     tracked.theta_per_normal = q / turning;
     c.ring_theta += dphi * tracked.theta_per_normal;

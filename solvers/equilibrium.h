@@ -62,8 +62,9 @@ class EquilibriumSystem {
   // theta by -g' / (g'' nu'). Used inside the continuation Newton iteration, where the
   // contacts converge together with x. Requires valid contacts; returns the largest
   // normal-angle update taken [rad], or infinity if a contact cannot be stepped. Leaves
-  // normal_angle, and the warm-start offsets UpdateContacts uses, as they were: the
-  // normal vector is current, its angle would cost an atan2 per contact and step.
+  // normal_angle, ring_offset and roller_theta as they were: the normal vector is
+  // current, its angle would cost an atan2 per contact and step. roller_offset is
+  // current: it is the warm start of the roller's own search.
   double StepContacts(double psi, const Eigen::VectorXd& x, std::vector<TrackedContact>& contacts) const;
 
   // Moves every contact along with a change dx of the unknowns: its touching angle by

@@ -498,6 +498,75 @@ TEST(PolarProfileSupport, AnswerDoesNotDependOnThetaGuess) {
   }
 }
 
+// A Normal-class roller (5 mm, lobes of a few um), whose body angle reaches hundreds of
+// radians in one ring revolution: R / r_b ~ 60 turns.
+constexpr Spec kRollerLike{5.0e-3, -1.0e-6, 6,
+                           {{{1, 3.0e-6, 0.2}, {2, 1.0e-6, -1.0}, {3, 8.0e-7, 2.1}, {4, 5.0e-7, 0.7},
+                             {6, 3.0e-7, -2.4}, {8, 4.0e-7, 1.6}}}};
+
+// The search works on the touching point's offset from the normal, so how far the body has
+// turned changes neither the answer nor the cost. Searching on the body angle itself, a
+// version stopped only at its iteration limit beyond a few turns, where the tolerance
+// 1e-14 rad is below one ulp, and spent 30 evaluations per contact on average.
+template <Spec kSpec>
+void ExpectSupportIndependentOfTurns() {
+  SCOPED_TRACE(::testing::Message() << "profile of radius " << kSpec.radius);
+  constexpr double kTheta = kThetaTolerance<kSpec>;              // [rad]
+  constexpr double kHTolerance = 16.0 * kEps * MaxReach(kSpec);  // [m]
+  // Newton from the normal itself: the offset is below (r'/r)_max ~ 1e-3 rad here, and
+  // quadratic convergence reaches 1e-14 rad in three updates plus the confirming one.
+  constexpr int kColdEvaluations = 5;
+  // From the offset of a nearby direction (a warm start along a trajectory).
+  constexpr int kWarmEvaluations = 3;
+  const PolarProfile profile = Make(kSpec);
+  const Outline& outline = OutlineOf<kSpec>();
+  for (int k = 0; k < 12; ++k) {
+    const double phi = -kPi + (k + 0.29) * (2.0 * kPi / 12.0);
+    const RefinedSupport ref = ReferenceSupport(kSpec, outline, phi);
+    const double offset = WrapAngle(static_cast<double>(ref.theta) - phi);
+    for (const double turns : {0.0, 1.0, 7.0, 60.0, 1000.0}) {
+      const double turned = phi + 2.0 * kPi * turns;
+      const SupportPoint cold = profile.Support(turned, turned);
+      const SupportPoint warm = profile.Support(turned, turned + offset + 1e-6);
+      for (const SupportPoint& s : {cold, warm}) {
+        EXPECT_NEAR(s.h, static_cast<double>(ref.h), kHTolerance) << "phi " << phi << " turns " << turns;
+        // theta carries the rounding of the turned angle itself.
+        EXPECT_NEAR(s.theta - turned, offset, kTheta + 4.0 * kEps * std::abs(turned))
+            << "phi " << phi << " turns " << turns;
+      }
+      EXPECT_LE(cold.evaluations, kColdEvaluations) << "phi " << phi << " turns " << turns;
+      EXPECT_LE(warm.evaluations, kWarmEvaluations) << "phi " << phi << " turns " << turns;
+    }
+  }
+}
+
+TEST(PolarProfileSupport, NeitherAnswerNorCostDependsOnHowFarARollerHasTurned) {
+  ExpectSupportIndependentOfTurns<kRollerLike>();
+}
+
+TEST(PolarProfileSupport, NeitherAnswerNorCostDependsOnHowFarARingHasTurned) {
+  ExpectSupportIndependentOfTurns<kRingLike>();
+}
+
+TEST(PolarProfileSupport, TowardAGivenNormalVectorIsTheSameSearch) {
+  // The two start from guesses that differ by the rounding of phi + guess - phi, so each
+  // answer is held to the stopping tolerance, as in AnswerDoesNotDependOnThetaGuess.
+  constexpr double kTheta = kThetaTolerance<kMixed>;                      // [rad]
+  constexpr double kHTolerance = 16.0 * kEps * MaxReach(kMixed);          // [m]
+  constexpr double kDhTolerance = MaxSpeed(kMixed) * kTheta + kHTolerance;  // [m]
+  const PolarProfile profile = Make(kMixed);
+  std::mt19937_64 rng(91);
+  for (int k = 0; k < 32; ++k) {
+    const double phi = Uniform(rng, -kPi, kPi);
+    const double guess = Uniform(rng, -0.5, 0.5);
+    const SupportPoint by_angle = profile.Support(phi, phi + guess);
+    const SupportPoint by_vector = profile.SupportToward(std::cos(phi), std::sin(phi), guess);
+    EXPECT_NEAR(by_vector.h, by_angle.h, kHTolerance) << "phi " << phi;
+    EXPECT_NEAR(by_vector.dh, by_angle.dh, kDhTolerance) << "phi " << phi;
+    EXPECT_NEAR(by_vector.theta, WrapAngle(by_angle.theta - phi), kTheta) << "phi " << phi;
+  }
+}
+
 // ---------------------------------------------------------------------------------------
 // Convexity and extremes
 

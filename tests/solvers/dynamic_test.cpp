@@ -149,11 +149,10 @@ TEST(DynamicSolver, SteadyRevolutionRepeatsWhileTheFirstCarriesTheStartTransient
 // run (all contacts loaded, rollers rolling) with shape errors on ring and rollers so
 // every geometric term is live, for the full model and for massless spring rollers.
 TEST(DynamicSolver, AnalyticJacobianMatchesCentralDifferences) {
-  // Central differences err by (h / depth)^2 ~ 1e-6 of an entry at these steps, and
-  // rounding in the contact search and the massless roller's balance (~1e-15 of the
-  // state) divided by h adds ~1e-6: 1e-4 of the
-  // column's largest entry leaves a wide margin while a missing term (the contact's slide
-  // along the surfaces alone is ~100 % of the spin rows) fails it by orders.
+  // Central differences err by (h / depth)^2 <= 5e-5 of an entry at the steps below, and
+  // rounding, divided by h, adds a few 1e-6 (see the steps): 1e-4 of the column's largest
+  // entry holds while a missing term (the contact's slide along the surfaces alone is
+  // ~100 % of the spin rows) fails it by orders.
   constexpr double kColumnTolerance = 1e-4;
   for (const bool massless : {false, true}) {
     engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
@@ -167,9 +166,14 @@ TEST(DynamicSolver, AnalyticJacobianMatchesCentralDifferences) {
     const solvers::DynamicSample& sample = history.samples.back();
     Eigen::VectorXd state = solvers::InitialDynamicState(scene);
     state.head<4>() << sample.centre.x(), sample.centre.y(), 2e-4, -1e-4;
-    // Steps per state: positions 0.1 um (the depth is 150 um), speeds 0.1 um/s, spin
-    // angles 0.1 urad, spin rates 1 mrad/s.
-    std::vector<double> steps = {1e-7, 1e-7, 1e-7, 1e-7};
+    // Steps per state: ring position 1 um and roller travel 0.1 um (the depth is 150 um),
+    // speeds 0.1 um/s, spin angles 0.1 urad, spin rates 1 mrad/s. The ring position's
+    // column holds the largest entries (~1e5 in the spin rows, where friction's slope and
+    // the rollers' small spin inertia amplify rounding in the slip, a difference of two
+    // ~1.4 m/s surface speeds): its quotient carries ~2e-6 / h of rounding, measured, which
+    // at 0.1 um is at the tolerance and at 1 um is 1/40 of it, while the truncation
+    // (h / depth)^2 stays below 5e-5.
+    std::vector<double> steps = {1e-6, 1e-6, 1e-7, 1e-7};
     for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
       if (scene.rollers[i].mount != engine::RollerMount::kSpring) continue;
       state[static_cast<Eigen::Index>(steps.size())] = sample.travel[i];
