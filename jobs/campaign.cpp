@@ -11,11 +11,14 @@
 #include "jobs/input_error.h"
 #include "jobs/scene_writer.h"
 #include "solvers/dynamic.h"
+#include "solvers/quasistatic.h"
 
 namespace ringtol::jobs {
 namespace {
 
 constexpr double kMillimetresPerMetre = 1e3;
+// The quasistatic solver's per-angle tolerance as a share of the sampling budget.
+constexpr double kSolveShareOfPathTolerance = 0.01;
 
 CampaignPlan ReadWithOverrides(const std::filesystem::path& file, std::optional<std::int64_t> samples,
                                std::optional<std::uint64_t> seed) {
@@ -76,6 +79,11 @@ bool Campaign::IndependentDraw(std::int64_t index) const {
 }
 
 std::unique_ptr<solvers::Solver> Campaign::MakeSolver() const {
+  if (plan_.solver.name == "quasistatic" && plan_.solver.path_tolerance > 0.0) {
+    solvers::QuasistaticOptions options;
+    options.position_tolerance = kSolveShareOfPathTolerance * plan_.solver.path_tolerance;
+    return std::make_unique<solvers::QuasistaticSolver>(options);
+  }
   solvers::DynamicOptions dynamic;
   dynamic.relative_tolerance = plan_.solver.relative_tolerance;
   return solvers::MakeSolver(plan_.solver.name, dynamic);

@@ -7,7 +7,9 @@
 //     steps = 0                    integer >= 0: angles per revolution; 0 = automatic
 //     path_tolerance_um = 1.0      >= 0: budget of the automatic resolution for the sampling
 //                                  error of D_trajectory (solvers/simulation.h,
-//                                  SamplingErrorBound); 0 resolves every undulation
+//                                  SamplingErrorBound); 0 resolves every undulation.
+//                                  The quasistatic solver then converges each angle to
+//                                  1 % of it (Campaign::MakeSolver), else to 1 pm
 //     relative_tolerance = 1e-6    > 0 and < 1: the dynamic solver's integration tolerance
 //   [spec]                         optional: upper specification limits (one-sided)
 //     d_trajectory_mm = 0.30       any output of jobs/sample_record.h, > 0 (mm or N)

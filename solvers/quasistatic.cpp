@@ -201,12 +201,14 @@ bool ContinuationNewton(const EquilibriumSystem& system, double psi, Eigen::Vect
                         std::vector<TrackedContact>& contacts, const Eigen::VectorXd& tolerance, int max_iterations,
                         ConvergenceModel& model, int& iterations, Eigen::VectorXd& residual,
                         Eigen::MatrixXd& jacobian, Eigen::VectorXd& step) {
-  // Contact normals within this of the common normal: the gap is then exact to
-  // g'' dphi^2 / 2 < 1e-20 m and the force direction to 1e-10, which moves the centre by
-  // ~1e-14 m, far below the position tolerance.
-  constexpr double kNormalTolerance = 1e-10;  // [rad]
   // Updates are compared as lengths: each unknown and the normal angles by its tolerance.
   const double length = tolerance[0];
+  // Contact normals within this of the common normal: the gap is then exact to
+  // g'' dphi^2 / 2 and the force direction to dphi, which moves the centre by about
+  // dphi F / k_contact (~1e-4 m per radian for the article's contacts): at 100 rad per
+  // metre of position tolerance (1e-10 rad at the default 1 pm) that stays a hundred
+  // times below the position tolerance.
+  const double normal_tolerance = 100.0 * length;  // [rad]
   // A second update below this is round-off, not a measure of K [m].
   const double round_off = 1e-3 * length;
   const bool check = ++model.angles_since_check >= kCheckInterval || model.constant == 0.0;
@@ -220,7 +222,7 @@ bool ContinuationNewton(const EquilibriumSystem& system, double psi, Eigen::Vect
     x += step;
     system.FollowContacts(step, contacts);
     const double update =
-        length * std::max((step.cwiseAbs().array() / tolerance.array()).maxCoeff(), contact_step / kNormalTolerance);
+        length * std::max((step.cwiseAbs().array() / tolerance.array()).maxCoeff(), contact_step / normal_tolerance);
     if (iteration >= 2) {
       model.constant = std::max(model.constant, std::max(update, round_off) / (previous_update * previous_update));
     }

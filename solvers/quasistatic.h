@@ -20,7 +20,10 @@ struct QuasistaticOptions {
   // Converged when the last Newton update, or the next one as the measured quadratic
   // convergence predicts it, is below its tolerance: |dx_centre|, |dx_travel| <=
   // position_tolerance [m] (1 pm: ~1e4 ulp of a 0.3 m coordinate, far below any
-  // tolerance studied) and, for rigid contact, |dF| <= force_tolerance [N].
+  // tolerance studied), contact normals within 100 rad/m times that, and, for rigid
+  // contact, |dF| <= force_tolerance [N]. Campaigns loosen it to 1 % of their sampling
+  // budget (jobs/campaign.h), where one update per angle then suffices even when the
+  // rollers' lobes pass too fast between angles for the predictor to follow them.
   double position_tolerance = 1e-12;
   double force_tolerance = 1e-9;
   int max_iterations = 30;  // per angle, [1, 1000]

@@ -4,6 +4,8 @@
 // Run: build/tests/ringtol_benchmarks --benchmark_repetitions=10 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
+#include <memory>
+#include <string_view>
 #include <vector>
 
 #include "engine/enclosing_circle.h"
@@ -64,6 +66,30 @@ void FullSimulation(benchmark::State& state, const char* solver_name) {
 }
 BENCHMARK_CAPTURE(FullSimulation, linear, "linear")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(FullSimulation, quasistatic, "quasistatic")->Unit(benchmark::kMicrosecond);
+
+// One sample the way a campaign simulates it: a scene shaped like a draw of the default
+// campaign (tests/support/paper_scene.h), the whole Simulate with the angles chosen for a
+// 1 um sampling budget, at the solver's default 1 pm and at a campaign's 10 nm.
+void CampaignSample(benchmark::State& state, const char* solver_name, double position_tolerance) {
+  const engine::Scene scene = testing::CampaignLikeScene();
+  solvers::QuasistaticOptions quasistatic;
+  quasistatic.position_tolerance = position_tolerance;
+  const std::unique_ptr<solvers::Solver> solver = std::string_view(solver_name) == "quasistatic"
+                                                      ? std::make_unique<solvers::QuasistaticSolver>(quasistatic)
+                                                      : solvers::MakeSolver(solver_name);
+  solvers::SimulationOptions options;
+  options.path_tolerance = 1e-6;
+  int steps = 0;
+  for (auto _ : state) {
+    solvers::SimulationResult result = solvers::Simulate(scene, *solver, options);
+    benchmark::DoNotOptimize(result.d_trajectory);
+    steps = result.steps;
+  }
+  state.counters["steps"] = steps;
+}
+BENCHMARK_CAPTURE(CampaignSample, linear, "linear", 0.0)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(CampaignSample, quasistatic_1pm, "quasistatic", 1e-12)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(CampaignSample, quasistatic_10nm, "quasistatic", 1e-8)->Unit(benchmark::kMicrosecond);
 
 void EnclosingCircle(benchmark::State& state) {
   const engine::Scene scene = EightHarmonics(engine::ContactLaw::Model::kPenalty);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "engine/scene.h"
@@ -50,6 +51,25 @@ inline void SetRollerShapes(engine::Scene& scene, const std::vector<engine::Harm
 
 inline void SetRollerPositions(engine::Scene& scene, std::vector<engine::Harmonic> harmonics) {
   scene.roller_positions = engine::PolarProfile(1.0, 0.0, std::move(harmonics));
+}
+
+// A scene shaped like a draw of the default campaign (examples/campaigns/default.toml): a
+// waterjet ring with orders 2..50 falling as 1/n, Normal-class rollers with 8 lobe orders
+// of a few um, roller position errors of a few um.
+inline engine::Scene CampaignLikeScene() {
+  engine::Scene scene = PaperScene(engine::ContactLaw::Model::kPenalty);
+  std::vector<engine::Harmonic> ring = {{2, 60e-6, 0.5}};
+  for (int n = 3; n <= 50; ++n) ring.push_back({n, 10e-6 / n, 0.7 * n});
+  SetRing(scene, std::move(ring));
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    engine::Roller& roller = scene.rollers[i];
+    std::vector<engine::Harmonic> lobes;
+    for (int k = 1; k <= 8; ++k) lobes.push_back({k, 2e-6 / k, 1.3 * k + static_cast<double>(i)});
+    roller.outline = engine::PolarProfile(roller.outline.radius(), -1.5e-6, std::move(lobes));
+    roller.radial_offset = 3e-6 * (static_cast<double>(i) - 1.0);
+    roller.tangential_offset = 2e-6;
+  }
+  return scene;
 }
 
 }  // namespace ringtol::testing
