@@ -155,21 +155,31 @@ TEST(Campaign, OneTwoAndThreeRanksAndAnyChunkSizeWriteIdenticalResults) {
   ExpectSameResults(folder / "alone.h5", folder / "dedicated.h5");
 }
 
+// Runs the campaign with `options` (resuming `out` if it exists) and the test hook that
+// kills the coordinator after 10 samples of this run; checks that between 1 and
+// `at_most_missing` samples were left pending, then resumes with `options` and checks
+// that exactly those are computed.
+void KillAfterTenThenResume(const std::filesystem::path& file, const std::filesystem::path& out,
+                            const std::string& options, std::int64_t at_most_missing) {
+  const std::string resume = std::filesystem::exists(out) ? " --resume" : "";
+  const Outcome killed = Campaign(file, out, options + resume + " --chunk 3 --commit-seconds 0 --test-kill-after 10");
+  constexpr int kKilledBySigkill = 128 + SIGKILL;  // the shell's report of a child killed by signal 9
+  ASSERT_EQ(killed.exit_code, kKilledBySigkill) << killed.err;
+  const std::int64_t missing = Pending(out);
+  EXPECT_GT(missing, 0);
+  EXPECT_LE(missing, at_most_missing);
+  const Outcome resumed = Campaign(file, out, options + " --resume --json");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  const nlohmann::json summary = nlohmann::json::parse(resumed.out);
+  EXPECT_EQ(summary["run"]["computed"], missing);
+  EXPECT_EQ(summary["run"]["already_done"], summary["samples"].get<std::int64_t>() - missing);
+}
+
 TEST(Campaign, AfterTheCoordinatorIsKilledResumeComputesOnlyWhatIsMissing) {
   const std::filesystem::path folder = Folder();
   const auto file = Write(folder / "campaign.toml", kCampaign);
   ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
-  const Outcome killed = Campaign(file, folder / "killed.h5", "--chunk 3 --commit-seconds 0 --test-kill-after 10");
-  constexpr int kKilledBySigkill = 128 + SIGKILL;  // the shell's report of a child killed by signal 9
-  ASSERT_EQ(killed.exit_code, kKilledBySigkill) << killed.err;
-  const std::int64_t missing = Pending(folder / "killed.h5");
-  EXPECT_GT(missing, 0);
-  EXPECT_LE(missing, 48 - 10);
-  const Outcome resumed = Campaign(file, folder / "killed.h5", "--resume --json");
-  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
-  const nlohmann::json summary = nlohmann::json::parse(resumed.out);
-  EXPECT_EQ(summary["run"]["computed"], missing);
-  EXPECT_EQ(summary["run"]["already_done"], 48 - missing);
+  KillAfterTenThenResume(file, folder / "killed.h5", "", 48 - 10);
   ExpectSameResults(folder / "whole.h5", folder / "killed.h5");
 }
 
@@ -196,6 +206,18 @@ TEST(Campaign, ResumeWithMoreSamplesGrowsTheFileAsIfRunWhole) {
   const Outcome shrink = Campaign(file, folder / "grown.h5", "--resume --samples 10");
   EXPECT_NE(shrink.exit_code, 0);
   EXPECT_THAT(shrink.err, HasSubstr("grown.h5"));
+}
+
+// Growing a finished file and being killed while at it: the resume that follows must
+// still end with the file an uninterrupted run of the larger campaign writes.
+TEST(Campaign, AKillWhileResumeGrowsTheFileLosesNothing) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  ASSERT_EQ(Campaign(file, folder / "grown.h5", "--samples 20").exit_code, 0);
+  // The killed run is itself a resume that grows the file from 20 samples to 48.
+  KillAfterTenThenResume(file, folder / "grown.h5", "--samples 48", 28 - 10);
+  ExpectSameResults(folder / "whole.h5", folder / "grown.h5");
 }
 
 TEST(Campaign, ProgressGoesToStderrAsPlainLinesWhenNotATerminal) {
