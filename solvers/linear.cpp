@@ -17,10 +17,13 @@ using Complex = std::complex<double>;
 
 // Outputs y = [centre (2); travel per spring roller; contact force per roller (Z)]: the
 // travel rows are x's (fixed rollers do not travel, and carry no rows to evaluate).
+// Every error term p adds cosine_p cos(rate_p psi) + sine_p sin(rate_p psi), the real
+// part of v_p e^{-i rate_p psi} with v_p = cosine_p + i sine_p.
 struct Linearisation {
   std::shared_ptr<const NominalResponse> nominal;
   Eigen::VectorXd offset;            // y at psi-independent errors: y0 + Y dg_constant
-  Eigen::MatrixXcd phasors;          // one column per error term: y += Re[v e^{-i rate psi}]
+  Eigen::MatrixXd cosine;            // outputs x terms
+  Eigen::MatrixXd sine;              // outputs x terms
   std::vector<double> rates;         // [rad of phase per rad of ring angle]
 };
 
@@ -110,28 +113,43 @@ Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalRespons
   if (nominal.equilibrium.status != Status::kOk) return lin;
   const int z = nominal.rollers;
   const Eigen::MatrixXd& response = nominal.response;
-  const auto outputs = response.rows();
+  const engine::PolarProfile& ring = scene.ring.inner;
+
+  Eigen::Index terms = 0;
+  for (int n = 1; n <= ring.max_order(); ++n) terms += ring.cos_coefficient(n) != 0.0 || ring.sin_coefficient(n) != 0.0;
+  for (const engine::Roller& roller : scene.rollers) {
+    for (int m = 1; m <= roller.outline.max_order(); ++m) {
+      terms += roller.outline.cos_coefficient(m) != 0.0 || roller.outline.sin_coefficient(m) != 0.0;
+    }
+  }
+  lin.cosine.setZero(response.rows(), terms);
+  lin.sine.setZero(response.rows(), terms);
+  lin.rates.reserve(static_cast<std::size_t>(terms));
 
   // Every error term as a change of each contact's gap function near its nominal
   // direction phi_i: a bore harmonic a e^{i n theta} adds Re[a e^{i n (phi - psi)}] to
   // g_i(phi), with slope Re[i n a e^{i n (phi - psi)}]; a roller harmonic subtracts.
-  auto gap_and_slope = [&](int i, Complex value, double order) -> Eigen::VectorXcd {
-    return (response.col(i).cast<Complex>() + Complex(0.0, order) * response.col(z + i).cast<Complex>()) * value;
+  auto add_gap_and_slope = [&](Eigen::Index p, int i, Complex value, double order) {
+    const Complex slope = Complex(0.0, order) * value;
+    lin.cosine.col(p) += value.real() * response.col(i) + slope.real() * response.col(z + i);
+    lin.sine.col(p) += value.imag() * response.col(i) + slope.imag() * response.col(z + i);
   };
-  Eigen::VectorXd constant(2 * z);
-  std::vector<Eigen::VectorXcd> columns;
-  const engine::PolarProfile& ring = scene.ring.inner;
+  Eigen::Index p = 0;
+  // e^{i n phi_i} as powers of the nominal normal (cos phi_i, sin phi_i): no libm per order.
+  std::vector<Complex> normal(static_cast<std::size_t>(z)), normal_power(static_cast<std::size_t>(z), 1.0);
+  for (int i = 0; i < z; ++i) {
+    const Eigen::Vector2d& n_i = nominal.contacts[static_cast<std::size_t>(i)].normal;
+    normal[static_cast<std::size_t>(i)] = Complex(n_i.x(), n_i.y());
+  }
   for (int n = 1; n <= ring.max_order(); ++n) {
+    for (std::size_t i = 0; i < normal.size(); ++i) normal_power[i] *= normal[i];
     const Complex a(ring.cos_coefficient(n), ring.sin_coefficient(n));
     if (a == Complex(0.0)) continue;
-    Eigen::VectorXcd v = Eigen::VectorXcd::Zero(outputs);
-    for (int i = 0; i < z; ++i) {
-      const double phi = nominal.contacts[static_cast<std::size_t>(i)].normal_angle;
-      v += gap_and_slope(i, a * std::polar(1.0, n * phi), n);
-    }
-    columns.push_back(v);
+    for (int i = 0; i < z; ++i) add_gap_and_slope(p, i, a * normal_power[static_cast<std::size_t>(i)], n);
     lin.rates.push_back(n);
+    ++p;
   }
+  Eigen::VectorXd constant(2 * z);
   for (int i = 0; i < z; ++i) {
     const engine::Contact& c = nominal.contacts[static_cast<std::size_t>(i)];
     const engine::PolarProfile& outline = scene.rollers[static_cast<std::size_t>(i)].outline;
@@ -142,68 +160,263 @@ Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalRespons
     for (int m = 1; m <= outline.max_order(); ++m) {
       const Complex a(outline.cos_coefficient(m), outline.sin_coefficient(m));
       if (a == Complex(0.0)) continue;
-      columns.push_back(-gap_and_slope(i, a * std::polar(1.0, m * (c.normal_angle - body0)), m));
+      add_gap_and_slope(p, i, -a * std::polar(1.0, m * (c.normal_angle - body0)), m);
       lin.rates.push_back(m * engine::SpinRatio(scene, i));
+      ++p;
     }
   }
   lin.offset = nominal.y0 + response * constant;
-  lin.phasors.resize(outputs, static_cast<Eigen::Index>(columns.size()));
-  for (std::size_t p = 0; p < columns.size(); ++p) lin.phasors.col(static_cast<Eigen::Index>(p)) = columns[p];
   return lin;
 }
 
-// Outputs y at psi_k = 2 pi k / steps for k = 0 .. samples - 1, handed to
-// sink(first, y) a chunk of angles (columns of y, from angle `first`) at a time. Angles go in chunks through one small matrix product
-// each: whole-revolution temporaries of ~150 KB cost more in heap traffic (glibc returns
-// them to the kernel on free) than the arithmetic.
-template <typename Sink>
-void EvaluatePath(const Linearisation& lin, int steps, int samples, Sink sink) {
-  constexpr int kChunk = 256;
-  const auto terms = lin.phasors.cols();
-  const auto outputs = lin.offset.size();
-  // y_k = offset + [cos(rate psi_k), sin(rate psi_k)] . [Re v; Im v] per output: one
-  // product of a (angles x 2 terms) table with (2 terms x outputs) weights per chunk,
-  // long along the angles so that the product kernel vectorises over them.
-  Eigen::MatrixXd weights(2 * terms, outputs);
-  weights << lin.phasors.real().transpose(), lin.phasors.imag().transpose();
-  const double dpsi = 2.0 * std::numbers::pi / steps;
-  // Unit phasors of every term, turned by a fixed increment per angle: one complex product
-  // per term and angle, the terms side by side so their recurrences run in parallel
-  // rather than as one long dependency chain. The round-off accumulated after 1e5 steps
-  // is ~1e-11 relative.
-  const auto n_terms = static_cast<std::size_t>(terms);
-  std::vector<double> re(n_terms, 1.0);
-  std::vector<double> im(n_terms, 0.0);
-  std::vector<double> step_re(n_terms);
-  std::vector<double> step_im(n_terms);
-  for (std::size_t p = 0; p < n_terms; ++p) {
-    step_re[p] = std::cos(lin.rates[p] * dpsi);
-    step_im[p] = -std::sin(lin.rates[p] * dpsi);
+// Where the path goes: the outputs of angle k (rows as in Linearisation) are stored at
+// row[o][k * stride[o]], in the trajectory's own arrays.
+struct PathRows {
+  std::vector<double*> row;
+  std::vector<std::ptrdiff_t> stride;
+};
+
+// Angles handled together: independent sums that proceed at the adder's throughput rather
+// than its latency (four SSE registers).
+constexpr int kLanes = 8;
+using Lanes = Eigen::Array<double, kLanes, 1>;
+
+// cos(rate psi_k) and sin(rate psi_k) of a set of terms for consecutive angles
+// psi_k = 2 pi k / steps, kLanes at a time: each term's phasor at the first angle of a
+// group times its turns by 0 .. kLanes - 1 increments (independent products, which
+// vectorise), and then turned by kLanes increments for the next group. The turns are
+// powers of one libm phasor, exact to ~kLanes ulp; every kAnchor angles the phasors
+// restart from libm, so the recurrence's round-off never grows beyond ~1e-13.
+class PhasorRun {
+ public:
+  static constexpr int kAnchor = 512;  // a multiple of kLanes
+
+  PhasorRun(std::vector<double> rates, int steps) : rates_(std::move(rates)), steps_(steps) {
+    const double dpsi = 2.0 * std::numbers::pi / steps;
+    const std::size_t t = rates_.size();
+    lane_cos_.resize(t * kLanes);
+    lane_sin_.resize(t * kLanes);
+    for (std::size_t p = 0; p < t; ++p) {
+      double* lane_cos = lane_cos_.data() + p * kLanes;
+      double* lane_sin = lane_sin_.data() + p * kLanes;
+      lane_cos[0] = 1.0;
+      lane_sin[0] = 0.0;
+      lane_cos[1] = std::cos(rates_[p] * dpsi);
+      lane_sin[1] = std::sin(rates_[p] * dpsi);
+      for (int l = 2; l < kLanes; ++l) {
+        lane_cos[l] = lane_cos[l - 1] * lane_cos[1] - lane_sin[l - 1] * lane_sin[1];
+        lane_sin[l] = lane_sin[l - 1] * lane_cos[1] + lane_cos[l - 1] * lane_sin[1];
+      }
+      group_cos_.push_back(lane_cos[kLanes - 1] * lane_cos[1] - lane_sin[kLanes - 1] * lane_sin[1]);
+      group_sin_.push_back(lane_sin[kLanes - 1] * lane_cos[1] + lane_cos[kLanes - 1] * lane_sin[1]);
+    }
+    cos_.resize(t);
+    sin_.resize(t);
   }
-  Eigen::MatrixXd table(kChunk, 2 * terms);
-  Eigen::MatrixXd chunk(kChunk, outputs);
-  for (int first = 0; first < samples; first += kChunk) {
-    const int count = std::min(kChunk, samples - first);
-    for (int k = 0; k < count; ++k) {
-      for (std::size_t p = 0; p < n_terms; ++p) {
-        table(k, static_cast<Eigen::Index>(p)) = re[p];
-        table(k, terms + static_cast<Eigen::Index>(p)) = -im[p];
-        const double next_re = re[p] * step_re[p] - im[p] * step_im[p];
-        im[p] = re[p] * step_im[p] + im[p] * step_re[p];
-        re[p] = next_re;
+
+  // Fills cos_table[p * count + j] and sin_table[...] for angles k = first + j, j < count;
+  // first and count are multiples of kLanes.
+  void Fill(int first, int count, std::vector<double>& cos_table, std::vector<double>& sin_table) {
+    const std::size_t t = rates_.size();
+    const auto c = static_cast<std::size_t>(count);
+    cos_table.resize(t * c);
+    sin_table.resize(t * c);
+    for (int j = 0; j < count; j += kLanes) {
+      const int k = first + j;
+      if (k % kAnchor == 0 || k != next_) Anchor(k);
+      next_ = k + kLanes;
+      for (std::size_t p = 0; p < t; ++p) {
+        const double cos_k = cos_[p];
+        const double sin_k = sin_[p];
+        const Eigen::Map<const Lanes> lane_cos(lane_cos_.data() + p * kLanes);
+        const Eigen::Map<const Lanes> lane_sin(lane_sin_.data() + p * kLanes);
+        const std::size_t at = p * c + static_cast<std::size_t>(j);
+        Eigen::Map<Lanes>(cos_table.data() + at) = cos_k * lane_cos - sin_k * lane_sin;
+        Eigen::Map<Lanes>(sin_table.data() + at) = sin_k * lane_cos + cos_k * lane_sin;
+        cos_[p] = cos_k * group_cos_[p] - sin_k * group_sin_[p];
+        sin_[p] = sin_k * group_cos_[p] + cos_k * group_sin_[p];
       }
     }
-    chunk.topRows(count).noalias() = table.topRows(count) * weights;
-    chunk.topRows(count).rowwise() += lin.offset.transpose();
-    sink(first, chunk.topRows(count).transpose());
+  }
+
+ private:
+  void Anchor(int k) {
+    if (k == 0) {
+      std::fill(cos_.begin(), cos_.end(), 1.0);
+      std::fill(sin_.begin(), sin_.end(), 0.0);
+      return;
+    }
+    for (std::size_t p = 0; p < rates_.size(); ++p) {
+      // An integer rate's phase reduced exactly to one turn first: libm is then exact to
+      // an ulp of an angle below 2 pi.
+      const double rate = rates_[p];
+      const double turns = std::floor(rate) == rate && std::abs(rate) < 1e9
+                               ? std::fmod(rate * k, static_cast<double>(steps_)) / steps_
+                               : rate * k / steps_;
+      cos_[p] = std::cos(2.0 * std::numbers::pi * turns);
+      sin_[p] = std::sin(2.0 * std::numbers::pi * turns);
+    }
+  }
+
+  std::vector<double> rates_;
+  int steps_;
+  int next_ = -1;  // the angle the phasors stand at
+  std::vector<double> lane_cos_, lane_sin_;    // turns by 0 .. kLanes - 1 increments, per term
+  std::vector<double> group_cos_, group_sin_;  // turn by kLanes increments, per term
+  std::vector<double> cos_, sin_;              // phasors at angle next_
+};
+
+// A group of terms summed together: their rates, and their weights output-major with the
+// terms contiguous (weights[o * size() + q]).
+struct TermGroup {
+  std::vector<double> rates;
+  std::vector<double> weights;
+  std::size_t size() const { return rates.size(); }
+};
+
+TermGroup MakeGroup(const Eigen::MatrixXd& matrix, const std::vector<Eigen::Index>& columns,
+                    const std::vector<double>& all_rates) {
+  TermGroup group;
+  group.rates.reserve(columns.size());
+  group.weights.reserve(columns.size() * static_cast<std::size_t>(matrix.rows()));
+  for (Eigen::Index p : columns) group.rates.push_back(all_rates[static_cast<std::size_t>(p)]);
+  for (Eigen::Index o = 0; o < matrix.rows(); ++o) {
+    for (Eigen::Index p : columns) group.weights.push_back(matrix(o, p));
+  }
+  return group;
+}
+
+// The sum over the group's terms q of weight(o, q) * table[q * count + j + l], for the
+// kLanes angles l of a lane group. The pairs of lanes are spelt out: left to itself the
+// compiler vectorises across the terms instead, and shuffles every product.
+Lanes SumGroup(const TermGroup& group, std::size_t o, const double* table, std::size_t count, std::size_t j) {
+  using Pair = Eigen::Array2d;
+  const std::size_t terms = group.size();
+  const double* weight = group.weights.data() + o * terms;
+  const double* values = table + j;
+  Pair a = Pair::Zero(), b = Pair::Zero(), c = Pair::Zero(), d = Pair::Zero();
+  for (std::size_t q = 0; q < terms; ++q, values += count) {
+    const double w = weight[q];
+    a += w * Eigen::Map<const Pair>(values);
+    b += w * Eigen::Map<const Pair>(values + 2);
+    c += w * Eigen::Map<const Pair>(values + 4);
+    d += w * Eigen::Map<const Pair>(values + 6);
+  }
+  Lanes sum;
+  sum.segment<2>(0) = a;
+  sum.segment<2>(2) = b;
+  sum.segment<2>(4) = c;
+  sum.segment<2>(6) = d;
+  return sum;
+}
+
+// The path at psi_k = 2 pi k / steps, k = 0 .. steps. A term of integer rate w takes the
+// same values at psi and 2 pi - psi up to the sign of its sine, and at psi + pi up to
+// (-1)^w: with steps divisible by four, the sums of the even and the odd rates' cosines
+// and sines over the first quarter turn give the whole revolution, four angles from each
+// (a real FFT's first two stages, which for a few harmonics beats the whole transform).
+// Other rates (a roller's lobes pass R / r_b times per turn, rarely an integer) are
+// summed at every angle.
+void EvaluatePath(const Linearisation& lin, int steps, PathRows& path) {
+  constexpr int kBlock = 64;  // angles per pass, a multiple of kLanes: the tables stay in L1
+  const auto outputs = static_cast<std::size_t>(lin.offset.size());
+  // A quarter turn of at least one lane group, so that every lane's four angles lie in
+  // the revolution.
+  const bool fold = steps % 4 == 0 && steps / 4 >= kLanes;
+  std::vector<Eigen::Index> even_columns, odd_columns, direct_columns;
+  for (std::size_t p = 0; p < lin.rates.size(); ++p) {
+    const double rate = lin.rates[p];
+    const auto column = static_cast<Eigen::Index>(p);
+    if (fold && std::floor(rate) == rate && std::abs(rate) < 1e9) {
+      (std::fmod(std::abs(rate), 2.0) == 1.0 ? odd_columns : even_columns).push_back(column);
+    } else {
+      direct_columns.push_back(column);
+    }
+  }
+  std::vector<double> cos_table, sin_table;
+
+  if (fold) {
+    const TermGroup cos_even = MakeGroup(lin.cosine, even_columns, lin.rates);
+    const TermGroup cos_odd = MakeGroup(lin.cosine, odd_columns, lin.rates);
+    const TermGroup sin_even = MakeGroup(lin.sine, even_columns, lin.rates);
+    const TermGroup sin_odd = MakeGroup(lin.sine, odd_columns, lin.rates);
+    const int quarter = steps / 4;
+    const int half = steps / 2;
+    std::vector<double> rates = cos_even.rates;
+    rates.insert(rates.end(), cos_odd.rates.begin(), cos_odd.rates.end());
+    PhasorRun run(rates, steps);
+    const std::size_t even = cos_even.size();
+    for (int first = 0; first <= quarter; first += kBlock) {
+      const int count = std::min(kBlock, quarter + 1 - first);
+      const auto c = static_cast<std::size_t>((count + kLanes - 1) / kLanes * kLanes);
+      run.Fill(first, static_cast<int>(c), cos_table, sin_table);
+      for (std::size_t o = 0; o < outputs; ++o) {
+        const double offset = lin.offset[static_cast<Eigen::Index>(o)];
+        double* row = path.row[o];
+        const std::ptrdiff_t stride = path.stride[o];
+        for (std::size_t j = 0; j < c; j += kLanes) {
+          const Lanes cos_even_sum = SumGroup(cos_even, o, cos_table.data(), c, j);
+          const Lanes cos_odd_sum = SumGroup(cos_odd, o, cos_table.data() + even * c, c, j);
+          const Lanes sin_even_sum = SumGroup(sin_even, o, sin_table.data(), c, j);
+          const Lanes sin_odd_sum = SumGroup(sin_odd, o, sin_table.data() + even * c, c, j);
+          const Lanes cos_at_psi = offset + cos_even_sum + cos_odd_sum;
+          const Lanes cos_at_psi_plus_pi = offset + cos_even_sum - cos_odd_sum;
+          const Lanes sin_at_psi = sin_even_sum + sin_odd_sum;
+          const Lanes sin_at_psi_plus_pi = sin_even_sum - sin_odd_sum;
+          // Angles k .. k + lanes - 1 and their mirrors, which run backwards.
+          const int k = first + static_cast<int>(j);
+          const int lanes = std::min(kLanes, quarter + 1 - k);
+          const Lanes at_psi = cos_at_psi + sin_at_psi;
+          const Lanes at_minus_psi = cos_at_psi - sin_at_psi;
+          const Lanes at_psi_plus_pi = cos_at_psi_plus_pi + sin_at_psi_plus_pi;
+          const Lanes at_pi_minus_psi = cos_at_psi_plus_pi - sin_at_psi_plus_pi;
+          double* forward = row + k * stride;
+          double* backward = row + (steps - k) * stride;
+          double* forward_half = row + (half + k) * stride;
+          double* backward_half = row + (half - k) * stride;
+          for (int l = 0; l < lanes; ++l) {
+            const std::ptrdiff_t step = l * stride;
+            forward[step] = at_psi[l];
+            backward[-step] = at_minus_psi[l];
+            forward_half[step] = at_psi_plus_pi[l];
+            backward_half[-step] = at_pi_minus_psi[l];
+          }
+        }
+      }
+    }
+  } else {
+    for (std::size_t o = 0; o < outputs; ++o) {
+      for (int k = 0; k <= steps; ++k) path.row[o][k * path.stride[o]] = lin.offset[static_cast<Eigen::Index>(o)];
+    }
+  }
+
+  if (direct_columns.empty()) return;
+  const TermGroup cos_direct = MakeGroup(lin.cosine, direct_columns, lin.rates);
+  const TermGroup sin_direct = MakeGroup(lin.sine, direct_columns, lin.rates);
+  PhasorRun run(cos_direct.rates, steps);
+  for (int first = 0; first <= steps; first += kBlock) {
+    const int count = std::min(kBlock, steps + 1 - first);
+    const auto c = static_cast<std::size_t>((count + kLanes - 1) / kLanes * kLanes);
+    run.Fill(first, static_cast<int>(c), cos_table, sin_table);
+    for (std::size_t o = 0; o < outputs; ++o) {
+      double* row = path.row[o];
+      const std::ptrdiff_t stride = path.stride[o];
+      for (std::size_t j = 0; j < c; j += kLanes) {
+        const int k = first + static_cast<int>(j);
+        const int lanes = std::min(kLanes, steps + 1 - k);
+        const Lanes sum = SumGroup(cos_direct, o, cos_table.data(), c, j) + SumGroup(sin_direct, o, sin_table.data(), c, j);
+        double* at = row + k * stride;
+        for (int l = 0; l < lanes; ++l) at[l * stride] += sum[l];
+      }
+    }
   }
 }
 
-template <typename Column>
-void FillEquilibrium(const Linearisation& lin, const Column& y, Equilibrium& e) {
+// The outputs of one angle as an Equilibrium.
+void FillEquilibrium(const Linearisation& lin, const Eigen::VectorXd& y, Equilibrium& e) {
   const NominalResponse& nominal = *lin.nominal;
   const int z = nominal.rollers;
-  e.centre = y.template head<2>();
+  e.centre = y.head<2>();
   e.travel.resize(static_cast<std::size_t>(z));
   e.contact_force.resize(static_cast<std::size_t>(z));
   for (int i = 0; i < z; ++i) {
@@ -230,8 +443,9 @@ std::shared_ptr<const NominalResponse> LinearSolver::Nominal(const Scene& scene)
 Equilibrium LinearSolver::SolveStatic(const Scene& scene) const {
   const Linearisation lin = Linearise(scene, Nominal(scene));
   if (lin.nominal->equilibrium.status != Status::kOk) return lin.nominal->equilibrium;
+  // At psi = 0 every cosine is 1 and every sine 0.
   Equilibrium e;
-  EvaluatePath(lin, 1, 1, [&](int, const auto& y) { FillEquilibrium(lin, y.col(0), e); });
+  FillEquilibrium(lin, lin.offset + lin.cosine.rowwise().sum(), e);
   return e;
 }
 
@@ -245,38 +459,50 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
     trajectory.initial = nominal.equilibrium;
     return trajectory;
   }
+  if (!lin.offset.allFinite() || !lin.cosine.allFinite() || !lin.sine.allFinite()) {
+    trajectory.status = Status::kNonFinite;
+    trajectory.message = "the linearised path is not finite (an error amplitude or the contact law overflows)";
+    trajectory.initial = nominal.equilibrium;
+    return trajectory;
+  }
   const int z = nominal.rollers;
+  const auto zs = static_cast<std::size_t>(z);
   const auto n = static_cast<std::size_t>(steps) + 1;
   trajectory.psi.resize(n);
   trajectory.centre.resize(n);
-  trajectory.travel.resize(n * static_cast<std::size_t>(z));
-  trajectory.contact_force.resize(n * static_cast<std::size_t>(z));
-  // The trajectory's arrays as matrices with one column per angle.
-  Eigen::Map<Eigen::Matrix2Xd> centre(trajectory.centre.front().data(), 2, static_cast<Eigen::Index>(n));
-  Eigen::Map<Eigen::MatrixXd> travel(trajectory.travel.data(), z, static_cast<Eigen::Index>(n));
-  Eigen::Map<Eigen::MatrixXd> force(trajectory.contact_force.data(), z, static_cast<Eigen::Index>(n));
-  EvaluatePath(lin, steps, steps + 1, [&](int first, const auto& y) {
-    const auto count = y.cols();
-    if (first == 0) FillEquilibrium(lin, y.col(0), trajectory.initial);
-    centre.middleCols(first, count) = y.template topRows<2>();
-    force.middleCols(first, count) = y.middleRows(nominal.first_force_row, z);
-    for (int i = 0; i < z; ++i) {
-      const int s = nominal.travel_row[static_cast<std::size_t>(i)];
-      if (s >= 0) travel.row(i).segment(first, count) = y.row(s);
-    }
-  });
-  for (std::size_t k = 0; k < n; ++k) trajectory.psi[k] = 2.0 * std::numbers::pi * static_cast<double>(k) / steps;
-  Eigen::Index roller = 0;
-  Eigen::Index angle = 0;
-  if (force.minCoeff(&roller, &angle) <= 0.0) {
+  trajectory.travel.resize(n * zs);
+  trajectory.contact_force.resize(n * zs);
+  PathRows path;
+  const auto outputs = static_cast<std::size_t>(lin.offset.size());
+  path.row.resize(outputs);
+  path.stride.assign(outputs, z);
+  path.row[0] = trajectory.centre.front().data();
+  path.row[1] = path.row[0] + 1;
+  path.stride[0] = path.stride[1] = 2;
+  for (std::size_t i = 0; i < zs; ++i) {
+    const int s = nominal.travel_row[i];
+    if (s >= 0) path.row[static_cast<std::size_t>(s)] = trajectory.travel.data() + i;
+    path.row[static_cast<std::size_t>(nominal.first_force_row) + i] = trajectory.contact_force.data() + i;
+  }
+  EvaluatePath(lin, steps, path);
+  trajectory.initial.centre = trajectory.centre.front();
+  trajectory.initial.travel.assign(trajectory.travel.begin(), trajectory.travel.begin() + z);
+  trajectory.initial.contact_force.assign(trajectory.contact_force.begin(), trajectory.contact_force.begin() + z);
+  // An int counter lets the division vectorise.
+  for (int k = 0; k <= steps; ++k) {
+    trajectory.psi[static_cast<std::size_t>(k)] = 2.0 * std::numbers::pi * static_cast<double>(k) / steps;
+  }
+  // Finite coefficients (checked above) make a finite path, so the plain minimum sees
+  // every force.
+  if (!(Eigen::Map<const Eigen::ArrayXd>(trajectory.contact_force.data(), static_cast<Eigen::Index>(n * zs))
+            .minCoeff() > 0.0)) {
     // The first angle at which any force turns tensile, as the quasistatic rung reports.
-    for (angle = 0; angle < force.cols(); ++angle) {
-      if (force.col(angle).minCoeff(&roller) <= 0.0) break;
-    }
+    const auto tensile = std::find_if(trajectory.contact_force.begin(), trajectory.contact_force.end(),
+                                      [](double force) { return !(force > 0.0); });
+    const auto index = static_cast<std::size_t>(tensile - trajectory.contact_force.begin());
     trajectory.status = Status::kLiftOff;
-    trajectory.failure_angle = trajectory.psi[static_cast<std::size_t>(angle)];
-    trajectory.message = "roller " + scene.rollers[static_cast<std::size_t>(roller)].name +
-                         "'s linearised contact force turns tensile";
+    trajectory.failure_angle = trajectory.psi[index / zs];
+    trajectory.message = "roller " + scene.rollers[index % zs].name + "'s linearised contact force turns tensile";
   }
   return trajectory;
 }

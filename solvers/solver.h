@@ -26,7 +26,7 @@ enum class Status {
   kRollerDoesNotFit,         // a roller is too large, or a spring roller's travel exceeds its limit
   kStaticallyIndeterminate,  // rigid contact with more than two fixed rollers: use the penalty law
   kIntegrationFailed,        // the dynamic integrator gave up (step-size collapse, repeated failures; see message)
-  kNonFinite,                // the dynamic state turned NaN or infinite
+  kNonFinite,                // the dynamic state or the linearised path turned NaN or infinite
 };
 
 // Stable lower_snake_case names used in every output file ("ok", "lift_off", ...).
