@@ -67,51 +67,35 @@ RadiusDerivatives PolarProfile::EvaluateAt(double cos_theta, double sin_theta) c
   return d;
 }
 
-void PolarProfile::EvaluatePairAt(const double (&cos_theta)[2], const double (&sin_theta)[2],
-                                  RadiusDerivatives (&out)[2]) const {
+void PolarProfile::EvaluateFourAt(const double (&cos_theta)[4], const double (&sin_theta)[4],
+                                  RadiusDerivatives (&out)[4]) const {
   using Pair = Eigen::Array2d;
   const Pair c1(cos_theta[0], cos_theta[1]);
   const Pair s1(sin_theta[0], sin_theta[1]);
-  Pair r = Pair::Constant(radius_ + mean_deviation_);
-  Pair dr = Pair::Zero();
-  Pair ddr = Pair::Zero();
-  Pair cn = c1;
-  Pair sn = s1;
+  const Pair c2(cos_theta[2], cos_theta[3]);
+  const Pair s2(sin_theta[2], sin_theta[3]);
+  Pair r1 = Pair::Constant(radius_ + mean_deviation_), r2 = r1;
+  Pair dr1 = Pair::Zero(), dr2 = dr1;
+  Pair ddr1 = Pair::Zero(), ddr2 = ddr1;
+  Pair cn1 = c1, sn1 = s1, cn2 = c2, sn2 = s2;
   for (const Term& t : terms_) {
-    r += t.a * cn - t.b * sn;
-    dr -= t.na * sn + t.nb * cn;
-    ddr -= t.nna * cn - t.nnb * sn;
-    const Pair next_c = cn * c1 - sn * s1;
-    sn = sn * c1 + cn * s1;
-    cn = next_c;
+    r1 += t.a * cn1 - t.b * sn1;
+    r2 += t.a * cn2 - t.b * sn2;
+    dr1 -= t.na * sn1 + t.nb * cn1;
+    dr2 -= t.na * sn2 + t.nb * cn2;
+    ddr1 -= t.nna * cn1 - t.nnb * sn1;
+    ddr2 -= t.nna * cn2 - t.nnb * sn2;
+    const Pair next_c1 = cn1 * c1 - sn1 * s1;
+    const Pair next_c2 = cn2 * c2 - sn2 * s2;
+    sn1 = sn1 * c1 + cn1 * s1;
+    sn2 = sn2 * c2 + cn2 * s2;
+    cn1 = next_c1;
+    cn2 = next_c2;
   }
-  for (int k = 0; k < 2; ++k) out[k] = {r[k], dr[k], ddr[k], cos_theta[k], sin_theta[k]};
-}
-
-void CosSinOfSmallAngle(double delta, double& cos_delta, double& sin_delta) {
-  if (!(std::abs(delta) <= NearbyAngle::kReach)) {
-    cos_delta = std::cos(delta);
-    sin_delta = std::sin(delta);
-    return;
+  for (int k = 0; k < 2; ++k) {
+    out[k] = {r1[k], dr1[k], ddr1[k], cos_theta[k], sin_theta[k]};
+    out[k + 2] = {r2[k], dr2[k], ddr2[k], cos_theta[k + 2], sin_theta[k + 2]};
   }
-  const double d2 = delta * delta;
-  cos_delta = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0)));
-  sin_delta = delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
-}
-
-void NearbyAngle::Evaluate(double theta, double& cos_theta, double& sin_theta) {
-  double delta = theta - reference_;
-  if (!(std::abs(delta) <= kReach)) {
-    reference_ = theta;
-    cos_reference_ = std::cos(theta);
-    sin_reference_ = std::sin(theta);
-    delta = 0.0;
-  }
-  double cos_delta;
-  double sin_delta;
-  CosSinOfSmallAngle(delta, cos_delta, sin_delta);
-  cos_theta = cos_reference_ * cos_delta - sin_reference_ * sin_delta;
-  sin_theta = sin_reference_ * cos_delta + cos_reference_ * sin_delta;
 }
 
 double Curvature(const RadiusDerivatives& d) {

@@ -9,6 +9,7 @@
 // monotonically, which makes that inverse well posed and bracketed.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 namespace ringtol::engine {
@@ -58,9 +59,10 @@ class PolarProfile {
   RadiusDerivatives Evaluate(double theta) const;
   // The same at the body angle whose cosine and sine are given (from a NearbyAngle).
   RadiusDerivatives EvaluateAt(double cos_theta, double sin_theta) const;
-  // Two angles at once, one per SIMD lane: the same arithmetic, and the same results, as
-  // two EvaluateAt calls at nearly half the cost.
-  void EvaluatePairAt(const double (&cos_theta)[2], const double (&sin_theta)[2], RadiusDerivatives (&out)[2]) const;
+  // Four angles at once, two per SIMD lane pair, in one pass over the harmonics: the
+  // same arithmetic, and the same results, as four EvaluateAt calls, at the cost of about
+  // one and a half (the lanes run side by side and their recurrences overlap).
+  void EvaluateFourAt(const double (&cos_theta)[4], const double (&sin_theta)[4], RadiusDerivatives (&out)[4]) const;
 
   // Support point for the outward normal at body angle phi [rad]. theta_guess speeds up
   // the search when close (warm start along a trajectory); the answer does not depend on
@@ -106,8 +108,9 @@ class PolarProfile {
 };
 
 // cos and sin of |delta| <= NearbyAngle::kReach [rad] from their Taylor series, exact to
-// round-off there; std::cos and std::sin beyond.
-void CosSinOfSmallAngle(double delta, double& cos_delta, double& sin_delta);
+// round-off there; std::cos and std::sin beyond. Inline: contact steps call it for every
+// contact at every iteration.
+inline void CosSinOfSmallAngle(double delta, double& cos_delta, double& sin_delta);
 
 // cos and sin of an angle that moves in small steps, as a contact's touching point does
 // along a trajectory: one libm sincos at a reference angle, then the rotation of that
@@ -119,13 +122,40 @@ class NearbyAngle {
  public:
   static constexpr double kReach = 0.05;  // [rad]
 
-  void Evaluate(double theta, double& cos_theta, double& sin_theta);
+  void Evaluate(double theta, double& cos_theta, double& sin_theta) {
+    double delta = theta - reference_;
+    if (!(std::abs(delta) <= kReach)) {
+      reference_ = theta;
+      cos_reference_ = std::cos(theta);
+      sin_reference_ = std::sin(theta);
+      delta = 0.0;
+    }
+    double cos_delta;
+    double sin_delta;
+    CosSinOfSmallAngle(delta, cos_delta, sin_delta);
+    cos_theta = cos_reference_ * cos_delta - sin_reference_ * sin_delta;
+    sin_theta = sin_reference_ * cos_delta + cos_reference_ * sin_delta;
+  }
 
  private:
   double reference_ = 0.0;
   double cos_reference_ = 1.0;
   double sin_reference_ = 0.0;
 };
+
+inline void CosSinOfSmallAngle(double delta, double& cos_delta, double& sin_delta) {
+  if (!(std::abs(delta) <= NearbyAngle::kReach)) {
+    cos_delta = std::cos(delta);
+    sin_delta = std::sin(delta);
+    return;
+  }
+  // Horner in delta^2 with the factorials' ratios as products: a division by a constant
+  // that is not a power of two costs as much as the whole series.
+  const double d2 = delta * delta;
+  cos_delta = 1.0 - 0.5 * d2 * (1.0 - (1.0 / 12.0) * d2 * (1.0 - (1.0 / 30.0) * d2 * (1.0 - (1.0 / 56.0) * d2)));
+  sin_delta =
+      delta * (1.0 - (1.0 / 6.0) * d2 * (1.0 - (1.0 / 20.0) * d2 * (1.0 - (1.0 / 42.0) * d2 * (1.0 - (1.0 / 72.0) * d2))));
+}
 
 // Signed curvature of a polar curve [1/m]: (r^2 + 2 r'^2 - r r'') / (r^2 + r'^2)^(3/2).
 double Curvature(const RadiusDerivatives& d);

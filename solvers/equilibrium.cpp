@@ -4,38 +4,51 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/LU>
+
 namespace ringtol::solvers {
 
 using engine::Contact;
 using engine::RollerMount;
 
 EquilibriumSystem::EquilibriumSystem(const engine::Scene& scene)
-    : scene_(scene), rigid_(scene.contact.model == engine::ContactLaw::Model::kRigid) {
+    : scene_(scene),
+      rigid_(scene.contact.model == engine::ContactLaw::Model::kRigid),
+      contact_stiffness_(scene.contact.stiffness),
+      contact_exponent_(scene.contact.exponent) {
   const int z = rollers();
   travel_index_.assign(static_cast<std::size_t>(z), -1);
   for (int i = 0; i < z; ++i) {
-    roller_centres_.push_back(engine::RollerCentre(scene, i));
-    axes_.push_back(engine::SpringAxis(scene, i));
-    if (scene.rollers[static_cast<std::size_t>(i)].mount == RollerMount::kSpring) {
-      travel_index_[static_cast<std::size_t>(i)] = 2 + springs_++;
+    const engine::Roller& r = scene.rollers[static_cast<std::size_t>(i)];
+    RollerConstants roller;
+    roller.centre = engine::RollerCentre(scene, i);
+    roller.axis = engine::SpringAxis(scene, i);
+    if (r.mount == RollerMount::kSpring) {
+      roller.travel = travel_index_[static_cast<std::size_t>(i)] = 2 + springs_++;
+      roller.spring_stiffness = r.spring.stiffness;
+      roller.spring_preload = r.spring.preload;
     }
+    roller.round = r.outline.is_circle();
+    roller.radius = r.outline.radius() + r.outline.mean_deviation();
+    roller_.push_back(roller);
   }
   size_ = 2 + springs_ + (rigid_ ? z : 0);
 }
 
-engine::BodyPose EquilibriumSystem::RingPose(double psi, const Eigen::VectorXd& x) const {
-  return {x.head<2>(), psi};
+engine::BodyPose EquilibriumSystem::RingPose(double psi, const State& x) const { return {x.head<2>(), psi}; }
+
+Eigen::Vector2d EquilibriumSystem::RollerCentre(int i, const State& x) const {
+  const RollerConstants& roller = roller_[static_cast<std::size_t>(i)];
+  Eigen::Vector2d centre = roller.centre;
+  if (roller.travel >= 0) centre += x[roller.travel] * roller.axis;
+  return centre;
 }
 
-engine::BodyPose EquilibriumSystem::RollerPose(int i, double psi, const Eigen::VectorXd& x) const {
-  const auto k = static_cast<std::size_t>(i);
-  Eigen::Vector2d centre = roller_centres_[k];
-  if (travel_index_[k] >= 0) centre += x[travel_index_[k]] * axes_[k];
-  return {centre, engine::RollerBodyAngle(scene_, i, psi)};
+engine::BodyPose EquilibriumSystem::RollerPose(int i, double psi, const State& x) const {
+  return {RollerCentre(i, x), engine::RollerBodyAngle(scene_, i, psi)};
 }
 
-int EquilibriumSystem::UpdateContacts(double psi, const Eigen::VectorXd& x,
-                                      std::vector<TrackedContact>& contacts) const {
+int EquilibriumSystem::UpdateContacts(double psi, const State& x, std::vector<TrackedContact>& contacts) const {
   const int z = rollers();
   contacts.resize(static_cast<std::size_t>(z));
   const engine::BodyPose ring = RingPose(psi, x);
@@ -60,123 +73,23 @@ int EquilibriumSystem::UpdateContacts(double psi, const Eigen::VectorXd& x,
   return -1;
 }
 
-double EquilibriumSystem::StepContacts(double psi, const Eigen::VectorXd& x,
-                                       std::vector<TrackedContact>& contacts) const {
-  const engine::PolarProfile& bore = scene_.ring.inner;
-  const double cos_psi = std::cos(psi);
-  const double sin_psi = std::sin(psi);
-  const Eigen::Vector2d ring_centre = x.head<2>();
-  double largest_step = 0.0;
-  // Steps contact i from the bore's radius and derivatives at its touching angle; false
-  // when the contact cannot be stepped.
-  auto step_contact = [&](int i, const engine::RadiusDerivatives& d) {
-    TrackedContact& tracked = contacts[static_cast<std::size_t>(i)];
-    Contact& c = tracked.contact;
-    const engine::BodyPose roller = RollerPose(i, psi, x);
-    const engine::PolarProfile& outline = scene_.rollers[static_cast<std::size_t>(i)].outline;
-    // Radial and tangential unit vectors of the bore point in the global frame.
-    const Eigen::Vector2d radial(d.cos_theta * cos_psi - d.sin_theta * sin_psi,
-                                 d.sin_theta * cos_psi + d.cos_theta * sin_psi);
-    const Eigen::Vector2d across(-radial.y(), radial.x());
-    const double q = d.r * d.r + d.dr * d.dr;
-    const double root_q = std::sqrt(q);
-    const double turning = q + d.dr * d.dr - d.r * d.ddr;  // nu' q: > 0 on a convex bore
-    const Eigen::Vector2d normal = (d.r / root_q) * radial - (d.dr / root_q) * across;
-    const Eigen::Vector2d tangent(-normal.y(), normal.x());
-    const Eigen::Vector2d ring_point = ring_centre + d.r * radial;
-    double roller_h = outline.radius() + outline.mean_deviation();
-    double roller_dh = 0.0;
-    double roller_rho = roller_h;
-    if (!outline.is_circle()) {
-      // The normal in the roller's body frame, and the touching point as an offset from
-      // it, which changes slowly while the roller spins quickly: a warm start that holds.
-      const double cos_spin = std::cos(roller.angle);
-      const double sin_spin = std::sin(roller.angle);
-      const engine::SupportPoint b =
-          outline.SupportToward(normal.x() * cos_spin + normal.y() * sin_spin,
-                                normal.y() * cos_spin - normal.x() * sin_spin, tracked.roller_offset);
-      roller_h = b.h;
-      roller_dh = b.dh;
-      roller_rho = b.curvature_radius;
-      tracked.roller_offset = b.theta;
-    }
-    const Eigen::Vector2d offset = ring_point - roller.centre;
-    const double gap = offset.dot(normal) - roller_h;
-    const double slope = offset.dot(tangent) - roller_dh;
-    const double curvature = q * root_q / turning - roller_rho - gap;
-    if (!(curvature > 0.0 && turning > 0.0 && std::isfinite(gap))) return false;
-    const double dphi = -slope / curvature;
-    largest_step = std::max(largest_step, std::abs(dphi));
-    // The force balance that follows must use the normal the contact steps to, or the
-    // forces converge only linearly. The gap is stationary there: it keeps its value to
-    // g'' dphi^2 / 2. Rotation by dphi to fourth order.
-    const double cos_step = 1.0 - 0.5 * dphi * dphi;
-    const double sin_step = dphi * (1.0 - dphi * dphi / 6.0);
-    c.gap = gap;
-    c.normal = cos_step * normal + sin_step * tangent;
-    c.tangent = cos_step * tangent - sin_step * normal;
-    c.gap_curvature = curvature;
-    c.ring_point = ring_point;
-    c.roller_point = roller.centre + roller_h * normal + roller_dh * tangent;
-    // dtheta = dphi / nu' with nu' = turning / q.
-    tracked.theta_per_normal = q / turning;
-    c.ring_theta += dphi * tracked.theta_per_normal;
-    return true;
-  };
-  // The bore is evaluated two contacts at a time, the costliest part of a step.
-  const int z = rollers();
-  for (int i = 0; i < z; i += 2) {
-    double cos_theta[2] = {1.0, 1.0};
-    double sin_theta[2] = {0.0, 0.0};
-    const int count = std::min(2, z - i);
-    for (int k = 0; k < count; ++k) {
-      TrackedContact& tracked = contacts[static_cast<std::size_t>(i + k)];
-      tracked.bore_angle.Evaluate(tracked.contact.ring_theta, cos_theta[k], sin_theta[k]);
-    }
-    engine::RadiusDerivatives d[2];
-    bore.EvaluatePairAt(cos_theta, sin_theta, d);
-    for (int k = 0; k < count; ++k) {
-      if (!step_contact(i + k, d[k])) return std::numeric_limits<double>::infinity();
-    }
-  }
-  return largest_step;
-}
-
-void EquilibriumSystem::FollowContacts(const Eigen::VectorXd& dx, std::vector<TrackedContact>& contacts) const {
-  for (int i = 0; i < rollers(); ++i) {
-    TrackedContact& tracked = contacts[static_cast<std::size_t>(i)];
-    Contact& c = tracked.contact;
-    // The gap and its slope move with the bodies: d g = n . dx_ring - n . u ds, and the
-    // same along the tangent for g'. The gap then matches x to first order, which is what
-    // an iteration accepted after one update reports as its contact force.
-    Eigen::Vector2d roller_shift = Eigen::Vector2d::Zero();
-    const int s = travel_index_[static_cast<std::size_t>(i)];
-    if (s >= 0) roller_shift = dx[s] * axes_[static_cast<std::size_t>(i)];
-    const Eigen::Vector2d relative = dx.head<2>() - roller_shift;
-    c.gap += c.normal.dot(relative);
-    c.ring_point += dx.head<2>();
-    c.roller_point += roller_shift;
-    c.ring_theta -= c.tangent.dot(relative) / c.gap_curvature * tracked.theta_per_normal;
-  }
-}
-
 EquilibriumSystem::Penalty EquilibriumSystem::PenaltyLaw(double gap) const {
   if (!(gap < 0.0)) return {};
-  const double e = scene_.contact.exponent;
-  const double k = scene_.contact.stiffness;
+  const double e = contact_exponent_;
+  const double k = contact_stiffness_;
   // delta^(e-1) once for both: the article's e = 1.5 needs only a sqrt, several times
   // cheaper than pow.
   const double root = e == 1.5 ? std::sqrt(-gap) : std::pow(-gap, e - 1.0);
   return {k * root * -gap, k * e * root};
 }
 
-double EquilibriumSystem::ContactForce(int i, const Eigen::VectorXd& x, const Contact& c) const {
+double EquilibriumSystem::ContactForce(int i, const State& x, const Contact& c) const {
   return rigid_ ? x[force_index(i)] : PenaltyLaw(c.gap).force;
 }
 
-void EquilibriumSystem::Evaluate(const Eigen::VectorXd& x, const std::vector<TrackedContact>& contacts,
-                                 Eigen::VectorXd& residual, Eigen::MatrixXd* jacobian,
-                                 Eigen::MatrixXd* gap_sensitivity, Eigen::MatrixXd* slope_sensitivity) const {
+void EquilibriumSystem::Evaluate(const State& x, const std::vector<TrackedContact>& contacts, Eigen::VectorXd& residual,
+                                 Eigen::MatrixXd* jacobian, Eigen::MatrixXd* gap_sensitivity,
+                                 Eigen::MatrixXd* slope_sensitivity) const {
   const int z = rollers();
   residual.setZero(size_);
   if (jacobian != nullptr) jacobian->setZero(size_, size_);
@@ -186,7 +99,7 @@ void EquilibriumSystem::Evaluate(const Eigen::VectorXd& x, const std::vector<Tra
     const Contact& c = contacts[static_cast<std::size_t>(i)].contact;
     const int s = travel_index_[static_cast<std::size_t>(i)];
     const int f = force_index(i);
-    const Eigen::Vector2d& u = axes_[static_cast<std::size_t>(i)];
+    const Eigen::Vector2d& u = roller_[static_cast<std::size_t>(i)].axis;
     const Eigen::Vector2d& n = c.normal;
     const Eigen::Vector2d& t = c.tangent;
     const Penalty penalty = rigid_ ? Penalty{x[f], 0.0} : PenaltyLaw(c.gap);
@@ -243,6 +156,204 @@ void EquilibriumSystem::Evaluate(const Eigen::VectorXd& x, const std::vector<Tra
     }
   }
 }
+
+namespace {
+
+// Solves J dx = -r for a Newton step of the continuation. The systems are tiny (3
+// unknowns for the article's penalty scene, 6 for rigid contact) and fixed-size where the
+// caller's are, with Eigen's closed-form inverse up to 4 x 4, several times cheaper there
+// than a pivoted LU. Rigid contact with as many contacts as position unknowns (the
+// article's 2 fixed + 1 spring) is block triangular, since the gaps do not depend on the
+// forces: [A B; G 0] [dp; dF] = -[r_p; r_g] gives dp from G dp = -r_g and then dF from
+// B dF = -r_p - A dp, two 3 x 3 solves instead of one 6 x 6.
+template <int P, typename Matrix, typename Vector>
+bool SolveBlockTriangular(const Matrix& jacobian, const Vector& residual, Vector& step) {
+  const Eigen::Matrix<double, P, P> a = jacobian.template topLeftCorner<P, P>();
+  const Eigen::Matrix<double, P, P> b = jacobian.template topRightCorner<P, P>();
+  const Eigen::Matrix<double, P, P> g = jacobian.template bottomLeftCorner<P, P>();
+  const Eigen::Matrix<double, P, 1> dp = -(g.inverse() * residual.template tail<P>());
+  const Eigen::Matrix<double, P, 1> df = -(b.inverse() * (residual.template head<P>() + a * dp));
+  step.resize(2 * P);
+  step << dp, df;
+  return step.allFinite();
+}
+
+template <int N>
+bool SolveNewtonStep(bool block_triangular, int rollers, const Eigen::Matrix<double, N, N>& jacobian,
+                     const Eigen::Matrix<double, N, 1>& residual, Eigen::Matrix<double, N, 1>& step) {
+  if (block_triangular) {
+    if constexpr (N == 6 || N == Eigen::Dynamic) {
+      if (rollers == 3) return SolveBlockTriangular<3>(jacobian, residual, step);
+    }
+    if constexpr (N == 8 || N == Eigen::Dynamic) {
+      if (rollers == 4) return SolveBlockTriangular<4>(jacobian, residual, step);
+    }
+  }
+  if constexpr (N != Eigen::Dynamic && N <= 4) {
+    step = -(jacobian.inverse() * residual);
+  } else {
+    step = jacobian.partialPivLu().solve(-residual);
+  }
+  return step.allFinite();
+}
+
+}  // namespace
+
+template <int N>
+double EquilibriumSystem::ContinuationUpdate(const RingTurn& turn, Eigen::Matrix<double, N, 1>& x,
+                                             std::vector<TrackedContact>& contacts,
+                                             Eigen::Matrix<double, N, 1>& step) const {
+  using Vector = Eigen::Matrix<double, N, 1>;
+  using Matrix = Eigen::Matrix<double, N, N>;
+  constexpr double kCannotStep = std::numeric_limits<double>::infinity();
+  const engine::PolarProfile& bore = scene_.ring.inner;
+  const int z = rollers();
+  const Eigen::Vector2d ring_centre = x.template head<2>();
+  Vector residual = Vector::Zero(size_);
+  Matrix jacobian = Matrix::Zero(size_, size_);
+  double largest_turn = 0.0;
+  // The bore is evaluated four contacts at a time, the costliest part of an iteration.
+  for (int first = 0; first < z; first += 4) {
+    const int count = std::min(4, z - first);
+    double cos_theta[4] = {1.0, 1.0, 1.0, 1.0};
+    double sin_theta[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int k = 0; k < count; ++k) {
+      TrackedContact& tracked = contacts[static_cast<std::size_t>(first + k)];
+      tracked.bore_angle.Evaluate(tracked.contact.ring_theta, cos_theta[k], sin_theta[k]);
+    }
+    engine::RadiusDerivatives bore_at[4];
+    bore.EvaluateFourAt(cos_theta, sin_theta, bore_at);
+    for (int k = 0; k < count; ++k) {
+      const int i = first + k;
+      const engine::RadiusDerivatives& d = bore_at[k];
+      TrackedContact& tracked = contacts[static_cast<std::size_t>(i)];
+      Contact& c = tracked.contact;
+      const RollerConstants& roller = roller_[static_cast<std::size_t>(i)];
+      const int s = roller.travel;
+      Eigen::Vector2d roller_centre = roller.centre;
+      if (s >= 0) roller_centre += x[s] * roller.axis;
+
+      // 1. The contact's step: the bore point's radial and tangential unit vectors in the
+      // global frame, its outward normal, and the clearance along it.
+      const Eigen::Vector2d radial(d.cos_theta * turn.cos_psi - d.sin_theta * turn.sin_psi,
+                                   d.sin_theta * turn.cos_psi + d.cos_theta * turn.sin_psi);
+      const Eigen::Vector2d across(-radial.y(), radial.x());
+      const double q = d.r * d.r + d.dr * d.dr;
+      const double root_q = std::sqrt(q);
+      const double turning = q + d.dr * d.dr - d.r * d.ddr;  // nu' q: > 0 on a convex bore
+      const double inverse_root_q = 1.0 / root_q;
+      const double inverse_turning = 1.0 / turning;
+      const Eigen::Vector2d normal = (d.r * inverse_root_q) * radial - (d.dr * inverse_root_q) * across;
+      const Eigen::Vector2d tangent(-normal.y(), normal.x());
+      double roller_h = roller.radius;
+      double roller_dh = 0.0;
+      double roller_rho = roller.radius;
+      if (!roller.round) {
+        // The normal in the roller's body frame, and the touching point as an offset from
+        // it, which changes slowly while the roller spins quickly: a warm start that holds.
+        const double spin = engine::RollerBodyAngle(scene_, i, turn.psi);
+        const double cos_spin = std::cos(spin);
+        const double sin_spin = std::sin(spin);
+        const engine::SupportPoint b = scene_.rollers[static_cast<std::size_t>(i)].outline.SupportToward(
+            normal.x() * cos_spin + normal.y() * sin_spin, normal.y() * cos_spin - normal.x() * sin_spin,
+            tracked.roller_offset);
+        roller_h = b.h;
+        roller_dh = b.dh;
+        roller_rho = b.curvature_radius;
+        tracked.roller_offset = b.theta;
+      }
+      const Eigen::Vector2d offset = ring_centre + d.r * radial - roller_centre;
+      const double gap = offset.dot(normal) - roller_h;
+      const double slope = offset.dot(tangent) - roller_dh;
+      const double curvature = q * root_q * inverse_turning - roller_rho - gap;
+      if (!(curvature > 0.0 && turning > 0.0 && std::isfinite(gap))) return kCannotStep;
+      const double inverse_curvature = 1.0 / curvature;
+      const double dphi = -slope * inverse_curvature;
+      largest_turn = std::max(largest_turn, std::abs(dphi));
+      // The force balance that follows must use the normal the contact steps to, or the
+      // forces converge only linearly. The gap is stationary there: it keeps its value to
+      // g'' dphi^2 / 2. Rotation by dphi to fourth order.
+      const double cos_step = 1.0 - 0.5 * dphi * dphi;
+      const double sin_step = dphi * (1.0 - (1.0 / 6.0) * dphi * dphi);
+      const Eigen::Vector2d n = cos_step * normal + sin_step * tangent;
+      const Eigen::Vector2d t(-n.y(), n.x());
+      c.gap = gap;
+      c.normal = n;
+      c.tangent = t;
+      c.gap_curvature = curvature;
+      // dtheta = dphi / nu' with nu' = turning / q.
+      tracked.theta_per_normal = q * inverse_turning;
+      tracked.theta_per_shift = tracked.theta_per_normal * inverse_curvature;
+      c.ring_theta += dphi * tracked.theta_per_normal;
+
+      // 2. Its share of the force balance (Evaluate, for one contact).
+      const int f = force_index(i);
+      const Penalty penalty = rigid_ ? Penalty{x[f], 0.0} : PenaltyLaw(gap);
+      const double force = penalty.force;
+      const double stiffness = penalty.stiffness;
+      tracked.force = force;
+      tracked.stiffness = stiffness;
+      const double force_turn = force * inverse_curvature;
+      residual.template head<2>() += force * n;
+      jacobian.template block<2, 2>(0, 0) -= stiffness * n * n.transpose() + force_turn * t * t.transpose();
+      if (rigid_) {
+        residual[f] = kGapRowScale * gap;
+        jacobian.template block<2, 1>(0, f) += n;
+        jacobian.template block<1, 2>(f, 0) = kGapRowScale * n.transpose();
+      }
+      if (s >= 0) {
+        const double n_u = n.dot(roller.axis);
+        const double t_u = t.dot(roller.axis);
+        residual[s] += roller.spring_preload - roller.spring_stiffness * x[s] - force * n_u;
+        const Eigen::Vector2d coupling = (stiffness * n_u) * n + (force_turn * t_u) * t;
+        jacobian.template block<2, 1>(0, s) += coupling;
+        jacobian.template block<1, 2>(s, 0) += coupling.transpose();
+        jacobian(s, s) -= roller.spring_stiffness + stiffness * n_u * n_u + force_turn * t_u * t_u;
+        if (rigid_) {
+          jacobian(s, f) -= n_u;
+          jacobian(f, s) = -kGapRowScale * n_u;
+        }
+      }
+    }
+  }
+  if (!SolveNewtonStep<N>(rigid_ && size_ == 2 * z, z, jacobian, residual, step)) return kCannotStep;
+  x += step;
+
+  // 3. The contacts follow the bodies: d g = n . dx_ring - n . u ds, and the same along the
+  // tangent for g'. The gap then matches x to first order, which is what an iteration
+  // accepted after one update reports as its contact force.
+  for (int i = 0; i < z; ++i) {
+    TrackedContact& tracked = contacts[static_cast<std::size_t>(i)];
+    Contact& c = tracked.contact;
+    const RollerConstants& roller = roller_[static_cast<std::size_t>(i)];
+    Eigen::Vector2d relative = step.template head<2>();
+    if (roller.travel >= 0) relative -= step[roller.travel] * roller.axis;
+    const double gap_change = c.normal.dot(relative);
+    c.gap += gap_change;
+    c.ring_theta -= c.tangent.dot(relative) * tracked.theta_per_shift;
+    if (rigid_) {
+      tracked.force = x[force_index(i)];
+    } else {
+      // dF = -(dF/d delta) dg; an opened contact carries nothing.
+      tracked.force = c.gap < 0.0 ? std::max(0.0, tracked.force - tracked.stiffness * gap_change) : 0.0;
+    }
+  }
+  return largest_turn;
+}
+
+#define RINGTOL_INSTANTIATE_CONTINUATION_UPDATE(N)                                                            \
+  template double EquilibriumSystem::ContinuationUpdate<N>(const RingTurn&, Eigen::Matrix<double, N, 1>&,      \
+                                                           std::vector<TrackedContact>&,                       \
+                                                           Eigen::Matrix<double, N, 1>&) const;
+RINGTOL_INSTANTIATE_CONTINUATION_UPDATE(2)
+RINGTOL_INSTANTIATE_CONTINUATION_UPDATE(3)
+RINGTOL_INSTANTIATE_CONTINUATION_UPDATE(4)
+RINGTOL_INSTANTIATE_CONTINUATION_UPDATE(5)
+RINGTOL_INSTANTIATE_CONTINUATION_UPDATE(6)
+RINGTOL_INSTANTIATE_CONTINUATION_UPDATE(7)
+RINGTOL_INSTANTIATE_CONTINUATION_UPDATE(8)
+RINGTOL_INSTANTIATE_CONTINUATION_UPDATE(Eigen::Dynamic)
+#undef RINGTOL_INSTANTIATE_CONTINUATION_UPDATE
 
 Eigen::VectorXd EquilibriumSystem::Tolerances(double position_tolerance, double force_tolerance) const {
   Eigen::VectorXd tolerance = Eigen::VectorXd::Constant(size_, position_tolerance);

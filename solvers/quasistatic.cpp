@@ -88,92 +88,52 @@ class Predictor {
   static constexpr int kDegree = 4;
   static constexpr int kDepth = kDegree + 1;
 
-  void Push(const Eigen::VectorXd& x, const std::vector<TrackedContact>& contacts) {
+  void Push(const EquilibriumSystem::State& x, const std::vector<TrackedContact>& contacts) {
     const auto unknowns = static_cast<std::size_t>(x.size());
     rows_ = unknowns + contacts.size();
     history_.resize(rows_ * kDepth);
-    newest_ = (newest_ + 1) % kDepth;
+    newest_ = newest_ + 1 == kDepth ? 0 : newest_ + 1;
     double* column = history_.data() + static_cast<std::size_t>(newest_) * rows_;
     for (std::size_t r = 0; r < unknowns; ++r) column[r] = x[static_cast<Eigen::Index>(r)];
     for (std::size_t i = 0; i < contacts.size(); ++i) column[unknowns + i] = contacts[i].contact.ring_theta;
     // Weights (-1)^(j+1) binomial(d+1, j) of the newest j = 1 .. d+1 states: the
-    // polynomial of degree d = known - 1 through them, evaluated one step ahead. Stored
-    // by ring-buffer slot.
-    known_ = std::min(known_ + 1, kDepth);
-    weights_.fill(0.0);
-    double binomial = 1.0;
-    for (int j = 1; j <= known_; ++j) {
-      binomial *= static_cast<double>(known_ - j + 1) / j;
-      weights_[static_cast<std::size_t>((newest_ - (j - 1) + kDepth) % kDepth)] = (j % 2 == 1 ? 1.0 : -1.0) * binomial;
+    // polynomial of degree d = known - 1 through them, evaluated one step ahead.
+    if (known_ < kDepth) {
+      ++known_;
+      double binomial = 1.0;
+      for (int j = 1; j <= known_; ++j) {
+        binomial *= static_cast<double>(known_ - j + 1) / j;
+        weight_by_age_[static_cast<std::size_t>(j - 1)] = (j % 2 == 1 ? 1.0 : -1.0) * binomial;
+      }
     }
   }
 
   // Overwrites x and each contact's touching angle with the prediction.
-  void Predict(Eigen::VectorXd& x, std::vector<TrackedContact>& contacts) const {
+  template <typename Vector>
+  void Predict(Vector& x, std::vector<TrackedContact>& contacts) const {
     const auto unknowns = static_cast<std::size_t>(x.size());
-    prediction_.assign(rows_, 0.0);
-    for (std::size_t slot = 0; slot < kDepth; ++slot) {
-      const double* column = history_.data() + slot * rows_;
-      for (std::size_t r = 0; r < rows_; ++r) prediction_[r] += weights_[slot] * column[r];
+    std::array<const double*, kDepth> by_age{};
+    for (int j = 0, slot = newest_; j < known_; ++j, slot = slot == 0 ? kDepth - 1 : slot - 1) {
+      by_age[static_cast<std::size_t>(j)] = history_.data() + static_cast<std::size_t>(slot) * rows_;
     }
-    for (std::size_t r = 0; r < unknowns; ++r) x[static_cast<Eigen::Index>(r)] = prediction_[r];
-    for (std::size_t i = 0; i < contacts.size(); ++i) contacts[i].contact.ring_theta = prediction_[unknowns + i];
+    for (std::size_t r = 0; r < rows_; ++r) {
+      double prediction = 0.0;
+      for (std::size_t j = 0; j < static_cast<std::size_t>(known_); ++j) prediction += weight_by_age_[j] * by_age[j][r];
+      if (r < unknowns) {
+        x[static_cast<Eigen::Index>(r)] = prediction;
+      } else {
+        contacts[r - unknowns].contact.ring_theta = prediction;
+      }
+    }
   }
 
  private:
   std::size_t rows_ = 0;
-  std::vector<double> history_;  // kDepth columns of rows_ values, a ring buffer
-  std::array<double, kDepth> weights_{};
-  int newest_ = -1;
-  int known_ = 0;
-  mutable std::vector<double> prediction_;
+  std::vector<double> history_;                 // kDepth columns of rows_ values, a ring buffer
+  std::array<double, kDepth> weight_by_age_{};  // of the newest, second newest, ... state
+  int newest_ = -1;                             // slot of the newest state
+  int known_ = 0;                               // states held
 };
-
-// Solves J dx = -r for a Newton step. The systems are tiny (3 unknowns for the article's
-// penalty scene, 6 for rigid contact): fixed-size, allocation-free, with Eigen's
-// closed-form inverse up to 4 x 4, several times cheaper there than a pivoted LU. Rigid
-// contact with as many contacts as position unknowns (the article's 2 fixed + 1 spring)
-// is block triangular, since the gaps do not depend on the forces:
-// [A B; G 0] [dp; dF] = -[r_p; r_g] gives dp from G dp = -r_g and then dF from
-// B dF = -r_p - A dp, two 3 x 3 solves instead of one 6 x 6.
-template <int N>
-bool SolveFixed(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual, Eigen::VectorXd& step) {
-  const Eigen::Matrix<double, N, N> j = jacobian;
-  const Eigen::Matrix<double, N, 1> r = residual;
-  step = -(j.inverse() * r);
-  return step.allFinite();
-}
-
-template <int P>
-bool SolveBlockTriangular(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual, Eigen::VectorXd& step) {
-  const Eigen::Matrix<double, P, P> a = jacobian.topLeftCorner<P, P>();
-  const Eigen::Matrix<double, P, P> b = jacobian.topRightCorner<P, P>();
-  const Eigen::Matrix<double, P, P> g = jacobian.bottomLeftCorner<P, P>();
-  const Eigen::Matrix<double, P, 1> dp = -(g.inverse() * residual.tail<P>());
-  const Eigen::Matrix<double, P, 1> df = -(b.inverse() * (residual.head<P>() + a * dp));
-  step.resize(2 * P);
-  step << dp, df;
-  return step.allFinite();
-}
-
-bool SolveNewtonStep(const EquilibriumSystem& system, const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual,
-                     Eigen::VectorXd& step) {
-  if (system.rigid() && system.size() == 2 * system.rollers()) {
-    switch (system.rollers()) {
-      case 3: return SolveBlockTriangular<3>(jacobian, residual, step);
-      case 4: return SolveBlockTriangular<4>(jacobian, residual, step);
-      default: break;
-    }
-  }
-  switch (jacobian.rows()) {
-    case 2: return SolveFixed<2>(jacobian, residual, step);
-    case 3: return SolveFixed<3>(jacobian, residual, step);
-    case 4: return SolveFixed<4>(jacobian, residual, step);
-    default:
-      step = jacobian.partialPivLu().solve(-residual);
-      return step.allFinite();
-  }
-}
 
 // What the continuation iteration has learnt of its own convergence. Newton converges
 // quadratically: an update of size e is followed by one of about K e^2. Where the
@@ -193,14 +153,15 @@ constexpr double kConvergenceSafety = 4.0;
 constexpr int kCheckInterval = 16;
 
 // Newton's method for one angle of a revolution, started from a good prediction: each
-// iteration steps the contact searches and the force balance together, so an iteration
-// costs one bore evaluation per contact. Converged when the last update (or the update
+// iteration steps the contact searches and the force balance together
+// (EquilibriumSystem::ContinuationUpdate), so an iteration costs one bore evaluation per
+// contact. Converged when the last update (or the update
 // the convergence model predicts next) is within tolerance. Returns false (leaving x and
 // the contacts unusable) when it does not converge; the caller then falls back to Newton().
-bool ContinuationNewton(const EquilibriumSystem& system, double psi, Eigen::VectorXd& x,
-                        std::vector<TrackedContact>& contacts, const Eigen::VectorXd& tolerance, int max_iterations,
-                        ConvergenceModel& model, int& iterations, Eigen::VectorXd& residual,
-                        Eigen::MatrixXd& jacobian, Eigen::VectorXd& step) {
+template <int N>
+bool ContinuationNewton(const EquilibriumSystem& system, const RingTurn& turn, Eigen::Matrix<double, N, 1>& x,
+                        std::vector<TrackedContact>& contacts, const Eigen::Matrix<double, N, 1>& tolerance,
+                        int max_iterations, ConvergenceModel& model, int& iterations) {
   // Updates are compared as lengths: each unknown and the normal angles by its tolerance.
   const double length = tolerance[0];
   // Contact normals within this of the common normal: the gap is then exact to
@@ -212,15 +173,12 @@ bool ContinuationNewton(const EquilibriumSystem& system, double psi, Eigen::Vect
   // A second update below this is round-off, not a measure of K [m].
   const double round_off = 1e-3 * length;
   const bool check = ++model.angles_since_check >= kCheckInterval || model.constant == 0.0;
+  Eigen::Matrix<double, N, 1> step(x.size());
   double previous_update = 0.0;
   for (int iteration = 1; iteration <= max_iterations; ++iteration) {
     iterations = iteration;
-    const double contact_step = system.StepContacts(psi, x, contacts);
+    const double contact_step = system.ContinuationUpdate<N>(turn, x, contacts, step);
     if (!std::isfinite(contact_step)) return false;
-    system.Evaluate(x, contacts, residual, &jacobian);
-    if (!SolveNewtonStep(system, jacobian, residual, step)) return false;
-    x += step;
-    system.FollowContacts(step, contacts);
     const double update =
         length * std::max((step.cwiseAbs().array() / tolerance.array()).maxCoeff(), contact_step / normal_tolerance);
     if (iteration >= 2) {
@@ -272,19 +230,29 @@ engine::Contact WithNormalAngle(engine::Contact c) {
   return c;
 }
 
-// Why a converged configuration is not a valid one, if it is not.
-Status Classify(const EquilibriumSystem& system, const CurvatureBounds& bounds, double psi, const Eigen::VectorXd& x,
-                const std::vector<TrackedContact>& contacts, double two_point_tolerance, std::string& message) {
+// Sets every contact's force for the unknowns x [N] (after a full contact search; the
+// continuation keeps them itself).
+void SetForces(const EquilibriumSystem& system, const EquilibriumSystem::State& x,
+               std::vector<TrackedContact>& contacts) {
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    contacts[i].force = system.ContactForce(static_cast<int>(i), x, contacts[i].contact);
+  }
+}
+
+// Why a converged configuration is not a valid one, if it is not; the contacts carry
+// their forces (SetForces, or the continuation's own).
+Status Classify(const EquilibriumSystem& system, const CurvatureBounds& bounds, double psi,
+                const EquilibriumSystem::State& x, const std::vector<TrackedContact>& contacts,
+                double two_point_tolerance, std::string& message) {
   const Scene& scene = system.scene();
   for (int i = 0; i < system.rollers(); ++i) {
     const auto k = static_cast<std::size_t>(i);
     const engine::Contact& c = contacts[k].contact;
-    const double force = system.ContactForce(i, x, c);
     const engine::Roller& roller = scene.rollers[k];
-    const bool open = system.rigid() ? force < 0.0 : c.gap >= 0.0;
+    const bool open = system.rigid() ? contacts[k].force < 0.0 : c.gap >= 0.0;
     if (open) {
       message = "roller " + roller.name + " lifts off at psi = " + Degrees(psi) +
-                (system.rigid() ? " (it would have to pull with " + std::to_string(force) + " N)"
+                (system.rigid() ? " (it would have to pull with " + std::to_string(contacts[k].force) + " N)"
                                 : " (clearance " + Micrometres(c.gap) + ")");
       return Status::kLiftOff;
     }
@@ -305,16 +273,97 @@ Status Classify(const EquilibriumSystem& system, const CurvatureBounds& bounds, 
   return Status::kOk;
 }
 
-Equilibrium Record(const EquilibriumSystem& system, const Eigen::VectorXd& x,
+Equilibrium Record(const EquilibriumSystem& system, const EquilibriumSystem::State& x,
                    const std::vector<TrackedContact>& contacts) {
   Equilibrium e;
   e.centre = x.head<2>();
   for (int i = 0; i < system.rollers(); ++i) {
     const int s = system.travel_index(i);
     e.travel.push_back(s >= 0 ? x[s] : 0.0);
-    e.contact_force.push_back(system.ContactForce(i, x, contacts[static_cast<std::size_t>(i)].contact));
+    e.contact_force.push_back(contacts[static_cast<std::size_t>(i)].force);
   }
   return e;
+}
+
+// The revolution from the static equilibrium x0 and its contacts, with the unknowns in
+// storage of N (fixed-size for the common systems, Eigen::Dynamic for the rest).
+template <int N>
+void Revolve(const QuasistaticOptions& options, const EquilibriumSystem& system, int steps, const Eigen::VectorXd& x0,
+             std::vector<TrackedContact>& contacts, Trajectory& trajectory) {
+  using Vector = Eigen::Matrix<double, N, 1>;
+  const Scene& scene = system.scene();
+  const auto z = static_cast<std::size_t>(system.rollers());
+  const auto n = static_cast<std::size_t>(steps) + 1;
+  trajectory.psi.reserve(n);
+  trajectory.centre.reserve(n);
+  trajectory.travel.reserve(n * z);
+  trajectory.contact_force.reserve(n * z);
+  const CurvatureBounds bounds = Bounds(scene);
+  const Eigen::VectorXd dynamic_tolerance = system.Tolerances(options.position_tolerance, options.force_tolerance);
+  const Vector tolerance = dynamic_tolerance;
+  Vector x = x0;
+  Vector previous = x;
+  Vector predicted = x;
+  Predictor predictor;
+  ConvergenceModel model;
+  engine::NearbyAngle psi_trig;
+  SetForces(system, x, contacts);
+  for (int k = 0; k <= steps; ++k) {
+    RingTurn turn{2.0 * std::numbers::pi * k / steps};
+    psi_trig.Evaluate(turn.psi, turn.cos_psi, turn.sin_psi);
+    const double psi = turn.psi;
+    if (k > 0) {
+      previous = x;
+      predictor.Predict(x, contacts);
+      predicted = x;
+      int iterations = 0;
+      bool converged =
+          ContinuationNewton<N>(system, turn, x, contacts, tolerance, options.max_iterations, model, iterations);
+      trajectory.total_iterations += iterations;
+      if (!converged) {
+        // The robust path: a full contact search at every iteration, with line search.
+        Eigen::VectorXd restart = predicted;
+        for (TrackedContact& c : contacts) c.valid = false;
+        const NewtonOutcome outcome =
+            Newton(system, psi, restart, contacts, dynamic_tolerance, options.max_iterations, false);
+        trajectory.total_iterations += outcome.iterations;
+        converged = outcome.converged;
+        x = restart;
+        if (converged) SetForces(system, x, contacts);
+      }
+      if (!converged) {
+        trajectory.status = Status::kNotConverged;
+        trajectory.message = "Newton iteration did not converge at psi = " + Degrees(psi);
+        std::string reason;
+        contacts.clear();
+        if (system.UpdateContacts(psi, previous, contacts) < 0) {
+          SetForces(system, previous, contacts);
+          if (Classify(system, bounds, psi, previous, contacts, options.two_point_tolerance, reason) ==
+              Status::kLiftOff) {
+            trajectory.status = Status::kLiftOff;
+            trajectory.message = reason;
+          }
+        }
+        trajectory.failure_angle = psi;
+        return;
+      }
+      const Status status =
+          Classify(system, bounds, psi, x, contacts, options.two_point_tolerance, trajectory.message);
+      if (status != Status::kOk) {
+        trajectory.status = status;
+        trajectory.failure_angle = psi;
+        return;
+      }
+    }
+    predictor.Push(x, contacts);
+    trajectory.psi.push_back(psi);
+    trajectory.centre.push_back(x.template head<2>());
+    for (std::size_t i = 0; i < z; ++i) {
+      const int s = system.travel_index(static_cast<int>(i));
+      trajectory.travel.push_back(s >= 0 ? x[s] : 0.0);
+      trajectory.contact_force.push_back(contacts[i].force);
+    }
+  }
 }
 
 }  // namespace
@@ -391,6 +440,7 @@ Equilibrium QuasistaticSolver::SolveStatic(const EquilibriumSystem& system, Eige
     return result;
   }
   system.UpdateContacts(0.0, x, contacts);
+  SetForces(system, x, contacts);
   const Status status = Classify(system, Bounds(scene), 0.0, x, contacts, options_.two_point_tolerance, result.message);
   Equilibrium recorded = Record(system, x, contacts);
   recorded.iterations = outcome.iterations;
@@ -417,68 +467,17 @@ Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) con
     trajectory.message = trajectory.initial.message;
     return trajectory;
   }
-  const auto z = static_cast<std::size_t>(system.rollers());
-  const auto n = static_cast<std::size_t>(steps) + 1;
-  trajectory.psi.reserve(n);
-  trajectory.centre.reserve(n);
-  trajectory.travel.reserve(n * z);
-  trajectory.contact_force.reserve(n * z);
-  const CurvatureBounds bounds = Bounds(scene);
-  const Eigen::VectorXd tolerance = system.Tolerances(options_.position_tolerance, options_.force_tolerance);
-  Predictor predictor;
-  Eigen::VectorXd residual;
-  Eigen::MatrixXd jacobian;
-  Eigen::VectorXd newton_step;
-  ConvergenceModel model;
-  Eigen::VectorXd previous;
-  Eigen::VectorXd predicted;
-  for (int k = 0; k <= steps; ++k) {
-    const double psi = 2.0 * std::numbers::pi * k / steps;
-    if (k > 0) {
-      previous = x;
-      predictor.Predict(x, contacts);
-      predicted = x;
-      int iterations = 0;
-      bool converged = ContinuationNewton(system, psi, x, contacts, tolerance, options_.max_iterations, model,
-                                          iterations, residual, jacobian, newton_step);
-      trajectory.total_iterations += iterations;
-      if (!converged) {
-        // The robust path: a full contact search at every iteration, with line search.
-        x = predicted;
-        for (TrackedContact& c : contacts) c.valid = false;
-        const NewtonOutcome outcome = Newton(system, psi, x, contacts, tolerance, options_.max_iterations, false);
-        trajectory.total_iterations += outcome.iterations;
-        converged = outcome.converged;
-      }
-      if (!converged) {
-        trajectory.status = Status::kNotConverged;
-        trajectory.message = "Newton iteration did not converge at psi = " + Degrees(psi);
-        std::string reason;
-        x = previous;
-        contacts.clear();
-        if (system.UpdateContacts(psi, x, contacts) < 0 &&
-            Classify(system, bounds, psi, x, contacts, options_.two_point_tolerance, reason) == Status::kLiftOff) {
-          trajectory.status = Status::kLiftOff;
-          trajectory.message = reason;
-        }
-        trajectory.failure_angle = psi;
-        return trajectory;
-      }
-      const Status status = Classify(system, bounds, psi, x, contacts, options_.two_point_tolerance, trajectory.message);
-      if (status != Status::kOk) {
-        trajectory.status = status;
-        trajectory.failure_angle = psi;
-        return trajectory;
-      }
-    }
-    predictor.Push(x, contacts);
-    trajectory.psi.push_back(psi);
-    trajectory.centre.push_back(x.head<2>());
-    for (int i = 0; i < static_cast<int>(z); ++i) {
-      const int s = system.travel_index(i);
-      trajectory.travel.push_back(s >= 0 ? x[s] : 0.0);
-      trajectory.contact_force.push_back(system.ContactForce(i, x, contacts[static_cast<std::size_t>(i)].contact));
-    }
+  // Fixed-size storage for the systems scenes have (2 + springs unknowns under the
+  // penalty law, 2 + springs + rollers under rigid contact).
+  switch (system.size()) {
+    case 2: Revolve<2>(options_, system, steps, x, contacts, trajectory); break;
+    case 3: Revolve<3>(options_, system, steps, x, contacts, trajectory); break;
+    case 4: Revolve<4>(options_, system, steps, x, contacts, trajectory); break;
+    case 5: Revolve<5>(options_, system, steps, x, contacts, trajectory); break;
+    case 6: Revolve<6>(options_, system, steps, x, contacts, trajectory); break;
+    case 7: Revolve<7>(options_, system, steps, x, contacts, trajectory); break;
+    case 8: Revolve<8>(options_, system, steps, x, contacts, trajectory); break;
+    default: Revolve<Eigen::Dynamic>(options_, system, steps, x, contacts, trajectory); break;
   }
   return trajectory;
 }

@@ -296,6 +296,30 @@ TEST(PolarProfile, EvaluateMatchesDirectSumOfHarmonicsAndTheirDerivatives) {
   ExpectEvaluateMatchesDirectSum<kOvalLarge>(thetas);
 }
 
+// The four-lane evaluation the contact steps use does the arithmetic of EvaluateAt lane
+// by lane, so it must give the same bits.
+TEST(PolarProfile, FourAnglesAtOnceGiveExactlyWhatFourEvaluationsGive) {
+  const PolarProfile profile = Make(kMixed);
+  std::mt19937_64 rng(20261124);
+  for (int trial = 0; trial < 100; ++trial) {
+    double cos_theta[4];
+    double sin_theta[4];
+    for (int k = 0; k < 4; ++k) {
+      const double theta = Uniform(rng, -20.0, 20.0);
+      cos_theta[k] = std::cos(theta);
+      sin_theta[k] = std::sin(theta);
+    }
+    RadiusDerivatives four[4];
+    profile.EvaluateFourAt(cos_theta, sin_theta, four);
+    for (int k = 0; k < 4; ++k) {
+      const RadiusDerivatives one = profile.EvaluateAt(cos_theta[k], sin_theta[k]);
+      EXPECT_EQ(four[k].r, one.r);
+      EXPECT_EQ(four[k].dr, one.dr);
+      EXPECT_EQ(four[k].ddr, one.ddr);
+    }
+  }
+}
+
 TEST(PolarProfile, HarmonicsOfEqualOrderAddUp) {
   // Two order-3 terms and two order-7 terms; the phasor sums give the coefficients.
   constexpr Spec kDuplicated{kR, -1.0e-5, 5,
