@@ -449,11 +449,79 @@ Equilibrium QuasistaticSolver::SolveStatic(const EquilibriumSystem& system, Eige
   return recorded;
 }
 
+// The error-free assembly's static equilibrium: where every static solve of a scene with
+// errors starts.
+struct NominalStatics {
+  engine::Scene perfect;  // the key: the scene without its errors
+  Equilibrium equilibrium;
+  Eigen::VectorXd x;
+  std::vector<TrackedContact> contacts;
+};
+
+std::shared_ptr<const NominalStatics> QuasistaticSolver::Nominal(engine::Scene perfect) const {
+  {
+    const std::lock_guard<std::mutex> lock(cache_mutex_);
+    if (cache_ != nullptr && cache_->perfect == perfect) return cache_;
+  }
+  auto nominal = std::make_shared<NominalStatics>();
+  nominal->perfect = std::move(perfect);
+  const EquilibriumSystem system(nominal->perfect);
+  nominal->equilibrium = SolveStatic(system, nominal->x, nominal->contacts);
+  const std::lock_guard<std::mutex> lock(cache_mutex_);
+  cache_ = nominal;
+  return nominal;
+}
+
+Equilibrium QuasistaticSolver::SolveStaticFromNominal(const EquilibriumSystem& system, Eigen::VectorXd& x,
+                                                      std::vector<TrackedContact>& contacts) const {
+  const Scene& scene = system.scene();
+  engine::Scene perfect = engine::WithoutErrors(scene);
+  const bool has_errors = !(perfect == scene);
+  Equilibrium refused;
+  refused.status = CheckSceneGeometry(scene, refused.message);
+  if (refused.status != Status::kOk) return refused;
+  if (has_errors && !(system.rigid() && engine::FixedRollerCount(scene) > 2)) {
+    const std::shared_ptr<const NominalStatics> nominal = Nominal(std::move(perfect));
+    if (nominal->equilibrium.status == Status::kOk && nominal->x.size() == system.size()) {
+      x = nominal->x;
+      contacts = nominal->contacts;
+      const Eigen::VectorXd tolerance = system.Tolerances(options_.position_tolerance, options_.force_tolerance);
+      // The errors move the equilibrium by about their own size, far less than the
+      // contacts' compliance lets it move: the joint iteration of a revolution settles in
+      // a few steps. A confirmed convergence only: no prediction from a model of it.
+      const double normal_tolerance = 100.0 * tolerance[0];
+      Eigen::VectorXd step;
+      for (int iteration = 1; iteration <= options_.max_iterations; ++iteration) {
+        const double turn = system.ContinuationUpdate<Eigen::Dynamic>(RingTurn{}, x, contacts, step);
+        if (!std::isfinite(turn)) break;
+        if ((step.cwiseAbs().array() <= tolerance.array()).all() && turn <= normal_tolerance) {
+          system.UpdateContacts(0.0, x, contacts);
+          SetForces(system, x, contacts);
+          std::string message;
+          const Status status =
+              Classify(system, Bounds(scene), 0.0, x, contacts, options_.two_point_tolerance, message);
+          Equilibrium recorded = Record(system, x, contacts);
+          recorded.iterations = iteration;
+          recorded.status = status;
+          recorded.message = message;
+          return recorded;
+        }
+      }
+    }
+  } else if (!has_errors) {
+    const std::shared_ptr<const NominalStatics> nominal = Nominal(std::move(perfect));
+    x = nominal->x;
+    contacts = nominal->contacts;
+    return nominal->equilibrium;
+  }
+  return SolveStatic(system, x, contacts);
+}
+
 Equilibrium QuasistaticSolver::SolveStatic(const Scene& scene) const {
   const EquilibriumSystem system(scene);
   Eigen::VectorXd x;
   std::vector<TrackedContact> contacts;
-  return SolveStatic(system, x, contacts);
+  return SolveStaticFromNominal(system, x, contacts);
 }
 
 Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) const {
@@ -461,7 +529,7 @@ Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) con
   const EquilibriumSystem system(scene);
   Eigen::VectorXd x;
   std::vector<TrackedContact> contacts;
-  trajectory.initial = SolveStatic(system, x, contacts);
+  trajectory.initial = SolveStaticFromNominal(system, x, contacts);
   if (trajectory.initial.status != Status::kOk) {
     trajectory.status = trajectory.initial.status;
     trajectory.message = trajectory.initial.message;

@@ -7,9 +7,15 @@
 // is followed by one of about K e^2), and the solver measures K as it goes: once K e^2
 // is safely below the tolerance the angle is accepted, so one update per angle usually
 // suffices (every 16th angle still runs to a confirmed convergence, re-measuring K).
-// The static equilibrium before rotation is found from scratch: rigid contact first, then,
-// for the penalty law, a compliance correction and a damped Newton iteration.
+// The static equilibrium before rotation continues the error-free assembly's with the same
+// joint iteration; the error-free assembly's own, and any that does not settle that way,
+// is searched from scratch: rigid contact first, then, for the penalty law, a compliance
+// correction and a damped Newton iteration.
 #pragma once
+
+#include <memory>
+#include <mutex>
+#include <vector>
 
 #include "solvers/equilibrium.h"
 #include "solvers/solver.h"
@@ -33,6 +39,13 @@ struct QuasistaticOptions {
   double two_point_tolerance = 1e-9;
 };
 
+struct NominalStatics;
+
+// Thread-safe. Keeps the static equilibrium of the last error-free assembly it saw: a
+// scene's own static solve starts from it (a few joint Newton iterations, where the
+// errors are small against the contacts' compliance) and falls back to a search from
+// scratch when that does not settle; which path a scene takes never depends on what was
+// kept, so results do not depend on the order scenes are solved in.
 class QuasistaticSolver final : public Solver {
  public:
   explicit QuasistaticSolver(QuasistaticOptions options = {}) : options_(options) {}
@@ -40,12 +53,21 @@ class QuasistaticSolver final : public Solver {
   Equilibrium SolveStatic(const engine::Scene& scene) const override;
   Trajectory SolveRevolution(const engine::Scene& scene, int steps) const override;
 
-  // Static equilibrium plus the contacts found there (the linear solver linearises at it).
+  // Static equilibrium plus the contacts found there (the linear solver linearises at
+  // it), searched from scratch.
   Equilibrium SolveStatic(const EquilibriumSystem& system, Eigen::VectorXd& x,
                           std::vector<TrackedContact>& contacts) const;
 
  private:
+  // The static equilibrium of `system`'s scene: continued from the error-free assembly's
+  // when the scene has errors and that settles, else searched from scratch.
+  Equilibrium SolveStaticFromNominal(const EquilibriumSystem& system, Eigen::VectorXd& x,
+                                     std::vector<TrackedContact>& contacts) const;
+  std::shared_ptr<const NominalStatics> Nominal(engine::Scene perfect) const;
+
   QuasistaticOptions options_;
+  mutable std::mutex cache_mutex_;
+  mutable std::shared_ptr<const NominalStatics> cache_;
 };
 
 }  // namespace ringtol::solvers

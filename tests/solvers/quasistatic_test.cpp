@@ -217,5 +217,61 @@ TEST(QuasistaticRevolution, ACampaignsToleranceTakesOneUpdatePerAngleWhereTheLob
   EXPECT_GT(exact.total_iterations, 1.8 * steps) << steps << " steps: the predictor follows the lobes after all";
 }
 
+// A scene's static equilibrium continues the error-free assembly's with the joint Newton
+// iteration of a revolution; it must land where a search from scratch lands, within the
+// position tolerance, for both contact laws, small and large ring errors, lobed rollers
+// and position errors.
+TEST(QuasistaticStatic, ContinuedFromTheErrorFreeAssemblyItMatchesASearchFromScratch) {
+  const solvers::QuasistaticOptions options;
+  for (const auto law : {engine::ContactLaw::Model::kPenalty, engine::ContactLaw::Model::kRigid}) {
+    for (const double amplitude : {0.01e-3, 0.14e-3, 0.7e-3}) {
+      engine::Scene scene = testing::PaperScene(law);
+      testing::SetRing(scene, {{2, amplitude, 45.0 * kDeg}, {5, 0.2 * amplitude, 10.0 * kDeg}});
+      testing::SetRollerShapes(scene, {{3, 2e-6, 0.4}});
+      scene.rollers[2].radial_offset = 20e-6;
+      SCOPED_TRACE(::testing::Message() << (law == engine::ContactLaw::Model::kRigid ? "rigid" : "penalty") << ", "
+                                        << amplitude * 1e3 << " mm");
+      const solvers::Equilibrium continued = solvers::QuasistaticSolver(options).SolveStatic(scene);
+      const solvers::EquilibriumSystem system(scene);
+      Eigen::VectorXd x;
+      std::vector<solvers::TrackedContact> contacts;
+      const solvers::Equilibrium searched = solvers::QuasistaticSolver(options).SolveStatic(system, x, contacts);
+      ASSERT_EQ(continued.status, solvers::Status::kOk) << continued.message;
+      ASSERT_EQ(searched.status, solvers::Status::kOk) << searched.message;
+      EXPECT_LE((continued.centre - searched.centre).norm(), options.position_tolerance);
+      for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+        EXPECT_LE(std::abs(continued.travel[i] - searched.travel[i]), options.position_tolerance);
+        // Under the penalty law a force follows its gap: the article's contacts are about
+        // 2e5 N/m stiff, so 1 pm of position is 2e-7 N.
+        EXPECT_NEAR(continued.contact_force[i], searched.contact_force[i], 2e5 * options.position_tolerance + options.force_tolerance);
+      }
+    }
+  }
+}
+
+// What a solver kept from earlier scenes only saves work: a scene's static equilibrium
+// and path are the same bits whether the solver is new, last saw another error-free
+// assembly, or last saw the same one with other errors. Campaigns rely on it for results
+// that do not depend on the order samples are computed in.
+TEST(QuasistaticStatic, AResultDoesNotDependOnWhatTheSolverSolvedBefore) {
+  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
+  testing::SetRing(scene, {{3, 0.05e-3, 20.0 * kDeg}});
+  engine::Scene other_nominal = scene;
+  other_nominal.rollers[0].spring.preload = 25.0;
+  engine::Scene same_nominal = scene;
+  testing::SetRing(same_nominal, {{4, 0.08e-3, 0.0}});
+  const solvers::Trajectory fresh = solvers::QuasistaticSolver().SolveRevolution(scene, 90);
+  for (const engine::Scene* before : {&other_nominal, &same_nominal, &scene}) {
+    const solvers::QuasistaticSolver solver;
+    solver.SolveRevolution(*before, 90);
+    const solvers::Trajectory again = solver.SolveRevolution(scene, 90);
+    ASSERT_EQ(again.status, solvers::Status::kOk) << again.message;
+    EXPECT_EQ(again.initial.centre, fresh.initial.centre);
+    EXPECT_EQ(again.initial.contact_force, fresh.initial.contact_force);
+    EXPECT_EQ(again.centre, fresh.centre);
+    EXPECT_EQ(again.contact_force, fresh.contact_force);
+  }
+}
+
 }  // namespace
 }  // namespace ringtol
