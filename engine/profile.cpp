@@ -8,8 +8,65 @@
 
 #include <Eigen/Core>
 #include <boost/math/tools/minima.hpp>
+#include <complex>
+#include <unsupported/Eigen/FFT>
 
 namespace ringtol::engine {
+
+// r, h r' and h^2 r'' at the grid angles theta_j = j h, h = 2 pi / count, for
+// j = 0 .. count (the last a copy of the first, so an interval never wraps), and the
+// quintic Hermite interpolant of r between neighbours, differentiated for r' and r''.
+struct PolarProfile::SampleTable {
+  struct Node {
+    double r = 0.0;    // [m]
+    double dr = 0.0;   // [m] r' h
+    double ddr = 0.0;  // [m] r'' h^2
+  };
+  int count = 0;
+  double per_step = 0.0;  // [1/rad] 1 / h
+  std::vector<Node> nodes;
+
+  RadiusDerivatives At(double theta) const {
+    const double u = theta * per_step;
+    const double cell = std::floor(u);
+    const double t = u - cell;
+    long j = static_cast<long>(cell) % count;
+    if (j < 0) j += count;
+    const Node& a = nodes[static_cast<std::size_t>(j)];
+    const Node& b = nodes[static_cast<std::size_t>(j) + 1];
+    // The quintic with these values, slopes and curvatures at t = 0 and 1, as a
+    // polynomial in t.
+    const double rise = b.r - a.r;
+    const double c2 = 0.5 * a.ddr;
+    const double c3 = 10.0 * rise - 6.0 * a.dr - 4.0 * b.dr - 1.5 * a.ddr + 0.5 * b.ddr;
+    const double c4 = -15.0 * rise + 8.0 * a.dr + 7.0 * b.dr + 1.5 * a.ddr - b.ddr;
+    const double c5 = 6.0 * rise - 3.0 * a.dr - 3.0 * b.dr - 0.5 * a.ddr + 0.5 * b.ddr;
+    RadiusDerivatives d;
+    d.r = a.r + t * (a.dr + t * (c2 + t * (c3 + t * (c4 + t * c5))));
+    d.dr = (a.dr + t * (2.0 * c2 + t * (3.0 * c3 + t * (4.0 * c4 + t * 5.0 * c5)))) * per_step;
+    d.ddr = (2.0 * c2 + t * (6.0 * c3 + t * (12.0 * c4 + t * 20.0 * c5))) * per_step * per_step;
+    return d;
+  }
+};
+
+namespace {
+
+// Samples per revolution for a table of r exact to `tolerance` [m]: the quintic Hermite
+// error bound h^6 / 46080 max |r^(6)| with max |r^(6)| <= sum_n n^6 |C_n|, at least eight
+// per undulation of the highest order, rounded up to a power of two for the FFT.
+int SampleCount(const std::vector<double>& a, const std::vector<double>& b, double tolerance) {
+  double sixth_derivative = 0.0;
+  for (std::size_t n = 1; n < a.size(); ++n) {
+    sixth_derivative += std::pow(static_cast<double>(n), 6) * std::hypot(a[n], b[n]);
+  }
+  const double step = std::pow(46080.0 * tolerance / sixth_derivative, 1.0 / 6.0);
+  const double wanted = std::max(2.0 * std::numbers::pi / step, 8.0 * static_cast<double>(a.size() - 1));
+  int count = 64;
+  while (count < wanted) count *= 2;
+  return count;
+}
+
+}  // namespace
 
 PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Harmonic> harmonics)
     : radius_(radius), mean_deviation_(mean_deviation), harmonics_(std::move(harmonics)) {
@@ -33,7 +90,47 @@ PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Har
     const double a = cos_coefficients_[n];
     const double b = sin_coefficients_[n];
     const auto order = static_cast<double>(n);
-    terms_.push_back({a, b, order * a, order * b, order * order * a, order * order * b});
+    terms_.push_back({a, b, order * a, order * b, order * order * a, order * order * b, order * order * order * a,
+                      order * order * order * b});
+    const double amplitude = std::hypot(a, b);
+    support_bound_.odd += (order * order * order + 3.0 * order) * amplitude;
+    support_bound_.even += (3.0 * order * order + 1.0) * amplitude;
+    support_bound_.fourth += order * order * order * order * amplitude;
+  }
+  support_bound_.even += radius_ + mean_deviation_;
+  if (this->max_order() >= kSampledOrders) {
+    auto table = std::make_shared<SampleTable>();
+    table->count = SampleCount(cos_coefficients_, sin_coefficients_, kSampleTolerance);
+    const int count = table->count;
+    const double step = 2.0 * std::numbers::pi / count;
+    table->per_step = 1.0 / step;
+    // r = Re sum_n c_n e^{i n theta} with c_n = a_n + i b_n: the half spectrum c_n / 2 of
+    // an unscaled inverse real FFT; r' and r'' multiply c_n by i n and -n^2. One FFT
+    // plan per size and thread, kept for the next profile.
+    thread_local Eigen::FFT<double> fft(Eigen::default_fft_impl<double>(),
+                                        static_cast<Eigen::FFT<double>::Flag>(Eigen::FFT<double>::Unscaled |
+                                                                              Eigen::FFT<double>::HalfSpectrum));
+    std::vector<std::complex<double>> spectrum(static_cast<std::size_t>(count / 2 + 1));
+    std::vector<double> samples[3];
+    for (int derivative = 0; derivative < 3; ++derivative) {
+      std::fill(spectrum.begin(), spectrum.end(), std::complex<double>(0.0));
+      for (std::size_t n = 1; n < cos_coefficients_.size(); ++n) {
+        const std::complex<double> c(cos_coefficients_[n], sin_coefficients_[n]);
+        const double scaled_order = static_cast<double>(n) * step;  // n h: derivatives in units of a step
+        const std::complex<double> factor = derivative == 0   ? 1.0
+                                            : derivative == 1 ? std::complex<double>(0.0, scaled_order)
+                                                              : std::complex<double>(-scaled_order * scaled_order);
+        spectrum[n] = 0.5 * factor * c;
+      }
+      samples[derivative].resize(static_cast<std::size_t>(count));
+      fft.inv(samples[derivative].data(), spectrum.data(), count);
+    }
+    table->nodes.resize(static_cast<std::size_t>(count) + 1);
+    for (std::size_t j = 0; j <= static_cast<std::size_t>(count); ++j) {
+      const std::size_t k = j % static_cast<std::size_t>(count);
+      table->nodes[j] = {radius_ + mean_deviation_ + samples[0][k], samples[1][k], samples[2][k]};
+    }
+    samples_.table = std::move(table);
   }
   FindExtremes();
 }
@@ -50,6 +147,14 @@ RadiusDerivatives PolarProfile::Evaluate(double theta) const {
   return EvaluateAt(std::cos(theta), std::sin(theta));
 }
 
+RadiusDerivatives PolarProfile::EvaluateAt(double theta, double cos_theta, double sin_theta) const {
+  if (!sampled()) return EvaluateAt(cos_theta, sin_theta);
+  RadiusDerivatives d = samples_.table->At(theta);
+  d.cos_theta = cos_theta;
+  d.sin_theta = sin_theta;
+  return d;
+}
+
 RadiusDerivatives PolarProfile::EvaluateAt(double cos_theta, double sin_theta) const {
   RadiusDerivatives d{radius_ + mean_deviation_, 0.0, 0.0, cos_theta, sin_theta};
   // cos(n theta), sin(n theta) by the angle-addition recurrence: no sincos per order,
@@ -64,6 +169,24 @@ RadiusDerivatives PolarProfile::EvaluateAt(double cos_theta, double sin_theta) c
     sn = sn * cos_theta + cn * sin_theta;
     cn = next_c;
   }
+  return d;
+}
+
+RadiusDerivatives PolarProfile::EvaluateWithThirdAt(double cos_theta, double sin_theta, double& dddr) const {
+  RadiusDerivatives d{radius_ + mean_deviation_, 0.0, 0.0, cos_theta, sin_theta};
+  double third = 0.0;
+  double cn = cos_theta;
+  double sn = sin_theta;
+  for (const Term& t : terms_) {
+    d.r += t.a * cn - t.b * sn;
+    d.dr -= t.na * sn + t.nb * cn;
+    d.ddr -= t.nna * cn - t.nnb * sn;
+    third += t.nnna * sn + t.nnnb * cn;
+    const double next_c = cn * cos_theta - sn * sin_theta;
+    sn = sn * cos_theta + cn * sin_theta;
+    cn = next_c;
+  }
+  dddr = third;
   return d;
 }
 
@@ -135,13 +258,36 @@ SupportPoint PolarProfile::SupportToward(double cos_phi, double sin_phi, double 
   int evaluations = 0;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     CosSinOfSmallAngle(delta, c, s);
-    d = EvaluateAt(cos_phi * c - sin_phi * s, sin_phi * c + cos_phi * s);
+    double dddr = 0.0;
+    d = EvaluateWithThirdAt(cos_phi * c - sin_phi * s, sin_phi * c + cos_phi * s, dddr);
     ++evaluations;
     const double f = d.dr * c - d.r * s;
     const double df = (d.ddr - d.r) * c - 2.0 * d.dr * s;  // < 0 near the root
     if (f > 0.0) lo = delta; else hi = delta;
     const double step = -f / df;
     if (df < 0.0 && std::abs(step) <= kOffsetTolerance) break;  // h is stationary in theta
+    // Newton's next correction would be at most |f''| / (2 |f'|) step^2, with
+    // f'' = (r''' - 3 r') cos - (3 r'' - r) sin bounded by the harmonics' moments: once
+    // that is within the tolerance, this step is the last one needed, and is taken by
+    // Taylor series from this evaluation, which carries r''' for it: what that leaves out
+    // is r'''' step^4 / 24 of r (~1e-30 m for a step of ~1e-7 rad) and r'''' step^2 / 2 of
+    // the curvature's r''.
+    const double curvature_bound = support_bound_.odd + support_bound_.even * std::abs(s);
+    const double step_squared = step * step;
+    if (df < 0.0 && curvature_bound * step_squared <= -2.0 * df * kOffsetTolerance &&
+        support_bound_.fourth * step_squared <= 2.0 * kOffsetTolerance * d.r && delta + step > lo &&
+        delta + step < hi) {
+      double cos_step;
+      double sin_step;
+      CosSinOfSmallAngle(step, cos_step, sin_step);
+      const double r = d.r + step * (d.dr + step * (0.5 * d.ddr + (1.0 / 6.0) * step * dddr));
+      const double dr = d.dr + step * (d.ddr + 0.5 * step * dddr);
+      const double ddr = d.ddr + step * dddr;
+      const double next_c = c * cos_step - s * sin_step;
+      const double next_s = s * cos_step + c * sin_step;
+      const double q = r * r + dr * dr;
+      return {delta + step, r * next_c, r * next_s, q * std::sqrt(q) / (q + dr * dr - r * ddr), evaluations};
+    }
     double next = delta + step;
     if (!(df < 0.0) || !(next > lo && next < hi)) next = 0.5 * (lo + hi);
     delta = next;
@@ -158,6 +304,9 @@ void PolarProfile::FindExtremes() {
   }
   const int samples = 64 * max_order();
   const double step = 2.0 * std::numbers::pi / samples;
+  // The scan only ranks samples: a sampled profile interpolates for it. The refinement
+  // below sums, so the extremes are exact to round-off either way.
+  auto at = [this](double theta) { return sampled() ? samples_.table->At(theta) : Evaluate(theta); };
   // One pass finds the best sample of all four quantities; each is then refined.
   struct Extreme {
     double sign;  // +1 to find a minimum, -1 a maximum
@@ -167,7 +316,7 @@ void PolarProfile::FindExtremes() {
   };
   Extreme extremes[4] = {{1.0, true}, {-1.0, true}, {1.0, false}, {-1.0, false}};
   for (int k = 0; k < samples; ++k) {
-    const RadiusDerivatives d = Evaluate(k * step);
+    const RadiusDerivatives d = at(k * step);
     const double kappa = Curvature(d);
     for (Extreme& e : extremes) {
       const double value = e.sign * (e.curvature ? kappa : d.r);

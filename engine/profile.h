@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 namespace ringtol::engine {
@@ -56,9 +57,15 @@ class PolarProfile {
   double cos_coefficient(int n) const;
   double sin_coefficient(int n) const;
 
+  // r and its derivatives at body angle theta, summed over the harmonics: exact to
+  // round-off.
   RadiusDerivatives Evaluate(double theta) const;
   // The same at the body angle whose cosine and sine are given (from a NearbyAngle).
   RadiusDerivatives EvaluateAt(double cos_theta, double sin_theta) const;
+  // The same at body angle theta whose cosine and sine the caller has: from the profile's
+  // samples when it keeps them (sampled()), else summed as EvaluateAt. The cheaper of the
+  // two for any profile.
+  RadiusDerivatives EvaluateAt(double theta, double cos_theta, double sin_theta) const;
   // Four angles at once, two per SIMD lane pair, in one pass over the harmonics: the
   // same arithmetic, and the same results, as four EvaluateAt calls, at the cost of about
   // one and a half (the lanes run side by side and their recurrences overlap).
@@ -73,6 +80,18 @@ class PolarProfile {
   // that hold the normal but not its angle. Here `theta` of the result, and the guess,
   // are the touching point's offset theta - phi, in (-pi/2, pi/2).
   SupportPoint SupportToward(double cos_phi, double sin_phi, double offset_guess) const;
+
+  // Profiles with many harmonics (kSampledOrders and up) keep r, r' and r'' sampled on a
+  // uniform grid of the body angle, computed at construction by three inverse FFTs
+  // (Eigen's FFT module), with as many samples as make quintic Hermite interpolation
+  // between neighbours exact to kSampleTolerance in r: its error is at most
+  // h^6 / 46080 * sum_n n^6 C_n for a grid step h. r' and r'' come from the same
+  // interpolant, exact to O(h^5) and O(h^4) (a few pm/rad and um/rad^2 for a 50-order
+  // waterjet ring), which only the Newton steps' rate feels. An evaluation then costs
+  // about as much as six harmonics summed.
+  static constexpr int kSampledOrders = 16;
+  static constexpr double kSampleTolerance = 1e-15;  // [m]
+  bool sampled() const { return samples_.table != nullptr; }
 
   // Extremes over the whole outline, found once at construction by dense sampling (64
   // points per undulation of the highest order) refined by golden-section search: every
@@ -97,10 +116,31 @@ class PolarProfile {
   // The same for n = 1..max_order with the factors n and n^2 of r' and r'' applied
   // once, here, rather than at every evaluation.
   struct Term {
-    double a, b, na, nb, nna, nnb;
+    double a, b, na, nb, nna, nnb, nnna, nnnb;
     bool operator==(const Term&) const = default;
   };
+  // r, its first two derivatives and (in dddr) the third at the body angle whose cosine and
+  // sine are given: the support search's evaluation, from which its last step is taken by
+  // series.
+  RadiusDerivatives EvaluateWithThirdAt(double cos_theta, double sin_theta, double& dddr) const;
   std::vector<Term> terms_;
+  // Bounds over the outline of |r''' - 3 r'| (odd) and |3 r'' - r| (even) [m]: the support
+  // search's certificate that its next step would be negligible.
+  struct SupportBound {
+    double odd = 0.0;
+    double even = 0.0;
+    double fourth = 0.0;  // of |r''''|: what a last step by series leaves out of r''
+    bool operator==(const SupportBound&) const = default;
+  };
+  SupportBound support_bound_;
+  // The samples: derived from the harmonics, shared between copies, and left out of
+  // comparisons (profiles with equal harmonics have equal samples).
+  struct SampleTable;
+  struct SharedSamples {
+    std::shared_ptr<const SampleTable> table;
+    bool operator==(const SharedSamples&) const { return true; }
+  };
+  SharedSamples samples_;
   double min_curvature_ = 0.0;
   double max_curvature_ = 0.0;
   double min_radius_ = 0.0;

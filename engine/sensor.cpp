@@ -36,7 +36,7 @@ SensorReading ReadSensor(const PolarProfile& ring, const BodyPose& ring_pose, do
     double cos_theta = 1.0;
     double sin_theta = 0.0;
     trig.bore.Evaluate(theta, cos_theta, sin_theta);
-    d = ring.EvaluateAt(cos_theta, sin_theta);
+    d = ring.EvaluateAt(theta, cos_theta, sin_theta);
     s = sin_theta * cos_aim - cos_theta * sin_aim;
     c = cos_theta * cos_aim + sin_theta * sin_aim;
     const double f = centre_cross + d.r * s;

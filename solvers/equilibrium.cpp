@@ -212,7 +212,7 @@ double EquilibriumSystem::ContinuationUpdate(const RingTurn& turn, Eigen::Matrix
   Vector residual = Vector::Zero(size_);
   Matrix jacobian = Matrix::Zero(size_, size_);
   double largest_turn = 0.0;
-  // The bore is evaluated four contacts at a time, the costliest part of an iteration.
+  // The bore is summed four contacts at a time, the costliest part of an iteration.
   for (int first = 0; first < z; first += 4) {
     const int count = std::min(4, z - first);
     double cos_theta[4] = {1.0, 1.0, 1.0, 1.0};
@@ -222,7 +222,15 @@ double EquilibriumSystem::ContinuationUpdate(const RingTurn& turn, Eigen::Matrix
       tracked.bore_angle.Evaluate(tracked.contact.ring_theta, cos_theta[k], sin_theta[k]);
     }
     engine::RadiusDerivatives bore_at[4];
-    bore.EvaluateFourAt(cos_theta, sin_theta, bore_at);
+    if (bore.sampled()) {
+      // A bore of many harmonics interpolates its samples instead.
+      for (int k = 0; k < count; ++k) {
+        bore_at[k] = bore.EvaluateAt(contacts[static_cast<std::size_t>(first + k)].contact.ring_theta, cos_theta[k],
+                                     sin_theta[k]);
+      }
+    } else {
+      bore.EvaluateFourAt(cos_theta, sin_theta, bore_at);
+    }
     for (int k = 0; k < count; ++k) {
       const int i = first + k;
       const engine::RadiusDerivatives& d = bore_at[k];

@@ -296,6 +296,46 @@ TEST(PolarProfile, EvaluateMatchesDirectSumOfHarmonicsAndTheirDerivatives) {
   ExpectEvaluateMatchesDirectSum<kOvalLarge>(thetas);
 }
 
+// Profiles with kSampledOrders harmonic orders and more evaluate by interpolating their
+// samples. The table's step h is at most the one its bound allows,
+// h_max = (46080 tol / S6)^(1/6) with S6 = sum n^6 C_n, and the quintic Hermite error
+// f^(6)/720 * w(t) h^6, w = t^3 (1 - t)^3, bounds r by tol; differentiated once and
+// twice, max |w'| = 0.048 and max |w''| = 0.375 bound r' and r'' by 0.048 h^5 S6 / 720
+// and 0.375 h^4 S6 / 720, to leading order: a factor 8 covers the next order (the
+// dependence of f^(6) on where it is taken).
+template <Spec kSpec>
+void ExpectSampledEvaluationWithinItsBound(const std::vector<double>& thetas) {
+  constexpr double kSixth = Moment(kSpec, 6);  // [m/rad^6] S6
+  const double step = std::pow(46080.0 * PolarProfile::kSampleTolerance / kSixth, 1.0 / 6.0);  // [rad] h_max
+  constexpr double kRecurrence = 4.0 * MaxOrder(kSpec) * kEps;  // the direct sum's own round-off, as above
+  const double r_tolerance = PolarProfile::kSampleTolerance + kRecurrence * Moment(kSpec, 0) + 4.0 * kEps * MaxReach(kSpec);
+  const double dr_tolerance = 8.0 * 0.048 * std::pow(step, 5) * kSixth / 720.0 + kRecurrence * Moment(kSpec, 1);
+  const double ddr_tolerance = 8.0 * 0.375 * std::pow(step, 4) * kSixth / 720.0 + kRecurrence * Moment(kSpec, 2);
+  const PolarProfile profile = Make(kSpec);
+  ASSERT_TRUE(profile.sampled());
+  for (const double theta : thetas) {
+    const RadiusDerivatives d = profile.EvaluateAt(theta, std::cos(theta), std::sin(theta));
+    const Exact e = DirectSum(kSpec, theta);
+    EXPECT_NEAR(d.r, static_cast<double>(e.r), r_tolerance) << "theta " << theta;
+    EXPECT_NEAR(d.dr, static_cast<double>(e.dr), dr_tolerance) << "theta " << theta;
+    EXPECT_NEAR(d.ddr, static_cast<double>(e.ddr), ddr_tolerance) << "theta " << theta;
+  }
+}
+
+TEST(PolarProfile, SampledEvaluationStaysWithinItsInterpolationBound) {
+  std::mt19937_64 rng(20261124);
+  std::vector<double> thetas;
+  for (int k = 0; k < 4000; ++k) thetas.push_back(Uniform(rng, -20.0, 20.0));
+  ExpectSampledEvaluationWithinItsBound<kMixed>(thetas);
+  ExpectSampledEvaluationWithinItsBound<kRingLike>(thetas);
+  ExpectSampledEvaluationWithinItsBound<kOrderForty>(thetas);
+  // Few orders are summed: there the sampled path is the summed one.
+  const PolarProfile oval = Make(kOvalLarge);
+  EXPECT_FALSE(oval.sampled());
+  const RadiusDerivatives summed = oval.EvaluateAt(0.3, std::cos(0.3), std::sin(0.3));
+  EXPECT_EQ(summed.r, oval.EvaluateAt(std::cos(0.3), std::sin(0.3)).r);
+}
+
 // The four-lane evaluation the contact steps use does the arithmetic of EvaluateAt lane
 // by lane, so it must give the same bits.
 TEST(PolarProfile, FourAnglesAtOnceGiveExactlyWhatFourEvaluationsGive) {
@@ -374,8 +414,9 @@ TEST(PolarProfile, ConstructorRejectsNonPositiveRadiusAndOrdersBelowOne) {
 // ---------------------------------------------------------------------------------------
 // Support
 
-// Support's stopping rule (engine/profile.cpp): Newton stops once its step is below
-// 1e-14 rad and returns the angle before that step; doubled for margin. Rounding of the
+// Support's stopping rule (engine/profile.cpp): Newton stops once its step, or the step
+// after it as the harmonics' bound on f'' predicts, is below 1e-14 rad, and returns the
+// angle before that step or after it (taken by series); doubled for margin. Rounding of the
 // slope f = r' cos - r sin (~8 eps r) over its derivative kappa (r^2 + r'^2) >=
 // kappa_min r_min^2 adds the rest [rad].
 template <Spec kSpec>
@@ -398,8 +439,11 @@ void ExpectSupportMatchesBruteForce() {
   constexpr double kTheta = kThetaTolerance<kSpec>;             // [rad]
   // dh = r sin(theta - phi) moves by at most |x'| per radian of theta [m].
   constexpr double kDhTolerance = MaxSpeed(kSpec) * kTheta + kHRounding;
-  // Curvature: 32 roundings of its bound plus its drift over the theta tolerance [1/m].
-  constexpr double kCurvatureTolerance = 32.0 * kEps * CurvatureBound(kSpec) + CurvatureSlopeBound(kSpec) * kTheta;
+  // Curvature: 32 roundings of its bound plus its drift over the theta tolerance, plus what
+  // a last step taken by series leaves out of r'', at most 1e-14 r by the stopping rule,
+  // which moves the curvature by that over r^2 [1/m].
+  constexpr double kCurvatureTolerance = 32.0 * kEps * CurvatureBound(kSpec) + CurvatureSlopeBound(kSpec) * kTheta +
+                                         1e-14 / MinReach(kSpec);
 
   const PolarProfile profile = Make(kSpec);
   ASSERT_TRUE(profile.IsConvex());
