@@ -155,39 +155,34 @@ RadiusDerivatives PolarProfile::EvaluateAt(double theta, double cos_theta, doubl
   return d;
 }
 
-RadiusDerivatives PolarProfile::EvaluateAt(double cos_theta, double sin_theta) const {
+template <bool kThird>
+RadiusDerivatives PolarProfile::Sum(double cos_theta, double sin_theta, double& dddr) const {
   RadiusDerivatives d{radius_ + mean_deviation_, 0.0, 0.0, cos_theta, sin_theta};
   // cos(n theta), sin(n theta) by the angle-addition recurrence: no sincos per order,
   // which would dominate the cost of a contact search.
   double cn = cos_theta;
   double sn = sin_theta;
-  for (const Term& t : terms_) {
-    d.r += t.a * cn - t.b * sn;
-    d.dr -= t.na * sn + t.nb * cn;
-    d.ddr -= t.nna * cn - t.nnb * sn;
-    const double next_c = cn * cos_theta - sn * sin_theta;
-    sn = sn * cos_theta + cn * sin_theta;
-    cn = next_c;
-  }
-  return d;
-}
-
-RadiusDerivatives PolarProfile::EvaluateWithThirdAt(double cos_theta, double sin_theta, double& dddr) const {
-  RadiusDerivatives d{radius_ + mean_deviation_, 0.0, 0.0, cos_theta, sin_theta};
   double third = 0.0;
-  double cn = cos_theta;
-  double sn = sin_theta;
   for (const Term& t : terms_) {
     d.r += t.a * cn - t.b * sn;
     d.dr -= t.na * sn + t.nb * cn;
     d.ddr -= t.nna * cn - t.nnb * sn;
-    third += t.nnna * sn + t.nnnb * cn;
+    if constexpr (kThird) third += t.nnna * sn + t.nnnb * cn;
     const double next_c = cn * cos_theta - sn * sin_theta;
     sn = sn * cos_theta + cn * sin_theta;
     cn = next_c;
   }
   dddr = third;
   return d;
+}
+
+RadiusDerivatives PolarProfile::EvaluateAt(double cos_theta, double sin_theta) const {
+  double unused;
+  return Sum<false>(cos_theta, sin_theta, unused);
+}
+
+RadiusDerivatives PolarProfile::EvaluateWithThirdAt(double cos_theta, double sin_theta, double& dddr) const {
+  return Sum<true>(cos_theta, sin_theta, dddr);
 }
 
 void PolarProfile::EvaluateFourAt(const double (&cos_theta)[4], const double (&sin_theta)[4],

@@ -123,6 +123,8 @@ class PolarProfile {
   // sine are given: the support search's evaluation, from which its last step is taken by
   // series.
   RadiusDerivatives EvaluateWithThirdAt(double cos_theta, double sin_theta, double& dddr) const;
+  template <bool kThird>
+  RadiusDerivatives Sum(double cos_theta, double sin_theta, double& dddr) const;
   std::vector<Term> terms_;
   // Bounds over the outline of |r''' - 3 r'| (odd) and |3 r'' - r| (even) [m]: the support
   // search's certificate that its next step would be negligible.

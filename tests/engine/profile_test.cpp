@@ -271,20 +271,36 @@ static_assert(MinCurvatureBound(kRingLike) > 0.0 && MinCurvatureBound(kMixed) > 
 // The engine's angle-addition recurrence for cos(n theta), sin(n theta) drifts by about
 // one rounding per order, so term n carries ~n eps relative error: 4 n_max eps times the
 // matching moment, plus 4 roundings of the constant part.
-template <Spec kSpec>
-void ExpectEvaluateMatchesDirectSum(const std::vector<double>& thetas) {
-  constexpr double kRecurrence = 4.0 * MaxOrder(kSpec) * kEps;
-  constexpr double kRTolerance = kRecurrence * Moment(kSpec, 0) + 4.0 * kEps * MaxReach(kSpec);  // [m]
-  constexpr double kDrTolerance = kRecurrence * Moment(kSpec, 1);                                // [m/rad]
-  constexpr double kDdrTolerance = kRecurrence * Moment(kSpec, 2);                               // [m/rad^2]
+struct DerivativeTolerances {
+  double r = 0.0;    // [m]
+  double dr = 0.0;   // [m/rad]
+  double ddr = 0.0;  // [m/rad^2]
+};
+
+// `evaluate(profile, theta)` against the long-double direct sum at every theta.
+template <Spec kSpec, typename Evaluate>
+void ExpectNearDirectSum(Evaluate evaluate, const std::vector<double>& thetas, const DerivativeTolerances& tolerance) {
   const PolarProfile profile = Make(kSpec);
   for (const double theta : thetas) {
-    const RadiusDerivatives d = profile.Evaluate(theta);
+    const RadiusDerivatives d = evaluate(profile, theta);
     const Exact e = DirectSum(kSpec, theta);
-    EXPECT_NEAR(d.r, static_cast<double>(e.r), kRTolerance) << "theta " << theta;
-    EXPECT_NEAR(d.dr, static_cast<double>(e.dr), kDrTolerance) << "theta " << theta;
-    EXPECT_NEAR(d.ddr, static_cast<double>(e.ddr), kDdrTolerance) << "theta " << theta;
+    EXPECT_NEAR(d.r, static_cast<double>(e.r), tolerance.r) << "theta " << theta;
+    EXPECT_NEAR(d.dr, static_cast<double>(e.dr), tolerance.dr) << "theta " << theta;
+    EXPECT_NEAR(d.ddr, static_cast<double>(e.ddr), tolerance.ddr) << "theta " << theta;
   }
+}
+
+template <Spec kSpec>
+constexpr double kRecurrence = 4.0 * MaxOrder(kSpec) * kEps;
+
+template <Spec kSpec>
+constexpr DerivativeTolerances kSummed{kRecurrence<kSpec> * Moment(kSpec, 0) + 4.0 * kEps * MaxReach(kSpec),
+                                        kRecurrence<kSpec> * Moment(kSpec, 1), kRecurrence<kSpec> * Moment(kSpec, 2)};
+
+template <Spec kSpec>
+void ExpectEvaluateMatchesDirectSum(const std::vector<double>& thetas) {
+  ExpectNearDirectSum<kSpec>([](const PolarProfile& p, double theta) { return p.Evaluate(theta); }, thetas,
+                             kSummed<kSpec>);
 }
 
 TEST(PolarProfile, EvaluateMatchesDirectSumOfHarmonicsAndTheirDerivatives) {
@@ -307,19 +323,14 @@ template <Spec kSpec>
 void ExpectSampledEvaluationWithinItsBound(const std::vector<double>& thetas) {
   constexpr double kSixth = Moment(kSpec, 6);  // [m/rad^6] S6
   const double step = std::pow(46080.0 * PolarProfile::kSampleTolerance / kSixth, 1.0 / 6.0);  // [rad] h_max
-  constexpr double kRecurrence = 4.0 * MaxOrder(kSpec) * kEps;  // the direct sum's own round-off, as above
-  const double r_tolerance = PolarProfile::kSampleTolerance + kRecurrence * Moment(kSpec, 0) + 4.0 * kEps * MaxReach(kSpec);
-  const double dr_tolerance = 8.0 * 0.048 * std::pow(step, 5) * kSixth / 720.0 + kRecurrence * Moment(kSpec, 1);
-  const double ddr_tolerance = 8.0 * 0.375 * std::pow(step, 4) * kSixth / 720.0 + kRecurrence * Moment(kSpec, 2);
-  const PolarProfile profile = Make(kSpec);
-  ASSERT_TRUE(profile.sampled());
-  for (const double theta : thetas) {
-    const RadiusDerivatives d = profile.EvaluateAt(theta, std::cos(theta), std::sin(theta));
-    const Exact e = DirectSum(kSpec, theta);
-    EXPECT_NEAR(d.r, static_cast<double>(e.r), r_tolerance) << "theta " << theta;
-    EXPECT_NEAR(d.dr, static_cast<double>(e.dr), dr_tolerance) << "theta " << theta;
-    EXPECT_NEAR(d.ddr, static_cast<double>(e.ddr), ddr_tolerance) << "theta " << theta;
-  }
+  // The bound, plus the direct sum's own round-off (above).
+  const DerivativeTolerances tolerance{PolarProfile::kSampleTolerance + kSummed<kSpec>.r,
+                                       8.0 * 0.048 * std::pow(step, 5) * kSixth / 720.0 + kSummed<kSpec>.dr,
+                                       8.0 * 0.375 * std::pow(step, 4) * kSixth / 720.0 + kSummed<kSpec>.ddr};
+  ASSERT_TRUE(Make(kSpec).sampled());
+  ExpectNearDirectSum<kSpec>(
+      [](const PolarProfile& p, double theta) { return p.EvaluateAt(theta, std::cos(theta), std::sin(theta)); }, thetas,
+      tolerance);
 }
 
 TEST(PolarProfile, SampledEvaluationStaysWithinItsInterpolationBound) {
