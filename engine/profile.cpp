@@ -96,6 +96,9 @@ PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Har
     support_bound_.odd += (order * order * order + 3.0 * order) * amplitude;
     support_bound_.even += (3.0 * order * order + 1.0) * amplitude;
     support_bound_.fourth += order * order * order * order * amplitude;
+    support_bound_.series +=
+        (order * order * order * order * order / 24.0 + 5.0 * order * order * order / 12.0 + 5.0 * order / 24.0) *
+        amplitude;
   }
   support_bound_.even += radius_ + mean_deviation_;
   if (this->max_order() >= kSampledOrders) {
@@ -289,6 +292,56 @@ SupportPoint PolarProfile::SupportToward(double cos_phi, double sin_phi, double 
   }
   const double q = d.r * d.r + d.dr * d.dr;
   return {delta, d.r * c, d.r * s, q * std::sqrt(q) / (q + d.dr * d.dr - d.r * d.ddr), evaluations};
+}
+
+SupportPoint PolarProfile::SupportTowardNearlyRound(double cos_phi, double sin_phi, double offset_tolerance) const {
+  if (is_circle()) return SupportToward(cos_phi, sin_phi, 0.0);
+  // r and its derivatives R0 .. R4 along the normal, in one pass over the harmonics.
+  double derivative[5] = {radius_ + mean_deviation_, 0.0, 0.0, 0.0, 0.0};
+  double cn = cos_phi;
+  double sn = sin_phi;
+  double order = 0.0;
+  for (const Term& t : terms_) {
+    order += 1.0;
+    const double p = t.a * cn - t.b * sn;  // the harmonic's cosine part
+    const double q = t.a * sn + t.b * cn;  // and its sine part
+    const double order_squared = order * order;
+    derivative[0] += p;
+    derivative[1] -= order * q;
+    derivative[2] -= order_squared * p;
+    derivative[3] += order_squared * order * q;
+    derivative[4] += order_squared * order_squared * p;
+    const double next_c = cn * cos_phi - sn * sin_phi;
+    sn = sn * cos_phi + cn * sin_phi;
+    cn = next_c;
+  }
+  const auto& [r0, r1, r2, r3, r4] = derivative;
+  // f(delta) = r'(phi + delta) cos delta - r(phi + delta) sin delta = F0 + F1 delta +
+  // F2 delta^2 + F3 delta^3 + F4 delta^4 + ..., reverted: delta = d1 + a2 d1^2 + a3 d1^3,
+  // d1 = -F0 / F1, with error c4 d1^4, |c4| <= 5 |F2/F1|^3 + 5 |F2/F1| |F3/F1| + |F4| / |F1|.
+  const double f1 = r2 - r0;
+  const double f2 = 0.5 * (r3 - 3.0 * r1);
+  const double f3 = (1.0 / 6.0) * r4 - r2 + (1.0 / 6.0) * r0;
+  const double d1 = -r1 / f1;
+  const double ratio2 = f2 / f1;
+  const double ratio3 = f3 / f1;
+  const double d1_squared = d1 * d1;
+  const double delta = d1 + d1_squared * (-ratio2 + d1 * (2.0 * ratio2 * ratio2 - ratio3));
+  const double c4 = 5.0 * std::abs(ratio2) * (ratio2 * ratio2 + std::abs(ratio3)) + support_bound_.series / std::abs(f1);
+  // f' < 0 at the touching point of a convex outline; a margin of two on the error.
+  if (!(f1 < 0.0) || !(2.0 * c4 * d1_squared * d1_squared <= offset_tolerance)) {
+    return SupportToward(cos_phi, sin_phi, std::isfinite(delta) ? delta : 0.0);
+  }
+  double c;
+  double s;
+  CosSinOfSmallAngle(delta, c, s);
+  // r, r', r'' at the touching point by Taylor series: what they leave out is
+  // r^(5) delta^5 / 120 and below, ~1e-17 m for a roller's lobes.
+  const double r = r0 + delta * (r1 + delta * (0.5 * r2 + delta * ((1.0 / 6.0) * r3 + (1.0 / 24.0) * delta * r4)));
+  const double dr = r1 + delta * (r2 + delta * (0.5 * r3 + (1.0 / 6.0) * delta * r4));
+  const double ddr = r2 + delta * (r3 + 0.5 * delta * r4);
+  const double q = r * r + dr * dr;
+  return {delta, r * c, r * s, q * std::sqrt(q) / (q + dr * dr - r * ddr), 1};
 }
 
 void PolarProfile::FindExtremes() {

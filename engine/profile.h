@@ -80,6 +80,15 @@ class PolarProfile {
   // that hold the normal but not its angle. Here `theta` of the result, and the guess,
   // are the touching point's offset theta - phi, in (-pi/2, pi/2).
   SupportPoint SupportToward(double cos_phi, double sin_phi, double offset_guess) const;
+  // The same for a nearly round outline, whose touching point lies delta ~ r' / r from the
+  // normal: one evaluation of r and its first four derivatives along the normal, and delta
+  // from the series reversion of r' cos delta - r sin delta = 0 to third order in r' / r,
+  // exact to its next term, which the harmonics' moments bound. Where that bound exceeds
+  // offset_tolerance [rad] (a lobed outline rather than a nearly round one) the search of
+  // SupportToward finishes from the series' answer to its own 1e-14 rad. The series'
+  // curvature radius leaves out r^(5) delta^3 / 6 of r'' (~1e-8 of it for a roller's
+  // lobes): enough for the Newton steps that use it.
+  SupportPoint SupportTowardNearlyRound(double cos_phi, double sin_phi, double offset_tolerance) const;
 
   // Profiles with many harmonics (kSampledOrders and up) keep r, r' and r'' sampled on a
   // uniform grid of the body angle, computed at construction by three inverse FFTs
@@ -132,6 +141,9 @@ class PolarProfile {
     double odd = 0.0;
     double even = 0.0;
     double fourth = 0.0;  // of |r''''|: what a last step by series leaves out of r''
+    // of |r^(5)| / 24 + 5 |r'''| / 12 + 5 |r'| / 24, the fourth Taylor coefficient of
+    // r' cos delta - r sin delta: the nearly-round series' error bound
+    double series = 0.0;
     bool operator==(const SupportBound&) const = default;
   };
   SupportBound support_bound_;

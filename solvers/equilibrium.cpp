@@ -257,14 +257,20 @@ double EquilibriumSystem::ContinuationUpdate(const RingTurn& turn, Eigen::Matrix
       double roller_dh = 0.0;
       double roller_rho = roller.radius;
       if (!roller.round) {
-        // The normal in the roller's body frame, and the touching point as an offset from
-        // it, which changes slowly while the roller spins quickly: a warm start that holds.
-        const double spin = engine::RollerBodyAngle(scene_, i, turn.psi);
-        const double cos_spin = std::cos(spin);
-        const double sin_spin = std::sin(spin);
-        const engine::SupportPoint b = scene_.rollers[static_cast<std::size_t>(i)].outline.SupportToward(
+        // The normal in the roller's body frame; a roller is nearly round, and its touching
+        // point follows from one evaluation there (PolarProfile::SupportTowardNearlyRound).
+        // Its offset is needed to kRollerOffsetTolerance only: an error e moves the roller's
+        // touching point along the tangent by r_b e, which turns the converged normal by
+        // r_b e / g'' (g'' ~ R - r_b) and the force with it; for the article's contacts
+        // (~2e5 N/m, ~20 N) that moves the ring by ~2e-6 e [m], 2e-18 m at 1e-12 rad.
+        constexpr double kRollerOffsetTolerance = 1e-12;  // [rad]
+        const Eigen::Vector2d spin = turn.spin.empty() ? engine::Direction(engine::RollerBodyAngle(scene_, i, turn.psi))
+                                                       : turn.spin[static_cast<std::size_t>(i)];
+        const double cos_spin = spin.x();
+        const double sin_spin = spin.y();
+        const engine::SupportPoint b = scene_.rollers[static_cast<std::size_t>(i)].outline.SupportTowardNearlyRound(
             normal.x() * cos_spin + normal.y() * sin_spin, normal.y() * cos_spin - normal.x() * sin_spin,
-            tracked.roller_offset);
+            kRollerOffsetTolerance);
         roller_h = b.h;
         roller_dh = b.dh;
         roller_rho = b.curvature_radius;

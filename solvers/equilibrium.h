@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -22,12 +23,14 @@
 namespace ringtol::solvers {
 
 // The ring's rotation psi [rad] with its cosine and sine, which every contact step needs
-// and a revolution computes once per angle.
+// and a revolution computes once per angle; and, optionally, the cosine and sine of every
+// roller's body angle there (engine::RollerBodyAngle), computed by the contact steps of
+// lobed rollers when not given.
 struct RingTurn {
   double psi = 0.0;
   double cos_psi = 1.0;
   double sin_psi = 0.0;
-  static RingTurn Of(double psi) { return {psi, std::cos(psi), std::sin(psi)}; }
+  std::span<const Eigen::Vector2d> spin;
 };
 
 // A contact followed along a trajectory: the last answer is the next search's start.

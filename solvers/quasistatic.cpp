@@ -285,6 +285,41 @@ Equilibrium Record(const EquilibriumSystem& system, const EquilibriumSystem::Sta
   return e;
 }
 
+// cos and sin of every roller's body angle at a revolution's angles psi_k = 2 pi k / steps,
+// asked for in order: each turned by its fixed increment per angle (one complex product)
+// and restarted from libm every kAnchor angles, which keeps round-off below ~1e-14.
+class RollerSpins {
+ public:
+  static constexpr int kAnchor = 64;
+
+  RollerSpins(const Scene& scene, int steps) : scene_(scene), steps_(steps), spin_(scene.rollers.size()) {
+    for (int i = 0; i < static_cast<int>(scene.rollers.size()); ++i) {
+      increment_.push_back(engine::Direction(engine::SpinRatio(scene, i) * 2.0 * std::numbers::pi / steps));
+    }
+  }
+
+  std::span<const Eigen::Vector2d> At(int k) {
+    for (std::size_t i = 0; i < spin_.size(); ++i) {
+      if (k % kAnchor == 0 || k != next_) {
+        spin_[i] = engine::Direction(engine::RollerBodyAngle(scene_, static_cast<int>(i), 2.0 * std::numbers::pi * k / steps_));
+      } else {
+        const Eigen::Vector2d& a = spin_[i];
+        const Eigen::Vector2d& b = increment_[i];
+        spin_[i] = Eigen::Vector2d(a.x() * b.x() - a.y() * b.y(), a.y() * b.x() + a.x() * b.y());
+      }
+    }
+    next_ = k + 1;
+    return spin_;
+  }
+
+ private:
+  const Scene& scene_;
+  int steps_;
+  int next_ = -1;
+  std::vector<Eigen::Vector2d> spin_;
+  std::vector<Eigen::Vector2d> increment_;
+};
+
 // The revolution from the static equilibrium x0 and its contacts, with the unknowns in
 // storage of N (fixed-size for the common systems, Eigen::Dynamic for the rest).
 template <int N>
@@ -307,10 +342,15 @@ void Revolve(const QuasistaticOptions& options, const EquilibriumSystem& system,
   Predictor predictor;
   ConvergenceModel model;
   engine::NearbyAngle psi_trig;
+  RollerSpins spins(scene, steps);
+  const bool lobed = std::any_of(scene.rollers.begin(), scene.rollers.end(),
+                                 [](const engine::Roller& r) { return !r.outline.is_circle(); });
   SetForces(system, x, contacts);
   for (int k = 0; k <= steps; ++k) {
-    RingTurn turn{2.0 * std::numbers::pi * k / steps};
+    RingTurn turn;
+    turn.psi = 2.0 * std::numbers::pi * k / steps;
     psi_trig.Evaluate(turn.psi, turn.cos_psi, turn.sin_psi);
+    if (lobed) turn.spin = spins.At(k);
     const double psi = turn.psi;
     if (k > 0) {
       previous = x;

@@ -646,6 +646,49 @@ TEST(PolarProfileSupport, TowardAGivenNormalVectorIsTheSameSearch) {
   }
 }
 
+// The nearly-round series takes one evaluation where its error bound is within the
+// tolerance asked, and then answers like the full search to that tolerance: theta to it,
+// dh = r sin(offset) to r times it, h (stationary in theta) to rounding, the curvature
+// to its drift over it and what its series leaves out. An outline far out of round
+// (kOvalModerate, 10 %) mostly falls back to the full search, to its 1e-14 rad.
+TEST(PolarProfileSupport, NearlyRoundSeriesAnswersLikeTheSearchToTheToleranceAsked) {
+  constexpr double kAsked = 1e-12;  // [rad] what the quasistatic rung asks (solvers/equilibrium.cpp)
+  const PolarProfile roller = Make(kRollerLike);
+  const PolarProfile oval = Make(kOvalModerate);
+  std::mt19937_64 rng(7);
+  int series_answers = 0;
+  int oval_searches = 0;
+  for (int k = 0; k < 200; ++k) {
+    const double phi = Uniform(rng, -kPi, kPi);
+    for (const PolarProfile* profile : {&roller, &oval}) {
+      const bool nearly_round = profile == &roller;
+      const double theta = nearly_round ? kAsked + kThetaTolerance<kRollerLike> : kThetaTolerance<kOvalModerate>;
+      const double reach = nearly_round ? MaxReach(kRollerLike) : MaxReach(kOvalModerate);
+      const double h_rounding = 16.0 * kEps * reach;
+      const SupportPoint series = profile->SupportTowardNearlyRound(std::cos(phi), std::sin(phi), kAsked);
+      // The series' r'' leaves out r^(5) delta^3 / 6, which moves the curvature by that
+      // over r^2.
+      const double left_out = Moment(kRollerLike, 5) * std::pow(std::abs(series.theta), 3) / 6.0 /
+                              (MinReach(kRollerLike) * MinReach(kRollerLike));
+      const double curvature = nearly_round ? 32.0 * kEps * CurvatureBound(kRollerLike) +
+                                                  CurvatureSlopeBound(kRollerLike) * theta + left_out
+                                            : 32.0 * kEps * CurvatureBound(kOvalModerate) +
+                                                  CurvatureSlopeBound(kOvalModerate) * theta;
+      const SupportPoint search = profile->SupportToward(std::cos(phi), std::sin(phi), 0.0);
+      if (nearly_round) series_answers += series.evaluations == 1;
+      EXPECT_NEAR(series.theta, search.theta, theta) << "phi " << phi;
+      EXPECT_NEAR(series.h, search.h, h_rounding) << "phi " << phi;
+      EXPECT_NEAR(series.dh, search.dh, reach * theta + h_rounding) << "phi " << phi;
+      EXPECT_NEAR(1.0 / series.curvature_radius, 1.0 / search.curvature_radius, curvature) << "phi " << phi;
+      if (!nearly_round) oval_searches += series.evaluations > 1;
+    }
+  }
+  EXPECT_EQ(series_answers, 200) << "the roller is nearly round: the series should answer every direction";
+  // Except near its axes, where its touching point lies on the normal, the oval is too far
+  // out of round for the series.
+  EXPECT_GT(oval_searches, 150);
+}
+
 // ---------------------------------------------------------------------------------------
 // Convexity and extremes
 
