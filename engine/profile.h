@@ -66,9 +66,9 @@ class PolarProfile {
   // samples when it keeps them (sampled()), else summed as EvaluateAt. The cheaper of the
   // two for any profile.
   RadiusDerivatives EvaluateAt(double theta, double cos_theta, double sin_theta) const;
-  // Four angles at once, two per SIMD lane pair, in one pass over the harmonics: the
-  // same arithmetic, and the same results, as four EvaluateAt calls, at the cost of about
-  // one and a half (the lanes run side by side and their recurrences overlap).
+  // Four angles at once, in two pairs of SIMD lanes and one pass over the harmonics: the
+  // same arithmetic, and the same results, as four EvaluateAt calls, whose recurrences
+  // then overlap instead of waiting on each other.
   void EvaluateFourAt(const double (&cos_theta)[4], const double (&sin_theta)[4], RadiusDerivatives (&out)[4]) const;
 
   // Support point for the outward normal at body angle phi [rad]. theta_guess speeds up
@@ -97,7 +97,7 @@ class PolarProfile {
   // h^6 / 46080 * sum_n n^6 C_n for a grid step h. r' and r'' come from the same
   // interpolant, exact to O(h^5) and O(h^4) (a few pm/rad and um/rad^2 for a 50-order
   // waterjet ring), which only the Newton steps' rate feels. An evaluation then costs
-  // about as much as six harmonics summed.
+  // about as much as three harmonics summed, whatever the order.
   static constexpr int kSampledOrders = 16;
   static constexpr double kSampleTolerance = 1e-15;  // [m]
   bool sampled() const { return samples_.table != nullptr; }

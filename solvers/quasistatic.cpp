@@ -155,9 +155,9 @@ constexpr int kCheckInterval = 16;
 // Newton's method for one angle of a revolution, started from a good prediction: each
 // iteration steps the contact searches and the force balance together
 // (EquilibriumSystem::ContinuationUpdate), so an iteration costs one bore evaluation per
-// contact. Converged when the last update (or the update
-// the convergence model predicts next) is within tolerance. Returns false (leaving x and
-// the contacts unusable) when it does not converge; the caller then falls back to Newton().
+// contact. Converged when the last update (or the update the convergence model predicts
+// next) is within tolerance. Returns false (leaving x and the contacts unusable) when it
+// does not converge; the caller then falls back to Newton().
 template <int N>
 bool ContinuationNewton(const EquilibriumSystem& system, const RingTurn& turn, Eigen::Matrix<double, N, 1>& x,
                         std::vector<TrackedContact>& contacts, const Eigen::Matrix<double, N, 1>& tolerance,
