@@ -61,8 +61,11 @@ int SampleCount(const std::vector<double>& a, const std::vector<double>& b, doub
   }
   const double step = std::pow(46080.0 * tolerance / sixth_derivative, 1.0 / 6.0);
   const double wanted = std::max(2.0 * std::numbers::pi / step, 8.0 * static_cast<double>(a.size() - 1));
+  // A convex outline's amplitudes fall as 1 / n^2 at least, which keeps this to a few
+  // hundred thousand samples even at order 10^4; the cap only guards the loop.
+  constexpr int kMaxCount = 1 << 24;
   int count = 64;
-  while (count < wanted) count *= 2;
+  while (count < wanted && count < kMaxCount) count *= 2;
   return count;
 }
 
