@@ -371,6 +371,33 @@ TEST(PolarProfile, FourAnglesAtOnceGiveExactlyWhatFourEvaluationsGive) {
   }
 }
 
+// The contact steps take cos and sin of every moving angle from a Taylor series about a
+// reference: across the whole reach the series must be as good as libm. A series cut
+// one term short at this reach would miss by ~1e-15, several ulps.
+TEST(NearbyAngle, MatchesLibmToRoundOffAcrossItsReachAndAlongAWalk) {
+  constexpr double kRoundOff = 3.0 * kEps;
+  for (int k = -1000; k <= 1000; ++k) {
+    const double delta = NearbyAngle::kReach * k / 1000.0;
+    double c;
+    double s;
+    CosSinOfSmallAngle(delta, c, s);
+    EXPECT_NEAR(c, static_cast<double>(std::cos(static_cast<long double>(delta))), kRoundOff) << delta;
+    EXPECT_NEAR(s, static_cast<double>(std::sin(static_cast<long double>(delta))), kRoundOff) << delta;
+  }
+  // Steps of a contact along a revolution, both ways, and a jump beyond the reach.
+  NearbyAngle angle;
+  double theta = 0.3;
+  std::mt19937_64 rng(20261124);
+  for (int step = 0; step < 20000; ++step) {
+    theta += step == 10000 ? 2.5 : Uniform(rng, -0.004, 0.012);
+    double c;
+    double s;
+    angle.Evaluate(theta, c, s);
+    EXPECT_NEAR(c, static_cast<double>(std::cos(static_cast<long double>(theta))), kRoundOff) << theta;
+    EXPECT_NEAR(s, static_cast<double>(std::sin(static_cast<long double>(theta))), kRoundOff) << theta;
+  }
+}
+
 TEST(PolarProfile, HarmonicsOfEqualOrderAddUp) {
   // Two order-3 terms and two order-7 terms; the phasor sums give the coefficients.
   constexpr Spec kDuplicated{kR, -1.0e-5, 5,
