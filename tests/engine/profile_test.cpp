@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -239,6 +240,14 @@ double Uniform(std::mt19937_64& rng, double lo, double hi) {
   return lo + (hi - lo) * static_cast<double>(rng() >> 11) * 0x1.0p-53;
 }
 
+// `count` body angles drawn uniformly over several turns either way [rad].
+std::vector<double> RandomAngles(std::uint64_t seed, int count) {
+  std::mt19937_64 rng(seed);
+  std::vector<double> thetas;
+  for (int k = 0; k < count; ++k) thetas.push_back(Uniform(rng, -20.0, 20.0));
+  return thetas;
+}
+
 // ---------------------------------------------------------------------------------------
 // The profiles.
 
@@ -304,9 +313,7 @@ void ExpectEvaluateMatchesDirectSum(const std::vector<double>& thetas) {
 }
 
 TEST(PolarProfile, EvaluateMatchesDirectSumOfHarmonicsAndTheirDerivatives) {
-  std::mt19937_64 rng(20250101);
-  std::vector<double> thetas;
-  for (int k = 0; k < 2000; ++k) thetas.push_back(Uniform(rng, -20.0, 20.0));
+  const std::vector<double> thetas = RandomAngles(20250101, 2000);
   ExpectEvaluateMatchesDirectSum<kMixed>(thetas);
   ExpectEvaluateMatchesDirectSum<kOrderForty>(thetas);
   ExpectEvaluateMatchesDirectSum<kOvalLarge>(thetas);
@@ -334,9 +341,7 @@ void ExpectSampledEvaluationWithinItsBound(const std::vector<double>& thetas) {
 }
 
 TEST(PolarProfile, SampledEvaluationStaysWithinItsInterpolationBound) {
-  std::mt19937_64 rng(20261124);
-  std::vector<double> thetas;
-  for (int k = 0; k < 4000; ++k) thetas.push_back(Uniform(rng, -20.0, 20.0));
+  const std::vector<double> thetas = RandomAngles(20261124, 4000);
   ExpectSampledEvaluationWithinItsBound<kMixed>(thetas);
   ExpectSampledEvaluationWithinItsBound<kRingLike>(thetas);
   ExpectSampledEvaluationWithinItsBound<kOrderForty>(thetas);
