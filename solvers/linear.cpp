@@ -4,7 +4,6 @@
 #include <cmath>
 #include <complex>
 #include <memory>
-#include <mutex>
 #include <numbers>
 
 #include <Eigen/LU>
@@ -429,15 +428,8 @@ void FillEquilibrium(const Linearisation& lin, const Eigen::VectorXd& y, Equilib
 }  // namespace
 
 std::shared_ptr<const NominalResponse> LinearSolver::Nominal(const Scene& scene) const {
-  engine::Scene perfect = engine::WithoutErrors(scene);
-  {
-    const std::lock_guard<std::mutex> lock(cache_mutex_);
-    if (cache_ != nullptr && cache_->perfect == perfect) return cache_;
-  }
-  std::shared_ptr<const NominalResponse> nominal = ComputeNominal(std::move(perfect), options_.nominal);
-  const std::lock_guard<std::mutex> lock(cache_mutex_);
-  cache_ = nominal;
-  return nominal;
+  return nominal_.Get(engine::WithoutErrors(scene),
+                      [this](engine::Scene perfect) { return ComputeNominal(std::move(perfect), options_.nominal); });
 }
 
 Equilibrium LinearSolver::SolveStatic(const Scene& scene) const {

@@ -8,8 +8,8 @@
 #pragma once
 
 #include <memory>
-#include <mutex>
 
+#include "solvers/nominal_cache.h"
 #include "solvers/quasistatic.h"
 #include "solvers/solver.h"
 
@@ -36,8 +36,7 @@ class LinearSolver final : public Solver {
   std::shared_ptr<const NominalResponse> Nominal(const engine::Scene& scene) const;
 
   LinearOptions options_;
-  mutable std::mutex cache_mutex_;
-  mutable std::shared_ptr<const NominalResponse> cache_;
+  NominalCache<NominalResponse> nominal_;
 };
 
 }  // namespace ringtol::solvers

@@ -499,17 +499,13 @@ struct NominalStatics {
 };
 
 std::shared_ptr<const NominalStatics> QuasistaticSolver::Nominal(engine::Scene perfect) const {
-  {
-    const std::lock_guard<std::mutex> lock(cache_mutex_);
-    if (cache_ != nullptr && cache_->perfect == perfect) return cache_;
-  }
-  auto nominal = std::make_shared<NominalStatics>();
-  nominal->perfect = std::move(perfect);
-  const EquilibriumSystem system(nominal->perfect);
-  nominal->equilibrium = SolveStatic(system, nominal->x, nominal->contacts);
-  const std::lock_guard<std::mutex> lock(cache_mutex_);
-  cache_ = nominal;
-  return nominal;
+  return nominal_.Get(std::move(perfect), [this](engine::Scene key) {
+    auto nominal = std::make_shared<NominalStatics>();
+    nominal->perfect = std::move(key);
+    const EquilibriumSystem system(nominal->perfect);
+    nominal->equilibrium = SolveStatic(system, nominal->x, nominal->contacts);
+    return std::shared_ptr<const NominalStatics>(std::move(nominal));
+  });
 }
 
 Equilibrium QuasistaticSolver::SolveStaticFromNominal(const EquilibriumSystem& system, Eigen::VectorXd& x,

@@ -14,10 +14,10 @@
 #pragma once
 
 #include <memory>
-#include <mutex>
 #include <vector>
 
 #include "solvers/equilibrium.h"
+#include "solvers/nominal_cache.h"
 #include "solvers/solver.h"
 
 namespace ringtol::solvers {
@@ -66,8 +66,7 @@ class QuasistaticSolver final : public Solver {
   std::shared_ptr<const NominalStatics> Nominal(engine::Scene perfect) const;
 
   QuasistaticOptions options_;
-  mutable std::mutex cache_mutex_;
-  mutable std::shared_ptr<const NominalStatics> cache_;
+  NominalCache<NominalStatics> nominal_;
 };
 
 }  // namespace ringtol::solvers
