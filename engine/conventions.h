@@ -6,7 +6,7 @@
 //   files (`*_deg` keys). The ring turns by psi about its own centre, counter-clockwise
 //   positive; a ring body angle theta sits at global angle theta + psi.
 //
-// Profiles (model.md §3)
+// Profiles (docs/model.md §3)
 //   Every surface is a polar series about its body's centre in its body's frame:
 //     r(theta) = r_nominal + dr0 + sum_n C_n cos(n theta + phi_n),
 //   amplitudes C_n are radial deviations, positive outward. Order 1 is an eccentricity.

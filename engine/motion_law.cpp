@@ -1,4 +1,5 @@
 #include "engine/motion_law.h"
+#include "engine/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -129,11 +130,10 @@ MotionLaw ArticleLaw(double settle, double rate, double revolutions) {
 }
 
 MotionLaw TestBenchLaw(double settle) {
-  constexpr double kDegree = std::numbers::pi / 180.0;
-  constexpr double kAcceleration = 810.0 * kDegree;  // [rad/s^2]
-  constexpr double kRate = 270.0 * kDegree;          // [rad/s]
+  constexpr double kAcceleration = 810.0 * units::kRadiansPerDegree;  // [rad/s^2]
+  constexpr double kRate = 270.0 * units::kRadiansPerDegree;          // [rad/s]
   constexpr double kRamp = kRate / kAcceleration;    // [s] 1/3 s: 45 deg at mean 135 deg/s
-  constexpr double kCruise = 810.0 * kDegree / kRate;  // [s] 3 s
+  constexpr double kCruise = 810.0 * units::kRadiansPerDegree / kRate;  // [s] 3 s
   return AfterSettle(settle, {{.duration = kRamp, .acceleration = kAcceleration, .start_rate = 0.0},
                               {.duration = kCruise, .acceleration = 0.0, .start_rate = std::nullopt},
                               {.duration = kRamp, .acceleration = -kAcceleration, .start_rate = std::nullopt}});

@@ -1,4 +1,5 @@
 #include "engine/scene.h"
+#include "engine/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -66,7 +67,7 @@ namespace {
 std::string Millimetres(double metres) {
   std::ostringstream out;
   out.precision(6);
-  out << metres * 1e3 << " mm";
+  out << metres * units::kMillimetresPerMetre << " mm";
   return out.str();
 }
 }  // namespace

@@ -1,4 +1,4 @@
-// The assembly ringtol simulates (model.md §1–§4), in SI units. Conventions are in
+// The assembly ringtol simulates (docs/model.md §1–§4), in SI units. Conventions are in
 // engine/conventions.h. A Scene is a plain value: the input reader in jobs/ fills it and
 // validates every field; solvers take it by const reference and never keep it.
 #pragma once
@@ -52,7 +52,7 @@ struct Roller {
   bool operator==(const Roller&) const = default;
 };
 
-// Normal contact law, model.md §4: F = k delta^e + STEP(delta, 0, 0, d, c_max) delta'.
+// Normal contact law, docs/model.md §4: F = k delta^e + STEP(delta, 0, 0, d, c_max) delta'.
 struct ContactLaw {
   enum class Model { kRigid, kPenalty };
   Model model = Model::kPenalty;
@@ -64,9 +64,9 @@ struct ContactLaw {
   bool operator==(const ContactLaw&) const = default;
 };
 
-// Coulomb friction with stiction, model.md §4 (used by the dynamic solver).
+// Coulomb friction with stiction, docs/model.md §4 (used by the dynamic solver).
 // What the dynamic solver models beyond the ring's (x, y). Each reduction drops states and
-// stiffness a scene may not need (model.md §4).
+// stiffness a scene may not need (docs/model.md §4).
 struct DynamicModel {
   // Coulomb friction with stiction at the contacts. Off, nothing turns the rollers:
   // combine with rolling_without_slip unless still rollers are what is meant. Safe when

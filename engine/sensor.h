@@ -1,4 +1,4 @@
-// The runout sensor of model.md §5: a laser triangulator fixed in the frame looks along
+// The runout sensor of docs/model.md §5: a laser triangulator fixed in the frame looks along
 // a ray from the nominal centre at a fixed angle and reads how far out the ring's bore is.
 // Its signal contains the centre's motion and the bore's own form passing by.
 #pragma once
@@ -32,7 +32,7 @@ SensorReading ReadSensor(const PolarProfile& ring, const BodyPose& ring_pose, do
 
 struct Runout {
   // [m] largest rise or fall between neighbouring extremes of the signal over one
-  // revolution, treating it as periodic: "peak to nearest valley" (model.md §5).
+  // revolution, treating it as periodic: "peak to nearest valley" (docs/model.md §5).
   double peak_to_nearest_valley = 0.0;
   double total = 0.0;  // [m] max - min over the revolution
 };

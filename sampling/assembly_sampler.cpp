@@ -9,13 +9,12 @@
 #include <string>
 
 #include "sampling/random.h"
+#include "engine/units.h"
 
 namespace ringtol::sampling {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kMicrometresPerMetre = 1e6;
-constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
 constexpr double kMaxFormCp = 1.33;
 
 // Inverse CDFs of the unit coordinates.
@@ -361,21 +360,21 @@ SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const dou
       case Component::Kind::kRollerForm:
       case Component::Kind::kRollerEccentricity: {
         for (std::size_t k = 0; k < harmonics.size(); ++k) {
-          values[2 * k] = harmonics[k].amplitude * kMicrometresPerMetre;
-          values[2 * k + 1] = harmonics[k].phase * kDegreesPerRadian;
+          values[2 * k] = harmonics[k].amplitude * units::kMicrometresPerMetre;
+          values[2 * k + 1] = harmonics[k].phase * units::kDegreesPerRadian;
         }
         auto& target = c.kind == Component::Kind::kRingForm ? ring_harmonics : roller_harmonics[r];
         target.insert(target.end(), harmonics.begin(), harmonics.end());
         break;
       }
       case Component::Kind::kRollerSize:
-        values[0] = drawn * kMicrometresPerMetre;
+        values[0] = drawn * units::kMicrometresPerMetre;
         roller_mean[r] += drawn / 2.0;  // the profile's mean radius deviation
         break;
       case Component::Kind::kPosition: {
         const double direction = UniformPhase(w[1]);
-        values[0] = drawn * kMicrometresPerMetre;
-        values[1] = direction * kDegreesPerRadian;
+        values[0] = drawn * units::kMicrometresPerMetre;
+        values[1] = direction * units::kDegreesPerRadian;
         scene.rollers[r].radial_offset += drawn * std::cos(direction);
         scene.rollers[r].tangential_offset += drawn * std::sin(direction);
         break;

@@ -1,4 +1,5 @@
 #include "sampling/catalogue.h"
+#include "engine/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +13,7 @@ namespace {
 std::string Millimetres(double metres) {
   if (std::isinf(metres)) return "inf";
   char text[32];
-  std::snprintf(text, sizeof text, "%g", metres * 1e3);
+  std::snprintf(text, sizeof text, "%g", metres * units::kMillimetresPerMetre);
   return text;
 }
 

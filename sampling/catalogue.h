@@ -1,12 +1,12 @@
 // The tolerance catalogue: named classes a designer calls out ("Normal-class rollers, a
 // waterjet-cut ring, holes IT7"), each a table of tolerance values by diameter with the
-// source of every number. The shipped catalogue is jobs/catalogue.toml (read by
-// jobs/catalogue_file.h); campaign files may add classes. Values here are SI.
+// source of every number. The shipped catalogue is jobs/inputs/catalogue.toml (read by
+// jobs/inputs/catalogue_file.h); campaign files may add classes. Values here are SI.
 //
 // A class is looked up by name (or alias) and diameter. A diameter that no row of the
 // class covers is an error, never an extrapolation: ISO 492 defines no class 4 or 2 above
 // D = 400 mm, and the catalogue holds only rows whose sources were read
-// (../shared/docs/tolerances.md).
+// (docs/tolerances.md).
 #pragma once
 
 #include <array>

@@ -1,4 +1,5 @@
 #include "sampling/profile_fit.h"
+#include "engine/units.h"
 
 #include <algorithm>
 #include <charconv>
@@ -20,7 +21,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kTurn = 2.0 * kPi;
-constexpr double kDegreesPerRadian = 180.0 / kPi;
 
 // Numbers in messages. sampling/ prints nothing and uses no fmt, so std::to_chars: the
 // shortest text that reads back as the same double, or a fixed number of digits.
@@ -91,7 +91,7 @@ int HighestWellConditionedOrder(const Eigen::MatrixXd& design, int max_order) {
                         " is numerically rank-deficient (condition number " +
                         Show(condition, std::chars_format::scientific, 2) + " > " + Show(kMaxFitConditionNumber) +
                         "): the samples leave a gap of " +
-                        Show(largest_gap * kDegreesPerRadian, std::chars_format::fixed, 1) +
+                        Show(largest_gap * units::kDegreesPerRadian, std::chars_format::fixed, 1) +
                         " degrees without data, too wide to tell orders this high apart; ";
   message += feasible > 0 ? "fit fewer orders (up to " + std::to_string(feasible) +
                                 " is well-conditioned on these samples) or measure across the gap"

@@ -1,7 +1,7 @@
 // Counter-based random numbers: every draw is a pure function of (seed, stream, and three
 // counters), with no generator state. That is what lets sample i of a campaign be
 // regenerated alone, on any rank, in any order, and lets a campaign grow later without
-// changing the draws already made (style.md: results never depend on rank count or order).
+// changing the draws already made (docs/architecture.md: results never depend on rank count or order).
 //
 // The generator is Random123's Philox4x64-10 (Salmon et al., SC'11), which passes
 // TestU01's BigCrush for every counter and key pattern; it is header-only in Debian's

@@ -3,7 +3,7 @@
 //   C_n = c s_n sqrt(-2 ln u_n)   (Rayleigh, scale c s_n)    phi_n = 2 pi v_n - pi (uniform),
 // for uniform u_n, v_n in (0, 1). That is the random-phase spectral model: the cosine and
 // sine coefficients C_n cos phi_n and C_n sin phi_n are independent Gaussians of standard
-// deviation c s_n (tolerances.md §7.1-7.2). s_n is the spectrum's shape, n^-a or a table;
+// deviation c s_n (docs/tolerances.md §7.1-7.2). s_n is the spectrum's shape, n^-a or a table;
 // c is the scale, calibrated so that a stated fraction p of parts meets a tolerance t on a
 // form measure:  P(measure <= t) = p. Every measure here is linear in c, so
 // c = t / Q_p(measure at c = 1), with Q_p found once by Monte Carlo.
@@ -13,7 +13,7 @@
 //     circle (LSCI, ISO 12181-1). To first order in deviation/radius the LS circle removes
 //     exactly orders 0 and 1, so RONt = max - min of the orders >= 2. The minimum-zone
 //     value (ISO 1101's default) is never larger: calibrating the LS value to t is
-//     conservative by a few percent (tolerances.md §7.4 table).
+//     conservative by a few percent (docs/tolerances.md §7.4 table).
 //   - kTwoPointVariation: VDsp, the range of two-point diameters r(theta) + r(theta + pi)
 //     in one plane (ISO 492). Odd orders cancel in that sum: a 3-lobed roller has
 //     VDsp = 0. A spectrum without even orders therefore cannot be calibrated to VDsp.
@@ -39,7 +39,7 @@ struct SpectrumShape {
   int min_order = 2;   // [-] lowest order drawn, >= 1
   int max_order = 50;  // [-] cutoff in undulations per revolution, >= min_order
   // s_n = n^-exponent [-], >= 0. No published exponent exists for ring roundness
-  // (tolerances.md §7.1); 1 is the middle of the range §7.4 tabulates.
+  // (docs/tolerances.md §7.1); 1 is the middle of the range §7.4 tabulates.
   double exponent = 1.0;
   // When non-empty, s_n = relative_scales[n - min_order] instead of the power law, one
   // value >= 0 per order, not all zero.

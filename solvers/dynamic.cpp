@@ -18,6 +18,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include "engine/contact.h"
+#include "engine/units.h"
 
 namespace ringtol::solvers {
 namespace {
@@ -37,7 +38,7 @@ double StepSlope(double x, double x0, double h0, double x1, double h1) {
   return (h1 - h0) * 6.0 * a * (1.0 - a) / (x1 - x0);
 }
 
-// mu(v) of model.md §4 in Adams' contact form: odd in v, through 0 with slope
+// mu(v) of docs/model.md §4 in Adams' contact form: odd in v, through 0 with slope
 // 1.5 mu_s / v_s as the cubic step from -mu_s at -v_s to mu_s at v_s, then a step from
 // mu_s down to mu_d between v_s and v_d. Smooth through v = 0, where a rolling roller's
 // slip keeps changing sign: a law flat at 0 (a step in |v| from 0 to v_s) would make the
@@ -194,7 +195,7 @@ class RingDynamics {
       have_guess_[k] = true;
       const double depth = -c.gap;
       if (depth > 0.5 * roller.outline.radius()) {
-        failure_ = "roller " + roller.name + " sinks " + std::to_string(depth * 1e3) + " mm into the bore at t = " +
+        failure_ = "roller " + roller.name + " sinks " + std::to_string(depth * units::kMillimetresPerMetre) + " mm into the bore at t = " +
                    Seconds(t);
         return 1;
       }

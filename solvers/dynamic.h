@@ -1,6 +1,6 @@
 // The dynamic rung: planar dynamics of the ring (x, y free, rotation imposed by the scene's
 // motion law), of each spring roller along its axis and of each roller's spin, with the
-// contact and friction laws of model.md §4:
+// contact and friction laws of docs/model.md §4:
 //   F_n = k delta^e + STEP(delta, 0, 0, d, c_max) delta'   (clamped at 0: no adhesion)
 //   F_t = mu(v_slip) F_n against the slip, mu the cubic STEP from -mu_s at -v_s to mu_s at
 //         v_s (Adams' contact friction: smooth through zero slip), then to mu_d at v_d.

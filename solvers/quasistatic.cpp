@@ -1,4 +1,5 @@
 #include "solvers/quasistatic.h"
+#include "engine/units.h"
 
 #include <algorithm>
 #include <array>
@@ -197,14 +198,14 @@ bool ContinuationNewton(const EquilibriumSystem& system, const RingTurn& turn, E
 std::string Micrometres(double metres) {
   std::ostringstream out;
   out.precision(4);
-  out << metres * 1e6 << " um";
+  out << metres * units::kMicrometresPerMetre << " um";
   return out.str();
 }
 
 std::string Degrees(double radians) {
   std::ostringstream out;
   out.precision(6);
-  out << radians * 180.0 / std::numbers::pi << " deg";
+  out << radians * units::kDegreesPerRadian << " deg";
   return out.str();
 }
 

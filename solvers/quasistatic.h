@@ -1,6 +1,6 @@
 // The exact-geometry quasi-static rung: no inertia, the ring centre and the spring
 // rollers' travel from force balance at each ring angle (solvers/equilibrium.h), with
-// rigid contact or the penalty law of model.md §4.
+// rigid contact or the penalty law of docs/model.md §4.
 //
 // Each angle is a Newton iteration with the analytic Jacobian, started from a quartic
 // extrapolation of the five previous angles. Newton converges quadratically (an update e
@@ -28,7 +28,7 @@ struct QuasistaticOptions {
   // position_tolerance [m] (1 pm: ~1e4 ulp of a 0.3 m coordinate, far below any
   // tolerance studied), contact normals within 100 rad/m times that, and, for rigid
   // contact, |dF| <= force_tolerance [N]. Campaigns loosen it to 1 % of their sampling
-  // budget (jobs/campaign.h), where one update per angle then suffices even when the
+  // budget (jobs/campaign/campaign.h), where one update per angle then suffices even when the
   // rollers' lobes pass too fast between angles for the predictor to follow them.
   double position_tolerance = 1e-12;
   double force_tolerance = 1e-9;

@@ -1,4 +1,4 @@
-// One simulation as the article reports it (model.md §5): run a solver over one
+// One simulation as the article reports it (docs/model.md §5): run a solver over one
 // revolution and reduce the path to D_trajectory, Dist_init, the static offset, the
 // sensor runout and the contact-force range.
 #pragma once

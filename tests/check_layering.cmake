@@ -1,30 +1,88 @@
-# Fails when a file of a pure layer (engine, sampling, solvers, analysis) includes an
-# application-layer header, or when a lower layer includes a higher one.
-set(forbidden "#include *[<\"](mpi\\.h|hdf5\\.h|H5Cpp\\.h|toml\\+\\+/|CLI/|fmt/|nlohmann/|jobs/)")
+# Fails when a library's files include, directly or through the project's own headers,
+# a header of a library it must not depend on (docs/architecture.md):
+#   - engine, sampling, solvers and analysis are pure computation: no TOML, HDF5, MPI,
+#     command line, JSON or formatting library, and nothing of a layer above them;
+#   - in jobs/, each library sees only the libraries below it, the report and the input
+#     files never see mpi.h, and no command but `ringtol campaign` (and main, which starts
+#     MPI for it) compiles against mpi.h.
+# Run as: cmake -DROOT=<source dir> -P check_layering.cmake
+cmake_minimum_required(VERSION 3.20)
+
+# Every project header a file reaches, and every system header it reaches, through the
+# project's quoted includes (system headers are not followed).
+function(reach file out_project out_system)
+  set(seen "")
+  set(system "")
+  set(queue "${file}")
+  while(queue)
+    list(POP_FRONT queue current)
+    if(current IN_LIST seen OR NOT EXISTS "${ROOT}/${current}")
+      continue()
+    endif()
+    list(APPEND seen "${current}")
+    file(STRINGS "${ROOT}/${current}" lines REGEX "^#include ")
+    foreach(line ${lines})
+      if(line MATCHES "^#include \"([^\"]+)\"")
+        list(APPEND queue "${CMAKE_MATCH_1}")
+      elseif(line MATCHES "^#include <([^>]+)>")
+        list(APPEND system "${CMAKE_MATCH_1}")
+      endif()
+    endforeach()
+  endwhile()
+  list(REMOVE_DUPLICATES system)
+  set(${out_project} "${seen}" PARENT_SCOPE)
+  set(${out_system} "${system}" PARENT_SCOPE)
+endfunction()
+
+set(application_headers "^(mpi\\.h|hdf5\\.h|H5Cpp\\.h|toml\\+\\+/|CLI/|fmt/|nlohmann/)")
+# folder = the project folders it may reach = system headers it must not reach (regex)
+set(rules
+  "engine=engine=${application_headers}"
+  "sampling=engine sampling=${application_headers}"
+  "solvers=engine solvers=${application_headers}"
+  "analysis=engine sampling solvers analysis=${application_headers}"
+  "jobs/inputs=engine sampling solvers jobs/inputs=^(mpi\\.h|hdf5\\.h|CLI/)"
+  "jobs/campaign=engine sampling solvers jobs/inputs jobs/campaign=^(mpi\\.h|hdf5\\.h|CLI/)"
+  "jobs/store=engine sampling solvers jobs/inputs jobs/campaign jobs/store=^(mpi\\.h|CLI/)"
+  "jobs/pool=engine sampling solvers jobs/inputs jobs/campaign jobs/store jobs/pool=^(hdf5\\.h|CLI/)"
+  "jobs/report=engine sampling solvers analysis jobs/inputs jobs/campaign jobs/store jobs/report=^(mpi\\.h|hdf5\\.h|CLI/)"
+  "jobs/studies=engine sampling solvers jobs/inputs jobs/report jobs/studies=^(mpi\\.h|hdf5\\.h|CLI/)")
+
 set(failures "")
-foreach(layer engine sampling solvers analysis)
-  file(GLOB_RECURSE files ${ROOT}/${layer}/*.h ${ROOT}/${layer}/*.cpp)
+foreach(rule ${rules})
+  string(REPLACE "=" ";" parts "${rule}")
+  list(GET parts 0 folder)
+  list(GET parts 1 allowed)
+  list(GET parts 2 forbidden_system)
+  string(REPLACE " " "/|" allowed "${allowed}/")
+  file(GLOB_RECURSE files RELATIVE ${ROOT} ${ROOT}/${folder}/*.h ${ROOT}/${folder}/*.cpp)
   foreach(f ${files})
-    file(STRINGS ${f} lines REGEX "${forbidden}")
-    if(lines)
-      list(APPEND failures "${f}: ${lines}")
-    endif()
+    reach("${f}" project system)
+    foreach(header ${project})
+      if(NOT header MATCHES "^(${allowed})")
+        list(APPEND failures "${f} reaches ${header} (${folder} may use only ${allowed})")
+      endif()
+    endforeach()
+    foreach(header ${system})
+      if(header MATCHES "${forbidden_system}")
+        list(APPEND failures "${f} reaches <${header}> (forbidden in ${folder})")
+      endif()
+    endforeach()
   endforeach()
 endforeach()
-# Dependencies point one way: engine includes nothing of the others; solvers and sampling
-# only engine.
-foreach(pair "engine:solvers/|sampling/|analysis/" "solvers:sampling/|analysis/" "sampling:solvers/|analysis/")
-  string(REPLACE ":" ";" parts "${pair}")
-  list(GET parts 0 layer)
-  list(GET parts 1 above)
-  file(GLOB_RECURSE files ${ROOT}/${layer}/*.h ${ROOT}/${layer}/*.cpp)
-  foreach(f ${files})
-    file(STRINGS ${f} lines REGEX "#include *\"(${above})")
-    if(lines)
-      list(APPEND failures "${f}: ${lines}")
-    endif()
-  endforeach()
+
+# The command line: only the campaign command and main (which starts MPI for it) see MPI.
+file(GLOB files RELATIVE ${ROOT} ${ROOT}/jobs/cli/*.h ${ROOT}/jobs/cli/*.cpp)
+foreach(f ${files})
+  if(f MATCHES "^jobs/cli/(campaign_command\\.(h|cpp)|main\\.cpp)$")
+    continue()
+  endif()
+  reach("${f}" project system)
+  if("mpi.h" IN_LIST system)
+    list(APPEND failures "${f} reaches <mpi.h>: only `ringtol campaign` runs the MPI pool")
+  endif()
 endforeach()
+
 if(failures)
   string(REPLACE ";" "\n" report "${failures}")
   message(FATAL_ERROR "layering violations:\n${report}")

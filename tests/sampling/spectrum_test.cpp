@@ -56,7 +56,7 @@ DenseRange BruteForce(const std::vector<engine::Harmonic>& hs, bool two_point) {
 }
 
 TEST(MeasureForm, OneHarmonicHasTheTextbookValues) {
-  // tolerances.md §7.3: r = R + A cos(n theta): RONt = 2A; VDsp = 4A for even n, 0 for odd.
+  // docs/tolerances.md §7.3: r = R + A cos(n theta): RONt = 2A; VDsp = 4A for even n, 0 for odd.
   constexpr double kA = 7e-6;
   for (int n = 2; n <= 12; ++n) {
     const std::vector<engine::Harmonic> h{{n, kA, 0.3 * n}};

@@ -1,5 +1,5 @@
 // The environment every test that starts `ringtol campaign` (alone or under mpirun) puts
-// before the command (dependencies.md §4): root needs explicit permission; 3 ranks on 2
+// before the command (docs/dependencies.md §4): root needs explicit permission; 3 ranks on 2
 // cores need oversubscription; shared memory only (no network probing); no core binding,
 // since ctest runs tests side by side. Open MPI's own start-up allocations are never freed,
 // so leak checking is off for these runs (the library code is leak-checked by in-process

@@ -1,4 +1,4 @@
-// The article's nominal assembly (model.md §1, examples/paper/scene.toml) built in code,
+// The article's nominal assembly (docs/model.md §1, examples/paper/scene.toml) built in code,
 // so physics tests do not depend on the input reader.
 #pragma once
 

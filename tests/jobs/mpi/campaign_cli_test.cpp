@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "jobs/campaign_store.h"
+#include "jobs/store/campaign_store.h"
 #include "tests/support/mpi_environment.h"
 #include "tests/support/shell.h"
 #include "tests/support/text_files.h"

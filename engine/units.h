@@ -1,0 +1,18 @@
+// The one place where file units meet SI. ringtol computes in metres, newtons, seconds and
+// radians; input and output files speak millimetres, micrometres and degrees, with the
+// unit in the key name (`amplitude_mm`, `phase_deg`). Every conversion multiplies or
+// divides by one of these factors, so a value read and written back is the same double.
+#pragma once
+
+#include <numbers>
+
+namespace ringtol::units {
+
+inline constexpr double kMetresPerMillimetre = 1e-3;  // mm -> m (and mm/s -> m/s)
+inline constexpr double kMetresPerMicrometre = 1e-6;  // um -> m
+inline constexpr double kMillimetresPerMetre = 1e3;   // m -> mm
+inline constexpr double kMicrometresPerMetre = 1e6;   // m -> um
+inline constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;  // deg -> rad
+inline constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;  // rad -> deg
+
+}  // namespace ringtol::units

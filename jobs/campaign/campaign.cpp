@@ -1,0 +1,151 @@
+#include "jobs/campaign/campaign.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "jobs/inputs/input_error.h"
+#include "jobs/inputs/scene_writer.h"
+#include "solvers/dynamic.h"
+#include "solvers/quasistatic.h"
+#include "engine/units.h"
+
+namespace ringtol::jobs {
+namespace {
+
+// The quasistatic solver's per-angle tolerance as a share of the sampling budget.
+constexpr double kSolveShareOfPathTolerance = 0.01;
+
+CampaignPlan ReadWithOverrides(const std::filesystem::path& file, std::optional<std::int64_t> samples,
+                               std::optional<std::uint64_t> seed) {
+  CampaignPlan plan = ReadCampaignFile(file);
+  OverridePlan(plan.sampling, samples, seed);
+  return plan;
+}
+
+CampaignPlan ReadStored(const CampaignIdentity& stored, std::int64_t samples) {
+  const StoredSampling text{stored.campaign_file, stored.base_scene};
+  CampaignPlan plan = ReadCampaignFile(stored.campaign_path, &text);
+  OverridePlan(plan.sampling, samples, stored.seed);
+  return plan;
+}
+
+}  // namespace
+
+Campaign::Campaign(const std::filesystem::path& file, std::optional<std::int64_t> samples,
+                   std::optional<std::uint64_t> seed)
+    : Campaign(ReadWithOverrides(file, samples, seed), file.string()) {}
+
+Campaign::Campaign(const CampaignIdentity& stored, std::int64_t samples)
+    : Campaign(ReadStored(stored, samples), stored.campaign_path + " (as stored)") {
+  const auto same = [](const sampling::SampledInput& a, const sampling::SampledInput& b) {
+    return a.name == b.name && a.quantity == b.quantity && a.component == b.component && a.source == b.source &&
+           a.roller == b.roller && a.order == b.order;
+  };
+  if (!std::equal(identity_.inputs.begin(), identity_.inputs.end(), stored.inputs.begin(), stored.inputs.end(), same)) {
+    throw InputError(
+        fmt::format("{}: the stored campaign makes other sampler inputs in this ringtol ({}) than in "
+                    "the one that ran it ({}); its samples cannot be replayed",
+                    stored.campaign_path, identity_.ringtol_version, stored.ringtol_version));
+  }
+  identity_.campaign_path = stored.campaign_path;
+}
+
+Campaign::Campaign(CampaignPlan plan, const std::string& source_name)
+    : plan_(std::move(plan)), sampling_(MakeSampling(plan_.sampling, source_name)) {
+  const std::filesystem::path& file = plan_.file;
+  simulation_.steps = plan_.solver.steps;
+  simulation_.path_tolerance = plan_.solver.path_tolerance;
+
+  identity_.ringtol_version = RINGTOL_VERSION;
+  identity_.catalogue_version = plan_.sampling.catalogue.version;
+  identity_.campaign_path = file.string();
+  identity_.campaign_file = plan_.sampling.text;
+  identity_.base_scene = WriteScene(plan_.sampling.scene);
+  identity_.design = sampling::DesignName(plan_.sampling.design.kind);
+  identity_.solver = plan_.solver.name;
+  identity_.seed = plan_.sampling.seed;
+  identity_.inputs = sampling_.sampler.inputs();
+  identity_.spec = plan_.spec;
+}
+
+bool Campaign::IndependentDraw(std::int64_t index) const {
+  const sampling::Design& design = sampling_.design;
+  return design.options().kind != sampling::DesignKind::kSaltelli || design.Locate(index).matrix < 2;
+}
+
+std::unique_ptr<solvers::Solver> Campaign::MakeSolver() const {
+  if (plan_.solver.name == "quasistatic" && plan_.solver.path_tolerance > 0.0) {
+    solvers::QuasistaticOptions options;
+    options.position_tolerance = kSolveShareOfPathTolerance * plan_.solver.path_tolerance;
+    return std::make_unique<solvers::QuasistaticSolver>(options);
+  }
+  solvers::DynamicOptions dynamic;
+  dynamic.relative_tolerance = plan_.solver.relative_tolerance;
+  return solvers::MakeSolver(plan_.solver.name, dynamic);
+}
+
+SampleEvaluator::SampleEvaluator(const Campaign& campaign, EvaluatorFaults faults)
+    : campaign_(&campaign),
+      design_(campaign.sampling().design.dimension(), campaign.sampling().design.options()),
+      solver_(campaign.MakeSolver()),
+      faults_(std::move(faults)),
+      u_(static_cast<std::size_t>(campaign.sampling().design.dimension())) {}
+
+SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
+  const auto start = std::chrono::steady_clock::now();
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  SampleRecord record;
+  record.index = index;
+  record.outputs.fill(kNaN);
+  design_.Point(index, u_);
+  record.u = u_;
+  record.values.assign(campaign_->sampling().sampler.inputs().size(), kNaN);
+
+  std::optional<sampling::SampledAssembly> assembly;
+  try {
+    assembly = campaign_->sampling().sampler.Realise(index, u_);
+    record.values = assembly->values;
+    record.redraws = assembly->redraws;
+  } catch (const std::exception& e) {
+    record.status = SampleStatus::kSamplingFailed;
+    record.message = e.what();
+  }
+  if (assembly) {
+    try {
+      if (faults_.before_simulate) faults_.before_simulate(index);
+      solvers::SimulationResult result = solvers::Simulate(assembly->scene, *solver_, campaign_->simulation());
+      if (faults_.after_simulate) faults_.after_simulate(index, result);
+      record.steps = result.steps;
+      record.status = FromSolverStatus(result.status);
+      record.message = result.message;
+      if (result.status == solvers::Status::kOk) {
+        double max_force = -std::numeric_limits<double>::infinity();
+        for (const solvers::RollerForceRange& range : result.contact_force) max_force = std::max(max_force, range.max);
+        const std::array<double, kOutputCount> outputs = {
+            result.d_trajectory * units::kMillimetresPerMetre, result.dist_init * units::kMillimetresPerMetre,
+            result.static_offset * units::kMillimetresPerMetre, result.runout * units::kMillimetresPerMetre,
+            result.runout_total * units::kMillimetresPerMetre, result.min_contact_force, max_force};
+        bool finite = true;
+        for (std::size_t k = 0; k < kOutputCount; ++k) finite = finite && std::isfinite(outputs[k]);
+        if (finite) {
+          record.outputs = outputs;
+        } else {
+          record.status = SampleStatus::kNonFiniteOutput;
+          record.message = "the solver reported ok but an output is not finite";
+        }
+      }
+    } catch (const std::exception& e) {
+      record.status = SampleStatus::kException;
+      record.message = e.what();
+    }
+  }
+  record.solve_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return record;
+}
+
+}  // namespace ringtol::jobs

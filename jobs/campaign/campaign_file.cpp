@@ -1,0 +1,86 @@
+#include "jobs/campaign/campaign_file.h"
+
+#include <array>
+#include <optional>
+#include <string_view>
+
+#include "jobs/inputs/toml_fields.h"
+#include "solvers/solver.h"
+#include "engine/units.h"
+
+namespace ringtol::jobs {
+namespace {
+
+
+struct SolverInput {
+  std::string name = "quasistatic";
+  int steps = 0;
+  double path_tolerance = 1e-6;
+  double relative_tolerance = 1e-6;
+};
+
+struct SpecInput {
+  std::array<std::optional<double>, kOutputCount> upper;
+};
+
+std::string SolverChoices() {
+  std::string allowed;
+  for (const std::string& name : solvers::SolverNames()) allowed += (allowed.empty() ? "\"" : ", \"") + name + "\"";
+  return allowed;
+}
+
+}  // namespace
+
+CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSampling* stored) {
+  CampaignPlan plan;
+  plan.file = file;
+  plan.sampling = ReadSamplingFile(file, kCampaignTables, stored);
+
+  const std::string source = file.string();
+  const toml::table document = ParseToml(plan.sampling.text, source);
+  const TableReader root(document, "", source);
+
+  SolverInput solver;
+  const std::string choices = SolverChoices();
+  const std::vector<Field<SolverInput>> solver_fields{
+      Text("name", Presence::kOptional, choices, &SolverInput::name),
+      Integer("steps", Presence::kOptional, Between(0, 2000000), &SolverInput::steps),
+      Number("path_tolerance_um", Presence::kOptional, units::kMetresPerMicrometre, AtLeast(0),
+             &SolverInput::path_tolerance),
+      Number("relative_tolerance", Presence::kOptional, kSameUnit, Range{0, true, 1, true},
+             &SolverInput::relative_tolerance),
+  };
+  SpecInput spec;
+  std::vector<Field<SpecInput>> spec_fields;
+  for (std::size_t k = 0; k < kOutputCount; ++k) {
+    spec_fields.push_back({kOutputNames[k], Presence::kOptional, "> 0", [k](const Site& site, SpecInput& target) {
+                             target.upper[k] = ReadNumber(site, Above(0));
+                           }, {}, {}});
+  }
+  struct Root {};
+  Root unused;
+  std::vector<Field<Root>> fields{
+      Section<Root>("solver", Presence::kOptional, [&](const TableReader& t, Root&) { t.Read(solver_fields, solver); }),
+      Section<Root>("spec", Presence::kOptional, [&](const TableReader& t, Root&) { t.Read(spec_fields, spec); }),
+  };
+  // The sampling half was read and checked above; here only the campaign's own tables.
+  for (const auto& [key, node] : document) {
+    if (key.str() != "solver" && key.str() != "spec") {
+      fields.push_back({key.str(), Presence::kOptional, "", [](const Site&, Root&) {}, {}, {}});
+    }
+  }
+  root.Read(fields, unused);
+
+  bool known = false;
+  for (const std::string& name : solvers::SolverNames()) known = known || name == solver.name;
+  if (!known) {
+    TableReader(*document.get_as<toml::table>("solver"), "solver", source).Fail("name", "unknown solver", choices);
+  }
+  plan.solver = {solver.name, solver.steps, solver.path_tolerance, solver.relative_tolerance};
+  for (std::size_t k = 0; k < kOutputCount; ++k) {
+    if (spec.upper[k]) plan.spec.push_back({kOutputNames[k], *spec.upper[k]});
+  }
+  return plan;
+}
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,34 @@
+// What makes two runs the same campaign, and the spec a campaign judges its samples by:
+// the campaign's own vocabulary, which the results file (jobs/store/campaign_store.h)
+// persists and the report reads back. Plain data; no I/O.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sampling/assembly_sampler.h"
+
+namespace ringtol::jobs {
+
+// An upper specification limit on one output (runout is one-sided).
+struct SpecLimit {
+  std::string output;  // one of kOutputNames (jobs/campaign/sample_record.h)
+  double upper = 0.0;  // in the output's unit
+};
+
+// Resume refuses a file whose identity differs in any field but campaign_path.
+struct CampaignIdentity {
+  std::string ringtol_version;
+  std::string catalogue_version;
+  std::string campaign_path;  // provenance only
+  std::string campaign_file;  // the campaign file's text
+  std::string base_scene;     // the base scene as a scene file
+  std::string design;         // sampling::DesignName
+  std::string solver;         // solver name
+  std::uint64_t seed = 0;
+  std::vector<sampling::SampledInput> inputs;  // the design's coordinates, in order
+  std::vector<SpecLimit> spec;
+};
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,208 @@
+#include "jobs/cli/campaign_command.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <memory>
+#include <string>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <nlohmann/json.hpp>
+
+#include "jobs/campaign/campaign.h"
+#include "jobs/inputs/input_error.h"
+#include "jobs/report/campaign_summary.h"
+#include "jobs/store/campaign_store.h"
+
+namespace ringtol::jobs {
+namespace {
+
+double SamplesPerSecond(const PoolReport& run) {
+  return run.wall_time > 0 ? static_cast<double>(run.computed) / run.wall_time : 0.0;
+}
+
+// This run's cost, after the campaign's summary.
+void PrintRun(std::ostream& out, const PoolReport& run) {
+  const double busy = run.wall_time * std::max(1, run.computing_ranks);
+  fmt::print(out, "\nthis run          {} samples computed ({} already on disk) in {:.2f} s: {:.1f} samples/s on {} rank{}\n",
+             run.computed, run.already_done, run.wall_time, SamplesPerSecond(run), run.ranks, run.ranks == 1 ? "" : "s");
+  if (run.computed > 0) {
+    fmt::print(out,
+               "time              {:.1f} % of the computing ranks' time in samples; rank 0 handled results for "
+               "{:.2f} s ({:.1f} us per sample), {:.2f} s of it writing the file\n",
+               100 * run.solver_time / busy, run.coordinator_time,
+               1e6 * run.coordinator_time / static_cast<double>(run.computed), run.commit_time);
+  }
+}
+
+nlohmann::json RunJson(const PoolReport& run) {
+  return {{"computed", run.computed},
+          {"already_done", run.already_done},
+          {"wall_time_s", run.wall_time},
+          {"samples_per_s", SamplesPerSecond(run)},
+          {"solver_time_s", run.solver_time},
+          {"commit_time_s", run.commit_time},
+          {"coordinator_time_s", run.coordinator_time},
+          {"ranks", run.ranks},
+          {"computing_ranks", run.computing_ranks}};
+}
+
+// The first error of any rank (lowest rank first), known to every rank; empty if none.
+std::string Agree(MPI_Comm communicator, const std::string& error) {
+  int rank = 0;
+  int ranks = 1;
+  MPI_Comm_rank(communicator, &rank);
+  MPI_Comm_size(communicator, &ranks);
+  const int mine = error.empty() ? ranks : rank;
+  int first = ranks;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, communicator);
+  if (first == ranks) return {};
+  std::string message = error;
+  int length = static_cast<int>(message.size());
+  MPI_Bcast(&length, 1, MPI_INT, first, communicator);
+  message.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(message.data(), length, MPI_CHAR, first, communicator);
+  return first == 0 ? message : fmt::format("rank {}: {}", first, message);
+}
+
+template <typename F>
+std::string Attempt(F&& step) {
+  try {
+    step();
+    return {};
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+}
+
+void CheckOutput(const CampaignCommand& command) {
+  const std::string name = command.out.string();
+  if (command.resume) {
+    if (!std::filesystem::exists(command.out))
+      throw InputError(name + ": --resume: there is no such results file to continue");
+    return;
+  }
+  if (std::filesystem::exists(command.out))
+    throw InputError(name + ": exists; pass --resume to continue it, or remove it or choose another --out");
+  const std::filesystem::path folder = command.out.parent_path().empty() ? "." : command.out.parent_path();
+  if (!std::filesystem::is_directory(folder))
+    throw InputError(name + ": cannot be written: folder " + folder.string() + " does not exist");
+  if (access(folder.c_str(), W_OK) != 0)
+    throw InputError(name + ": cannot be written: folder " + folder.string() + " is not writable");
+}
+
+void CheckPoolOptions(const PoolOptions& pool, double progress_seconds) {
+  if (pool.chunk_samples < 0) throw InputError("--chunk " + std::to_string(pool.chunk_samples) + ": allowed: >= 0");
+  if (!(pool.chunk_seconds > 0.0))
+    throw InputError("--chunk-seconds " + std::to_string(pool.chunk_seconds) + ": allowed: > 0");
+  if (!(pool.commit_seconds >= 0.0))
+    throw InputError("--commit-seconds " + std::to_string(pool.commit_seconds) + ": allowed: >= 0");
+  if (!(progress_seconds > 0.0))
+    throw InputError("--progress-seconds " + std::to_string(progress_seconds) + ": allowed: > 0");
+}
+
+std::string Clock(double seconds) {
+  const auto s = static_cast<long long>(std::llround(seconds));
+  return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60) : fmt::format("{}:{:02}", s / 60, s % 60);
+}
+
+// Progress on stderr: a bar redrawn in place on a terminal, a line every `interval`
+// seconds otherwise (logs of batch jobs).
+class ProgressPrinter {
+ public:
+  ProgressPrinter(std::ostream& out, bool terminal, double interval) : out_(out), terminal_(terminal), interval_(interval) {}
+
+  void operator()(const PoolProgress& p) {
+    const bool last = p.done == p.total;
+    const double wait = terminal_ ? kRedrawSeconds : interval_;
+    if (!last && p.elapsed - printed_at_ < wait && printed_at_ >= 0.0) return;
+    if (last && finished_) return;
+    finished_ = last;
+    printed_at_ = p.elapsed;
+    const double rate = p.elapsed > 0 ? static_cast<double>(p.this_run) / p.elapsed : 0.0;
+    const double fraction = p.total > 0 ? static_cast<double>(p.done) / static_cast<double>(p.total) : 1.0;
+    const std::string eta =
+        rate > 0 ? Clock(static_cast<double>(p.total - p.done) / rate) : std::string("-");
+    const std::string text = fmt::format("{}/{} samples ({:.1f} %), {:.1f} samples/s, ETA {}, {} failed", p.done,
+                                         p.total, 100 * fraction, rate, eta, p.failed);
+    if (terminal_) {
+      constexpr int kWidth = 30;
+      const auto filled = static_cast<int>(fraction * kWidth);
+      fmt::print(out_, "\r[{}{}] {}\x1b[K{}", std::string(static_cast<std::size_t>(filled), '#'),
+                 std::string(static_cast<std::size_t>(kWidth - filled), '.'), text, last ? "\n" : "");
+    } else {
+      fmt::print(out_, "campaign: {}\n", text);
+    }
+    out_.flush();
+  }
+
+ private:
+  static constexpr double kRedrawSeconds = 0.2;
+  std::ostream& out_;
+  bool terminal_;
+  double interval_;
+  double printed_at_ = -1.0;
+  bool finished_ = false;
+};
+
+}  // namespace
+
+int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream& progress) {
+  const MPI_Comm world = MPI_COMM_WORLD;
+  int rank = 0;
+  MPI_Comm_rank(world, &rank);
+
+  // Cheap checks first, so a wrong option fails before a second of calibration.
+  std::string error = rank == 0 ? Attempt([&] {
+    CheckPoolOptions(command.pool, command.progress_seconds);
+    CheckOutput(command);
+  })
+                                : std::string();
+  if (error = Agree(world, error); !error.empty()) throw InputError(error);
+
+  std::unique_ptr<Campaign> campaign;
+  error = Attempt([&] { campaign = std::make_unique<Campaign>(command.file, command.samples, command.seed); });
+  if (error = Agree(world, error); !error.empty()) throw InputError(error);
+
+  std::unique_ptr<CampaignStore> store;
+  if (rank == 0) {
+    error = Attempt([&] {
+      store = std::make_unique<CampaignStore>(
+          command.resume ? CampaignStore::Resume(command.out, campaign->identity(), campaign->samples())
+                         : CampaignStore::Create(command.out, campaign->identity(), campaign->samples()));
+    });
+  }
+  if (error = Agree(world, error); !error.empty()) throw InputError(error);
+
+  std::function<void(const PoolProgress&)> report_progress;
+  if (rank == 0 && !command.quiet) {
+    report_progress = ProgressPrinter(progress, isatty(STDERR_FILENO) == 1, command.progress_seconds);
+  }
+  const PoolReport run = RunPool(world, *campaign, store.get(), command.pool, report_progress);
+  if (rank != 0) return 0;
+  store.reset();  // closes the file: the summary reads what is on disk
+
+  const CampaignReader results(command.out);
+  const CampaignSummary summary =
+      Summarise(results, [&campaign = *campaign](std::int64_t index) { return campaign.IndependentDraw(index); });
+  if (command.json) {
+    nlohmann::json json = SummaryJson(summary);
+    json["run"] = RunJson(run);
+    out << json.dump(2) << "\n";
+  } else {
+    fmt::print(out, "campaign          {}\n", command.file.string());
+    fmt::print(out, "results           {}\n", command.out.string());
+    fmt::print(out, "design            {}, seed {}, {} inputs; solver {}\n\n", campaign->identity().design,
+               campaign->identity().seed, campaign->identity().inputs.size(), campaign->identity().solver);
+    PrintSummary(out, summary);
+    PrintRun(out, run);
+  }
+  return 0;
+}
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,198 @@
+#include "jobs/cli/results_output.h"
+#include "engine/units.h"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <algorithm>
+#include <numbers>
+
+namespace ringtol::jobs {
+namespace {
+
+
+// The columns of the sweep table and CSV, in order, with their display format.
+struct Column {
+  const char* key;
+  const char* header;
+  int width;
+  int decimals;
+};
+constexpr Column kColumns[] = {
+    {"d_trajectory_mm", "D_traj mm", 10, 4},   {"dist_init_mm", "Dist_init mm", 12, 4},
+    {"static_offset_mm", "offset mm", 10, 4},  {"runout_mm", "runout mm", 10, 4},
+    {"min_contact_force_N", "min F N", 8, 3},
+};
+
+std::string Cell(const nlohmann::json& value, int decimals) {
+  if (value.is_null()) return "-";
+  if (value.is_number()) return fmt::format("{:.{}f}", value.get<double>(), decimals);
+  if (value.is_string()) return value.get<std::string>();
+  return value.dump();
+}
+
+}  // namespace
+
+namespace {
+
+// The metric keys of one revolution (shared by the result and its steady revolution).
+void PutMetrics(nlohmann::json& j, const engine::Scene& scene, const solvers::SimulationResult& result) {
+  j["status"] = std::string(solvers::StatusName(result.status));
+  if (result.status != solvers::Status::kOk) j["message"] = result.message;
+  const bool ok = result.status == solvers::Status::kOk;
+  auto metric = [&](double value, double scale) { return ok ? nlohmann::json(value * scale) : nlohmann::json(); };
+  j["d_trajectory_mm"] = metric(result.d_trajectory, units::kMillimetresPerMetre);
+  j["dist_init_mm"] = metric(result.dist_init, units::kMillimetresPerMetre);
+  j["static_offset_mm"] = metric(result.static_offset, units::kMillimetresPerMetre);
+  j["runout_mm"] = metric(result.runout, units::kMillimetresPerMetre);
+  j["runout_total_mm"] = metric(result.runout_total, units::kMillimetresPerMetre);
+  j["min_contact_force_N"] = metric(result.min_contact_force, 1.0);
+  nlohmann::json forces = nlohmann::json::array();
+  if (ok) {
+    for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+      forces.push_back({{"roller", scene.rollers[i].name},
+                        {"min", result.contact_force[i].min},
+                        {"max", result.contact_force[i].max}});
+    }
+  }
+  j["contact_force_N"] = forces;
+}
+
+bool AnySteady(const std::vector<nlohmann::json>& rows) {
+  return std::any_of(rows.begin(), rows.end(), [](const nlohmann::json& row) { return row.contains("steady"); });
+}
+
+// The steady revolution's D_trajectory of a sweep row, or null.
+nlohmann::json SteadyDiameter(const nlohmann::json& row) {
+  return row.contains("steady") ? row["steady"]["d_trajectory_mm"] : nlohmann::json();
+}
+
+}  // namespace
+
+nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationResult& result,
+                          std::string_view solver, double solve_seconds, const std::string& case_name) {
+  nlohmann::json j;
+  if (!case_name.empty()) j["case"] = case_name;
+  j["solver"] = std::string(solver);
+  PutMetrics(j, scene, result);
+  j["steps"] = result.steps;
+  if (result.steady) {
+    nlohmann::json steady;
+    PutMetrics(steady, scene, *result.steady);
+    j["steady"] = steady;
+  }
+  j["solve_time_ms"] = solve_seconds * 1e3;
+  return j;
+}
+
+void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::SimulationResult& result,
+                 std::string_view solver, double solve_seconds) {
+  fmt::print(out, "solver            {} ({} steps, {:.3f} ms)\n", solver, result.steps, solve_seconds * 1e3);
+  fmt::print(out, "status            {}\n", solvers::StatusName(result.status));
+  if (result.status != solvers::Status::kOk) {
+    fmt::print(out, "reason            {}\n", result.message);
+    return;
+  }
+  fmt::print(out, "D_trajectory      {:.4f} mm\n", result.d_trajectory * units::kMillimetresPerMetre);
+  fmt::print(out, "Dist_init         {:.4f} mm\n", result.dist_init * units::kMillimetresPerMetre);
+  fmt::print(out, "static offset     {:.4f} mm\n", result.static_offset * units::kMillimetresPerMetre);
+  fmt::print(out, "runout            {:.4f} mm peak to nearest valley, {:.4f} mm total (sensor at {:g} deg)\n",
+             result.runout * units::kMillimetresPerMetre, result.runout_total * units::kMillimetresPerMetre, scene.sensor_angle * units::kDegreesPerRadian);
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    fmt::print(out, "contact force     {:<10} {:.3f} .. {:.3f} N\n", scene.rollers[i].name,
+               result.contact_force[i].min, result.contact_force[i].max);
+  }
+  if (!result.steady) return;
+  const solvers::SimulationResult& steady = *result.steady;
+  fmt::print(out, "steady revolution {}\n", solvers::StatusName(steady.status));
+  if (steady.status != solvers::Status::kOk) {
+    fmt::print(out, "  reason          {}\n", steady.message);
+    return;
+  }
+  fmt::print(out, "  D_trajectory    {:.4f} mm\n", steady.d_trajectory * units::kMillimetresPerMetre);
+  fmt::print(out, "  Dist_init       {:.4f} mm\n", steady.dist_init * units::kMillimetresPerMetre);
+  fmt::print(out, "  runout          {:.4f} mm peak to nearest valley, {:.4f} mm total\n", steady.runout * units::kMillimetresPerMetre,
+             steady.runout_total * units::kMillimetresPerMetre);
+  fmt::print(out, "  min contact     {:.3f} N\n", steady.min_contact_force);
+}
+
+void PrintSweepTable(std::ostream& out, const std::vector<nlohmann::json>& rows) {
+  std::size_t case_width = 4;
+  for (const nlohmann::json& row : rows) case_width = std::max(case_width, row.value("case", std::string()).size());
+  const bool steady = AnySteady(rows);
+  fmt::print(out, "{:<{}}  {:<10}", "case", case_width, "status");
+  for (const Column& c : kColumns) fmt::print(out, "  {:>{}}", c.header, c.width);
+  if (steady) fmt::print(out, "  {:>12}", "D_steady mm");
+  fmt::print(out, "\n");
+  for (const nlohmann::json& row : rows) {
+    fmt::print(out, "{:<{}}  {:<10}", row.value("case", std::string()), case_width, row["status"].get<std::string>());
+    for (const Column& c : kColumns) fmt::print(out, "  {:>{}}", Cell(row[c.key], c.decimals), c.width);
+    if (steady) fmt::print(out, "  {:>12}", Cell(SteadyDiameter(row), 4));
+    if (row.contains("message")) fmt::print(out, "  {}", row["message"].get<std::string>());
+    fmt::print(out, "\n");
+  }
+}
+
+void WriteSweepCsv(std::ostream& out, const std::vector<nlohmann::json>& rows) {
+  const bool steady = AnySteady(rows);
+  fmt::print(out, "case,solver,status,steps");
+  for (const Column& c : kColumns) fmt::print(out, ",{}", c.key);
+  fmt::print(out, ",runout_total_mm,solve_time_ms,message{}\n", steady ? ",steady_d_trajectory_mm" : "");
+  auto quoted = [](const std::string& s) {
+    std::string q = "\"";
+    for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+    return q + "\"";
+  };
+  for (const nlohmann::json& row : rows) {
+    fmt::print(out, "{},{},{},{}", quoted(row.value("case", std::string())), row["solver"].get<std::string>(),
+               row["status"].get<std::string>(), row["steps"].get<int>());
+    for (const Column& c : kColumns) fmt::print(out, ",{}", row[c.key].is_null() ? "" : fmt::format("{:.9g}", row[c.key].get<double>()));
+    fmt::print(out, ",{},{:.6g},{}",
+               row["runout_total_mm"].is_null() ? "" : fmt::format("{:.9g}", row["runout_total_mm"].get<double>()),
+               row["solve_time_ms"].get<double>(), quoted(row.value("message", std::string())));
+    if (steady) {
+      const nlohmann::json d = SteadyDiameter(row);
+      fmt::print(out, ",{}", d.is_null() ? "" : fmt::format("{:.9g}", d.get<double>()));
+    }
+    fmt::print(out, "\n");
+  }
+}
+
+void WriteTrajectoryCsv(std::ostream& out, const engine::Scene& scene, const solvers::SimulationResult& result) {
+  const solvers::Trajectory& path = result.trajectory;
+  const std::size_t z = scene.rollers.size();
+  fmt::print(out, "psi_deg,x_mm,y_mm,sensor_mm");
+  for (const engine::Roller& r : scene.rollers) {
+    if (r.mount == engine::RollerMount::kSpring) fmt::print(out, ",travel_{}_mm", r.name);
+  }
+  for (const engine::Roller& r : scene.rollers) fmt::print(out, ",force_{}_N", r.name);
+  fmt::print(out, "\n");
+  for (std::size_t k = 0; k < path.psi.size(); ++k) {
+    fmt::print(out, "{:.9g},{:.9g},{:.9g},{:.9g}", path.psi[k] * units::kDegreesPerRadian, path.centre[k].x() * units::kMillimetresPerMetre,
+               path.centre[k].y() * units::kMillimetresPerMetre, k < result.sensor.size() ? result.sensor[k] * units::kMillimetresPerMetre : 0.0);
+    for (std::size_t i = 0; i < z; ++i) {
+      if (scene.rollers[i].mount == engine::RollerMount::kSpring) fmt::print(out, ",{:.9g}", path.travel[k * z + i] * units::kMillimetresPerMetre);
+    }
+    for (std::size_t i = 0; i < z; ++i) fmt::print(out, ",{:.9g}", path.contact_force[k * z + i]);
+    fmt::print(out, "\n");
+  }
+}
+
+void WriteHistoryCsv(std::ostream& out, const engine::Scene& scene, const solvers::DynamicHistory& history) {
+  fmt::print(out, "time_s,psi_deg,x_um,y_um");
+  for (const engine::Roller& r : scene.rollers) {
+    fmt::print(out, ",{0}_travel_um,{0}_spin_deg,{0}_spin_rate_deg_per_s,{0}_normal_N,{0}_friction_N,{0}_slip_mm_per_s",
+               r.name);
+  }
+  fmt::print(out, "\n");
+  for (const solvers::DynamicSample& s : history.samples) {
+    fmt::print(out, "{:.9g},{:.9g},{:.9g},{:.9g}", s.time, s.psi * units::kDegreesPerRadian, s.centre.x() * units::kMicrometresPerMetre, s.centre.y() * units::kMicrometresPerMetre);
+    for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+      fmt::print(out, ",{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}", s.travel[i] * units::kMicrometresPerMetre, s.spin_angle[i] * units::kDegreesPerRadian,
+                 s.spin_rate[i] * units::kDegreesPerRadian, s.normal_force[i], s.friction_force[i], s.slip[i] * units::kMillimetresPerMetre);
+    }
+    fmt::print(out, "\n");
+  }
+}
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,406 @@
+#include "jobs/inputs/sampling_file.h"
+
+#include <optional>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "jobs/inputs/catalogue_file.h"
+#include "jobs/inputs/input_error.h"
+#include "jobs/inputs/scene_file.h"
+#include "jobs/inputs/toml_fields.h"
+#include "engine/units.h"
+
+namespace ringtol::jobs {
+namespace {
+
+using sampling::ToleranceMode;
+
+constexpr double kPerPercent = 1e-2;
+
+// Keys every tolerance table has.
+struct Common {
+  std::optional<std::string> class_name;
+  ToleranceMode mode = ToleranceMode::kProcess;
+  double cp = 1.0;
+  int max_order = 0;
+  double exponent = 1.0;
+  std::vector<double> relative_scales;
+
+  sampling::Capability capability() const { return {mode, cp}; }
+};
+
+template <typename T>
+std::vector<Field<T>> CommonFields(bool spectrum) {
+  std::vector<Field<T>> fields{
+      Field<T>{"class", Presence::kOptional, "a class name of the catalogue (`ringtol classes` lists them)",
+               [](const Site& site, T& t) { t.class_name = ReadText(site, "a class name"); }, {}, {}},
+      Choice<T, ToleranceMode>(
+          "mode", Presence::kOptional, {{"process", ToleranceMode::kProcess}, {"inspected", ToleranceMode::kInspected}},
+          &T::mode),
+      Number<T, double>("capability_cp", Presence::kOptional, kSameUnit, Range{0, true, 1000, false}, &T::cp),
+  };
+  if (spectrum) {
+    fields.push_back(Integer<T>("max_order", Presence::kOptional, Between(2, kMaxHarmonicOrder), &T::max_order));
+    fields.push_back(Number<T, double>("exponent", Presence::kOptional, kSameUnit, AtLeast(0), &T::exponent));
+    fields.push_back(Field<T>{"relative_scales", Presence::kOptional, "an array of numbers >= 0, one per order 2..max_order",
+                              [](const Site& site, T& t) {
+                                const toml::array& array = ReadArray(site, "an array of numbers >= 0");
+                                t.relative_scales.clear();
+                                for (std::size_t i = 0; i < array.size(); ++i)
+                                  t.relative_scales.push_back(ReadNumber(site.Element(i), AtLeast(0)));
+                              },
+                              {}, {}});
+  }
+  return fields;
+}
+
+template <typename T>
+std::vector<Field<T>> With(std::vector<Field<T>> fields, std::vector<Field<T>> more) {
+  fields.insert(fields.end(), more.begin(), more.end());
+  return fields;
+}
+
+// Exactly one of `class` and the direct keys; returns whether a class was given.
+bool ClassOrNumbers(const TableReader& table, const Common& common, std::vector<std::string_view> direct) {
+  bool any = false, all = true;
+  for (const std::string_view key : direct) {
+    if (table.Has(key)) {
+      any = true;
+    } else {
+      all = false;
+    }
+  }
+  std::string names;
+  for (const std::string_view key : direct) names += (names.empty() ? "" : ", ") + std::string(key);
+  if (common.class_name && any)
+    table.Fail("class", "given together with " + names, "either class or " + names);
+  if (!common.class_name && !(any && all))
+    table.FailAbout(direct.front(), table.KeyPath("class") + " or " + names, "missing",
+                    "either class or all of " + names);
+  return common.class_name.has_value();
+}
+
+sampling::SpectrumShape Spectrum(const TableReader& table, const Common& c, int default_max) {
+  sampling::SpectrumShape shape{2, c.max_order > 0 ? c.max_order : default_max, c.exponent, c.relative_scales};
+  if (!shape.relative_scales.empty() && static_cast<int>(shape.relative_scales.size()) != shape.order_count())
+    table.Fail("relative_scales", "has " + std::to_string(shape.relative_scales.size()) + " values",
+               "one per order 2.." + std::to_string(shape.max_order) + ": " + std::to_string(shape.order_count()));
+  if (table.Has("relative_scales") && table.Has("exponent"))
+    table.Fail("exponent", "given together with relative_scales", "one of exponent or relative_scales");
+  return shape;
+}
+
+// A class lookup's std::invalid_argument as an InputError at `class`.
+template <typename F>
+auto Lookup(const TableReader& table, F lookup) {
+  try {
+    return lookup();
+  } catch (const std::invalid_argument& e) {
+    table.Fail("class", e.what(), "a class with a row for this diameter");
+  }
+}
+
+struct RingInput : Common {
+  double circularity = 0.0;
+};
+struct RollerInput : Common {
+  std::string series = "9";
+  double kea = 0.0, vdsp = 0.0, lower = 0.0, upper = 0.0;
+};
+struct PositionInput : Common {
+  double zone = 0.0;
+};
+struct SpringInput : Common {
+  double stiffness = 0.0, preload = 0.0;
+};
+
+struct FileInput {
+  std::string scene;
+  std::int64_t seed = 1;
+  std::string design_kind = "monte_carlo";
+  int samples = 1000;
+  int replicates = 1;
+  bool randomise = true;
+  std::string base = "sobol";
+  std::string groups = "source";
+};
+
+sampling::DiameterSeries Series(const TableReader& table, const std::string& text) {
+  if (text == "9") return sampling::DiameterSeries::kSeries9;
+  if (text == "0" || text == "1") return sampling::DiameterSeries::kSeries0To1;
+  if (text == "2" || text == "3" || text == "4") return sampling::DiameterSeries::kSeries2To4;
+  table.Fail("diameter_series", "unknown series", "\"9\", \"0\", \"1\", \"2\", \"3\", \"4\"");
+}
+
+// The reader of sub-table `key` (present and checked to be a table by Read), or of
+// `parent` itself when absent, so that checks after Read can name keys in either.
+TableReader SubTable(const TableReader& parent, std::string_view key) {
+  const toml::table* table = parent.table().get_as<toml::table>(key);
+  return table ? TableReader(*table, parent.KeyPath(key), parent.file()) : parent;
+}
+
+}  // namespace
+
+SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const std::string_view> other_tables,
+                              const StoredSampling* stored) {
+  const std::string source = file.string();
+  SamplingPlan plan;
+  plan.text = stored != nullptr ? stored->text : ReadTextFile(file);
+  const toml::table document = ParseToml(plan.text, source);
+  const TableReader root(document, "", source);
+  plan.catalogue = ShippedCatalogue();
+
+  FileInput in;
+  std::optional<RingInput> ring;
+  std::optional<RollerInput> rollers;
+  std::optional<PositionInput> positions;
+  std::optional<SpringInput> springs;
+  const std::vector<Field<FileInput>> design_fields{
+      Text("kind", Presence::kOptional, "\"monte_carlo\", \"latin_hypercube\", \"sobol\", \"saltelli\"",
+           &FileInput::design_kind),
+      Integer("samples", Presence::kOptional, Between(1, 2147483647), &FileInput::samples),
+      Integer("replicates", Presence::kOptional, Between(1, 1000000), &FileInput::replicates),
+      Flag("randomise", Presence::kOptional, &FileInput::randomise),
+      Text("base", Presence::kOptional, "\"sobol\" or \"monte_carlo\"", &FileInput::base),
+      Text("groups", Presence::kOptional, "\"coordinate\", \"quantity\", \"component\", \"source\", \"order\"",
+           &FileInput::groups),
+  };
+  struct Tolerances {};
+  Tolerances unused;
+  const std::vector<Field<Tolerances>> tolerance_fields{
+      Section<Tolerances>("ring", Presence::kOptional,
+                          [&](const TableReader& t, Tolerances&) {
+                            RingInput r;
+                            t.Read(With(CommonFields<RingInput>(true),
+                                        {Number("circularity_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0),
+                                                &RingInput::circularity)}),
+                                   r);
+                            ring = r;
+                          }),
+      Section<Tolerances>(
+          "rollers", Presence::kOptional,
+          [&](const TableReader& t, Tolerances&) {
+            RollerInput r;
+            t.Read(With(CommonFields<RollerInput>(true),
+                        {Text("diameter_series", Presence::kOptional, "\"9\", \"0\", \"1\", \"2\", \"3\", \"4\"",
+                              &RollerInput::series),
+                         Number("kea_um", Presence::kOptional, units::kMetresPerMicrometre, AtLeast(0), &RollerInput::kea),
+                         Number("vdsp_um", Presence::kOptional, units::kMetresPerMicrometre, AtLeast(0), &RollerInput::vdsp),
+                         Number("mean_diameter_lower_um", Presence::kOptional, units::kMetresPerMicrometre, AnyFinite(),
+                                &RollerInput::lower),
+                         Number("mean_diameter_upper_um", Presence::kOptional, units::kMetresPerMicrometre, AnyFinite(),
+                                &RollerInput::upper)}),
+                   r);
+            rollers = r;
+          }),
+      Section<Tolerances>("roller_positions", Presence::kOptional,
+                          [&](const TableReader& t, Tolerances&) {
+                            PositionInput r;
+                            t.Read(With(CommonFields<PositionInput>(false),
+                                        {Number("zone_diameter_mm", Presence::kOptional, units::kMetresPerMillimetre,
+                                                Above(0), &PositionInput::zone)}),
+                                   r);
+                            positions = r;
+                          }),
+      Section<Tolerances>("springs", Presence::kOptional,
+                          [&](const TableReader& t, Tolerances&) {
+                            SpringInput r;
+                            t.Read(With(CommonFields<SpringInput>(false),
+                                        {Number("stiffness_percent", Presence::kOptional, kPerPercent, Between(0, 100),
+                                                &SpringInput::stiffness),
+                                         Number("preload_percent", Presence::kOptional, kPerPercent,
+                                                Range{0, false, 100, true}, &SpringInput::preload)}),
+                                   r);
+                            springs = r;
+                          }),
+  };
+  std::vector<Field<FileInput>> fields{
+      Text("scene", Presence::kRequired, "a scene file, relative to this file", &FileInput::scene),
+      {"seed", Presence::kOptional, "an integer >= 0",
+       [](const Site& site, FileInput& f) {
+         const auto* value = site.node.as_integer();
+         if (value == nullptr || value->get() < 0) site.Fail("not an integer >= 0", "an integer >= 0");
+         f.seed = value->get();
+       },
+       {}, {}},
+      Section<FileInput>("design", Presence::kOptional,
+                         [&](const TableReader& t, FileInput& f) { t.Read(design_fields, f); }),
+      Section<FileInput>("tolerances", Presence::kOptional,
+                         [&](const TableReader& t, FileInput&) { t.Read(tolerance_fields, unused); }),
+      Section<FileInput>("catalogue", Presence::kOptional,
+                         [&](const TableReader& t, FileInput&) {
+                           AddCatalogueClasses(t.table(), "catalogue", source, false, plan.catalogue);
+                         }),
+  };
+  for (const std::string_view key : other_tables) {
+    fields.push_back(Section<FileInput>(key, Presence::kOptional, [](const TableReader&, FileInput&) {}));
+  }
+  root.Read(fields, in);
+
+  // The base scene.
+  plan.scene_file = file.parent_path() / in.scene;
+  try {
+    plan.scene = stored != nullptr ? ParseScene(stored->base_scene, source + " (stored base scene)")
+                                   : ReadScene(plan.scene_file);
+  } catch (const InputError& e) {
+    root.Fail("scene", std::string("the scene does not read: ") + e.what(), "a valid scene file");
+  }
+  plan.seed = static_cast<std::uint64_t>(in.seed);
+  plan.samples = in.samples;
+
+  // The design.
+  const TableReader design = SubTable(root, "design");
+  using sampling::DesignKind;
+  const std::vector<std::pair<std::string, DesignKind>> kinds{{"monte_carlo", DesignKind::kMonteCarlo},
+                                                              {"latin_hypercube", DesignKind::kLatinHypercube},
+                                                              {"sobol", DesignKind::kSobol},
+                                                              {"saltelli", DesignKind::kSaltelli}};
+  auto kind_of = [&](const std::string& name, std::string_view key, bool base) {
+    for (const auto& [text, kind] : kinds) {
+      if (text == name && (!base || kind == DesignKind::kSobol || kind == DesignKind::kMonteCarlo)) return kind;
+    }
+    design.Fail(key, "unknown design", base ? "\"sobol\", \"monte_carlo\"" : "\"monte_carlo\", \"latin_hypercube\", \"sobol\", \"saltelli\"");
+  };
+  plan.design.kind = kind_of(in.design_kind, "kind", false);
+  plan.design.seed = plan.seed;
+  plan.design.latin_samples = in.samples;
+  plan.design.replicates = in.replicates;
+  plan.design.randomise = in.randomise;
+  plan.design.saltelli_base = kind_of(in.base, "base", true);
+  bool grouping_found = false;
+  for (const auto g : {sampling::InputGrouping::kCoordinate, sampling::InputGrouping::kQuantity,
+                       sampling::InputGrouping::kComponent, sampling::InputGrouping::kSource,
+                       sampling::InputGrouping::kOrder}) {
+    if (in.groups == sampling::InputGroupingName(g)) {
+      plan.grouping = g;
+      grouping_found = true;
+    }
+  }
+  if (!grouping_found)
+    design.Fail("groups", "unknown grouping", "\"coordinate\", \"quantity\", \"component\", \"source\", \"order\"");
+  if (plan.design.kind != DesignKind::kSobol && design.Has("replicates") && in.replicates != 1)
+    design.Fail("replicates", "applies to kind = \"sobol\" only", "1 for kind = \"" + in.design_kind + "\"");
+
+  // The tolerances, resolved against the catalogue at each part's diameter.
+  const engine::Scene& scene = plan.scene;
+  const std::size_t count = scene.rollers.size();
+  const TableReader tolerances = SubTable(root, "tolerances");
+  if (ring) {
+    const TableReader t = SubTable(tolerances, "ring");
+    sampling::RingFormTolerance r;
+    if (ClassOrNumbers(t, *ring, {"circularity_mm"})) {
+      r.class_name = *ring->class_name;
+      r.circularity = Lookup(t, [&] { return plan.catalogue.Ring(r.class_name, 2 * scene.ring.inner.radius()); })
+                          .circularity;
+    } else {
+      r.circularity = ring->circularity;
+    }
+    r.spectrum = Spectrum(t, *ring, 50);
+    r.capability = ring->capability();
+    plan.tolerances.ring = r;
+  }
+  if (rollers) {
+    const TableReader t = SubTable(tolerances, "rollers");
+    const sampling::DiameterSeries series = Series(t, rollers->series);
+    const bool by_class = ClassOrNumbers(t, *rollers, {"kea_um", "vdsp_um", "mean_diameter_lower_um", "mean_diameter_upper_um"});
+    if (!by_class && rollers->lower > rollers->upper)
+      t.Fail("mean_diameter_lower_um", "is above mean_diameter_upper_um", "<= mean_diameter_upper_um");
+    for (std::size_t i = 0; i < count; ++i) {
+      sampling::RollerShapeTolerance r;
+      if (by_class) {
+        const sampling::RollerTolerance row = Lookup(t, [&] {
+          return plan.catalogue.Roller(*rollers->class_name, 2 * scene.rollers[i].outline.radius(), series);
+        });
+        r = {*rollers->class_name, row.kea, row.vdsp, row.mean_diameter_lower, row.mean_diameter_upper, {}, {}};
+      } else {
+        r = {"", rollers->kea, rollers->vdsp, rollers->lower, rollers->upper, {}, {}};
+      }
+      r.form = Spectrum(t, *rollers, 8);
+      r.capability = rollers->capability();
+      plan.tolerances.roller_shapes.push_back(r);
+    }
+  }
+  if (positions) {
+    const TableReader t = SubTable(tolerances, "roller_positions");
+    const bool by_class = ClassOrNumbers(t, *positions, {"zone_diameter_mm"});
+    for (std::size_t i = 0; i < count; ++i) {
+      sampling::PositionTolerance r;
+      r.class_name = by_class ? *positions->class_name : "";
+      r.zone_diameter = by_class ? Lookup(t, [&] {
+                                     return plan.catalogue.Position(r.class_name, 2 * scene.rollers[i].centre_radius);
+                                   }).zone_diameter
+                                 : positions->zone;
+      r.capability = positions->capability();
+      plan.tolerances.roller_positions.push_back(r);
+    }
+  }
+  if (springs) {
+    const TableReader t = SubTable(tolerances, "springs");
+    const bool by_class = ClassOrNumbers(t, *springs, {"stiffness_percent", "preload_percent"});
+    if (engine::SpringRollerCount(scene) == 0)
+      t.FailAbout("class", "tolerances.springs", "the scene has no spring roller", "no [tolerances.springs]");
+    for (std::size_t i = 0; i < count; ++i) {
+      if (scene.rollers[i].mount != engine::RollerMount::kSpring) {
+        plan.tolerances.springs.emplace_back();
+        continue;
+      }
+      sampling::SpringTolerance r;
+      if (by_class) {
+        const sampling::SpringClassRow row = Lookup(t, [&] { return plan.catalogue.Spring(*springs->class_name); });
+        r = {*springs->class_name, row.stiffness, row.preload, {}};
+      } else {
+        r = {"", springs->stiffness, springs->preload, {}};
+      }
+      r.capability = springs->capability();
+      plan.tolerances.springs.push_back(r);
+    }
+  }
+  return plan;
+}
+
+void OverridePlan(SamplingPlan& plan, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed) {
+  if (samples) plan.samples = *samples;
+  if (plan.design.kind == sampling::DesignKind::kLatinHypercube) plan.design.latin_samples = plan.samples;
+  if (seed) plan.seed = plan.design.seed = *seed;
+}
+
+Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name) {
+  auto check_count = [&](const sampling::Design& design) {
+    const std::string problem = design.CheckSampleCount(plan.samples);
+    if (!problem.empty())
+      throw InputError(source_name + ": design.samples = " + std::to_string(plan.samples) + ": " + problem);
+  };
+  // Outside Saltelli the count's rules do not depend on the inputs: refuse a bad count
+  // before the calibration's second of work.
+  if (plan.design.kind != sampling::DesignKind::kSaltelli) {
+    try {
+      check_count(sampling::Design(1, plan.design));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(source_name + ": [design]: " + e.what());
+    }
+  }
+  std::optional<sampling::AssemblySampler> sampler;
+  try {
+    sampling::AssemblySamplerOptions options;
+    options.seed = plan.seed;
+    sampler.emplace(plan.scene, plan.tolerances, options);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source_name + ": [tolerances]: " + e.what());
+  }
+  sampling::DesignOptions options = plan.design;
+  if (options.kind == sampling::DesignKind::kSaltelli) options.groups = sampler->Groups(plan.grouping).coordinates;
+  if (sampler->dimension() == 0)
+    throw InputError(source_name + ": [tolerances]: nothing is toleranced; allowed: at least one of [tolerances.ring], "
+                     "[tolerances.rollers], [tolerances.roller_positions], [tolerances.springs]");
+  std::optional<sampling::Design> design;
+  try {
+    design.emplace(sampler->dimension(), options);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source_name + ": [design]: " + e.what());
+  }
+  check_count(*design);
+  return {std::move(*sampler), std::move(*design)};
+}
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,93 @@
+// Sampling files: what to sample and how. They are the sampling half of a campaign file
+// (jobs/campaign/campaign_file.h), which adds its solver and spec tables beside these; `ringtol
+// sample` reads either. examples/tolerances/normal_waterjet.toml is the reference.
+//
+//   scene = "scene.toml"            required: base scene, relative to this file
+//   seed = 1                        integer >= 0, default 1: the campaign seed
+//   [design]                        optional
+//     kind = "monte_carlo"          "monte_carlo" (default), "latin_hypercube", "sobol", "saltelli"
+//     samples = 1000                integer >= 1, default 1000; a Sobol' net needs
+//                                   replicates x 2^m, Saltelli (groups + 2) x rows (2^m rows
+//                                   on a Sobol' base); a Latin hypercube cannot grow later
+//     replicates = 1                sobol only: independently shifted nets (error bars)
+//     randomise = true              sobol, saltelli: false gives the raw net
+//     base = "sobol"                saltelli only: "sobol" or "monte_carlo"
+//     groups = "source"             saltelli only: "coordinate", "quantity", "component",
+//                                   "source" or "order" (sampling/assembly_sampler.h)
+//   [tolerances.ring]               optional: ring bore form
+//     class = "waterjet" | circularity_mm > 0     exactly one
+//     mode = "process"              "process" (as made) or "inspected" (out-of-tolerance rejected)
+//     capability_cp = 1.0           > 0 and <= 1.33: fraction inside erf(3 Cp / sqrt 2)
+//     max_order = 50                2..1000: cutoff in undulations per revolution
+//     exponent = 1.0                >= 0: amplitude scale n^-exponent, or
+//     relative_scales = [...]       one value >= 0 per order 2..max_order
+//   [tolerances.rollers]            optional: every roller's running surface
+//     class = "Normal" | kea_um, vdsp_um, mean_diameter_lower_um, mean_diameter_upper_um
+//     diameter_series = "9"         "9" (default, the widest VDsp), "0", "1", "2", "3", "4"
+//     mode, capability_cp           as above
+//     max_order = 8                 2..1000: roller form cutoff; exponent, relative_scales as above
+//   [tolerances.roller_positions]   optional: every roller's axis
+//     class = "IT7" | zone_diameter_mm > 0;  mode, capability_cp
+//   [tolerances.springs]            optional: every spring roller's spring
+//     class = "pm10" | stiffness_percent and preload_percent;  mode, capability_cp
+//   [catalogue]                     optional: classes added to the shipped catalogue
+//                                   (jobs/inputs/catalogue_file.h)
+//
+// Classes are looked up at each roller's own diameter (2 r_b for shapes, twice its centre
+// radius for positions) and the ring's bore diameter 2R. Failure: InputError naming the
+// file, key, value and allowed range, for every problem above, an unknown class or a
+// diameter its rows do not cover, a sample count the design cannot have, and what the
+// sampler refuses (a capability too high to calibrate a form spectrum).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "engine/scene.h"
+#include "sampling/assembly_sampler.h"
+#include "sampling/catalogue.h"
+#include "sampling/design.h"
+
+namespace ringtol::jobs {
+
+struct SamplingPlan {
+  std::filesystem::path scene_file;  // as resolved
+  engine::Scene scene;
+  std::uint64_t seed = 1;
+  sampling::DesignOptions design;  // groups filled by MakeSampling
+  std::int64_t samples = 1000;
+  sampling::InputGrouping grouping = sampling::InputGrouping::kSource;
+  sampling::AssemblyTolerances tolerances;
+  sampling::ToleranceCatalogue catalogue;  // shipped plus [catalogue]
+  std::string text;                        // the file as read, for provenance
+};
+
+// `other_tables`: root tables of a larger file (a campaign file's [solver] and [spec]) that
+// its own reader reads; accepted here as tables and otherwise left alone.
+//
+// `stored` (may be null): the file's text and its base scene as a results file keeps them
+// (jobs/store/campaign_store.h); they stand in for the files on disk, which may have moved or
+// changed since the campaign ran. `file` then only names the source in messages.
+struct StoredSampling {
+  std::string text;        // the sampling or campaign file as read
+  std::string base_scene;  // the base scene as a scene file (jobs/inputs/scene_writer.h)
+};
+SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const std::string_view> other_tables = {},
+                              const StoredSampling* stored = nullptr);
+
+// Command-line overrides of the file's design.samples and seed (a Latin hypercube's size
+// follows the sample count).
+void OverridePlan(SamplingPlan& plan, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed);
+
+// The sampler and the design of a plan, checked: the sample count fits the design.
+struct Sampling {
+  sampling::AssemblySampler sampler;
+  sampling::Design design;
+};
+Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name);
+
+}  // namespace ringtol::jobs

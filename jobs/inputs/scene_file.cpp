@@ -1,0 +1,470 @@
+#include "jobs/inputs/scene_file.h"
+
+#include <cmath>
+#include <cstddef>
+#include <filesystem>
+#include <numbers>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "jobs/inputs/profile_csv.h"
+#include "jobs/inputs/input_error.h"
+#include "jobs/inputs/toml_fields.h"
+#include "engine/units.h"
+
+namespace ringtol::jobs {
+namespace {
+
+using engine::RollerMount;
+using engine::ShapePhaseReference;
+
+constexpr std::size_t kMinRollers = 3;  // fewer cannot hold the ring's centre in its plane
+constexpr std::string_view kMassAllowed = "exactly one of density_kg_per_m3 > 0 or mass_kg > 0";
+constexpr std::string_view kSpringOnly = "mount = \"spring\"";
+
+double Millimetres(double metres) { return metres / units::kMetresPerMillimetre; }
+
+// The polar form r = r0 + dr0 + sum C_n cos(n theta + phi_n) only describes an outline
+// while every deviation stays below r0; beyond, r can reach zero and the body is not a
+// body. radius_key names the key that set r0, for the message.
+void RequireDeviationsBelowRadius(const TableReader& table, const engine::PolarProfile& profile,
+                                  std::string_view radius_key) {
+  const double bound = DeviationBound(profile);
+  if (bound < profile.radius()) return;
+  // A measured profile is the likelier culprit: a fit of too many orders across a gap.
+  const bool measured = table.Has("measured_profile");
+  const std::string_view key = measured ? "measured_profile" : table.Has("harmonics") ? "harmonics" : "mean_deviation_mm";
+  table.FailAbout(key,
+                  fmt::format("{} (|mean_deviation_mm| + sum of amplitude_mm = {})", table.KeyPath(key),
+                              ShowDerived(Millimetres(bound))),
+                  measured ? "amplitudes larger than the radius (`ringtol fit` shows the fit: fewer orders?)"
+                           : "amplitudes larger than the radius",
+                  fmt::format("< {} ({})", ShowDerived(Millimetres(profile.radius())), table.KeyPath(radius_key)));
+}
+
+// ---- [ring]
+
+// ring.measured_profile: a roundness tester's export, fitted on reading.
+struct MeasuredProfileInput {
+  std::filesystem::path file;  // resolved against the scene file's folder
+  int orders = 0;
+  bool keep_eccentricity = false;
+};
+
+constexpr std::string_view kProfileFileAllowed =
+    "the path of an existing CSV file (jobs/inputs/profile_csv.h), relative to the scene file's folder";
+constexpr std::string_view kMeasuredProfileAllowed =
+    "a table { file = \"profile.csv\", orders = integer 1..1000, keep_eccentricity = false }";
+
+// The file named at `site`, resolved against `folder` (an absolute path stays as it is).
+std::filesystem::path ReadProfilePath(const Site& site, const std::filesystem::path& folder) {
+  const std::filesystem::path file = folder / ReadText(site, kProfileFileAllowed);
+  std::error_code error;
+  if (std::filesystem::is_regular_file(file, error)) return file;
+  const bool exists = std::filesystem::exists(file, error);
+  site.Fail(fmt::format("{}: {}", exists ? "not a file" : "no such file", file.string()), kProfileFileAllowed);
+}
+
+std::vector<Field<MeasuredProfileInput>> MeasuredProfileFields(const std::filesystem::path& folder) {
+  return {
+      Field<MeasuredProfileInput>{
+          "file", Presence::kRequired, std::string(kProfileFileAllowed),
+          [folder](const Site& site, MeasuredProfileInput& in) { in.file = ReadProfilePath(site, folder); }, {}, {}},
+      Integer("orders", Presence::kRequired, Between(1.0, kMaxHarmonicOrder), &MeasuredProfileInput::orders),
+      Flag("keep_eccentricity", Presence::kOptional, &MeasuredProfileInput::keep_eccentricity),
+  };
+}
+
+// What a measured profile adds to the ring's keys.
+struct MeasuredRing {
+  ProfileQuantity quantity = ProfileQuantity::kRadius;
+  double mean = 0.0;  // [m] fitted order 0: a radius or a mean deviation, as the file holds
+  std::vector<engine::Harmonic> harmonics;
+};
+
+// Errors of the CSV and of the fit come with the key's position and path in front:
+// "scene.toml:5:1: ring.measured_profile: ring.csv:7: radius_mm = abc: ...".
+MeasuredRing ReadMeasuredProfile(const Site& site, const std::filesystem::path& folder) {
+  const TableReader table(ReadTable(site, kMeasuredProfileAllowed), site.key_path, site.file);
+  MeasuredProfileInput in;
+  table.Read(MeasuredProfileFields(folder), in);
+  try {
+    const MeasuredFit measured = FitProfileFile(in.file, in.orders);
+    return {measured.quantity, measured.fit.mean, FormHarmonics(measured.fit, in.keep_eccentricity)};
+  } catch (const InputError& error) {
+    throw InputError(fmt::format("{}: {}: {}", Where(site.file, site.node.source()), site.key_path, error.what()));
+  }
+}
+
+struct RingInput {
+  double inner_radius = 0.0;           // [m]
+  double outer_radius = 0.0;           // [m]
+  double thickness = 0.0;              // [m]
+  std::optional<double> density;       // [kg/m^3]
+  std::optional<double> mass;          // [kg]
+  std::optional<double> spin_inertia;  // [kg m^2]
+  double mean_deviation = 0.0;         // [m]
+  std::vector<engine::Harmonic> harmonics;
+  std::optional<MeasuredRing> measured;
+};
+
+std::vector<Field<RingInput>> RingFields(const std::filesystem::path& folder) {
+  return {
+      Number("inner_radius_mm", Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::inner_radius),
+      Number("outer_radius_mm", Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::outer_radius),
+      Number("thickness_mm", Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::thickness),
+      Number("density_kg_per_m3", Presence::kOptional, kSameUnit, Above(0.0), &RingInput::density),
+      Number("mass_kg", Presence::kOptional, kSameUnit, Above(0.0), &RingInput::mass),
+      Number("spin_inertia_kg_m2", Presence::kOptional, kSameUnit, Above(0.0), &RingInput::spin_inertia),
+      Number("mean_deviation_mm", Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RingInput::mean_deviation),
+      HarmonicList("harmonics", Presence::kOptional, &RingInput::harmonics),
+      Field<RingInput>{"measured_profile", Presence::kOptional, std::string(kMeasuredProfileAllowed),
+                       [folder](const Site& site, RingInput& in) { in.measured = ReadMeasuredProfile(site, folder); },
+                       {}, {}},
+  };
+}
+
+// folder: the scene file's, against which ring.measured_profile.file is resolved.
+void ReadRing(const TableReader& table, const std::filesystem::path& folder, engine::Scene& scene) {
+  RingInput in;
+  table.Read(RingFields(folder), in);
+  if (in.measured) {
+    // A measured radius is the nominal radius plus the mean deviation.
+    in.mean_deviation +=
+        in.measured->quantity == ProfileQuantity::kRadius ? in.measured->mean - in.inner_radius : in.measured->mean;
+    in.harmonics.insert(in.harmonics.end(), in.measured->harmonics.begin(), in.measured->harmonics.end());
+  }
+  if (!(in.outer_radius > in.inner_radius)) {
+    table.Fail("outer_radius_mm", "not larger than the inner radius",
+               fmt::format("> {} (ring.inner_radius_mm)", ShowDerived(Millimetres(in.inner_radius))));
+  }
+  table.RequireExactlyOne("density_kg_per_m3", "mass_kg", kMassAllowed);
+
+  engine::Ring& ring = scene.ring;
+  ring.inner = engine::PolarProfile(in.inner_radius, in.mean_deviation, in.harmonics);
+  ring.outer_radius = in.outer_radius;
+  ring.thickness = in.thickness;
+  // A plain annulus: the gear teeth on the outer flank are ignored (docs/model.md §1).
+  const double ro2 = in.outer_radius * in.outer_radius;
+  const double ri2 = in.inner_radius * in.inner_radius;
+  ring.mass = in.mass ? *in.mass : *in.density * std::numbers::pi * (ro2 - ri2) * in.thickness;
+  ring.spin_inertia = in.spin_inertia.value_or(ring.mass * (ro2 + ri2) / 2.0);
+  RequireDeviationsBelowRadius(table, ring.inner, "inner_radius_mm");
+}
+
+// ---- [roller_positions]
+
+struct ErrorSeriesInput {
+  double mean_deviation = 0.0;  // [m]
+  std::vector<engine::Harmonic> harmonics;
+};
+
+std::vector<Field<ErrorSeriesInput>> RollerPositionFields() {
+  return {
+      Number("mean_deviation_mm", Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(),
+             &ErrorSeriesInput::mean_deviation),
+      HarmonicList("harmonics", Presence::kOptional, &ErrorSeriesInput::harmonics),
+  };
+}
+
+void ReadRollerPositions(const TableReader& table, engine::Scene& scene) {
+  ErrorSeriesInput in;
+  table.Read(RollerPositionFields(), in);
+  // The radius of this series is never used (engine/scene.h); 1 m keeps PolarProfile valid.
+  scene.roller_positions = engine::PolarProfile(1.0, in.mean_deviation, in.harmonics);
+}
+
+// ---- [[rollers]]
+
+struct RollerInput {
+  std::string name;
+  double angle = 0.0;                     // [rad]
+  double radius = 0.0;                    // [m]
+  std::optional<double> centre_radius;    // [m]
+  double radial_offset = 0.0;             // [m]
+  double tangential_offset = 0.0;         // [m]
+  RollerMount mount = RollerMount::kFixed;
+  double spring_stiffness = 0.0;          // [N/m]
+  double spring_preload = 0.0;            // [N]
+  std::optional<double> spring_axis;      // [rad]
+  std::optional<double> spring_travel_limit;  // [m]
+  double width = 0.0;                     // [m]
+  std::optional<double> density;          // [kg/m^3]
+  std::optional<double> mass;             // [kg]
+  std::optional<double> spin_inertia;     // [kg m^2]
+  ShapePhaseReference phase_reference = ShapePhaseReference::kRadial;
+  double spin_phase = 0.0;                // [rad]
+  double mean_deviation = 0.0;            // [m]
+  std::vector<engine::Harmonic> harmonics;
+};
+
+std::vector<Field<RollerInput>> RollerFields() {
+  const auto is_spring = [](const RollerInput& roller) { return roller.mount == RollerMount::kSpring; };
+  // mount comes before the spring keys: whether they are allowed depends on it.
+  return {
+      Text("name", Presence::kOptional, "a non-empty string, unique among the rollers", &RollerInput::name),
+      Number("angle_deg", Presence::kRequired, units::kRadiansPerDegree, AnyFinite(), &RollerInput::angle),
+      Number("radius_mm", Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RollerInput::radius),
+      Number("centre_radius_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0.0), &RollerInput::centre_radius),
+      Number("radial_offset_mm", Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RollerInput::radial_offset),
+      Number("tangential_offset_mm", Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(),
+             &RollerInput::tangential_offset),
+      Choice<RollerInput, RollerMount>("mount", Presence::kRequired,
+                                       {{"fixed", RollerMount::kFixed}, {"spring", RollerMount::kSpring}},
+                                       &RollerInput::mount),
+      Number("spring_stiffness_N_per_m", Presence::kRequired, kSameUnit, AtLeast(0.0), &RollerInput::spring_stiffness)
+          .When(is_spring, kSpringOnly),
+      Number("spring_preload_N", Presence::kRequired, kSameUnit, Above(0.0), &RollerInput::spring_preload)
+          .When(is_spring, kSpringOnly),
+      Number("spring_axis_deg", Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &RollerInput::spring_axis)
+          .When(is_spring, kSpringOnly),
+      Number("spring_travel_limit_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
+             &RollerInput::spring_travel_limit)
+          .When(is_spring, kSpringOnly),
+      Number("width_mm", Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RollerInput::width),
+      Number("density_kg_per_m3", Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::density),
+      Number("mass_kg", Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::mass),
+      Number("spin_inertia_kg_m2", Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::spin_inertia),
+      Choice<RollerInput, ShapePhaseReference>(
+          "shape_phase_reference", Presence::kOptional,
+          {{"radial", ShapePhaseReference::kRadial}, {"global", ShapePhaseReference::kGlobal}},
+          &RollerInput::phase_reference),
+      Number("spin_phase_deg", Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &RollerInput::spin_phase),
+      Number("mean_deviation_mm", Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RollerInput::mean_deviation),
+      HarmonicList("harmonics", Presence::kOptional, &RollerInput::harmonics),
+  };
+}
+
+void ReadRoller(const TableReader& table, std::size_t index, engine::Scene& scene) {
+  RollerInput in;
+  in.name = fmt::format("roller{}", index + 1);
+  table.Read(RollerFields(), in);
+  const double ring_radius = scene.ring.inner.radius();
+  if (!(in.radius < ring_radius)) {
+    table.Fail("radius_mm", "not smaller than the ring's inner radius",
+               fmt::format("> 0 and < {} (ring.inner_radius_mm)", ShowDerived(Millimetres(ring_radius))));
+  }
+  table.RequireExactlyOne("density_kg_per_m3", "mass_kg", kMassAllowed);
+  for (std::size_t other = 0; other < scene.rollers.size(); ++other) {
+    if (scene.rollers[other].name != in.name) continue;
+    table.FailAbout("name", fmt::format("{} = \"{}\"", table.KeyPath("name"), in.name),
+                    fmt::format("the same name as rollers[{}]", other), "a name no other roller has");
+  }
+
+  engine::Roller roller;
+  roller.name = in.name;
+  roller.angle = in.angle;
+  roller.centre_radius = in.centre_radius.value_or(ring_radius - in.radius);
+  roller.radial_offset = in.radial_offset;
+  roller.tangential_offset = in.tangential_offset;
+  roller.outline = engine::PolarProfile(in.radius, in.mean_deviation, in.harmonics);
+  roller.phase_reference = in.phase_reference;
+  roller.spin_phase = in.spin_phase;
+  roller.mount = in.mount;
+  if (in.mount == RollerMount::kSpring) {
+    roller.spring = {in.spring_stiffness, in.spring_preload, in.spring_axis.value_or(in.angle),
+                     in.spring_travel_limit.value_or(in.radius)};
+  }
+  // A solid cylinder: the bearing's bore and its inner ring standing still are ignored,
+  // which overstates the spinning mass by a few per cent (docs/model.md §1).
+  const double r2 = in.radius * in.radius;
+  roller.mass = in.mass ? *in.mass : *in.density * std::numbers::pi * r2 * in.width;
+  roller.spin_inertia = in.spin_inertia.value_or(roller.mass * r2 / 2.0);
+  RequireDeviationsBelowRadius(table, roller.outline, "radius_mm");
+  scene.rollers.push_back(std::move(roller));
+}
+
+// ---- [contact], [friction], [sensor]: straight into the engine's structs, whose in-class
+// defaults are the documented defaults.
+
+std::vector<Field<engine::ContactLaw>> ContactFields() {
+  using Law = engine::ContactLaw;
+  return {
+      Choice<Law, Law::Model>("law", Presence::kOptional,
+                              {{"rigid", Law::Model::kRigid}, {"penalty", Law::Model::kPenalty}}, &Law::model),
+      Number("stiffness_N_per_m_e", Presence::kOptional, kSameUnit, Above(0.0), &Law::stiffness),
+      Number("exponent", Presence::kOptional, kSameUnit, Between(1.0, 3.0), &Law::exponent),
+      Number("max_damping_N_s_per_m", Presence::kOptional, kSameUnit, AtLeast(0.0), &Law::max_damping),
+      Number("full_damping_penetration_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
+             &Law::full_damping_penetration),
+  };
+}
+
+std::vector<Field<engine::Friction>> FrictionFields() {
+  using engine::Friction;
+  return {
+      Number("static_coefficient", Presence::kOptional, kSameUnit, AtLeast(0.0), &Friction::static_coefficient),
+      Number("dynamic_coefficient", Presence::kOptional, kSameUnit, AtLeast(0.0), &Friction::dynamic_coefficient),
+      Number("stiction_velocity_mm_per_s", Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
+             &Friction::stiction_velocity),
+      Number("transition_velocity_mm_per_s", Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
+             &Friction::transition_velocity),
+  };
+}
+
+void ReadFriction(const TableReader& table, engine::Scene& scene) {
+  table.Read(FrictionFields(), scene.friction);
+  const engine::Friction& friction = scene.friction;
+  if (friction.transition_velocity > friction.stiction_velocity) return;
+  // mu(v) falls from mu_s at v_s to mu_d at v_d: the two must be in that order.
+  const std::string allowed =
+      fmt::format("> stiction_velocity_mm_per_s = {}", ShowDerived(Millimetres(friction.stiction_velocity)));
+  constexpr std::string_view kTransition = "transition_velocity_mm_per_s";
+  if (table.Has(kTransition)) table.Fail(kTransition, "not above the stiction velocity", allowed);
+  table.FailAbout("stiction_velocity_mm_per_s",
+                  fmt::format("{} = {} (default)", table.KeyPath(kTransition),
+                              ShowDerived(Millimetres(friction.transition_velocity))),
+                  "not above the stiction velocity", allowed);
+}
+
+// ---- [motion], [dynamics]: read by the dynamic solver only.
+
+enum class MotionKind { kArticle, kTestBench, kPiecewise };
+
+struct MotionInput {
+  MotionKind law = MotionKind::kArticle;
+  std::optional<double> settle;       // [s]
+  std::optional<double> rate;         // [rad/s]
+  std::optional<double> revolutions;  // [-]
+  std::vector<engine::MotionSegment> segments;
+};
+
+constexpr std::string_view kSegmentsAllowed =
+    "an array of at least one table { duration_s > 0, acceleration_deg_per_s2 (default 0), "
+    "start_rate_deg_per_s (default: continue) }";
+
+std::vector<Field<engine::MotionSegment>> SegmentFields() {
+  using engine::MotionSegment;
+  return {
+      Number("duration_s", Presence::kRequired, kSameUnit, Above(0.0), &MotionSegment::duration),
+      Number("acceleration_deg_per_s2", Presence::kOptional, units::kRadiansPerDegree, AnyFinite(),
+             &MotionSegment::acceleration),
+      Number("start_rate_deg_per_s", Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &MotionSegment::start_rate),
+  };
+}
+
+std::vector<Field<MotionInput>> MotionFields() {
+  auto is = [](MotionKind kind) { return [kind](const MotionInput& in) { return in.law == kind; }; };
+  auto is_not_piecewise = [](const MotionInput& in) { return in.law != MotionKind::kPiecewise; };
+  return {
+      Choice<MotionInput, MotionKind>(
+          "law", Presence::kOptional,
+          {{"article", MotionKind::kArticle}, {"test_bench", MotionKind::kTestBench}, {"piecewise", MotionKind::kPiecewise}},
+          &MotionInput::law),
+      Number("settle_s", Presence::kOptional, kSameUnit, AtLeast(0.0), &MotionInput::settle)
+          .When(is_not_piecewise, "law = \"article\" or \"test_bench\""),
+      Number("rate_deg_per_s", Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &MotionInput::rate)
+          .When(is(MotionKind::kArticle), "law = \"article\""),
+      Number("revolutions", Presence::kOptional, kSameUnit, Above(0.0), &MotionInput::revolutions)
+          .When(is(MotionKind::kArticle), "law = \"article\""),
+      Field<MotionInput>{"segments", Presence::kRequired, std::string(kSegmentsAllowed),
+                         [](const Site& site, MotionInput& in) {
+                           for (const TableReader& table : ReadTableArray(site, 1, kSegmentsAllowed)) {
+                             engine::MotionSegment segment;
+                             table.Read(SegmentFields(), segment);
+                             in.segments.push_back(segment);
+                           }
+                         },
+                         {}, {}}
+          .When(is(MotionKind::kPiecewise), "law = \"piecewise\""),
+  };
+}
+
+void ReadMotion(const TableReader& table, engine::Scene& scene) {
+  MotionInput in;
+  table.Read(MotionFields(), in);
+  if (in.law == MotionKind::kArticle && in.rate && *in.rate == 0.0) {
+    table.Fail("rate_deg_per_s", "zero: the ring would never turn", "any non-zero number");
+  }
+  // Each value was range-checked as it was read; what remains is a law whose durations,
+  // angles or rates overflow a double (a rate of 1e-320 deg/s takes forever to turn).
+  try {
+    switch (in.law) {
+      case MotionKind::kArticle:
+        scene.motion =
+            engine::ArticleLaw(in.settle.value_or(0.5), in.rate.value_or(270.0 * units::kRadiansPerDegree), in.revolutions.value_or(3.0));
+        break;
+      case MotionKind::kTestBench:
+        scene.motion = engine::TestBenchLaw(in.settle.value_or(0.5));
+        break;
+      case MotionKind::kPiecewise:
+        scene.motion = engine::MotionLaw(in.segments);
+        break;
+    }
+  } catch (const std::invalid_argument& e) {
+    table.FailAbout("law", "motion", e.what(), "durations, angles and rates that stay finite");
+  }
+  const engine::MotionLaw& law = scene.motion;
+  const double end = law.Duration();
+  if (!std::isfinite(end) || !std::isfinite(law.Angle(end)) || !std::isfinite(law.Rate(end))) {
+    table.FailAbout("law", "motion", "the law's time, angle or rate overflows", "durations, angles and rates that stay finite");
+  }
+}
+
+std::vector<Field<engine::DynamicModel>> DynamicsFields() {
+  using engine::DynamicModel;
+  return {
+      Flag("friction", Presence::kOptional, &DynamicModel::friction),
+      Flag("rolling_without_slip", Presence::kOptional, &DynamicModel::rolling_without_slip),
+      Flag("massless_spring_rollers", Presence::kOptional, &DynamicModel::massless_spring_rollers),
+  };
+}
+
+std::vector<Field<engine::Scene>> SensorFields() {
+  return {Number("angle_deg", Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &engine::Scene::sensor_angle)};
+}
+
+std::vector<Field<engine::Scene>> SceneFields(const std::filesystem::path& folder) {
+  using engine::Scene;
+  // The ring comes first: the rollers' limits depend on its radius.
+  return {
+      Section<Scene>("ring", Presence::kRequired,
+                     [folder](const TableReader& table, Scene& scene) { ReadRing(table, folder, scene); }),
+      Section<Scene>("roller_positions", Presence::kOptional, ReadRollerPositions),
+      Sections<Scene>("rollers", Presence::kRequired, kMinRollers, ReadRoller),
+      Section<Scene>("contact", Presence::kOptional,
+                     [](const TableReader& table, Scene& scene) { table.Read(ContactFields(), scene.contact); }),
+      Section<Scene>("friction", Presence::kOptional, ReadFriction),
+      Section<Scene>("sensor", Presence::kOptional,
+                     [](const TableReader& table, Scene& scene) { table.Read(SensorFields(), scene); }),
+      Section<Scene>("motion", Presence::kOptional, ReadMotion),
+      Section<Scene>("dynamics", Presence::kOptional,
+                     [](const TableReader& table, Scene& scene) { table.Read(DynamicsFields(), scene.dynamics); }),
+  };
+}
+
+engine::Scene SceneFromText(std::string_view toml_text, const std::string& source_name,
+                            const std::filesystem::path& folder) {
+  const toml::table document = ParseToml(toml_text, source_name);
+  const TableReader root(document, "", source_name);
+  engine::Scene scene;
+  root.Read(SceneFields(folder), scene);
+  // Non-convex outlines are left to the solvers, which report them as a status.
+  const engine::GeometryCheck check = engine::CheckGeometry(scene);
+  if (check.issue == engine::GeometryIssue::kRollerDoesNotFit) {
+    const TableReader roller = root.Element("rollers", static_cast<std::size_t>(check.roller));
+    // An explicit centre radius is the likelier culprit; by default the radius sets it.
+    roller.Fail(roller.Has("centre_radius_mm") ? "centre_radius_mm" : "radius_mm", check.message,
+                FitRule(scene.ring.inner.radius()));
+  }
+  return scene;
+}
+
+}  // namespace
+
+engine::Scene ParseScene(std::string_view toml_text, const std::string& source_name) {
+  return SceneFromText(toml_text, source_name, std::filesystem::path());
+}
+
+engine::Scene ReadScene(const std::filesystem::path& file) {
+  return SceneFromText(ReadTextFile(file), file.string(), file.parent_path());
+}
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,403 @@
+#include "jobs/pool/campaign_pool.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <csignal>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace ringtol::jobs {
+namespace {
+
+constexpr int kTagResults = 1;  // worker -> rank 0: packed records, also the next request
+constexpr int kTagWork = 2;     // rank 0 -> worker: int64 sample indices; empty means stop
+constexpr std::int64_t kPendingBlock = std::int64_t{1} << 16;  // indices read from the file at a time
+// Rank 0's main thread sleeps this long when nothing arrived, instead of spinning on a
+// core a worker could use; it is far below any chunk's duration.
+constexpr auto kIdlePoll = std::chrono::microseconds(200);
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+void Check(int code, const char* call) {
+  if (code == MPI_SUCCESS) return;
+  char text[MPI_MAX_ERROR_STRING];
+  int length = 0;
+  MPI_Error_string(code, text, &length);
+  throw std::runtime_error(std::string("campaign pool: ") + call + " failed: " + std::string(text, static_cast<std::size_t>(length)));
+}
+
+// Records travel as bytes: fixed fields, then the design point, the values and the message.
+class Packer {
+ public:
+  template <typename T>
+  void Put(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto* p = reinterpret_cast<const char*>(&value);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  void Put(const std::vector<double>& values) {
+    const auto* p = reinterpret_cast<const char*>(values.data());
+    bytes_.insert(bytes_.end(), p, p + values.size() * sizeof(double));
+  }
+  void Put(const std::string& text) {
+    Put(static_cast<std::uint32_t>(text.size()));
+    bytes_.insert(bytes_.end(), text.begin(), text.end());
+  }
+  void Clear() { bytes_.clear(); }
+  const std::vector<char>& bytes() const { return bytes_; }
+
+ private:
+  std::vector<char> bytes_;
+};
+
+class Unpacker {
+ public:
+  explicit Unpacker(const std::vector<char>& bytes) : bytes_(bytes) {}
+  bool done() const { return at_ == bytes_.size(); }
+  template <typename T>
+  T Get() {
+    T value;
+    std::memcpy(&value, Take(sizeof(T)), sizeof(T));
+    return value;
+  }
+  std::vector<double> GetDoubles(std::size_t count) {
+    std::vector<double> values(count);
+    std::memcpy(values.data(), Take(count * sizeof(double)), count * sizeof(double));
+    return values;
+  }
+  std::string GetString() {
+    const auto length = Get<std::uint32_t>();
+    return std::string(Take(length), length);
+  }
+
+ private:
+  const char* Take(std::size_t count) {
+    if (bytes_.size() - at_ < count) throw std::runtime_error("campaign pool: a results message is truncated");
+    const char* p = bytes_.data() + at_;
+    at_ += count;
+    return p;
+  }
+  const std::vector<char>& bytes_;
+  std::size_t at_ = 0;
+};
+
+void Pack(const SampleRecord& r, Packer& out) {
+  out.Put(r.index);
+  out.Put(r.status);
+  out.Put(r.redraws);
+  out.Put(r.steps);
+  out.Put(r.outputs);
+  out.Put(r.solve_time);
+  out.Put(r.u);
+  out.Put(r.values);
+  out.Put(r.message);
+}
+
+SampleRecord Unpack(Unpacker& in, std::size_t dimension) {
+  SampleRecord r;
+  r.index = in.Get<std::int64_t>();
+  r.status = in.Get<SampleStatus>();
+  r.redraws = in.Get<std::int32_t>();
+  r.steps = in.Get<std::int32_t>();
+  r.outputs = in.Get<std::array<double, kOutputCount>>();
+  r.solve_time = in.Get<double>();
+  r.u = in.GetDoubles(dimension);
+  r.values = in.GetDoubles(dimension);
+  r.message = in.GetString();
+  return r;
+}
+
+void RunWorker(MPI_Comm communicator, int rank, const Campaign& campaign, const PoolOptions& options) {
+  SampleEvaluator evaluator(campaign);
+  Packer results;  // empty: the first request
+  std::vector<std::int64_t> chunk;
+  for (bool first = true;; first = false) {
+    Check(MPI_Send(results.bytes().data(), static_cast<int>(results.bytes().size()), MPI_BYTE, 0, kTagResults,
+                   communicator),
+          "MPI_Send");
+    MPI_Status status;
+    Check(MPI_Probe(0, kTagWork, communicator, &status), "MPI_Probe");
+    int count = 0;
+    Check(MPI_Get_count(&status, MPI_INT64_T, &count), "MPI_Get_count");
+    chunk.resize(static_cast<std::size_t>(count));
+    Check(MPI_Recv(chunk.data(), count, MPI_INT64_T, 0, kTagWork, communicator, MPI_STATUS_IGNORE), "MPI_Recv");
+    if (chunk.empty()) return;
+    results.Clear();
+    for (const std::int64_t index : chunk) Pack(evaluator.Evaluate(index), results);
+    if (first && rank == options.kill_rank) std::raise(SIGKILL);
+  }
+}
+
+// Pending indices of the file in ascending order, read a block at a time.
+class PendingCursor {
+ public:
+  explicit PendingCursor(const CampaignStore& store) : store_(store) {}
+  std::optional<std::int64_t> Next() {
+    while (at_ == block_.size()) {
+      if (begin_ >= store_.samples()) return std::nullopt;
+      const std::int64_t end = std::min(store_.samples(), begin_ + kPendingBlock);
+      block_ = store_.Pending(begin_, end);
+      at_ = 0;
+      begin_ = end;
+    }
+    return block_[at_++];
+  }
+
+ private:
+  const CampaignStore& store_;
+  std::int64_t begin_ = 0;
+  std::vector<std::int64_t> block_;
+  std::size_t at_ = 0;
+};
+
+// Rank 0's own computing thread, fed a chunk at a time like a remote worker.
+class LocalWorker {
+ public:
+  explicit LocalWorker(const Campaign& campaign) : thread_([this, &campaign] { Run(campaign); }) {}
+  ~LocalWorker() {
+    Stop();
+    thread_.join();
+  }
+
+  // True when it has finished its chunk and wants another.
+  bool WantsWork() {
+    std::lock_guard lock(mutex_);
+    return !has_work_ && !busy_ && !stop_;
+  }
+  void Give(std::vector<std::int64_t> chunk) {
+    {
+      std::lock_guard lock(mutex_);
+      work_ = std::move(chunk);
+      has_work_ = true;
+    }
+    wake_.notify_one();
+  }
+  void Stop() {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
+  }
+  // Finished records since the last call; rethrows what killed the thread, if anything.
+  std::vector<SampleRecord> Collect() {
+    std::lock_guard lock(mutex_);
+    if (error_) std::rethrow_exception(error_);
+    return std::exchange(finished_, {});
+  }
+  bool Finished() {
+    std::lock_guard lock(mutex_);
+    return stop_ && !has_work_ && !busy_;
+  }
+
+ private:
+  void Run(const Campaign& campaign) {
+    try {
+      SampleEvaluator evaluator(campaign);
+      for (;;) {
+        std::vector<std::int64_t> chunk;
+        {
+          std::unique_lock lock(mutex_);
+          wake_.wait(lock, [this] { return has_work_ || stop_; });
+          if (!has_work_) return;
+          chunk = std::move(work_);
+          has_work_ = false;
+          busy_ = true;
+        }
+        for (const std::int64_t index : chunk) {
+          SampleRecord record = evaluator.Evaluate(index);
+          std::lock_guard lock(mutex_);
+          finished_.push_back(std::move(record));
+        }
+        std::lock_guard lock(mutex_);
+        busy_ = false;
+      }
+    } catch (...) {
+      std::lock_guard lock(mutex_);
+      error_ = std::current_exception();
+      busy_ = has_work_ = false;
+      stop_ = true;
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::vector<std::int64_t> work_;
+  bool has_work_ = false;
+  bool busy_ = false;
+  bool stop_ = false;
+  std::vector<SampleRecord> finished_;
+  std::exception_ptr error_;
+  std::thread thread_;  // last: starts once the members above exist
+};
+
+PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const Campaign& campaign, CampaignStore& store,
+                          const PoolOptions& options, const std::function<void(const PoolProgress&)>& progress) {
+  const Clock::time_point start = Clock::now();
+  PoolReport report;
+  report.ranks = ranks;
+  const bool computes = ranks == 1 || options.coordinator_computes == 1 ||
+                        (options.coordinator_computes < 0 && ranks < 16);
+  const int threads = !computes              ? 0
+                      : options.threads > 0 ? options.threads
+                      : ranks == 1          ? std::max(1, static_cast<int>(std::thread::hardware_concurrency()))
+                                            : 1;
+  report.computing_ranks = (ranks - 1) + threads;
+
+  std::int64_t pending = 0;
+  for (std::int64_t begin = 0; begin < store.samples(); begin += kPendingBlock) {
+    pending += static_cast<std::int64_t>(store.Pending(begin, std::min(store.samples(), begin + kPendingBlock)).size());
+  }
+  report.already_done = store.samples() - pending;
+  std::int64_t unassigned = pending;
+  PendingCursor cursor(store);
+
+  // [s] per sample, over this run; the floor keeps the division finite should a clock
+  // ever read samples as taking no time.
+  constexpr double kShortestSample = 1e-9;
+  double mean_time = 0.0;
+  auto next_chunk = [&]() {
+    std::int64_t size = options.chunk_samples;
+    if (size <= 0) {
+      const std::int64_t share = std::max<std::int64_t>(1, unassigned / (2 * report.computing_ranks));
+      const double fitting = options.chunk_seconds / std::max(mean_time, kShortestSample);
+      size = report.computed == 0
+                 ? 1
+                 : std::clamp<std::int64_t>(std::llround(std::min(fitting, static_cast<double>(share))), 1, share);
+    }
+    std::vector<std::int64_t> chunk;
+    while (static_cast<std::int64_t>(chunk.size()) < size) {
+      const std::optional<std::int64_t> index = cursor.Next();
+      if (!index) break;
+      chunk.push_back(*index);
+    }
+    unassigned -= static_cast<std::int64_t>(chunk.size());
+    return chunk;
+  };
+
+  std::int64_t committed = 0;
+  Clock::time_point last_commit = Clock::now();
+  auto commit = [&] {
+    const Clock::time_point begin = Clock::now();
+    const auto count = static_cast<std::int64_t>(store.buffered());
+    store.Commit();
+    committed += count;
+    last_commit = Clock::now();
+    report.commit_time += Seconds(last_commit - begin);
+    if (options.kill_after_committed >= 0 && committed >= options.kill_after_committed) std::raise(SIGKILL);
+  };
+  std::int64_t failed = 0;
+  auto absorb = [&](SampleRecord record) {
+    ++report.computed;
+    report.solver_time += record.solve_time;
+    mean_time += (record.solve_time - mean_time) / static_cast<double>(report.computed);
+    ++report.status[record.status];
+    if (record.status != SampleStatus::kOk) ++failed;
+    store.Add(std::move(record));
+  };
+  auto tell = [&] {
+    if (progress) progress({report.already_done + report.computed, store.samples(), report.computed, failed,
+                            Seconds(Clock::now() - start)});
+  };
+
+  std::vector<std::unique_ptr<LocalWorker>> locals;
+  for (int t = 0; t < threads; ++t) locals.push_back(std::make_unique<LocalWorker>(campaign));
+  int active_workers = ranks - 1;
+  const std::size_t dimension = campaign.identity().inputs.size();
+  std::vector<char> message;
+  tell();
+  for (;;) {
+    const Clock::time_point round = Clock::now();
+    bool arrived = false;
+    for (;;) {
+      int flag = 0;
+      MPI_Status status;
+      Check(MPI_Iprobe(MPI_ANY_SOURCE, kTagResults, communicator, &flag, &status), "MPI_Iprobe");
+      if (!flag) break;
+      int bytes = 0;
+      Check(MPI_Get_count(&status, MPI_BYTE, &bytes), "MPI_Get_count");
+      message.resize(static_cast<std::size_t>(bytes));
+      Check(MPI_Recv(message.data(), bytes, MPI_BYTE, status.MPI_SOURCE, kTagResults, communicator, MPI_STATUS_IGNORE),
+            "MPI_Recv");
+      // Reply first: the worker computes while rank 0 files what it sent.
+      const std::vector<std::int64_t> chunk = next_chunk();
+      Check(MPI_Send(chunk.data(), static_cast<int>(chunk.size()), MPI_INT64_T, status.MPI_SOURCE, kTagWork,
+                     communicator),
+            "MPI_Send");
+      if (chunk.empty()) --active_workers;
+      Unpacker in(message);
+      while (!in.done()) absorb(Unpack(in, dimension));
+      arrived = true;
+    }
+    bool locals_finished = true;
+    for (const std::unique_ptr<LocalWorker>& local : locals) {
+      for (SampleRecord& record : local->Collect()) {
+        absorb(std::move(record));
+        arrived = true;
+      }
+      if (local->WantsWork()) {
+        std::vector<std::int64_t> chunk = next_chunk();
+        if (chunk.empty()) {
+          local->Stop();
+        } else {
+          local->Give(std::move(chunk));
+        }
+      }
+      locals_finished = locals_finished && local->Finished();
+    }
+    if (active_workers == 0 && locals_finished) {
+      for (const std::unique_ptr<LocalWorker>& local : locals) {
+        for (SampleRecord& record : local->Collect()) absorb(std::move(record));
+      }
+      break;
+    }
+    if (store.buffered() > 0 && Seconds(Clock::now() - last_commit) >= options.commit_seconds) {
+      commit();
+      arrived = true;
+    }
+    if (arrived) {
+      report.coordinator_time += Seconds(Clock::now() - round);
+      tell();
+    } else {
+      std::this_thread::sleep_for(kIdlePoll);
+    }
+  }
+  locals.clear();
+  const Clock::time_point last = Clock::now();
+  commit();
+  report.coordinator_time += Seconds(Clock::now() - last);
+  report.wall_time = Seconds(Clock::now() - start);
+  tell();
+  return report;
+}
+
+}  // namespace
+
+PoolReport RunPool(MPI_Comm communicator, const Campaign& campaign, CampaignStore* store, const PoolOptions& options,
+                   const std::function<void(const PoolProgress&)>& progress) {
+  int rank = 0;
+  int ranks = 1;
+  Check(MPI_Comm_rank(communicator, &rank), "MPI_Comm_rank");
+  Check(MPI_Comm_size(communicator, &ranks), "MPI_Comm_size");
+  if (rank != 0) {
+    RunWorker(communicator, rank, campaign, options);
+    return {};
+  }
+  if (store == nullptr) throw std::logic_error("RunPool: rank 0 needs the results file");
+  return RunCoordinator(communicator, ranks, campaign, *store, options, progress);
+}
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,85 @@
+// The campaign pool: the ranks of an MPI communicator compute a campaign's pending samples
+// and the coordinator (rank 0) writes them to the results file as they come. The same code
+// runs alone (one process, no mpirun) and under `mpirun -n K`.
+//
+// Protocol: every worker asks rank 0 for work and gets a chunk of sample indices; it
+// sends back the chunk's records (jobs/campaign/sample_record.h, packed), which is also its next
+// request; an empty chunk tells it to stop. Rank 0 hands out pending indices in
+// ascending order, taken from the file a block at a time, so nothing it holds grows with
+// the campaign: the records between two commits, one block of pending indices, and one
+// outstanding chunk per worker. With `coordinator_computes` threads of rank 0 compute too,
+// each fed chunks like a worker (MPI is called from rank 0's main thread only:
+// MPI_THREAD_FUNNELED).
+//
+// Chunk sizes adapt to the cost of a sample: each chunk is sized to take about
+// chunk_seconds at the running mean time per sample, but never more than a
+// 1 / (2 x computing ranks) share of what remains, so the last chunks shrink and no rank
+// idles at the end while another finishes a long chunk. A fixed chunk_samples overrides
+// this (tests: results do not depend on it).
+//
+// Results do not depend on the number of ranks, the chunk sizes or the order samples
+// finish in: a sample is a pure function of (campaign, index) and lands at its index.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <functional>
+#include <map>
+
+#include "jobs/campaign/campaign.h"
+#include "jobs/store/campaign_store.h"
+
+namespace ringtol::jobs {
+
+struct PoolOptions {
+  std::int64_t chunk_samples = 0;  // > 0: samples per chunk, fixed; 0: adaptive
+  double chunk_seconds = 0.5;      // [s] > 0: adaptive chunks' target wall time
+  double commit_seconds = 2.0;     // [s] > 0: results reach the file at least this often
+  // Whether rank 0 computes beside coordinating: -1 chooses (yes below 16 ranks, where
+  // its share of the work outweighs the added latency of its replies), 0 no, 1 yes.
+  // With one rank it always computes.
+  int coordinator_computes = -1;
+  // Computing threads of rank 0 when it computes: 0 chooses every core of the machine
+  // when the campaign runs alone (one rank) and one thread under mpirun, where ranks are
+  // the unit of parallelism; > 0 sets it.
+  int threads = 0;
+  // Test hooks that stand in for `kill -9`: rank 0 kills itself once this many samples of
+  // this run are committed (< 0: never); rank `kill_rank` (> 0) kills itself after
+  // computing its first chunk, before sending it.
+  std::int64_t kill_after_committed = -1;
+  int kill_rank = -1;
+};
+
+// What rank 0 reports while the pool runs.
+struct PoolProgress {
+  std::int64_t done = 0;       // samples of the campaign on disk or in the commit buffer
+  std::int64_t total = 0;      // samples of the campaign
+  std::int64_t this_run = 0;   // computed by this run
+  std::int64_t failed = 0;     // failed samples computed by this run
+  double elapsed = 0.0;        // [s] since the pool started
+};
+
+struct PoolReport {
+  std::int64_t computed = 0;                   // samples computed by this run
+  std::int64_t already_done = 0;               // samples found on disk at the start
+  std::map<SampleStatus, std::int64_t> status;  // of the samples computed by this run
+  double wall_time = 0.0;                       // [s]
+  double solver_time = 0.0;                     // [s] sum of the samples' solve times, all ranks
+  double commit_time = 0.0;                     // [s] rank 0 writing the file
+  // [s] rank 0's main thread handling results: receiving, unpacking, replying, buffering
+  // and writing. Per sample, the coordinator's cost, which bounds how many ranks it can
+  // feed (README, "Campaigns at scale").
+  double coordinator_time = 0.0;
+  int computing_ranks = 0;                      // worker ranks plus rank 0's computing threads
+  int ranks = 0;
+};
+
+// Runs on every rank of `communicator`; `store` is rank 0's open results file (null on the
+// others). `progress` (rank 0 only, may be empty) is called as results arrive. Returns
+// the report on rank 0 (a default one elsewhere). Throws std::runtime_error for an MPI or
+// HDF5 failure after the start.
+PoolReport RunPool(MPI_Comm communicator, const Campaign& campaign, CampaignStore* store, const PoolOptions& options,
+                   const std::function<void(const PoolProgress&)>& progress);
+
+}  // namespace ringtol::jobs

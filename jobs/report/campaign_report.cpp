@@ -1,0 +1,550 @@
+#include "jobs/report/campaign_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <span>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "jobs/campaign/campaign.h"
+#include "jobs/report/campaign_summary.h"
+#include "jobs/campaign/sample_record.h"
+#include "solvers/simulation.h"
+#include "engine/units.h"
+
+namespace ringtol::jobs {
+namespace {
+
+// Drawn values are read 65,536 samples at a time: 8 bytes x inputs each.
+constexpr std::int64_t kValuesBlock = std::int64_t{1} << 16;
+constexpr std::size_t kFailedListed = 20;
+constexpr double kSobolTargetConf = 0.05;  // "rows needed" aims the widest ST half-width here
+
+std::optional<double> SpecOf(const CampaignIdentity& identity, std::string_view output) {
+  for (const SpecLimit& limit : identity.spec) {
+    if (limit.output == output) return limit.upper;
+  }
+  return std::nullopt;
+}
+
+// The category of one input at an aggregation level: what a designer sets one tolerance
+// class for (source), or the harmonic order it belongs to.
+std::string Category(const sampling::SampledInput& input, std::string_view level) {
+  if (level == "source") return sampling::ErrorSourceName(input.source);
+  if (input.order > 0) return fmt::format("order {}", input.order);
+  if (input.source == sampling::ErrorSource::kRollerShape) return "roller size";
+  return sampling::ErrorSourceName(input.source);
+}
+
+// What the entries of a group have in common.
+void Describe(SensitivityEntry& entry, const std::vector<sampling::SampledInput>& inputs,
+              std::span<const int> members) {
+  std::set<std::string> sources;
+  std::set<int> orders;
+  for (const int k : members) {
+    sources.insert(sampling::ErrorSourceName(inputs[static_cast<std::size_t>(k)].source));
+    orders.insert(inputs[static_cast<std::size_t>(k)].order);
+  }
+  entry.source = sources.size() == 1 ? *sources.begin() : "";
+  entry.order = orders.size() == 1 ? *orders.begin() : 0;
+}
+
+void SortLargestFirst(std::vector<SensitivityEntry>& entries) {
+  std::stable_sort(entries.begin(), entries.end(),
+                   [](const SensitivityEntry& a, const SensitivityEntry& b) { return a.ranking > b.ranking; });
+}
+
+// Sums of the entries of `finest` (each inside one category) per category of `level`. The
+// sum's half-width adds the parts' in quadrature, as if their bootstrap errors were
+// independent; they are not quite (one bootstrap), so it is a guide, not an interval.
+std::optional<SensitivityLevel> Aggregate(const std::vector<SensitivityEntry>& finest,
+                                          const std::vector<std::vector<int>>& members,
+                                          const std::vector<sampling::SampledInput>& inputs, std::string_view level) {
+  std::vector<std::string> order_of_categories;
+  std::map<std::string, std::vector<std::size_t>> parts;
+  for (std::size_t g = 0; g < finest.size(); ++g) {
+    std::set<std::string> categories;
+    for (const int k : members[g]) categories.insert(Category(inputs[static_cast<std::size_t>(k)], level));
+    if (categories.size() != 1) return std::nullopt;  // a design group spans categories: no sum says anything
+    const std::string& category = *categories.begin();
+    if (!parts.contains(category)) order_of_categories.push_back(category);
+    parts[category].push_back(g);
+  }
+  SensitivityLevel out;
+  out.level = std::string(level);
+  out.aggregation = Aggregation::kExact;
+  const bool sobol = finest.front().total_order.has_value();
+  for (const std::string& category : order_of_categories) {
+    const std::vector<std::size_t>& part = parts[category];
+    std::vector<int> all_members;
+    for (const std::size_t g : part) all_members.insert(all_members.end(), members[g].begin(), members[g].end());
+    SensitivityEntry sum;
+    if (part.size() == 1) {
+      sum = finest[part.front()];  // the design froze exactly this category
+    } else {
+      out.aggregation = Aggregation::kBounds;
+      // Sums of intervals are not intervals of the sum: the estimate and the quadrature
+      // half-width are kept. A total index never exceeds 1, so neither does its bound.
+      double s1 = 0.0, s1_conf2 = 0.0, st = 0.0, st_conf2 = 0.0;
+      for (const std::size_t g : part) {
+        const SensitivityEntry& e = finest[g];
+        s1 += e.first_order.value;
+        s1_conf2 += e.first_order.conf * e.first_order.conf;
+        if (sobol) {
+          st += e.total_order->value;
+          st_conf2 += e.total_order->conf * e.total_order->conf;
+        }
+        sum.src += e.src * e.src;
+        sum.srrc += e.srrc * e.srrc;
+      }
+      const double s1_conf = std::sqrt(s1_conf2), st_conf = std::sqrt(st_conf2);
+      sum.first_order = {s1, s1_conf, {s1 - s1_conf, s1 + s1_conf}};
+      if (sobol) {
+        st = std::min(st, 1.0);
+        sum.total_order = analysis::SobolIndex{st, st_conf, {st - st_conf, std::min(1.0, st + st_conf)}};
+      }
+    }
+    if (!sobol) {
+      // Given-data estimates carry a bias of order (M - 1)/(n - 1) each (its sign depends on
+      // how stratified the design is); summed over a hundred inputs it swamps the signal.
+      // A screened group is measured by its regression shares alone.
+      sum.first_order = analysis::SobolIndex{};
+      if (part.size() == 1) {
+        sum.src *= sum.src;
+        sum.srrc *= sum.srrc;
+      }
+    }
+    sum.name = category;
+    Describe(sum, inputs, all_members);
+    if (level == "source") sum.order = 0;
+    sum.ranking = sobol ? sum.total_order->value : sum.src;
+    out.entries.push_back(std::move(sum));
+  }
+  if (out.entries.size() < 2) return std::nullopt;  // one category holds everything: its share is 1
+  SortLargestFirst(out.entries);
+  return out;
+}
+
+void AddAggregates(OutputSensitivity& out, const std::vector<SensitivityEntry>& finest,
+                   const std::vector<std::vector<int>>& members, const std::vector<sampling::SampledInput>& inputs) {
+  for (const char* level : {"source", "order"}) {
+    if (std::optional<SensitivityLevel> aggregated = Aggregate(finest, members, inputs, level)) {
+      out.levels.push_back(std::move(*aggregated));
+    }
+  }
+}
+
+OutputSensitivity SobolSensitivity(const std::string& output, const std::vector<double>& y,
+                                   const std::vector<SampleStatus>& status, const sampling::Design& design,
+                                   const sampling::InputGroups& groups,
+                                   const std::vector<sampling::SampledInput>& inputs, const ReportOptions& options) {
+  const int per_row = design.samples_per_row();
+  const std::int64_t rows = static_cast<std::int64_t>(y.size()) / per_row;
+  const std::size_t group_count = groups.names.size();
+  analysis::PickFreezeOutputs pick;
+  pick.ab.resize(group_count);
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::int64_t pending_rows = 0;
+  for (std::int64_t row = 0; row < rows; ++row) {
+    const auto at = [&](int matrix) {
+      const auto i = static_cast<std::size_t>(row * per_row + matrix);
+      return status[i] == SampleStatus::kOk ? y[i] : kNaN;
+    };
+    bool pending = false;
+    for (int m = 0; m < per_row; ++m) {
+      pending = pending || status[static_cast<std::size_t>(row * per_row + m)] == SampleStatus::kPending;
+    }
+    if (pending) {
+      ++pending_rows;
+      continue;
+    }
+    pick.a.push_back(at(0));
+    pick.b.push_back(at(1));
+    for (std::size_t g = 0; g < group_count; ++g) pick.ab[g].push_back(at(2 + static_cast<int>(g)));
+  }
+  OutputSensitivity out;
+  out.output = output;
+  out.method = "sobol";
+  out.estimator = analysis::SobolEstimatorName(options.estimator);
+  analysis::SobolOptions sobol;
+  sobol.estimator = options.estimator;
+  sobol.bootstrap_resamples = options.bootstrap_resamples;
+  sobol.confidence = options.confidence;
+  const analysis::SobolIndices indices = analysis::EstimateSobolIndices(pick, sobol);
+  out.rows = indices.rows;
+  out.rows_excluded = indices.rows_excluded;
+  out.rows_pending = pending_rows;
+  out.variance = indices.variance;
+  if (std::isfinite(indices.ab_correlation)) out.ab_correlation = indices.ab_correlation;
+  if (options.bootstrap_resamples > 0)
+    out.rows_for_precision = analysis::RowsForSobolPrecision(indices, kSobolTargetConf);
+  std::vector<SensitivityEntry> finest(group_count);
+  for (std::size_t g = 0; g < group_count; ++g) {
+    finest[g].name = groups.names[g];
+    finest[g].first_order = indices.first_order[g];
+    finest[g].total_order = indices.total_order[g];
+    finest[g].ranking = indices.total_order[g].value;
+    Describe(finest[g], inputs, groups.coordinates[g]);
+  }
+  SensitivityLevel design_level{"design", Aggregation::kExact, finest};
+  SortLargestFirst(design_level.entries);
+  out.levels.push_back(std::move(design_level));
+  AddAggregates(out, finest, groups.coordinates, inputs);
+  return out;
+}
+
+OutputSensitivity Screening(const std::string& output, const std::vector<double>& y_used,
+                            const std::vector<double>& x_used, int d, const std::vector<sampling::SampledInput>& inputs,
+                            const ReportOptions& options) {
+  OutputSensitivity out;
+  out.output = output;
+  out.method = "screening";
+  out.estimator = "SRC, SRRC and a given-data first-order estimate";
+  analysis::ScreeningOptions screening;
+  screening.bootstrap_resamples = std::max(0, options.bootstrap_resamples / 5);
+  screening.confidence = options.confidence;
+  const analysis::Screening result = analysis::ScreenInputs(x_used, d, y_used, screening);
+  out.rows = result.samples;
+  out.rows_excluded = result.samples_excluded;
+  if (std::isfinite(result.r2)) out.r2 = result.r2;
+  if (std::isfinite(result.rank_r2)) out.rank_r2 = result.rank_r2;
+  std::vector<SensitivityEntry> finest(static_cast<std::size_t>(d));
+  std::vector<std::vector<int>> members(static_cast<std::size_t>(d));
+  for (std::size_t k = 0; k < finest.size(); ++k) {
+    finest[k].name = inputs[k].name;
+    finest[k].first_order = result.inputs[k].first_order;
+    finest[k].src = std::isfinite(result.inputs[k].src) ? result.inputs[k].src : 0.0;
+    finest[k].srrc = std::isfinite(result.inputs[k].srrc) ? result.inputs[k].srrc : 0.0;
+    finest[k].ranking = finest[k].first_order.value;
+    members[k] = {static_cast<int>(k)};
+    Describe(finest[k], inputs, members[k]);
+  }
+  SensitivityLevel input_level{"input", Aggregation::kExact, finest};
+  SortLargestFirst(input_level.entries);
+  out.levels.push_back(std::move(input_level));
+  AddAggregates(out, finest, members, inputs);
+  return out;
+}
+
+ReplayedTrajectory Replay(const Campaign& campaign, const CampaignReader& reader, std::string label,
+                          std::int64_t index) {
+  const SampleRecord stored = reader.ReadSample(index);
+  ReplayedTrajectory out;
+  out.label = std::move(label);
+  out.index = index;
+  out.stored_d_trajectory_mm = stored.outputs[0];
+  const sampling::SampledAssembly assembly = campaign.sampling().sampler.Realise(index, stored.u);
+  const std::unique_ptr<solvers::Solver> solver = campaign.MakeSolver();
+  const solvers::SimulationResult result = solvers::Simulate(assembly.scene, *solver, campaign.simulation());
+  out.status = solvers::StatusName(result.status);
+  out.d_trajectory_mm = result.d_trajectory * units::kMillimetresPerMetre;
+  for (const Eigen::Vector2d& c : result.trajectory.centre) {
+    out.x_um.push_back(c.x() * units::kMicrometresPerMetre);
+    out.y_um.push_back(c.y() * units::kMicrometresPerMetre);
+  }
+  out.circle_x_um = result.enclosing_circle.centre.x() * units::kMicrometresPerMetre;
+  out.circle_y_um = result.enclosing_circle.centre.y() * units::kMicrometresPerMetre;
+  out.circle_radius_um = result.enclosing_circle.radius * units::kMicrometresPerMetre;
+  return out;
+}
+
+}  // namespace
+
+CampaignReport BuildReport(const std::filesystem::path& results, const ReportOptions& options) {
+  CampaignReport report;
+  report.options = options;
+  report.results = results;
+  const CampaignReader reader(results);
+  report.identity = reader.identity();
+  report.design = report.identity.design;
+  report.samples = reader.samples();
+  const Campaign campaign(report.identity, report.samples);
+  const sampling::Design& design = campaign.sampling().design;
+  const bool saltelli = design.options().kind == sampling::DesignKind::kSaltelli;
+  report.rollers = static_cast<int>(campaign.sampling().sampler.base().rollers.size());
+  const std::vector<sampling::SampledInput>& inputs = report.identity.inputs;
+  const int d = static_cast<int>(inputs.size());
+
+  const std::vector<SampleStatus> status = ReadInBlocks<SampleStatus>(
+      report.samples, [&](std::int64_t begin, std::int64_t count) { return reader.ReadStatus(begin, count); });
+  const std::vector<std::int32_t> redraws = ReadInBlocks<std::int32_t>(
+      report.samples, [&](std::int64_t begin, std::int64_t count) { return reader.ReadRedraws(begin, count); });
+  std::vector<std::int64_t> used_ok;  // independent ok samples, in design order
+  for (std::int64_t i = 0; i < report.samples; ++i) {
+    const auto s = static_cast<std::size_t>(i);
+    if (!campaign.IndependentDraw(i)) continue;
+    ++report.used;
+    if (redraws[s] > 0) ++report.redrawn;
+    if (status[s] == SampleStatus::kPending) {
+      ++report.pending;
+      continue;
+    }
+    ++report.done;
+    if (status[s] == SampleStatus::kOk) {
+      ++report.ok;
+      used_ok.push_back(i);
+      continue;
+    }
+    ++report.failures[std::string(SampleStatusName(status[s]))];
+    if (report.failed.size() < kFailedListed) {
+      const SampleRecord record = reader.ReadSample(i);
+      report.failed.push_back({i, std::string(SampleStatusName(status[s])), record.message});
+    }
+  }
+
+  report.primary_output = "d_trajectory_mm";
+  for (const char* name : kOutputNames) {
+    if (SpecOf(report.identity, name)) {
+      report.primary_output = name;
+      break;
+    }
+  }
+
+  // Screening inputs: the drawn values of the first independent ok samples.
+  std::vector<double> x_screen;
+  std::vector<std::int64_t> screened;
+  if (!saltelli && !used_ok.empty()) {
+    const std::int64_t take =
+        std::min<std::int64_t>(options.screening_samples, static_cast<std::int64_t>(used_ok.size()));
+    screened.assign(used_ok.begin(), used_ok.begin() + take);
+    const std::int64_t last = screened.back() + 1;
+    x_screen.reserve(static_cast<std::size_t>(take) * static_cast<std::size_t>(d));
+    std::size_t next = 0;
+    for (std::int64_t begin = 0; begin < last && next < screened.size(); begin += kValuesBlock) {
+      const std::int64_t count = std::min(kValuesBlock, last - begin);
+      const std::vector<double> block = reader.ReadValues(begin, count);
+      while (next < screened.size() && screened[next] < begin + count) {
+        const auto row = static_cast<std::size_t>(screened[next] - begin) * static_cast<std::size_t>(d);
+        x_screen.insert(x_screen.end(), block.begin() + static_cast<std::ptrdiff_t>(row),
+                        block.begin() + static_cast<std::ptrdiff_t>(row) + d);
+        ++next;
+      }
+    }
+  }
+
+  const sampling::InputGroups groups =
+      saltelli ? campaign.sampling().sampler.Groups(campaign.plan().sampling.grouping) : sampling::InputGroups{};
+  report.samples_per_draw = saltelli ? design.samples_per_row() / 2.0 : 1.0;
+  std::vector<double> trajectory_mm;  // kept from the loop for picking the samples to replay
+  for (const char* name : kOutputNames) {
+    OutputReport out;
+    out.name = name;
+    out.upper_spec_limit = SpecOf(report.identity, name);
+    std::vector<double> all = ReadInBlocks<double>(
+        report.samples, [&](std::int64_t begin, std::int64_t count) { return reader.ReadOutput(name, begin, count); });
+    std::vector<double> values;
+    values.reserve(used_ok.size());
+    for (const std::int64_t i : used_ok) values.push_back(all[static_cast<std::size_t>(i)]);
+    out.count = static_cast<std::int64_t>(values.size());
+    analysis::SpecLimits limits;
+    limits.upper = out.upper_spec_limit;
+    if (!values.empty()) {
+      out.distribution = analysis::Describe(values, kSummaryProbabilities, limits, options.confidence);
+      out.convergence = analysis::TraceConvergence(values, kReportQuantile, limits, options.confidence);
+      const analysis::QuantileEstimate& q =
+          *std::find_if(out.distribution->quantiles.begin(), out.distribution->quantiles.end(),
+                        [](const analysis::QuantileEstimate& e) { return e.probability == kReportQuantile; });
+      if (q.value > 0.0) {
+        out.samples_for_quantile =
+            analysis::SamplesForQuantilePrecision(q, out.count, options.quantile_precision * std::abs(q.value));
+      }
+      if (out.distribution->within_spec) {
+        out.samples_for_yield = analysis::SamplesForProportionPrecision(out.distribution->within_spec->value,
+                                                                        options.yield_precision, options.confidence);
+        const std::int64_t failed = report.done - report.ok;
+        out.within_spec_counting_failures =
+            analysis::EstimateProportion(out.distribution->within_spec->successes,
+                                         out.distribution->within_spec->trials + failed, options.confidence);
+      }
+    }
+    // Sensitivities need spread: an output that never varies (or no ok sample) has none.
+    if (out.distribution && out.distribution->standard_deviation > 0.0) {
+      if (saltelli) {
+        report.sensitivities.push_back(SobolSensitivity(name, all, status, design, groups, inputs, options));
+      } else {
+        std::vector<double> y_screen;
+        y_screen.reserve(screened.size());
+        for (const std::int64_t i : screened) y_screen.push_back(all[static_cast<std::size_t>(i)]);
+        if (screened.size() >= 2)
+          report.sensitivities.push_back(Screening(name, y_screen, x_screen, d, inputs, options));
+      }
+    }
+    report.outputs.push_back(std::move(out));
+    if (std::string_view(name) == "d_trajectory_mm") trajectory_mm = std::move(all);
+  }
+
+  if (options.replay && !used_ok.empty()) {
+    std::vector<std::int64_t> by_d = used_ok;
+    std::sort(by_d.begin(), by_d.end(), [&](std::int64_t a, std::int64_t b) {
+      const double da = trajectory_mm[static_cast<std::size_t>(a)], db = trajectory_mm[static_cast<std::size_t>(b)];
+      return da != db ? da < db : a < b;
+    });
+    try {
+      report.trajectories.push_back(Replay(campaign, reader, "median", by_d[(by_d.size() - 1) / 2]));
+      report.trajectories.push_back(Replay(campaign, reader, "worst", by_d.back()));
+    } catch (const std::exception& e) {
+      report.replay_problem = e.what();
+    }
+  }
+  return report;
+}
+
+namespace {
+
+nlohmann::json Number(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
+
+nlohmann::json Json(const analysis::Interval& interval) {
+  return nlohmann::json::array({Number(interval.lower), Number(interval.upper)});
+}
+
+nlohmann::json Json(const analysis::QuantileEstimate& q) {
+  return {{"probability", q.probability}, {"value", Number(q.value)}, {"interval", Json(q.interval)}};
+}
+
+nlohmann::json Json(const analysis::ProportionEstimate& p) {
+  return {{"value", Number(p.value)}, {"interval", Json(p.interval)}, {"successes", p.successes}, {"trials", p.trials}};
+}
+
+nlohmann::json Optional(const std::optional<double>& value) { return value ? Number(*value) : nlohmann::json(nullptr); }
+
+template <typename T>
+nlohmann::json OptionalInteger(const std::optional<T>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json Json(const OutputReport& out, double samples_per_draw) {
+  nlohmann::json j;
+  j["count"] = out.count;
+  j["upper_spec_limit"] = Optional(out.upper_spec_limit);
+  if (!out.distribution) return j;
+  const analysis::DistributionSummary& d = *out.distribution;
+  j["mean"] = Number(d.mean);
+  j["std"] = Number(d.standard_deviation);
+  j["min"] = Number(d.min);
+  j["max"] = Number(d.max);
+  j["quantiles"] = nlohmann::json::array();
+  for (const analysis::QuantileEstimate& q : d.quantiles) j["quantiles"].push_back(Json(q));
+  j["histogram"] = {{"lower", d.histogram.lower}, {"bin_width", d.histogram.bin_width}, {"counts", d.histogram.counts}};
+  nlohmann::json ecdf = nlohmann::json::array();
+  for (const analysis::EcdfPoint& p : d.ecdf) ecdf.push_back({p.value, p.probability});
+  j["ecdf"] = std::move(ecdf);
+  j["capability"] = {{"Cp", Optional(d.capability.cp)},
+                     {"Cpk", Optional(d.capability.cpk)},
+                     {"Cpu", Optional(d.capability.cpu)},
+                     {"Cpl", Optional(d.capability.cpl)},
+                     {"Cpk_percentile", Optional(d.capability.cpk_percentile)},
+                     {"percentile_extrapolated", d.capability.percentile_extrapolated}};
+  j["yield"] = d.within_spec ? Json(*d.within_spec) : nlohmann::json(nullptr);
+  j["yield_counting_failures"] =
+      out.within_spec_counting_failures ? Json(*out.within_spec_counting_failures) : nlohmann::json(nullptr);
+  nlohmann::json convergence = nlohmann::json::array();
+  for (const analysis::ConvergencePoint& p : out.convergence) {
+    nlohmann::json point = {{"samples", p.samples}, {"quantile", Json(p.quantile)}};
+    point["yield"] = p.within_spec ? Json(*p.within_spec) : nlohmann::json(nullptr);
+    convergence.push_back(std::move(point));
+  }
+  j["convergence"] = std::move(convergence);
+  const auto campaign_samples = [&](const std::optional<std::int64_t>& draws) {
+    return draws ? nlohmann::json(static_cast<std::int64_t>(std::ceil(static_cast<double>(*draws) * samples_per_draw)))
+                 : nlohmann::json(nullptr);
+  };
+  j["samples_needed"] = {{"quantile",
+                          {{"probability", kReportQuantile},
+                           {"draws", OptionalInteger(out.samples_for_quantile)},
+                           {"campaign_samples", campaign_samples(out.samples_for_quantile)}}},
+                         {"yield",
+                          {{"draws", OptionalInteger(out.samples_for_yield)},
+                           {"campaign_samples", campaign_samples(out.samples_for_yield)}}}};
+  return j;
+}
+
+nlohmann::json Json(const SensitivityEntry& e) {
+  nlohmann::json j = {{"name", e.name}, {"source", e.source}, {"order", e.order}};
+  j["S1"] = Number(e.first_order.value);
+  j["S1_conf"] = Number(e.first_order.conf);
+  j["S1_interval"] = Json(e.first_order.interval);
+  if (e.total_order) {
+    j["ST"] = Number(e.total_order->value);
+    j["ST_conf"] = Number(e.total_order->conf);
+    j["ST_interval"] = Json(e.total_order->interval);
+  } else {
+    j["SRC"] = Number(e.src);
+    j["SRRC"] = Number(e.srrc);
+  }
+  return j;
+}
+
+}  // namespace
+
+nlohmann::json ReportJson(const CampaignReport& report) {
+  nlohmann::json j;
+  j["format"] = "ringtol report";
+  j["schema_version"] = 1;
+  j["results"] = report.results.string();
+  j["campaign"] = {{"path", report.identity.campaign_path},
+                   {"ringtol_version", report.identity.ringtol_version},
+                   {"catalogue_version", report.identity.catalogue_version},
+                   {"design", report.design},
+                   {"solver", report.identity.solver},
+                   {"seed", report.identity.seed},
+                   {"rollers", report.rollers}};
+  j["confidence"] = report.options.confidence;
+  j["samples"] = {{"campaign", report.samples},
+                  {"used", report.used},
+                  {"done", report.done},
+                  {"ok", report.ok},
+                  {"pending", report.pending},
+                  {"failed", report.done - report.ok},
+                  {"redrawn", report.redrawn},
+                  {"failures", report.failures},
+                  {"samples_per_draw", report.samples_per_draw}};
+  nlohmann::json failed = nlohmann::json::array();
+  for (const FailedSample& f : report.failed)
+    failed.push_back({{"index", f.index}, {"status", f.status}, {"message", f.message}});
+  j["failed_samples"] = std::move(failed);
+  j["primary_output"] = report.primary_output;
+  nlohmann::json outputs = nlohmann::json::object();
+  for (const OutputReport& out : report.outputs) outputs[out.name] = Json(out, report.samples_per_draw);
+  j["outputs"] = std::move(outputs);
+  nlohmann::json sensitivity = nlohmann::json::object();
+  for (const OutputSensitivity& s : report.sensitivities) {
+    nlohmann::json o = {{"method", s.method},
+                        {"estimator", s.estimator},
+                        {"rows", s.rows},
+                        {"rows_excluded", s.rows_excluded},
+                        {"rows_pending", s.rows_pending},
+                        {"variance", Number(s.variance)},
+                        {"rows_for_precision", OptionalInteger(s.rows_for_precision)}};
+    o["r2"] = Optional(s.r2);
+    o["ab_correlation"] = Optional(s.ab_correlation);
+    o["rank_r2"] = Optional(s.rank_r2);
+    for (const SensitivityLevel& level : s.levels) {
+      nlohmann::json entries = nlohmann::json::array();
+      for (const SensitivityEntry& e : level.entries) entries.push_back(Json(e));
+      o[level.level] = {{"aggregation", level.aggregation == Aggregation::kExact ? "exact" : "sum of parts"},
+                        {"entries", std::move(entries)}};
+    }
+    sensitivity[s.output] = std::move(o);
+  }
+  j["sensitivity"] = std::move(sensitivity);
+  nlohmann::json trajectories = nlohmann::json::array();
+  for (const ReplayedTrajectory& t : report.trajectories) {
+    trajectories.push_back(
+        {{"label", t.label},
+         {"index", t.index},
+         {"status", t.status},
+         {"stored_d_trajectory_mm", Number(t.stored_d_trajectory_mm)},
+         {"d_trajectory_mm", Number(t.d_trajectory_mm)},
+         {"x_um", t.x_um},
+         {"y_um", t.y_um},
+         {"circle", {{"x_um", t.circle_x_um}, {"y_um", t.circle_y_um}, {"radius_um", t.circle_radius_um}}}});
+  }
+  j["trajectories"] = std::move(trajectories);
+  j["replay_problem"] = report.replay_problem ? nlohmann::json(*report.replay_problem) : nlohmann::json(nullptr);
+  return j;
+}
+
+}  // namespace ringtol::jobs

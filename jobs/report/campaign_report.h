@@ -1,0 +1,149 @@
+// What a campaign's results file says, for a designer: the distribution of every output
+// with confidence intervals, capability and yield against the spec, how the estimates
+// converged and how many samples a stated precision needs, which tolerances and harmonic
+// orders drive the variance (Sobol' indices from a Saltelli design, or a cheaper screening
+// for other designs), and the centre trajectories of the median and the worst samples,
+// replayed from their stored design points. `ringtol report` writes it as one
+// self-contained HTML page (jobs/report/report_html.h) and as JSON (ReportJson).
+//
+// The numbers come from analysis/ (order statistics, distributions, sensitivities); this
+// layer reads the HDF5 file, picks the samples each statistic may use, and names things.
+//
+// Samples used: the independent draws (all samples, except for a Saltelli design, where
+// the A and B matrices are; its AB matrices feed the Sobol' indices). Failed samples are
+// counted by reason and listed, and excluded from every statistic; the yield is also given
+// counting them as outside the spec. Pending samples (an unfinished campaign) are counted
+// and left out.
+//
+// Failure: InputError for a results file that does not open (CampaignReader) or whose
+// stored campaign no longer reads in this ringtol (Campaign's stored constructor); a file
+// with no ok sample still gives a report that says so.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/distribution.h"
+#include "analysis/order_statistics.h"
+#include "analysis/sensitivity.h"
+#include "jobs/store/campaign_store.h"
+
+namespace ringtol::jobs {
+
+struct ReportOptions {
+  double confidence = 0.95;  // of every interval
+  analysis::SobolEstimator estimator = analysis::SobolEstimator::kSaltelliJansen;
+  int bootstrap_resamples = 1000;  // Sobol' indices; the screening uses a fifth of it
+  // Stated precisions for "samples needed": the 99 % quantile's interval half-width as a
+  // fraction of its value, and the yield's half-width as a fraction (0.01 = 1 point).
+  double quantile_precision = 0.01;
+  double yield_precision = 0.005;
+  // Screening (non-Saltelli designs) reads the drawn values of at most this many samples,
+  // the first in design order: 8 bytes x inputs each.
+  std::int64_t screening_samples = 16384;
+  bool replay = true;  // replay the median and worst samples' trajectories
+};
+
+// Probability of the quantile whose convergence and precision the report follows.
+inline constexpr double kReportQuantile = 0.99;
+
+struct FailedSample {
+  std::int64_t index = 0;
+  std::string status;
+  std::string message;
+};
+
+struct OutputReport {
+  std::string name;  // kOutputNames
+  std::optional<double> upper_spec_limit;
+  std::int64_t count = 0;                                                     // ok samples used
+  std::optional<analysis::DistributionSummary> distribution;                  // none without an ok sample
+  std::optional<analysis::ProportionEstimate> within_spec_counting_failures;  // failed = outside
+  std::vector<analysis::ConvergencePoint> convergence;
+  std::optional<std::int64_t> samples_for_quantile;  // independent samples for quantile_precision
+  std::optional<std::int64_t> samples_for_yield;     // ... for yield_precision
+};
+
+// One Sobol' or screening entry: a design group, an input, or a sum over them.
+struct SensitivityEntry {
+  std::string name;
+  std::string source;                               // ring_shape, roller_shape, roller_position, spring; "" when mixed
+  int order = 0;                                    // harmonic order, 0 when none or mixed
+  analysis::SobolIndex first_order;                 // Sobol' S1, or the given-data first-order estimate
+  std::optional<analysis::SobolIndex> total_order;  // Sobol' ST (Saltelli designs only)
+  double src = 0.0, srrc = 0.0;                     // screening only (sums of squares for sums)
+  // What entries are ranked by: ST (Sobol'), the first-order estimate (a screened input),
+  // or the sum of SRC^2 (a screened group: the share of variance its inputs explain in the
+  // linear fit; a sum of first-order estimates grows with the number of inputs summed).
+  double ranking = 0.0;
+};
+
+// How an aggregated entry relates to the index of the whole category.
+enum class Aggregation {
+  kExact,   // the design froze exactly this category together
+  kBounds,  // a sum over smaller groups: S1 sum <= the category's S1, ST sum >= its ST
+};
+
+struct SensitivityLevel {
+  std::string level;  // "design", "source", "order"
+  Aggregation aggregation = Aggregation::kExact;
+  std::vector<SensitivityEntry> entries;  // largest first
+};
+
+struct OutputSensitivity {
+  std::string output;
+  std::string method;  // "sobol" (Saltelli design) or "screening"
+  std::string estimator;
+  std::int64_t rows = 0, rows_excluded = 0;  // Saltelli rows (or screening samples) used / with a failed sample
+  std::int64_t rows_pending = 0;             // Saltelli rows not finished yet (left out)
+  double variance = 0.0;
+  std::optional<double> r2, rank_r2;               // screening: of the linear and rank regressions
+  std::optional<std::int64_t> rows_for_precision;  // for the widest ST conf to reach 0.05
+  std::optional<double> ab_correlation;  // Saltelli only: analysis::SobolIndices::ab_correlation
+  std::vector<SensitivityLevel> levels;
+};
+
+struct ReplayedTrajectory {
+  std::string label;  // "median", "worst"
+  std::int64_t index = 0;
+  double stored_d_trajectory_mm = 0.0;
+  double d_trajectory_mm = 0.0;                                         // as replayed now
+  std::string status;                                                   // the replay's status
+  std::vector<double> x_um, y_um;                                       // ring centre over one revolution
+  double circle_x_um = 0.0, circle_y_um = 0.0, circle_radius_um = 0.0;  // minimum enclosing circle
+};
+
+struct CampaignReport {
+  std::filesystem::path results;
+  CampaignIdentity identity;
+  std::string design;
+  int rollers = 0;  // Z, for "orders that are multiples of the roller count"
+  std::int64_t samples = 0, used = 0, done = 0, ok = 0, pending = 0;
+  std::int64_t redrawn = 0;  // used samples with inspection redraws
+  // Campaign samples per independent draw: (groups + 2) / 2 for a Saltelli design, whose
+  // rows hold two draws (A and B); 1 otherwise. Scales "samples needed" to campaign size.
+  double samples_per_draw = 1.0;
+  std::map<std::string, std::int64_t> failures;  // status name -> count, among used
+  std::vector<FailedSample> failed;              // the first few, with their messages
+  std::vector<OutputReport> outputs;             // kOutputNames order
+  std::string primary_output;                    // the spec'd output, else d_trajectory_mm
+  std::vector<OutputSensitivity> sensitivities;  // one per output
+  std::vector<ReplayedTrajectory> trajectories;
+  std::optional<std::string> replay_problem;  // why trajectories are missing
+  ReportOptions options;
+};
+
+CampaignReport BuildReport(const std::filesystem::path& results, const ReportOptions& options = {});
+
+// Everything the HTML shows, keyed in the SALib / OpenTURNS vocabulary (S1, S1_conf, ST,
+// ST_conf); README documents the keys.
+nlohmann::json ReportJson(const CampaignReport& report);
+
+}  // namespace ringtol::jobs

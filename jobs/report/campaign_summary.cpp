@@ -1,0 +1,166 @@
+#include "jobs/report/campaign_summary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+namespace ringtol::jobs {
+namespace {
+
+std::string Percent(double probability) { return fmt::format("{:g} %", 100.0 * probability); }
+
+nlohmann::json Bound(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+std::string ShowBound(double value) { return std::isfinite(value) ? fmt::format("{:.5g}", value) : "unbounded"; }
+
+}  // namespace
+
+CampaignSummary Summarise(const CampaignReader& results, const std::function<bool(std::int64_t)>& independent,
+                          double confidence) {
+  CampaignSummary summary;
+  summary.confidence = confidence;
+  summary.samples = results.samples();
+  const std::vector<SampleStatus> status = ReadInBlocks<SampleStatus>(
+      summary.samples, [&](std::int64_t begin, std::int64_t count) { return results.ReadStatus(begin, count); });
+  std::vector<bool> used(status.size());
+  for (std::size_t i = 0; i < status.size(); ++i) {
+    used[i] = !independent || independent(static_cast<std::int64_t>(i));
+    if (!used[i]) continue;
+    ++summary.used;
+    if (status[i] == SampleStatus::kPending) continue;
+    ++summary.done;
+    if (status[i] == SampleStatus::kOk) {
+      ++summary.ok;
+    } else {
+      ++summary.failures[std::string(SampleStatusName(status[i]))];
+    }
+  }
+
+  std::vector<bool> within(status.size(), true);
+  bool any_spec = false;
+  for (const char* name : kOutputNames) {
+    OutputSummary output;
+    output.name = name;
+    for (const SpecLimit& limit : results.identity().spec) {
+      if (limit.output == name) output.upper_spec_limit = limit.upper;
+    }
+    const std::vector<double> all = ReadInBlocks<double>(summary.samples, [&](std::int64_t begin, std::int64_t count) {
+      return results.ReadOutput(name, begin, count);
+    });
+    std::vector<double> values;
+    values.reserve(static_cast<std::size_t>(summary.ok));
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      if (!used[i] || status[i] != SampleStatus::kOk) continue;
+      values.push_back(all[i]);
+      if (output.upper_spec_limit && !(all[i] <= *output.upper_spec_limit)) within[i] = false;
+    }
+    any_spec = any_spec || output.upper_spec_limit.has_value();
+    output.count = static_cast<std::int64_t>(values.size());
+    if (!values.empty()) {
+      std::sort(values.begin(), values.end());
+      double sum = 0.0;
+      for (const double v : values) sum += v;
+      output.mean = sum / static_cast<double>(values.size());
+      double squares = 0.0;
+      for (const double v : values) squares += (v - output.mean) * (v - output.mean);
+      output.standard_deviation =
+          values.size() > 1 ? std::sqrt(squares / static_cast<double>(values.size() - 1)) : 0.0;
+      output.min = values.front();
+      output.max = values.back();
+      for (const double p : kSummaryProbabilities) {
+        output.quantiles.push_back(analysis::EstimateQuantile(values, p, confidence));
+      }
+    }
+    summary.outputs.push_back(std::move(output));
+  }
+  if (any_spec && summary.done > 0) {
+    std::int64_t good = 0;
+    for (std::size_t i = 0; i < status.size(); ++i) {
+      if (used[i] && status[i] == SampleStatus::kOk && within[i]) ++good;
+    }
+    summary.in_spec = analysis::EstimateProportion(good, summary.done, confidence);
+    if (summary.ok > 0) summary.in_spec_ok = analysis::EstimateProportion(good, summary.ok, confidence);
+  }
+  return summary;
+}
+
+void PrintSummary(std::ostream& out, const CampaignSummary& s) {
+  fmt::print(out, "samples           {} in the campaign, {} used for statistics, {} done, {} ok\n", s.samples, s.used,
+             s.done, s.ok);
+  if (s.failures.empty()) {
+    fmt::print(out, "failures          none\n");
+  } else {
+    std::string list;
+    for (const auto& [reason, count] : s.failures) list += fmt::format("{}{} {}", list.empty() ? "" : ", ", count, reason);
+    fmt::print(out, "failures          {} (excluded from the distributions)\n", list);
+  }
+  const int level = static_cast<int>(std::lround(100.0 * s.confidence));
+  fmt::print(out, "\n{:<20} {:>10} {:>10}", "output", "mean", "std");
+  for (const double p : kSummaryProbabilities) fmt::print(out, " {:>30}", fmt::format("q{} [{} % CI]", Percent(p), level));
+  fmt::print(out, " {:>10}\n", "spec <=");
+  for (const OutputSummary& o : s.outputs) {
+    if (o.count == 0) continue;
+    fmt::print(out, "{:<20} {:>10.5g} {:>10.4g}", o.name, o.mean, o.standard_deviation);
+    for (const analysis::QuantileEstimate& q : o.quantiles) {
+      fmt::print(out, " {:>30}",
+                 fmt::format("{:.5g} [{}, {}]", q.value, ShowBound(q.interval.lower), ShowBound(q.interval.upper)));
+    }
+    fmt::print(out, " {:>10}\n", o.upper_spec_limit ? fmt::format("{:g}", *o.upper_spec_limit) : "-");
+  }
+  if (s.in_spec) {
+    fmt::print(out, "\nwithin spec       {:.4f} % [{:.4f}, {:.4f}] ({} of {} done samples; failures count as outside)\n",
+               100 * s.in_spec->value, 100 * s.in_spec->interval.lower, 100 * s.in_spec->interval.upper,
+               s.in_spec->successes, s.in_spec->trials);
+    if (s.in_spec_ok) {
+      fmt::print(out, "within spec, ok   {:.4f} % [{:.4f}, {:.4f}] (of the {} ok samples)\n", 100 * s.in_spec_ok->value,
+                 100 * s.in_spec_ok->interval.lower, 100 * s.in_spec_ok->interval.upper, s.in_spec_ok->trials);
+    }
+  }
+}
+
+nlohmann::json SummaryJson(const CampaignSummary& s) {
+  nlohmann::json j;
+  j["samples"] = s.samples;
+  j["samples_used"] = s.used;
+  j["samples_done"] = s.done;
+  j["samples_ok"] = s.ok;
+  j["failures"] = s.failures;
+  j["confidence"] = s.confidence;
+  nlohmann::json outputs = nlohmann::json::object();
+  for (const OutputSummary& o : s.outputs) {
+    nlohmann::json x;
+    x["count"] = o.count;
+    if (o.count > 0) {
+      x["mean"] = o.mean;
+      x["std"] = o.standard_deviation;
+      x["min"] = o.min;
+      x["max"] = o.max;
+      nlohmann::json quantiles = nlohmann::json::array();
+      for (const analysis::QuantileEstimate& q : o.quantiles) {
+        quantiles.push_back({{"probability", q.probability},
+                             {"value", q.value},
+                             {"lower", Bound(q.interval.lower)},
+                             {"upper", Bound(q.interval.upper)}});
+      }
+      x["quantiles"] = quantiles;
+    }
+    x["upper_spec_limit"] = o.upper_spec_limit ? nlohmann::json(*o.upper_spec_limit) : nlohmann::json(nullptr);
+    outputs[o.name] = x;
+  }
+  j["outputs"] = outputs;
+  auto proportion = [](const std::optional<analysis::ProportionEstimate>& p) {
+    if (!p) return nlohmann::json(nullptr);
+    return nlohmann::json{{"value", p->value}, {"lower", p->interval.lower}, {"upper", p->interval.upper},
+                          {"successes", p->successes}, {"trials", p->trials}};
+  };
+  j["in_spec"] = proportion(s.in_spec);
+  j["in_spec_ok"] = proportion(s.in_spec_ok);
+  return j;
+}
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,619 @@
+#include "jobs/report/report_html.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "jobs/report/svg_chart.h"
+
+namespace ringtol::jobs {
+namespace {
+
+using svg::EscapeXml;
+
+std::string Num(double value) { return std::isfinite(value) ? fmt::format("{:.4g}", value) : "unbounded"; }
+
+std::string Percent(double fraction) { return fmt::format("{:.4g} %", 100.0 * fraction); }
+
+std::string Interval(const analysis::Interval& i) { return fmt::format("[{}, {}]", Num(i.lower), Num(i.upper)); }
+
+std::string PercentInterval(const analysis::Interval& i) {
+  return fmt::format("[{}, {}]", Percent(i.lower), Percent(i.upper));
+}
+
+// "d_trajectory_mm" -> "D_trajectory [mm]": the unit key's suffix becomes the unit.
+std::string Label(std::string_view name) {
+  const std::size_t cut = name.rfind('_');
+  const std::string_view quantity = name.substr(0, cut);
+  std::string text = quantity == "d_trajectory"   ? "D_trajectory"
+                     : quantity == "dist_init"    ? "Dist_init"
+                     : quantity == "runout_total" ? "total runout"
+                                                  : std::string(quantity);
+  if (text.front() != 'D') std::replace(text.begin(), text.end(), '_', ' ');
+  return fmt::format("{} [{}]", text, name.substr(cut + 1));
+}
+
+std::string SourceLabel(std::string_view name) {
+  std::string out(name);
+  std::replace(out.begin(), out.end(), '_', ' ');
+  return out;
+}
+
+const OutputReport* Find(const CampaignReport& report, std::string_view name) {
+  for (const OutputReport& out : report.outputs) {
+    if (out.name == name) return &out;
+  }
+  return nullptr;
+}
+
+const OutputSensitivity* FindSensitivity(const CampaignReport& report, std::string_view name) {
+  for (const OutputSensitivity& s : report.sensitivities) {
+    if (s.output == name) return &s;
+  }
+  return nullptr;
+}
+
+const SensitivityLevel* FindLevel(const OutputSensitivity& s, std::string_view level) {
+  for (const SensitivityLevel& l : s.levels) {
+    if (l.level == level) return &l;
+  }
+  return nullptr;
+}
+
+const char* kStyle = R"(
+body { font-family: "DejaVu Sans", Arial, sans-serif; color: #111; max-width: 60rem; margin: 1.5rem auto;
+       padding: 0 1rem; line-height: 1.4; }
+h1 { font-size: 1.5rem; margin-bottom: 0.2rem; }
+h2 { font-size: 1.2rem; border-bottom: 1px solid #999; margin-top: 2rem; }
+h3 { font-size: 1.05rem; }
+table { border-collapse: collapse; margin: 0.6rem 0; font-size: 0.9rem; }
+th, td { border: 1px solid #bbb; padding: 0.2rem 0.5rem; text-align: right; }
+th:first-child, td:first-child { text-align: left; }
+.meta { color: #444; font-size: 0.9rem; }
+.answer { border: 2px solid #333; padding: 0.6rem 1rem; background: #f4f4f4; }
+.answer p { margin: 0.3rem 0; }
+.warn { border-left: 4px solid #b35806; padding-left: 0.6rem; }
+.charts { display: flex; flex-wrap: wrap; gap: 1rem; }
+.charts figure { flex: 1 1 26rem; margin: 0; }
+figure svg { width: 100%; height: auto; }
+figcaption { font-size: 0.85rem; color: #333; }
+.highlight { font-weight: bold; }
+.note { font-size: 0.85rem; color: #333; }
+@media print {
+  body { max-width: none; margin: 0; font-size: 10pt; }
+  h2 { break-after: avoid; }
+  figure, table, .answer { break-inside: avoid; }
+  details > *:not(summary) { display: block; }
+}
+)";
+
+void Row(std::string& html, std::initializer_list<std::string> cells, bool header = false) {
+  html += "<tr>";
+  const char* tag = header ? "th" : "td";
+  for (const std::string& cell : cells) html += fmt::format("<{0}>{1}</{0}>", tag, cell);
+  html += "</tr>\n";
+}
+
+std::string Figure(const std::string& svg_text, const std::string& caption) {
+  return fmt::format("<figure>{}<figcaption>{}</figcaption></figure>\n", svg_text, EscapeXml(caption));
+}
+
+std::vector<svg::ReferenceLine> SpecLines(const OutputReport& out) {
+  std::vector<svg::ReferenceLine> lines;
+  if (out.upper_spec_limit) {
+    lines.push_back({svg::ReferenceLine::Direction::kVertical, *out.upper_spec_limit,
+                     fmt::format("spec {}", Num(*out.upper_spec_limit))});
+  }
+  return lines;
+}
+
+std::string HistogramSvg(const OutputReport& out) {
+  const analysis::DistributionSummary& d = *out.distribution;
+  svg::HistogramChart chart;
+  chart.title = "Distribution of " + Label(out.name);
+  chart.x.label = Label(out.name);
+  chart.lower = d.histogram.lower;
+  chart.bin_width = d.histogram.bin_width;
+  chart.counts.assign(d.histogram.counts.begin(), d.histogram.counts.end());
+  chart.lines = SpecLines(out);
+  return svg::RenderHistogram(chart);
+}
+
+std::string CdfSvg(const OutputReport& out) {
+  const analysis::DistributionSummary& d = *out.distribution;
+  svg::Chart chart;
+  chart.title = "Empirical CDF of " + Label(out.name);
+  chart.x.label = Label(out.name);
+  chart.y.label = "fraction of assemblies";
+  chart.y.min = 0.0;
+  chart.y.max = 1.0;
+  svg::Series series;
+  series.name = "empirical CDF";
+  series.style = svg::Series::Style::kStep;
+  for (const analysis::EcdfPoint& p : d.ecdf) {
+    series.x.push_back(p.value);
+    series.y.push_back(p.probability);
+  }
+  chart.series.push_back(std::move(series));
+  chart.lines = SpecLines(out);
+  chart.lines.push_back({svg::ReferenceLine::Direction::kHorizontal, kReportQuantile, "99 %"});
+  return svg::RenderChart(chart);
+}
+
+void DistributionTable(std::string& html, const OutputReport& out, double confidence) {
+  const analysis::DistributionSummary& d = *out.distribution;
+  html += "<table>\n";
+  Row(html, {"statistic", "value", fmt::format("{:g} % interval", 100 * confidence)}, true);
+  Row(html, {"ok samples", fmt::format("{}", d.count), ""});
+  Row(html, {"mean", Num(d.mean), ""});
+  Row(html, {"standard deviation", Num(d.standard_deviation), ""});
+  Row(html, {"min / max", Num(d.min) + " / " + Num(d.max), ""});
+  for (const analysis::QuantileEstimate& q : d.quantiles) {
+    Row(html, {fmt::format("{:g} % quantile", 100 * q.probability), Num(q.value), Interval(q.interval)});
+  }
+  if (out.upper_spec_limit) {
+    Row(html, {"upper spec limit", Num(*out.upper_spec_limit), ""});
+    const analysis::Capability& c = d.capability;
+    Row(html, {"Cpu = Cpk (normal theory)", c.cpu ? Num(*c.cpu) : "-", ""});
+    Row(html,
+        {"Cpk (percentile method, ISO 22514-2)",
+         c.cpk_percentile ? Num(*c.cpk_percentile) + (c.percentile_extrapolated ? " (too few samples)" : "") : "-",
+         ""});
+    Row(html, {"Cp", "needs two limits", ""});
+    if (d.within_spec) {
+      Row(html,
+          {"within spec (failures excluded)", Percent(d.within_spec->value), PercentInterval(d.within_spec->interval)});
+    }
+    if (out.within_spec_counting_failures) {
+      Row(html, {"within spec (failures counted as out)", Percent(out.within_spec_counting_failures->value),
+                 PercentInterval(out.within_spec_counting_failures->interval)});
+    }
+  }
+  html += "</table>\n";
+}
+
+std::string ConvergenceQuantileSvg(const OutputReport& out) {
+  svg::Chart chart;
+  chart.title = fmt::format("{:g} % quantile of {} against sample count", 100 * kReportQuantile, Label(out.name));
+  chart.x.label = "independent samples";
+  chart.x.log2 = true;
+  chart.y.label = Label(out.name);
+  svg::Series series;
+  series.name = "estimate with its interval";
+  for (const analysis::ConvergencePoint& p : out.convergence) {
+    series.x.push_back(static_cast<double>(p.samples));
+    series.y.push_back(p.quantile.value);
+    series.band_lower.push_back(p.quantile.interval.lower);
+    series.band_upper.push_back(p.quantile.interval.upper);
+  }
+  chart.series.push_back(std::move(series));
+  if (out.upper_spec_limit) {
+    chart.lines.push_back({svg::ReferenceLine::Direction::kHorizontal, *out.upper_spec_limit, "spec"});
+  }
+  return svg::RenderChart(chart);
+}
+
+std::string ConvergenceYieldSvg(const OutputReport& out) {
+  svg::Chart chart;
+  chart.title = "Fraction within spec against sample count";
+  chart.x.label = "independent samples";
+  chart.x.log2 = true;
+  chart.y.label = "within spec";
+  chart.y.max = 1.0;
+  svg::Series series;
+  series.name = "estimate with its interval";
+  series.colour = 1;
+  for (const analysis::ConvergencePoint& p : out.convergence) {
+    if (!p.within_spec) continue;
+    series.x.push_back(static_cast<double>(p.samples));
+    series.y.push_back(p.within_spec->value);
+    series.band_lower.push_back(p.within_spec->interval.lower);
+    series.band_upper.push_back(p.within_spec->interval.upper);
+  }
+  chart.series.push_back(std::move(series));
+  return svg::RenderChart(chart);
+}
+
+std::string Index(const analysis::SobolIndex& index) { return fmt::format("{:.3f} ± {:.3f}", index.value, index.conf); }
+
+// Sensitivity bars of one level: S1 (and ST) with their intervals.
+std::string SensitivitySvg(const SensitivityLevel& level, const std::string& title, bool sobol,
+                           const std::vector<bool>& highlighted, const std::string& highlight_label,
+                           const std::vector<std::string>& categories,
+                           const std::vector<const SensitivityEntry*>& entries) {
+  svg::BarChart chart;
+  chart.title = title;
+  chart.categories = categories;
+  chart.highlighted = highlighted;
+  chart.highlight_label = highlight_label;
+
+  // Screening: a group's shares of the linear and the rank regression (sums of SRC^2 and
+  // SRRC^2); an input's given-data first order beside its SRC^2.
+  const bool group = !sobol && level.level != "input";
+  chart.value.label = sobol ? "Sobol' index" : (group ? "share of the output's variance" : "index");
+  svg::Bars s1{
+      sobol ? "first order S1" : (group ? "linear share (sum of SRC^2)" : "first order (given data)"), {}, {}, {}, 0};
+  svg::Bars second{sobol ? "total ST" : (group ? "rank share (sum of SRRC^2)" : "SRC^2"), {}, {}, {}, 1};
+  for (const SensitivityEntry* e : entries) {
+    if (group) {
+      s1.value.push_back(e->src);
+      second.value.push_back(e->srrc);
+      continue;
+    }
+    s1.value.push_back(e->first_order.value);
+    s1.lower.push_back(e->first_order.interval.lower);
+    s1.upper.push_back(e->first_order.interval.upper);
+    if (e->total_order) {
+      second.value.push_back(e->total_order->value);
+      second.lower.push_back(e->total_order->interval.lower);
+      second.upper.push_back(e->total_order->interval.upper);
+    } else {
+      second.value.push_back(e->src * e->src);
+    }
+  }
+  chart.series.push_back(std::move(s1));
+  chart.series.push_back(std::move(second));
+  return svg::RenderBarChart(chart);
+}
+
+void SensitivityTable(std::string& html, const SensitivityLevel& level, bool sobol, std::size_t limit) {
+  html += "<table>\n";
+  const bool group = !sobol && level.level != "input";
+  if (sobol) {
+    Row(html, {"group", "S1 ± conf", "S1 interval", "ST ± conf", "ST interval"}, true);
+  } else if (group) {
+    Row(html, {"group", "sum of SRC&#178;", "sum of SRRC&#178;"}, true);
+  } else {
+    Row(html, {"input", "first order ± conf", "SRC", "SRRC"}, true);
+  }
+  std::size_t shown = 0;
+  for (const SensitivityEntry& e : level.entries) {
+    if (shown++ == limit) break;
+    if (sobol) {
+      Row(html, {EscapeXml(SourceLabel(e.name)), Index(e.first_order), Interval(e.first_order.interval),
+                 Index(*e.total_order), Interval(e.total_order->interval)});
+    } else if (group) {
+      Row(html, {EscapeXml(SourceLabel(e.name)), fmt::format("{:.3f}", e.src), fmt::format("{:.3f}", e.srrc)});
+    } else {
+      Row(html, {EscapeXml(e.name), Index(e.first_order), fmt::format("{:.3f}", e.src), fmt::format("{:.3f}", e.srrc)});
+    }
+  }
+  html += "</table>\n";
+  if (level.entries.size() > limit) {
+    html += fmt::format("<p class=\"note\">{} more in the JSON summary.</p>\n", level.entries.size() - limit);
+  }
+}
+
+void SensitivitySection(std::string& html, const CampaignReport& report, const OutputSensitivity& s) {
+  const bool sobol = s.method == "sobol";
+  html += "<h2 id=\"sensitivity\">Which tolerance to tighten first</h2>\n";
+  if (sobol) {
+    html += fmt::format(
+        "<p>Sobol' indices of {} from the Saltelli pick-and-freeze design ({} rows; estimators {}; "
+        "± is the half-width of the {:g} % bootstrap interval, SALib's <code>S1_conf</code>). S1 is the share of the "
+        "variance a group explains alone, ST its share with every interaction it takes part in; ST &#8805; S1 up to "
+        "error.{}</p>\n",
+        EscapeXml(Label(s.output)), s.rows, EscapeXml(s.estimator), 100 * report.options.confidence,
+        s.rows_for_precision
+            ? fmt::format(" About {} rows would bring every ST half-width to 0.05.", *s.rows_for_precision)
+            : "");
+  } else {
+    html += fmt::format(
+        "<p>The campaign's {} design has no pick-and-freeze matrices, so Sobol' indices cannot be estimated; this is a "
+        "screening of {} of its samples: a given-data estimate of each input's first-order index (variance of the "
+        "output's mean over classes of the input), and standardised regression coefficients on values (SRC, "
+        "R&#178; = {}) and ranks (SRRC, R&#178; = {}). Groups (error sources, harmonic orders) are measured by the "
+        "sum of their inputs' SRC&#178; and SRRC&#178;, their share of each fit. Caveats: regression shares mean "
+        "something only where R&#178; is near 1; the first-order estimate misses interactions (an input that acts "
+        "only with others scores 0) and carries a bias of up to &#177;(M &#8722; 1)/(n &#8722; 1) per input, whose "
+        "sign depends on how stratified the design is, so it is shown per input only. Run a Saltelli design "
+        "(<code>[design] kind = \"saltelli\"</code>) for total indices.</p>\n",
+        EscapeXml(report.design), s.rows, s.r2 ? fmt::format("{:.3f}", *s.r2) : "n/a",
+        s.rank_r2 ? fmt::format("{:.3f}", *s.rank_r2) : "n/a");
+  }
+  if (s.rows_pending > 0) {
+    html += fmt::format("<p class=\"warn\">{} rows are not finished (pending samples) and were left out.</p>\n",
+                        s.rows_pending);
+  }
+  if (s.rows_excluded > 0) {
+    html += fmt::format("<p class=\"warn\">{} {} with a failed sample were excluded.</p>\n", s.rows_excluded,
+                        sobol ? "rows" : "samples");
+  }
+  if (s.ab_correlation && s.rows > 0 && std::abs(*s.ab_correlation) > 3.0 / std::sqrt(static_cast<double>(s.rows))) {
+    html += fmt::format(
+        "<p class=\"warn\">The outputs of the A and B matrices correlate (r = {:.3f}; independent halves give 0 "
+        "&#177; {:.3f}): the design's two halves are not independent, and every index below is biased. A Sobol' base "
+        "with fewer points than twice the inputs repeats coordinates; use <code>base = \"monte_carlo\"</code> or "
+        "more rows.</p>\n",
+        *s.ab_correlation, 3.0 / std::sqrt(static_cast<double>(s.rows)));
+  }
+  if (sobol && report.redrawn > 0) {
+    html += fmt::format(
+        "<p class=\"warn\">{} of {} independent samples were redrawn by inspection (out-of-class parts rejected): "
+        "a redrawn part no longer shares its coordinates between the matrices, which biases the indices of its "
+        "source a little.</p>\n",
+        report.redrawn, report.used);
+  }
+
+  // Contributors: by source when the design allows, with what to tighten first.
+  if (const SensitivityLevel* by_source = FindLevel(s, "source")) {
+    html += "<h3>Contributors by error source</h3>\n";
+    if (!by_source->entries.empty()) {
+      const SensitivityEntry& top = by_source->entries.front();
+      html += fmt::format("<p class=\"answer\">Tighten <b>{}</b> first: it carries {} of the variance{}.</p>\n",
+                          EscapeXml(SourceLabel(top.name)),
+                          top.total_order ? fmt::format("ST = {}", Index(*top.total_order))
+                                          : fmt::format("a share of {:.3f} in the linear fit (sum of SRC&#178;) "
+                                                        "and {:.3f} in the rank fit (sum of SRRC&#178;)",
+                                                        top.src, top.srrc),
+                          sobol && by_source->aggregation == Aggregation::kBounds ? " (a sum over its parts)" : "");
+    }
+    std::vector<std::string> categories;
+    std::vector<const SensitivityEntry*> entries;
+    for (const SensitivityEntry& e : by_source->entries) {
+      categories.push_back(SourceLabel(e.name));
+      entries.push_back(&e);
+    }
+    html += Figure(SensitivitySvg(*by_source, "Sensitivity by error source", sobol, {}, "", categories, entries),
+                   !sobol ? "Shares of the variance the source's inputs explain in the linear and the rank fit."
+                   : by_source->aggregation == Aggregation::kExact
+                       ? "Each source frozen as one group by the design."
+                       : "Sums over the design's smaller groups: the S1 sum is at most the source's S1, the ST sum "
+                         "at least its ST; ± adds the parts' half-widths in quadrature.");
+    SensitivityTable(html, *by_source, sobol, 12);
+  }
+
+  // By harmonic order, against the roller count.
+  if (const SensitivityLevel* by_order = FindLevel(s, "order")) {
+    std::vector<const SensitivityEntry*> orders;
+    for (const SensitivityEntry& e : by_order->entries) {
+      if (e.order > 0) orders.push_back(&e);
+    }
+    std::sort(orders.begin(), orders.end(),
+              [](const SensitivityEntry* a, const SensitivityEntry* b) { return a->order < b->order; });
+    if (!orders.empty()) {
+      html += "<h3>Sensitivity by harmonic order</h3>\n";
+      std::vector<std::string> categories;
+      std::vector<bool> highlighted;
+      for (const SensitivityEntry* e : orders) {
+        categories.push_back(fmt::format("order {}", e->order));
+        highlighted.push_back(report.rollers > 0 && e->order % report.rollers == 0);
+      }
+      html += Figure(
+          SensitivitySvg(*by_order, "Sensitivity by harmonic order (ring and rollers together)", sobol, highlighted,
+                         fmt::format("multiple of the roller count Z = {}", report.rollers), categories, orders),
+          fmt::format("Highlighted: orders that are multiples of Z = {}. With Z rollers equally spaced, a ring "
+                      "harmonic whose order is a multiple of Z reaches every roller in the same phase: it swells "
+                      "and shrinks the ring at all contacts at once and pushes the centre along the spring axis, "
+                      "where other orders only make it circle.",
+                      report.rollers));
+      std::vector<const SensitivityEntry*> ranked = orders;
+      std::stable_sort(ranked.begin(), ranked.end(),
+                       [](const SensitivityEntry* a, const SensitivityEntry* b) { return a->ranking > b->ranking; });
+      std::string top;
+      for (std::size_t k = 0; k < std::min<std::size_t>(5, ranked.size()); ++k) {
+        top += fmt::format("{}{}{}", k == 0 ? "" : ", ", ranked[k]->order,
+                           report.rollers > 0 && ranked[k]->order % report.rollers == 0 ? " (multiple of Z)" : "");
+      }
+      html += fmt::format("<p>Dominant orders, largest first: {}.</p>\n", top);
+    }
+  }
+
+  const SensitivityLevel& finest = s.levels.front();
+  html += fmt::format("<details><summary>Every {} ({})</summary>\n", sobol ? "design group" : "input",
+                      finest.entries.size());
+  SensitivityTable(html, finest, sobol, 60);
+  html += "</details>\n";
+}
+
+std::string TrajectorySvg(const CampaignReport& report) {
+  svg::Chart chart;
+  chart.title = "Ring centre over one revolution, replayed";
+  chart.x.label = "x [µm]";
+  chart.y.label = "y [µm]";
+  chart.equal_aspect = true;
+  chart.height = 480.0;
+  int colour = 0;
+  for (const ReplayedTrajectory& t : report.trajectories) {
+    svg::Series series;
+    series.name = fmt::format("{} (sample {}, D_trajectory {} mm)", t.label, t.index, Num(t.d_trajectory_mm));
+    series.x = t.x_um;
+    series.y = t.y_um;
+    series.colour = colour++;
+    chart.series.push_back(std::move(series));
+  }
+  if (!report.trajectories.empty()) {
+    const ReplayedTrajectory& worst = report.trajectories.back();
+    chart.circle = svg::Circle{worst.circle_x_um, worst.circle_y_um, worst.circle_radius_um,
+                               "smallest circle enclosing the worst path"};
+  }
+  return svg::RenderChart(chart);
+}
+
+}  // namespace
+
+std::string ReportHtml(const CampaignReport& report) {
+  const CampaignIdentity& id = report.identity;
+  const double confidence = report.options.confidence;
+  std::string html;
+  html += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
+  html += fmt::format("<title>ringtol report: {}</title>\n", EscapeXml(id.campaign_path));
+  html += fmt::format("<style>{}</style>\n</head>\n<body>\n", kStyle);
+  html += fmt::format("<h1>ringtol report: {}</h1>\n", EscapeXml(id.campaign_path));
+  html += fmt::format(
+      "<p class=\"meta\">Results {} &#183; design {} &#183; solver {} &#183; seed {} &#183; {} rollers &#183; "
+      "ringtol {} (ran with {}) &#183; catalogue {}</p>\n",
+      EscapeXml(report.results.string()), EscapeXml(report.design), EscapeXml(id.solver), id.seed, report.rollers,
+      RINGTOL_VERSION, EscapeXml(id.ringtol_version), EscapeXml(id.catalogue_version));
+
+  const OutputReport* primary = Find(report, report.primary_output);
+  // The answer first.
+  html += "<div class=\"answer\" id=\"answer\">\n";
+  if (primary != nullptr && primary->distribution) {
+    const analysis::DistributionSummary& d = *primary->distribution;
+    for (const analysis::QuantileEstimate& q : d.quantiles) {
+      if (q.probability != kReportQuantile) continue;
+      html += fmt::format("<p>99 % of assemblies have {} &#8804; <b>{}</b> ({:g} % interval {}).</p>\n",
+                          EscapeXml(Label(primary->name)), Num(q.value), 100 * confidence, Interval(q.interval));
+    }
+    if (d.within_spec && primary->upper_spec_limit) {
+      html += fmt::format(
+          "<p>Within the spec {} &#8804; {}: <b>{}</b> {}{}.</p>\n", EscapeXml(Label(primary->name)),
+          Num(*primary->upper_spec_limit), Percent(d.within_spec->value), PercentInterval(d.within_spec->interval),
+          d.capability.cpk_percentile ? fmt::format(", Cpk (percentile) {}", Num(*d.capability.cpk_percentile)) : "");
+    }
+  } else {
+    html += "<p>No sample finished ok: there is no distribution to show.</p>\n";
+  }
+  html += fmt::format("<p>{} of {} samples used are ok; {} failed; {} pending.</p>\n", report.ok, report.used,
+                      report.done - report.ok, report.pending);
+  html += "</div>\n";
+
+  // Samples and failures.
+  html += "<h2 id=\"samples\">Samples</h2>\n<table>\n";
+  Row(html, {"samples in the campaign", fmt::format("{}", report.samples)});
+  Row(html, {"independent draws (used for statistics)", fmt::format("{}", report.used)});
+  Row(html, {"done / ok", fmt::format("{} / {}", report.done, report.ok)});
+  Row(html, {"pending (not computed yet)", fmt::format("{}", report.pending)});
+  Row(html, {"redrawn by inspection", fmt::format("{}", report.redrawn)});
+  for (const auto& [status, count] : report.failures)
+    Row(html, {"failed: " + EscapeXml(status), fmt::format("{}", count)});
+  html += "</table>\n";
+  if (report.done > report.ok) {
+    html += fmt::format(
+        "<p class=\"warn\">{} samples failed. They are excluded from every statistic below; the yield is also given "
+        "counting them as outside the spec.</p>\n<table>\n",
+        report.done - report.ok);
+    Row(html, {"sample", "status", "message"}, true);
+    for (const FailedSample& f : report.failed) {
+      Row(html, {fmt::format("{}", f.index), EscapeXml(f.status), EscapeXml(f.message)});
+    }
+    html += "</table>\n";
+    if (report.done - report.ok > static_cast<std::int64_t>(report.failed.size())) {
+      html += fmt::format(
+          "<p class=\"note\">The first {} are listed; every failed sample keeps its status and "
+          "message in the results file.</p>\n",
+          report.failed.size());
+    }
+  }
+
+  if (primary != nullptr && primary->distribution) {
+    html += fmt::format("<h2 id=\"distribution\">Distribution of {}</h2>\n", EscapeXml(Label(primary->name)));
+    html += "<div class=\"charts\">\n";
+    html += Figure(HistogramSvg(*primary), "Histogram of the ok independent samples; dashed: the spec limit.");
+    html += Figure(CdfSvg(*primary), "Fraction of assemblies at or below each value.");
+    html += "</div>\n";
+    DistributionTable(html, *primary, confidence);
+
+    html += "<h2 id=\"convergence\">Convergence and samples needed</h2>\n<div class=\"charts\">\n";
+    html += Figure(ConvergenceQuantileSvg(*primary),
+                   "Estimate on the first n samples in design order, with its distribution-free interval.");
+    if (primary->distribution->within_spec) {
+      html += Figure(ConvergenceYieldSvg(*primary), "Clopper-Pearson interval on the first n samples.");
+    }
+    html += "</div>\n<table>\n";
+    Row(html, {"stated precision", "independent draws", "campaign samples"}, true);
+    const auto row = [&](const std::string& what, const std::optional<std::int64_t>& draws) {
+      Row(html, {what, draws ? fmt::format("{}", *draws) : "n/a",
+                 draws ? fmt::format("{}", static_cast<std::int64_t>(
+                                               std::ceil(static_cast<double>(*draws) * report.samples_per_draw)))
+                       : "n/a"});
+    };
+    row(fmt::format("99 % quantile to &#177;{} of its value", Percent(report.options.quantile_precision)),
+        primary->samples_for_quantile);
+    if (primary->distribution->within_spec) {
+      row(fmt::format("yield to &#177;{}", Percent(report.options.yield_precision)), primary->samples_for_yield);
+    }
+    html += fmt::format(
+        "</table>\n<p class=\"note\">At {:g} % confidence; the campaign has {} ok draws. The "
+        "quantile's count extrapolates its interval's width as 1/&#8730;n; the yield's is exact "
+        "(Clopper-Pearson) at the present yield.</p>\n",
+        100 * confidence, primary->count);
+  }
+
+  if (const OutputSensitivity* s = FindSensitivity(report, report.primary_output)) {
+    SensitivitySection(html, report, *s);
+  }
+
+  html += "<h2 id=\"trajectories\">Median and worst assemblies</h2>\n";
+  if (!report.trajectories.empty()) {
+    std::string caption = "Replayed from the stored design points of the median and the worst sample by D_trajectory.";
+    for (const ReplayedTrajectory& t : report.trajectories) {
+      if (!(std::abs(t.d_trajectory_mm - t.stored_d_trajectory_mm) <= 1e-9)) {
+        caption += fmt::format(
+            " The {} sample replays to {} mm against {} mm stored (status {}): this ringtol "
+            "differs from the one that ran the campaign.",
+            t.label, Num(t.d_trajectory_mm), Num(t.stored_d_trajectory_mm), t.status);
+      }
+    }
+    html += Figure(TrajectorySvg(report), caption);
+  } else {
+    html +=
+        fmt::format("<p>No trajectory: {}.</p>\n", EscapeXml(report.replay_problem.value_or("no sample finished ok")));
+  }
+
+  html += "<h2 id=\"outputs\">Every output</h2>\n<table>\n";
+  Row(html, {"output", "ok", "mean", "std", "50 %", "90 %", "99 % [interval]", "99.9 %", "spec", "within spec"}, true);
+  for (const OutputReport& out : report.outputs) {
+    if (!out.distribution) {
+      Row(html, {EscapeXml(Label(out.name)), "0", "-", "-", "-", "-", "-", "-", "-", "-"});
+      continue;
+    }
+    const analysis::DistributionSummary& d = *out.distribution;
+    std::vector<std::string> q;
+    for (const analysis::QuantileEstimate& e : d.quantiles) q.push_back(Num(e.value));
+    std::string q99 = "-";
+    for (const analysis::QuantileEstimate& e : d.quantiles) {
+      if (e.probability == kReportQuantile) q99 = Num(e.value) + " " + Interval(e.interval);
+    }
+    Row(html,
+        {EscapeXml(Label(out.name)), fmt::format("{}", d.count), Num(d.mean), Num(d.standard_deviation),
+         q.size() > 0 ? q[0] : "-", q.size() > 1 ? q[1] : "-", q99, q.size() > 3 ? q[3] : "-",
+         out.upper_spec_limit ? Num(*out.upper_spec_limit) : "-", d.within_spec ? Percent(d.within_spec->value) : "-"});
+  }
+  html += "</table>\n";
+  html += "<div class=\"charts\">\n";
+  for (const OutputReport& out : report.outputs) {
+    if (out.name == report.primary_output || !out.distribution) continue;
+    html += Figure(HistogramSvg(out), Label(out.name));
+  }
+  html += "</div>\n";
+  if (report.sensitivities.size() > 1) {
+    html += "<h3>Largest contributors to every output</h3>\n<table>\n";
+    Row(html, {"output", "method", "largest three"}, true);
+    for (const OutputSensitivity& s : report.sensitivities) {
+      const SensitivityLevel* level = FindLevel(s, "source");
+      if (level == nullptr) level = &s.levels.front();
+      std::string top;
+      for (std::size_t k = 0; k < std::min<std::size_t>(3, level->entries.size()); ++k) {
+        const SensitivityEntry& e = level->entries[k];
+        top += fmt::format("{}{} ({} {:.2f})", k == 0 ? "" : "; ", EscapeXml(SourceLabel(e.name)),
+                           e.total_order ? "ST" : (level->level == "input" ? "S1" : "sum of SRC&#178;"), e.ranking);
+      }
+      Row(html, {EscapeXml(Label(s.output)), EscapeXml(s.method), top});
+    }
+    html += "</table>\n";
+  }
+
+  html += fmt::format(
+      "<h2 id=\"method\">How these numbers were made</h2>\n<ul class=\"note\">\n"
+      "<li>Statistics use the independent draws: every sample, or the A and B matrices of a Saltelli design. Failed "
+      "and pending samples are excluded and counted above.</li>\n"
+      "<li>Quantile intervals are distribution-free: order statistics whose ranks come from the Binomial(n, p) law; "
+      "'unbounded' means n is too small to bound that side. Yield intervals are Clopper-Pearson (exact). Both assume "
+      "independent samples; a randomised Sobol' net is better balanced, so for it they err wide.</li>\n"
+      "<li>Runout has only an upper limit: Cpu = (USL - mean) / 3s is the normal-theory Cpk; the percentile Cpk "
+      "(USL - median) / (x<sub>99.865 %</sub> - median) does not assume normality, which a skewed, positive runout "
+      "breaks. Cp needs two limits.</li>\n"
+      "<li>Sobol' intervals are bootstrap intervals over the design's rows ({} resamples); a small negative index "
+      "is an index of zero within its error.</li>\n"
+      "<li>Every number here is in the JSON summary (<code>ringtol report --json</code>), in SALib's vocabulary: S1, "
+      "S1_conf, ST, ST_conf.</li>\n</ul>\n",
+      report.options.bootstrap_resamples);
+  html += "</body>\n</html>\n";
+  return html;
+}
+
+}  // namespace ringtol::jobs

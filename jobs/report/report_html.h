@@ -1,0 +1,19 @@
+// A campaign report as one self-contained HTML page: no scripts, no network, no files
+// beside it; charts are inline SVG (jobs/report/svg_chart.h), styles inline, and a print style
+// sheet keeps every chart and table whole on paper. The page shows exactly the numbers of
+// ReportJson (jobs/report/campaign_report.h), in this order: the answer in three lines, samples
+// and failures, the distribution of the spec'd output (histogram, CDF, quantiles,
+// capability, yield), convergence and the samples a stated precision needs, sensitivities
+// (contributors, by source, by harmonic order against the roller count), the replayed
+// median and worst trajectories, every other output, and how each number was made.
+#pragma once
+
+#include <string>
+
+#include "jobs/report/campaign_report.h"
+
+namespace ringtol::jobs {
+
+std::string ReportHtml(const CampaignReport& report);
+
+}  // namespace ringtol::jobs

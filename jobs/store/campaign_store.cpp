@@ -1,0 +1,1306 @@
+#include "jobs/store/campaign_store.h"
+
+#include <fcntl.h>
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <system_error>
+#include <utility>
+
+#include "jobs/inputs/input_error.h"
+
+namespace ringtol::jobs {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kFormat = "ringtol campaign";
+constexpr std::size_t kMessageBytes = 256;
+constexpr std::size_t kMessageChars = kMessageBytes - 1;  // and the terminator
+// Default chunk of /inputs/u: large enough that deflate works well, small enough that the
+// chunks being filled between commits fit the chunk cache many times over.
+constexpr std::size_t kDefaultChunkBytes = 256u << 10;
+// HDF5's advice: about 100 hash slots per chunk that fits in the cache, a prime number;
+// capped, since HDF5 allocates and scans every slot (small chunks would ask for millions).
+constexpr std::size_t kSlotsPerCachedChunk = 100;
+constexpr std::size_t kMaxSlots = 1u << 17;
+// SWMR readers read checksummed metadata again while a writer may be rewriting it, sleeping
+// 1 ns, 2 ns, 4 ns, ... between attempts: HDF5's default of 100 attempts turns a damaged
+// file into a hang of centuries; 24 attempts wait about 17 ms in all before giving up.
+constexpr unsigned kMetadataReadAttempts = 24;
+// Pending() reads statuses in blocks of this many samples to bound its memory.
+constexpr hsize_t kStatusBlock = 1u << 20;
+
+// ---------------------------------------------------------------------------------------
+// HDF5 handles and errors
+
+template <herr_t (*Closer)(hid_t)>
+class Id {
+ public:
+  Id() = default;
+  explicit Id(hid_t id) : id_(id) {}
+  ~Id() { reset(); }
+  Id(Id&& other) noexcept : id_(std::exchange(other.id_, H5I_INVALID_HID)) {}
+  Id& operator=(Id&& other) noexcept {
+    if (this != &other) {
+      reset();
+      id_ = std::exchange(other.id_, H5I_INVALID_HID);
+    }
+    return *this;
+  }
+  Id(const Id&) = delete;
+  Id& operator=(const Id&) = delete;
+
+  hid_t get() const { return id_; }
+  // Closes now and reports whether HDF5 managed to (a file's close flushes).
+  bool Close() {
+    const hid_t id = std::exchange(id_, H5I_INVALID_HID);
+    return id < 0 || Closer(id) >= 0;
+  }
+  void reset() {
+    if (id_ >= 0) Closer(id_);
+    id_ = H5I_INVALID_HID;
+  }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+};
+
+using FileId = Id<H5Fclose>;
+using GroupId = Id<H5Gclose>;
+using DatasetId = Id<H5Dclose>;
+using AttributeId = Id<H5Aclose>;
+using SpaceId = Id<H5Sclose>;
+using TypeId = Id<H5Tclose>;
+using PlistId = Id<H5Pclose>;
+
+// HDF5 prints its error stack to stderr by default; ringtol turns failures into exceptions
+// instead. Restores the previous handler so that other HDF5 users in the process keep theirs.
+class QuietErrors {
+ public:
+  QuietErrors() {
+    H5Eget_auto2(H5E_DEFAULT, &function_, &data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietErrors() { H5Eset_auto2(H5E_DEFAULT, function_, data_); }
+  QuietErrors(const QuietErrors&) = delete;
+  QuietErrors& operator=(const QuietErrors&) = delete;
+
+ private:
+  H5E_auto2_t function_ = nullptr;
+  void* data_ = nullptr;
+};
+
+// The most specific message on HDF5's error stack; for system errors only the errno text,
+// since the full message also carries times, descriptors and buffer addresses.
+std::string Hdf5Detail() {
+  std::string detail;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_UPWARD,
+      [](unsigned n, const H5E_error2_t* error, void* data) -> herr_t {
+        if (n == 0 && error->desc != nullptr) *static_cast<std::string*>(data) = error->desc;
+        return 0;
+      },
+      &detail);
+  const std::string key = "error message = '";
+  if (const std::size_t at = detail.find(key); at != std::string::npos) {
+    const std::size_t begin = at + key.size();
+    return detail.substr(begin, detail.find('\'', begin) - begin);
+  }
+  return detail;
+}
+
+// Who is to blame for a failure: while a file is opened and validated, the user (a wrong
+// or damaged file: InputError); once it is open, the system (disk full: runtime_error).
+struct Where {
+  std::string file;
+  bool input = false;
+};
+
+[[noreturn]] void Fail(const Where& where, const std::string& what) {
+  std::string message = where.file + ": " + what;
+  if (const std::string detail = Hdf5Detail(); !detail.empty()) message += " (HDF5: " + detail + ")";
+  if (where.input) throw InputError(message);
+  throw std::runtime_error(message);
+}
+
+hid_t Check(hid_t id, const Where& where, std::string_view action, std::string_view object) {
+  if (id < 0) Fail(where, fmt::format("{} {} failed", action, object));
+  return id;
+}
+
+void CheckStatus(herr_t status, const Where& where, std::string_view action, std::string_view object) {
+  if (status < 0) Fail(where, fmt::format("{} {} failed", action, object));
+}
+
+// ---------------------------------------------------------------------------------------
+// Types
+
+TypeId VariableString(const Where& where) {
+  TypeId type(Check(H5Tcopy(H5T_C_S1), where, "creating", "a string type"));
+  CheckStatus(H5Tset_size(type.get(), H5T_VARIABLE), where, "sizing", "a string type");
+  CheckStatus(H5Tset_cset(type.get(), H5T_CSET_UTF8), where, "setting", "a string type's character set");
+  return type;
+}
+
+// Fixed length, because variable-length data lives in the global heap, which SWMR readers
+// cannot follow safely while it grows. Null-terminated (the size includes the terminator),
+// so that h5dump shows the text without its padding; h5py reads bytes either way.
+TypeId FixedString(const Where& where, std::size_t bytes) {
+  TypeId type(Check(H5Tcopy(H5T_C_S1), where, "creating", "a string type"));
+  CheckStatus(H5Tset_size(type.get(), bytes), where, "sizing", "a string type");
+  CheckStatus(H5Tset_strpad(type.get(), H5T_STR_NULLTERM), where, "setting", "a string type's padding");
+  CheckStatus(H5Tset_cset(type.get(), H5T_CSET_UTF8), where, "setting", "a string type's character set");
+  return type;
+}
+
+TypeId StatusType(const Where& where) {
+  TypeId type(Check(H5Tenum_create(H5T_NATIVE_INT8), where, "creating", "the status type"));
+  for (const SampleStatus status : AllSampleStatuses()) {
+    const auto value = static_cast<std::int8_t>(status);
+    const std::string name(SampleStatusName(status));
+    CheckStatus(H5Tenum_insert(type.get(), name.c_str(), &value), where, "naming status", name);
+  }
+  return type;
+}
+
+// ---------------------------------------------------------------------------------------
+// The per-sample datasets ("columns"), statuses last: Commit writes them in this order.
+
+enum Column : std::size_t {
+  kU,
+  kValues,
+  kRedraws,
+  kSteps,
+  kMessage,
+  kSolveTime,
+  kFirstOutput,
+  kStatus = kFirstOutput + kOutputCount,
+  kColumnCount
+};
+
+using Columns = std::array<DatasetId, kColumnCount>;
+
+std::string ColumnPath(std::size_t column) {
+  switch (column) {
+    case kU:
+      return "/inputs/u";
+    case kValues:
+      return "/inputs/values";
+    case kRedraws:
+      return "/inputs/redraws";
+    case kSteps:
+      return "/outputs/steps";
+    case kMessage:
+      return "/outputs/message";
+    case kSolveTime:
+      return "/timing/solve_time_s";
+    case kStatus:
+      return "/outputs/status";
+    default:
+      return std::string("/outputs/") + kOutputNames[column - kFirstOutput];
+  }
+}
+
+bool IsMatrix(std::size_t column) { return column == kU || column == kValues; }
+
+std::string OutputPath(std::size_t output) { return ColumnPath(kFirstOutput + output); }
+
+// ---------------------------------------------------------------------------------------
+// Attributes
+
+void WriteAttribute(const Where& where, hid_t location, const char* name, hid_t file_type, hid_t memory_type,
+                    const void* value) {
+  SpaceId scalar(Check(H5Screate(H5S_SCALAR), where, "creating", "a scalar dataspace"));
+  AttributeId attribute(Check(H5Acreate2(location, name, file_type, scalar.get(), H5P_DEFAULT, H5P_DEFAULT), where,
+                              "creating attribute", name));
+  CheckStatus(H5Awrite(attribute.get(), memory_type, value), where, "writing attribute", name);
+}
+
+// Variable-length, so that h5py reads it as str; attributes are written before SWMR starts.
+void WriteStringAttribute(const Where& where, hid_t location, const char* name, const std::string& value) {
+  const TypeId type = VariableString(where);
+  const char* text = value.c_str();
+  WriteAttribute(where, location, name, type.get(), type.get(), &text);
+}
+
+std::optional<AttributeId> OpenAttribute(const Where& where, hid_t location, const char* name) {
+  const htri_t exists = H5Aexists(location, name);
+  if (exists < 0) Fail(where, fmt::format("looking up attribute {} failed", name));
+  if (exists == 0) return std::nullopt;
+  return AttributeId(Check(H5Aopen(location, name, H5P_DEFAULT), where, "opening attribute", name));
+}
+
+H5T_class_t AttributeClass(const Where& where, const AttributeId& attribute, const char* name) {
+  const TypeId type(Check(H5Aget_type(attribute.get()), where, "reading the type of attribute", name));
+  return H5Tget_class(type.get());
+}
+
+std::optional<std::string> ReadStringAttribute(const Where& where, hid_t location, const char* name) {
+  const std::optional<AttributeId> attribute = OpenAttribute(where, location, name);
+  if (!attribute) return std::nullopt;
+  const TypeId type(Check(H5Aget_type(attribute->get()), where, "reading the type of attribute", name));
+  if (H5Tget_class(type.get()) != H5T_STRING) Fail(where, fmt::format("attribute {} is not a string", name));
+  if (H5Tis_variable_str(type.get()) > 0) {
+    char* text = nullptr;
+    CheckStatus(H5Aread(attribute->get(), type.get(), &text), where, "reading attribute", name);
+    std::string value = text != nullptr ? text : "";
+    H5free_memory(text);
+    return value;
+  }
+  std::string value(H5Tget_size(type.get()), '\0');
+  CheckStatus(H5Aread(attribute->get(), type.get(), value.data()), where, "reading attribute", name);
+  value.resize(std::strlen(value.c_str()));
+  return value;
+}
+
+template <typename T>
+std::optional<T> ReadNumberAttribute(const Where& where, hid_t location, const char* name, H5T_class_t wanted,
+                                     hid_t memory_type) {
+  const std::optional<AttributeId> attribute = OpenAttribute(where, location, name);
+  if (!attribute) return std::nullopt;
+  if (AttributeClass(where, *attribute, name) != wanted) Fail(where, fmt::format("attribute {} is not a number", name));
+  T value{};
+  CheckStatus(H5Aread(attribute->get(), memory_type, &value), where, "reading attribute", name);
+  return value;
+}
+
+template <typename T>
+T Require(const Where& where, std::optional<T> value, const char* name) {
+  if (!value) Fail(where, fmt::format("is not a complete ringtol campaign file: attribute {} is missing", name));
+  return *std::move(value);
+}
+
+// ---------------------------------------------------------------------------------------
+// The per-input datasets [d]
+
+PlistId ObjectCreation(const Where& where, hid_t plist_class) {
+  PlistId plist(Check(H5Pcreate(plist_class), where, "creating", "a property list"));
+  // Without time stamps, two runs of the same campaign write the same bytes.
+  CheckStatus(H5Pset_obj_track_times(plist.get(), false), where, "configuring", "a property list");
+  return plist;
+}
+
+void WriteStringColumn(const Where& where, hid_t group, const char* name, const std::vector<std::string>& values) {
+  std::size_t width = 1;  // the terminator
+  for (const std::string& value : values) width = std::max(width, value.size() + 1);
+  const TypeId type = FixedString(where, width);
+  std::string buffer(width * values.size(), '\0');
+  for (std::size_t i = 0; i < values.size(); ++i) values[i].copy(buffer.data() + i * width, width);
+  const hsize_t dims[1] = {values.size()};
+  const SpaceId space(Check(H5Screate_simple(1, dims, nullptr), where, "creating", "a dataspace"));
+  const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+  const DatasetId dataset(Check(H5Dcreate2(group, name, type.get(), space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+                                where, "creating dataset /inputs/", name));
+  CheckStatus(H5Dwrite(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()), where,
+              "writing dataset /inputs/", name);
+}
+
+void WriteIntColumn(const Where& where, hid_t group, const char* name, const std::vector<std::int32_t>& values) {
+  const hsize_t dims[1] = {values.size()};
+  const SpaceId space(Check(H5Screate_simple(1, dims, nullptr), where, "creating", "a dataspace"));
+  const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+  const DatasetId dataset(
+      Check(H5Dcreate2(group, name, H5T_STD_I32LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
+            "creating dataset /inputs/", name));
+  CheckStatus(H5Dwrite(dataset.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), where,
+              "writing dataset /inputs/", name);
+}
+
+// One dimension, its length, and the dataset's type.
+std::pair<hsize_t, TypeId> OpenInputColumn(const Where& where, hid_t file, const std::string& path,
+                                           DatasetId& dataset) {
+  dataset = DatasetId(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
+  const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
+  hsize_t dims[1] = {0};
+  if (H5Sget_simple_extent_ndims(space.get()) != 1) Fail(where, fmt::format("dataset {} is not one-dimensional", path));
+  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+  return {dims[0], TypeId(Check(H5Dget_type(dataset.get()), where, "reading the type of", path))};
+}
+
+std::vector<std::string> ReadStringColumn(const Where& where, hid_t file, const std::string& path) {
+  DatasetId dataset;
+  const auto [count, type] = OpenInputColumn(where, file, path, dataset);
+  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) != 0) {
+    Fail(where, fmt::format("dataset {} does not hold fixed-length strings", path));
+  }
+  const std::size_t width = H5Tget_size(type.get());
+  std::string buffer(width * count, '\0');
+  if (count > 0) {
+    CheckStatus(H5Dread(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()), where, "reading",
+                path);
+  }
+  std::vector<std::string> values(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::string_view cell(buffer.data() + i * width, width);
+    values[i] = std::string(cell.substr(0, cell.find('\0')));
+  }
+  return values;
+}
+
+std::vector<std::int32_t> ReadIntColumn(const Where& where, hid_t file, const std::string& path) {
+  DatasetId dataset;
+  const auto [count, type] = OpenInputColumn(where, file, path, dataset);
+  if (H5Tget_class(type.get()) != H5T_INTEGER) Fail(where, fmt::format("dataset {} does not hold integers", path));
+  std::vector<std::int32_t> values(count);
+  if (count > 0) {
+    CheckStatus(H5Dread(dataset.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), where,
+                "reading", path);
+  }
+  return values;
+}
+
+// ---------------------------------------------------------------------------------------
+// Identity
+
+constexpr std::array<sampling::ErrorSource, 4> kErrorSources = {
+    sampling::ErrorSource::kRingShape, sampling::ErrorSource::kRollerShape, sampling::ErrorSource::kRollerPosition,
+    sampling::ErrorSource::kSpring};
+
+// What Resume and CampaignReader find in a file before trusting it.
+struct Stored {
+  CampaignIdentity identity;
+  std::int64_t samples = 0;
+  int schema_version = 0;
+};
+
+bool HasRingtolFormat(const Where& where, hid_t file) {
+  try {
+    return ReadStringAttribute(where, file, "format") == std::optional<std::string>(kFormat);
+  } catch (const std::runtime_error&) {
+    return false;
+  }
+}
+
+Stored ReadStored(const Where& where, hid_t file) {
+  if (!HasRingtolFormat(where, file)) {
+    throw InputError(where.file + ": is not a ringtol campaign file (its root has no attribute format = \"" + kFormat +
+                     "\")");
+  }
+  Stored stored;
+  const auto schema =
+      Require(where, ReadNumberAttribute<std::int64_t>(where, file, "schema_version", H5T_INTEGER, H5T_NATIVE_INT64),
+              "schema_version");
+  if (schema > kCampaignSchemaVersion) {
+    throw InputError(fmt::format("{}: was written by a newer ringtol (schema {}); this ringtol reads schema {}",
+                                 where.file, schema, kCampaignSchemaVersion));
+  }
+  if (schema != kCampaignSchemaVersion) {
+    throw InputError(fmt::format("{}: has unknown schema version {}; this ringtol reads schema {}", where.file, schema,
+                                 kCampaignSchemaVersion));
+  }
+  stored.schema_version = static_cast<int>(schema);
+
+  CampaignIdentity& identity = stored.identity;
+  const auto text = [&](const char* name) { return Require(where, ReadStringAttribute(where, file, name), name); };
+  identity.ringtol_version = text("ringtol_version");
+  identity.catalogue_version = text("catalogue_version");
+  identity.campaign_path = text("campaign_path");
+  identity.campaign_file = text("campaign_file");
+  identity.base_scene = text("base_scene");
+  identity.design = text("design");
+  identity.solver = text("solver");
+  identity.seed =
+      Require(where, ReadNumberAttribute<std::uint64_t>(where, file, "seed", H5T_INTEGER, H5T_NATIVE_UINT64), "seed");
+  stored.samples = Require(
+      where, ReadNumberAttribute<std::int64_t>(where, file, "samples", H5T_INTEGER, H5T_NATIVE_INT64), "samples");
+  if (stored.samples < 1) Fail(where, fmt::format("attribute samples = {} is not positive", stored.samples));
+
+  const std::vector<std::string> names = ReadStringColumn(where, file, "/inputs/name");
+  const std::vector<std::string> quantities = ReadStringColumn(where, file, "/inputs/quantity");
+  const std::vector<std::string> components = ReadStringColumn(where, file, "/inputs/component");
+  const std::vector<std::string> sources = ReadStringColumn(where, file, "/inputs/source");
+  const std::vector<std::int32_t> rollers = ReadIntColumn(where, file, "/inputs/roller");
+  const std::vector<std::int32_t> orders = ReadIntColumn(where, file, "/inputs/order");
+  const std::size_t d = names.size();
+  if (d == 0 || quantities.size() != d || components.size() != d || sources.size() != d || rollers.size() != d ||
+      orders.size() != d) {
+    Fail(where, "the datasets in /inputs describe different numbers of inputs");
+  }
+  for (std::size_t i = 0; i < d; ++i) {
+    sampling::SampledInput input;
+    input.name = names[i];
+    input.quantity = quantities[i];
+    input.component = components[i];
+    input.roller = rollers[i];
+    input.order = orders[i];
+    const auto* source = std::find_if(kErrorSources.begin(), kErrorSources.end(), [&](sampling::ErrorSource s) {
+      return sources[i] == sampling::ErrorSourceName(s);
+    });
+    if (source == kErrorSources.end()) Fail(where, fmt::format("/inputs/source[{}] = '{}' is unknown", i, sources[i]));
+    input.source = *source;
+    identity.inputs.push_back(std::move(input));
+  }
+
+  for (std::size_t k = 0; k < kOutputCount; ++k) {
+    const std::string path = OutputPath(k);
+    const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
+    if (const auto upper =
+            ReadNumberAttribute<double>(where, dataset.get(), "upper_spec_limit", H5T_FLOAT, H5T_NATIVE_DOUBLE)) {
+      identity.spec.push_back({kOutputNames[k], *upper});
+    }
+  }
+  return stored;
+}
+
+std::size_t FirstDifferingLine(const std::string& a, const std::string& b) {
+  const auto [at, unused] = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
+  return 1 + static_cast<std::size_t>(std::count(a.begin(), at, '\n'));
+}
+
+std::optional<std::string> InputDifference(const std::vector<sampling::SampledInput>& file,
+                                           const std::vector<sampling::SampledInput>& now) {
+  if (file.size() != now.size()) {
+    return fmt::format("inputs differ (the file has {} inputs, this campaign {})", file.size(), now.size());
+  }
+  for (std::size_t i = 0; i < file.size(); ++i) {
+    const sampling::SampledInput& a = file[i];
+    const sampling::SampledInput& b = now[i];
+    if (a.name != b.name || a.quantity != b.quantity || a.component != b.component || a.source != b.source ||
+        a.roller != b.roller || a.order != b.order) {
+      return fmt::format("inputs differ (input {}: '{}' in the file, '{}' now)", i, a.name, b.name);
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<double> SpecOf(const std::vector<SpecLimit>& spec, std::string_view output) {
+  for (const SpecLimit& limit : spec) {
+    if (limit.output == output) return limit.upper;
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> SpecDifference(const std::vector<SpecLimit>& file, const std::vector<SpecLimit>& now) {
+  const auto show = [](std::optional<double> upper) {
+    return upper ? fmt::format("{}", *upper) : std::string("not set");
+  };
+  for (const char* output : kOutputNames) {
+    const std::optional<double> a = SpecOf(file, output);
+    const std::optional<double> b = SpecOf(now, output);
+    if (a != b) {
+      return fmt::format("spec differs (upper_spec_limit of {}: {} in the file, {} now)", output, show(a), show(b));
+    }
+  }
+  return std::nullopt;
+}
+
+// The first identity field in which `now` differs from the file, or nothing.
+std::optional<std::string> IdentityDifference(const CampaignIdentity& file, const CampaignIdentity& now) {
+  const auto word = [](const char* field, const std::string& a, const std::string& b) -> std::optional<std::string> {
+    if (a == b) return std::nullopt;
+    return fmt::format("{} differs ('{}' in the file, '{}' now)", field, a, b);
+  };
+  const auto text = [](const char* field, const std::string& a, const std::string& b) -> std::optional<std::string> {
+    if (a == b) return std::nullopt;
+    return fmt::format("{} differs (first at line {})", field, FirstDifferingLine(a, b));
+  };
+  if (auto d = word("ringtol_version", file.ringtol_version, now.ringtol_version)) return d;
+  if (auto d = word("catalogue_version", file.catalogue_version, now.catalogue_version)) return d;
+  if (auto d = text("campaign_file", file.campaign_file, now.campaign_file)) return d;
+  if (auto d = text("base_scene", file.base_scene, now.base_scene)) return d;
+  if (auto d = word("design", file.design, now.design)) return d;
+  if (auto d = word("solver", file.solver, now.solver)) return d;
+  if (file.seed != now.seed) return fmt::format("seed differs ({} in the file, {} now)", file.seed, now.seed);
+  if (auto d = InputDifference(file.inputs, now.inputs)) return d;
+  return SpecDifference(file.spec, now.spec);
+}
+
+// ---------------------------------------------------------------------------------------
+// Opening
+
+PlistId FileAccess(const Where& where) {
+  PlistId fapl(Check(H5Pcreate(H5P_FILE_ACCESS), where, "creating", "a file access property list"));
+  CheckStatus(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_LATEST, H5F_LIBVER_LATEST), where, "configuring",
+              "file access");
+  // HDF5's flock() would stop SWMR readers while a writer holds it, and it cannot outlast
+  // the switch to SWMR mode; FileLock guards writers instead.
+  CheckStatus(H5Pset_file_locking(fapl.get(), false, true), where, "configuring", "file access");
+  CheckStatus(H5Pset_metadata_read_attempts(fapl.get(), kMetadataReadAttempts), where, "configuring", "file access");
+  return fapl;
+}
+
+// Sets one of HDF5's private file-access properties (those h5clear uses), if this HDF5 has it.
+bool SetHiddenFlag(const Where& where, const PlistId& fapl, const char* name) {
+  if (H5Pexist(fapl.get(), name) <= 0) return false;
+  hbool_t value = true;
+  CheckStatus(H5Pset(fapl.get(), name, &value), where, "setting file access property", name);
+  return true;
+}
+
+// Read-only, in SWMR-read mode so that a file being written, or left by a killed writer
+// (superblock flags still set, end of allocation stale), opens too. Throws InputError.
+FileId OpenForReading(const fs::path& path) {
+  const Where where{path.string(), true};
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (!fs::exists(status)) throw InputError(where.file + ": does not exist");
+  if (fs::is_directory(status)) throw InputError(where.file + ": is a directory, not a results file");
+  const htri_t is_hdf5 = H5Fis_hdf5(where.file.c_str());
+  if (is_hdf5 < 0) Fail(where, "cannot be read");
+  if (is_hdf5 == 0) throw InputError(where.file + ": is not an HDF5 file or is truncated");
+
+  const PlistId fapl = FileAccess(where);
+  // Flags left by a writer killed before it entered SWMR mode would refuse even a reader.
+  SetHiddenFlag(where, fapl, "clear_status_flags");
+  hid_t id = H5Fopen(where.file.c_str(), H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, fapl.get());
+  if (id < 0) {
+    // Files from other writers (superblock before version 3) need a plain read-only open.
+    id = H5Fopen(where.file.c_str(), H5F_ACC_RDONLY, fapl.get());
+  }
+  if (id < 0) Fail(where, "is not an HDF5 file or is truncated");
+  return FileId(id);
+}
+
+// Opens every per-sample dataset and checks its shape against the attributes.
+Columns OpenColumns(const Where& where, hid_t file, std::int64_t samples, std::size_t inputs, hid_t matrix_access) {
+  Columns columns;
+  for (std::size_t c = 0; c < kColumnCount; ++c) {
+    const std::string path = ColumnPath(c);
+    const hid_t access = IsMatrix(c) ? matrix_access : H5P_DEFAULT;
+    columns[c] = DatasetId(H5Dopen2(file, path.c_str(), access));
+    if (columns[c].get() < 0) Fail(where, "is not a complete ringtol campaign file: cannot open dataset " + path);
+    const SpaceId space(Check(H5Dget_space(columns[c].get()), where, "reading the shape of", path));
+    const int rank = IsMatrix(c) ? 2 : 1;
+    hsize_t dims[2] = {0, 0};
+    if (H5Sget_simple_extent_ndims(space.get()) != rank) {
+      Fail(where, fmt::format("dataset {} has the wrong rank", path));
+    }
+    H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+    if (dims[0] < static_cast<hsize_t>(samples) || (rank == 2 && dims[1] != inputs)) {
+      Fail(where, fmt::format("dataset {} has {} rows{} where the file declares {} samples and {} inputs", path,
+                              dims[0], rank == 2 ? fmt::format(" of {}", dims[1]) : "", samples, inputs));
+    }
+  }
+  const TypeId status(Check(H5Dget_type(columns[kStatus].get()), where, "reading the type of", ColumnPath(kStatus)));
+  if (H5Tget_class(status.get()) != H5T_ENUM || H5Tget_size(status.get()) != 1) {
+    Fail(where, "dataset /outputs/status is not a one-byte enumeration");
+  }
+  const TypeId message(Check(H5Dget_type(columns[kMessage].get()), where, "reading the type of", ColumnPath(kMessage)));
+  if (H5Tget_class(message.get()) != H5T_STRING || H5Tis_variable_str(message.get()) != 0) {
+    Fail(where, "dataset /outputs/message does not hold fixed-length strings");
+  }
+  return columns;
+}
+
+hsize_t ChunkRows(const Where& where, const DatasetId& dataset) {
+  const PlistId dcpl(Check(H5Dget_create_plist(dataset.get()), where, "reading the layout of", ColumnPath(kU)));
+  hsize_t chunk[2] = {0, 0};
+  if (H5Pget_chunk(dcpl.get(), 2, chunk) != 2) Fail(where, "dataset /inputs/u is not chunked");
+  return chunk[0];
+}
+
+std::size_t NextPrime(std::size_t n) {
+  const auto prime = [](std::size_t k) {
+    if (k < 2) return false;
+    for (std::size_t f = 2; f * f <= k; ++f) {
+      if (k % f == 0) return false;
+    }
+    return true;
+  };
+  while (!prime(n)) ++n;
+  return n;
+}
+
+// Keeps the chunks being filled in memory between commits, so that a commit compresses a
+// partly filled chunk again without first reading and decompressing it from the file.
+PlistId MatrixAccess(const Where& where, std::size_t cache_bytes, std::int64_t samples, hsize_t chunk_rows,
+                     std::size_t inputs) {
+  PlistId dapl(Check(H5Pcreate(H5P_DATASET_ACCESS), where, "creating", "a dataset access property list"));
+  const auto rows = static_cast<std::size_t>(std::max<hsize_t>(1, chunk_rows));
+  const std::size_t chunk_bytes = rows * inputs * sizeof(double);
+  const std::size_t chunks = (static_cast<std::size_t>(samples) + rows - 1) / rows;
+  const std::size_t cached = std::clamp<std::size_t>(cache_bytes / chunk_bytes, 1, chunks);
+  const std::size_t slots = NextPrime(std::min(kMaxSlots, kSlotsPerCachedChunk * cached));
+  CheckStatus(H5Pset_chunk_cache(dapl.get(), slots, cache_bytes, H5D_CHUNK_CACHE_W0_DEFAULT), where, "configuring",
+              "the chunk cache");
+  return dapl;
+}
+
+// ---------------------------------------------------------------------------------------
+// Creating
+
+void CheckArguments(const CampaignIdentity& identity, std::int64_t samples, const CampaignStoreOptions& options) {
+  if (samples < 1) throw std::invalid_argument(fmt::format("CampaignStore: samples = {} must be >= 1", samples));
+  if (identity.inputs.empty()) {
+    throw std::invalid_argument("CampaignStore: a campaign needs at least one sampled input");
+  }
+  if (options.deflate_level < 0 || options.deflate_level > 9) {
+    throw std::invalid_argument(
+        fmt::format("CampaignStore: deflate_level = {} is outside 0..9", options.deflate_level));
+  }
+  if (options.chunk_samples < 0) {
+    throw std::invalid_argument(fmt::format("CampaignStore: chunk_samples = {} is negative", options.chunk_samples));
+  }
+  for (std::size_t i = 0; i < identity.spec.size(); ++i) {
+    const std::string& output = identity.spec[i].output;
+    if (std::find(kOutputNames.begin(), kOutputNames.end(), output) == kOutputNames.end()) {
+      throw std::invalid_argument("CampaignStore: spec limit on unknown output '" + output + "'");
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (identity.spec[j].output == output) {
+        throw std::invalid_argument("CampaignStore: two spec limits on output '" + output + "'");
+      }
+    }
+  }
+}
+
+hsize_t DefaultChunkRows(const CampaignStoreOptions& options, std::int64_t samples, std::size_t inputs) {
+  if (options.chunk_samples > 0) return static_cast<hsize_t>(options.chunk_samples);
+  // Also bounded by /outputs/message (256 bytes a row): with few inputs its chunks would
+  // outgrow HDF5's default 1 MiB chunk cache, and every read of one message would inflate
+  // a whole chunk.
+  const std::size_t row_bytes = std::max(inputs * sizeof(double), kMessageBytes);
+  const std::size_t rows = std::max<std::size_t>(1, kDefaultChunkBytes / row_bytes);
+  return std::min<hsize_t>(rows, static_cast<hsize_t>(samples));
+}
+
+constexpr int kSmallColumnDeflateLevel = 1;
+
+void CreateColumn(const Where& where, hid_t file, std::size_t column, hsize_t samples, hsize_t inputs,
+                  hsize_t chunk_rows, int deflate_level, hid_t status_type, hid_t message_type) {
+  const std::string path = ColumnPath(column);
+  const int rank = IsMatrix(column) ? 2 : 1;
+  const hsize_t dims[2] = {samples, inputs};
+  const hsize_t max_dims[2] = {H5S_UNLIMITED, inputs};
+  const hsize_t chunk[2] = {chunk_rows, inputs};
+  const SpaceId space(Check(H5Screate_simple(rank, dims, max_dims), where, "creating the dataspace of", path));
+  const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+  CheckStatus(H5Pset_chunk(dcpl.get(), rank, chunk), where, "chunking", path);
+  // Counts, statuses and messages shrink a hundredfold and their chunks stay small, so
+  // they are always deflated. The floating-point columns barely compress (design points
+  // are random bits below the exponent) and, in SWMR mode, every rewrite of a compressed
+  // chunk that grows leaves its old copy behind (HDF5 does not free it); stored
+  // uncompressed they are rewritten in place.
+  const bool small_column = column == kRedraws || column == kSteps || column == kMessage || column == kStatus;
+  if (small_column) deflate_level = std::max(deflate_level, kSmallColumnDeflateLevel);
+  if (deflate_level > 0) {
+    CheckStatus(H5Pset_shuffle(dcpl.get()), where, "setting the shuffle filter of", path);
+    CheckStatus(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(deflate_level)), where, "setting deflate on", path);
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const float nan_float = std::numeric_limits<float>::quiet_NaN();
+  const std::int32_t zero = 0;
+  const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
+  hid_t file_type = H5T_IEEE_F64LE;
+  herr_t filled = 0;
+  switch (column) {
+    case kU:
+      filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_DOUBLE, &nan);
+      break;
+    case kValues:
+      file_type = H5T_IEEE_F32LE;
+      filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_FLOAT, &nan_float);
+      break;
+    case kRedraws:
+    case kSteps:
+      file_type = H5T_STD_I32LE;
+      filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT32, &zero);
+      break;
+    case kMessage:
+      file_type = message_type;  // the default fill, all zero bytes, is the empty string
+      break;
+    case kStatus:
+      file_type = status_type;
+      filled = H5Pset_fill_value(dcpl.get(), status_type, &pending);
+      break;
+    default:  // outputs and solve times
+      filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_DOUBLE, &nan);
+      break;
+  }
+  CheckStatus(filled, where, "setting the fill value of", path);
+  const DatasetId dataset(
+      Check(H5Dcreate2(file, path.c_str(), file_type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
+            "creating dataset", path));
+}
+
+void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identity, std::int64_t samples,
+                 const CampaignStoreOptions& options) {
+  WriteStringAttribute(where, file, "format", kFormat);
+  const std::int32_t schema = kCampaignSchemaVersion;
+  WriteAttribute(where, file, "schema_version", H5T_STD_I32LE, H5T_NATIVE_INT32, &schema);
+  WriteStringAttribute(where, file, "ringtol_version", identity.ringtol_version);
+  WriteStringAttribute(where, file, "catalogue_version", identity.catalogue_version);
+  WriteAttribute(where, file, "seed", H5T_STD_U64LE, H5T_NATIVE_UINT64, &identity.seed);
+  WriteAttribute(where, file, "samples", H5T_STD_I64LE, H5T_NATIVE_INT64, &samples);
+  WriteStringAttribute(where, file, "design", identity.design);
+  WriteStringAttribute(where, file, "solver", identity.solver);
+  WriteStringAttribute(where, file, "campaign_path", identity.campaign_path);
+  WriteStringAttribute(where, file, "campaign_file", identity.campaign_file);
+  WriteStringAttribute(where, file, "base_scene", identity.base_scene);
+
+  const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
+  for (const char* name : {"inputs", "outputs", "timing"}) {
+    GroupId(Check(H5Gcreate2(file, name, H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group", name));
+  }
+
+  const GroupId inputs(Check(H5Gopen2(file, "inputs", H5P_DEFAULT), where, "opening group", "/inputs"));
+  const auto strings = [&](auto field) {
+    std::vector<std::string> values;
+    for (const sampling::SampledInput& input : identity.inputs) values.push_back(field(input));
+    return values;
+  };
+  using Input = sampling::SampledInput;
+  WriteStringColumn(where, inputs.get(), "name", strings([](const Input& in) { return in.name; }));
+  WriteStringColumn(where, inputs.get(), "quantity", strings([](const Input& in) { return in.quantity; }));
+  WriteStringColumn(where, inputs.get(), "component", strings([](const Input& in) { return in.component; }));
+  WriteStringColumn(where, inputs.get(), "source",
+                    strings([](const Input& in) { return std::string(sampling::ErrorSourceName(in.source)); }));
+  std::vector<std::int32_t> rollers;
+  std::vector<std::int32_t> orders;
+  for (const Input& input : identity.inputs) {
+    rollers.push_back(input.roller);
+    orders.push_back(input.order);
+  }
+  WriteIntColumn(where, inputs.get(), "roller", rollers);
+  WriteIntColumn(where, inputs.get(), "order", orders);
+
+  const TypeId status_type = StatusType(where);
+  const TypeId message_type = FixedString(where, kMessageBytes);
+  const hsize_t chunk_rows = DefaultChunkRows(options, samples, identity.inputs.size());
+  for (std::size_t c = 0; c < kColumnCount; ++c) {
+    CreateColumn(where, file, c, static_cast<hsize_t>(samples), identity.inputs.size(), chunk_rows,
+                 options.deflate_level, status_type.get(), message_type.get());
+  }
+  for (const SpecLimit& limit : identity.spec) {
+    const std::string path = "/outputs/" + limit.output;
+    const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
+    WriteAttribute(where, dataset.get(), "upper_spec_limit", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &limit.upper);
+  }
+}
+
+std::string ExistsMessage(const std::string& file) {
+  return file + ": already exists; pass --resume to continue that campaign, or remove the file to start a new one";
+}
+
+// Gives the finished file its name without ever replacing a file of that name: a hard link
+// fails when the name exists (rename would overwrite it).
+void Publish(const fs::path& temporary, const fs::path& path) {
+  if (::link(temporary.c_str(), path.c_str()) == 0) {
+    ::unlink(temporary.c_str());
+    return;
+  }
+  const int link_error = errno;
+  if (link_error == EEXIST) throw InputError(ExistsMessage(path.string()));
+  // File systems without hard links: rename after a last look.
+  std::error_code error;
+  if (fs::exists(fs::symlink_status(path, error))) throw InputError(ExistsMessage(path.string()));
+  fs::rename(temporary, path, error);
+  if (error) throw InputError(path.string() + ": cannot be created: " + error.message());
+}
+
+std::string_view TruncateUtf8(std::string_view text, std::size_t max_bytes) {
+  if (text.size() <= max_bytes) return text;
+  std::size_t end = max_bytes;
+  // Never cut a multi-byte character in two: back up to its first byte.
+  while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;
+  return text.substr(0, end);
+}
+
+bool IsKnownStatus(std::int8_t value) {
+  const std::vector<SampleStatus>& all = AllSampleStatuses();
+  return std::any_of(all.begin(), all.end(), [&](SampleStatus s) { return static_cast<std::int8_t>(s) == value; });
+}
+
+// A sample range of consecutive indices.
+struct Run {
+  hsize_t first = 0;
+  hsize_t count = 0;
+};
+
+void WriteRows(const Where& where, const DatasetId& dataset, std::size_t column, hid_t memory_type,
+               const std::vector<Run>& runs, hsize_t rows, hsize_t width, const void* data) {
+  const std::string path = ColumnPath(column);
+  const SpaceId file_space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
+  bool first = true;
+  for (const Run& run : runs) {
+    const hsize_t start[2] = {run.first, 0};
+    const hsize_t count[2] = {run.count, width};
+    CheckStatus(
+        H5Sselect_hyperslab(file_space.get(), first ? H5S_SELECT_SET : H5S_SELECT_OR, start, nullptr, count, nullptr),
+        where, "selecting rows of", path);
+    first = false;
+  }
+  const hsize_t memory_dims[2] = {rows, width};
+  const SpaceId memory_space(
+      Check(H5Screate_simple(IsMatrix(column) ? 2 : 1, memory_dims, nullptr), where, "creating a dataspace for", path));
+  CheckStatus(H5Dwrite(dataset.get(), memory_type, memory_space.get(), file_space.get(), H5P_DEFAULT, data), where,
+              "writing", path);
+  CheckStatus(H5Dflush(dataset.get()), where, "flushing", path);
+}
+
+void ReadRows(const Where& where, const DatasetId& dataset, std::size_t column, hid_t memory_type, hsize_t first,
+              hsize_t rows, hsize_t width, void* data) {
+  if (rows == 0) return;
+  const std::string path = ColumnPath(column);
+  const SpaceId file_space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
+  const hsize_t start[2] = {first, 0};
+  const hsize_t count[2] = {rows, width};
+  CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr), where,
+              "selecting rows of", path);
+  const SpaceId memory_space(
+      Check(H5Screate_simple(IsMatrix(column) ? 2 : 1, count, nullptr), where, "creating a dataspace for", path));
+  CheckStatus(H5Dread(dataset.get(), memory_type, memory_space.get(), file_space.get(), H5P_DEFAULT, data), where,
+              "reading", path);
+}
+
+void CheckRange(std::string_view what, std::int64_t begin, std::int64_t end, std::int64_t samples) {
+  if (begin < 0 || end < begin || end > samples) {
+    throw std::out_of_range(
+        fmt::format("{}: range [{}, {}) is outside the campaign's [0, {})", what, begin, end, samples));
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// A lock that keeps two writers off one file. HDF5's own flock() lock is released once a
+// writer enters SWMR mode (so that readers can open the file), and the superblock flags
+// that would refuse a second writer are cleared on resume after a kill; without this lock
+// a second run resumed by mistake would interleave its writes with the first. HDF5's lock
+// is switched off (FileAccess) in favour of an open file description lock, which also holds
+// between two stores of one process, never blocks readers, and dies with the process.
+class FileLock {
+ public:
+  FileLock() = default;
+  ~FileLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FileLock(FileLock&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+  FileLock& operator=(FileLock&& other) noexcept {
+    std::swap(fd_, other.fd_);
+    return *this;
+  }
+
+  static FileLock Acquire(const fs::path& path, const std::string& name) {
+    FileLock lock;
+    lock.fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+    if (lock.fd_ < 0) throw InputError(name + ": cannot be opened for writing: " + std::strerror(errno));
+    struct flock region {};
+    region.l_type = F_WRLCK;
+    region.l_whence = SEEK_SET;
+    if (::fcntl(lock.fd_, F_OFD_SETLK, &region) < 0 && (errno == EAGAIN || errno == EACCES)) {
+      throw InputError(name + ": is being written by another ringtol run; let it finish or stop it first");
+    }
+    // Other errors mean a file system without locks: go on unguarded, as HDF5 does there.
+    return lock;
+  }
+
+ private:
+  int fd_ = -1;
+};
+
+}  // namespace
+
+struct CampaignStore::File {
+  fs::path path;
+  Where where;
+  FileLock lock;
+  FileId file;  // closed after the datasets (members are destroyed in reverse order)
+  Columns columns;
+  TypeId status_type;
+  std::int64_t samples = 0;
+  std::size_t inputs = 0;
+  std::vector<SampleRecord> buffer;
+
+  // Everything is created (or extended) by now: enter SWMR mode, then open the datasets
+  // (entering SWMR reopens open datasets with default access, losing the chunk cache).
+  void StartWriting(hsize_t chunk_rows, const CampaignStoreOptions& options) {
+    CheckStatus(H5Fstart_swmr_write(file.get()), where, "starting", "SWMR writing");
+    const PlistId matrix_access = MatrixAccess(where, options.chunk_cache_bytes, samples, chunk_rows, inputs);
+    columns = OpenColumns(where, file.get(), samples, inputs, matrix_access.get());
+    status_type = StatusType(where);
+  }
+
+  // Closes the datasets, then the file (whose close flushes and clears the superblock flags).
+  bool Close() {
+    for (DatasetId& column : columns) column.reset();
+    status_type.reset();
+    return file.Close();
+  }
+};
+
+CampaignStore::CampaignStore(std::unique_ptr<File> file) : file_(std::move(file)) {}
+
+CampaignStore::~CampaignStore() {
+  if (!file_) return;
+  const QuietErrors quiet;
+  try {
+    Commit();
+  } catch (const std::exception& error) {
+    std::cerr << "ringtol: " << error.what() << '\n';
+  }
+  if (!file_->Close()) {
+    std::cerr << "ringtol: " << file_->where.file << ": closing failed (HDF5: " << Hdf5Detail() << ")\n";
+  }
+  file_.reset();
+}
+
+CampaignStore::CampaignStore(CampaignStore&&) noexcept = default;
+
+CampaignStore& CampaignStore::operator=(CampaignStore&& other) noexcept {
+  if (this != &other) {
+    CampaignStore previous(std::move(file_));
+    file_ = std::move(other.file_);
+  }
+  return *this;
+}
+
+CampaignStore CampaignStore::Create(const fs::path& path, const CampaignIdentity& identity, std::int64_t samples,
+                                    const CampaignStoreOptions& options) {
+  const QuietErrors quiet;
+  CheckArguments(identity, samples, options);
+  const std::string name = path.string();
+  std::error_code error;
+  if (fs::exists(fs::symlink_status(path, error))) throw InputError(ExistsMessage(name));
+  const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  if (!fs::is_directory(directory, error)) {
+    throw InputError(name + ": directory '" + directory.string() + "' does not exist");
+  }
+  // Built under another name and renamed when complete, so that a kill while creating
+  // never leaves a half-made file under the campaign's name.
+  fs::path temporary = path;
+  temporary += fmt::format(".{}.creating", ::getpid());
+  fs::remove(temporary, error);  // left by a killed run that had this process id
+
+  auto file = std::make_unique<File>();
+  file->path = path;
+  file->where = Where{name, false};
+  file->samples = samples;
+  file->inputs = identity.inputs.size();
+  try {
+    const Where opening{name, true};
+    const PlistId fapl = FileAccess(opening);
+    file->file = FileId(H5Fcreate(temporary.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl.get()));
+    if (file->file.get() < 0) Fail(opening, "cannot be created in '" + directory.string() + "'");
+    file->lock = FileLock::Acquire(temporary, name);
+    WriteSchema(file->where, file->file.get(), identity, samples, options);
+    file->StartWriting(DefaultChunkRows(options, samples, file->inputs), options);
+    Publish(temporary, path);
+  } catch (...) {
+    file->Close();
+    fs::remove(temporary, error);
+    throw;
+  }
+  return CampaignStore(std::move(file));
+}
+
+CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity& identity, std::int64_t samples,
+                                    const CampaignStoreOptions& options) {
+  const QuietErrors quiet;
+  CheckArguments(identity, samples, options);
+  const std::string name = path.string();
+  const Where opening{name, true};
+  std::error_code error;
+  if (!fs::exists(path, error)) {
+    throw InputError(name + ": does not exist; run the campaign without --resume to start it");
+  }
+  if (!fs::is_regular_file(path, error)) throw InputError(name + ": is not a regular file");
+  FileLock lock = FileLock::Acquire(path, name);
+
+  // Everything is checked read-only first: a refused file is never modified.
+  Stored stored;
+  hsize_t chunk_rows = 0;
+  {
+    const FileId reading = OpenForReading(path);
+    stored = ReadStored(opening, reading.get());
+    if (const std::optional<std::string> difference = IdentityDifference(stored.identity, identity)) {
+      throw InputError(name + ": was written by another campaign: " + *difference +
+                       "; resume it with the campaign that wrote it, or choose a new results file");
+    }
+    const Columns columns = OpenColumns(opening, reading.get(), stored.samples, identity.inputs.size(), H5P_DEFAULT);
+    chunk_rows = ChunkRows(opening, columns[kU]);
+  }
+  if (samples < stored.samples) {
+    throw InputError(fmt::format("{}: holds {} samples and cannot shrink to {}; --samples can only grow a campaign",
+                                 name, stored.samples, samples));
+  }
+
+  auto file = std::make_unique<File>();
+  file->path = path;
+  file->where = Where{name, false};
+  file->lock = std::move(lock);
+  file->samples = samples;
+  file->inputs = identity.inputs.size();
+  const PlistId fapl = FileAccess(opening);
+  // As h5clear does after a killed SWMR writer: forget its superblock flags, and accept an
+  // end-of-allocation mark that lags behind what it wrote...
+  if (!SetHiddenFlag(opening, fapl, "clear_status_flags")) {
+    throw InputError(name + ": this HDF5 library cannot reopen files; run 'h5clear -s --increment' on it first");
+  }
+  SetHiddenFlag(opening, fapl, "skip_eof_check");
+  file->file = FileId(H5Fopen(name.c_str(), H5F_ACC_RDWR, fapl.get()));
+  if (file->file.get() < 0) Fail(opening, "cannot be opened for writing");
+  // ...and move that mark to the end of the file, so that new objects never land on old ones.
+  CheckStatus(H5Fincrement_filesize(file->file.get(), 0), file->where, "updating", "the end-of-allocation mark");
+
+  if (samples > stored.samples) {
+    for (std::size_t c = 0; c < kColumnCount; ++c) {
+      const std::string column = ColumnPath(c);
+      const DatasetId dataset(
+          Check(H5Dopen2(file->file.get(), column.c_str(), H5P_DEFAULT), file->where, "opening", column));
+      const SpaceId space(Check(H5Dget_space(dataset.get()), file->where, "reading the shape of", column));
+      hsize_t dims[2] = {0, 0};
+      H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+      // A grow killed half-way may have extended some datasets already.
+      if (dims[0] >= static_cast<hsize_t>(samples)) continue;
+      dims[0] = static_cast<hsize_t>(samples);
+      CheckStatus(H5Dset_extent(dataset.get(), dims), file->where, "extending", column);
+    }
+    const std::optional<AttributeId> attribute = OpenAttribute(file->where, file->file.get(), "samples");
+    if (!attribute) Fail(file->where, "attribute samples vanished");
+    CheckStatus(H5Awrite(attribute->get(), H5T_NATIVE_INT64, &samples), file->where, "updating attribute", "samples");
+  }
+  file->StartWriting(chunk_rows, options);
+  return CampaignStore(std::move(file));
+}
+
+std::int64_t CampaignStore::samples() const { return file_->samples; }
+
+const fs::path& CampaignStore::path() const { return file_->path; }
+
+std::vector<std::int64_t> CampaignStore::Pending(std::int64_t begin, std::int64_t end) const {
+  const QuietErrors quiet;
+  CheckRange("CampaignStore::Pending", begin, end, file_->samples);
+  std::vector<std::int64_t> pending;
+  std::vector<std::int8_t> block;
+  for (auto first = static_cast<hsize_t>(begin); first < static_cast<hsize_t>(end); first += kStatusBlock) {
+    const hsize_t rows = std::min(kStatusBlock, static_cast<hsize_t>(end) - first);
+    block.resize(rows);
+    ReadRows(file_->where, file_->columns[kStatus], kStatus, file_->status_type.get(), first, rows, 1, block.data());
+    for (hsize_t i = 0; i < rows; ++i) {
+      if (block[i] == static_cast<std::int8_t>(SampleStatus::kPending)) {
+        pending.push_back(static_cast<std::int64_t>(first + i));
+      }
+    }
+  }
+  return pending;
+}
+
+void CampaignStore::Add(SampleRecord record) {
+  if (record.index < 0 || record.index >= file_->samples) {
+    throw std::invalid_argument(
+        fmt::format("CampaignStore::Add: sample {} is outside [0, {})", record.index, file_->samples));
+  }
+  if (record.u.size() != file_->inputs || record.values.size() != file_->inputs) {
+    throw std::invalid_argument(fmt::format("CampaignStore::Add: sample {} has {} u and {} values for {} inputs",
+                                            record.index, record.u.size(), record.values.size(), file_->inputs));
+  }
+  if (record.status == SampleStatus::kPending || !IsKnownStatus(static_cast<std::int8_t>(record.status))) {
+    throw std::invalid_argument(fmt::format("CampaignStore::Add: sample {} has no final status", record.index));
+  }
+  file_->buffer.push_back(std::move(record));
+}
+
+std::size_t CampaignStore::buffered() const { return file_->buffer.size(); }
+
+void CampaignStore::Commit() {
+  File& f = *file_;
+  if (f.buffer.empty()) return;
+  const QuietErrors quiet;
+
+  // In index order, the last one added winning when a sample was added twice.
+  std::vector<std::size_t> order(f.buffer.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return f.buffer[a].index < f.buffer[b].index; });
+  std::vector<const SampleRecord*> records;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (i + 1 < order.size() && f.buffer[order[i + 1]].index == f.buffer[order[i]].index) continue;
+    records.push_back(&f.buffer[order[i]]);
+  }
+  std::vector<Run> runs;
+  for (const SampleRecord* record : records) {
+    const auto index = static_cast<hsize_t>(record->index);
+    if (!runs.empty() && runs.back().first + runs.back().count == index) {
+      ++runs.back().count;
+    } else {
+      runs.push_back({index, 1});
+    }
+  }
+
+  const std::size_t m = records.size();
+  const std::size_t d = f.inputs;
+  std::vector<double> u(m * d);
+  std::vector<float> values(m * d);
+  std::vector<std::int32_t> redraws(m);
+  std::vector<std::int32_t> steps(m);
+  std::vector<char> messages(m * kMessageBytes, '\0');
+  std::vector<double> solve_times(m);
+  std::vector<std::vector<double>> outputs(kOutputCount, std::vector<double>(m));
+  std::vector<std::int8_t> statuses(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const SampleRecord& record = *records[i];
+    std::copy(record.u.begin(), record.u.end(), u.begin() + static_cast<std::ptrdiff_t>(i * d));
+    // Rounded here rather than by HDF5, whose conversion may clip instead of round.
+    for (std::size_t j = 0; j < d; ++j) values[i * d + j] = static_cast<float>(record.values[j]);
+    redraws[i] = record.redraws;
+    steps[i] = record.steps;
+    TruncateUtf8(record.message, kMessageChars).copy(messages.data() + i * kMessageBytes, kMessageChars);
+    solve_times[i] = record.solve_time;
+    const bool ok = record.status == SampleStatus::kOk;
+    for (std::size_t k = 0; k < kOutputCount; ++k) {
+      outputs[k][i] = ok ? record.outputs[k] : std::numeric_limits<double>::quiet_NaN();
+    }
+    statuses[i] = static_cast<std::int8_t>(record.status);
+  }
+
+  const TypeId message_type = FixedString(f.where, kMessageBytes);
+  const Where& w = f.where;
+  WriteRows(w, f.columns[kU], kU, H5T_NATIVE_DOUBLE, runs, m, d, u.data());
+  WriteRows(w, f.columns[kValues], kValues, H5T_NATIVE_FLOAT, runs, m, d, values.data());
+  WriteRows(w, f.columns[kRedraws], kRedraws, H5T_NATIVE_INT32, runs, m, 1, redraws.data());
+  WriteRows(w, f.columns[kSteps], kSteps, H5T_NATIVE_INT32, runs, m, 1, steps.data());
+  WriteRows(w, f.columns[kMessage], kMessage, message_type.get(), runs, m, 1, messages.data());
+  WriteRows(w, f.columns[kSolveTime], kSolveTime, H5T_NATIVE_DOUBLE, runs, m, 1, solve_times.data());
+  for (std::size_t k = 0; k < kOutputCount; ++k) {
+    WriteRows(w, f.columns[kFirstOutput + k], kFirstOutput + k, H5T_NATIVE_DOUBLE, runs, m, 1, outputs[k].data());
+  }
+  // Last, after everything else is flushed: a status on disk vouches for its sample.
+  WriteRows(w, f.columns[kStatus], kStatus, f.status_type.get(), runs, m, 1, statuses.data());
+  f.buffer.clear();
+}
+
+// ---------------------------------------------------------------------------------------
+
+struct CampaignReader::File {
+  Where where;
+  FileId file;
+  Columns columns;
+  TypeId status_type;
+  Stored stored;
+
+  void Open(const fs::path& path);
+
+  void CheckRows(std::string_view what, std::int64_t begin, std::int64_t count) const {
+    if (count < 0) throw std::out_of_range(fmt::format("{}: count {} is negative", what, count));
+    CheckRange(what, begin, begin + count, stored.samples);
+  }
+
+  // Rows [begin, begin + count) of one column, `width` values each, checked and read quietly.
+  template <typename T>
+  std::vector<T> Rows(std::string_view what, std::size_t column, hid_t memory_type, std::int64_t begin,
+                      std::int64_t count, std::size_t width) const {
+    const QuietErrors quiet;
+    CheckRows(what, begin, count);
+    std::vector<T> values(static_cast<std::size_t>(count) * width);
+    ReadRows(where, columns[column], column, memory_type, static_cast<hsize_t>(begin), static_cast<hsize_t>(count),
+             width, values.data());
+    return values;
+  }
+
+  std::vector<SampleStatus> Statuses(std::int64_t begin, std::int64_t count) const {
+    std::vector<std::int8_t> raw(static_cast<std::size_t>(count));
+    ReadRows(where, columns[kStatus], kStatus, status_type.get(), static_cast<hsize_t>(begin),
+             static_cast<hsize_t>(count), 1, raw.data());
+    std::vector<SampleStatus> statuses;
+    statuses.reserve(raw.size());
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+      if (!IsKnownStatus(raw[i])) {
+        throw std::runtime_error(fmt::format("{}: /outputs/status[{}] = {} is not a status this ringtol knows",
+                                             where.file, begin + static_cast<std::int64_t>(i), raw[i]));
+      }
+      statuses.push_back(static_cast<SampleStatus>(raw[i]));
+    }
+    return statuses;
+  }
+};
+
+CampaignReader::CampaignReader(const fs::path& path) : file_(std::make_unique<File>()) {
+  const QuietErrors quiet;
+  try {
+    file_->Open(path);
+  } catch (...) {
+    file_.reset();  // while HDF5 is quiet
+    throw;
+  }
+}
+
+void CampaignReader::File::Open(const fs::path& path) {
+  where = Where{path.string(), true};
+  file = OpenForReading(path);
+  stored = ReadStored(where, file.get());
+  columns = OpenColumns(where, file.get(), stored.samples, stored.identity.inputs.size(), H5P_DEFAULT);
+  const TypeId type(Check(H5Dget_type(columns[kStatus].get()), where, "reading the type of", ColumnPath(kStatus)));
+  status_type =
+      TypeId(Check(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), where, "reading the type of", ColumnPath(kStatus)));
+  where.input = false;  // open and valid: later failures are the system's
+}
+
+CampaignReader::~CampaignReader() {
+  if (!file_) return;
+  const QuietErrors quiet;
+  file_.reset();
+}
+
+CampaignReader::CampaignReader(CampaignReader&&) noexcept = default;
+
+const CampaignIdentity& CampaignReader::identity() const { return file_->stored.identity; }
+
+std::int64_t CampaignReader::samples() const { return file_->stored.samples; }
+
+int CampaignReader::schema_version() const { return file_->stored.schema_version; }
+
+std::vector<SampleStatus> CampaignReader::ReadStatus(std::int64_t begin, std::int64_t count) const {
+  const QuietErrors quiet;
+  file_->CheckRows("CampaignReader::ReadStatus", begin, count);
+  return file_->Statuses(begin, count);
+}
+
+std::vector<double> CampaignReader::ReadOutput(std::string_view name, std::int64_t begin, std::int64_t count) const {
+  const auto* found = std::find(kOutputNames.begin(), kOutputNames.end(), name);
+  if (found == kOutputNames.end()) {
+    throw std::invalid_argument(fmt::format("CampaignReader::ReadOutput: unknown output '{}'; outputs: {}", name,
+                                            fmt::join(kOutputNames, ", ")));
+  }
+  const std::size_t column = kFirstOutput + static_cast<std::size_t>(found - kOutputNames.begin());
+  return file_->Rows<double>("CampaignReader::ReadOutput", column, H5T_NATIVE_DOUBLE, begin, count, 1);
+}
+
+std::vector<double> CampaignReader::ReadValues(std::int64_t begin, std::int64_t count) const {
+  const std::vector<float> stored = file_->Rows<float>("CampaignReader::ReadValues", kValues, H5T_NATIVE_FLOAT, begin,
+                                                       count, file_->stored.identity.inputs.size());
+  return {stored.begin(), stored.end()};
+}
+
+std::vector<std::int32_t> CampaignReader::ReadRedraws(std::int64_t begin, std::int64_t count) const {
+  return file_->Rows<std::int32_t>("CampaignReader::ReadRedraws", kRedraws, H5T_NATIVE_INT32, begin, count, 1);
+}
+
+SampleRecord CampaignReader::ReadSample(std::int64_t index) const {
+  const QuietErrors quiet;
+  file_->CheckRows("CampaignReader::ReadSample", index, 1);
+  const File& f = *file_;
+  const std::size_t d = f.stored.identity.inputs.size();
+  const auto row = static_cast<hsize_t>(index);
+  SampleRecord record;
+  record.index = index;
+  record.status = f.Statuses(index, 1).front();
+  record.u.resize(d);
+  ReadRows(f.where, f.columns[kU], kU, H5T_NATIVE_DOUBLE, row, 1, d, record.u.data());
+  std::vector<float> values(d);
+  ReadRows(f.where, f.columns[kValues], kValues, H5T_NATIVE_FLOAT, row, 1, d, values.data());
+  record.values.assign(values.begin(), values.end());
+  ReadRows(f.where, f.columns[kRedraws], kRedraws, H5T_NATIVE_INT32, row, 1, 1, &record.redraws);
+  ReadRows(f.where, f.columns[kSteps], kSteps, H5T_NATIVE_INT32, row, 1, 1, &record.steps);
+  const TypeId message_type = FixedString(f.where, kMessageBytes);
+  std::array<char, kMessageBytes + 1> message{};
+  ReadRows(f.where, f.columns[kMessage], kMessage, message_type.get(), row, 1, 1, message.data());
+  record.message = message.data();
+  ReadRows(f.where, f.columns[kSolveTime], kSolveTime, H5T_NATIVE_DOUBLE, row, 1, 1, &record.solve_time);
+  for (std::size_t k = 0; k < kOutputCount; ++k) {
+    ReadRows(f.where, f.columns[kFirstOutput + k], kFirstOutput + k, H5T_NATIVE_DOUBLE, row, 1, 1, &record.outputs[k]);
+  }
+  return record;
+}
+
+}  // namespace ringtol::jobs

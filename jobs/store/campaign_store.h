@@ -1,0 +1,145 @@
+// The results file of a campaign: one HDF5 file (Debian's serial libhdf5, C API) written
+// by the coordinating rank as results arrive, readable by h5py and h5dump, and safe
+// against a kill at any moment. README's "Results file" section documents the schema for
+// readers; this header is the contract for writers.
+//
+// Schema version 1 (N = samples, d = sampler inputs; every 2-D dataset is [N, d]):
+//   /                          attributes: format = "ringtol campaign", schema_version = 1,
+//                              ringtol_version, catalogue_version, seed (uint64), samples
+//                              (int64, N), design, solver, campaign_path, campaign_file (the
+//                              campaign file's text), base_scene (the base scene as a scene
+//                              file, jobs/inputs/scene_writer.h)
+//   /inputs/name, quantity, component, source   [d] strings: one per design coordinate
+//   /inputs/roller, order                        [d] int32 (roller -1 for the ring)
+//   /inputs/u                  float64 [N, d]  the design point of each sample, before
+//                              inspection redraws: AssemblySampler::Realise(index, u)
+//                              replays the sample, and the same u under other tolerances
+//                              are common random numbers (tolerance allocation)
+//   /inputs/values             float32 [N, d]  the drawn values, in the units of /inputs/name
+//   /inputs/redraws            int32 [N]
+//   /outputs/<kOutputNames>    float64 [N]     NaN when the sample failed; attribute
+//                              upper_spec_limit when the campaign sets one
+//   /outputs/steps             int32 [N]
+//   /outputs/status            int8 enum [N]   SampleStatusName names; fill value "pending"
+//   /outputs/message           fixed 256-byte strings [N]: why a sample failed (truncated)
+//   /timing/solve_time_s       float64 [N]     wall time of each sample: the one dataset
+//                              that differs between two runs of the same campaign
+// Every per-sample dataset is chunked along samples and extendable (maximum size
+// unlimited), so a campaign can grow with --samples. Redraws, steps, statuses and messages
+// are shuffled and deflated (they shrink a hundredfold); the floating-point columns are
+// deflated only on request (deflate_level), because they barely compress and, in SWMR
+// mode, HDF5 never frees the old copy of a compressed chunk it rewrites: each commit of a
+// partly filled chunk would leave one behind.
+//
+// Crash safety: the file is written in HDF5's single-writer/multiple-reader mode (file
+// format 1.10), whose ordered metadata flushes keep the file consistent whenever the
+// writing process dies. Commit() flushes a batch's inputs, outputs and timings first and
+// its statuses last, so a sample is on disk exactly when its status is not pending; a
+// kill between the two leaves it pending and it is computed again on resume, to the same
+// bits.
+//
+// Failure: InputError (jobs/inputs/input_error.h) naming the file, for every problem a user can
+// cause: creating over an existing file, a directory that does not exist or cannot be
+// written, resuming a file that is missing, truncated, not HDF5, not a ringtol campaign,
+// of another schema version, or of another campaign (what differs is named). HDF5 errors
+// after a successful open (disk full) throw std::runtime_error naming the file and dataset.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "jobs/campaign/campaign_identity.h"
+#include "jobs/campaign/sample_record.h"
+
+namespace ringtol::jobs {
+
+inline constexpr int kCampaignSchemaVersion = 1;
+
+struct CampaignStoreOptions {
+  int deflate_level = 0;            // 0..9: zlib level of the floating-point columns; 0 = none
+  // > 0: samples per HDF5 chunk; 0: about 256 KiB per chunk of /inputs/u (of
+  // /outputs/message, 256 bytes a row, when there are fewer than 32 inputs)
+  std::int64_t chunk_samples = 0;
+  std::size_t chunk_cache_bytes = 32u << 20;  // per 2-D dataset: keeps the chunks being filled in memory
+};
+
+class CampaignStore {
+ public:
+  // A new file for `samples` (>= 1) samples, all pending. Refuses an existing path.
+  static CampaignStore Create(const std::filesystem::path& path, const CampaignIdentity& identity,
+                              std::int64_t samples, const CampaignStoreOptions& options = {});
+  // An existing file of the same campaign, opened for writing after a clean or killed run;
+  // grows it to `samples` when that is larger than the file's N, refuses a smaller one.
+  static CampaignStore Resume(const std::filesystem::path& path, const CampaignIdentity& identity,
+                              std::int64_t samples, const CampaignStoreOptions& options = {});
+
+  ~CampaignStore();  // commits what is buffered and closes; never throws (errors go to stderr)
+  CampaignStore(CampaignStore&&) noexcept;
+  CampaignStore& operator=(CampaignStore&&) noexcept;
+
+  std::int64_t samples() const;
+  const std::filesystem::path& path() const;
+
+  // The pending indices in [begin, end), read from the file: what a run still has to do.
+  std::vector<std::int64_t> Pending(std::int64_t begin, std::int64_t end) const;
+
+  // Buffers one finished sample (any order; index < samples(), u and values of size d).
+  void Add(SampleRecord record);
+  std::size_t buffered() const;
+  // Writes and flushes every buffered sample, statuses last (see the header comment).
+  void Commit();
+
+ private:
+  struct File;
+  explicit CampaignStore(std::unique_ptr<File> file);
+  std::unique_ptr<File> file_;
+};
+
+// Read-only access for summaries, reports, replays and tests. Opens a file a killed run
+// left behind as well as a finished one.
+// A whole per-sample column of a campaign of `samples`, read as read(begin, count) in
+// blocks of 2^20 samples, so no single HDF5 read holds more than one block's buffer.
+template <typename T, typename Read>
+std::vector<T> ReadInBlocks(std::int64_t samples, Read read) {
+  constexpr std::int64_t kBlock = std::int64_t{1} << 20;
+  std::vector<T> all;
+  all.reserve(static_cast<std::size_t>(samples));
+  for (std::int64_t begin = 0; begin < samples; begin += kBlock) {
+    const std::vector<T> block = read(begin, std::min(kBlock, samples - begin));
+    all.insert(all.end(), block.begin(), block.end());
+  }
+  return all;
+}
+
+class CampaignReader {
+ public:
+  // InputError for a missing, truncated, non-HDF5, non-ringtol or newer-schema file.
+  explicit CampaignReader(const std::filesystem::path& path);
+  ~CampaignReader();
+  CampaignReader(CampaignReader&&) noexcept;
+
+  const CampaignIdentity& identity() const;
+  std::int64_t samples() const;
+  int schema_version() const;
+
+  std::vector<SampleStatus> ReadStatus(std::int64_t begin, std::int64_t count) const;
+  // One output over [begin, begin + count), by its name in kOutputNames.
+  std::vector<double> ReadOutput(std::string_view name, std::int64_t begin, std::int64_t count) const;
+  // Row-major [count, d]: the drawn values of every input (stored as float32), as read.
+  std::vector<double> ReadValues(std::int64_t begin, std::int64_t count) const;
+  std::vector<std::int32_t> ReadRedraws(std::int64_t begin, std::int64_t count) const;
+  // Everything stored about one sample (solve_time included).
+  SampleRecord ReadSample(std::int64_t index) const;
+
+ private:
+  struct File;
+  std::unique_ptr<File> file_;
+};
+
+}  // namespace ringtol::jobs

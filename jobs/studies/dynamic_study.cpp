@@ -1,0 +1,147 @@
+#include "jobs/studies/dynamic_study.h"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "jobs/inputs/input_error.h"
+#include "solvers/dynamic.h"
+#include "solvers/quasistatic.h"
+#include "solvers/simulation.h"
+#include "engine/units.h"
+
+namespace ringtol::jobs {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// D_trajectory of one run and, for the dynamic rung, of its steady revolution; NaN where
+// the run failed, with the reason appended to `failures`.
+struct Diameters {
+  double first = kNaN;   // [m]
+  double steady = kNaN;  // [m]
+};
+
+Diameters Run(const engine::Scene& scene, const solvers::Solver& solver, const std::string& what,
+              std::vector<std::string>& failures) {
+  const solvers::SimulationResult result = solvers::Simulate(scene, solver);
+  Diameters d;
+  if (result.status != solvers::Status::kOk) {
+    failures.push_back(what + ": " + std::string(solvers::StatusName(result.status)) + ": " + result.message);
+    return d;
+  }
+  d.first = result.d_trajectory;
+  if (result.steady) {
+    if (result.steady->status == solvers::Status::kOk) {
+      d.steady = result.steady->d_trajectory;
+    } else {
+      failures.push_back(what + ", steady revolution: " + std::string(solvers::StatusName(result.steady->status)) +
+                         ": " + result.steady->message);
+    }
+  }
+  return d;
+}
+
+// The lowest rate at which gap exceeds `agreement`, interpolated in log-log between the
+// last rate below it and the first above; 0 when the slowest already exceeds it, +inf
+// when none does.
+double Threshold(const std::vector<double>& rates, const std::vector<double>& gap, double agreement) {
+  for (std::size_t j = 0; j < rates.size(); ++j) {
+    if (!(gap[j] > agreement)) continue;
+    if (j == 0 || !(gap[j - 1] > 0.0)) return j == 0 ? 0.0 : rates[j];
+    const double f = std::log(agreement / gap[j - 1]) / std::log(gap[j] / gap[j - 1]);
+    return rates[j - 1] * std::pow(rates[j] / rates[j - 1], f);
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+std::string Micrometres(double value) { return std::isnan(value) ? "-" : fmt::format("{:.2f}", value * units::kMicrometresPerMetre); }
+
+}  // namespace
+
+DynamicStudy RunDynamicStudy(const engine::Scene& scene, const DynamicStudyOptions& options, std::ostream* progress) {
+  if (options.orders.empty()) throw InputError("--orders: at least one order is needed");
+  if (options.rates.empty()) throw InputError("--rates-deg-per-s: at least one rate is needed");
+  const engine::MotionLaw& law = scene.motion;
+  DynamicStudy study;
+  study.settle = law.RotationStart();
+  if (!std::isfinite(study.settle)) throw InputError("[motion]: the law never turns the ring; the study needs a steady rate");
+  study.rate = law.Rate(study.settle);
+  for (std::size_t j = law.SegmentAt(study.settle); j < law.segments().size(); ++j) {
+    const engine::MotionSegment& segment = law.segments()[j];
+    if (segment.acceleration != 0.0 || (segment.start_rate && *segment.start_rate != study.rate)) {
+      throw InputError("[motion]: the study needs the article's kind of law (at rest, then one steady rate)");
+    }
+  }
+  study.rates = options.rates;
+  const solvers::QuasistaticSolver quasistatic;
+  const solvers::DynamicSolver dynamic;
+  solvers::DynamicOptions first_only;
+  first_only.steady_revolution = 0;
+  const solvers::DynamicSolver dynamic_first(first_only);
+  const double revolutions = dynamic.options().steady_revolution + 1.0;
+  for (const int order : options.orders) {
+    engine::Scene sample = scene;
+    sample.ring.inner = engine::PolarProfile(scene.ring.inner.radius(), 0.0, {{order, options.amplitude, options.phase}});
+    const std::string name = "order " + std::to_string(order);
+    if (progress != nullptr) fmt::print(*progress, "{}\n", name);
+    TransientRow transient;
+    transient.order = order;
+    transient.quasistatic = Run(sample, quasistatic, name + ", quasistatic", study.failures).first;
+    sample.motion = engine::ArticleLaw(study.settle, study.rate, revolutions);
+    const Diameters at_speed = Run(sample, dynamic, name + ", dynamic", study.failures);
+    transient.first = at_speed.first;
+    transient.steady = at_speed.steady;
+    sample.motion = engine::ArticleLaw(options.long_settle, study.rate, 1.0);
+    transient.first_long_settle = Run(sample, dynamic_first, name + ", dynamic after a long settle", study.failures).first;
+    study.transient.push_back(transient);
+
+    SpeedRow speed;
+    speed.order = order;
+    for (const double rate : options.rates) {
+      sample.motion = engine::ArticleLaw(study.settle, rate, revolutions);
+      const double steady =
+          Run(sample, dynamic, fmt::format("{}, dynamic at {:g} deg/s", name, rate * units::kDegreesPerRadian), study.failures).steady;
+      speed.gap.push_back(std::abs(steady - transient.quasistatic));
+    }
+    speed.threshold = Threshold(options.rates, speed.gap, options.agreement);
+    study.speed.push_back(speed);
+  }
+  return study;
+}
+
+void PrintDynamicStudy(std::ostream& out, const DynamicStudy& study) {
+  fmt::print(out, "Start transient at {:g} deg/s after a {:g} s settle: D_trajectory [um]\n", study.rate * units::kDegreesPerRadian,
+             study.settle);
+  fmt::print(out, "{:>5} {:>12} {:>12} {:>14} {:>12} {:>12} {:>12}\n", "order", "quasistatic", "first rev",
+             "after long", "steady rev", "unsettled", "speed step");
+  for (const TransientRow& row : study.transient) {
+    // The first revolution's excess over the quasi-static value splits into what a long
+    // settle removes (the ring had not settled) and what remains (the step in speed,
+    // together with the steady lag the steady revolution also carries).
+    fmt::print(out, "{:>5} {:>12} {:>12} {:>14} {:>12} {:>12} {:>12}\n", row.order, Micrometres(row.quasistatic),
+               Micrometres(row.first), Micrometres(row.first_long_settle), Micrometres(row.steady),
+               Micrometres(row.first - row.first_long_settle), Micrometres(row.first_long_settle - row.quasistatic));
+  }
+  fmt::print(out, "\nSteady revolution against quasistatic: |D_dynamic - D_quasistatic| [um]\n{:>5}", "order");
+  for (const double rate : study.rates) fmt::print(out, " {:>10}", fmt::format("{:g}deg/s", rate * units::kDegreesPerRadian));
+  fmt::print(out, " {:>14}\n", "1 um above");
+  for (const SpeedRow& row : study.speed) {
+    fmt::print(out, "{:>5}", row.order);
+    for (const double gap : row.gap) fmt::print(out, " {:>10}", Micrometres(gap));
+    const std::string threshold =
+        std::isinf(row.threshold) ? fmt::format("> {:g}", study.rates.back() * units::kDegreesPerRadian)
+        : row.threshold == 0.0    ? fmt::format("< {:g}", study.rates.front() * units::kDegreesPerRadian)
+                                  : fmt::format("{:.3g}", row.threshold * units::kDegreesPerRadian);
+    fmt::print(out, " {:>9} deg/s\n", threshold);
+  }
+  if (!study.failures.empty()) {
+    fmt::print(out, "\nFailed runs ({}):\n", study.failures.size());
+    for (const std::string& failure : study.failures) fmt::print(out, "  {}\n", failure);
+  }
+}
+
+}  // namespace ringtol::jobs

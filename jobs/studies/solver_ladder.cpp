@@ -1,0 +1,331 @@
+#include "jobs/studies/solver_ladder.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <numbers>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "jobs/inputs/input_error.h"
+#include "solvers/dynamic.h"
+#include "solvers/linear.h"
+#include "solvers/quasistatic.h"
+#include "solvers/simulation.h"
+#include "engine/units.h"
+
+namespace ringtol::jobs {
+namespace {
+
+constexpr double kMs = 1e3;
+constexpr double kWithin = 1e-6;  // [m] "within 1 um"
+
+struct Case {
+  std::string name;
+  engine::Scene scene;
+  int steps = 0;
+  double reference = 0.0;              // [m] dynamic full model at 1e-10
+  double penalty_reference = 0.0;      // [m] quasistatic penalty at 20x steps
+  double rigid_reference = 0.0;        // [m] quasistatic rigid at 20x steps
+};
+
+// One setting of one rung: how it changes the case's scene and which solver it runs.
+struct Method {
+  std::string name;
+  std::string rung;
+  std::function<void(engine::Scene&)> adapt;
+  std::shared_ptr<const solvers::Solver> solver;
+  double steps_factor = 1.0;  // of the case's steps
+  bool slow = false;          // time once instead of `repeats` times
+  std::string only_case;      // non-empty: run on this case only
+};
+
+// The article's order and amplitude studies on the scene's nominal assembly.
+std::vector<Case> Cases(const engine::Scene& scene, const LadderOptions& options) {
+  std::vector<Case> cases;
+  auto add = [&](int order, double amplitude) {
+    Case c;
+    c.name = fmt::format("n={} C={:.2f}mm", order, amplitude * units::kMillimetresPerMetre);
+    c.scene = engine::WithoutErrors(scene);
+    c.scene.ring.inner = engine::PolarProfile(scene.ring.inner.radius(), 0.0, {{order, amplitude, 45.0 * units::kRadiansPerDegree}});
+    c.steps = solvers::ChooseSteps(c.scene, {});
+    cases.push_back(std::move(c));
+  };
+  if (options.cases == "orders" || options.cases == "all") {
+    for (const int order : {2, 3, 4, 5, 6, 7, 8, 9, 10, 12, 15, 17, 20}) add(order, 0.14e-3);
+  }
+  if (options.cases == "amplitudes" || options.cases == "all") {
+    for (const int order : {2, 6}) {
+      for (int k = 1; k <= 10; ++k) add(order, 0.07e-3 * k);
+    }
+  }
+  if (options.max_cases > 0 && cases.size() > static_cast<std::size_t>(options.max_cases)) {
+    cases.resize(static_cast<std::size_t>(options.max_cases));
+  }
+  return cases;
+}
+
+std::shared_ptr<const solvers::Solver> Dynamic(double tolerance, solvers::DynamicMethod method = solvers::DynamicMethod::kImplicitBdf,
+                                               double step = 0.0) {
+  solvers::DynamicOptions options;
+  options.steady_revolution = 0;
+  options.relative_tolerance = tolerance;
+  options.method = method;
+  options.explicit_step = step;
+  return std::make_shared<solvers::DynamicSolver>(options);
+}
+
+void Reduce(engine::Scene& scene, bool massless, bool rolling) {
+  scene.dynamics.massless_spring_rollers = massless;
+  scene.dynamics.rolling_without_slip = rolling;
+  scene.dynamics.friction = !rolling;
+}
+
+std::vector<Method> Methods(const LadderOptions& options) {
+  auto keep = [](engine::Scene&) {};
+  auto rigid = [](engine::Scene& scene) { scene.contact.model = engine::ContactLaw::Model::kRigid; };
+  std::vector<Method> methods;
+  methods.push_back({"linear", "linear", keep, std::make_shared<solvers::LinearSolver>(), 1.0, false, {}});
+  for (const double factor : {0.25, 1.0, 4.0}) {
+    const std::string steps = factor == 1.0 ? "S" : fmt::format("{:g}S", factor);
+    methods.push_back({"quasistatic rigid, " + steps + " steps", "quasistatic", rigid,
+                       std::make_shared<solvers::QuasistaticSolver>(), factor, false, {}});
+    methods.push_back({"quasistatic penalty, " + steps + " steps", "quasistatic", keep,
+                       std::make_shared<solvers::QuasistaticSolver>(), factor, false, {}});
+  }
+  for (const double tolerance : {1e-4, 1e-5, 1e-6, 1e-7, 1e-8}) {
+    methods.push_back({fmt::format("dynamic BDF rtol {:g}", tolerance), "dynamic", keep, Dynamic(tolerance), 1.0, false, {}});
+  }
+  methods.push_back({"dynamic BDF rtol 1e-05, massless spring roller", "dynamic",
+                     [](engine::Scene& s) { Reduce(s, true, false); }, Dynamic(1e-5), 1.0, false, {}});
+  methods.push_back({"dynamic BDF rtol 1e-05, rolling without slip", "dynamic",
+                     [](engine::Scene& s) { Reduce(s, false, true); }, Dynamic(1e-5), 1.0, false, {}});
+  methods.push_back({"dynamic BDF rtol 1e-05, both reduced", "dynamic", [](engine::Scene& s) { Reduce(s, true, true); },
+                     Dynamic(1e-5), 1.0, false, {}});
+  for (const double step : {40e-6, 20e-6, 10e-6}) {
+    // Below the stability limit each run takes seconds.
+    if (options.skip_slow && step < 40e-6) continue;
+    methods.push_back({fmt::format("dynamic explicit RK4 h={:g}us, both reduced", step * 1e6), "dynamic",
+                       [](engine::Scene& s) { Reduce(s, true, true); },
+                       Dynamic(1e-6, solvers::DynamicMethod::kExplicitRungeKutta, step), 1.0, true, {}});
+  }
+  if (options.explicit_full_model) {
+    methods.push_back({"dynamic explicit RK4 h=65ns, full model", "dynamic", keep,
+                       Dynamic(1e-6, solvers::DynamicMethod::kExplicitRungeKutta, 65e-9), 1.0, true,
+                       "n=2 C=0.14mm"});
+  }
+  return methods;
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(values.begin(), values.end());
+  const std::size_t mid = values.size() / 2;
+  return values.size() % 2 == 1 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
+}
+
+struct Timed {
+  solvers::SimulationResult result;
+  double seconds = 0.0;  // median
+};
+
+Timed Run(const engine::Scene& scene, const solvers::Solver& solver, int steps, int repeats) {
+  solvers::SimulationOptions options;
+  options.steps = steps;
+  std::vector<double> times;
+  Timed timed;
+  for (int r = 0; r < repeats; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    timed.result = solvers::Simulate(scene, solver, options);
+    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  timed.seconds = Median(times);
+  return timed;
+}
+
+std::string Escape(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '&') out += "&amp;";
+    else if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '"') out += "&quot;";
+    else out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+LadderResult RunLadder(const engine::Scene& scene, const LadderOptions& options, std::ostream* progress) {
+  if (options.cases != "orders" && options.cases != "amplitudes" && options.cases != "all") {
+    throw InputError("--cases " + options.cases + ": allowed: orders, amplitudes, all");
+  }
+  if (options.repeats < 1) throw InputError("--repeats " + std::to_string(options.repeats) + ": allowed: >= 1");
+  std::vector<Case> cases = Cases(scene, options);
+  LadderResult result;
+  result.cases = static_cast<int>(cases.size());
+  const auto reference = Dynamic(1e-10);
+  const solvers::QuasistaticSolver quasistatic;
+  std::vector<double> reference_times;
+  for (Case& c : cases) {
+    if (progress != nullptr) fmt::print(*progress, "reference {}\n", c.name);
+    const Timed run = Run(c.scene, *reference, c.steps, 1);
+    if (run.result.status != solvers::Status::kOk) {
+      throw InputError(fmt::format("the reference run of case {} failed ({}: {}); the ladder needs it", c.name,
+                                   solvers::StatusName(run.result.status), run.result.message));
+    }
+    c.reference = run.result.d_trajectory;
+    reference_times.push_back(run.seconds);
+    c.penalty_reference = Run(c.scene, quasistatic, 20 * c.steps, 1).result.d_trajectory;
+    engine::Scene rigid = c.scene;
+    rigid.contact.model = engine::ContactLaw::Model::kRigid;
+    c.rigid_reference = Run(rigid, quasistatic, 20 * c.steps, 1).result.d_trajectory;
+  }
+  result.reference_time = Median(reference_times);
+
+  for (const Method& method : Methods(options)) {
+    if (progress != nullptr) fmt::print(*progress, "{}\n", method.name);
+    LadderRow row;
+    row.method = method.name;
+    row.rung = method.rung;
+    std::vector<double> times;
+    double numerical = 0.0;
+    for (const Case& c : cases) {
+      // The order and amplitude studies share a case: a method meant for one case runs
+      // on its first occurrence only.
+      if (!method.only_case.empty() && (c.name != method.only_case || row.cases_run > 0)) continue;
+      engine::Scene scene_for_method = c.scene;
+      method.adapt(scene_for_method);
+      const int steps = std::max(1, static_cast<int>(std::lround(method.steps_factor * c.steps)));
+      const Timed run = Run(scene_for_method, *method.solver, steps, method.slow ? 1 : options.repeats);
+      ++row.cases_run;
+      if (run.result.status != solvers::Status::kOk) {
+        if (row.cases_failed++ == 0) {
+          row.first_failure =
+              fmt::format("{}: {}: {}", c.name, solvers::StatusName(run.result.status), run.result.message);
+        }
+        continue;
+      }
+      times.push_back(run.seconds);
+      row.error = std::max(row.error, std::abs(run.result.d_trajectory - c.reference));
+      const bool rigid = scene_for_method.contact.model == engine::ContactLaw::Model::kRigid;
+      numerical = std::max(numerical,
+                           std::abs(run.result.d_trajectory - (rigid ? c.rigid_reference : c.penalty_reference)));
+    }
+    row.time = Median(times);
+    if (method.rung != "dynamic") row.numerical_error = numerical;
+    if (row.cases_failed == row.cases_run) row.error = std::numeric_limits<double>::quiet_NaN();
+    result.rows.push_back(row);
+  }
+  for (std::size_t i = 0; i < result.rows.size(); ++i) {
+    const LadderRow& row = result.rows[i];
+    if (row.cases_failed > 0 || !(row.error <= kWithin)) continue;
+    if (result.fastest_within < 0 || row.time < result.rows[static_cast<std::size_t>(result.fastest_within)].time) {
+      result.fastest_within = static_cast<int>(i);
+    }
+  }
+  return result;
+}
+
+void WriteLadderCsv(std::ostream& out, const LadderResult& result) {
+  fmt::print(out, "method,rung,cases_run,cases_failed,time_ms,error_um,numerical_error_um,first_failure\n");
+  auto number = [](double value, double scale) { return std::isnan(value) ? std::string() : fmt::format("{:.6g}", value * scale); };
+  for (const LadderRow& row : result.rows) {
+    std::string failure = "\"";
+    for (const char c : row.first_failure) failure += c == '"' ? std::string("\"\"") : std::string(1, c);
+    failure += "\"";
+    fmt::print(out, "\"{}\",{},{},{},{},{},{},{}\n", row.method, row.rung, row.cases_run, row.cases_failed,
+               number(row.time, kMs), number(row.error, units::kMicrometresPerMetre),
+               row.numerical_error < 0.0 ? std::string() : number(row.numerical_error, units::kMicrometresPerMetre), failure);
+  }
+}
+
+void PrintLadder(std::ostream& out, const LadderResult& result) {
+  fmt::print(out, "{} cases; reference (dynamic, rtol 1e-10): {:.1f} ms per revolution\n", result.cases,
+             result.reference_time * kMs);
+  fmt::print(out, "{:<48} {:>12} {:>12} {:>14} {:>7}\n", "method", "time ms", "error um", "numerical um", "failed");
+  for (std::size_t i = 0; i < result.rows.size(); ++i) {
+    const LadderRow& row = result.rows[i];
+    fmt::print(out, "{:<48} {:>12.4g} {:>12.4g} {:>14} {:>3}/{:<3}{}\n", row.method, row.time * kMs, row.error * units::kMicrometresPerMetre,
+               row.numerical_error < 0.0 ? std::string("-") : fmt::format("{:.4g}", row.numerical_error * units::kMicrometresPerMetre),
+               row.cases_failed, row.cases_run, static_cast<int>(i) == result.fastest_within ? "  <- fastest within 1 um" : "");
+    if (!row.first_failure.empty()) fmt::print(out, "    first failure: {}\n", row.first_failure);
+  }
+}
+
+void WriteLadderSvg(std::ostream& out, const LadderResult& result) {
+  constexpr double kWidth = 900.0, kHeight = 600.0;
+  constexpr double kLeft = 90.0, kRight = 330.0, kTop = 50.0, kBottom = 70.0;
+  constexpr double kErrorFloor = 1e-3;  // [um] where errors below are drawn
+  const double plot_width = kWidth - kLeft - kRight;
+  const double plot_height = kHeight - kTop - kBottom;
+  // Decades that hold every point.
+  double t_min = 1e300, t_max = 0.0, e_max = 1.0;
+  for (const LadderRow& row : result.rows) {
+    if (!(row.time > 0.0) || std::isnan(row.error)) continue;
+    t_min = std::min(t_min, row.time * kMs);
+    t_max = std::max(t_max, row.time * kMs);
+    e_max = std::max(e_max, row.error * units::kMicrometresPerMetre);
+  }
+  if (t_max == 0.0) t_min = 1e-3, t_max = 1.0;
+  const double x0 = std::floor(std::log10(t_min)), x1 = std::ceil(std::log10(t_max)) + (t_max == t_min ? 1.0 : 0.0);
+  const double y0 = std::log10(kErrorFloor), y1 = std::ceil(std::log10(e_max));
+  auto x = [&](double ms) { return kLeft + (std::log10(ms) - x0) / (x1 - x0) * plot_width; };
+  auto y = [&](double um) { return kTop + (y1 - std::log10(std::max(um, kErrorFloor))) / (y1 - y0) * plot_height; };
+  auto colour = [](const std::string& rung) {
+    return rung == "linear" ? "#1b9e77" : rung == "quasistatic" ? "#d95f02" : "#7570b3";
+  };
+  fmt::print(out, R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" font-family="sans-serif" font-size="12">)svg"
+                  "\n",
+             kWidth, kHeight);
+  fmt::print(out, R"svg(<rect width="100%" height="100%" fill="white"/>)svg" "\n");
+  fmt::print(out, R"svg(<text x="{}" y="25" font-size="16">ringtol solver ladder: error in D_trajectory against time per revolution ({} cases)</text>)svg" "\n",
+             kLeft, result.cases);
+  fmt::print(out, R"svg(<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="black"/>)svg" "\n", kLeft, kTop,
+             plot_width, plot_height);
+  for (double d = x0; d <= x1; d += 1.0) {
+    const double px = kLeft + (d - x0) / (x1 - x0) * plot_width;
+    fmt::print(out, R"svg(<line x1="{0}" y1="{1}" x2="{0}" y2="{2}" stroke="#ddd"/><text x="{0}" y="{3}" text-anchor="middle">{4:g}</text>)svg" "\n",
+               px, kTop, kTop + plot_height, kTop + plot_height + 18, std::pow(10.0, d));
+  }
+  for (double d = y0; d <= y1; d += 1.0) {
+    const double py = kTop + (y1 - d) / (y1 - y0) * plot_height;
+    fmt::print(out, R"svg(<line x1="{0}" y1="{1}" x2="{2}" y2="{1}" stroke="#ddd"/><text x="{3}" y="{4}" text-anchor="end">{5:g}</text>)svg" "\n",
+               kLeft, py, kLeft + plot_width, kLeft - 6, py + 4, std::pow(10.0, d));
+  }
+  fmt::print(out, R"svg(<line x1="{0}" y1="{1}" x2="{2}" y2="{1}" stroke="black" stroke-dasharray="6,4"/><text x="{3}" y="{4}">1 um</text>)svg" "\n",
+             kLeft, y(1.0), kLeft + plot_width, kLeft + plot_width - 30, y(1.0) - 4);
+  fmt::print(out, R"svg(<text x="{}" y="{}" text-anchor="middle">wall time per revolution [ms], settle included for the dynamic rung</text>)svg" "\n",
+             kLeft + plot_width / 2, kHeight - 25);
+  fmt::print(out, R"svg(<text transform="translate(25,{}) rotate(-90)" text-anchor="middle">max |D - D_reference| [um] (below 1e-3 drawn at 1e-3)</text>)svg" "\n",
+             kTop + plot_height / 2);
+  int label = 0;
+  for (std::size_t i = 0; i < result.rows.size(); ++i) {
+    const LadderRow& row = result.rows[i];
+    const bool drawable = row.time > 0.0 && !std::isnan(row.error);
+    const bool best = static_cast<int>(i) == result.fastest_within;
+    const double ly = kTop + 14.0 * label++;
+    fmt::print(out, R"svg(<circle cx="{}" cy="{}" r="4" fill="{}"/><text x="{}" y="{}">{}. {}{}</text>)svg" "\n",
+               kLeft + plot_width + 20, ly - 4, colour(row.rung), kLeft + plot_width + 28, ly, i + 1,
+               Escape(row.method), drawable ? "" : " (failed)");
+    if (!drawable) continue;
+    const double px = x(row.time * kMs), py = y(row.error * units::kMicrometresPerMetre);
+    if (best) {
+      fmt::print(out, R"svg(<circle cx="{}" cy="{}" r="10" fill="none" stroke="red" stroke-width="2"/>)svg" "\n", px, py);
+    }
+    fmt::print(out, R"svg(<circle cx="{}" cy="{}" r="5" fill="{}"><title>{}</title></circle><text x="{}" y="{}" font-size="10">{}</text>)svg" "\n",
+               px, py, colour(row.rung), Escape(row.method), px + 6, py - 6, i + 1);
+  }
+  if (result.fastest_within >= 0) {
+    fmt::print(out, R"svg(<text x="{}" y="{}" fill="red">circled: fastest within 1 um: {}</text>)svg" "\n", kLeft,
+               kTop - 8, Escape(result.rows[static_cast<std::size_t>(result.fastest_within)].method));
+  }
+  fmt::print(out, "</svg>\n");
+}
+
+}  // namespace ringtol::jobs

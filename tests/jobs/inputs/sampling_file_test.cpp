@@ -1,0 +1,115 @@
+#include "jobs/inputs/sampling_file.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "jobs/inputs/catalogue_file.h"
+#include "jobs/inputs/input_error.h"
+#include "tests/support/text_files.h"
+
+namespace ringtol::jobs {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+const std::filesystem::path kExample = std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/tolerances/normal_waterjet.toml";
+
+const std::string kSceneLine =
+    "scene = \"" + (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/paper/scene.toml").string() + "\"\n";
+
+// Writes `text` to a file of this test's own (ctest runs tests in parallel) and reads it.
+SamplingPlan ReadVariant(const std::string& text) {
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                     (std::string("ringtol_") + test->test_suite_name() + "_" + test->name() + ".toml");
+  std::ofstream(file) << text;
+  struct Remove {
+    std::filesystem::path f;
+    ~Remove() { std::filesystem::remove(f); }
+  } remove{file};
+  return ReadSamplingFile(file);
+}
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    const SamplingPlan plan = ReadVariant(text);
+    MakeSampling(plan, "variant");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(ShippedCatalogue, HoldsTheIso492ValuesWithTheirSources) {
+  const sampling::ToleranceCatalogue c = ShippedCatalogue();
+  EXPECT_FALSE(c.version.empty());
+  // docs/tolerances.md §1: D 6-18 mm, Normal: Kea 15, VDsp 10 (series 9), ΔDmp -8 um.
+  const sampling::RollerTolerance normal = c.Roller("Normal", 10e-3, sampling::DiameterSeries::kSeries9);
+  EXPECT_DOUBLE_EQ(normal.kea, 15e-6);
+  EXPECT_DOUBLE_EQ(normal.vdsp, 10e-6);
+  EXPECT_DOUBLE_EQ(normal.mean_diameter_lower, -8e-6);
+  EXPECT_DOUBLE_EQ(c.Roller("P5", 600e-3, sampling::DiameterSeries::kSeries2To4).vdsp, 21e-6);
+  EXPECT_DOUBLE_EQ(c.Ring("waterjet", 604e-3).circularity, 0.2e-3);
+  EXPECT_DOUBLE_EQ(c.Position("IT7", 594e-3).zone_diameter, 70e-6);
+  for (const auto& k : c.roller_classes)
+    for (const auto& row : k.rows) EXPECT_FALSE(row.source.empty()) << k.name;
+}
+
+TEST(ShippedCatalogue, MissingClassesAreErrorsNotExtrapolations) {
+  const sampling::ToleranceCatalogue c = ShippedCatalogue();
+  EXPECT_THAT([&] { c.Roller("P4", 600e-3, sampling::DiameterSeries::kSeries9); },
+              ::testing::ThrowsMessage<std::invalid_argument>(
+                  AllOf(HasSubstr("no value for diameter 600 mm"), HasSubstr("does not extrapolate"))));
+  EXPECT_THAT([&] { c.Ring("polished", 600e-3); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("unknown ring circularity class 'polished'")));
+}
+
+TEST(SamplingFile, TheExampleReadsAndSamples) {
+  const SamplingPlan plan = ReadSamplingFile(kExample);
+  EXPECT_EQ(plan.design.kind, sampling::DesignKind::kSobol);
+  ASSERT_TRUE(plan.tolerances.ring);
+  EXPECT_DOUBLE_EQ(plan.tolerances.ring->circularity, 0.2e-3);
+  ASSERT_EQ(plan.tolerances.roller_shapes.size(), 3u);
+  EXPECT_DOUBLE_EQ(plan.tolerances.roller_shapes[0]->kea, 15e-6);
+  ASSERT_EQ(plan.tolerances.springs.size(), 3u);
+  EXPECT_EQ(static_cast<int>(plan.tolerances.springs[0].has_value()) +
+                static_cast<int>(plan.tolerances.springs[1].has_value()) +
+                static_cast<int>(plan.tolerances.springs[2].has_value()),
+            1);
+}
+
+TEST(SamplingFile, BadFilesNameKeyValueAndAllowedRange) {
+  const std::string head = kSceneLine;
+  EXPECT_THAT(ErrorOf(head + "[tolerances.ring]\nclass = \"granite\"\n"),
+              AllOf(HasSubstr("tolerances.ring.class"), HasSubstr("unknown ring circularity class 'granite'")));
+  EXPECT_THAT(ErrorOf(head + "[tolerances.ring]\nclass = \"waterjet\"\ncircularity_mm = 0.1\n"),
+              HasSubstr("either class or circularity_mm"));
+  EXPECT_THAT(ErrorOf(head + "[tolerances.ring]\ncircularity_mm = -0.1\n"),
+              AllOf(HasSubstr("tolerances.ring.circularity_mm = -0.1"), HasSubstr("> 0")));
+  EXPECT_THAT(ErrorOf(head + "[tolerances.ring]\ncircularity_mm = 0.1\nmax_order = 1\n"),
+              AllOf(HasSubstr("tolerances.ring.max_order = 1"), HasSubstr(">= 2")));
+  EXPECT_THAT(ErrorOf(head + "[tolerances.rollers]\nclass = \"P4\"\nmode = \"sorted\"\n"),
+              AllOf(HasSubstr("tolerances.rollers.mode"), HasSubstr("\"inspected\"")));
+  EXPECT_THAT(ErrorOf(head + "[design]\nkind = \"sobol\"\nsamples = 1000\n[tolerances.roller_positions]\nclass = \"IT7\"\n"),
+              AllOf(HasSubstr("design.samples = 1000"), HasSubstr("use 512 or 1024")));
+  EXPECT_THAT(ErrorOf(head + "[tolerances]\n"), HasSubstr("nothing is toleranced"));
+  EXPECT_THAT(ErrorOf(head + "[tolerances.springs]\nstiffness_percent = 5\n"), HasSubstr("preload_percent"));
+  EXPECT_THAT(ErrorOf(head + "[tolerances.ring]\ncircularity_mm = 0.1\ncapability_cp = 2\n"), HasSubstr("<= 1.33"));
+  EXPECT_THAT(ErrorOf(head + "colour = 3\n"), HasSubstr("unknown key 'colour'"));
+}
+
+TEST(SamplingFile, CampaignCataloguesAddClasses) {
+  const SamplingPlan plan = ReadVariant(
+      kSceneLine + "[tolerances.ring]\nclass = \"lapped\"\n"
+      "[[catalogue.ring]]\nname = \"lapped\"\n"
+      "rows = [{ diameter_over_mm = 0, diameter_up_to_mm = 1000, circularity_mm = 0.005, source = \"shop\" }]\n");
+  EXPECT_DOUBLE_EQ(plan.tolerances.ring->circularity, 5e-6);
+}
+
+}  // namespace
+}  // namespace ringtol::jobs

@@ -1,0 +1,759 @@
+#include "jobs/inputs/scene_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <fstream>
+#include <numbers>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "jobs/inputs/input_error.h"
+#include "tests/support/text_files.h"
+
+namespace ringtol::jobs {
+namespace {
+
+using ringtol::testing::ReadText;
+using ringtol::testing::ReplaceOnce;
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+// Masses and inertias are a few products and a difference of squares: ~10 ulp of
+// relative rounding whatever the order of operations, far below this.
+constexpr double kRoundingRelative = 1e-12;
+// docs/model.md quotes the paper ring's mass as "about 1.24 kg"; 1.236 kg is given to 4 digits.
+constexpr double kQuotedMassRelative = 1e-3;
+
+constexpr const char* kPaperScenePath = RINGTOL_SOURCE_DIR "/examples/paper/scene.toml";
+
+std::string PaperSceneText() { return ReadText(kPaperScenePath); }
+
+// The paper scene with one edit.
+std::string PaperSceneWith(std::string_view from, std::string_view to) {
+  return ReplaceOnce(PaperSceneText(), from, to);
+}
+
+// The second roller of the paper scene (rollers[1]), whole, so tests can rewrite it.
+constexpr std::string_view kFixedA =
+    "name = \"fixed_a\"\nangle_deg = 210.0\nradius_mm = 5.0\nmount = \"fixed\"\nwidth_mm = 4.0\n"
+    "density_kg_per_m3 = 7850.0\nharmonics = []\n";
+constexpr std::string_view kRingHarmonics = "harmonics = []                    # e.g.";
+
+// The paper scene with one edit inside rollers[1].
+std::string FixedAWith(std::string_view from, std::string_view to) {
+  return PaperSceneWith(kFixedA, ReplaceOnce(std::string(kFixedA), from, to));
+}
+
+std::string ErrorFor(const std::string& text) {
+  try {
+    ParseScene(text, "bad.toml");
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "ParseScene accepted the input";
+  return "";
+}
+
+// A scene with only the required keys.
+constexpr const char* kMinimalScene = R"(
+[ring]
+inner_radius_mm = 100
+outer_radius_mm = 110
+thickness_mm = 5
+mass_kg = 0.5
+
+[[rollers]]
+angle_deg = 90
+radius_mm = 5
+mount = "spring"
+spring_stiffness_N_per_m = 1000
+spring_preload_N = 10
+width_mm = 4
+mass_kg = 0.002
+
+[[rollers]]
+angle_deg = 210
+radius_mm = 5
+mount = "fixed"
+width_mm = 4
+mass_kg = 0.002
+
+[[rollers]]
+angle_deg = 330
+radius_mm = 5
+mount = "fixed"
+width_mm = 4
+mass_kg = 0.002
+)";
+
+// ---- valid input
+
+TEST(SceneFile, ParsesThePaperSceneInSiUnits) {
+  const engine::Scene scene = ParseScene(PaperSceneText(), "scene.toml");
+  EXPECT_DOUBLE_EQ(scene.ring.inner.radius(), 0.302);
+  EXPECT_DOUBLE_EQ(scene.ring.outer_radius, 0.33985);
+  EXPECT_DOUBLE_EQ(scene.ring.thickness, 0.006);
+  EXPECT_TRUE(scene.ring.inner.is_circle());
+  ASSERT_EQ(scene.rollers.size(), 3u);
+  EXPECT_EQ(engine::SpringRollerCount(scene), 1);
+  const engine::Roller& spring = scene.rollers[0];
+  EXPECT_EQ(spring.name, "spring");
+  EXPECT_EQ(spring.mount, engine::RollerMount::kSpring);
+  EXPECT_DOUBLE_EQ(spring.spring.preload, 19.3);
+  EXPECT_DOUBLE_EQ(spring.spring.stiffness, 1334.0);
+  EXPECT_EQ(scene.rollers[1].name, "fixed_a");
+  EXPECT_EQ(scene.rollers[2].mount, engine::RollerMount::kFixed);
+
+  const double ro = 0.33985;
+  const double ri = 0.302;
+  const double annulus_mass = 2700.0 * std::numbers::pi * (ro * ro - ri * ri) * 0.006;
+  EXPECT_NEAR(scene.ring.mass, annulus_mass, kRoundingRelative * annulus_mass);
+  EXPECT_NEAR(scene.ring.mass, 1.236, kQuotedMassRelative * 1.236);
+  const double annulus_inertia = annulus_mass * (ro * ro + ri * ri) / 2.0;
+  EXPECT_NEAR(scene.ring.spin_inertia, annulus_inertia, kRoundingRelative * annulus_inertia);
+}
+
+TEST(SceneFile, ConvertsDegreesAndMillimetresToRadiansAndMetres) {
+  const std::string text =
+      PaperSceneWith(kRingHarmonics, "harmonics = [{ order = 3, amplitude_mm = 0.14, phase_deg = 45.0 }] #");
+  const engine::Scene scene = ParseScene(text, "scene.toml");
+  ASSERT_EQ(scene.ring.inner.harmonics().size(), 1u);
+  EXPECT_EQ(scene.ring.inner.harmonics()[0].order, 3);
+  EXPECT_DOUBLE_EQ(scene.ring.inner.harmonics()[0].amplitude, 1.4e-4);
+  EXPECT_DOUBLE_EQ(scene.ring.inner.harmonics()[0].phase, std::numbers::pi / 4.0);
+  EXPECT_DOUBLE_EQ(scene.rollers[0].angle, std::numbers::pi / 2.0);
+  EXPECT_DOUBLE_EQ(scene.rollers[1].angle, 210.0 * kDeg);
+  EXPECT_DOUBLE_EQ(scene.rollers[2].angle, 330.0 * kDeg);
+  EXPECT_DOUBLE_EQ(scene.rollers[1].outline.radius(), 0.005);
+  EXPECT_DOUBLE_EQ(scene.contact.full_damping_penetration, 1e-6);
+  EXPECT_DOUBLE_EQ(scene.friction.stiction_velocity, 0.010);
+  EXPECT_DOUBLE_EQ(scene.friction.transition_velocity, 0.050);
+  EXPECT_DOUBLE_EQ(scene.sensor_angle, 0.0);
+}
+
+TEST(SceneFile, DerivesRollerDefaultsFromItsRadiusAndAngle) {
+  const engine::Scene scene = ParseScene(PaperSceneText(), "scene.toml");
+  const engine::Roller& spring = scene.rollers[0];
+  EXPECT_DOUBLE_EQ(spring.centre_radius, 0.302 - 0.005);
+  EXPECT_DOUBLE_EQ(spring.spring.axis_angle, spring.angle);
+  EXPECT_DOUBLE_EQ(spring.spring.travel_limit, 0.005);
+  EXPECT_EQ(spring.phase_reference, engine::ShapePhaseReference::kRadial);
+  const double cylinder_mass = 7850.0 * std::numbers::pi * 0.005 * 0.005 * 0.004;
+  EXPECT_NEAR(spring.mass, cylinder_mass, kRoundingRelative * cylinder_mass);
+  const double cylinder_inertia = cylinder_mass * 0.005 * 0.005 / 2.0;
+  EXPECT_NEAR(spring.spin_inertia, cylinder_inertia, kRoundingRelative * cylinder_inertia);
+}
+
+TEST(SceneFile, UsesMassAndSpinInertiaWhenGivenInsteadOfDensity) {
+  const engine::Scene scene = ParseScene(
+      PaperSceneWith("density_kg_per_m3 = 2700.0", "mass_kg = 2.0\nspin_inertia_kg_m2 = 0.2"), "scene.toml");
+  EXPECT_DOUBLE_EQ(scene.ring.mass, 2.0);
+  EXPECT_DOUBLE_EQ(scene.ring.spin_inertia, 0.2);
+}
+
+TEST(SceneFile, AcceptsIntegersWhereNumbersAreExpected) {
+  const engine::Scene scene = ParseScene(PaperSceneWith("inner_radius_mm = 302.0", "inner_radius_mm = 302"), "s.toml");
+  EXPECT_DOUBLE_EQ(scene.ring.inner.radius(), 0.302);
+}
+
+TEST(SceneFile, FillsDefaultsForEverythingOptional) {
+  const engine::Scene scene = ParseScene(kMinimalScene, "minimal.toml");
+  const engine::Scene defaults;
+  ASSERT_EQ(scene.rollers.size(), 3u);
+  EXPECT_EQ(scene.rollers[0].name, "roller1");
+  EXPECT_EQ(scene.rollers[2].name, "roller3");
+  EXPECT_DOUBLE_EQ(scene.rollers[1].centre_radius, 0.095);
+  EXPECT_DOUBLE_EQ(scene.rollers[1].spin_inertia, 0.002 * 0.005 * 0.005 / 2.0);
+  EXPECT_EQ(scene.contact.model, engine::ContactLaw::Model::kPenalty);
+  EXPECT_DOUBLE_EQ(scene.contact.stiffness, 1e7);
+  EXPECT_DOUBLE_EQ(scene.contact.exponent, 1.5);
+  EXPECT_DOUBLE_EQ(scene.contact.max_damping, 1e5);
+  EXPECT_DOUBLE_EQ(scene.contact.full_damping_penetration, 1e-6);
+  EXPECT_DOUBLE_EQ(scene.friction.static_coefficient, 0.61);
+  EXPECT_DOUBLE_EQ(scene.friction.dynamic_coefficient, 0.47);
+  EXPECT_DOUBLE_EQ(scene.friction.stiction_velocity, defaults.friction.stiction_velocity);
+  EXPECT_DOUBLE_EQ(scene.friction.transition_velocity, defaults.friction.transition_velocity);
+  EXPECT_TRUE(scene.roller_positions.is_circle());
+  EXPECT_DOUBLE_EQ(scene.sensor_angle, 0.0);
+}
+
+TEST(SceneFile, ReadsRollerErrorsAndOptionalSettings) {
+  const std::string roller =
+      "name = \"fixed_a\"\nangle_deg = 210.0\nradius_mm = 5.0\nmount = \"fixed\"\nwidth_mm = 4.0\n"
+      "mass_kg = 0.003\nspin_inertia_kg_m2 = 4e-8\ncentre_radius_mm = 296.5\nradial_offset_mm = 0.01\n"
+      "tangential_offset_mm = -0.02\nshape_phase_reference = \"global\"\nspin_phase_deg = 90\n"
+      "mean_deviation_mm = -0.001\nharmonics = [{ order = 15, amplitude_mm = 0.014 }]\n";
+  std::string text = PaperSceneWith(kFixedA, roller);
+  text = ReplaceOnce(text, "[roller_positions]\nmean_deviation_mm = 0.0\nharmonics = []",
+                     "[roller_positions]\nmean_deviation_mm = 0.02\nharmonics = [{ order = 7, amplitude_mm = 0.14 }]");
+  text = ReplaceOnce(text, "angle_deg = 0.0 ", "angle_deg = 180 ");
+  const engine::Scene scene = ParseScene(text, "scene.toml");
+  const engine::Roller& r = scene.rollers[1];
+  EXPECT_DOUBLE_EQ(r.mass, 0.003);
+  EXPECT_DOUBLE_EQ(r.spin_inertia, 4e-8);
+  EXPECT_DOUBLE_EQ(r.centre_radius, 0.2965);
+  EXPECT_DOUBLE_EQ(r.radial_offset, 1e-5);
+  EXPECT_DOUBLE_EQ(r.tangential_offset, -2e-5);
+  EXPECT_EQ(r.phase_reference, engine::ShapePhaseReference::kGlobal);
+  EXPECT_DOUBLE_EQ(r.spin_phase, std::numbers::pi / 2.0);
+  EXPECT_DOUBLE_EQ(r.outline.mean_deviation(), -1e-6);
+  ASSERT_EQ(r.outline.harmonics().size(), 1u);
+  EXPECT_DOUBLE_EQ(r.outline.harmonics()[0].amplitude, 1.4e-5);
+  EXPECT_DOUBLE_EQ(r.outline.harmonics()[0].phase, 0.0);
+  EXPECT_DOUBLE_EQ(scene.roller_positions.mean_deviation(), 2e-5);
+  ASSERT_EQ(scene.roller_positions.harmonics().size(), 1u);
+  EXPECT_EQ(scene.roller_positions.harmonics()[0].order, 7);
+  EXPECT_DOUBLE_EQ(scene.sensor_angle, std::numbers::pi);
+}
+
+TEST(SceneFile, ReadsTheExampleFileFromDisk) {
+  const engine::Scene scene = ReadScene(kPaperScenePath);
+  EXPECT_EQ(scene.rollers.size(), 3u);
+  EXPECT_DOUBLE_EQ(scene.ring.inner.radius(), 0.302);
+}
+
+TEST(SceneFile, LeavesNonConvexProfilesToTheSolvers) {
+  // (n^2 - 1) C_n = 399 * 1 mm > R: an inward bump, which is a solver status, not bad input.
+  const engine::Scene scene =
+      ParseScene(PaperSceneWith(kRingHarmonics, "harmonics = [{ order = 20, amplitude_mm = 1.0 }] #"), "s.toml");
+  EXPECT_EQ(engine::CheckGeometry(scene).issue, engine::GeometryIssue::kRingNotConvex);
+}
+
+// ---- bad input: file level
+
+TEST(SceneFile, RejectsAMissingFileNamingIt) {
+  try {
+    ReadScene("/nonexistent/folder/scene.toml");
+    FAIL() << "ReadScene accepted a missing file";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), AllOf(HasSubstr("/nonexistent/folder/scene.toml"), HasSubstr("no such file")));
+  }
+}
+
+TEST(SceneFile, RejectsTextThatIsNotTomlWithThePosition) {
+  EXPECT_THAT(ErrorFor("[ring]\ninner_radius_mm = = 3\n"),
+              AllOf(HasSubstr("bad.toml:2:"), HasSubstr("not valid TOML")));
+}
+
+TEST(SceneFile, ReportsTheLineAndColumnOfTheBadValue) {
+  const std::string text = FixedAWith("radius_mm = 5.0", "radius_mm = -5.0");
+  const std::size_t at = text.find("radius_mm = -5.0");
+  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+  const std::size_t column = std::string_view("radius_mm = ").size() + 1;
+  EXPECT_THAT(ErrorFor(text), HasSubstr("bad.toml:" + std::to_string(line) + ":" + std::to_string(column) + ": "));
+}
+
+// ---- bad input: keys
+
+TEST(SceneFile, RejectsAMissingRequiredKey) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("thickness_mm = 6.0\n", "")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.thickness_mm"), HasSubstr("missing required key"),
+                    HasSubstr("allowed: > 0")));
+}
+
+TEST(SceneFile, RejectsAMissingRingTable) {
+  EXPECT_THAT(ErrorFor(ReplaceOnce(kMinimalScene, "[ring]", "[wheel]")),
+              AllOf(HasSubstr("bad.toml"), HasSubstr("unknown key 'wheel'")));
+  const std::string without_ring = std::string(kMinimalScene).substr(std::string(kMinimalScene).find("[[rollers]]"));
+  EXPECT_THAT(ErrorFor(without_ring),
+              AllOf(HasSubstr("bad.toml: ring: missing required key"), HasSubstr("allowed: a table [ring]")));
+}
+
+TEST(SceneFile, RejectsAnUnknownTopLevelKey) {
+  EXPECT_THAT(ErrorFor("colour = \"red\"\n" + PaperSceneText()),
+              AllOf(HasSubstr("bad.toml:1:1: unknown key 'colour'"),
+                    HasSubstr("valid keys here: ring, roller_positions, rollers, contact, friction, sensor")));
+}
+
+TEST(SceneFile, RejectsAnUnknownKeyInTheRing) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("thickness_mm = 6.0\n", "thickness_mm = 6.0\ncolour = \"red\"\n")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("unknown key 'ring.colour'"),
+                    HasSubstr("valid keys here: inner_radius_mm, outer_radius_mm, thickness_mm")));
+}
+
+TEST(SceneFile, RejectsAnUnknownKeyInARoller) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("name = \"fixed_a\"\n", "name = \"fixed_a\"\ndiameter_mm = 10.0\n")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("unknown key 'rollers[1].diameter_mm'"),
+                    HasSubstr("name, angle_deg, radius_mm")));
+}
+
+TEST(SceneFile, RejectsAnUnknownKeyInAHarmonic) {
+  const std::string text =
+      PaperSceneWith(kRingHarmonics, "harmonics = [{ order = 3, amplitude_mm = 0.14, phase = 45.0 }] #");
+  EXPECT_THAT(ErrorFor(text),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("unknown key 'ring.harmonics[0].phase'"),
+                    HasSubstr("valid keys here: order, amplitude_mm, phase_deg")));
+}
+
+TEST(SceneFile, RejectsSpringKeysOnAFixedRoller) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("name = \"fixed_a\"\n", "name = \"fixed_a\"\nspring_preload_N = 19.3\n")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].spring_preload_N = 19.3"),
+                    HasSubstr("allowed: only when mount = \"spring\"")));
+}
+
+TEST(SceneFile, RejectsASpringRollerWithoutPreload) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("spring_preload_N = 19.3\n", "")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[0].spring_preload_N"),
+                    HasSubstr("missing required key (needed when mount = \"spring\")"), HasSubstr("allowed: > 0")));
+}
+
+TEST(SceneFile, RejectsBothDensityAndMass) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("thickness_mm = 6.0\n", "thickness_mm = 6.0\nmass_kg = 1.2\n")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.mass_kg = 1.2"),
+                    HasSubstr("allowed: exactly one of density_kg_per_m3 > 0 or mass_kg > 0")));
+}
+
+TEST(SceneFile, RejectsNeitherDensityNorMass) {
+  EXPECT_THAT(ErrorFor(FixedAWith("density_kg_per_m3 = 7850.0\n", "")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].density_kg_per_m3 or mass_kg"),
+                    HasSubstr("missing required key"), HasSubstr("exactly one of")));
+}
+
+// ---- bad input: types and values
+
+TEST(SceneFile, RejectsAStringWhereANumberIsExpected) {
+  EXPECT_THAT(ErrorFor(FixedAWith("radius_mm = 5.0", "radius_mm = \"5\"")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].radius_mm = \"5\""),
+                    HasSubstr("wrong type: expected a number, found string"), HasSubstr("allowed: > 0")));
+}
+
+TEST(SceneFile, RejectsAFractionalHarmonicOrder) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith(kRingHarmonics, "harmonics = [{ order = 2.5, amplitude_mm = 0.14 }] #")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.harmonics[0].order = 2.5"),
+                    HasSubstr("expected an integer, found float"), HasSubstr(">= 1 and <= 1000")));
+}
+
+TEST(SceneFile, RejectsHarmonicOrderZero) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith(kRingHarmonics, "harmonics = [{ order = 0, amplitude_mm = 0.14 }] #")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.harmonics[0].order = 0"), HasSubstr("out of range"),
+                    HasSubstr("allowed: an integer >= 1 and <= 1000")));
+}
+
+TEST(SceneFile, RejectsANegativeRollerRadius) {
+  EXPECT_THAT(ErrorFor(FixedAWith("radius_mm = 5.0", "radius_mm = -5.0")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].radius_mm = -5"), HasSubstr("out of range"),
+                    HasSubstr("allowed: > 0")));
+}
+
+TEST(SceneFile, RejectsAZeroRollerRadius) {
+  EXPECT_THAT(ErrorFor(FixedAWith("radius_mm = 5.0", "radius_mm = 0")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].radius_mm = 0"), HasSubstr("allowed: > 0")));
+}
+
+TEST(SceneFile, RejectsANanValue) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("thickness_mm = 6.0", "thickness_mm = nan")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.thickness_mm = nan"), HasSubstr("not a finite number"),
+                    HasSubstr("allowed: > 0")));
+}
+
+TEST(SceneFile, RejectsAnInfiniteValue) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("angle_deg = 90.0", "angle_deg = inf")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[0].angle_deg = inf"), HasSubstr("not a finite number"),
+                    HasSubstr("allowed: any finite number")));
+}
+
+TEST(SceneFile, RejectsAnOuterRadiusNotAboveTheInnerRadius) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("outer_radius_mm = 339.85", "outer_radius_mm = 300")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.outer_radius_mm = 300"),
+                    HasSubstr("allowed: > 302 (ring.inner_radius_mm)")));
+}
+
+TEST(SceneFile, RejectsAnExponentAboveThree) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("exponent = 1.5", "exponent = 3.5")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("contact.exponent = 3.5"), HasSubstr("allowed: >= 1 and <= 3")));
+}
+
+TEST(SceneFile, RejectsARollerLargerThanTheRing) {
+  EXPECT_THAT(ErrorFor(FixedAWith("radius_mm = 5.0", "radius_mm = 400")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].radius_mm = 400"),
+                    HasSubstr("not smaller than the ring's inner radius"), HasSubstr("allowed: > 0 and < 302")));
+}
+
+TEST(SceneFile, RejectsARollerCentreOutsideTheRing) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("name = \"fixed_a\"\n", "name = \"fixed_a\"\ncentre_radius_mm = 400.0\n")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].centre_radius_mm = 400"),
+                    HasSubstr("fixed_a does not fit in the ring"),
+                    HasSubstr("centre_radius_mm + radial position error <= ring.inner_radius_mm = 302")));
+}
+
+TEST(SceneFile, RejectsRingAmplitudesLargerThanTheRadius) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith(kRingHarmonics,
+                                      "harmonics = [{ order = 2, amplitude_mm = 200 }, { order = 3, "
+                                      "amplitude_mm = 150 }] #")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.harmonics"), HasSubstr("amplitude_mm = 350"),
+                    HasSubstr("amplitudes larger than the radius"),
+                    HasSubstr("allowed: < 302 (ring.inner_radius_mm)")));
+}
+
+TEST(SceneFile, RejectsRollerAmplitudesLargerThanTheRadius) {
+  EXPECT_THAT(ErrorFor(FixedAWith("harmonics = []",
+                                  "mean_deviation_mm = 1.0\nharmonics = [{ order = 2, amplitude_mm = 4.5 }]")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].harmonics"), HasSubstr("amplitude_mm = 5.5"),
+                    HasSubstr("amplitudes larger than the radius"), HasSubstr("allowed: < 5 (rollers[1].radius_mm)")));
+}
+
+TEST(SceneFile, RejectsFewerThanThreeRollers) {
+  const std::string text = PaperSceneText();
+  const std::size_t third = text.rfind("[[rollers]]");
+  const std::size_t contact = text.find("[contact]");
+  const std::string two_rollers = text.substr(0, third) + text.substr(contact);
+  EXPECT_THAT(ErrorFor(two_rollers), AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers (2 entries): too few"),
+                                           HasSubstr("allowed: at least 3 [[rollers]] tables")));
+}
+
+TEST(SceneFile, RejectsAnUnknownMount) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("mount = \"spring\"", "mount = \"sliding\"")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[0].mount = \"sliding\""), HasSubstr("unknown value"),
+                    HasSubstr("allowed: \"fixed\", \"spring\"")));
+}
+
+TEST(SceneFile, RejectsAnUnknownContactLaw) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("law = \"penalty\"", "law = \"hertz\"")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("contact.law = \"hertz\""),
+                    HasSubstr("allowed: \"rigid\", \"penalty\"")));
+}
+
+TEST(SceneFile, RejectsAnUnknownShapePhaseReference) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("shape_phase_reference = \"radial\"", "shape_phase_reference = \"body\"")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[0].shape_phase_reference = \"body\""),
+                    HasSubstr("allowed: \"radial\", \"global\"")));
+}
+
+TEST(SceneFile, RejectsDuplicatedRollerNames) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("name = \"fixed_b\"", "name = \"fixed_a\"")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[2].name = \"fixed_a\""),
+                    HasSubstr("the same name as rollers[1]"), HasSubstr("allowed: a name no other roller has")));
+}
+
+TEST(SceneFile, RejectsADefaultNameTakenByAnotherRoller) {
+  EXPECT_THAT(ErrorFor(ReplaceOnce(kMinimalScene, "angle_deg = 90", "name = \"roller2\"\nangle_deg = 90")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].name = \"roller2\""),
+                    HasSubstr("the same name as rollers[0]")));
+}
+
+TEST(SceneFile, RejectsATransitionVelocityBelowTheStictionVelocity) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("transition_velocity_mm_per_s = 50.0", "transition_velocity_mm_per_s = 5.0")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("friction.transition_velocity_mm_per_s = 5"),
+                    HasSubstr("not above the stiction velocity"),
+                    HasSubstr("allowed: > stiction_velocity_mm_per_s = 10")));
+}
+
+TEST(SceneFile, RejectsAStictionVelocityAboveTheDefaultTransitionVelocity) {
+  EXPECT_THAT(ErrorFor(std::string(kMinimalScene) + "\n[friction]\nstiction_velocity_mm_per_s = 60\n"),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("friction.transition_velocity_mm_per_s = 50 (default)"),
+                    HasSubstr("allowed: > stiction_velocity_mm_per_s = 60")));
+}
+
+TEST(SceneFile, RejectsATableWhereANumberIsExpected) {
+  EXPECT_THAT(ErrorFor(PaperSceneWith("angle_deg = 0.0 ", "angle_deg = { value = 0 } ")),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("sensor.angle_deg = { value = 0 }"),
+                    HasSubstr("expected a number, found table")));
+}
+
+// ---- [motion] and [dynamics]
+
+engine::Scene SceneWith(const std::string& tables) { return ParseScene(std::string(kMinimalScene) + "\n" + tables, "bad.toml"); }
+
+TEST(SceneFile, DefaultsToTheArticleLawWithEveryStateModelled) {
+  const engine::Scene scene = ParseScene(PaperSceneText(), "scene.toml");
+  EXPECT_EQ(scene.motion, engine::ArticleLaw());
+  EXPECT_EQ(scene.dynamics, engine::DynamicModel{});
+}
+
+TEST(SceneFile, ReadsEachKindOfMotionLaw) {
+  EXPECT_EQ(SceneWith("[motion]\nsettle_s = 2\nrate_deg_per_s = -90\nrevolutions = 1.5\n").motion,
+            engine::ArticleLaw(2.0, -90.0 * kDeg, 1.5));
+  EXPECT_EQ(SceneWith("[motion]\nlaw = \"test_bench\"\nsettle_s = 0\n").motion, engine::TestBenchLaw(0.0));
+  const engine::MotionLaw piecewise = SceneWith(
+      "[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 0.5 }, { duration_s = 1, acceleration_deg_per_s2 = "
+      "90 }, { duration_s = 2, start_rate_deg_per_s = -30 }]\n").motion;
+  EXPECT_EQ(piecewise, engine::MotionLaw({{.duration = 0.5, .acceleration = 0.0, .start_rate = std::nullopt},
+                                          {.duration = 1.0, .acceleration = 90.0 * kDeg, .start_rate = std::nullopt},
+                                          {.duration = 2.0, .acceleration = 0.0, .start_rate = -30.0 * kDeg}}));
+}
+
+TEST(SceneFile, ReadsTheDynamicModelSwitches) {
+  const engine::Scene scene =
+      SceneWith("[dynamics]\nfriction = false\nrolling_without_slip = true\nmassless_spring_rollers = true\n");
+  EXPECT_FALSE(scene.dynamics.friction);
+  EXPECT_TRUE(scene.dynamics.rolling_without_slip);
+  EXPECT_TRUE(scene.dynamics.massless_spring_rollers);
+}
+
+TEST(SceneFile, RejectsKeysThatDoNotBelongToTheChosenLaw) {
+  try {
+    SceneWith("[motion]\nlaw = \"test_bench\"\nrate_deg_per_s = 100\n");
+    FAIL() << "accepted a rate for the test-bench law";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), AllOf(HasSubstr("bad.toml:"), HasSubstr("motion.rate_deg_per_s = 100"),
+                                HasSubstr("only when law = \"article\"")));
+  }
+  try {
+    SceneWith("[motion]\nsegments = [{ duration_s = 1 }]\n");
+    FAIL() << "accepted segments for the article law";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), AllOf(HasSubstr("motion.segments"), HasSubstr("only when law = \"piecewise\"")));
+  }
+}
+
+TEST(SceneFile, RejectsBadMotionValuesNamingKeyAndRange) {
+  auto error = [](const std::string& tables) {
+    try {
+      SceneWith(tables);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_THAT(error("[motion]\nlaw = \"spline\"\n"),
+              AllOf(HasSubstr("motion.law = \"spline\""), HasSubstr("\"article\", \"test_bench\", \"piecewise\"")));
+  EXPECT_THAT(error("[motion]\nrate_deg_per_s = 0\n"), AllOf(HasSubstr("motion.rate_deg_per_s = 0"), HasSubstr("non-zero")));
+  EXPECT_THAT(error("[motion]\nsettle_s = -1\n"), AllOf(HasSubstr("motion.settle_s = -1"), HasSubstr(">= 0")));
+  EXPECT_THAT(error("[motion]\nrevolutions = 0\n"), AllOf(HasSubstr("motion.revolutions = 0"), HasSubstr("> 0")));
+  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\n"), AllOf(HasSubstr("motion.segments"), HasSubstr("missing")));
+  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = []\n"), HasSubstr("motion.segments"));
+  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 0 }]\n"),
+              AllOf(HasSubstr("motion.segments[0].duration_s = 0"), HasSubstr("> 0")));
+  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 1, jerk = 2 }]\n"),
+              HasSubstr("unknown key 'motion.segments[0].jerk'"));
+  EXPECT_THAT(error("[dynamics]\nfriction = \"yes\"\n"),
+              AllOf(HasSubstr("dynamics.friction = \"yes\""), HasSubstr("true or false")));
+  EXPECT_THAT(error("[dynamics]\ninertia = false\n"), HasSubstr("unknown key 'dynamics.inertia'"));
+  // Values in range whose law still overflows a double: refused as input, not thrown
+  // from the engine or passed on as infinities.
+  EXPECT_THAT(error("[motion]\nrate_deg_per_s = 1e-320\n"), AllOf(HasSubstr("bad.toml:"), HasSubstr("motion")));
+  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 1e300, acceleration_deg_per_s2 = 1e300 }]\n"),
+              AllOf(HasSubstr("bad.toml:"), HasSubstr("overflows")));
+}
+
+// ---- ring.measured_profile
+
+// A fresh folder for this test, so tests run in parallel processes share nothing.
+std::filesystem::path MeasuredFolder() {
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const std::filesystem::path folder = std::filesystem::path(::testing::TempDir()) / ("scene_file_" + test);
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  return folder;
+}
+
+void WriteTextFile(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream(file, std::ios::binary) << text;
+}
+
+constexpr double kBoreRadius = 0.302;  // [m] of the paper scene
+// A set-up eccentricity (order 1) and form errors, as a roundness tester sees them.
+const std::vector<engine::Harmonic> kMeasuredForm = {
+    {1, 4e-6, -0.6}, {2, 30e-6, 0.3}, {3, 12e-6, 2.0}, {5, 6e-6, -2.2}};
+constexpr int kMeasuredOrders = 6;  // above every order of kMeasuredForm: 4 and 6 must come out zero
+constexpr double kEps = 0x1p-52;    // DBL_EPSILON
+// Noise-free readings are rounded twice (17 digits in the file, times the unit on
+// reading): <= 2 eps R each. Least squares amplifies that by the condition number (< 10
+// for a reading per degree, a 30 degree gap and 6 orders; fit_command_test asserts it for
+// 8) and rounds once per unknown: (2 x 6 + 1) x 2 eps x 10 x R.
+constexpr double kFitRoundOff = (2 * kMeasuredOrders + 1) * 2.0 * kEps * 10.0 * kBoreRadius;  // [m], 1.7e-14
+
+// A roundness tester's export of `mean + harmonics` [m] in `column`'s unit (metres per
+// unit): a reading per degree, none strictly between 100 and 130 degrees.
+std::string MeasuredCsv(std::string_view column, double unit, double mean,
+                        const std::vector<engine::Harmonic>& harmonics) {
+  std::ostringstream text;
+  text.precision(17);
+  text << "# measured by scene_file_test\nangle_deg, " << column << "\n";
+  for (int degree = 0; degree < 360; ++degree) {
+    if (degree > 100 && degree < 130) continue;
+    double value = mean;
+    for (const engine::Harmonic& h : harmonics) value += h.amplitude * std::cos(h.order * degree * kDeg + h.phase);
+    text << degree << ", " << value / unit << "\n";
+  }
+  return text.str();
+}
+
+std::string MeasuredRadii(double mean = kBoreRadius) { return MeasuredCsv("radius_mm", 1e-3, mean, kMeasuredForm); }
+
+// a_n and b_n of r = ... + sum_n (a_n cos n theta - b_n sin n theta) for `harmonics` [m], as
+// PolarProfile sums harmonics of equal order.
+double CosCoefficient(const std::vector<engine::Harmonic>& harmonics, int n) {
+  return engine::PolarProfile(1.0, 0.0, harmonics).cos_coefficient(n);
+}
+double SinCoefficient(const std::vector<engine::Harmonic>& harmonics, int n) {
+  return engine::PolarProfile(1.0, 0.0, harmonics).sin_coefficient(n);
+}
+
+// The paper scene whose ring has `harmonics_line` and measured_profile = `measured`.
+std::string PaperSceneMeasuring(std::string_view measured, std::string_view harmonics_line = "harmonics = []") {
+  return PaperSceneWith(kRingHarmonics, std::string(harmonics_line) + "\nmeasured_profile = " + std::string(measured) +
+                                            "\n#");
+}
+
+// ReadScene's message for the paper scene with measured_profile = `measured`, written as
+// scene.toml in `folder`.
+std::string MeasuredErrorFor(const std::filesystem::path& folder, std::string_view measured) {
+  WriteTextFile(folder / "scene.toml", PaperSceneMeasuring(measured));
+  try {
+    ReadScene(folder / "scene.toml");
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "ReadScene accepted measured_profile = " << measured;
+  return "";
+}
+
+TEST(SceneFile, MeasuredProfileGivesTheRingTheFittedHarmonics) {
+  const std::filesystem::path folder = MeasuredFolder();
+  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  for (const bool keep : {false, true}) {
+    SCOPED_TRACE(keep ? "keep_eccentricity = true" : "keep_eccentricity = false");
+    WriteTextFile(folder / "scene.toml", PaperSceneMeasuring("{ file = \"ring.csv\", orders = 6, keep_eccentricity = " +
+                                                             std::string(keep ? "true" : "false") + " }"));
+    const engine::PolarProfile& bore = ReadScene(folder / "scene.toml").ring.inner;
+    EXPECT_EQ(bore.radius(), kBoreRadius);
+    // The export's mean radius is the nominal radius: no mean deviation.
+    EXPECT_NEAR(bore.mean_deviation(), 0.0, kFitRoundOff);
+    const int first = keep ? 1 : 2;
+    ASSERT_EQ(bore.harmonics().size(), static_cast<std::size_t>(kMeasuredOrders - first + 1));
+    EXPECT_EQ(bore.harmonics().front().order, first);
+    EXPECT_EQ(bore.harmonics().back().order, kMeasuredOrders);
+    for (int n = 1; n <= kMeasuredOrders; ++n) {
+      SCOPED_TRACE("order " + std::to_string(n));
+      const bool kept = n >= first;
+      EXPECT_NEAR(bore.cos_coefficient(n), kept ? CosCoefficient(kMeasuredForm, n) : 0.0, kFitRoundOff);
+      EXPECT_NEAR(bore.sin_coefficient(n), kept ? SinCoefficient(kMeasuredForm, n) : 0.0, kFitRoundOff);
+    }
+  }
+}
+
+TEST(SceneFile, MeasuredProfileAddsToTheRingsOwnHarmonicsAndMeanDeviation) {
+  const std::filesystem::path folder = MeasuredFolder();
+  constexpr std::string_view kOwnKeys = "mean_deviation_mm = 0.0\nharmonics = []                    # e.g.";
+  constexpr std::string_view kOwnHarmonic = "{ order = 3, amplitude_mm = 0.01, phase_deg = 90 }";
+  const engine::Harmonic own{3, 1e-5, std::numbers::pi / 2.0};
+  constexpr double kOwnMeanDeviation = 2e-6;   // [m], mean_deviation_mm = 0.002
+  constexpr double kMeasuredOffset = 1.5e-6;   // [m] the export's mean deviation, or its radius above 302 mm
+  const std::vector<std::pair<std::string, std::string>> exports = {
+      {"deviations", MeasuredCsv("deviation_um", 1e-6, kMeasuredOffset, kMeasuredForm)},
+      {"radii", MeasuredRadii(kBoreRadius + kMeasuredOffset)}};
+  for (const auto& [name, csv] : exports) {
+    SCOPED_TRACE(name);
+    WriteTextFile(folder / "ring.csv", csv);
+    WriteTextFile(folder / "scene.toml",
+                  PaperSceneWith(kOwnKeys, "mean_deviation_mm = 0.002\nharmonics = [" + std::string(kOwnHarmonic) +
+                                               "]\nmeasured_profile = { file = \"ring.csv\", orders = 6 } #"));
+    const engine::PolarProfile& bore = ReadScene(folder / "scene.toml").ring.inner;
+    // 2 um + 1.5 um: the explicit key's rounding (eps x 2 um) vanishes in the fit's.
+    EXPECT_NEAR(bore.mean_deviation(), kOwnMeanDeviation + kMeasuredOffset, kFitRoundOff);
+    // The ring's own harmonic first, as written, then the fitted orders 2..6.
+    ASSERT_EQ(bore.harmonics().size(), static_cast<std::size_t>(1 + kMeasuredOrders - 1));
+    EXPECT_EQ(bore.harmonics().front(), own);
+    EXPECT_EQ(bore.harmonics()[1].order, 2);
+    // Equal orders add up: order 3 is the own harmonic plus the fitted one.
+    EXPECT_NEAR(bore.cos_coefficient(3), own.amplitude * std::cos(own.phase) + CosCoefficient(kMeasuredForm, 3),
+                kFitRoundOff);
+    EXPECT_NEAR(bore.sin_coefficient(3), own.amplitude * std::sin(own.phase) + SinCoefficient(kMeasuredForm, 3),
+                kFitRoundOff);
+  }
+}
+
+TEST(SceneFile, MeasuredProfileIsFoundRelativeToTheSceneFilesFolder) {
+  const std::filesystem::path folder = MeasuredFolder();
+  std::filesystem::create_directories(folder / "scenes" / "profiles");
+  WriteTextFile(folder / "scenes" / "profiles" / "ring.csv", MeasuredRadii());
+  const std::string text = PaperSceneMeasuring("{ file = \"profiles/ring.csv\", orders = 6 }");
+  WriteTextFile(folder / "scenes" / "scene.toml", text);
+  const engine::Scene scene = ReadScene(folder / "scenes" / "scene.toml");
+  EXPECT_EQ(scene.ring.inner.harmonics().size(), static_cast<std::size_t>(kMeasuredOrders - 1));
+
+  // Text without a file resolves against the current directory, which has no profiles/.
+  EXPECT_THAT(ErrorFor(text), AllOf(HasSubstr("ring.measured_profile.file = \"profiles/ring.csv\""),
+                                    HasSubstr("no such file: profiles/ring.csv")));
+  // An absolute path is taken as it is.
+  const std::string absolute = (folder / "scenes" / "profiles" / "ring.csv").string();
+  const engine::Scene parsed =
+      ParseScene(PaperSceneMeasuring("{ file = \"" + absolute + "\", orders = 6 }"), "text.toml");
+  EXPECT_EQ(parsed.ring.inner.harmonics(), scene.ring.inner.harmonics());
+}
+
+TEST(SceneFile, RejectsAMissingMeasuredProfileNamingKeyValueAndPath) {
+  const std::filesystem::path folder = MeasuredFolder();
+  const std::string scene = (folder / "scene.toml").string();
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"missing.csv\", orders = 6 }"),
+              AllOf(HasSubstr(scene + ":"), HasSubstr("ring.measured_profile.file = \"missing.csv\": no such file: " +
+                                                      (folder / "missing.csv").string()),
+                    HasSubstr("allowed: the path of an existing CSV file")));
+  std::filesystem::create_directories(folder / "profiles");
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"profiles\", orders = 6 }"),
+              HasSubstr("ring.measured_profile.file = \"profiles\": not a file"));
+}
+
+TEST(SceneFile, RejectsMeasuredProfileOrdersOutOfRange) {
+  const std::filesystem::path folder = MeasuredFolder();
+  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 0 }"),
+              AllOf(HasSubstr((folder / "scene.toml").string() + ":"),
+                    HasSubstr("ring.measured_profile.orders = 0: out of range; allowed: an integer >= 1 and <= 1000")));
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 1001 }"),
+              HasSubstr("ring.measured_profile.orders = 1001: out of range"));
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 6.5 }"),
+              HasSubstr("ring.measured_profile.orders = 6.5: wrong type: expected an integer, found float"));
+}
+
+TEST(SceneFile, RejectsUnknownMissingAndMistypedKeysOfTheMeasuredProfile) {
+  const std::filesystem::path folder = MeasuredFolder();
+  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", order = 6 }"),
+              HasSubstr("unknown key 'ring.measured_profile.order'; valid keys here: file, orders, keep_eccentricity"));
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\" }"),
+              AllOf(HasSubstr("ring.measured_profile.orders: missing required key"),
+                    HasSubstr("allowed: an integer >= 1 and <= 1000")));
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 6, keep_eccentricity = 1 }"),
+              HasSubstr("ring.measured_profile.keep_eccentricity = 1: wrong type: expected a boolean"));
+  EXPECT_THAT(MeasuredErrorFor(folder, "\"ring.csv\""),
+              AllOf(HasSubstr("ring.measured_profile = \"ring.csv\": wrong type: expected a table"),
+                    HasSubstr("allowed: a table { file = \"profile.csv\", orders = integer 1..1000")));
+}
+
+TEST(SceneFile, PassesCsvAndFitErrorsThroughAfterTheKeyPath) {
+  const std::filesystem::path folder = MeasuredFolder();
+  const std::string csv = (folder / "ring.csv").string();
+  // measured_profile is on the line of the paper scene's ring harmonics, plus one.
+  const std::string text = PaperSceneText();
+  const std::size_t line = 2 + static_cast<std::size_t>(std::count(
+                                   text.begin(), text.begin() + static_cast<std::ptrdiff_t>(text.find(kRingHarmonics)),
+                                   '\n'));
+  const std::string where = (folder / "scene.toml").string() + ":" + std::to_string(line) + ":";
+
+  WriteTextFile(folder / "ring.csv", "angle_deg,radius_mm\n0,1\n1,1\n2,1\n3,1\n4,1\n5,abc\n");
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 2 }"),
+              AllOf(::testing::StartsWith(where),
+                    HasSubstr(": ring.measured_profile: " + csv +
+                              ":7: radius_mm = abc: not a number; allowed: a finite number > 0")));
+
+  WriteTextFile(folder / "ring.csv", "angle_deg,radius_mm\n0,302\n72,302.01\n144,302\n216,301.99\n288,302\n");
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 6 }"),
+              AllOf(::testing::StartsWith(where),
+                    HasSubstr(": ring.measured_profile: " + csv +
+                              ": fitting orders up to 6 needs at least 2*6+1 = 13 points at distinct angles; got 5")));
+}
+
+TEST(SceneFile, BlamesTheMeasuredProfileForAmplitudesLargerThanTheRadius) {
+  // 60 orders across the example's 30 degree gap: well enough conditioned to be fitted,
+  // but the 1 um noise comes out amplified to amplitudes that add up to more than the radius.
+  const std::string example = RINGTOL_SOURCE_DIR "/examples/measured/ring_profile.csv";
+  EXPECT_THAT(ErrorFor(PaperSceneMeasuring("{ file = \"" + example + "\", orders = 60 }")),
+              AllOf(HasSubstr("bad.toml:"),
+                    HasSubstr("ring.measured_profile (|mean_deviation_mm| + sum of amplitude_mm"),
+                    HasSubstr("amplitudes larger than the radius (`ringtol fit` shows the fit: fewer orders?)"),
+                    HasSubstr("allowed: < 302 (ring.inner_radius_mm)")));
+}
+
+}  // namespace
+}  // namespace ringtol::jobs

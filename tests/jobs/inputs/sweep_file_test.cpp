@@ -1,0 +1,291 @@
+#include "jobs/inputs/sweep_file.h"
+
+#include <cstddef>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "jobs/inputs/input_error.h"
+#include "tests/support/text_files.h"
+
+namespace ringtol::jobs {
+namespace {
+
+using ringtol::testing::ReadText;
+using ringtol::testing::ReplaceOnce;
+
+namespace fs = std::filesystem;
+using ::testing::AllOf;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+
+const fs::path kExamples = fs::path(RINGTOL_SOURCE_DIR) / "examples" / "paper";
+
+void WriteText(const fs::path& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  if (!out) throw std::runtime_error("test cannot write " + path.string());
+}
+
+// A fresh folder per test under the test temp dir, so tests never see each other's files.
+fs::path TestFolder() {
+  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path folder = fs::path(::testing::TempDir()) / "ringtol_sweep_file_test" / test->name();
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  return folder;
+}
+
+// Writes `sweep` as sweep.toml next to scene.toml (the paper scene unless given) and
+// returns the sweep file's path.
+fs::path WriteSweep(const std::string& sweep, const std::string& scene = ReadText(kExamples / "scene.toml")) {
+  const fs::path folder = TestFolder();
+  WriteText(folder / "scene.toml", scene);
+  WriteText(folder / "sweep.toml", sweep);
+  return folder / "sweep.toml";
+}
+
+std::string ErrorFor(const fs::path& sweep_file) {
+  try {
+    ReadSweep(sweep_file);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "ReadSweep accepted " << sweep_file;
+  return "";
+}
+
+std::vector<std::string> Names(const Sweep& sweep) {
+  std::vector<std::string> names;
+  for (const SweepCase& c : sweep.cases) names.push_back(c.name);
+  return names;
+}
+
+// One harmonic with the given order and amplitude [m] at the paper's phase of 45 deg.
+void ExpectSingleHarmonic(const engine::PolarProfile& profile, int order, double amplitude) {
+  ASSERT_EQ(profile.harmonics().size(), 1u);
+  EXPECT_EQ(profile.harmonics()[0].order, order);
+  EXPECT_DOUBLE_EQ(profile.harmonics()[0].amplitude, amplitude);
+  EXPECT_DOUBLE_EQ(profile.harmonics()[0].phase, std::numbers::pi / 4.0);
+}
+
+// ---- the article's studies
+
+TEST(SweepFile, ReadsTheOrderStudyAsThirteenRingCases) {
+  const Sweep sweep = ReadSweep(kExamples / "orders.toml");
+  EXPECT_TRUE(fs::equivalent(sweep.scene_file, kExamples / "scene.toml"));
+  const std::vector<int> orders{2, 3, 4, 5, 6, 7, 8, 9, 10, 12, 15, 17, 20};
+  ASSERT_EQ(sweep.cases.size(), orders.size());
+  EXPECT_EQ(sweep.cases[0].name, "ring n=2 C=0.14mm");
+  EXPECT_EQ(sweep.cases[12].name, "ring n=20 C=0.14mm");
+  for (std::size_t i = 0; i < orders.size(); ++i) {
+    const engine::Scene& scene = sweep.cases[i].scene;
+    ExpectSingleHarmonic(scene.ring.inner, orders[i], 1.4e-4);
+    EXPECT_TRUE(scene.roller_positions.harmonics().empty());
+    for (const engine::Roller& roller : scene.rollers) EXPECT_TRUE(roller.outline.harmonics().empty());
+  }
+}
+
+TEST(SweepFile, ReadsTheAmplitudeStudyWithOrdersInTheOuterLoop) {
+  const Sweep sweep = ReadSweep(kExamples / "amplitudes.toml");
+  ASSERT_EQ(sweep.cases.size(), 20u);
+  EXPECT_EQ(sweep.cases[0].name, "ring n=2 C=0.07mm");
+  EXPECT_EQ(sweep.cases[9].name, "ring n=2 C=0.7mm");
+  EXPECT_EQ(sweep.cases[10].name, "ring n=6 C=0.07mm");
+  EXPECT_EQ(sweep.cases[19].name, "ring n=6 C=0.7mm");
+  for (std::size_t j = 0; j < 10; ++j) {
+    const double amplitude = 0.07e-3 * static_cast<double>(j + 1);
+    // 0.07 * k written as a decimal in the file against 0.07 * k computed: a few ulp.
+    constexpr double kDecimalVersusProduct = 1e-18;  // [m] ~ 10 ulp of 0.7e-3
+    EXPECT_NEAR(sweep.cases[j].scene.ring.inner.harmonics()[0].amplitude, amplitude, kDecimalVersusProduct);
+    EXPECT_EQ(sweep.cases[10 + j].scene.ring.inner.harmonics()[0].order, 6);
+  }
+}
+
+TEST(SweepFile, ReadsTheTwelveCombinationCases) {
+  const Sweep sweep = ReadSweep(kExamples / "combinations.toml");
+  EXPECT_THAT(Names(sweep), ElementsAre("case1", "case2", "case3", "case4", "case5", "case6", "case7", "case8",
+                                        "case9", "case10", "case11", "case12"));
+  const engine::Scene& case9 = sweep.cases[8].scene;
+  ExpectSingleHarmonic(case9.ring.inner, 3, 1.4e-4);
+  ExpectSingleHarmonic(case9.roller_positions, 7, 1.4e-4);
+  ASSERT_EQ(case9.rollers.size(), 3u);
+  for (const engine::Roller& roller : case9.rollers) ExpectSingleHarmonic(roller.outline, 15, 1.4e-5);
+
+  const engine::Scene& case4 = sweep.cases[3].scene;
+  EXPECT_TRUE(case4.roller_positions.harmonics().empty());
+  for (const engine::Roller& roller : case4.rollers) ExpectSingleHarmonic(roller.outline, 2, 1.4e-5);
+
+  const engine::Scene& case11 = sweep.cases[10].scene;
+  ExpectSingleHarmonic(case11.ring.inner, 3, 1.4e-4);
+  EXPECT_TRUE(case11.roller_positions.harmonics().empty());
+  for (const engine::Roller& roller : case11.rollers) EXPECT_TRUE(roller.outline.harmonics().empty());
+}
+
+// ---- semantics
+
+TEST(SweepFile, StudyReplacesTheTargetHarmonicsAndKeepsTheMeanDeviation) {
+  std::string scene = ReadText(kExamples / "scene.toml");
+  scene = ReplaceOnce(scene, "mean_deviation_mm = 0.0\nharmonics = []                    # e.g.",
+                      "mean_deviation_mm = 0.01\nharmonics = [{ order = 4, amplitude_mm = 0.05 }] #");
+  const Sweep sweep = ReadSweep(WriteSweep(
+      "scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2]\namplitudes_mm = [0.14]\nphase_deg = 45\n",
+      scene));
+  ASSERT_EQ(sweep.cases.size(), 1u);
+  ExpectSingleHarmonic(sweep.cases[0].scene.ring.inner, 2, 1.4e-4);
+  EXPECT_DOUBLE_EQ(sweep.cases[0].scene.ring.inner.mean_deviation(), 1e-5);
+}
+
+TEST(SweepFile, RollerShapeStudyGivesEveryRollerTheSameHarmonic) {
+  const Sweep sweep = ReadSweep(WriteSweep(
+      "scene = \"scene.toml\"\n[study]\ntarget = \"roller_shape\"\norders = [3, 5]\namplitudes_mm = [0.014]\n"
+      "phase_deg = 45\n"));
+  ASSERT_EQ(sweep.cases.size(), 2u);
+  EXPECT_EQ(sweep.cases[1].name, "roller_shape n=5 C=0.014mm");
+  for (const engine::Roller& roller : sweep.cases[1].scene.rollers) ExpectSingleHarmonic(roller.outline, 5, 1.4e-5);
+  EXPECT_TRUE(sweep.cases[1].scene.ring.inner.harmonics().empty());
+}
+
+TEST(SweepFile, CasesKeepTheBaseHarmonicsOfTargetsTheyDoNotList) {
+  std::string scene = ReadText(kExamples / "scene.toml");
+  scene = ReplaceOnce(scene, "harmonics = []                    # e.g.",
+                      "harmonics = [{ order = 4, amplitude_mm = 0.05, phase_deg = 45 }] #");
+  const Sweep sweep = ReadSweep(WriteSweep(
+      "scene = \"scene.toml\"\n[[cases]]\nname = \"positions only\"\n"
+      "roller_positions = [{ order = 2, amplitude_mm = 0.14, phase_deg = 45 }]\n"
+      "[[cases]]\nname = \"clean ring\"\nring = []\n",
+      scene));
+  ASSERT_EQ(sweep.cases.size(), 2u);
+  ExpectSingleHarmonic(sweep.cases[0].scene.ring.inner, 4, 5e-5);
+  ExpectSingleHarmonic(sweep.cases[0].scene.roller_positions, 2, 1.4e-4);
+  EXPECT_TRUE(sweep.cases[1].scene.ring.inner.harmonics().empty());
+}
+
+TEST(SweepFile, ResolvesTheScenePathAgainstTheSweepFolder) {
+  const fs::path sweep_file = WriteSweep("scene = \"scene.toml\"\n[[cases]]\nname = \"nominal\"\n");
+  const Sweep sweep = ReadSweep(sweep_file);
+  EXPECT_EQ(sweep.scene_file, sweep_file.parent_path() / "scene.toml");
+  ASSERT_EQ(sweep.cases.size(), 1u);
+  EXPECT_TRUE(sweep.cases[0].scene.ring.inner.is_circle());
+}
+
+// ---- bad input
+
+TEST(SweepFile, RejectsAMissingSweepFile) {
+  const fs::path missing = TestFolder() / "absent.toml";
+  EXPECT_THAT(ErrorFor(missing), AllOf(HasSubstr(missing.string()), HasSubstr("no such file")));
+}
+
+TEST(SweepFile, RejectsASweepWithoutSceneKey) {
+  const fs::path file = WriteSweep("[[cases]]\nname = \"a\"\n");
+  EXPECT_THAT(ErrorFor(file),
+              AllOf(HasSubstr(file.string()), HasSubstr("scene: missing required key"),
+                    HasSubstr("allowed: the path of a scene file, relative to the sweep file's folder")));
+}
+
+TEST(SweepFile, RejectsASweepWithBothStudyAndCases) {
+  const fs::path file = WriteSweep(
+      "scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2]\namplitudes_mm = [0.14]\n"
+      "[[cases]]\nname = \"a\"\n");
+  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":"), HasSubstr("study and cases: both present"),
+                                    HasSubstr("allowed: exactly one of [study] or [[cases]]")));
+}
+
+TEST(SweepFile, RejectsASweepWithNeitherStudyNorCases) {
+  const fs::path file = WriteSweep("scene = \"scene.toml\"\n");
+  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string()), HasSubstr("study and cases: neither present"),
+                                    HasSubstr("allowed: exactly one of [study] or [[cases]]")));
+}
+
+TEST(SweepFile, RejectsASweepReferencingAMissingSceneFile) {
+  const fs::path file = WriteSweep("scene = \"missing.toml\"\n[[cases]]\nname = \"a\"\n");
+  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":1:"), HasSubstr("scene = \"missing.toml\""),
+                                    HasSubstr("no such file"), HasSubstr("allowed: the path of a scene file")));
+}
+
+TEST(SweepFile, ReportsErrorsInTheSceneAgainstTheSceneFile) {
+  const std::string scene = ReplaceOnce(ReadText(kExamples / "scene.toml"), "thickness_mm = 6.0", "thickness_mm = -6");
+  const fs::path file = WriteSweep("scene = \"scene.toml\"\n[[cases]]\nname = \"a\"\n", scene);
+  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr((file.parent_path() / "scene.toml").string() + ":"),
+                                    HasSubstr("ring.thickness_mm = -6"), HasSubstr("allowed: > 0")));
+}
+
+TEST(SweepFile, RejectsOrderZeroInAStudy) {
+  const fs::path file =
+      WriteSweep("scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2, 0]\namplitudes_mm = [0.14]\n");
+  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":"), HasSubstr("study.orders[1] = 0"),
+                                    HasSubstr("out of range"), HasSubstr("allowed: an integer >= 1 and <= 1000")));
+}
+
+TEST(SweepFile, RejectsARepeatedOrderInAStudy) {
+  const fs::path file =
+      WriteSweep("scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2, 2]\namplitudes_mm = [0.14]\n");
+  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":"), HasSubstr("study.orders[1] = 2"),
+                                    HasSubstr("repeats orders[0]"), HasSubstr("allowed: distinct orders")));
+}
+
+TEST(SweepFile, RejectsAnEmptyAmplitudeList) {
+  const fs::path file =
+      WriteSweep("scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2]\namplitudes_mm = []\n");
+  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":"), HasSubstr("study.amplitudes_mm = []"),
+                                    HasSubstr("empty"), HasSubstr("allowed: a non-empty array of numbers >= 0")));
+}
+
+TEST(SweepFile, RejectsAnUnknownStudyTarget) {
+  const fs::path file =
+      WriteSweep("scene = \"scene.toml\"\n[study]\ntarget = \"pinion\"\norders = [2]\namplitudes_mm = [0.1]\n");
+  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":"), HasSubstr("study.target = \"pinion\""),
+                                    HasSubstr("allowed: \"ring\", \"roller_positions\", \"roller_shape\"")));
+}
+
+TEST(SweepFile, RejectsAnUnknownKeyInAStudy) {
+  const fs::path file = WriteSweep(
+      "scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norder = [2]\norders = [2]\namplitudes_mm = [0.1]\n");
+  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":4:1"), HasSubstr("unknown key 'study.order'"),
+                                    HasSubstr("valid keys here: target, orders, amplitudes_mm, phase_deg")));
+}
+
+TEST(SweepFile, RejectsAnUnknownKeyInACaseHarmonic) {
+  const fs::path file =
+      WriteSweep("scene = \"scene.toml\"\n[[cases]]\nname = \"a\"\nring = [{ order = 2, amplitude = 0.1 }]\n");
+  EXPECT_THAT(ErrorFor(file),
+              AllOf(HasSubstr(file.string() + ":4:"), HasSubstr("unknown key 'cases[0].ring[0].amplitude'"),
+                    HasSubstr("valid keys here: order, amplitude_mm, phase_deg")));
+}
+
+TEST(SweepFile, RejectsDuplicatedCaseNames) {
+  const fs::path file = WriteSweep("scene = \"scene.toml\"\n[[cases]]\nname = \"a\"\n[[cases]]\nname = \"a\"\n");
+  EXPECT_THAT(ErrorFor(file),
+              AllOf(HasSubstr(file.string() + ":5:"), HasSubstr("cases[1].name = \"a\""),
+                    HasSubstr("the same name as cases[0]"), HasSubstr("allowed: a name no other case has")));
+}
+
+TEST(SweepFile, RejectsAStudyCaseWhoseRollerShapeExceedsTheRollerRadius) {
+  const fs::path file = WriteSweep(
+      "scene = \"scene.toml\"\n[study]\ntarget = \"roller_shape\"\norders = [2]\namplitudes_mm = [0.01, 6.0]\n");
+  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":5:"), HasSubstr("study.amplitudes_mm[1] = 6"),
+                                    HasSubstr("case \"roller_shape n=2 C=6mm\""),
+                                    HasSubstr("amplitudes larger than the radius of roller spring"),
+                                    HasSubstr("allowed: < 5 mm (rollers[0].radius_mm in the scene file)")));
+}
+
+TEST(SweepFile, RejectsACaseWhosePositionErrorsPushARollerOutOfTheRing) {
+  // Order 2 at phase 0 moves the rollers at 210 and 330 deg outward by half the amplitude.
+  const fs::path file = WriteSweep(
+      "scene = \"scene.toml\"\n[[cases]]\nname = \"far\"\nring = []\n"
+      "roller_positions = [{ order = 2, amplitude_mm = 20.0 }]\n");
+  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":5:"), HasSubstr("cases[0].roller_positions = "),
+                                    HasSubstr("case \"far\""), HasSubstr("does not fit in the ring"),
+                                    HasSubstr("centre_radius_mm + radial position error <= ring.inner_radius_mm")));
+}
+
+}  // namespace
+}  // namespace ringtol::jobs

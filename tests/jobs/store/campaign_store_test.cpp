@@ -1,0 +1,625 @@
+#include "jobs/store/campaign_store.h"
+
+#include <hdf5.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "jobs/inputs/input_error.h"
+#include "jobs/campaign/sample_record.h"
+
+namespace ringtol::jobs {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+constexpr std::size_t kInputs = 4;
+constexpr std::size_t kStoredMessageChars = 255;  // /outputs/message: 256 bytes with the terminator
+
+// A fresh folder per test, so that tests never see each other's files.
+fs::path TestFolder() {
+  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path folder = fs::path(::testing::TempDir()) / "ringtol_campaign_store_test" / test->name();
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  return folder;
+}
+
+std::string ReadBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+CampaignIdentity TestIdentity() {
+  CampaignIdentity identity;
+  identity.ringtol_version = "0.1.0";
+  identity.catalogue_version = "iso-2024.1";
+  identity.campaign_path = "campaigns/demo.toml";
+  identity.campaign_file = "[campaign]\nsamples = 100\nseed = 7\n\n[tolerances.ring]\nclass = \"IT5\"\n";
+  identity.base_scene = "[ring]\nradius_mm = 302\n\n[[rollers]]\nname = \"spring\"\n";
+  identity.design = "sobol";
+  identity.solver = "quasistatic";
+  identity.seed = 0x9E3779B97F4A7C15u;
+  for (std::size_t i = 0; i + 1 < kInputs; ++i) {
+    const int order = static_cast<int>(i) + 2;
+    identity.inputs.push_back({"ring.order" + std::to_string(order) + ".amplitude_um",
+                               sampling::ErrorSource::kRingShape, -1, order, "ring.order" + std::to_string(order),
+                               "ring"});
+  }
+  identity.inputs.push_back({"roller.spring.position.offset_um", sampling::ErrorSource::kRollerPosition, 1, 0,
+                             "roller.spring.position", "roller.spring.position"});
+  identity.spec = {{"runout_mm", 0.012}, {"max_contact_force_N", 2500.0}};
+  return identity;
+}
+
+// A sample whose every field is a pure function of its index, so that any run, killed or
+// not, must store the same bits. Every 11th fails in the solver, every 17th throws.
+SampleRecord DeterministicRecord(std::int64_t index) {
+  const double x = static_cast<double>(index);
+  SampleRecord record;
+  record.index = index;
+  for (std::size_t j = 0; j < kInputs; ++j) {
+    const double k = static_cast<double>(j);
+    record.u.push_back(std::fmod(0.5 + x * 0.6180339887498949 + k * 0.7548776662466927, 1.0));
+    record.values.push_back(std::sin(x + k) * 1e3 / 3.0);
+  }
+  record.redraws = static_cast<std::int32_t>(index % 3);
+  record.steps = 360 + static_cast<std::int32_t>(index % 7);
+  record.solve_time = 1e-3 * std::sqrt(x + 1.0);
+  if (index % 11 == 5) {
+    record.status = FromSolverStatus(solvers::Status::kNotConverged);
+    record.message = "Newton iteration failed at angle " + std::to_string(index % 360) + " deg";
+    record.outputs.fill(std::numeric_limits<double>::quiet_NaN());
+  } else if (index % 17 == 3) {
+    record.status = SampleStatus::kException;
+    record.message = "sample " + std::to_string(index) + ": " + std::string(300, 'x');
+    record.outputs.fill(std::numeric_limits<double>::quiet_NaN());
+  } else {
+    record.status = SampleStatus::kOk;
+    for (std::size_t k = 0; k < kOutputCount; ++k) record.outputs[k] = x * 1e-3 + static_cast<double>(k) / 7.0;
+  }
+  return record;
+}
+
+std::vector<std::uint64_t> Bits(const std::vector<double>& values) {
+  std::vector<std::uint64_t> bits;
+  for (const double value : values) bits.push_back(std::bit_cast<std::uint64_t>(value));
+  return bits;
+}
+
+std::vector<std::uint64_t> Bits(const std::array<double, kOutputCount>& values) {
+  return Bits(std::vector<double>(values.begin(), values.end()));
+}
+
+// What the file holds for `written`: values rounded to float32, messages cut to 255 bytes,
+// outputs NaN unless ok.
+SampleRecord AsStored(SampleRecord written) {
+  for (double& value : written.values) value = static_cast<double>(static_cast<float>(value));
+  if (written.message.size() > kStoredMessageChars) written.message.resize(kStoredMessageChars);
+  if (written.status != SampleStatus::kOk) written.outputs.fill(std::numeric_limits<double>::quiet_NaN());
+  return written;
+}
+
+// Bit for bit (NaN included), field by field, so that a failure says which field.
+void ExpectStored(const SampleRecord& actual, const SampleRecord& written) {
+  const SampleRecord expected = AsStored(written);
+  SCOPED_TRACE("sample " + std::to_string(expected.index));
+  EXPECT_EQ(actual.index, expected.index);
+  EXPECT_EQ(actual.status, expected.status);
+  EXPECT_EQ(actual.message, expected.message);
+  EXPECT_EQ(Bits(actual.u), Bits(expected.u));
+  EXPECT_EQ(Bits(actual.values), Bits(expected.values));
+  EXPECT_EQ(actual.redraws, expected.redraws);
+  EXPECT_EQ(actual.steps, expected.steps);
+  EXPECT_EQ(Bits(actual.outputs), Bits(expected.outputs));
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.solve_time), std::bit_cast<std::uint64_t>(expected.solve_time));
+}
+
+void ExpectPendingRow(const SampleRecord& actual) {
+  SCOPED_TRACE("sample " + std::to_string(actual.index));
+  EXPECT_EQ(actual.status, SampleStatus::kPending);
+  EXPECT_TRUE(std::all_of(actual.u.begin(), actual.u.end(), [](double v) { return std::isnan(v); }));
+  EXPECT_TRUE(std::all_of(actual.outputs.begin(), actual.outputs.end(), [](double v) { return std::isnan(v); }));
+  EXPECT_EQ(actual.steps, 0);
+  EXPECT_EQ(actual.message, "");
+}
+
+std::string InputErrorOf(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "no InputError";
+  return "";
+}
+
+// Writes every pending sample of [0, samples) as its DeterministicRecord, committing every
+// `batch`, each batch added back to front like results arriving from many ranks.
+void WriteDeterministic(
+    const fs::path& path, std::int64_t samples, std::size_t batch, const std::function<void()>& opened = [] {}) {
+  CampaignStore store = fs::exists(path) ? CampaignStore::Resume(path, TestIdentity(), samples)
+                                         : CampaignStore::Create(path, TestIdentity(), samples);
+  opened();
+  const std::vector<std::int64_t> pending = store.Pending(0, samples);
+  for (std::size_t i = 0; i < pending.size(); ++i) {
+    const std::size_t first = i / batch * batch;
+    const std::size_t last = std::min(first + batch, pending.size()) - 1;
+    store.Add(DeterministicRecord(pending[first + last - i]));
+    if (store.buffered() == batch) store.Commit();
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+
+TEST(SampleStatus, SharesNumbersAndNamesWithSolverStatuses) {
+  for (int value = 0; value <= static_cast<int>(solvers::Status::kNonFinite); ++value) {
+    const auto status = static_cast<solvers::Status>(value);
+    EXPECT_EQ(static_cast<int>(FromSolverStatus(status)), value);
+    EXPECT_EQ(SampleStatusName(FromSolverStatus(status)), solvers::StatusName(status));
+  }
+  EXPECT_EQ(SampleStatusName(SampleStatus::kPending), "pending");
+  EXPECT_EQ(SampleStatusName(SampleStatus::kOk), "ok");
+  EXPECT_EQ(SampleStatusName(SampleStatus::kException), "exception");
+  EXPECT_EQ(SampleStatusName(SampleStatus::kNonFiniteOutput), "non_finite_output");
+  EXPECT_EQ(SampleStatusName(SampleStatus::kSamplingFailed), "sampling_failed");
+}
+
+TEST(SampleStatus, ListsEveryStatusOnceWithPendingFirstAndDistinctNames) {
+  const std::vector<SampleStatus>& all = AllSampleStatuses();
+  ASSERT_EQ(all.size(), 14u);  // pending, the 10 solver statuses, 3 campaign failures
+  EXPECT_EQ(all.front(), SampleStatus::kPending);
+  std::set<std::string_view> names;
+  std::set<int> values;
+  for (const SampleStatus status : all) {
+    names.insert(SampleStatusName(status));
+    values.insert(static_cast<int>(status));
+  }
+  EXPECT_EQ(names.size(), all.size());
+  EXPECT_EQ(values.size(), all.size());
+}
+
+TEST(CampaignStore, RoundTripsEveryFieldBitForBitAcrossOutOfOrderCommits) {
+  const fs::path path = TestFolder() / "results.h5";
+  constexpr std::int64_t kSamples = 40;
+  const std::vector<std::int64_t> first = {31, 5, 6, 0, 7, 39, 20, 3};
+  const std::vector<std::int64_t> second = {19, 2, 33, 4, 21, 1, 17};
+  {
+    CampaignStore store = CampaignStore::Create(path, TestIdentity(), kSamples);
+    EXPECT_EQ(store.samples(), kSamples);
+    EXPECT_EQ(store.path(), path);
+    for (const std::int64_t index : first) store.Add(DeterministicRecord(index));
+    EXPECT_EQ(store.buffered(), first.size());
+    store.Commit();
+    EXPECT_EQ(store.buffered(), 0u);
+    for (const std::int64_t index : second) store.Add(DeterministicRecord(index));
+    store.Commit();
+  }
+  const CampaignReader reader(path);
+  EXPECT_EQ(reader.samples(), kSamples);
+  EXPECT_EQ(reader.schema_version(), kCampaignSchemaVersion);
+  const CampaignIdentity expected = TestIdentity();
+  const CampaignIdentity& identity = reader.identity();
+  EXPECT_EQ(identity.ringtol_version, expected.ringtol_version);
+  EXPECT_EQ(identity.catalogue_version, expected.catalogue_version);
+  EXPECT_EQ(identity.campaign_path, expected.campaign_path);
+  EXPECT_EQ(identity.campaign_file, expected.campaign_file);
+  EXPECT_EQ(identity.base_scene, expected.base_scene);
+  EXPECT_EQ(identity.design, expected.design);
+  EXPECT_EQ(identity.solver, expected.solver);
+  EXPECT_EQ(identity.seed, expected.seed);
+  ASSERT_EQ(identity.inputs.size(), expected.inputs.size());
+  for (std::size_t i = 0; i < expected.inputs.size(); ++i) {
+    EXPECT_EQ(identity.inputs[i].name, expected.inputs[i].name);
+    EXPECT_EQ(identity.inputs[i].source, expected.inputs[i].source);
+    EXPECT_EQ(identity.inputs[i].roller, expected.inputs[i].roller);
+    EXPECT_EQ(identity.inputs[i].order, expected.inputs[i].order);
+    EXPECT_EQ(identity.inputs[i].quantity, expected.inputs[i].quantity);
+    EXPECT_EQ(identity.inputs[i].component, expected.inputs[i].component);
+  }
+  ASSERT_EQ(identity.spec.size(), 2u);  // in kOutputNames order
+  EXPECT_EQ(identity.spec[0].output, "runout_mm");
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(identity.spec[0].upper), std::bit_cast<std::uint64_t>(0.012));
+  EXPECT_EQ(identity.spec[1].output, "max_contact_force_N");
+  EXPECT_EQ(identity.spec[1].upper, 2500.0);
+
+  std::set<std::int64_t> written(first.begin(), first.end());
+  written.insert(second.begin(), second.end());
+  const std::vector<SampleStatus> statuses = reader.ReadStatus(0, kSamples);
+  for (std::int64_t index = 0; index < kSamples; ++index) {
+    if (written.count(index) > 0) {
+      ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+      EXPECT_EQ(statuses[static_cast<std::size_t>(index)], DeterministicRecord(index).status);
+    } else {
+      ExpectPendingRow(reader.ReadSample(index));
+    }
+  }
+  const std::vector<double> runout = reader.ReadOutput("runout_mm", 4, 3);
+  const std::vector<double> expected_runout = {AsStored(DeterministicRecord(4)).outputs[3],
+                                               AsStored(DeterministicRecord(5)).outputs[3],
+                                               AsStored(DeterministicRecord(6)).outputs[3]};
+  EXPECT_EQ(Bits(runout), Bits(expected_runout));
+  EXPECT_TRUE(std::isnan(runout[1]));  // sample 5 did not converge
+  EXPECT_THROW(reader.ReadOutput("runout_um", 0, 1), std::invalid_argument);
+  EXPECT_THROW(reader.ReadStatus(kSamples - 1, 2), std::out_of_range);
+}
+
+TEST(CampaignStore, StoresNaNOutputsForFailedSamplesWhateverTheRecordSays) {
+  const fs::path path = TestFolder() / "results.h5";
+  SampleRecord failed = DeterministicRecord(0);
+  failed.status = SampleStatus::kNonFiniteOutput;
+  failed.message = "runout_mm is infinite";
+  failed.outputs.fill(1.5);
+  CampaignStore::Create(path, TestIdentity(), 1).Add(failed);
+  const SampleRecord stored = CampaignReader(path).ReadSample(0);
+  EXPECT_EQ(stored.status, SampleStatus::kNonFiniteOutput);
+  EXPECT_TRUE(std::all_of(stored.outputs.begin(), stored.outputs.end(), [](double v) { return std::isnan(v); }));
+}
+
+TEST(CampaignStore, TruncatesMessagesTo255BytesWithoutSplittingACharacter) {
+  const fs::path path = TestFolder() / "results.h5";
+  SampleRecord ascii = DeterministicRecord(0);
+  ascii.status = SampleStatus::kException;
+  ascii.message = std::string(254, 'a') + "bcdef";
+  SampleRecord utf8 = ascii;
+  utf8.index = 1;
+  utf8.message = std::string(254, 'a') + "\xC2\xB5m";  // "µ" would straddle byte 255
+  {
+    CampaignStore store = CampaignStore::Create(path, TestIdentity(), 2);
+    store.Add(ascii);
+    store.Add(utf8);
+  }
+  const CampaignReader reader(path);
+  EXPECT_EQ(reader.ReadSample(0).message, std::string(254, 'a') + "b");
+  EXPECT_EQ(reader.ReadSample(1).message, std::string(254, 'a'));
+}
+
+TEST(CampaignStore, ReportsSamplesPendingUntilTheirCommit) {
+  const fs::path path = TestFolder() / "results.h5";
+  CampaignStore store = CampaignStore::Create(path, TestIdentity(), 6);
+  EXPECT_EQ(store.Pending(0, 6), (std::vector<std::int64_t>{0, 1, 2, 3, 4, 5}));
+  store.Add(DeterministicRecord(4));
+  store.Add(DeterministicRecord(1));
+  EXPECT_EQ(store.Pending(0, 6), (std::vector<std::int64_t>{0, 1, 2, 3, 4, 5}));
+  store.Commit();
+  EXPECT_EQ(store.Pending(0, 6), (std::vector<std::int64_t>{0, 2, 3, 5}));
+  EXPECT_EQ(store.Pending(1, 4), (std::vector<std::int64_t>{2, 3}));
+  EXPECT_EQ(store.Pending(3, 3), (std::vector<std::int64_t>{}));
+  EXPECT_THROW(store.Pending(2, 7), std::out_of_range);
+}
+
+TEST(CampaignStore, KeepsTheLastOfTwoRecordsForOneSample) {
+  const fs::path path = TestFolder() / "results.h5";
+  SampleRecord retried = DeterministicRecord(1);
+  retried.index = 0;
+  {
+    CampaignStore store = CampaignStore::Create(path, TestIdentity(), 1);
+    store.Add(DeterministicRecord(0));
+    store.Add(retried);
+  }
+  ExpectStored(CampaignReader(path).ReadSample(0), retried);
+}
+
+TEST(CampaignStore, RejectsRecordsThatDoNotFitTheCampaign) {
+  const fs::path path = TestFolder() / "results.h5";
+  CampaignStore store = CampaignStore::Create(path, TestIdentity(), 3);
+  EXPECT_THROW(store.Add(DeterministicRecord(3)), std::invalid_argument);
+  EXPECT_THROW(store.Add(DeterministicRecord(-1)), std::invalid_argument);
+  SampleRecord short_u = DeterministicRecord(0);
+  short_u.u.pop_back();
+  EXPECT_THROW(store.Add(short_u), std::invalid_argument);
+  SampleRecord pending = DeterministicRecord(0);
+  pending.status = SampleStatus::kPending;
+  EXPECT_THROW(store.Add(pending), std::invalid_argument);
+  EXPECT_EQ(store.buffered(), 0u);
+}
+
+TEST(CampaignStore, CreateRefusesAnExistingPathAndAMissingDirectory) {
+  const fs::path folder = TestFolder();
+  const fs::path existing = folder / "results.h5";
+  std::ofstream(existing) << "precious";
+  EXPECT_THAT(InputErrorOf([&] { CampaignStore::Create(existing, TestIdentity(), 5); }),
+              AllOf(HasSubstr(existing.string()), HasSubstr("already exists"), HasSubstr("--resume")));
+  EXPECT_EQ(ReadBytes(existing), "precious");
+
+  const fs::path orphan = folder / "no_such_folder" / "results.h5";
+  EXPECT_THAT(InputErrorOf([&] { CampaignStore::Create(orphan, TestIdentity(), 5); }),
+              AllOf(HasSubstr(orphan.string()), HasSubstr("does not exist")));
+  EXPECT_FALSE(fs::exists(orphan.parent_path()));
+  EXPECT_EQ(std::distance(fs::directory_iterator(folder), fs::directory_iterator()), 1);  // no temporary left
+}
+
+TEST(CampaignStore, ResumesTheSameCampaignKeepingItsSamples) {
+  const fs::path path = TestFolder() / "results.h5";
+  {
+    CampaignStore store = CampaignStore::Create(path, TestIdentity(), 10);
+    store.Add(DeterministicRecord(2));
+  }
+  CampaignIdentity moved = TestIdentity();
+  moved.campaign_path = "elsewhere/demo.toml";  // provenance only
+  {
+    CampaignStore store = CampaignStore::Resume(path, moved, 10);
+    EXPECT_EQ(store.samples(), 10);
+    EXPECT_EQ(store.Pending(0, 3), (std::vector<std::int64_t>{0, 1}));
+    store.Add(DeterministicRecord(7));
+  }
+  const CampaignReader reader(path);
+  ExpectStored(reader.ReadSample(2), DeterministicRecord(2));
+  ExpectStored(reader.ReadSample(7), DeterministicRecord(7));
+  EXPECT_EQ(reader.identity().campaign_path, "campaigns/demo.toml");
+}
+
+TEST(CampaignStore, ResumeGrowsTheCampaignWithTheNewSamplesPending) {
+  const fs::path path = TestFolder() / "results.h5";
+  {
+    CampaignStore store = CampaignStore::Create(path, TestIdentity(), 5);
+    for (std::int64_t index = 0; index < 5; ++index) store.Add(DeterministicRecord(index));
+  }
+  {
+    CampaignStore store = CampaignStore::Resume(path, TestIdentity(), 12);
+    EXPECT_EQ(store.samples(), 12);
+    EXPECT_EQ(store.Pending(0, 12), (std::vector<std::int64_t>{5, 6, 7, 8, 9, 10, 11}));
+    store.Add(DeterministicRecord(11));
+  }
+  const CampaignReader reader(path);
+  EXPECT_EQ(reader.samples(), 12);
+  for (std::int64_t index = 0; index < 5; ++index) ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+  for (std::int64_t index = 5; index < 11; ++index) ExpectPendingRow(reader.ReadSample(index));
+  ExpectStored(reader.ReadSample(11), DeterministicRecord(11));
+}
+
+TEST(CampaignStore, ResumeRefusesToShrinkTheCampaign) {
+  const fs::path path = TestFolder() / "results.h5";
+  CampaignStore::Create(path, TestIdentity(), 8);
+  const std::string before = ReadBytes(path);
+  EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), 7); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("holds 8 samples"), HasSubstr("7")));
+  EXPECT_EQ(ReadBytes(path), before);
+}
+
+TEST(CampaignStore, ResumeRefusesAnotherCampaignNamingWhatDiffers) {
+  const fs::path path = TestFolder() / "results.h5";
+  CampaignStore::Create(path, TestIdentity(), 8);
+  const std::string before = ReadBytes(path);
+  struct Change {
+    const char* expected;
+    std::function<void(CampaignIdentity&)> apply;
+  };
+  const std::vector<Change> changes = {
+      {"ringtol_version differs ('0.1.0' in the file, '0.2.0' now)", [](auto& id) { id.ringtol_version = "0.2.0"; }},
+      {"catalogue_version differs", [](auto& id) { id.catalogue_version = "iso-2025.1"; }},
+      {"campaign_file differs (first at line 2)", [](auto& id) { id.campaign_file.replace(21, 3, "200"); }},
+      {"base_scene differs", [](auto& id) { id.base_scene += "\n"; }},
+      {"design differs ('sobol' in the file, 'lhs' now)", [](auto& id) { id.design = "lhs"; }},
+      {"solver differs", [](auto& id) { id.solver = "dynamic"; }},
+      {"seed differs (11400714819323198485 in the file, 1 now)", [](auto& id) { id.seed = 1; }},
+      {"inputs differ (the file has 4 inputs, this campaign 3)", [](auto& id) { id.inputs.pop_back(); }},
+      {"inputs differ (input 1: 'ring.order3.amplitude_um' in the file, 'ring.order3.phase_rad' now)",
+       [](auto& id) { id.inputs[1].name = "ring.order3.phase_rad"; }},
+      {"inputs differ (input 3", [](auto& id) { id.inputs[3].roller = 2; }},
+      {"spec differs (upper_spec_limit of runout_mm: 0.012 in the file, 0.02 now)",
+       [](auto& id) { id.spec[0].upper = 0.02; }},
+      {"spec differs (upper_spec_limit of runout_total_mm: not set in the file, 0.03 now)",
+       [](auto& id) {
+         id.spec.push_back({"runout_total_mm", 0.03});
+       }},
+  };
+  for (const Change& change : changes) {
+    CampaignIdentity identity = TestIdentity();
+    change.apply(identity);
+    EXPECT_THAT(
+        InputErrorOf([&] { CampaignStore::Resume(path, identity, 8); }),
+        AllOf(HasSubstr(path.string()), HasSubstr("was written by another campaign"), HasSubstr(change.expected)));
+  }
+  EXPECT_EQ(ReadBytes(path), before);
+}
+
+// A plain HDF5 file, as another program would write it.
+void WriteForeignHdf5(const fs::path& path) {
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hsize_t dims[1] = {3};
+  const hid_t space = H5Screate_simple(1, dims, nullptr);
+  const hid_t dataset = H5Dcreate2(file, "temperature", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const double values[3] = {20.5, 21.0, 21.5};
+  H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values);
+  H5Dclose(dataset);
+  H5Sclose(space);
+  H5Fclose(file);
+}
+
+TEST(CampaignStore, ResumeAndReaderRefuseFilesThatAreNoCampaignLeavingThemUntouched) {
+  const fs::path folder = TestFolder();
+  const fs::path valid = folder / "valid.h5";
+  {
+    CampaignStore store = CampaignStore::Create(valid, TestIdentity(), 500);
+    for (std::int64_t index = 0; index < 500; ++index) store.Add(DeterministicRecord(index));
+  }
+  const fs::path truncated = folder / "truncated.h5";
+  fs::copy_file(valid, truncated);
+  fs::resize_file(truncated, fs::file_size(valid) / 2);
+  const fs::path text = folder / "notes.txt";
+  std::ofstream(text) << "not a results file\n";
+  const fs::path foreign = folder / "foreign.h5";
+  WriteForeignHdf5(foreign);
+  const fs::path missing = folder / "missing.h5";
+
+  struct Case {
+    fs::path path;
+    const char* expected;
+  };
+  for (const Case& c :
+       {Case{missing, "does not exist"}, Case{truncated, "is not an HDF5 file or is truncated"},
+        Case{text, "is not an HDF5 file or is truncated"}, Case{foreign, "is not a ringtol campaign file"}}) {
+    SCOPED_TRACE(c.path.string());
+    const std::string before = fs::exists(c.path) ? ReadBytes(c.path) : "";
+    EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(c.path, TestIdentity(), 500); }),
+                AllOf(HasSubstr(c.path.string()), HasSubstr(c.expected)));
+    EXPECT_THAT(InputErrorOf([&] { CampaignReader reader(c.path); }),
+                AllOf(HasSubstr(c.path.string()), HasSubstr(c.expected)));
+    if (c.path == missing) {
+      EXPECT_FALSE(fs::exists(missing));
+    } else {
+      EXPECT_EQ(ReadBytes(c.path), before);
+    }
+  }
+}
+
+TEST(CampaignStore, ResumeRefusesAFileThatAnotherStoreIsWriting) {
+  const fs::path path = TestFolder() / "results.h5";
+  CampaignStore writing = CampaignStore::Create(path, TestIdentity(), 4);
+  writing.Add(DeterministicRecord(0));
+  EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), 4); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("is being written by another ringtol run")));
+  writing.Commit();
+  EXPECT_EQ(writing.Pending(0, 4), (std::vector<std::int64_t>{1, 2, 3}));
+}
+
+TEST(CampaignReader, RefusesAFileOfANewerSchema) {
+  const fs::path path = TestFolder() / "results.h5";
+  CampaignStore::Create(path, TestIdentity(), 2);
+  {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);
+    const int newer = kCampaignSchemaVersion + 1;
+    H5Awrite(attribute, H5T_NATIVE_INT, &newer);
+    H5Aclose(attribute);
+    H5Fclose(file);
+  }
+  const std::string expected = "written by a newer ringtol (schema " + std::to_string(kCampaignSchemaVersion + 1) + ")";
+  EXPECT_THAT(InputErrorOf([&] { CampaignReader reader(path); }), HasSubstr(expected));
+  EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), 2); }), HasSubstr(expected));
+}
+
+// ---------------------------------------------------------------------------------------
+// Crash safety: a child process writes the deterministic campaign as fast as it can and is
+// killed with SIGKILL at a different moment each round, on the file the previous round's
+// kill left. Even rounds count the delay from the fork, so that early kills land while the
+// store is created or resumed; odd rounds count it from the moment the store is open, so
+// that the kills land in the commits however fast the build is (ASan). After every kill
+// the file must open and every sample it calls done must be exact; at the end a resume
+// completes it to exactly the deterministic campaign.
+
+constexpr std::int64_t kKillSamples = 20000;
+constexpr std::size_t kKillBatch = 37;
+constexpr int kKillRounds = 16;
+constexpr auto kFirstKill = std::chrono::milliseconds(1);
+constexpr auto kLastKill = std::chrono::milliseconds(60);
+
+std::int64_t ExpectCommittedSamplesExact(const fs::path& path) {
+  const CampaignReader reader(path);
+  EXPECT_EQ(reader.samples(), kKillSamples);
+  const std::vector<SampleStatus> statuses = reader.ReadStatus(0, reader.samples());
+  std::int64_t done = 0;
+  for (std::int64_t index = 0; index < reader.samples(); ++index) {
+    if (statuses[static_cast<std::size_t>(index)] == SampleStatus::kPending) continue;
+    ++done;
+    ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+    if (::testing::Test::HasFailure()) break;  // one broken sample is enough to read
+  }
+  return done;
+}
+
+// Forks a child that writes the campaign, kills it `delay` after the fork or after its
+// store opened, and says whether the kill came before the child finished.
+bool WriteAndKill(const fs::path& path, bool from_open, std::chrono::microseconds delay) {
+  int ready[2];
+  if (::pipe(ready) != 0) {
+    ADD_FAILURE() << "pipe failed";
+    return false;
+  }
+  std::fflush(nullptr);
+  const pid_t child = ::fork();
+  if (child < 0) {  // never kill(-1): that would signal every process we may signal
+    ADD_FAILURE() << "fork failed";
+    ::close(ready[0]);
+    ::close(ready[1]);
+    return false;
+  }
+  if (child == 0) {
+    ::close(ready[0]);
+    int code = 0;
+    try {
+      WriteDeterministic(path, kKillSamples, kKillBatch, [&] {
+        const char byte = 1;
+        if (::write(ready[1], &byte, 1) != 1) std::fprintf(stderr, "child: cannot signal\n");
+      });
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "child: %s\n", error.what());
+      code = 1;
+    }
+    ::_exit(code);  // never back into the test framework
+  }
+  ::close(ready[1]);
+  char byte = 0;
+  // Nothing to read: the child ended (or failed) before its store opened.
+  if (from_open && ::read(ready[0], &byte, 1) != 1) delay = {};
+  std::this_thread::sleep_for(delay);
+  ::kill(child, SIGKILL);
+  int status = 0;
+  EXPECT_EQ(::waitpid(child, &status, 0), child);
+  ::close(ready[0]);  // only now: the child's signal to a closed pipe would kill it (SIGPIPE)
+  if (WIFEXITED(status)) {
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "the child failed (see its message above)";
+  }
+  return WIFSIGNALED(status);
+}
+
+TEST(CampaignStore, SurvivesSigkillAtAnyMomentAndResumesToTheSameBits) {
+  const fs::path folder = TestFolder();
+  const fs::path path = folder / "results.h5";
+  int killed = 0;
+  std::ostringstream progress;
+  for (int round = 0; round < kKillRounds; ++round) {
+    const bool from_open = round % 2 == 1;
+    const auto delay = std::chrono::duration_cast<std::chrono::microseconds>(
+        kFirstKill + (kLastKill - kFirstKill) * (round / 2) / (kKillRounds / 2 - 1));
+    SCOPED_TRACE("round " + std::to_string(round) + ": kill " + std::to_string(delay.count()) + " us after " +
+                 (from_open ? "the store opened" : "the fork"));
+    killed += WriteAndKill(path, from_open, delay) ? 1 : 0;
+    ASSERT_FALSE(HasFailure());
+    // A kill while creating leaves only the temporary, never a half-made results file.
+    for (const auto& entry : fs::directory_iterator(folder)) {
+      if (entry.path() != path) fs::remove(entry.path());
+    }
+    const std::int64_t done = fs::exists(path) ? ExpectCommittedSamplesExact(path) : -1;
+    ASSERT_FALSE(HasFailure());
+    progress << ' ' << done;
+  }
+  RecordProperty("samples_done_after_each_kill", progress.str());
+  std::printf("%d of %d rounds killed; samples done after each round (-1: no file yet):%s\n", killed, kKillRounds,
+              progress.str().c_str());
+  EXPECT_GE(killed, kKillRounds / 2) << "the kills came too late to test anything";
+
+  WriteDeterministic(path, kKillSamples, kKillBatch);
+  const CampaignReader reader(path);
+  const std::vector<SampleStatus> statuses = reader.ReadStatus(0, kKillSamples);
+  EXPECT_EQ(std::count(statuses.begin(), statuses.end(), SampleStatus::kPending), 0);
+  for (std::int64_t index = 0; index < kKillSamples && !HasFailure(); ++index) {
+    ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+  }
+}
+
+}  // namespace
+}  // namespace ringtol::jobs
