@@ -151,18 +151,6 @@ std::string EstimateOnRows(const PickFreezeColumns& y, std::span<const std::size
 
 }  // namespace
 
-const char* SobolEstimatorName(SobolEstimator estimator) {
-  switch (estimator) {
-    case SobolEstimator::kSaltelliJansen:
-      return "saltelli2010-jansen";
-    case SobolEstimator::kJanon:
-      return "janon";
-    case SobolEstimator::kMartinez:
-      return "martinez";
-  }
-  return "unknown";
-}
-
 SobolIndices EstimateSobolIndices(const PickFreezeOutputs& outputs, const SobolOptions& options) {
   const std::string who = "EstimateSobolIndices";
   switch (options.estimator) {
@@ -240,7 +228,7 @@ SobolIndices EstimateSobolIndices(const PickFreezeOutputs& outputs, const SobolO
   std::vector<double> first(groups), total(groups);
   const std::string undefined = EstimateOnRows(y, rows, options.estimator, first, total);
   if (!undefined.empty()) {
-    throw std::invalid_argument(who + " (" + SobolEstimatorName(options.estimator) + "): " + undefined + " over " +
+    throw std::invalid_argument(who + " (" + std::string(SobolEstimatorName(options.estimator)) + "): " + undefined + " over " +
                                 std::to_string(n) + " rows; the indices are undefined");
   }
   result.first_order.resize(groups);

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "analysis/order_statistics.h"
+#include "engine/enum_names.h"
 
 namespace ringtol::analysis {
 
@@ -52,8 +53,10 @@ struct PickFreezeOutputs {
 // alone); see tests/analysis/openturns_sobol.py.
 enum class SobolEstimator { kSaltelliJansen, kJanon, kMartinez };
 
-// "saltelli2010-jansen", "janon", "martinez".
-const char* SobolEstimatorName(SobolEstimator estimator);
+inline constexpr NameTable<SobolEstimator, 3> kSobolEstimatorNames = {{{SobolEstimator::kSaltelliJansen, "saltelli2010-jansen"},
+                                                                      {SobolEstimator::kJanon, "janon"},
+                                                                      {SobolEstimator::kMartinez, "martinez"}}};
+constexpr std::string_view SobolEstimatorName(SobolEstimator estimator) { return NameOf(kSobolEstimatorNames, estimator); }
 
 struct SobolOptions {
   SobolEstimator estimator = SobolEstimator::kSaltelliJansen;

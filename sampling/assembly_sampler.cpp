@@ -44,36 +44,6 @@ void CheckCapability(const Capability& c, const std::string& what, bool form) {
 
 double Capability::Coverage() const { return std::erf(3.0 * cp / std::numbers::sqrt2); }
 
-const char* ErrorSourceName(ErrorSource source) {
-  switch (source) {
-    case ErrorSource::kRingShape:
-      return "ring_shape";
-    case ErrorSource::kRollerShape:
-      return "roller_shape";
-    case ErrorSource::kRollerPosition:
-      return "roller_position";
-    case ErrorSource::kSpring:
-      return "spring";
-  }
-  return "?";
-}
-
-const char* InputGroupingName(InputGrouping grouping) {
-  switch (grouping) {
-    case InputGrouping::kCoordinate:
-      return "coordinate";
-    case InputGrouping::kQuantity:
-      return "quantity";
-    case InputGrouping::kComponent:
-      return "component";
-    case InputGrouping::kSource:
-      return "source";
-    case InputGrouping::kOrder:
-      return "order";
-  }
-  return "?";
-}
-
 // One toleranced part of the assembly and the coordinates it draws from.
 struct AssemblySampler::Component {
   enum class Kind { kRingForm, kRollerEccentricity, kRollerForm, kRollerSize, kPosition, kStiffness, kPreload };

@@ -33,6 +33,7 @@
 #include "sampling/catalogue.h"
 #include "sampling/design.h"
 #include "sampling/spectrum.h"
+#include "engine/enum_names.h"
 
 namespace ringtol::sampling {
 
@@ -85,7 +86,11 @@ struct AssemblyTolerances {
 };
 
 enum class ErrorSource { kRingShape, kRollerShape, kRollerPosition, kSpring };
-const char* ErrorSourceName(ErrorSource source);  // "ring_shape", "roller_shape", ...
+inline constexpr NameTable<ErrorSource, 4> kErrorSourceNames = {{{ErrorSource::kRingShape, "ring_shape"},
+                                                                 {ErrorSource::kRollerShape, "roller_shape"},
+                                                                 {ErrorSource::kRollerPosition, "roller_position"},
+                                                                 {ErrorSource::kSpring, "spring"}}};
+constexpr std::string_view ErrorSourceName(ErrorSource source) { return NameOf(kErrorSourceNames, source); }
 
 // One coordinate of the design: what it draws, for records and for grouping.
 struct SampledInput {
@@ -105,7 +110,12 @@ enum class InputGrouping {
   kSource,      // ring shape, roller shape, roller position, spring
   kOrder,       // each harmonic order across ring and rollers; sizes, positions, springs apart
 };
-const char* InputGroupingName(InputGrouping grouping);  // "coordinate", "quantity", ...
+inline constexpr NameTable<InputGrouping, 5> kInputGroupingNames = {{{InputGrouping::kCoordinate, "coordinate"},
+                                                                     {InputGrouping::kQuantity, "quantity"},
+                                                                     {InputGrouping::kComponent, "component"},
+                                                                     {InputGrouping::kSource, "source"},
+                                                                     {InputGrouping::kOrder, "order"}}};
+constexpr std::string_view InputGroupingName(InputGrouping grouping) { return NameOf(kInputGroupingNames, grouping); }
 
 struct InputGroups {
   std::vector<std::string> names;

@@ -74,18 +74,6 @@ void AddClass(std::vector<ToleranceClass<Row>>& classes, ToleranceClass<Row> c, 
 
 }  // namespace
 
-const char* DiameterSeriesName(DiameterSeries series) {
-  switch (series) {
-    case DiameterSeries::kSeries9:
-      return "9";
-    case DiameterSeries::kSeries0To1:
-      return "0-1";
-    case DiameterSeries::kSeries2To4:
-      return "2-4";
-  }
-  return "?";
-}
-
 RollerTolerance ToleranceCatalogue::Roller(std::string_view name, double outside_diameter,
                                            DiameterSeries series) const {
   const auto& c = Find(roller_classes, name, "roller (ISO 492)");

@@ -15,6 +15,8 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/enum_names.h"
+
 namespace ringtol::sampling {
 
 // Diameters d with over < d <= up_to [m], as ISO tables word their rows.
@@ -26,7 +28,9 @@ struct DiameterRange {
 
 // ISO 492 diameter series, which change VDsp: 9; 0 and 1; 2, 3 and 4.
 enum class DiameterSeries { kSeries9, kSeries0To1, kSeries2To4 };
-const char* DiameterSeriesName(DiameterSeries series);  // "9", "0-1", "2-4"
+inline constexpr NameTable<DiameterSeries, 3> kDiameterSeriesNames = {
+    {{DiameterSeries::kSeries9, "9"}, {DiameterSeries::kSeries0To1, "0-1"}, {DiameterSeries::kSeries2To4, "2-4"}}};
+constexpr std::string_view DiameterSeriesName(DiameterSeries series) { return NameOf(kDiameterSeriesNames, series); }
 
 // ISO 492 outer-ring tolerances of a radial bearing, applied to a roller's running
 // surface (a track roller's outer ring).

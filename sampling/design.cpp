@@ -32,16 +32,6 @@ std::string NearestPowersOfTwo(std::int64_t n, std::int64_t unit) {
 
 }  // namespace
 
-const char* DesignName(DesignKind kind) {
-  switch (kind) {
-    case DesignKind::kMonteCarlo: return "monte_carlo";
-    case DesignKind::kLatinHypercube: return "latin_hypercube";
-    case DesignKind::kSobol: return "sobol";
-    case DesignKind::kSaltelli: return "saltelli";
-  }
-  return "?";
-}
-
 struct Design::SobolNet {
   explicit SobolNet(int dimension) : engine(static_cast<std::size_t>(dimension)) {}
   SobolEngine engine;
@@ -60,7 +50,7 @@ Design::Design(int dimension, DesignOptions options) : dimension_(dimension), op
                                 " takes 1");
   if (kind == DesignKind::kSaltelli) {
     if (options_.saltelli_base != DesignKind::kMonteCarlo && options_.saltelli_base != DesignKind::kSobol)
-      throw std::invalid_argument(std::string("Saltelli base design ") + DesignName(options_.saltelli_base) +
+      throw std::invalid_argument(std::string("Saltelli base design ") + std::string(DesignName(options_.saltelli_base)) +
                                   ": allowed: monte_carlo, sobol");
     if (options_.groups.empty()) throw std::invalid_argument("a Saltelli design needs at least one group");
     group_of_.assign(static_cast<std::size_t>(dimension_), -1);

@@ -31,12 +31,17 @@
 #include <string>
 #include <vector>
 
+#include "engine/enum_names.h"
+
 namespace ringtol::sampling {
 
 enum class DesignKind { kMonteCarlo, kLatinHypercube, kSobol, kSaltelli };
 
-// "monte_carlo", "latin_hypercube", "sobol", "saltelli".
-const char* DesignName(DesignKind kind);
+inline constexpr NameTable<DesignKind, 4> kDesignNames = {{{DesignKind::kMonteCarlo, "monte_carlo"},
+                                                            {DesignKind::kLatinHypercube, "latin_hypercube"},
+                                                            {DesignKind::kSobol, "sobol"},
+                                                            {DesignKind::kSaltelli, "saltelli"}}};
+constexpr std::string_view DesignName(DesignKind kind) { return NameOf(kDesignNames, kind); }
 
 struct DesignOptions {
   DesignKind kind = DesignKind::kMonteCarlo;

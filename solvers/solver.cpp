@@ -8,22 +8,6 @@
 
 namespace ringtol::solvers {
 
-std::string_view StatusName(Status status) {
-  switch (status) {
-    case Status::kOk: return "ok";
-    case Status::kLiftOff: return "lift_off";
-    case Status::kNotConverged: return "not_converged";
-    case Status::kTwoPointContact: return "two_point_contact";
-    case Status::kRingNotConvex: return "ring_not_convex";
-    case Status::kRollerNotConvex: return "roller_not_convex";
-    case Status::kRollerDoesNotFit: return "roller_does_not_fit";
-    case Status::kStaticallyIndeterminate: return "statically_indeterminate";
-    case Status::kIntegrationFailed: return "integration_failed";
-    case Status::kNonFinite: return "non_finite";
-  }
-  return "unknown";
-}
-
 Status CheckSceneGeometry(const engine::Scene& scene, std::string& message) {
   const engine::GeometryCheck check = engine::CheckGeometry(scene);
   message = check.message;

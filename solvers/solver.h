@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "engine/enum_names.h"
 #include "engine/scene.h"
 
 namespace ringtol::solvers {
@@ -29,8 +30,25 @@ enum class Status {
   kNonFinite,                // the dynamic state or the linearised path turned NaN or infinite
 };
 
-// Stable lower_snake_case names used in every output file ("ok", "lift_off", ...).
-std::string_view StatusName(Status status);
+// Stable lower_snake_case names used in every output file, listed in the order of the
+// values, which are numbered 0, 1, ... (results files store the numbers).
+inline constexpr NameTable<Status, 10> kStatusNames = {{{Status::kOk, "ok"},
+                                                        {Status::kLiftOff, "lift_off"},
+                                                        {Status::kNotConverged, "not_converged"},
+                                                        {Status::kTwoPointContact, "two_point_contact"},
+                                                        {Status::kRingNotConvex, "ring_not_convex"},
+                                                        {Status::kRollerNotConvex, "roller_not_convex"},
+                                                        {Status::kRollerDoesNotFit, "roller_does_not_fit"},
+                                                        {Status::kStaticallyIndeterminate, "statically_indeterminate"},
+                                                        {Status::kIntegrationFailed, "integration_failed"},
+                                                        {Status::kNonFinite, "non_finite"}}};
+static_assert([] {
+  for (std::size_t i = 0; i < kStatusNames.size(); ++i) {
+    if (static_cast<std::size_t>(kStatusNames[i].value) != i) return false;
+  }
+  return true;
+}(), "kStatusNames lists every Status in the order of its number");
+constexpr std::string_view StatusName(Status status) { return NameOf(kStatusNames, status); }
 
 // engine::CheckGeometry as a solver status (kOk when the scene can be simulated), with
 // its reason in `message`.

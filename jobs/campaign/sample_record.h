@@ -23,6 +23,16 @@ enum class SampleStatus : std::int8_t {
   kSamplingFailed = 66,   // the sampler could not realise the assembly (message says why)
 };
 
+// The solver's statuses keep their numbers and names; the campaign's own lie above them.
+inline constexpr int kLastSolverStatus = static_cast<int>(solvers::kStatusNames.back().value);
+static_assert(static_cast<int>(SampleStatus::kOk) == static_cast<int>(solvers::Status::kOk));
+static_assert(kLastSolverStatus < static_cast<int>(SampleStatus::kException),
+              "a new solvers::Status would collide with the campaign's own statuses: renumber those");
+inline constexpr NameTable<SampleStatus, 4> kCampaignStatusNames = {{{SampleStatus::kPending, "pending"},
+                                                                     {SampleStatus::kException, "exception"},
+                                                                     {SampleStatus::kNonFiniteOutput, "non_finite_output"},
+                                                                     {SampleStatus::kSamplingFailed, "sampling_failed"}}};
+
 SampleStatus FromSolverStatus(solvers::Status status);
 // "pending", "ok", the solvers::StatusName of 1..9, "exception", "non_finite_output",
 // "sampling_failed".

@@ -39,14 +39,8 @@ void WriteAtomically(const std::filesystem::path& path, const std::string& text)
 }
 
 analysis::SobolEstimator EstimatorNamed(const std::string& name) {
-  for (const analysis::SobolEstimator e : {analysis::SobolEstimator::kSaltelliJansen, analysis::SobolEstimator::kJanon,
-                                           analysis::SobolEstimator::kMartinez}) {
-    if (name == analysis::SobolEstimatorName(e)) return e;
-  }
-  throw InputError(fmt::format("--estimator {}: unknown; allowed: {}, {}, {}", name,
-                               analysis::SobolEstimatorName(analysis::SobolEstimator::kSaltelliJansen),
-                               analysis::SobolEstimatorName(analysis::SobolEstimator::kJanon),
-                               analysis::SobolEstimatorName(analysis::SobolEstimator::kMartinez)));
+  if (const auto estimator = ValueNamed(analysis::kSobolEstimatorNames, name)) return *estimator;
+  throw InputError(fmt::format("--estimator {}: unknown; allowed: {}", name, NameList(analysis::kSobolEstimatorNames, "")));
 }
 
 }  // namespace

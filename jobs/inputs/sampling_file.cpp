@@ -252,15 +252,10 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
   // The design.
   const TableReader design = SubTable(root, "design");
   using sampling::DesignKind;
-  const std::vector<std::pair<std::string, DesignKind>> kinds{{"monte_carlo", DesignKind::kMonteCarlo},
-                                                              {"latin_hypercube", DesignKind::kLatinHypercube},
-                                                              {"sobol", DesignKind::kSobol},
-                                                              {"saltelli", DesignKind::kSaltelli}};
   auto kind_of = [&](const std::string& name, std::string_view key, bool base) {
-    for (const auto& [text, kind] : kinds) {
-      if (text == name && (!base || kind == DesignKind::kSobol || kind == DesignKind::kMonteCarlo)) return kind;
-    }
-    design.Fail(key, "unknown design", base ? "\"sobol\", \"monte_carlo\"" : "\"monte_carlo\", \"latin_hypercube\", \"sobol\", \"saltelli\"");
+    const std::optional<DesignKind> kind = ValueNamed(sampling::kDesignNames, name);
+    if (kind && (!base || kind == DesignKind::kSobol || kind == DesignKind::kMonteCarlo)) return *kind;
+    design.Fail(key, "unknown design", base ? "\"sobol\", \"monte_carlo\"" : NameList(sampling::kDesignNames));
   };
   plan.design.kind = kind_of(in.design_kind, "kind", false);
   plan.design.seed = plan.seed;
@@ -268,17 +263,9 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
   plan.design.replicates = in.replicates;
   plan.design.randomise = in.randomise;
   plan.design.saltelli_base = kind_of(in.base, "base", true);
-  bool grouping_found = false;
-  for (const auto g : {sampling::InputGrouping::kCoordinate, sampling::InputGrouping::kQuantity,
-                       sampling::InputGrouping::kComponent, sampling::InputGrouping::kSource,
-                       sampling::InputGrouping::kOrder}) {
-    if (in.groups == sampling::InputGroupingName(g)) {
-      plan.grouping = g;
-      grouping_found = true;
-    }
-  }
-  if (!grouping_found)
-    design.Fail("groups", "unknown grouping", "\"coordinate\", \"quantity\", \"component\", \"source\", \"order\"");
+  const std::optional<sampling::InputGrouping> grouping = ValueNamed(sampling::kInputGroupingNames, in.groups);
+  if (!grouping) design.Fail("groups", "unknown grouping", NameList(sampling::kInputGroupingNames));
+  plan.grouping = *grouping;
   if (plan.design.kind != DesignKind::kSobol && design.Has("replicates") && in.replicates != 1)
     design.Fail("replicates", "applies to kind = \"sobol\" only", "1 for kind = \"" + in.design_kind + "\"");
 

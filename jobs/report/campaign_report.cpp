@@ -33,10 +33,10 @@ std::optional<double> SpecOf(const CampaignIdentity& identity, std::string_view 
 // The category of one input at an aggregation level: what a designer sets one tolerance
 // class for (source), or the harmonic order it belongs to.
 std::string Category(const sampling::SampledInput& input, std::string_view level) {
-  if (level == "source") return sampling::ErrorSourceName(input.source);
+  if (level == "source") return std::string(sampling::ErrorSourceName(input.source));
   if (input.order > 0) return fmt::format("order {}", input.order);
   if (input.source == sampling::ErrorSource::kRollerShape) return "roller size";
-  return sampling::ErrorSourceName(input.source);
+  return std::string(sampling::ErrorSourceName(input.source));
 }
 
 // What the entries of a group have in common.
@@ -45,7 +45,7 @@ void Describe(SensitivityEntry& entry, const std::vector<sampling::SampledInput>
   std::set<std::string> sources;
   std::set<int> orders;
   for (const int k : members) {
-    sources.insert(sampling::ErrorSourceName(inputs[static_cast<std::size_t>(k)].source));
+    sources.emplace(sampling::ErrorSourceName(inputs[static_cast<std::size_t>(k)].source));
     orders.insert(inputs[static_cast<std::size_t>(k)].order);
   }
   entry.source = sources.size() == 1 ? *sources.begin() : "";

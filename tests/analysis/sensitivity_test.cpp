@@ -435,9 +435,9 @@ TEST(SobolIndices, InconsistentOrDegenerateInputIsRefusedWithTheReason) {
   const SobolIndices indices = EstimateSobolIndices(good);
   EXPECT_THROW(RowsForSobolPrecision(indices, 0.0), std::invalid_argument);
   EXPECT_THROW(RowsForSobolPrecision(indices, kNaN), std::invalid_argument);
-  EXPECT_STREQ(SobolEstimatorName(SobolEstimator::kSaltelliJansen), "saltelli2010-jansen");
-  EXPECT_STREQ(SobolEstimatorName(SobolEstimator::kJanon), "janon");
-  EXPECT_STREQ(SobolEstimatorName(SobolEstimator::kMartinez), "martinez");
+  EXPECT_EQ(SobolEstimatorName(SobolEstimator::kSaltelliJansen), "saltelli2010-jansen");
+  EXPECT_EQ(SobolEstimatorName(SobolEstimator::kJanon), "janon");
+  EXPECT_EQ(SobolEstimatorName(SobolEstimator::kMartinez), "martinez");
 }
 
 // ---------------------------------------------------------------------------------------
