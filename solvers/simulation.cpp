@@ -8,8 +8,31 @@
 #include <Eigen/Eigenvalues>
 
 #include "engine/sensor.h"
+#include "solvers/dynamic.h"
+#include "solvers/linear.h"
+#include "solvers/quasistatic.h"
 
 namespace ringtol::solvers {
+
+std::unique_ptr<Solver> MakeSolver(const SolverSettings& settings) {
+  switch (settings.rung) {
+    case Rung::kLinear:
+      return std::make_unique<LinearSolver>();
+    case Rung::kQuasistatic: {
+      QuasistaticOptions options;
+      if (settings.simulation.path_tolerance > 0.0) {
+        options.position_tolerance = kAngleShareOfPathTolerance * settings.simulation.path_tolerance;
+      }
+      return std::make_unique<QuasistaticSolver>(options);
+    }
+    case Rung::kDynamic: {
+      DynamicOptions options;
+      options.relative_tolerance = settings.relative_tolerance;
+      return std::make_unique<DynamicSolver>(options);
+    }
+  }
+  return std::make_unique<QuasistaticSolver>();
+}
 
 int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options) {
   if (options.steps > 0) return options.steps;

@@ -12,21 +12,43 @@
 
 namespace ringtol::solvers {
 
+// The most angles per revolution any run takes: the automatic resolution's ceiling and
+// the largest `steps` a file or the command line may ask for.
+inline constexpr int kMaxSteps = 2000000;
+
 struct SimulationOptions {
-  // Angles per revolution; 0 chooses them from the scene (ChooseSteps).
+  // Angles per revolution, 0..kMaxSteps; 0 chooses them from the scene (ChooseSteps).
   int steps = 0;
   // Automatic resolution: samples per period of the fastest undulation in the path [-].
   // The sampled enclosing circle misses a smooth path by at most |c''| dpsi^2 / 8, so 32
   // samples keep that below 0.5 % of the fastest term's amplitude.
   double samples_per_undulation = 32.0;
   int min_steps = 360;       // floor of the automatic resolution
-  int max_steps = 2000000;   // ceiling of the automatic resolution
+  int max_steps = kMaxSteps;  // ceiling of the automatic resolution
   // > 0 [m]: instead of resolving every undulation, the fewest steps whose bound on the
   // sampling error of D_trajectory (SamplingErrorBound) is at most this. Tiny fast terms
   // (a roller's high lobes pass ~60 n times per revolution at sub-micrometre amplitude)
   // then cost what they are worth; campaigns set it, single runs keep the exact rule.
   double path_tolerance = 0.0;
 };
+
+// Which solver runs a simulation and how, as a campaign file's [solver] table, the command
+// line (--solver, --steps, --relative-tolerance) and the report's replays state it; one
+// factory makes the solver from it, so the rules below hold wherever a solver is made.
+struct SolverSettings {
+  Rung rung = Rung::kQuasistatic;
+  // Angles per revolution and the sampling budget. With a budget (path_tolerance > 0) the
+  // quasistatic rung converges each angle to kAngleShareOfPathTolerance of it instead of
+  // its default 1 pm: solving far below what the sampling may miss buys nothing, and at
+  // that tolerance one Newton update per angle suffices where the rollers' lobes outrun
+  // the predictor (half the cost of a campaign's sample).
+  SimulationOptions simulation;
+  double relative_tolerance = 1e-6;  // [-] in (0, 1): the dynamic rung's integration tolerance
+};
+inline constexpr double kAngleShareOfPathTolerance = 0.01;
+
+// Never fails: every Rung has a solver.
+std::unique_ptr<Solver> MakeSolver(const SolverSettings& settings);
 
 // Steps for one revolution: options.steps if set, else enough that the fastest term of
 // the path (ring order n passes n times, roller order m passes m R/r_b times per

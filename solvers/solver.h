@@ -97,15 +97,11 @@ class Solver {
   virtual Trajectory SolveRevolution(const engine::Scene& scene, int steps) const = 0;
 };
 
-// Names accepted by MakeSolver, in ladder order.
-std::vector<std::string> SolverNames();
-
-struct DynamicOptions;  // solvers/dynamic.h
-
-// A solver with default options by name; throws std::invalid_argument for an unknown name
-// (the message lists the valid ones).
-std::unique_ptr<Solver> MakeSolver(std::string_view name);
-// The same, the dynamic rung with `dynamic` options (the other rungs have none to set).
-std::unique_ptr<Solver> MakeSolver(std::string_view name, const DynamicOptions& dynamic);
+// The rungs of the ladder, cheapest first; their names are what files and the command
+// line say (`solver.name`, `--solver`). SolverSettings (solvers/simulation.h) picks one
+// and MakeSolver makes it.
+enum class Rung { kLinear, kQuasistatic, kDynamic };
+inline constexpr NameTable<Rung, 3> kRungNames = {
+    {{Rung::kLinear, "linear"}, {Rung::kQuasistatic, "quasistatic"}, {Rung::kDynamic, "dynamic"}}};
 
 }  // namespace ringtol::solvers

@@ -10,15 +10,11 @@
 
 #include "jobs/inputs/input_error.h"
 #include "jobs/inputs/scene_writer.h"
-#include "solvers/dynamic.h"
-#include "solvers/quasistatic.h"
 #include "engine/units.h"
 
 namespace ringtol::jobs {
 namespace {
 
-// The quasistatic solver's per-angle tolerance as a share of the sampling budget.
-constexpr double kSolveShareOfPathTolerance = 0.01;
 
 CampaignPlan ReadWithOverrides(const std::filesystem::path& file, std::optional<std::int64_t> samples,
                                std::optional<std::uint64_t> seed) {
@@ -58,8 +54,6 @@ Campaign::Campaign(const CampaignIdentity& stored, std::int64_t samples)
 Campaign::Campaign(CampaignPlan plan, const std::string& source_name)
     : plan_(std::move(plan)), sampling_(MakeSampling(plan_.sampling, source_name)) {
   const std::filesystem::path& file = plan_.file;
-  simulation_.steps = plan_.solver.steps;
-  simulation_.path_tolerance = plan_.solver.path_tolerance;
 
   identity_.ringtol_version = RINGTOL_VERSION;
   identity_.catalogue_version = plan_.sampling.catalogue.version;
@@ -67,7 +61,7 @@ Campaign::Campaign(CampaignPlan plan, const std::string& source_name)
   identity_.campaign_file = plan_.sampling.text;
   identity_.base_scene = WriteScene(plan_.sampling.scene);
   identity_.design = sampling::DesignName(plan_.sampling.design.kind);
-  identity_.solver = plan_.solver.name;
+  identity_.solver = NameOf(solvers::kRungNames, plan_.solver.rung);
   identity_.seed = plan_.sampling.seed;
   identity_.inputs = sampling_.sampler.inputs();
   identity_.spec = plan_.spec;
@@ -78,16 +72,7 @@ bool Campaign::IndependentDraw(std::int64_t index) const {
   return design.options().kind != sampling::DesignKind::kSaltelli || design.Locate(index).matrix < 2;
 }
 
-std::unique_ptr<solvers::Solver> Campaign::MakeSolver() const {
-  if (plan_.solver.name == "quasistatic" && plan_.solver.path_tolerance > 0.0) {
-    solvers::QuasistaticOptions options;
-    options.position_tolerance = kSolveShareOfPathTolerance * plan_.solver.path_tolerance;
-    return std::make_unique<solvers::QuasistaticSolver>(options);
-  }
-  solvers::DynamicOptions dynamic;
-  dynamic.relative_tolerance = plan_.solver.relative_tolerance;
-  return solvers::MakeSolver(plan_.solver.name, dynamic);
-}
+std::unique_ptr<solvers::Solver> Campaign::MakeSolver() const { return solvers::MakeSolver(plan_.solver); }
 
 SampleEvaluator::SampleEvaluator(const Campaign& campaign, EvaluatorFaults faults)
     : campaign_(&campaign),

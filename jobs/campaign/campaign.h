@@ -31,15 +31,11 @@ class Campaign {
   const Sampling& sampling() const { return sampling_; }
   const CampaignIdentity& identity() const { return identity_; }
   std::int64_t samples() const { return plan_.sampling.samples; }
-  const solvers::SimulationOptions& simulation() const { return simulation_; }
+  const solvers::SimulationOptions& simulation() const { return plan_.solver.simulation; }
   // Whether sample `index` is an independent draw, usable for distributions: every sample,
   // except the AB matrices of a Saltelli design, which re-use the A and B coordinates.
   bool IndependentDraw(std::int64_t index) const;
-  // A solver of the campaign's kind and options (each thread makes its own). With a
-  // sampling budget (path_tolerance_um > 0) the quasistatic solver converges each angle
-  // to 1 % of it (10 nm at the default 1 um) instead of 1 pm: solving far below what the
-  // sampling may miss buys nothing, and at that tolerance one Newton update per angle
-  // suffices where the rollers' lobes outrun the predictor (half the cost of a sample).
+  // A solver of the campaign's settings (each thread makes its own): solvers::MakeSolver.
   std::unique_ptr<solvers::Solver> MakeSolver() const;
 
  private:
@@ -47,7 +43,6 @@ class Campaign {
 
   CampaignPlan plan_;
   Sampling sampling_;
-  solvers::SimulationOptions simulation_;
   CampaignIdentity identity_;
 };
 

@@ -12,22 +12,9 @@ namespace ringtol::jobs {
 namespace {
 
 
-struct SolverInput {
-  std::string name = "quasistatic";
-  int steps = 0;
-  double path_tolerance = 1e-6;
-  double relative_tolerance = 1e-6;
-};
-
 struct SpecInput {
   std::array<std::optional<double>, kOutputCount> upper;
 };
-
-std::string SolverChoices() {
-  std::string allowed;
-  for (const std::string& name : solvers::SolverNames()) allowed += (allowed.empty() ? "\"" : ", \"") + name + "\"";
-  return allowed;
-}
 
 }  // namespace
 
@@ -40,11 +27,16 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
   const toml::table document = ParseToml(plan.sampling.text, source);
   const TableReader root(document, "", source);
 
+  struct SolverInput {
+    solvers::Rung rung = solvers::Rung::kQuasistatic;
+    int steps = 0;
+    double path_tolerance = kCampaignPathTolerance;
+    double relative_tolerance = solvers::SolverSettings{}.relative_tolerance;
+  };
   SolverInput solver;
-  const std::string choices = SolverChoices();
   const std::vector<Field<SolverInput>> solver_fields{
-      Text("name", Presence::kOptional, choices, &SolverInput::name),
-      Integer("steps", Presence::kOptional, Between(0, 2000000), &SolverInput::steps),
+      Choice("name", Presence::kOptional, solvers::kRungNames, &SolverInput::rung),
+      Integer("steps", Presence::kOptional, Between(0, solvers::kMaxSteps), &SolverInput::steps),
       Number("path_tolerance_um", Presence::kOptional, units::kMetresPerMicrometre, AtLeast(0),
              &SolverInput::path_tolerance),
       Number("relative_tolerance", Presence::kOptional, kSameUnit, Range{0, true, 1, true},
@@ -71,12 +63,10 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
   }
   root.Read(fields, unused);
 
-  bool known = false;
-  for (const std::string& name : solvers::SolverNames()) known = known || name == solver.name;
-  if (!known) {
-    TableReader(*document.get_as<toml::table>("solver"), "solver", source).Fail("name", "unknown solver", choices);
-  }
-  plan.solver = {solver.name, solver.steps, solver.path_tolerance, solver.relative_tolerance};
+  plan.solver.rung = solver.rung;
+  plan.solver.simulation.steps = solver.steps;
+  plan.solver.simulation.path_tolerance = solver.path_tolerance;
+  plan.solver.relative_tolerance = solver.relative_tolerance;
   for (std::size_t k = 0; k < kOutputCount; ++k) {
     if (spec.upper[k]) plan.spec.push_back({kOutputNames[k], *spec.upper[k]});
   }

@@ -4,12 +4,12 @@
 //
 //   [solver]                       optional
 //     name = "quasistatic"         "linear", "quasistatic" or "dynamic"
-//     steps = 0                    integer >= 0: angles per revolution; 0 = automatic
+//     steps = 0                    0..solvers::kMaxSteps: angles per revolution; 0 = automatic
 //     path_tolerance_um = 1.0      >= 0: budget of the automatic resolution for the sampling
 //                                  error of D_trajectory (solvers/simulation.h,
 //                                  SamplingErrorBound); 0 resolves every undulation.
 //                                  The quasistatic solver then converges each angle to
-//                                  1 % of it (Campaign::MakeSolver), else to 1 pm
+//                                  1 % of it (solvers::SolverSettings), else to 1 pm
 //     relative_tolerance = 1e-6    > 0 and < 1: the dynamic solver's integration tolerance
 //   [spec]                         optional: upper specification limits (one-sided)
 //     d_trajectory_mm = 0.30       any output of jobs/campaign/sample_record.h, > 0 (mm or N)
@@ -27,20 +27,23 @@
 #include "jobs/campaign/campaign_identity.h"
 #include "jobs/campaign/sample_record.h"
 #include "jobs/inputs/sampling_file.h"
+#include "solvers/simulation.h"
 
 namespace ringtol::jobs {
 
-struct CampaignSolver {
-  std::string name = "quasistatic";
-  int steps = 0;
-  double path_tolerance = 1e-6;     // [m]
-  double relative_tolerance = 1e-6;  // [-] dynamic only
-};
+// A campaign's defaults differ from a single run's in one field: a sampling budget of
+// 1 um (path_tolerance_um), where `ringtol simulate` resolves every undulation.
+inline constexpr double kCampaignPathTolerance = 1e-6;  // [m]
+inline solvers::SolverSettings CampaignSolverDefaults() {
+  solvers::SolverSettings settings;
+  settings.simulation.path_tolerance = kCampaignPathTolerance;
+  return settings;
+}
 
 struct CampaignPlan {
   std::filesystem::path file;
   SamplingPlan sampling;
-  CampaignSolver solver;
+  solvers::SolverSettings solver = CampaignSolverDefaults();
   std::vector<SpecLimit> spec;  // in the order of kOutputNames
 };
 

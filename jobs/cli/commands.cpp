@@ -25,21 +25,14 @@
 namespace ringtol::jobs {
 namespace {
 
-// The dynamic solver takes its tolerance from the command line; the others have nothing
-// to set there.
-std::unique_ptr<solvers::Solver> SolverByName(const std::string& name, double relative_tolerance) {
-  if (!(relative_tolerance > 0.0 && relative_tolerance < 1.0)) {
-    throw InputError("--relative-tolerance " + std::to_string(relative_tolerance) + ": allowed: > 0 and < 1");
+// The command line's settings, checked where CLI11 cannot: the dynamic rung's tolerance.
+std::unique_ptr<solvers::Solver> CheckedSolver(const solvers::SolverSettings& settings) {
+  if (!(settings.relative_tolerance > 0.0 && settings.relative_tolerance < 1.0)) {
+    throw InputError("--relative-tolerance " + std::to_string(settings.relative_tolerance) +
+                     ": allowed: > 0 and < 1");
   }
-  solvers::DynamicOptions dynamic;
-  dynamic.relative_tolerance = relative_tolerance;
-  try {
-    return solvers::MakeSolver(name, dynamic);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(std::string("--solver: ") + e.what());
-  }
+  return solvers::MakeSolver(settings);
 }
-
 
 // Opens an output file up front so a bad path fails before any work is done.
 std::ofstream OpenOutput(const std::filesystem::path& file, const char* option) {
@@ -53,9 +46,8 @@ struct Timed {
   double seconds = 0.0;
 };
 
-Timed SimulateTimed(const engine::Scene& scene, const solvers::Solver& solver, int steps) {
-  solvers::SimulationOptions options;
-  options.steps = steps;
+Timed SimulateTimed(const engine::Scene& scene, const solvers::Solver& solver,
+                    const solvers::SimulationOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   Timed timed{solvers::Simulate(scene, solver, options), 0.0};
   timed.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -66,7 +58,7 @@ Timed SimulateTimed(const engine::Scene& scene, const solvers::Solver& solver, i
 
 int RunSimulate(const SimulateCommand& command, std::ostream& out) {
   const engine::Scene scene = ReadScene(command.scene);
-  const auto solver = SolverByName(command.solver, command.relative_tolerance);
+  const auto solver = CheckedSolver(command.solver);
   const auto* dynamic = dynamic_cast<const solvers::DynamicSolver*>(solver.get());
   // Every option is checked before any output file is opened (and so emptied).
   if (!command.history_csv.empty()) {
@@ -79,7 +71,7 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out) {
   if (!command.trajectory_csv.empty()) trajectory = OpenOutput(command.trajectory_csv, "--trajectory");
   std::ofstream history_file;
   if (!command.history_csv.empty()) history_file = OpenOutput(command.history_csv, "--history");
-  const Timed run = SimulateTimed(scene, *solver, command.steps);
+  const Timed run = SimulateTimed(scene, *solver, command.solver.simulation);
   nlohmann::json json = ResultJson(scene, run.result, solver->name(), run.seconds);
   if (!command.json) PrintResult(out, scene, run.result, solver->name(), run.seconds);
   if (trajectory.is_open()) WriteTrajectoryCsv(trajectory, scene, run.result);
@@ -100,12 +92,12 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out) {
 
 int RunSweep(const SweepCommand& command, std::ostream& out) {
   const Sweep sweep = ReadSweep(command.sweep);
-  const auto solver = SolverByName(command.solver, command.relative_tolerance);
+  const auto solver = CheckedSolver(command.solver);
   std::ofstream csv;
   if (!command.csv.empty()) csv = OpenOutput(command.csv, "--csv");
   std::vector<nlohmann::json> rows;
   for (const SweepCase& c : sweep.cases) {
-    const Timed run = SimulateTimed(c.scene, *solver, command.steps);
+    const Timed run = SimulateTimed(c.scene, *solver, command.solver.simulation);
     rows.push_back(ResultJson(c.scene, run.result, solver->name(), run.seconds, c.name));
   }
   if (command.json) {

@@ -11,15 +11,15 @@
 #include <string>
 #include <vector>
 
+#include "solvers/simulation.h"
+
 namespace ringtol::jobs {
 
 struct SimulateCommand {
   std::filesystem::path scene;           // scene TOML file
-  std::string solver = "quasistatic";    // a name from solvers::SolverNames()
-  int steps = 0;                         // angles per revolution; 0 = automatic
+  solvers::SolverSettings solver;        // --solver, --steps, --relative-tolerance; no sampling budget
   bool json = false;                     // one JSON object instead of text
   std::filesystem::path trajectory_csv;  // empty: no trajectory file
-  double relative_tolerance = 1e-6;      // dynamic solver only: solvers::DynamicOptions
   std::filesystem::path history_csv;     // dynamic solver only: time history over the motion law's span
   double history_interval_ms = 1.0;      // [ms] > 0, between history samples
 };
@@ -28,11 +28,9 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out);
 
 struct SweepCommand {
   std::filesystem::path sweep;          // sweep TOML file
-  std::string solver = "quasistatic";
-  int steps = 0;
+  solvers::SolverSettings solver;
   bool json = false;                    // a JSON array instead of a table
   std::filesystem::path csv;            // empty: no CSV file
-  double relative_tolerance = 1e-6;     // dynamic solver only
 };
 int RunSweep(const SweepCommand& command, std::ostream& out);
 

@@ -29,6 +29,7 @@
 
 #include <toml++/toml.h>
 
+#include "engine/enum_names.h"
 #include "engine/profile.h"
 #include "engine/scene.h"
 #include "engine/units.h"
@@ -174,6 +175,14 @@ Field<T> Choice(std::string_view key, Presence presence, std::vector<std::pair<s
             site.Fail("unknown value", allowed);
           },
           {}, {}};
+}
+
+// The same, from the enum's name table (engine/enum_names.h).
+template <typename T, typename E, std::size_t N>
+Field<T> Choice(std::string_view key, Presence presence, const NameTable<E, N>& names, E T::*member) {
+  std::vector<std::pair<std::string_view, E>> options;
+  for (const auto& [value, name] : names) options.emplace_back(name, value);
+  return Choice<T, E>(key, presence, std::move(options), member);
 }
 
 // Harmonic tables; M is std::vector<engine::Harmonic> or an optional of it.

@@ -28,35 +28,41 @@ engine::Scene EightHarmonics(engine::ContactLaw::Model law) {
   return scene;
 }
 
-void Revolution(benchmark::State& state, const char* solver_name, engine::ContactLaw::Model law) {
+std::unique_ptr<solvers::Solver> MakeSolver(solvers::Rung rung) {
+  solvers::SolverSettings settings;
+  settings.rung = rung;
+  return solvers::MakeSolver(settings);
+}
+
+void Revolution(benchmark::State& state, solvers::Rung rung, engine::ContactLaw::Model law) {
   const engine::Scene scene = EightHarmonics(law);
-  const auto solver = solvers::MakeSolver(solver_name);
+  const auto solver = MakeSolver(rung);
   for (auto _ : state) {
     solvers::Trajectory path = solver->SolveRevolution(scene, kSteps);
     benchmark::DoNotOptimize(path.centre.data());
   }
 }
-BENCHMARK_CAPTURE(Revolution, linear_rigid, "linear", engine::ContactLaw::Model::kRigid)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(Revolution, linear_penalty, "linear", engine::ContactLaw::Model::kPenalty)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(Revolution, quasistatic_rigid, "quasistatic", engine::ContactLaw::Model::kRigid)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(Revolution, quasistatic_penalty, "quasistatic", engine::ContactLaw::Model::kPenalty)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(Revolution, linear_rigid, solvers::Rung::kLinear, engine::ContactLaw::Model::kRigid)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(Revolution, linear_penalty, solvers::Rung::kLinear, engine::ContactLaw::Model::kPenalty)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(Revolution, quasistatic_rigid, solvers::Rung::kQuasistatic, engine::ContactLaw::Model::kRigid)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(Revolution, quasistatic_penalty, solvers::Rung::kQuasistatic, engine::ContactLaw::Model::kPenalty)->Unit(benchmark::kMicrosecond);
 
 // The static equilibrium alone: for the linear rung this is its linearisation of the
 // error-free assembly plus one angle, the part of a revolution that is not the path.
-void StaticEquilibrium(benchmark::State& state, const char* solver_name) {
+void StaticEquilibrium(benchmark::State& state, solvers::Rung rung) {
   const engine::Scene scene = EightHarmonics(engine::ContactLaw::Model::kPenalty);
-  const auto solver = solvers::MakeSolver(solver_name);
+  const auto solver = MakeSolver(rung);
   for (auto _ : state) {
     solvers::Equilibrium equilibrium = solver->SolveStatic(scene);
     benchmark::DoNotOptimize(equilibrium.centre.data());
   }
 }
-BENCHMARK_CAPTURE(StaticEquilibrium, linear, "linear")->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(StaticEquilibrium, quasistatic, "quasistatic")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(StaticEquilibrium, linear, solvers::Rung::kLinear)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(StaticEquilibrium, quasistatic, solvers::Rung::kQuasistatic)->Unit(benchmark::kMicrosecond);
 
-void FullSimulation(benchmark::State& state, const char* solver_name) {
+void FullSimulation(benchmark::State& state, solvers::Rung rung) {
   const engine::Scene scene = EightHarmonics(engine::ContactLaw::Model::kPenalty);
-  const auto solver = solvers::MakeSolver(solver_name);
+  const auto solver = MakeSolver(rung);
   solvers::SimulationOptions options;
   options.steps = kSteps;
   for (auto _ : state) {
@@ -64,19 +70,19 @@ void FullSimulation(benchmark::State& state, const char* solver_name) {
     benchmark::DoNotOptimize(result.d_trajectory);
   }
 }
-BENCHMARK_CAPTURE(FullSimulation, linear, "linear")->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(FullSimulation, quasistatic, "quasistatic")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(FullSimulation, linear, solvers::Rung::kLinear)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(FullSimulation, quasistatic, solvers::Rung::kQuasistatic)->Unit(benchmark::kMicrosecond);
 
 // One sample the way a campaign simulates it: a scene shaped like a draw of the default
 // campaign (tests/support/paper_scene.h), the whole Simulate with the angles chosen for a
 // 1 um sampling budget, at the solver's default 1 pm and at a campaign's 10 nm.
-void CampaignSample(benchmark::State& state, const char* solver_name, double position_tolerance) {
+void CampaignSample(benchmark::State& state, solvers::Rung rung, double position_tolerance) {
   const engine::Scene scene = testing::CampaignLikeScene();
   solvers::QuasistaticOptions quasistatic;
   quasistatic.position_tolerance = position_tolerance;
-  const std::unique_ptr<solvers::Solver> solver = std::string_view(solver_name) == "quasistatic"
+  const std::unique_ptr<solvers::Solver> solver = rung == solvers::Rung::kQuasistatic
                                                       ? std::make_unique<solvers::QuasistaticSolver>(quasistatic)
-                                                      : solvers::MakeSolver(solver_name);
+                                                      : MakeSolver(rung);
   solvers::SimulationOptions options;
   options.path_tolerance = 1e-6;
   int steps = 0;
@@ -87,9 +93,9 @@ void CampaignSample(benchmark::State& state, const char* solver_name, double pos
   }
   state.counters["steps"] = steps;
 }
-BENCHMARK_CAPTURE(CampaignSample, linear, "linear", 0.0)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(CampaignSample, quasistatic_1pm, "quasistatic", 1e-12)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(CampaignSample, quasistatic_10nm, "quasistatic", 1e-8)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(CampaignSample, linear, solvers::Rung::kLinear, 0.0)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(CampaignSample, quasistatic_1pm, solvers::Rung::kQuasistatic, 1e-12)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(CampaignSample, quasistatic_10nm, solvers::Rung::kQuasistatic, 1e-8)->Unit(benchmark::kMicrosecond);
 
 void EnclosingCircle(benchmark::State& state) {
   const engine::Scene scene = EightHarmonics(engine::ContactLaw::Model::kPenalty);

@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <numbers>
+#include <string>
 
 #include <Eigen/Geometry>
 
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
+#include "solvers/simulation.h"
 #include "tests/support/paper_scene.h"
 
 namespace ringtol {
@@ -50,9 +52,14 @@ engine::Scene RotatedScene(const engine::Scene& scene, double angle) {
   return turned;
 }
 
-class Invariance : public ::testing::TestWithParam<const char*> {
+class Invariance : public ::testing::TestWithParam<solvers::Rung> {
  protected:
-  std::unique_ptr<solvers::Solver> solver_ = solvers::MakeSolver(GetParam());
+  static std::unique_ptr<solvers::Solver> Make(solvers::Rung rung) {
+    solvers::SolverSettings settings;
+    settings.rung = rung;
+    return solvers::MakeSolver(settings);
+  }
+  std::unique_ptr<solvers::Solver> solver_ = Make(GetParam());
 };
 
 TEST_P(Invariance, RotatingTheWholeSceneRotatesThePath) {
@@ -114,7 +121,8 @@ TEST_P(Invariance, ShiftingTheRingPhaseOnlyShiftsWhereThePathStarts) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Solvers, Invariance, ::testing::Values("linear", "quasistatic"));
+INSTANTIATE_TEST_SUITE_P(Solvers, Invariance, ::testing::Values(solvers::Rung::kLinear, solvers::Rung::kQuasistatic),
+                         [](const auto& rung) { return std::string(NameOf(solvers::kRungNames, rung.param)); });
 
 }  // namespace
 }  // namespace ringtol

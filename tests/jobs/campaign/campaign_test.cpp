@@ -75,10 +75,10 @@ bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) =
 TEST(CampaignFile, ReadsSolverAndSpecBesideTheSamplingTables) {
   const TempFile file(kSmallCampaign + "[catalogue]\n");
   const CampaignPlan plan = ReadCampaignFile(file.path());
-  EXPECT_EQ(plan.solver.name, "quasistatic");
-  EXPECT_EQ(plan.solver.steps, 0);
+  EXPECT_EQ(plan.solver.rung, solvers::Rung::kQuasistatic);
+  EXPECT_EQ(plan.solver.simulation.steps, 0);
   constexpr double kDefaultPathTolerance = 1e-6;  // [m] the documented default, 1 um
-  EXPECT_EQ(plan.solver.path_tolerance, kDefaultPathTolerance);
+  EXPECT_EQ(plan.solver.simulation.path_tolerance, kDefaultPathTolerance);
   ASSERT_EQ(plan.spec.size(), 1u);
   EXPECT_EQ(plan.spec[0].output, "d_trajectory_mm");
   EXPECT_EQ(plan.spec[0].upper, 0.25);
