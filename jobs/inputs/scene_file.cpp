@@ -16,6 +16,7 @@
 
 #include "jobs/inputs/profile_csv.h"
 #include "jobs/inputs/input_error.h"
+#include "jobs/inputs/scene_keys.h"
 #include "jobs/inputs/toml_fields.h"
 #include "engine/units.h"
 
@@ -40,7 +41,7 @@ void RequireDeviationsBelowRadius(const TableReader& table, const engine::PolarP
   if (bound < profile.radius()) return;
   // A measured profile is the likelier culprit: a fit of too many orders across a gap.
   const bool measured = table.Has("measured_profile");
-  const std::string_view key = measured ? "measured_profile" : table.Has("harmonics") ? "harmonics" : "mean_deviation_mm";
+  const std::string_view key = measured ? "measured_profile" : table.Has(scene_key::kHarmonics) ? scene_key::kHarmonics : scene_key::kMeanDeviationMm;
   table.FailAbout(key,
                   fmt::format("{} (|mean_deviation_mm| + sum of amplitude_mm = {})", table.KeyPath(key),
                               ShowDerived(Millimetres(bound))),
@@ -117,14 +118,14 @@ struct RingInput {
 
 std::vector<Field<RingInput>> RingFields(const std::filesystem::path& folder) {
   return {
-      Number("inner_radius_mm", Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::inner_radius),
-      Number("outer_radius_mm", Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::outer_radius),
-      Number("thickness_mm", Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::thickness),
+      Number(scene_key::kInnerRadiusMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::inner_radius),
+      Number(scene_key::kOuterRadiusMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::outer_radius),
+      Number(scene_key::kThicknessMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::thickness),
       Number("density_kg_per_m3", Presence::kOptional, kSameUnit, Above(0.0), &RingInput::density),
-      Number("mass_kg", Presence::kOptional, kSameUnit, Above(0.0), &RingInput::mass),
-      Number("spin_inertia_kg_m2", Presence::kOptional, kSameUnit, Above(0.0), &RingInput::spin_inertia),
-      Number("mean_deviation_mm", Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RingInput::mean_deviation),
-      HarmonicList("harmonics", Presence::kOptional, &RingInput::harmonics),
+      Number(scene_key::kMassKg, Presence::kOptional, kSameUnit, Above(0.0), &RingInput::mass),
+      Number(scene_key::kSpinInertiaKgM2, Presence::kOptional, kSameUnit, Above(0.0), &RingInput::spin_inertia),
+      Number(scene_key::kMeanDeviationMm, Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RingInput::mean_deviation),
+      HarmonicList(scene_key::kHarmonics, Presence::kOptional, &RingInput::harmonics),
       Field<RingInput>{"measured_profile", Presence::kOptional, std::string(kMeasuredProfileAllowed),
                        [folder](const Site& site, RingInput& in) { in.measured = ReadMeasuredProfile(site, folder); },
                        {}, {}},
@@ -142,10 +143,10 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
     in.harmonics.insert(in.harmonics.end(), in.measured->harmonics.begin(), in.measured->harmonics.end());
   }
   if (!(in.outer_radius > in.inner_radius)) {
-    table.Fail("outer_radius_mm", "not larger than the inner radius",
+    table.Fail(scene_key::kOuterRadiusMm, "not larger than the inner radius",
                fmt::format("> {} (ring.inner_radius_mm)", ShowDerived(Millimetres(in.inner_radius))));
   }
-  table.RequireExactlyOne("density_kg_per_m3", "mass_kg", kMassAllowed);
+  table.RequireExactlyOne("density_kg_per_m3", scene_key::kMassKg, kMassAllowed);
 
   engine::Ring& ring = scene.ring;
   ring.inner = engine::PolarProfile(in.inner_radius, in.mean_deviation, in.harmonics);
@@ -156,7 +157,7 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
   const double ri2 = in.inner_radius * in.inner_radius;
   ring.mass = in.mass ? *in.mass : *in.density * std::numbers::pi * (ro2 - ri2) * in.thickness;
   ring.spin_inertia = in.spin_inertia.value_or(ring.mass * (ro2 + ri2) / 2.0);
-  RequireDeviationsBelowRadius(table, ring.inner, "inner_radius_mm");
+  RequireDeviationsBelowRadius(table, ring.inner, scene_key::kInnerRadiusMm);
 }
 
 // ---- [roller_positions]
@@ -168,9 +169,9 @@ struct ErrorSeriesInput {
 
 std::vector<Field<ErrorSeriesInput>> RollerPositionFields() {
   return {
-      Number("mean_deviation_mm", Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(),
+      Number(scene_key::kMeanDeviationMm, Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(),
              &ErrorSeriesInput::mean_deviation),
-      HarmonicList("harmonics", Presence::kOptional, &ErrorSeriesInput::harmonics),
+      HarmonicList(scene_key::kHarmonics, Presence::kOptional, &ErrorSeriesInput::harmonics),
   };
 }
 
@@ -209,36 +210,32 @@ std::vector<Field<RollerInput>> RollerFields() {
   const auto is_spring = [](const RollerInput& roller) { return roller.mount == RollerMount::kSpring; };
   // mount comes before the spring keys: whether they are allowed depends on it.
   return {
-      Text("name", Presence::kOptional, "a non-empty string, unique among the rollers", &RollerInput::name),
-      Number("angle_deg", Presence::kRequired, units::kRadiansPerDegree, AnyFinite(), &RollerInput::angle),
-      Number("radius_mm", Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RollerInput::radius),
-      Number("centre_radius_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0.0), &RollerInput::centre_radius),
-      Number("radial_offset_mm", Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RollerInput::radial_offset),
-      Number("tangential_offset_mm", Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(),
+      Text(scene_key::kName, Presence::kOptional, "a non-empty string, unique among the rollers", &RollerInput::name),
+      Number(scene_key::kAngleDeg, Presence::kRequired, units::kRadiansPerDegree, AnyFinite(), &RollerInput::angle),
+      Number(scene_key::kRadiusMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RollerInput::radius),
+      Number(scene_key::kCentreRadiusMm, Presence::kOptional, units::kMetresPerMillimetre, Above(0.0), &RollerInput::centre_radius),
+      Number(scene_key::kRadialOffsetMm, Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RollerInput::radial_offset),
+      Number(scene_key::kTangentialOffsetMm, Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(),
              &RollerInput::tangential_offset),
-      Choice<RollerInput, RollerMount>("mount", Presence::kRequired,
-                                       {{"fixed", RollerMount::kFixed}, {"spring", RollerMount::kSpring}},
-                                       &RollerInput::mount),
-      Number("spring_stiffness_N_per_m", Presence::kRequired, kSameUnit, AtLeast(0.0), &RollerInput::spring_stiffness)
+      Choice(scene_key::kMount, Presence::kRequired, kRollerMountNames, &RollerInput::mount),
+      Number(scene_key::kSpringStiffnessNPerM, Presence::kRequired, kSameUnit, AtLeast(0.0), &RollerInput::spring_stiffness)
           .When(is_spring, kSpringOnly),
-      Number("spring_preload_N", Presence::kRequired, kSameUnit, Above(0.0), &RollerInput::spring_preload)
+      Number(scene_key::kSpringPreloadN, Presence::kRequired, kSameUnit, Above(0.0), &RollerInput::spring_preload)
           .When(is_spring, kSpringOnly),
-      Number("spring_axis_deg", Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &RollerInput::spring_axis)
+      Number(scene_key::kSpringAxisDeg, Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &RollerInput::spring_axis)
           .When(is_spring, kSpringOnly),
-      Number("spring_travel_limit_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
+      Number(scene_key::kSpringTravelLimitMm, Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
              &RollerInput::spring_travel_limit)
           .When(is_spring, kSpringOnly),
-      Number("width_mm", Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RollerInput::width),
+      Number(scene_key::kWidthMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RollerInput::width),
       Number("density_kg_per_m3", Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::density),
-      Number("mass_kg", Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::mass),
-      Number("spin_inertia_kg_m2", Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::spin_inertia),
-      Choice<RollerInput, ShapePhaseReference>(
-          "shape_phase_reference", Presence::kOptional,
-          {{"radial", ShapePhaseReference::kRadial}, {"global", ShapePhaseReference::kGlobal}},
-          &RollerInput::phase_reference),
-      Number("spin_phase_deg", Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &RollerInput::spin_phase),
-      Number("mean_deviation_mm", Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RollerInput::mean_deviation),
-      HarmonicList("harmonics", Presence::kOptional, &RollerInput::harmonics),
+      Number(scene_key::kMassKg, Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::mass),
+      Number(scene_key::kSpinInertiaKgM2, Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::spin_inertia),
+      Choice(scene_key::kShapePhaseReference, Presence::kOptional, kShapePhaseReferenceNames,
+             &RollerInput::phase_reference),
+      Number(scene_key::kSpinPhaseDeg, Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &RollerInput::spin_phase),
+      Number(scene_key::kMeanDeviationMm, Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RollerInput::mean_deviation),
+      HarmonicList(scene_key::kHarmonics, Presence::kOptional, &RollerInput::harmonics),
   };
 }
 
@@ -248,13 +245,13 @@ void ReadRoller(const TableReader& table, std::size_t index, engine::Scene& scen
   table.Read(RollerFields(), in);
   const double ring_radius = scene.ring.inner.radius();
   if (!(in.radius < ring_radius)) {
-    table.Fail("radius_mm", "not smaller than the ring's inner radius",
+    table.Fail(scene_key::kRadiusMm, "not smaller than the ring's inner radius",
                fmt::format("> 0 and < {} (ring.inner_radius_mm)", ShowDerived(Millimetres(ring_radius))));
   }
-  table.RequireExactlyOne("density_kg_per_m3", "mass_kg", kMassAllowed);
+  table.RequireExactlyOne("density_kg_per_m3", scene_key::kMassKg, kMassAllowed);
   for (std::size_t other = 0; other < scene.rollers.size(); ++other) {
     if (scene.rollers[other].name != in.name) continue;
-    table.FailAbout("name", fmt::format("{} = \"{}\"", table.KeyPath("name"), in.name),
+    table.FailAbout(scene_key::kName, fmt::format("{} = \"{}\"", table.KeyPath(scene_key::kName), in.name),
                     fmt::format("the same name as rollers[{}]", other), "a name no other roller has");
   }
 
@@ -277,7 +274,7 @@ void ReadRoller(const TableReader& table, std::size_t index, engine::Scene& scen
   const double r2 = in.radius * in.radius;
   roller.mass = in.mass ? *in.mass : *in.density * std::numbers::pi * r2 * in.width;
   roller.spin_inertia = in.spin_inertia.value_or(roller.mass * r2 / 2.0);
-  RequireDeviationsBelowRadius(table, roller.outline, "radius_mm");
+  RequireDeviationsBelowRadius(table, roller.outline, scene_key::kRadiusMm);
   scene.rollers.push_back(std::move(roller));
 }
 
@@ -287,12 +284,11 @@ void ReadRoller(const TableReader& table, std::size_t index, engine::Scene& scen
 std::vector<Field<engine::ContactLaw>> ContactFields() {
   using Law = engine::ContactLaw;
   return {
-      Choice<Law, Law::Model>("law", Presence::kOptional,
-                              {{"rigid", Law::Model::kRigid}, {"penalty", Law::Model::kPenalty}}, &Law::model),
-      Number("stiffness_N_per_m_e", Presence::kOptional, kSameUnit, Above(0.0), &Law::stiffness),
-      Number("exponent", Presence::kOptional, kSameUnit, Between(1.0, 3.0), &Law::exponent),
-      Number("max_damping_N_s_per_m", Presence::kOptional, kSameUnit, AtLeast(0.0), &Law::max_damping),
-      Number("full_damping_penetration_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
+      Choice(scene_key::kLaw, Presence::kOptional, kContactModelNames, &Law::model),
+      Number(scene_key::kStiffnessNPerME, Presence::kOptional, kSameUnit, Above(0.0), &Law::stiffness),
+      Number(scene_key::kExponent, Presence::kOptional, kSameUnit, Between(1.0, 3.0), &Law::exponent),
+      Number(scene_key::kMaxDampingNSPerM, Presence::kOptional, kSameUnit, AtLeast(0.0), &Law::max_damping),
+      Number(scene_key::kFullDampingPenetrationMm, Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
              &Law::full_damping_penetration),
   };
 }
@@ -300,11 +296,11 @@ std::vector<Field<engine::ContactLaw>> ContactFields() {
 std::vector<Field<engine::Friction>> FrictionFields() {
   using engine::Friction;
   return {
-      Number("static_coefficient", Presence::kOptional, kSameUnit, AtLeast(0.0), &Friction::static_coefficient),
-      Number("dynamic_coefficient", Presence::kOptional, kSameUnit, AtLeast(0.0), &Friction::dynamic_coefficient),
-      Number("stiction_velocity_mm_per_s", Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
+      Number(scene_key::kStaticCoefficient, Presence::kOptional, kSameUnit, AtLeast(0.0), &Friction::static_coefficient),
+      Number(scene_key::kDynamicCoefficient, Presence::kOptional, kSameUnit, AtLeast(0.0), &Friction::dynamic_coefficient),
+      Number(scene_key::kStictionVelocityMmPerS, Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
              &Friction::stiction_velocity),
-      Number("transition_velocity_mm_per_s", Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
+      Number(scene_key::kTransitionVelocityMmPerS, Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
              &Friction::transition_velocity),
   };
 }
@@ -316,17 +312,15 @@ void ReadFriction(const TableReader& table, engine::Scene& scene) {
   // mu(v) falls from mu_s at v_s to mu_d at v_d: the two must be in that order.
   const std::string allowed =
       fmt::format("> stiction_velocity_mm_per_s = {}", ShowDerived(Millimetres(friction.stiction_velocity)));
-  constexpr std::string_view kTransition = "transition_velocity_mm_per_s";
+  constexpr std::string_view kTransition = scene_key::kTransitionVelocityMmPerS;
   if (table.Has(kTransition)) table.Fail(kTransition, "not above the stiction velocity", allowed);
-  table.FailAbout("stiction_velocity_mm_per_s",
+  table.FailAbout(scene_key::kStictionVelocityMmPerS,
                   fmt::format("{} = {} (default)", table.KeyPath(kTransition),
                               ShowDerived(Millimetres(friction.transition_velocity))),
                   "not above the stiction velocity", allowed);
 }
 
 // ---- [motion], [dynamics]: read by the dynamic solver only.
-
-enum class MotionKind { kArticle, kTestBench, kPiecewise };
 
 struct MotionInput {
   MotionKind law = MotionKind::kArticle;
@@ -354,17 +348,14 @@ std::vector<Field<MotionInput>> MotionFields() {
   auto is = [](MotionKind kind) { return [kind](const MotionInput& in) { return in.law == kind; }; };
   auto is_not_piecewise = [](const MotionInput& in) { return in.law != MotionKind::kPiecewise; };
   return {
-      Choice<MotionInput, MotionKind>(
-          "law", Presence::kOptional,
-          {{"article", MotionKind::kArticle}, {"test_bench", MotionKind::kTestBench}, {"piecewise", MotionKind::kPiecewise}},
-          &MotionInput::law),
-      Number("settle_s", Presence::kOptional, kSameUnit, AtLeast(0.0), &MotionInput::settle)
+      Choice(scene_key::kLaw, Presence::kOptional, kMotionKindNames, &MotionInput::law),
+      Number(scene_key::kSettleS, Presence::kOptional, kSameUnit, AtLeast(0.0), &MotionInput::settle)
           .When(is_not_piecewise, "law = \"article\" or \"test_bench\""),
-      Number("rate_deg_per_s", Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &MotionInput::rate)
+      Number(scene_key::kRateDegPerS, Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &MotionInput::rate)
           .When(is(MotionKind::kArticle), "law = \"article\""),
-      Number("revolutions", Presence::kOptional, kSameUnit, Above(0.0), &MotionInput::revolutions)
+      Number(scene_key::kRevolutions, Presence::kOptional, kSameUnit, Above(0.0), &MotionInput::revolutions)
           .When(is(MotionKind::kArticle), "law = \"article\""),
-      Field<MotionInput>{"segments", Presence::kRequired, std::string(kSegmentsAllowed),
+      Field<MotionInput>{scene_key::kSegments, Presence::kRequired, std::string(kSegmentsAllowed),
                          [](const Site& site, MotionInput& in) {
                            for (const TableReader& table : ReadTableArray(site, 1, kSegmentsAllowed)) {
                              engine::MotionSegment segment;
@@ -381,7 +372,7 @@ void ReadMotion(const TableReader& table, engine::Scene& scene) {
   MotionInput in;
   table.Read(MotionFields(), in);
   if (in.law == MotionKind::kArticle && in.rate && *in.rate == 0.0) {
-    table.Fail("rate_deg_per_s", "zero: the ring would never turn", "any non-zero number");
+    table.Fail(scene_key::kRateDegPerS, "zero: the ring would never turn", "any non-zero number");
   }
   // Each value was range-checked as it was read; what remains is a law whose durations,
   // angles or rates overflow a double (a rate of 1e-320 deg/s takes forever to turn).
@@ -399,26 +390,26 @@ void ReadMotion(const TableReader& table, engine::Scene& scene) {
         break;
     }
   } catch (const std::invalid_argument& e) {
-    table.FailAbout("law", "motion", e.what(), "durations, angles and rates that stay finite");
+    table.FailAbout(scene_key::kLaw, "motion", e.what(), "durations, angles and rates that stay finite");
   }
   const engine::MotionLaw& law = scene.motion;
   const double end = law.Duration();
   if (!std::isfinite(end) || !std::isfinite(law.Angle(end)) || !std::isfinite(law.Rate(end))) {
-    table.FailAbout("law", "motion", "the law's time, angle or rate overflows", "durations, angles and rates that stay finite");
+    table.FailAbout(scene_key::kLaw, "motion", "the law's time, angle or rate overflows", "durations, angles and rates that stay finite");
   }
 }
 
 std::vector<Field<engine::DynamicModel>> DynamicsFields() {
   using engine::DynamicModel;
   return {
-      Flag("friction", Presence::kOptional, &DynamicModel::friction),
-      Flag("rolling_without_slip", Presence::kOptional, &DynamicModel::rolling_without_slip),
-      Flag("massless_spring_rollers", Presence::kOptional, &DynamicModel::massless_spring_rollers),
+      Flag(scene_key::kFriction, Presence::kOptional, &DynamicModel::friction),
+      Flag(scene_key::kRollingWithoutSlip, Presence::kOptional, &DynamicModel::rolling_without_slip),
+      Flag(scene_key::kMasslessSpringRollers, Presence::kOptional, &DynamicModel::massless_spring_rollers),
   };
 }
 
 std::vector<Field<engine::Scene>> SensorFields() {
-  return {Number("angle_deg", Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &engine::Scene::sensor_angle)};
+  return {Number(scene_key::kAngleDeg, Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &engine::Scene::sensor_angle)};
 }
 
 std::vector<Field<engine::Scene>> SceneFields(const std::filesystem::path& folder) {
@@ -431,7 +422,7 @@ std::vector<Field<engine::Scene>> SceneFields(const std::filesystem::path& folde
       Sections<Scene>("rollers", Presence::kRequired, kMinRollers, ReadRoller),
       Section<Scene>("contact", Presence::kOptional,
                      [](const TableReader& table, Scene& scene) { table.Read(ContactFields(), scene.contact); }),
-      Section<Scene>("friction", Presence::kOptional, ReadFriction),
+      Section<Scene>(scene_key::kFriction, Presence::kOptional, ReadFriction),
       Section<Scene>("sensor", Presence::kOptional,
                      [](const TableReader& table, Scene& scene) { table.Read(SensorFields(), scene); }),
       Section<Scene>("motion", Presence::kOptional, ReadMotion),
@@ -451,7 +442,7 @@ engine::Scene SceneFromText(std::string_view toml_text, const std::string& sourc
   if (check.issue == engine::GeometryIssue::kRollerDoesNotFit) {
     const TableReader roller = root.Element("rollers", static_cast<std::size_t>(check.roller));
     // An explicit centre radius is the likelier culprit; by default the radius sets it.
-    roller.Fail(roller.Has("centre_radius_mm") ? "centre_radius_mm" : "radius_mm", check.message,
+    roller.Fail(roller.Has(scene_key::kCentreRadiusMm) ? scene_key::kCentreRadiusMm : scene_key::kRadiusMm, check.message,
                 FitRule(scene.ring.inner.radius()));
   }
   return scene;

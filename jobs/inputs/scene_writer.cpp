@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "jobs/inputs/input_error.h"
+#include "jobs/inputs/scene_keys.h"
 #include "jobs/inputs/toml_fields.h"
 #include "engine/units.h"
 
@@ -91,8 +92,8 @@ class Writer {
     fmt::format_to(std::back_inserter(text_), "{} = {}\n", key, value);
   }
   void Profile(const engine::PolarProfile& profile) {
-    Key("mean_deviation_mm", Mm(profile.mean_deviation()));
-    Key("harmonics", Harmonics(profile.harmonics()));
+    Key(scene_key::kMeanDeviationMm, Mm(profile.mean_deviation()));
+    Key(scene_key::kHarmonics, Harmonics(profile.harmonics()));
   }
   std::string Text() && { return std::move(text_); }
 
@@ -121,8 +122,8 @@ void WriteMotion(Writer& out, const MotionLaw& law) {
   const std::vector<MotionSegment>& segments = law.segments();
   const double settle = segments.size() == 4 ? segments[0].duration : 0.0;
   if (law == engine::TestBenchLaw(settle)) {
-    out.Key("law", Quoted("test_bench"));
-    out.Key("settle_s", Float(settle));
+    out.Key(scene_key::kLaw, Quoted(NameOf(kMotionKindNames, MotionKind::kTestBench)));
+    out.Key(scene_key::kSettleS, Float(settle));
     return;
   }
   if (const std::optional<ArticleForm> article = AsArticle(law)) {
@@ -138,46 +139,45 @@ void WriteMotion(Writer& out, const MotionLaw& law) {
       }
     };
     if (std::isfinite(revolutions) && revolutions > 0.0) {
-      out.Key("law", Quoted("article"));
-      out.Key("settle_s", Float(article->settle));
-      out.Key("rate_deg_per_s", Float(rate));
-      out.Key("revolutions", Float(FileValue(article->span, revolutions, span)));
+      out.Key(scene_key::kLaw, Quoted(NameOf(kMotionKindNames, MotionKind::kArticle)));
+      out.Key(scene_key::kSettleS, Float(article->settle));
+      out.Key(scene_key::kRateDegPerS, Float(rate));
+      out.Key(scene_key::kRevolutions, Float(FileValue(article->span, revolutions, span)));
       return;
     }
   }
-  out.Key("law", Quoted("piecewise"));
+  out.Key(scene_key::kLaw, Quoted(NameOf(kMotionKindNames, MotionKind::kPiecewise)));
   std::string list = "[\n";
   for (const MotionSegment& s : segments) {
     list += fmt::format("  {{ duration_s = {}, acceleration_deg_per_s2 = {}", Float(s.duration), Deg(s.acceleration));
     if (s.start_rate) list += fmt::format(", start_rate_deg_per_s = {}", Deg(*s.start_rate));
     list += " },\n";
   }
-  out.Key("segments", list + "]");
+  out.Key(scene_key::kSegments, list + "]");
 }
 
 void WriteRoller(Writer& out, const engine::Roller& roller, const engine::Ring& ring) {
   out.Table("[[rollers]]");
-  out.Key("name", Quoted(roller.name));
-  out.Key("angle_deg", Deg(roller.angle));
-  out.Key("radius_mm", Mm(roller.outline.radius()));
-  out.Key("centre_radius_mm", Mm(roller.centre_radius));
-  out.Key("radial_offset_mm", Mm(roller.radial_offset));
-  out.Key("tangential_offset_mm", Mm(roller.tangential_offset));
+  out.Key(scene_key::kName, Quoted(roller.name));
+  out.Key(scene_key::kAngleDeg, Deg(roller.angle));
+  out.Key(scene_key::kRadiusMm, Mm(roller.outline.radius()));
+  out.Key(scene_key::kCentreRadiusMm, Mm(roller.centre_radius));
+  out.Key(scene_key::kRadialOffsetMm, Mm(roller.radial_offset));
+  out.Key(scene_key::kTangentialOffsetMm, Mm(roller.tangential_offset));
   const bool spring = roller.mount == engine::RollerMount::kSpring;
-  out.Key("mount", Quoted(spring ? "spring" : "fixed"));
+  out.Key(scene_key::kMount, Quoted(NameOf(kRollerMountNames, roller.mount)));
   if (spring) {
-    out.Key("spring_stiffness_N_per_m", Float(roller.spring.stiffness));
-    out.Key("spring_preload_N", Float(roller.spring.preload));
-    out.Key("spring_axis_deg", Deg(roller.spring.axis_angle));
-    out.Key("spring_travel_limit_mm", Mm(roller.spring.travel_limit));
+    out.Key(scene_key::kSpringStiffnessNPerM, Float(roller.spring.stiffness));
+    out.Key(scene_key::kSpringPreloadN, Float(roller.spring.preload));
+    out.Key(scene_key::kSpringAxisDeg, Deg(roller.spring.axis_angle));
+    out.Key(scene_key::kSpringTravelLimitMm, Mm(roller.spring.travel_limit));
   }
   // A Scene keeps no width: the format needs one, but with mass_kg given it is unused.
-  out.Key("width_mm", Mm(ring.thickness));
-  out.Key("mass_kg", Float(roller.mass));
-  out.Key("spin_inertia_kg_m2", Float(roller.spin_inertia));
-  const bool global = roller.phase_reference == engine::ShapePhaseReference::kGlobal;
-  out.Key("shape_phase_reference", Quoted(global ? "global" : "radial"));
-  out.Key("spin_phase_deg", Deg(roller.spin_phase));
+  out.Key(scene_key::kWidthMm, Mm(ring.thickness));
+  out.Key(scene_key::kMassKg, Float(roller.mass));
+  out.Key(scene_key::kSpinInertiaKgM2, Float(roller.spin_inertia));
+  out.Key(scene_key::kShapePhaseReference, Quoted(NameOf(kShapePhaseReferenceNames, roller.phase_reference)));
+  out.Key(scene_key::kSpinPhaseDeg, Deg(roller.spin_phase));
   out.Profile(roller.outline);
 }
 
@@ -191,11 +191,11 @@ std::string WriteScene(const engine::Scene& scene) {
 
   const engine::Ring& ring = scene.ring;
   out.Table("[ring]");
-  out.Key("inner_radius_mm", Mm(ring.inner.radius()));
-  out.Key("outer_radius_mm", Mm(ring.outer_radius));
-  out.Key("thickness_mm", Mm(ring.thickness));
-  out.Key("mass_kg", Float(ring.mass));
-  out.Key("spin_inertia_kg_m2", Float(ring.spin_inertia));
+  out.Key(scene_key::kInnerRadiusMm, Mm(ring.inner.radius()));
+  out.Key(scene_key::kOuterRadiusMm, Mm(ring.outer_radius));
+  out.Key(scene_key::kThicknessMm, Mm(ring.thickness));
+  out.Key(scene_key::kMassKg, Float(ring.mass));
+  out.Key(scene_key::kSpinInertiaKgM2, Float(ring.spin_inertia));
   out.Profile(ring.inner);
 
   if (scene.roller_positions.mean_deviation() != 0.0 || !scene.roller_positions.harmonics().empty()) {
@@ -207,29 +207,29 @@ std::string WriteScene(const engine::Scene& scene) {
 
   const engine::ContactLaw& contact = scene.contact;
   out.Table("[contact]");
-  out.Key("law", Quoted(contact.model == engine::ContactLaw::Model::kRigid ? "rigid" : "penalty"));
-  out.Key("stiffness_N_per_m_e", Float(contact.stiffness));
-  out.Key("exponent", Float(contact.exponent));
-  out.Key("max_damping_N_s_per_m", Float(contact.max_damping));
-  out.Key("full_damping_penetration_mm", Mm(contact.full_damping_penetration));
+  out.Key(scene_key::kLaw, Quoted(NameOf(kContactModelNames, contact.model)));
+  out.Key(scene_key::kStiffnessNPerME, Float(contact.stiffness));
+  out.Key(scene_key::kExponent, Float(contact.exponent));
+  out.Key(scene_key::kMaxDampingNSPerM, Float(contact.max_damping));
+  out.Key(scene_key::kFullDampingPenetrationMm, Mm(contact.full_damping_penetration));
 
   const engine::Friction& friction = scene.friction;
   out.Table("[friction]");
-  out.Key("static_coefficient", Float(friction.static_coefficient));
-  out.Key("dynamic_coefficient", Float(friction.dynamic_coefficient));
-  out.Key("stiction_velocity_mm_per_s", Mm(friction.stiction_velocity));
-  out.Key("transition_velocity_mm_per_s", Mm(friction.transition_velocity));
+  out.Key(scene_key::kStaticCoefficient, Float(friction.static_coefficient));
+  out.Key(scene_key::kDynamicCoefficient, Float(friction.dynamic_coefficient));
+  out.Key(scene_key::kStictionVelocityMmPerS, Mm(friction.stiction_velocity));
+  out.Key(scene_key::kTransitionVelocityMmPerS, Mm(friction.transition_velocity));
 
   out.Table("[sensor]");
-  out.Key("angle_deg", Deg(scene.sensor_angle));
+  out.Key(scene_key::kAngleDeg, Deg(scene.sensor_angle));
 
   WriteMotion(out, scene.motion);
 
   const auto flag = [](bool value) { return value ? "true" : "false"; };
   out.Table("[dynamics]");
-  out.Key("friction", flag(scene.dynamics.friction));
-  out.Key("rolling_without_slip", flag(scene.dynamics.rolling_without_slip));
-  out.Key("massless_spring_rollers", flag(scene.dynamics.massless_spring_rollers));
+  out.Key(scene_key::kFriction, flag(scene.dynamics.friction));
+  out.Key(scene_key::kRollingWithoutSlip, flag(scene.dynamics.rolling_without_slip));
+  out.Key(scene_key::kMasslessSpringRollers, flag(scene.dynamics.massless_spring_rollers));
   return std::move(out).Text();
 }
 
