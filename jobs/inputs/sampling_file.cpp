@@ -140,6 +140,179 @@ TableReader SubTable(const TableReader& parent, std::string_view key) {
   return table ? TableReader(*table, parent.KeyPath(key), parent.file()) : parent;
 }
 
+
+// The four [tolerances.*] tables as read, before the catalogue resolves them.
+struct ToleranceInputs {
+  std::optional<RingInput> ring;
+  std::optional<RollerInput> rollers;
+  std::optional<PositionInput> positions;
+  std::optional<SpringInput> springs;
+};
+
+std::vector<Field<FileInput>> DesignFields() {
+  return {
+      Text("kind", Presence::kOptional, NameList(sampling::kDesignNames), &FileInput::design_kind),
+      Integer("samples", Presence::kOptional, Between(1, 2147483647), &FileInput::samples),
+      Integer("replicates", Presence::kOptional, Between(1, 1000000), &FileInput::replicates),
+      Flag("randomise", Presence::kOptional, &FileInput::randomise),
+      Text("base", Presence::kOptional, "\"sobol\" or \"monte_carlo\"", &FileInput::base),
+      Text("groups", Presence::kOptional, NameList(sampling::kInputGroupingNames), &FileInput::groups),
+  };
+}
+
+std::vector<Field<ToleranceInputs>> ToleranceFields() {
+  return {
+      Section<ToleranceInputs>("ring", Presence::kOptional,
+                          [](const TableReader& t, ToleranceInputs& in) {
+                            RingInput r;
+                            t.Read(With(CommonFields<RingInput>(true),
+                                        {Number("circularity_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0),
+                                                &RingInput::circularity)}),
+                                   r);
+                            in.ring = r;
+                          }),
+      Section<ToleranceInputs>(
+          "rollers", Presence::kOptional,
+          [](const TableReader& t, ToleranceInputs& in) {
+            RollerInput r;
+            t.Read(With(CommonFields<RollerInput>(true),
+                        {Text("diameter_series", Presence::kOptional, "\"9\", \"0\", \"1\", \"2\", \"3\", \"4\"",
+                              &RollerInput::series),
+                         Number("kea_um", Presence::kOptional, units::kMetresPerMicrometre, AtLeast(0), &RollerInput::kea),
+                         Number("vdsp_um", Presence::kOptional, units::kMetresPerMicrometre, AtLeast(0), &RollerInput::vdsp),
+                         Number("mean_diameter_lower_um", Presence::kOptional, units::kMetresPerMicrometre, AnyFinite(),
+                                &RollerInput::lower),
+                         Number("mean_diameter_upper_um", Presence::kOptional, units::kMetresPerMicrometre, AnyFinite(),
+                                &RollerInput::upper)}),
+                   r);
+            in.rollers = r;
+          }),
+      Section<ToleranceInputs>("roller_positions", Presence::kOptional,
+                          [](const TableReader& t, ToleranceInputs& in) {
+                            PositionInput r;
+                            t.Read(With(CommonFields<PositionInput>(false),
+                                        {Number("zone_diameter_mm", Presence::kOptional, units::kMetresPerMillimetre,
+                                                Above(0), &PositionInput::zone)}),
+                                   r);
+                            in.positions = r;
+                          }),
+      Section<ToleranceInputs>("springs", Presence::kOptional,
+                          [](const TableReader& t, ToleranceInputs& in) {
+                            SpringInput r;
+                            t.Read(With(CommonFields<SpringInput>(false),
+                                        {Number("stiffness_percent", Presence::kOptional, kPerPercent, Between(0, 100),
+                                                &SpringInput::stiffness),
+                                         Number("preload_percent", Presence::kOptional, kPerPercent,
+                                                Range{0, false, 100, true}, &SpringInput::preload)}),
+                                   r);
+                            in.springs = r;
+                          }),
+  };
+}
+
+// [design], checked against the names the sampling library knows.
+void ResolveDesign(const TableReader& root, const FileInput& in, SamplingPlan& plan) {
+  const TableReader design = SubTable(root, "design");
+  using sampling::DesignKind;
+  auto kind_of = [&](const std::string& name, std::string_view key, bool base) {
+    const std::optional<DesignKind> kind = ValueNamed(sampling::kDesignNames, name);
+    if (kind && (!base || kind == DesignKind::kSobol || kind == DesignKind::kMonteCarlo)) return *kind;
+    design.Fail(key, "unknown design", base ? "\"sobol\", \"monte_carlo\"" : NameList(sampling::kDesignNames));
+  };
+  plan.design.kind = kind_of(in.design_kind, "kind", false);
+  plan.design.seed = plan.seed;
+  plan.design.latin_samples = in.samples;
+  plan.design.replicates = in.replicates;
+  plan.design.randomise = in.randomise;
+  plan.design.saltelli_base = kind_of(in.base, "base", true);
+  const std::optional<sampling::InputGrouping> grouping = ValueNamed(sampling::kInputGroupingNames, in.groups);
+  if (!grouping) design.Fail("groups", "unknown grouping", NameList(sampling::kInputGroupingNames));
+  plan.grouping = *grouping;
+  if (plan.design.kind != DesignKind::kSobol && design.Has("replicates") && in.replicates != 1)
+    design.Fail("replicates", "applies to kind = \"sobol\" only", "1 for kind = \"" + in.design_kind + "\"");
+}
+
+// [tolerances.ring] resolved against the catalogue at the ring's diameter.
+void ResolveRing(const TableReader& t, const RingInput& in, SamplingPlan& plan) {
+  const engine::Scene& scene = plan.scene;
+  sampling::RingFormTolerance r;
+  if (ClassOrNumbers(t, in, {"circularity_mm"})) {
+    r.class_name = *in.class_name;
+    r.circularity = Lookup(t, [&] { return plan.catalogue.Ring(r.class_name, 2 * scene.ring.inner.radius()); })
+                        .circularity;
+  } else {
+    r.circularity = in.circularity;
+  }
+  r.spectrum = Spectrum(t, in, 50);
+  r.capability = in.capability();
+  plan.tolerances.ring = r;
+}
+
+// [tolerances.rollers]: one tolerance per roller, each at its own diameter.
+void ResolveRollers(const TableReader& t, const RollerInput& in, SamplingPlan& plan) {
+  const engine::Scene& scene = plan.scene;
+  const std::size_t count = scene.rollers.size();
+  const sampling::DiameterSeries series = Series(t, in.series);
+  const bool by_class = ClassOrNumbers(t, in, {"kea_um", "vdsp_um", "mean_diameter_lower_um", "mean_diameter_upper_um"});
+  if (!by_class && in.lower > in.upper)
+    t.Fail("mean_diameter_lower_um", "is above mean_diameter_upper_um", "<= mean_diameter_upper_um");
+  for (std::size_t i = 0; i < count; ++i) {
+    sampling::RollerShapeTolerance r;
+    if (by_class) {
+      const sampling::RollerTolerance row = Lookup(t, [&] {
+        return plan.catalogue.Roller(*in.class_name, 2 * scene.rollers[i].outline.radius(), series);
+      });
+      r = {*in.class_name, row.kea, row.vdsp, row.mean_diameter_lower, row.mean_diameter_upper, {}, {}};
+    } else {
+      r = {"", in.kea, in.vdsp, in.lower, in.upper, {}, {}};
+    }
+    r.form = Spectrum(t, in, 8);
+    r.capability = in.capability();
+    plan.tolerances.roller_shapes.push_back(r);
+  }
+}
+
+// [tolerances.roller_positions]: one zone per roller, on its centre circle.
+void ResolvePositions(const TableReader& t, const PositionInput& in, SamplingPlan& plan) {
+  const engine::Scene& scene = plan.scene;
+  const std::size_t count = scene.rollers.size();
+  const bool by_class = ClassOrNumbers(t, in, {"zone_diameter_mm"});
+  for (std::size_t i = 0; i < count; ++i) {
+    sampling::PositionTolerance r;
+    r.class_name = by_class ? *in.class_name : "";
+    r.zone_diameter = by_class ? Lookup(t, [&] {
+                                   return plan.catalogue.Position(r.class_name, 2 * scene.rollers[i].centre_radius);
+                                 }).zone_diameter
+                               : in.zone;
+    r.capability = in.capability();
+    plan.tolerances.roller_positions.push_back(r);
+  }
+}
+
+// [tolerances.springs]: spring rollers only; fixed ones keep an empty slot.
+void ResolveSprings(const TableReader& t, const SpringInput& in, SamplingPlan& plan) {
+  const engine::Scene& scene = plan.scene;
+  const std::size_t count = scene.rollers.size();
+  const bool by_class = ClassOrNumbers(t, in, {"stiffness_percent", "preload_percent"});
+  if (engine::SpringRollerCount(scene) == 0)
+    t.FailAbout("class", "tolerances.springs", "the scene has no spring roller", "no [tolerances.springs]");
+  for (std::size_t i = 0; i < count; ++i) {
+    if (scene.rollers[i].mount != engine::RollerMount::kSpring) {
+      plan.tolerances.springs.emplace_back();
+      continue;
+    }
+    sampling::SpringTolerance r;
+    if (by_class) {
+      const sampling::SpringClassRow row = Lookup(t, [&] { return plan.catalogue.Spring(*in.class_name); });
+      r = {*in.class_name, row.stiffness, row.preload, {}};
+    } else {
+      r = {"", in.stiffness, in.preload, {}};
+    }
+    r.capability = in.capability();
+    plan.tolerances.springs.push_back(r);
+  }
+}
+
 }  // namespace
 
 SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const std::string_view> other_tables,
@@ -152,69 +325,9 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
   plan.catalogue = ShippedCatalogue();
 
   FileInput in;
-  std::optional<RingInput> ring;
-  std::optional<RollerInput> rollers;
-  std::optional<PositionInput> positions;
-  std::optional<SpringInput> springs;
-  const std::vector<Field<FileInput>> design_fields{
-      Text("kind", Presence::kOptional, "\"monte_carlo\", \"latin_hypercube\", \"sobol\", \"saltelli\"",
-           &FileInput::design_kind),
-      Integer("samples", Presence::kOptional, Between(1, 2147483647), &FileInput::samples),
-      Integer("replicates", Presence::kOptional, Between(1, 1000000), &FileInput::replicates),
-      Flag("randomise", Presence::kOptional, &FileInput::randomise),
-      Text("base", Presence::kOptional, "\"sobol\" or \"monte_carlo\"", &FileInput::base),
-      Text("groups", Presence::kOptional, "\"coordinate\", \"quantity\", \"component\", \"source\", \"order\"",
-           &FileInput::groups),
-  };
-  struct Tolerances {};
-  Tolerances unused;
-  const std::vector<Field<Tolerances>> tolerance_fields{
-      Section<Tolerances>("ring", Presence::kOptional,
-                          [&](const TableReader& t, Tolerances&) {
-                            RingInput r;
-                            t.Read(With(CommonFields<RingInput>(true),
-                                        {Number("circularity_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0),
-                                                &RingInput::circularity)}),
-                                   r);
-                            ring = r;
-                          }),
-      Section<Tolerances>(
-          "rollers", Presence::kOptional,
-          [&](const TableReader& t, Tolerances&) {
-            RollerInput r;
-            t.Read(With(CommonFields<RollerInput>(true),
-                        {Text("diameter_series", Presence::kOptional, "\"9\", \"0\", \"1\", \"2\", \"3\", \"4\"",
-                              &RollerInput::series),
-                         Number("kea_um", Presence::kOptional, units::kMetresPerMicrometre, AtLeast(0), &RollerInput::kea),
-                         Number("vdsp_um", Presence::kOptional, units::kMetresPerMicrometre, AtLeast(0), &RollerInput::vdsp),
-                         Number("mean_diameter_lower_um", Presence::kOptional, units::kMetresPerMicrometre, AnyFinite(),
-                                &RollerInput::lower),
-                         Number("mean_diameter_upper_um", Presence::kOptional, units::kMetresPerMicrometre, AnyFinite(),
-                                &RollerInput::upper)}),
-                   r);
-            rollers = r;
-          }),
-      Section<Tolerances>("roller_positions", Presence::kOptional,
-                          [&](const TableReader& t, Tolerances&) {
-                            PositionInput r;
-                            t.Read(With(CommonFields<PositionInput>(false),
-                                        {Number("zone_diameter_mm", Presence::kOptional, units::kMetresPerMillimetre,
-                                                Above(0), &PositionInput::zone)}),
-                                   r);
-                            positions = r;
-                          }),
-      Section<Tolerances>("springs", Presence::kOptional,
-                          [&](const TableReader& t, Tolerances&) {
-                            SpringInput r;
-                            t.Read(With(CommonFields<SpringInput>(false),
-                                        {Number("stiffness_percent", Presence::kOptional, kPerPercent, Between(0, 100),
-                                                &SpringInput::stiffness),
-                                         Number("preload_percent", Presence::kOptional, kPerPercent,
-                                                Range{0, false, 100, true}, &SpringInput::preload)}),
-                                   r);
-                            springs = r;
-                          }),
-  };
+  ToleranceInputs tolerances;
+  const std::vector<Field<FileInput>> design_fields = DesignFields();
+  const std::vector<Field<ToleranceInputs>> tolerance_fields = ToleranceFields();
   std::vector<Field<FileInput>> fields{
       Text("scene", Presence::kRequired, "a scene file, relative to this file", &FileInput::scene),
       {"seed", Presence::kOptional, "an integer >= 0",
@@ -227,7 +340,7 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
       Section<FileInput>("design", Presence::kOptional,
                          [&](const TableReader& t, FileInput& f) { t.Read(design_fields, f); }),
       Section<FileInput>("tolerances", Presence::kOptional,
-                         [&](const TableReader& t, FileInput&) { t.Read(tolerance_fields, unused); }),
+                         [&](const TableReader& t, FileInput&) { t.Read(tolerance_fields, tolerances); }),
       Section<FileInput>("catalogue", Presence::kOptional,
                          [&](const TableReader& t, FileInput&) {
                            AddCatalogueClasses(t.table(), "catalogue", source, false, plan.catalogue);
@@ -249,100 +362,14 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
   plan.seed = static_cast<std::uint64_t>(in.seed);
   plan.samples = in.samples;
 
-  // The design.
-  const TableReader design = SubTable(root, "design");
-  using sampling::DesignKind;
-  auto kind_of = [&](const std::string& name, std::string_view key, bool base) {
-    const std::optional<DesignKind> kind = ValueNamed(sampling::kDesignNames, name);
-    if (kind && (!base || kind == DesignKind::kSobol || kind == DesignKind::kMonteCarlo)) return *kind;
-    design.Fail(key, "unknown design", base ? "\"sobol\", \"monte_carlo\"" : NameList(sampling::kDesignNames));
-  };
-  plan.design.kind = kind_of(in.design_kind, "kind", false);
-  plan.design.seed = plan.seed;
-  plan.design.latin_samples = in.samples;
-  plan.design.replicates = in.replicates;
-  plan.design.randomise = in.randomise;
-  plan.design.saltelli_base = kind_of(in.base, "base", true);
-  const std::optional<sampling::InputGrouping> grouping = ValueNamed(sampling::kInputGroupingNames, in.groups);
-  if (!grouping) design.Fail("groups", "unknown grouping", NameList(sampling::kInputGroupingNames));
-  plan.grouping = *grouping;
-  if (plan.design.kind != DesignKind::kSobol && design.Has("replicates") && in.replicates != 1)
-    design.Fail("replicates", "applies to kind = \"sobol\" only", "1 for kind = \"" + in.design_kind + "\"");
+  ResolveDesign(root, in, plan);
 
   // The tolerances, resolved against the catalogue at each part's diameter.
-  const engine::Scene& scene = plan.scene;
-  const std::size_t count = scene.rollers.size();
-  const TableReader tolerances = SubTable(root, "tolerances");
-  if (ring) {
-    const TableReader t = SubTable(tolerances, "ring");
-    sampling::RingFormTolerance r;
-    if (ClassOrNumbers(t, *ring, {"circularity_mm"})) {
-      r.class_name = *ring->class_name;
-      r.circularity = Lookup(t, [&] { return plan.catalogue.Ring(r.class_name, 2 * scene.ring.inner.radius()); })
-                          .circularity;
-    } else {
-      r.circularity = ring->circularity;
-    }
-    r.spectrum = Spectrum(t, *ring, 50);
-    r.capability = ring->capability();
-    plan.tolerances.ring = r;
-  }
-  if (rollers) {
-    const TableReader t = SubTable(tolerances, "rollers");
-    const sampling::DiameterSeries series = Series(t, rollers->series);
-    const bool by_class = ClassOrNumbers(t, *rollers, {"kea_um", "vdsp_um", "mean_diameter_lower_um", "mean_diameter_upper_um"});
-    if (!by_class && rollers->lower > rollers->upper)
-      t.Fail("mean_diameter_lower_um", "is above mean_diameter_upper_um", "<= mean_diameter_upper_um");
-    for (std::size_t i = 0; i < count; ++i) {
-      sampling::RollerShapeTolerance r;
-      if (by_class) {
-        const sampling::RollerTolerance row = Lookup(t, [&] {
-          return plan.catalogue.Roller(*rollers->class_name, 2 * scene.rollers[i].outline.radius(), series);
-        });
-        r = {*rollers->class_name, row.kea, row.vdsp, row.mean_diameter_lower, row.mean_diameter_upper, {}, {}};
-      } else {
-        r = {"", rollers->kea, rollers->vdsp, rollers->lower, rollers->upper, {}, {}};
-      }
-      r.form = Spectrum(t, *rollers, 8);
-      r.capability = rollers->capability();
-      plan.tolerances.roller_shapes.push_back(r);
-    }
-  }
-  if (positions) {
-    const TableReader t = SubTable(tolerances, "roller_positions");
-    const bool by_class = ClassOrNumbers(t, *positions, {"zone_diameter_mm"});
-    for (std::size_t i = 0; i < count; ++i) {
-      sampling::PositionTolerance r;
-      r.class_name = by_class ? *positions->class_name : "";
-      r.zone_diameter = by_class ? Lookup(t, [&] {
-                                     return plan.catalogue.Position(r.class_name, 2 * scene.rollers[i].centre_radius);
-                                   }).zone_diameter
-                                 : positions->zone;
-      r.capability = positions->capability();
-      plan.tolerances.roller_positions.push_back(r);
-    }
-  }
-  if (springs) {
-    const TableReader t = SubTable(tolerances, "springs");
-    const bool by_class = ClassOrNumbers(t, *springs, {"stiffness_percent", "preload_percent"});
-    if (engine::SpringRollerCount(scene) == 0)
-      t.FailAbout("class", "tolerances.springs", "the scene has no spring roller", "no [tolerances.springs]");
-    for (std::size_t i = 0; i < count; ++i) {
-      if (scene.rollers[i].mount != engine::RollerMount::kSpring) {
-        plan.tolerances.springs.emplace_back();
-        continue;
-      }
-      sampling::SpringTolerance r;
-      if (by_class) {
-        const sampling::SpringClassRow row = Lookup(t, [&] { return plan.catalogue.Spring(*springs->class_name); });
-        r = {*springs->class_name, row.stiffness, row.preload, {}};
-      } else {
-        r = {"", springs->stiffness, springs->preload, {}};
-      }
-      r.capability = springs->capability();
-      plan.tolerances.springs.push_back(r);
-    }
-  }
+  const TableReader table = SubTable(root, "tolerances");
+  if (tolerances.ring) ResolveRing(SubTable(table, "ring"), *tolerances.ring, plan);
+  if (tolerances.rollers) ResolveRollers(SubTable(table, "rollers"), *tolerances.rollers, plan);
+  if (tolerances.positions) ResolvePositions(SubTable(table, "roller_positions"), *tolerances.positions, plan);
+  if (tolerances.springs) ResolveSprings(SubTable(table, "springs"), *tolerances.springs, plan);
   return plan;
 }
 
