@@ -1,5 +1,5 @@
 // ringtol: the command line. Parsing only: one function declares each command's
-// arguments; the work is in jobs/cli/*_command.h and jobs/cli/commands.h.
+// arguments; the work is in jobs/cli/<command>_command.h.
 #include <mpi.h>
 
 #include <cstdlib>
@@ -9,11 +9,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include "jobs/cli/bench_command.h"
 #include "jobs/cli/campaign_command.h"
-#include "jobs/cli/commands.h"
+#include "jobs/cli/classes_command.h"
 #include "jobs/cli/fit_command.h"
-#include "jobs/inputs/input_error.h"
 #include "jobs/cli/report_command.h"
+#include "jobs/cli/sample_command.h"
+#include "jobs/cli/simulate_command.h"
+#include "jobs/inputs/input_error.h"
 #include "solvers/simulation.h"
 
 namespace {

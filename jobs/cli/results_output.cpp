@@ -1,11 +1,14 @@
 #include "jobs/cli/results_output.h"
-#include "engine/units.h"
+
+#include <algorithm>
+#include <numbers>
+#include <string>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
-#include <algorithm>
-#include <numbers>
+#include "engine/units.h"
+#include "jobs/inputs/input_error.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -193,6 +196,12 @@ void WriteHistoryCsv(std::ostream& out, const engine::Scene& scene, const solver
     }
     fmt::print(out, "\n");
   }
+}
+
+std::ofstream OpenOutput(const std::filesystem::path& file, const char* option) {
+  std::ofstream out(file);
+  if (!out) throw InputError(std::string(option) + " " + file.string() + ": cannot open for writing");
+  return out;
 }
 
 }  // namespace ringtol::jobs

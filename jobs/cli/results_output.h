@@ -3,6 +3,8 @@
 // with the unit in every key name.
 #pragma once
 
+#include <filesystem>
+#include <fstream>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -27,6 +29,10 @@ nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationR
 // Human-readable block for `ringtol simulate`.
 void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::SimulationResult& result,
                  std::string_view solver, double solve_seconds);
+
+// An output file opened up front, so that a bad path fails before any work is done.
+// Throws InputError naming `option` and the file.
+std::ofstream OpenOutput(const std::filesystem::path& file, const char* option);
 
 // Aligned table, one row per sweep case.
 void PrintSweepTable(std::ostream& out, const std::vector<nlohmann::json>& rows);

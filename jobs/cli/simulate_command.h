@@ -1,0 +1,35 @@
+// `ringtol simulate` and `ringtol sweep`: one scene, or every case of a sweep file, through
+// one rung of the solver ladder.
+//
+// Reads and validates every input and opens every output file before the first
+// simulation; throws InputError (jobs/inputs/input_error.h) when one is bad. Simulation
+// failures are statuses in the output, not errors.
+#pragma once
+
+#include <filesystem>
+#include <ostream>
+
+#include "solvers/simulation.h"
+
+namespace ringtol::jobs {
+
+struct SimulateCommand {
+  std::filesystem::path scene;           // scene TOML file
+  solvers::SolverSettings solver;        // --solver, --steps, --relative-tolerance; no sampling budget
+  bool json = false;                     // one JSON object instead of text
+  std::filesystem::path trajectory_csv;  // empty: no trajectory file
+  std::filesystem::path history_csv;     // dynamic solver only: time history over the motion law's span
+  double history_interval_ms = 1.0;      // [ms] > 0, between history samples
+};
+// Returns the process exit code (0).
+int RunSimulate(const SimulateCommand& command, std::ostream& out);
+
+struct SweepCommand {
+  std::filesystem::path sweep;          // sweep TOML file
+  solvers::SolverSettings solver;
+  bool json = false;                    // a JSON array instead of a table
+  std::filesystem::path csv;            // empty: no CSV file
+};
+int RunSweep(const SweepCommand& command, std::ostream& out);
+
+}  // namespace ringtol::jobs
