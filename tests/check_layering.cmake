@@ -7,6 +7,7 @@
 #     MPI for it) compiles against mpi.h.
 # Run as: cmake -DROOT=<source dir> -P check_layering.cmake
 cmake_minimum_required(VERSION 3.20)
+include(${CMAKE_CURRENT_LIST_DIR}/report_failures.cmake)
 
 # Every project header a file reaches, and every system header it reaches, through the
 # project's quoted includes (system headers are not followed).
@@ -83,8 +84,4 @@ foreach(f ${files})
   endif()
 endforeach()
 
-if(failures)
-  string(REPLACE ";" "\n" report "${failures}")
-  message(FATAL_ERROR "layering violations:\n${report}")
-endif()
-message(STATUS "layering ok")
+report_failures("layering violations" "layering ok" ${failures})

@@ -4,6 +4,7 @@
 #   - a relative link in README.md or docs/*.md whose target is not in the repository.
 # Run as: cmake -DROOT=<source dir> -P check_self_contained.cmake
 cmake_minimum_required(VERSION 3.20)
+include(${CMAKE_CURRENT_LIST_DIR}/report_failures.cmake)
 
 file(GLOB_RECURSE files RELATIVE ${ROOT} ${ROOT}/*)
 list(FILTER files EXCLUDE REGEX "^(\\.git/|build[^/]*/)")
@@ -35,8 +36,4 @@ foreach(document ${documents})
   endforeach()
 endforeach()
 
-if(failures)
-  string(REPLACE ";" "\n" report "${failures}")
-  message(FATAL_ERROR "the repository does not stand alone:\n${report}")
-endif()
-message(STATUS "self-contained")
+report_failures("the repository does not stand alone" "self-contained" ${failures})

@@ -160,53 +160,43 @@ std::vector<Field<FileInput>> DesignFields() {
   };
 }
 
+// One [tolerances.*] table: the fields every component has (class, spectrum when it has
+// one, capability) and its own, read into its slot.
+template <typename Input>
+Field<ToleranceInputs> ToleranceSection(std::string_view key, bool spectrum, std::vector<Field<Input>> own,
+                                        std::optional<Input> ToleranceInputs::*slot) {
+  return Section<ToleranceInputs>(key, Presence::kOptional,
+                                  [spectrum, own = std::move(own), slot](const TableReader& t, ToleranceInputs& in) {
+                                    Input read;
+                                    t.Read(With(CommonFields<Input>(spectrum), own), read);
+                                    in.*slot = read;
+                                  });
+}
+
 std::vector<Field<ToleranceInputs>> ToleranceFields() {
+  const double um = units::kMetresPerMicrometre;
   return {
-      Section<ToleranceInputs>("ring", Presence::kOptional,
-                          [](const TableReader& t, ToleranceInputs& in) {
-                            RingInput r;
-                            t.Read(With(CommonFields<RingInput>(true),
-                                        {Number("circularity_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0),
-                                                &RingInput::circularity)}),
-                                   r);
-                            in.ring = r;
-                          }),
-      Section<ToleranceInputs>(
-          "rollers", Presence::kOptional,
-          [](const TableReader& t, ToleranceInputs& in) {
-            RollerInput r;
-            t.Read(With(CommonFields<RollerInput>(true),
-                        {Text("diameter_series", Presence::kOptional, "\"9\", \"0\", \"1\", \"2\", \"3\", \"4\"",
-                              &RollerInput::series),
-                         Number("kea_um", Presence::kOptional, units::kMetresPerMicrometre, AtLeast(0), &RollerInput::kea),
-                         Number("vdsp_um", Presence::kOptional, units::kMetresPerMicrometre, AtLeast(0), &RollerInput::vdsp),
-                         Number("mean_diameter_lower_um", Presence::kOptional, units::kMetresPerMicrometre, AnyFinite(),
-                                &RollerInput::lower),
-                         Number("mean_diameter_upper_um", Presence::kOptional, units::kMetresPerMicrometre, AnyFinite(),
-                                &RollerInput::upper)}),
-                   r);
-            in.rollers = r;
-          }),
-      Section<ToleranceInputs>("roller_positions", Presence::kOptional,
-                          [](const TableReader& t, ToleranceInputs& in) {
-                            PositionInput r;
-                            t.Read(With(CommonFields<PositionInput>(false),
-                                        {Number("zone_diameter_mm", Presence::kOptional, units::kMetresPerMillimetre,
-                                                Above(0), &PositionInput::zone)}),
-                                   r);
-                            in.positions = r;
-                          }),
-      Section<ToleranceInputs>("springs", Presence::kOptional,
-                          [](const TableReader& t, ToleranceInputs& in) {
-                            SpringInput r;
-                            t.Read(With(CommonFields<SpringInput>(false),
-                                        {Number("stiffness_percent", Presence::kOptional, kPerPercent, Between(0, 100),
-                                                &SpringInput::stiffness),
-                                         Number("preload_percent", Presence::kOptional, kPerPercent,
-                                                Range{0, false, 100, true}, &SpringInput::preload)}),
-                                   r);
-                            in.springs = r;
-                          }),
+      ToleranceSection<RingInput>("ring", true,
+                                  {Number("circularity_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0),
+                                          &RingInput::circularity)},
+                                  &ToleranceInputs::ring),
+      ToleranceSection<RollerInput>(
+          "rollers", true,
+          {Text("diameter_series", Presence::kOptional, "\"9\", \"0\", \"1\", \"2\", \"3\", \"4\"", &RollerInput::series),
+           Number("kea_um", Presence::kOptional, um, AtLeast(0), &RollerInput::kea),
+           Number("vdsp_um", Presence::kOptional, um, AtLeast(0), &RollerInput::vdsp),
+           Number("mean_diameter_lower_um", Presence::kOptional, um, AnyFinite(), &RollerInput::lower),
+           Number("mean_diameter_upper_um", Presence::kOptional, um, AnyFinite(), &RollerInput::upper)},
+          &ToleranceInputs::rollers),
+      ToleranceSection<PositionInput>("roller_positions", false,
+                                      {Number("zone_diameter_mm", Presence::kOptional, units::kMetresPerMillimetre,
+                                              Above(0), &PositionInput::zone)},
+                                      &ToleranceInputs::positions),
+      ToleranceSection<SpringInput>(
+          "springs", false,
+          {Number("stiffness_percent", Presence::kOptional, kPerPercent, Between(0, 100), &SpringInput::stiffness),
+           Number("preload_percent", Presence::kOptional, kPerPercent, Range{0, false, 100, true}, &SpringInput::preload)},
+          &ToleranceInputs::springs),
   };
 }
 
