@@ -12,6 +12,7 @@
 #include <fmt/ostream.h>
 
 #include "jobs/inputs/input_error.h"
+#include "jobs/report/svg_chart.h"
 #include "solvers/dynamic.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
@@ -145,18 +146,6 @@ Timed Run(const engine::Scene& scene, const solvers::Solver& solver, int steps, 
   }
   timed.seconds = Median(times);
   return timed;
-}
-
-std::string Escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    if (c == '&') out += "&amp;";
-    else if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
-  }
-  return out;
 }
 
 }  // namespace
@@ -312,18 +301,18 @@ void WriteLadderSvg(std::ostream& out, const LadderResult& result) {
     const double ly = kTop + 14.0 * label++;
     fmt::print(out, R"svg(<circle cx="{}" cy="{}" r="4" fill="{}"/><text x="{}" y="{}">{}. {}{}</text>)svg" "\n",
                kLeft + plot_width + 20, ly - 4, colour(row.rung), kLeft + plot_width + 28, ly, i + 1,
-               Escape(row.method), drawable ? "" : " (failed)");
+               svg::EscapeXml(row.method), drawable ? "" : " (failed)");
     if (!drawable) continue;
     const double px = x(row.time * kMs), py = y(row.error * units::kMicrometresPerMetre);
     if (best) {
       fmt::print(out, R"svg(<circle cx="{}" cy="{}" r="10" fill="none" stroke="red" stroke-width="2"/>)svg" "\n", px, py);
     }
     fmt::print(out, R"svg(<circle cx="{}" cy="{}" r="5" fill="{}"><title>{}</title></circle><text x="{}" y="{}" font-size="10">{}</text>)svg" "\n",
-               px, py, colour(row.rung), Escape(row.method), px + 6, py - 6, i + 1);
+               px, py, colour(row.rung), svg::EscapeXml(row.method), px + 6, py - 6, i + 1);
   }
   if (result.fastest_within >= 0) {
     fmt::print(out, R"svg(<text x="{}" y="{}" fill="red">circled: fastest within 1 um: {}</text>)svg" "\n", kLeft,
-               kTop - 8, Escape(result.rows[static_cast<std::size_t>(result.fastest_within)].method));
+               kTop - 8, svg::EscapeXml(result.rows[static_cast<std::size_t>(result.fastest_within)].method));
   }
   fmt::print(out, "</svg>\n");
 }
