@@ -320,6 +320,15 @@ double ValidSize(double size, double fallback, double minimum) {
 
 // ---------------------------------------------------------------- drawing helpers
 
+// One axis's ticks inside the plot: grid lines, marks on the frame, labels (`anchor`ed).
+void AddTicks(Svg& svg, const std::string& grid, const std::string& marks, const std::string& labels,
+              std::string_view anchor) {
+  if (grid.empty()) return;
+  svg.Add("<path d=\"{}\" stroke=\"#e0e0e0\" fill=\"none\"/>\n<path d=\"{}\" stroke=\"#666\" fill=\"none\"/>\n", grid,
+          marks);
+  svg.Add("<g fill=\"#444\" font-size=\"11\" text-anchor=\"{}\">\n{}</g>\n", anchor, labels);
+}
+
 void DrawXTicks(Svg& svg, const Scale& scale, const Ticks& ticks, const Rect& r) {
   std::string grid, marks, labels;
   for (std::size_t i = 0; i < ticks.values.size(); ++i) {
@@ -330,10 +339,7 @@ void DrawXTicks(Svg& svg, const Scale& scale, const Ticks& ticks, const Rect& r)
     fmt::format_to(std::back_inserter(labels), "<text x=\"{}\" y=\"{}\">{}</text>\n", Num(x), Num(r.bottom + 18.0),
                    EscapeXml(ticks.labels[i]));
   }
-  if (grid.empty()) return;
-  svg.Add("<path d=\"{}\" stroke=\"#e0e0e0\" fill=\"none\"/>\n<path d=\"{}\" stroke=\"#666\" fill=\"none\"/>\n", grid,
-          marks);
-  svg.Add("<g fill=\"#444\" font-size=\"11\" text-anchor=\"middle\">\n{}</g>\n", labels);
+  AddTicks(svg, grid, marks, labels, "middle");
 }
 
 void DrawYTicks(Svg& svg, const Scale& scale, const Ticks& ticks, const Rect& r) {
@@ -346,10 +352,7 @@ void DrawYTicks(Svg& svg, const Scale& scale, const Ticks& ticks, const Rect& r)
     fmt::format_to(std::back_inserter(labels), "<text x=\"{}\" y=\"{}\">{}</text>\n", Num(r.left - 8.0), Num(y + 4.0),
                    EscapeXml(ticks.labels[i]));
   }
-  if (grid.empty()) return;
-  svg.Add("<path d=\"{}\" stroke=\"#e0e0e0\" fill=\"none\"/>\n<path d=\"{}\" stroke=\"#666\" fill=\"none\"/>\n", grid,
-          marks);
-  svg.Add("<g fill=\"#444\" font-size=\"11\" text-anchor=\"end\">\n{}</g>\n", labels);
+  AddTicks(svg, grid, marks, labels, "end");
 }
 
 void DrawFrame(Svg& svg, const Rect& r) {
