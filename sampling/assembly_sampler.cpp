@@ -60,6 +60,154 @@ struct AssemblySampler::Component {
   SpectrumShape shape;              // form only
 };
 
+// The construction's steps, one per kind of tolerance: each validates its tolerance and
+// appends its components with their design coordinates (and, for form spectra, their
+// calibration) to the sampler.
+class AssemblySampler::Builder {
+ public:
+  explicit Builder(AssemblySampler& sampler) : sampler_(sampler) {}
+
+  void AddRingForm(const RingFormTolerance& t) {
+    CheckTolerance(t.circularity, "ring circularity", false);
+    CheckCapability(t.capability, "ring form", true);
+    CheckSpectrumShape(t.spectrum);
+    if (t.spectrum.min_order < 2)
+      throw std::invalid_argument("ring form spectrum starts at order " + std::to_string(t.spectrum.min_order) +
+                                  "; allowed: >= 2 (order 1 is the bore's eccentricity, not form)");
+    Component c(Component::Kind::kRingForm);
+    c.inspected = t.capability.mode == ToleranceMode::kInspected;
+    c.tolerance = t.circularity;
+    c.shape = t.spectrum;
+    Calibrate(c, "ring", FormMeasure::kRoundness, t.capability);
+    AddInputs(std::move(c), ErrorSource::kRingShape, "ring", SpectrumInputs(t.spectrum), "ring");
+  }
+
+  void AddRollerShape(int index, const std::string& prefix, const RollerShapeTolerance& t) {
+    const std::string component = prefix + ".shape";
+    CheckTolerance(t.kea, component + " Kea", true);
+    CheckTolerance(t.vdsp, component + " VDsp", true);
+    if (!(t.mean_diameter_lower <= t.mean_diameter_upper) || !std::isfinite(t.mean_diameter_lower) ||
+        !std::isfinite(t.mean_diameter_upper))
+      throw std::invalid_argument(component +
+                                  " mean diameter deviation interval must be "
+                                  "finite with lower <= upper");
+    CheckCapability(t.capability, component, t.vdsp > 0.0);
+    const bool inspected = t.capability.mode == ToleranceMode::kInspected;
+    const double p = t.capability.Coverage();
+    if (t.kea > 0.0) {
+      Component c(Component::Kind::kRollerEccentricity, index);
+      c.inspected = inspected;
+      c.tolerance = t.kea;
+      c.sigma = RayleighScaleFor(t.kea / 2.0, p);
+      AddInputs(std::move(c), ErrorSource::kRollerShape, component, {{"amplitude_um", 1}, {"phase_deg", 1}},
+                prefix + ".order1");
+    }
+    if (t.vdsp > 0.0) {
+      CheckSpectrumShape(t.form);
+      if (t.form.min_order < 2)
+        throw std::invalid_argument(component + " form spectrum starts at order " + std::to_string(t.form.min_order) +
+                                    "; allowed: >= 2 (order 1 is the eccentricity Kea sets)");
+      Component c(Component::Kind::kRollerForm, index);
+      c.inspected = inspected;
+      c.tolerance = t.vdsp;
+      c.shape = t.form;
+      Calibrate(c, component, FormMeasure::kTwoPointVariation, t.capability);
+      AddInputs(std::move(c), ErrorSource::kRollerShape, component, SpectrumInputs(t.form), prefix);
+    }
+    if (t.mean_diameter_upper > t.mean_diameter_lower) {
+      Component c(Component::Kind::kRollerSize, index);
+      c.inspected = inspected;
+      c.lower = t.mean_diameter_lower;
+      c.upper = t.mean_diameter_upper;
+      c.mean = 0.5 * (c.lower + c.upper);
+      c.sigma = (c.upper - c.lower) / (6.0 * t.capability.cp);
+      AddInputs(std::move(c), ErrorSource::kRollerShape, component, {{"mean_diameter_deviation_um", 0}},
+                prefix + ".size");
+    }
+  }
+
+  void AddRollerPosition(int index, const std::string& prefix, const PositionTolerance& t) {
+    const std::string component = prefix + ".position";
+    CheckTolerance(t.zone_diameter, component + " zone diameter", false);
+    CheckCapability(t.capability, component, false);
+    Component c(Component::Kind::kPosition, index);
+    c.inspected = t.capability.mode == ToleranceMode::kInspected;
+    c.tolerance = t.zone_diameter / 2.0;
+    c.sigma = RayleighScaleFor(c.tolerance, t.capability.Coverage());
+    AddInputs(std::move(c), ErrorSource::kRollerPosition, component, {{"offset_um", 0}, {"direction_deg", 0}},
+              component);
+  }
+
+  void AddSpring(int index, const engine::Roller& roller, const std::string& prefix, const SpringTolerance& t) {
+    const std::string component = prefix + ".spring";
+    if (roller.mount != engine::RollerMount::kSpring)
+      throw std::invalid_argument(component + ": roller '" + roller.name +
+                                  "' is fixed; spring tolerances apply to spring rollers only");
+    CheckTolerance(t.stiffness, component + " stiffness tolerance", true);
+    CheckTolerance(t.preload, component + " preload tolerance", true);
+    if (t.preload >= 1.0) throw std::invalid_argument(component + " preload tolerance must be below 100 %");
+    CheckCapability(t.capability, component, false);
+    const bool inspected = t.capability.mode == ToleranceMode::kInspected;
+    for (const auto& [kind, tolerance, name] :
+         {std::tuple{Component::Kind::kStiffness, t.stiffness, "stiffness_deviation_percent"},
+          std::tuple{Component::Kind::kPreload, t.preload, "preload_deviation_percent"}}) {
+      if (tolerance == 0.0) continue;
+      Component c(kind, index);
+      c.inspected = inspected;
+      c.tolerance = tolerance;
+      c.sigma = tolerance / (3.0 * t.capability.cp);
+      AddInputs(std::move(c), ErrorSource::kSpring, component, {{name, 0}}, component);
+    }
+  }
+
+ private:
+  using NamesAndOrders = std::vector<std::pair<std::string, int>>;
+
+  static NamesAndOrders SpectrumInputs(const SpectrumShape& shape) {
+    NamesAndOrders list;
+    for (int n = shape.min_order; n <= shape.max_order; ++n) {
+      list.emplace_back("amplitude_um", n);
+      list.emplace_back("phase_deg", n);
+    }
+    return list;
+  }
+
+  void AddInputs(Component c, ErrorSource source, const std::string& component, const NamesAndOrders& names_and_orders,
+                 const std::string& quantity_prefix) {
+    std::vector<SampledInput>& inputs = sampler_.inputs_;
+    c.first = static_cast<int>(inputs.size());
+    c.count = static_cast<int>(names_and_orders.size());
+    for (const auto& [name, order] : names_and_orders) {
+      std::string quantity = quantity_prefix;
+      if (order > 0 && c.kind != Component::Kind::kRollerEccentricity) quantity += ".order" + std::to_string(order);
+      inputs.push_back({quantity + "." + name, source, c.roller, order, quantity, component});
+    }
+    sampler_.components_.push_back(std::move(c));
+  }
+
+  void Calibrate(Component& c, const std::string& component, FormMeasure measure, const Capability& cap) {
+    std::vector<ComponentScale>& scales = sampler_.scales_;
+    const double p = cap.Coverage();
+    ComponentScale scale{component, measure, c.tolerance, p, {}};
+    for (std::size_t k = 0; k < scales.size(); ++k) {
+      const ComponentScale& done = scales[k];
+      if (done.measure == measure && done.tolerance == c.tolerance && done.coverage == p &&
+          calibrated_shapes_[k] == c.shape)
+        scale.calibration = done.calibration;
+    }
+    if (scale.calibration.draws == 0)
+      scale.calibration = CalibrateSpectrum(c.shape, measure, c.tolerance, p, sampler_.options_.calibration);
+    c.sigma = scale.calibration.scale;
+    scales.push_back(std::move(scale));
+    calibrated_shapes_.push_back(c.shape);
+  }
+
+  AssemblySampler& sampler_;
+  // Per scale, the shape it was calibrated for. Rollers of one class share a calibration:
+  // it depends only on what is compared here.
+  std::vector<SpectrumShape> calibrated_shapes_;
+};
+
 AssemblySampler::AssemblySampler(engine::Scene base, AssemblyTolerances tolerances, AssemblySamplerOptions options)
     : base_(std::move(base)), tolerances_(std::move(tolerances)), options_(std::move(options)) {
   const std::size_t rollers = base_.rollers.size();
@@ -72,145 +220,19 @@ AssemblySampler::AssemblySampler(engine::Scene base, AssemblyTolerances toleranc
   check_size(tolerances_.roller_positions.size(), "roller position tolerances");
   check_size(tolerances_.springs.size(), "spring tolerances");
 
-  std::vector<Component> components;
-  auto add_inputs = [&](Component c, ErrorSource source, const std::string& component,
-                        const std::vector<std::pair<std::string, int>>& names_and_orders,
-                        const std::string& quantity_prefix) {
-    c.first = static_cast<int>(inputs_.size());
-    c.count = static_cast<int>(names_and_orders.size());
-    for (const auto& [name, order] : names_and_orders) {
-      std::string quantity = quantity_prefix;
-      if (order > 0 && c.kind != Component::Kind::kRollerEccentricity) quantity += ".order" + std::to_string(order);
-      inputs_.push_back({quantity + "." + name, source, c.roller, order, quantity, component});
-    }
-    components.push_back(std::move(c));
-  };
-  auto spectrum_inputs = [](const SpectrumShape& shape) {
-    std::vector<std::pair<std::string, int>> list;
-    for (int n = shape.min_order; n <= shape.max_order; ++n) {
-      list.emplace_back("amplitude_um", n);
-      list.emplace_back("phase_deg", n);
-    }
-    return list;
-  };
-  // Rollers of one class share a calibration: it depends only on what is compared here.
-  std::vector<SpectrumShape> calibrated_shapes;
-  auto calibrate = [&](Component& c, const std::string& component, FormMeasure measure, const Capability& cap) {
-    const double p = cap.Coverage();
-    ComponentScale scale{component, measure, c.tolerance, p, {}};
-    for (std::size_t k = 0; k < scales_.size(); ++k) {
-      const ComponentScale& done = scales_[k];
-      if (done.measure == measure && done.tolerance == c.tolerance && done.coverage == p &&
-          calibrated_shapes[k] == c.shape)
-        scale.calibration = done.calibration;
-    }
-    if (scale.calibration.draws == 0)
-      scale.calibration = CalibrateSpectrum(c.shape, measure, c.tolerance, p, options_.calibration);
-    c.sigma = scale.calibration.scale;
-    scales_.push_back(std::move(scale));
-    calibrated_shapes.push_back(c.shape);
-  };
-
-  if (tolerances_.ring) {
-    const RingFormTolerance& t = *tolerances_.ring;
-    CheckTolerance(t.circularity, "ring circularity", false);
-    CheckCapability(t.capability, "ring form", true);
-    CheckSpectrumShape(t.spectrum);
-    if (t.spectrum.min_order < 2)
-      throw std::invalid_argument("ring form spectrum starts at order " + std::to_string(t.spectrum.min_order) +
-                                  "; allowed: >= 2 (order 1 is the bore's eccentricity, not form)");
-    Component c(Component::Kind::kRingForm);
-    c.inspected = t.capability.mode == ToleranceMode::kInspected;
-    c.tolerance = t.circularity;
-    c.shape = t.spectrum;
-    calibrate(c, "ring", FormMeasure::kRoundness, t.capability);
-    add_inputs(std::move(c), ErrorSource::kRingShape, "ring", spectrum_inputs(t.spectrum), "ring");
-  }
-
+  Builder builder(*this);
+  if (tolerances_.ring) builder.AddRingForm(*tolerances_.ring);
   for (std::size_t i = 0; i < rollers; ++i) {
     const engine::Roller& roller = base_.rollers[i];
     const std::string prefix = "roller." + roller.name;
     const int index = static_cast<int>(i);
-    if (i < tolerances_.roller_shapes.size() && tolerances_.roller_shapes[i]) {
-      const RollerShapeTolerance& t = *tolerances_.roller_shapes[i];
-      const std::string component = prefix + ".shape";
-      CheckTolerance(t.kea, component + " Kea", true);
-      CheckTolerance(t.vdsp, component + " VDsp", true);
-      if (!(t.mean_diameter_lower <= t.mean_diameter_upper) || !std::isfinite(t.mean_diameter_lower) ||
-          !std::isfinite(t.mean_diameter_upper))
-        throw std::invalid_argument(component +
-                                    " mean diameter deviation interval must be "
-                                    "finite with lower <= upper");
-      CheckCapability(t.capability, component, t.vdsp > 0.0);
-      const bool inspected = t.capability.mode == ToleranceMode::kInspected;
-      const double p = t.capability.Coverage();
-      if (t.kea > 0.0) {
-        Component c(Component::Kind::kRollerEccentricity, index);
-        c.inspected = inspected;
-        c.tolerance = t.kea;
-        c.sigma = RayleighScaleFor(t.kea / 2.0, p);
-        add_inputs(std::move(c), ErrorSource::kRollerShape, component, {{"amplitude_um", 1}, {"phase_deg", 1}},
-                   prefix + ".order1");
-      }
-      if (t.vdsp > 0.0) {
-        CheckSpectrumShape(t.form);
-        if (t.form.min_order < 2)
-          throw std::invalid_argument(component + " form spectrum starts at order " + std::to_string(t.form.min_order) +
-                                      "; allowed: >= 2 (order 1 is the eccentricity Kea sets)");
-        Component c(Component::Kind::kRollerForm, index);
-        c.inspected = inspected;
-        c.tolerance = t.vdsp;
-        c.shape = t.form;
-        calibrate(c, component, FormMeasure::kTwoPointVariation, t.capability);
-        add_inputs(std::move(c), ErrorSource::kRollerShape, component, spectrum_inputs(t.form), prefix);
-      }
-      if (t.mean_diameter_upper > t.mean_diameter_lower) {
-        Component c(Component::Kind::kRollerSize, index);
-        c.inspected = inspected;
-        c.lower = t.mean_diameter_lower;
-        c.upper = t.mean_diameter_upper;
-        c.mean = 0.5 * (c.lower + c.upper);
-        c.sigma = (c.upper - c.lower) / (6.0 * t.capability.cp);
-        add_inputs(std::move(c), ErrorSource::kRollerShape, component, {{"mean_diameter_deviation_um", 0}},
-                   prefix + ".size");
-      }
-    }
-    if (i < tolerances_.roller_positions.size() && tolerances_.roller_positions[i]) {
-      const PositionTolerance& t = *tolerances_.roller_positions[i];
-      const std::string component = prefix + ".position";
-      CheckTolerance(t.zone_diameter, component + " zone diameter", false);
-      CheckCapability(t.capability, component, false);
-      Component c(Component::Kind::kPosition, index);
-      c.inspected = t.capability.mode == ToleranceMode::kInspected;
-      c.tolerance = t.zone_diameter / 2.0;
-      c.sigma = RayleighScaleFor(c.tolerance, t.capability.Coverage());
-      add_inputs(std::move(c), ErrorSource::kRollerPosition, component, {{"offset_um", 0}, {"direction_deg", 0}},
-                 component);
-    }
-    if (i < tolerances_.springs.size() && tolerances_.springs[i]) {
-      const SpringTolerance& t = *tolerances_.springs[i];
-      const std::string component = prefix + ".spring";
-      if (roller.mount != engine::RollerMount::kSpring)
-        throw std::invalid_argument(component + ": roller '" + roller.name +
-                                    "' is fixed; spring tolerances apply to spring rollers only");
-      CheckTolerance(t.stiffness, component + " stiffness tolerance", true);
-      CheckTolerance(t.preload, component + " preload tolerance", true);
-      if (t.preload >= 1.0) throw std::invalid_argument(component + " preload tolerance must be below 100 %");
-      CheckCapability(t.capability, component, false);
-      const bool inspected = t.capability.mode == ToleranceMode::kInspected;
-      for (const auto& [kind, tolerance, name] :
-           {std::tuple{Component::Kind::kStiffness, t.stiffness, "stiffness_deviation_percent"},
-            std::tuple{Component::Kind::kPreload, t.preload, "preload_deviation_percent"}}) {
-        if (tolerance == 0.0) continue;
-        Component c(kind, index);
-        c.inspected = inspected;
-        c.tolerance = tolerance;
-        c.sigma = tolerance / (3.0 * t.capability.cp);
-        add_inputs(std::move(c), ErrorSource::kSpring, component, {{name, 0}}, component);
-      }
-    }
+    if (i < tolerances_.roller_shapes.size() && tolerances_.roller_shapes[i])
+      builder.AddRollerShape(index, prefix, *tolerances_.roller_shapes[i]);
+    if (i < tolerances_.roller_positions.size() && tolerances_.roller_positions[i])
+      builder.AddRollerPosition(index, prefix, *tolerances_.roller_positions[i]);
+    if (i < tolerances_.springs.size() && tolerances_.springs[i])
+      builder.AddSpring(index, roller, prefix, *tolerances_.springs[i]);
   }
-  components_ = std::move(components);
 }
 
 AssemblySampler::~AssemblySampler() = default;

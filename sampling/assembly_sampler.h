@@ -177,6 +177,7 @@ class AssemblySampler {
 
  private:
   struct Component;
+  class Builder;
   engine::Scene base_;
   AssemblyTolerances tolerances_;
   AssemblySamplerOptions options_;

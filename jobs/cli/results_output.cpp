@@ -70,6 +70,23 @@ nlohmann::json SteadyDiameter(const nlohmann::json& row) {
   return row.contains("steady") ? row["steady"]["d_trajectory_mm"] : nlohmann::json();
 }
 
+// The lines the first and the steady revolution share: status, then the reason it failed or
+// its distances; false if it failed. Names fill one column of 18 characters, so that the
+// steady revolution's, `indent`ed, line up under the first's.
+bool PrintStatusAndDistances(std::ostream& out, std::string_view status, std::string_view indent,
+                             const solvers::SimulationResult& result) {
+  constexpr std::size_t kColumn = 18;
+  const std::size_t width = kColumn - indent.size();
+  fmt::print(out, "{:<{}}{}\n", status, kColumn, solvers::StatusName(result.status));
+  if (result.status != solvers::Status::kOk) {
+    fmt::print(out, "{}{:<{}}{}\n", indent, "reason", width, result.message);
+    return false;
+  }
+  fmt::print(out, "{}{:<{}}{:.4f} mm\n", indent, "D_trajectory", width, result.d_trajectory * units::kMillimetresPerMetre);
+  fmt::print(out, "{}{:<{}}{:.4f} mm\n", indent, "Dist_init", width, result.dist_init * units::kMillimetresPerMetre);
+  return true;
+}
+
 }  // namespace
 
 nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationResult& result,
@@ -91,13 +108,7 @@ nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationR
 void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::SimulationResult& result,
                  std::string_view solver, double solve_seconds) {
   fmt::print(out, "solver            {} ({} steps, {:.3f} ms)\n", solver, result.steps, solve_seconds * 1e3);
-  fmt::print(out, "status            {}\n", solvers::StatusName(result.status));
-  if (result.status != solvers::Status::kOk) {
-    fmt::print(out, "reason            {}\n", result.message);
-    return;
-  }
-  fmt::print(out, "D_trajectory      {:.4f} mm\n", result.d_trajectory * units::kMillimetresPerMetre);
-  fmt::print(out, "Dist_init         {:.4f} mm\n", result.dist_init * units::kMillimetresPerMetre);
+  if (!PrintStatusAndDistances(out, "status", "", result)) return;
   fmt::print(out, "static offset     {:.4f} mm\n", result.static_offset * units::kMillimetresPerMetre);
   fmt::print(out, "runout            {:.4f} mm peak to nearest valley, {:.4f} mm total (sensor at {:g} deg)\n",
              result.runout * units::kMillimetresPerMetre, result.runout_total * units::kMillimetresPerMetre, scene.sensor_angle * units::kDegreesPerRadian);
@@ -107,13 +118,7 @@ void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::S
   }
   if (!result.steady) return;
   const solvers::SimulationResult& steady = *result.steady;
-  fmt::print(out, "steady revolution {}\n", solvers::StatusName(steady.status));
-  if (steady.status != solvers::Status::kOk) {
-    fmt::print(out, "  reason          {}\n", steady.message);
-    return;
-  }
-  fmt::print(out, "  D_trajectory    {:.4f} mm\n", steady.d_trajectory * units::kMillimetresPerMetre);
-  fmt::print(out, "  Dist_init       {:.4f} mm\n", steady.dist_init * units::kMillimetresPerMetre);
+  if (!PrintStatusAndDistances(out, "steady revolution", "  ", steady)) return;
   fmt::print(out, "  runout          {:.4f} mm peak to nearest valley, {:.4f} mm total\n", steady.runout * units::kMillimetresPerMetre,
              steady.runout_total * units::kMillimetresPerMetre);
   fmt::print(out, "  min contact     {:.3f} N\n", steady.min_contact_force);

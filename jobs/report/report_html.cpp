@@ -286,7 +286,8 @@ void SensitivityTable(std::string& html, const SensitivityLevel& level, bool sob
   }
 }
 
-void SensitivitySection(std::string& html, const CampaignReport& report, const OutputSensitivity& s) {
+// What the indices are, how they were estimated, and what may bias them.
+void SensitivityIntro(std::string& html, const CampaignReport& report, const OutputSensitivity& s) {
   const bool sobol = s.method == "sobol";
   html += "<h2 id=\"sensitivity\">Which tolerance to tighten first</h2>\n";
   if (sobol) {
@@ -336,71 +337,76 @@ void SensitivitySection(std::string& html, const CampaignReport& report, const O
         "source a little.</p>\n",
         report.redrawn, report.used);
   }
+}
 
-  // Contributors: by source when the design allows, with what to tighten first.
-  if (const SensitivityLevel* by_source = FindLevel(s, "source")) {
-    html += "<h3>Contributors by error source</h3>\n";
-    if (!by_source->entries.empty()) {
-      const SensitivityEntry& top = by_source->entries.front();
-      html += fmt::format("<p class=\"answer\">Tighten <b>{}</b> first: it carries {} of the variance{}.</p>\n",
-                          EscapeXml(SourceLabel(top.name)),
-                          top.total_order ? fmt::format("ST = {}", Index(*top.total_order))
-                                          : fmt::format("a share of {:.3f} in the linear fit (sum of SRC&#178;) "
-                                                        "and {:.3f} in the rank fit (sum of SRRC&#178;)",
-                                                        top.src, top.srrc),
-                          sobol && by_source->aggregation == Aggregation::kBounds ? " (a sum over its parts)" : "");
-    }
-    std::vector<std::string> categories;
-    std::vector<const SensitivityEntry*> entries;
-    for (const SensitivityEntry& e : by_source->entries) {
-      categories.push_back(SourceLabel(e.name));
-      entries.push_back(&e);
-    }
-    html += Figure(SensitivitySvg(*by_source, "Sensitivity by error source", sobol, {}, "", categories, entries),
-                   !sobol ? "Shares of the variance the source's inputs explain in the linear and the rank fit."
-                   : by_source->aggregation == Aggregation::kExact
-                       ? "Each source frozen as one group by the design."
-                       : "Sums over the design's smaller groups: the S1 sum is at most the source's S1, the ST sum "
-                         "at least its ST; ± adds the parts' half-widths in quadrature.");
-    SensitivityTable(html, *by_source, sobol, 12);
+// Contributors: by source when the design allows, with what to tighten first.
+void ContributorsBySource(std::string& html, const SensitivityLevel& by_source, bool sobol) {
+  html += "<h3>Contributors by error source</h3>\n";
+  if (!by_source.entries.empty()) {
+    const SensitivityEntry& top = by_source.entries.front();
+    html += fmt::format("<p class=\"answer\">Tighten <b>{}</b> first: it carries {} of the variance{}.</p>\n",
+                        EscapeXml(SourceLabel(top.name)),
+                        top.total_order ? fmt::format("ST = {}", Index(*top.total_order))
+                                        : fmt::format("a share of {:.3f} in the linear fit (sum of SRC&#178;) "
+                                                      "and {:.3f} in the rank fit (sum of SRRC&#178;)",
+                                                      top.src, top.srrc),
+                        sobol && by_source.aggregation == Aggregation::kBounds ? " (a sum over its parts)" : "");
   }
-
-  // By harmonic order, against the roller count.
-  if (const SensitivityLevel* by_order = FindLevel(s, "order")) {
-    std::vector<const SensitivityEntry*> orders;
-    for (const SensitivityEntry& e : by_order->entries) {
-      if (e.order > 0) orders.push_back(&e);
-    }
-    std::sort(orders.begin(), orders.end(),
-              [](const SensitivityEntry* a, const SensitivityEntry* b) { return a->order < b->order; });
-    if (!orders.empty()) {
-      html += "<h3>Sensitivity by harmonic order</h3>\n";
-      std::vector<std::string> categories;
-      std::vector<bool> highlighted;
-      for (const SensitivityEntry* e : orders) {
-        categories.push_back(fmt::format("order {}", e->order));
-        highlighted.push_back(report.rollers > 0 && e->order % report.rollers == 0);
-      }
-      html += Figure(
-          SensitivitySvg(*by_order, "Sensitivity by harmonic order (ring and rollers together)", sobol, highlighted,
-                         fmt::format("multiple of the roller count Z = {}", report.rollers), categories, orders),
-          fmt::format("Highlighted: orders that are multiples of Z = {}. With Z rollers equally spaced, a ring "
-                      "harmonic whose order is a multiple of Z reaches every roller in the same phase: it swells "
-                      "and shrinks the ring at all contacts at once and pushes the centre along the spring axis, "
-                      "where other orders only make it circle.",
-                      report.rollers));
-      std::vector<const SensitivityEntry*> ranked = orders;
-      std::stable_sort(ranked.begin(), ranked.end(),
-                       [](const SensitivityEntry* a, const SensitivityEntry* b) { return a->ranking > b->ranking; });
-      std::string top;
-      for (std::size_t k = 0; k < std::min<std::size_t>(5, ranked.size()); ++k) {
-        top += fmt::format("{}{}{}", k == 0 ? "" : ", ", ranked[k]->order,
-                           report.rollers > 0 && ranked[k]->order % report.rollers == 0 ? " (multiple of Z)" : "");
-      }
-      html += fmt::format("<p>Dominant orders, largest first: {}.</p>\n", top);
-    }
+  std::vector<std::string> categories;
+  std::vector<const SensitivityEntry*> entries;
+  for (const SensitivityEntry& e : by_source.entries) {
+    categories.push_back(SourceLabel(e.name));
+    entries.push_back(&e);
   }
+  html += Figure(SensitivitySvg(by_source, "Sensitivity by error source", sobol, {}, "", categories, entries),
+                 !sobol ? "Shares of the variance the source's inputs explain in the linear and the rank fit."
+                 : by_source.aggregation == Aggregation::kExact
+                     ? "Each source frozen as one group by the design."
+                     : "Sums over the design's smaller groups: the S1 sum is at most the source's S1, the ST sum "
+                       "at least its ST; ± adds the parts' half-widths in quadrature.");
+  SensitivityTable(html, by_source, sobol, 12);
+}
 
+// By harmonic order, against the roller count.
+void SensitivityByOrder(std::string& html, const CampaignReport& report, const SensitivityLevel& by_order, bool sobol) {
+  std::vector<const SensitivityEntry*> orders;
+  for (const SensitivityEntry& e : by_order.entries) {
+    if (e.order > 0) orders.push_back(&e);
+  }
+  std::sort(orders.begin(), orders.end(),
+            [](const SensitivityEntry* a, const SensitivityEntry* b) { return a->order < b->order; });
+  if (orders.empty()) return;
+  html += "<h3>Sensitivity by harmonic order</h3>\n";
+  std::vector<std::string> categories;
+  std::vector<bool> highlighted;
+  for (const SensitivityEntry* e : orders) {
+    categories.push_back(fmt::format("order {}", e->order));
+    highlighted.push_back(report.rollers > 0 && e->order % report.rollers == 0);
+  }
+  html += Figure(
+      SensitivitySvg(by_order, "Sensitivity by harmonic order (ring and rollers together)", sobol, highlighted,
+                     fmt::format("multiple of the roller count Z = {}", report.rollers), categories, orders),
+      fmt::format("Highlighted: orders that are multiples of Z = {}. With Z rollers equally spaced, a ring "
+                  "harmonic whose order is a multiple of Z reaches every roller in the same phase: it swells "
+                  "and shrinks the ring at all contacts at once and pushes the centre along the spring axis, "
+                  "where other orders only make it circle.",
+                  report.rollers));
+  std::vector<const SensitivityEntry*> ranked = orders;
+  std::stable_sort(ranked.begin(), ranked.end(),
+                   [](const SensitivityEntry* a, const SensitivityEntry* b) { return a->ranking > b->ranking; });
+  std::string top;
+  for (std::size_t k = 0; k < std::min<std::size_t>(5, ranked.size()); ++k) {
+    top += fmt::format("{}{}{}", k == 0 ? "" : ", ", ranked[k]->order,
+                       report.rollers > 0 && ranked[k]->order % report.rollers == 0 ? " (multiple of Z)" : "");
+  }
+  html += fmt::format("<p>Dominant orders, largest first: {}.</p>\n", top);
+}
+
+void SensitivitySection(std::string& html, const CampaignReport& report, const OutputSensitivity& s) {
+  const bool sobol = s.method == "sobol";
+  SensitivityIntro(html, report, s);
+  if (const SensitivityLevel* by_source = FindLevel(s, "source")) ContributorsBySource(html, *by_source, sobol);
+  if (const SensitivityLevel* by_order = FindLevel(s, "order")) SensitivityByOrder(html, report, *by_order, sobol);
   const SensitivityLevel& finest = s.levels.front();
   html += fmt::format("<details><summary>Every {} ({})</summary>\n", sobol ? "design group" : "input",
                       finest.entries.size());
@@ -432,12 +438,8 @@ std::string TrajectorySvg(const CampaignReport& report) {
   return svg::RenderChart(chart);
 }
 
-}  // namespace
-
-std::string ReportHtml(const CampaignReport& report) {
+void PageHead(std::string& html, const CampaignReport& report) {
   const CampaignIdentity& id = report.identity;
-  const double confidence = report.options.confidence;
-  std::string html;
   html += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   html += fmt::format("<title>ringtol report: {}</title>\n", EscapeXml(id.campaign_path));
   html += fmt::format("<style>{}</style>\n</head>\n<body>\n", kStyle);
@@ -447,9 +449,11 @@ std::string ReportHtml(const CampaignReport& report) {
       "ringtol {} (ran with {}) &#183; catalogue {}</p>\n",
       EscapeXml(report.results.string()), EscapeXml(report.design), EscapeXml(id.solver), id.seed, report.rollers,
       RINGTOL_VERSION, EscapeXml(id.ringtol_version), EscapeXml(id.catalogue_version));
+}
 
-  const OutputReport* primary = Find(report, report.primary_output);
-  // The answer first.
+// The answer first: the spec'd output's 99 % quantile and yield, and how many samples say so.
+void AnswerSection(std::string& html, const CampaignReport& report, const OutputReport* primary) {
+  const double confidence = report.options.confidence;
   html += "<div class=\"answer\" id=\"answer\">\n";
   if (primary != nullptr && primary->distribution) {
     const analysis::DistributionSummary& d = *primary->distribution;
@@ -470,8 +474,9 @@ std::string ReportHtml(const CampaignReport& report) {
   html += fmt::format("<p>{} of {} samples used are ok; {} failed; {} pending.</p>\n", report.ok, report.used,
                       report.done - report.ok, report.pending);
   html += "</div>\n";
+}
 
-  // Samples and failures.
+void SamplesSection(std::string& html, const CampaignReport& report) {
   html += "<h2 id=\"samples\">Samples</h2>\n<table>\n";
   Row(html, {"samples in the campaign", fmt::format("{}", report.samples)});
   Row(html, {"independent draws (used for statistics)", fmt::format("{}", report.used)});
@@ -498,45 +503,46 @@ std::string ReportHtml(const CampaignReport& report) {
           report.failed.size());
     }
   }
+}
 
-  if (primary != nullptr && primary->distribution) {
-    html += fmt::format("<h2 id=\"distribution\">Distribution of {}</h2>\n", EscapeXml(Label(primary->name)));
-    html += "<div class=\"charts\">\n";
-    html += Figure(HistogramSvg(*primary), "Histogram of the ok independent samples; dashed: the spec limit.");
-    html += Figure(CdfSvg(*primary), "Fraction of assemblies at or below each value.");
-    html += "</div>\n";
-    DistributionTable(html, *primary, confidence);
+void DistributionSection(std::string& html, const OutputReport& primary, double confidence) {
+  html += fmt::format("<h2 id=\"distribution\">Distribution of {}</h2>\n", EscapeXml(Label(primary.name)));
+  html += "<div class=\"charts\">\n";
+  html += Figure(HistogramSvg(primary), "Histogram of the ok independent samples; dashed: the spec limit.");
+  html += Figure(CdfSvg(primary), "Fraction of assemblies at or below each value.");
+  html += "</div>\n";
+  DistributionTable(html, primary, confidence);
+}
 
-    html += "<h2 id=\"convergence\">Convergence and samples needed</h2>\n<div class=\"charts\">\n";
-    html += Figure(ConvergenceQuantileSvg(*primary),
-                   "Estimate on the first n samples in design order, with its distribution-free interval.");
-    if (primary->distribution->within_spec) {
-      html += Figure(ConvergenceYieldSvg(*primary), "Clopper-Pearson interval on the first n samples.");
-    }
-    html += "</div>\n<table>\n";
-    Row(html, {"stated precision", "independent draws", "campaign samples"}, true);
-    const auto row = [&](const std::string& what, const std::optional<std::int64_t>& draws) {
-      Row(html, {what, draws ? fmt::format("{}", *draws) : "n/a",
-                 draws ? fmt::format("{}", static_cast<std::int64_t>(
-                                               std::ceil(static_cast<double>(*draws) * report.samples_per_draw)))
-                       : "n/a"});
-    };
-    row(fmt::format("99 % quantile to &#177;{} of its value", Percent(report.options.quantile_precision)),
-        primary->samples_for_quantile);
-    if (primary->distribution->within_spec) {
-      row(fmt::format("yield to &#177;{}", Percent(report.options.yield_precision)), primary->samples_for_yield);
-    }
-    html += fmt::format(
-        "</table>\n<p class=\"note\">At {:g} % confidence; the campaign has {} ok draws. The "
-        "quantile's count extrapolates its interval's width as 1/&#8730;n; the yield's is exact "
-        "(Clopper-Pearson) at the present yield.</p>\n",
-        100 * confidence, primary->count);
+void ConvergenceSection(std::string& html, const CampaignReport& report, const OutputReport& primary) {
+  const double confidence = report.options.confidence;
+  html += "<h2 id=\"convergence\">Convergence and samples needed</h2>\n<div class=\"charts\">\n";
+  html += Figure(ConvergenceQuantileSvg(primary),
+                 "Estimate on the first n samples in design order, with its distribution-free interval.");
+  if (primary.distribution->within_spec) {
+    html += Figure(ConvergenceYieldSvg(primary), "Clopper-Pearson interval on the first n samples.");
   }
-
-  if (const OutputSensitivity* s = FindSensitivity(report, report.primary_output)) {
-    SensitivitySection(html, report, *s);
+  html += "</div>\n<table>\n";
+  Row(html, {"stated precision", "independent draws", "campaign samples"}, true);
+  const auto row = [&](const std::string& what, const std::optional<std::int64_t>& draws) {
+    Row(html, {what, draws ? fmt::format("{}", *draws) : "n/a",
+               draws ? fmt::format("{}", static_cast<std::int64_t>(
+                                             std::ceil(static_cast<double>(*draws) * report.samples_per_draw)))
+                     : "n/a"});
+  };
+  row(fmt::format("99 % quantile to &#177;{} of its value", Percent(report.options.quantile_precision)),
+      primary.samples_for_quantile);
+  if (primary.distribution->within_spec) {
+    row(fmt::format("yield to &#177;{}", Percent(report.options.yield_precision)), primary.samples_for_yield);
   }
+  html += fmt::format(
+      "</table>\n<p class=\"note\">At {:g} % confidence; the campaign has {} ok draws. The "
+      "quantile's count extrapolates its interval's width as 1/&#8730;n; the yield's is exact "
+      "(Clopper-Pearson) at the present yield.</p>\n",
+      100 * confidence, primary.count);
+}
 
+void TrajectorySection(std::string& html, const CampaignReport& report) {
   html += "<h2 id=\"trajectories\">Median and worst assemblies</h2>\n";
   if (!report.trajectories.empty()) {
     std::string caption = "Replayed from the stored design points of the median and the worst sample by D_trajectory.";
@@ -553,7 +559,9 @@ std::string ReportHtml(const CampaignReport& report) {
     html +=
         fmt::format("<p>No trajectory: {}.</p>\n", EscapeXml(report.replay_problem.value_or("no sample finished ok")));
   }
+}
 
+void OutputsSection(std::string& html, const CampaignReport& report) {
   html += "<h2 id=\"outputs\">Every output</h2>\n<table>\n";
   Row(html, {"output", "ok", "mean", "std", "50 %", "90 %", "99 % [interval]", "99.9 %", "spec", "within spec"}, true);
   for (const OutputReport& out : report.outputs) {
@@ -580,23 +588,28 @@ std::string ReportHtml(const CampaignReport& report) {
     html += Figure(HistogramSvg(out), Label(out.name));
   }
   html += "</div>\n";
-  if (report.sensitivities.size() > 1) {
-    html += "<h3>Largest contributors to every output</h3>\n<table>\n";
-    Row(html, {"output", "method", "largest three"}, true);
-    for (const OutputSensitivity& s : report.sensitivities) {
-      const SensitivityLevel* level = FindLevel(s, "source");
-      if (level == nullptr) level = &s.levels.front();
-      std::string top;
-      for (std::size_t k = 0; k < std::min<std::size_t>(3, level->entries.size()); ++k) {
-        const SensitivityEntry& e = level->entries[k];
-        top += fmt::format("{}{} ({} {:.2f})", k == 0 ? "" : "; ", EscapeXml(SourceLabel(e.name)),
-                           e.total_order ? "ST" : (level->level == "input" ? "S1" : "sum of SRC&#178;"), e.ranking);
-      }
-      Row(html, {EscapeXml(Label(s.output)), EscapeXml(s.method), top});
-    }
-    html += "</table>\n";
-  }
+}
 
+// A table only when outputs other than the spec'd one have indices: the spec'd one's are above.
+void ContributorsSection(std::string& html, const CampaignReport& report) {
+  if (report.sensitivities.size() <= 1) return;
+  html += "<h3>Largest contributors to every output</h3>\n<table>\n";
+  Row(html, {"output", "method", "largest three"}, true);
+  for (const OutputSensitivity& s : report.sensitivities) {
+    const SensitivityLevel* level = FindLevel(s, "source");
+    if (level == nullptr) level = &s.levels.front();
+    std::string top;
+    for (std::size_t k = 0; k < std::min<std::size_t>(3, level->entries.size()); ++k) {
+      const SensitivityEntry& e = level->entries[k];
+      top += fmt::format("{}{} ({} {:.2f})", k == 0 ? "" : "; ", EscapeXml(SourceLabel(e.name)),
+                         e.total_order ? "ST" : (level->level == "input" ? "S1" : "sum of SRC&#178;"), e.ranking);
+    }
+    Row(html, {EscapeXml(Label(s.output)), EscapeXml(s.method), top});
+  }
+  html += "</table>\n";
+}
+
+void MethodSection(std::string& html, const CampaignReport& report) {
   html += fmt::format(
       "<h2 id=\"method\">How these numbers were made</h2>\n<ul class=\"note\">\n"
       "<li>Statistics use the independent draws: every sample, or the A and B matrices of a Saltelli design. Failed "
@@ -612,6 +625,27 @@ std::string ReportHtml(const CampaignReport& report) {
       "<li>Every number here is in the JSON summary (<code>ringtol report --json</code>), in SALib's vocabulary: S1, "
       "S1_conf, ST, ST_conf.</li>\n</ul>\n",
       report.options.bootstrap_resamples);
+}
+
+}  // namespace
+
+std::string ReportHtml(const CampaignReport& report) {
+  std::string html;
+  PageHead(html, report);
+  const OutputReport* primary = Find(report, report.primary_output);
+  AnswerSection(html, report, primary);
+  SamplesSection(html, report);
+  if (primary != nullptr && primary->distribution) {
+    DistributionSection(html, *primary, report.options.confidence);
+    ConvergenceSection(html, report, *primary);
+  }
+  if (const OutputSensitivity* s = FindSensitivity(report, report.primary_output)) {
+    SensitivitySection(html, report, *s);
+  }
+  TrajectorySection(html, report);
+  OutputsSection(html, report);
+  ContributorsSection(html, report);
+  MethodSection(html, report);
   html += "</body>\n</html>\n";
   return html;
 }

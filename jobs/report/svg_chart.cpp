@@ -111,15 +111,23 @@ struct Rect {
   }
 };
 
-// A data axis mapped onto pixels; on a log2 axis the ends are exponents.
+// An axis's scale: the base of its logarithm (2 or 10), or kLinear.
+constexpr int kLinear = 0;
+
+int LogBase(const Axis& axis) { return axis.log2 ? 2 : axis.log10 ? 10 : kLinear; }
+
+// A data axis mapped onto pixels; on a log axis the ends are exponents of its base.
 struct Scale {
-  bool log2 = false;
+  int log_base = kLinear;
   double lo = 0.0, hi = 1.0;    // the ends, transformed
   double from = 0.0, to = 1.0;  // their pixels
 
-  // NaN for a value that cannot be drawn (non-finite, <= 0 on a log2 axis, huge).
+  // NaN for a value that cannot be drawn (non-finite, <= 0 on a log axis, huge).
   double Transform(double value) const {
-    const double t = log2 ? (value > 0.0 ? std::log2(value) : -kInfinity) : value;
+    const double t = log_base == kLinear ? value
+                     : !(value > 0.0)    ? -kInfinity
+                     : log_base == 2     ? std::log2(value)
+                                         : std::log10(value);
     return std::isfinite(t) && std::abs(t) <= kHuge ? t : std::numeric_limits<double>::quiet_NaN();
   }
   double operator()(double value) const {
@@ -141,31 +149,32 @@ struct Extent {
   bool empty() const { return !(lo <= hi); }
 };
 
-double Transform(bool log2, double value) { return Scale{.log2 = log2}.Transform(value); }
+double Transform(int log_base, double value) { return Scale{.log_base = log_base}.Transform(value); }
 
-std::optional<double> FixedEnd(const std::optional<double>& end, bool log2) {
+std::optional<double> FixedEnd(const std::optional<double>& end, int log_base) {
   if (!end) return std::nullopt;
-  const double t = Transform(log2, *end);
+  const double t = Transform(log_base, *end);
   return std::isnan(t) ? std::nullopt : std::optional<double>(t);
 }
 
 // The axis ends (transformed): the data's range widened by kPadding, except a linear end
 // at 0 (counts and indices start there), then the fixed ends; never of zero width.
 std::pair<double, double> Ends(const Axis& axis, const Extent& data) {
-  const bool log2 = axis.log2;
+  const int log_base = LogBase(axis);
+  const bool log = log_base != kLinear;
   double lo = 0.0, hi = 1.0;
   if (!data.empty()) {
     lo = data.lo;
     hi = data.hi;
     const double pad = kPadding * (hi - lo);
-    if (log2 || lo != 0.0) lo -= pad;
-    if (log2 || hi != 0.0) hi += pad;
+    if (log || lo != 0.0) lo -= pad;
+    if (log || hi != 0.0) hi += pad;
   }
-  const std::optional<double> fixed_lo = FixedEnd(axis.min, log2), fixed_hi = FixedEnd(axis.max, log2);
+  const std::optional<double> fixed_lo = FixedEnd(axis.min, log_base), fixed_hi = FixedEnd(axis.max, log_base);
   if (fixed_lo) lo = *fixed_lo;
   if (fixed_hi) hi = *fixed_hi;
   if (!(hi - lo > kMinRelativeWidth * std::max(std::abs(lo), std::abs(hi)))) {
-    const double half = log2 ? 1.0 : (lo == 0.0 ? 1.0 : 0.1 * std::abs(lo));
+    const double half = log ? 1.0 : (lo == 0.0 ? 1.0 : 0.1 * std::abs(lo));
     if (fixed_lo && !fixed_hi) {
       hi = lo + 2.0 * half;
     } else if (fixed_hi && !fixed_lo) {
@@ -270,8 +279,8 @@ std::string PowerOfTwoLabel(int exponent) {
   return fmt::format("{}{}", 1 << (exponent % 10), kPrefixes[prefix]);
 }
 
-// Powers of two between exponents lo and hi.
-Ticks Log2TicksOfExponents(double lo, double hi, int max_ticks) {
+// Powers of the base (2 or 10) between exponents lo and hi.
+Ticks PowerTicksOfExponents(int log_base, double lo, double hi, int max_ticks) {
   Ticks ticks;
   if (!UsableRange(lo, hi) || lo < -1000.0 || hi > 1000.0) return ticks;
   const int first = static_cast<int>(std::ceil(lo - kTickTolerance));
@@ -279,17 +288,26 @@ Ticks Log2TicksOfExponents(double lo, double hi, int max_ticks) {
   if (last < first) return ticks;
   const int every = (last - first + std::max(max_ticks, 2)) / std::max(max_ticks, 2);  // ceil(count / max)
   for (int k = first; k <= last; k += every) {
-    ticks.values.push_back(std::ldexp(1.0, k));
-    ticks.labels.push_back(PowerOfTwoLabel(k));
+    if (log_base == 2) {
+      ticks.values.push_back(std::ldexp(1.0, k));
+      ticks.labels.push_back(PowerOfTwoLabel(k));
+    } else {
+      const Step decade{1, k};
+      ticks.values.push_back(decade.value());
+      ticks.labels.push_back(TickLabel(decade.value(), decade));
+    }
   }
   return ticks;
 }
 
-// Less than an octave holds fewer than two powers of two: plain nice numbers then.
+// Less than an octave (a decade) holds fewer than two powers: plain nice numbers then.
 Ticks AxisTicks(const Scale& scale, int max_ticks) {
-  if (!scale.log2) return NiceTicks(scale.lo, scale.hi, max_ticks);
-  Ticks ticks = Log2TicksOfExponents(scale.lo, scale.hi, max_ticks);
-  if (ticks.values.size() < 2) ticks = NiceTicks(std::exp2(scale.lo), std::exp2(scale.hi), max_ticks);
+  if (scale.log_base == kLinear) return NiceTicks(scale.lo, scale.hi, max_ticks);
+  Ticks ticks = PowerTicksOfExponents(scale.log_base, scale.lo, scale.hi, max_ticks);
+  if (ticks.values.size() < 2) {
+    ticks = scale.log_base == 2 ? NiceTicks(std::exp2(scale.lo), std::exp2(scale.hi), max_ticks)
+                                : NiceTicks(std::pow(10.0, scale.lo), std::pow(10.0, scale.hi), max_ticks);
+  }
   return ticks;
 }
 
@@ -302,6 +320,15 @@ double ValidSize(double size, double fallback, double minimum) {
 
 // ---------------------------------------------------------------- drawing helpers
 
+// One axis's ticks inside the plot: grid lines, marks on the frame, labels (`anchor`ed).
+void AddTicks(Svg& svg, const std::string& grid, const std::string& marks, const std::string& labels,
+              std::string_view anchor) {
+  if (grid.empty()) return;
+  svg.Add("<path d=\"{}\" stroke=\"#e0e0e0\" fill=\"none\"/>\n<path d=\"{}\" stroke=\"#666\" fill=\"none\"/>\n", grid,
+          marks);
+  svg.Add("<g fill=\"#444\" font-size=\"11\" text-anchor=\"{}\">\n{}</g>\n", anchor, labels);
+}
+
 void DrawXTicks(Svg& svg, const Scale& scale, const Ticks& ticks, const Rect& r) {
   std::string grid, marks, labels;
   for (std::size_t i = 0; i < ticks.values.size(); ++i) {
@@ -312,10 +339,7 @@ void DrawXTicks(Svg& svg, const Scale& scale, const Ticks& ticks, const Rect& r)
     fmt::format_to(std::back_inserter(labels), "<text x=\"{}\" y=\"{}\">{}</text>\n", Num(x), Num(r.bottom + 18.0),
                    EscapeXml(ticks.labels[i]));
   }
-  if (grid.empty()) return;
-  svg.Add("<path d=\"{}\" stroke=\"#e0e0e0\" fill=\"none\"/>\n<path d=\"{}\" stroke=\"#666\" fill=\"none\"/>\n", grid,
-          marks);
-  svg.Add("<g fill=\"#444\" font-size=\"11\" text-anchor=\"middle\">\n{}</g>\n", labels);
+  AddTicks(svg, grid, marks, labels, "middle");
 }
 
 void DrawYTicks(Svg& svg, const Scale& scale, const Ticks& ticks, const Rect& r) {
@@ -328,10 +352,7 @@ void DrawYTicks(Svg& svg, const Scale& scale, const Ticks& ticks, const Rect& r)
     fmt::format_to(std::back_inserter(labels), "<text x=\"{}\" y=\"{}\">{}</text>\n", Num(r.left - 8.0), Num(y + 4.0),
                    EscapeXml(ticks.labels[i]));
   }
-  if (grid.empty()) return;
-  svg.Add("<path d=\"{}\" stroke=\"#e0e0e0\" fill=\"none\"/>\n<path d=\"{}\" stroke=\"#666\" fill=\"none\"/>\n", grid,
-          marks);
-  svg.Add("<g fill=\"#444\" font-size=\"11\" text-anchor=\"end\">\n{}</g>\n", labels);
+  AddTicks(svg, grid, marks, labels, "end");
 }
 
 void DrawFrame(Svg& svg, const Rect& r) {
@@ -407,10 +428,10 @@ void DrawReferenceLines(Svg& svg, const std::vector<ReferenceLine>& lines, const
 }
 
 struct LegendEntry {
-  enum class Swatch { kLine, kPoint, kBar, kCircle, kHighlight };
+  enum class Swatch { kLine, kPoint, kRing, kBar, kCircle, kHighlight };
   Swatch swatch = Swatch::kLine;
   std::string name;
-  int colour = 0;
+  std::string colour{};  // escaped; for lines, points, rings and bars
   bool dashed = false;
   bool band = false;
 };
@@ -438,7 +459,7 @@ void DrawLegend(Svg& svg, const std::vector<LegendEntry>& entries, const std::ve
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const LegendEntry& e = entries[i];
     const double x = places[i].x, y = places[i].y;
-    const std::string_view colour = PaletteColour(e.colour);
+    const std::string_view colour = e.colour;
     if (e.band) {
       svg.Add("<rect x=\"{}\" y=\"{}\" width=\"18\" height=\"10\" fill=\"{}\" fill-opacity=\"0.25\"/>", Num(x),
               Num(y - 5.0), colour);
@@ -450,6 +471,10 @@ void DrawLegend(Svg& svg, const std::vector<LegendEntry>& entries, const std::ve
         break;
       case LegendEntry::Swatch::kPoint:
         svg.Add("<circle cx=\"{}\" cy=\"{}\" r=\"3\" fill=\"{}\"/>", Num(x + 9.0), Num(y), colour);
+        break;
+      case LegendEntry::Swatch::kRing:
+        svg.Add("<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\"/>", Num(x + 9.0),
+                Num(y), colour);
         break;
       case LegendEntry::Swatch::kBar:
         svg.Add("<rect x=\"{}\" y=\"{}\" width=\"18\" height=\"10\" fill=\"{}\"/>", Num(x), Num(y - 5.0), colour);
@@ -586,6 +611,20 @@ std::string PointList(const std::vector<Point>& points) {
 
 // ---------------------------------------------------------------- x-y charts
 
+std::string SeriesColour(const Series& s) {
+  return s.custom_colour.empty() ? std::string(PaletteColour(s.colour)) : EscapeXml(s.custom_colour);
+}
+
+// Each drawable point's label inside the plot, beside it, to the left near the right edge.
+void AddPointLabels(const Series& s, const Scale& x, const Scale& y, const Rect& r, std::vector<Label>& labels) {
+  for (std::size_t i = 0; i < std::min({s.x.size(), s.y.size(), s.labels.size()}); ++i) {
+    const Point p{x(s.x[i]), y(s.y[i])};
+    if (s.labels[i].empty() || std::isnan(p.x) || std::isnan(p.y) || !r.Contains(p)) continue;
+    const bool left = p.x + 6.0 + TextWidth(s.labels[i], kFontSize) > r.right;
+    labels.push_back({left ? p.x - 6.0 : p.x + 6.0, p.y - 6.0, left, s.labels[i]});
+  }
+}
+
 // Runs of consecutive drawable points, in pixels; steps expanded into their corners.
 std::vector<std::vector<Point>> Runs(const Series& s, const Scale& x, const Scale& y) {
   const std::size_t n = std::min(s.x.size(), s.y.size());
@@ -605,11 +644,11 @@ std::vector<std::vector<Point>> Runs(const Series& s, const Scale& x, const Scal
   return runs;
 }
 
-// A band bound in pixels: ±infinity (and <= 0 on a log2 axis) at the edge.
+// A band bound in pixels: ±infinity (and <= 0 on a log axis) at the edge.
 double BandPixel(const Scale& y, double value) {
   if (std::isnan(value)) return value;
   if (value == kInfinity) return y.to;
-  if (value == -kInfinity || (y.log2 && value <= 0.0)) return y.from;
+  if (value == -kInfinity || (y.log_base != kLinear && value <= 0.0)) return y.from;
   return y(value);
 }
 
@@ -623,7 +662,7 @@ void DrawBand(Svg& svg, const Series& s, const Scale& x, const Scale& y, const R
       polygon = ClipPolygon(std::move(polygon), r);
       if (polygon.size() >= 3) {
         svg.Add("<polygon points=\"{}\" fill=\"{}\" fill-opacity=\"0.25\" stroke=\"none\"/>\n", PointList(polygon),
-                PaletteColour(s.colour));
+                SeriesColour(s));
       }
     }
     upper.clear();
@@ -642,16 +681,23 @@ void DrawBand(Svg& svg, const Series& s, const Scale& x, const Scale& y, const R
 }
 
 void DrawSeries(Svg& svg, const Series& s, const Scale& x, const Scale& y, const Rect& r) {
-  const std::string_view colour = PaletteColour(s.colour);
-  if (s.style == Series::Style::kPoints) {
+  const std::string colour = SeriesColour(s);
+  if (s.style == Series::Style::kPoints || s.style == Series::Style::kRings) {
+    const bool rings = s.style == Series::Style::kRings;
     std::string circles;
     for (const std::vector<Point>& run : Runs(s, x, y)) {
       for (const Point& p : run) {
         if (!r.Contains(p)) continue;
-        fmt::format_to(std::back_inserter(circles), "<circle cx=\"{}\" cy=\"{}\" r=\"2.5\"/>", Num(p.x), Num(p.y));
+        fmt::format_to(std::back_inserter(circles), "<circle cx=\"{}\" cy=\"{}\" r=\"{}\"/>", Num(p.x), Num(p.y),
+                       rings ? "6" : "2.5");
       }
     }
-    if (!circles.empty()) svg.Add("<g class=\"series\" fill=\"{}\">{}</g>\n", colour, circles);
+    if (circles.empty()) return;
+    if (rings) {
+      svg.Add("<g class=\"series\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\">{}</g>\n", colour, circles);
+    } else {
+      svg.Add("<g class=\"series\" fill=\"{}\">{}</g>\n", colour, circles);
+    }
     return;
   }
   std::string lines;
@@ -750,7 +796,7 @@ Ticks NiceTicks(double lo, double hi, int max_ticks) {
 
 Ticks Log2Ticks(double lo, double hi, int max_ticks) {
   if (!(lo > 0.0 && hi > lo)) return {};
-  return Log2TicksOfExponents(std::log2(lo), std::log2(hi), max_ticks);
+  return PowerTicksOfExponents(2, std::log2(lo), std::log2(hi), max_ticks);
 }
 
 std::string RenderChart(const Chart& chart) {
@@ -760,12 +806,15 @@ std::string RenderChart(const Chart& chart) {
   std::vector<LegendEntry> legend;
   for (const Series& s : chart.series) {
     if (s.name.empty()) continue;
-    legend.push_back({s.style == Series::Style::kPoints ? LegendEntry::Swatch::kPoint : LegendEntry::Swatch::kLine,
-                      s.name, s.colour, s.dashed, !s.band_lower.empty()});
+    const LegendEntry::Swatch swatch = s.style == Series::Style::kPoints  ? LegendEntry::Swatch::kPoint
+                                       : s.style == Series::Style::kRings ? LegendEntry::Swatch::kRing
+                                                                          : LegendEntry::Swatch::kLine;
+    legend.push_back({swatch, s.name, SeriesColour(s), s.dashed, !s.band_lower.empty()});
   }
-  // A circle needs one scale for all directions, which log2 axes do not have.
-  const bool log_x = chart.x.log2, log_y = chart.y.log2;
-  const std::optional<Circle> circle = log_x || log_y ? std::nullopt : chart.circle;
+  // A circle needs one scale for all directions, which log axes do not have.
+  const int log_x = LogBase(chart.x), log_y = LogBase(chart.y);
+  const bool linear = log_x == kLinear && log_y == kLinear;
+  const std::optional<Circle> circle = linear ? chart.circle : std::nullopt;
   if (circle && !circle->name.empty()) {
     legend.push_back({LegendEntry::Swatch::kCircle, circle->name});
   }
@@ -799,8 +848,8 @@ std::string RenderChart(const Chart& chart) {
   }
   if (circle && std::isfinite(circle->radius) && circle->radius >= 0.0) {
     for (const double sign : {-1.0, 1.0}) {
-      ex.Add(Transform(false, circle->x + sign * circle->radius));
-      ey.Add(Transform(false, circle->y + sign * circle->radius));
+      ex.Add(Transform(kLinear, circle->x + sign * circle->radius));
+      ey.Add(Transform(kLinear, circle->y + sign * circle->radius));
     }
     has_data = has_data || (std::isfinite(circle->x) && std::isfinite(circle->y));
   }
@@ -808,7 +857,7 @@ std::string RenderChart(const Chart& chart) {
   Scale xs{log_x, 0.0, 1.0, r.left, r.right}, ys{log_y, 0.0, 1.0, r.bottom, r.top};
   std::tie(xs.lo, xs.hi) = Ends(chart.x, ex);
   std::tie(ys.lo, ys.hi) = Ends(chart.y, ey);
-  const bool equal_aspect = chart.equal_aspect && !log_x && !log_y;
+  const bool equal_aspect = chart.equal_aspect && linear;
   Ticks x_ticks, y_ticks;
   if (equal_aspect) {
     EqualiseAspect(xs, ys);
@@ -833,7 +882,10 @@ std::string RenderChart(const Chart& chart) {
   std::vector<Label> labels;
   DrawReferenceLines(svg, chart.lines, r, xs, &ys, labels);
   if (has_data) {
-    for (const Series& s : chart.series) DrawSeries(svg, s, xs, ys, r);
+    for (const Series& s : chart.series) {
+      DrawSeries(svg, s, xs, ys, r);
+      AddPointLabels(s, xs, ys, r, labels);
+    }
     if (circle) DrawCircle(svg, *circle, xs, ys, r, equal_aspect);
   } else {
     DrawNoData(svg, r);
@@ -850,7 +902,9 @@ std::string RenderBarChart(const BarChart& chart) {
 
   std::vector<LegendEntry> legend;
   for (const Bars& bars : chart.series) {
-    if (!bars.name.empty()) legend.push_back({LegendEntry::Swatch::kBar, bars.name, bars.colour});
+    if (!bars.name.empty()) {
+      legend.push_back({LegendEntry::Swatch::kBar, bars.name, std::string(PaletteColour(bars.colour))});
+    }
   }
   const auto highlighted = [&](std::size_t i) { return i < chart.highlighted.size() && chart.highlighted[i]; };
   bool any_highlighted = false;
@@ -880,18 +934,18 @@ std::string RenderBarChart(const BarChart& chart) {
   for (const Bars& bars : chart.series) {
     for (std::size_t i = 0; i < chart.categories.size(); ++i) {
       if (i < bars.value.size() && std::isfinite(bars.value[i])) {
-        extent.Add(Transform(false, bars.value[i]));
+        extent.Add(Transform(kLinear, bars.value[i]));
         has_data = true;
       }
-      if (i < bars.lower.size()) extent.Add(Transform(false, bars.lower[i]));
-      if (i < bars.upper.size()) extent.Add(Transform(false, bars.upper[i]));
+      if (i < bars.lower.size()) extent.Add(Transform(kLinear, bars.lower[i]));
+      if (i < bars.upper.size()) extent.Add(Transform(kLinear, bars.upper[i]));
     }
   }
   for (const ReferenceLine& line : chart.lines) {
-    if (line.direction == ReferenceLine::Direction::kVertical) extent.Add(Transform(false, line.at));
+    if (line.direction == ReferenceLine::Direction::kVertical) extent.Add(Transform(kLinear, line.at));
   }
   Axis value_axis = chart.value;
-  value_axis.log2 = false;
+  value_axis.log2 = value_axis.log10 = false;
   Scale xs{false, 0.0, 1.0, r.left, r.right};
   std::tie(xs.lo, xs.hi) = Ends(value_axis, extent);
 
@@ -965,7 +1019,7 @@ std::string RenderHistogram(const HistogramChart& chart) {
   Svg svg(chart.title, width, height);
   const Rect r{kMarginLeft, kTitleBand + kLegendGap, width - kMarginRight, height - kMarginBottom};
 
-  const bool log_x = chart.x.log2;
+  const int log_x = LogBase(chart.x);
   const bool bins_valid = std::isfinite(chart.lower) && std::isfinite(chart.bin_width) && chart.bin_width > 0.0;
   const auto edge = [&](std::size_t i) { return chart.lower + chart.bin_width * static_cast<double>(i); };
   const auto drawable = [&](std::size_t i) {
@@ -986,10 +1040,10 @@ std::string RenderHistogram(const HistogramChart& chart) {
     if (line.direction == ReferenceLine::Direction::kVertical) {
       ex.Add(Transform(log_x, line.at));
     } else {
-      ey.Add(Transform(false, line.at));
+      ey.Add(Transform(kLinear, line.at));
     }
   }
-  Scale xs{log_x, 0.0, 1.0, r.left, r.right}, ys{false, 0.0, 1.0, r.bottom, r.top};
+  Scale xs{log_x, 0.0, 1.0, r.left, r.right}, ys{kLinear, 0.0, 1.0, r.bottom, r.top};
   std::tie(xs.lo, xs.hi) = Ends(chart.x, ex);
   Axis count_axis;
   count_axis.min = 0.0;  // all-zero counts widen upwards only

@@ -4,15 +4,16 @@
 // black and grey text, and colours from a palette that stays readable in greyscale print.
 //
 // Three kinds of chart:
-//   RenderChart      x-y data: lines, steps (an empirical CDF), points, shaded bands (a
-//                    confidence band), log2 axes (estimate vs sample count), equal aspect
-//                    (a trajectory in µm, with its minimum enclosing circle);
+//   RenderChart      x-y data: lines, steps (an empirical CDF), points (labelled, or ringed
+//                    to single some out), shaded bands (a confidence band), log2 axes
+//                    (estimate vs sample count), log10 axes (error vs time over decades),
+//                    equal aspect (a trajectory in µm, with its minimum enclosing circle);
 //   RenderBarChart   horizontal grouped bars with error bars (sensitivity indices S1, ST
 //                    per category), categories optionally highlighted;
 //   RenderHistogram  bins of equal width (the distribution of an output).
 // Each can carry reference lines (a spec limit, the 99 % level) with a label.
 //
-// Rendering never fails: a point with a non-finite coordinate (or <= 0 on a log2 axis) is
+// Rendering never fails: a point with a non-finite coordinate (or <= 0 on a log axis) is
 // skipped and breaks a line there; a chart without drawable data says "no data"; a
 // zero-width range is widened; of vectors that should be as long as each other, the
 // entries beyond the shortest are ignored. Band bounds of ±infinity reach the edge of the
@@ -20,7 +21,7 @@
 // Coordinates are written with two decimals of a pixel; long lines are thinned to a few
 // points per pixel column, so a step line of a million samples stays small.
 //
-// Text (titles, labels, names, categories) is plain UTF-8 and escaped here. The page that
+// Text (titles, labels, names, categories, colours) is plain UTF-8 and escaped here. The page that
 // embeds the SVG must be served as UTF-8 (µ, ≤).
 #pragma once
 
@@ -43,7 +44,9 @@ std::string_view PaletteColour(int index);
 struct Axis {
   std::string label{};                 // with its unit, e.g. "runout [µm]"; empty: none
   bool log2 = false;                   // logarithmic, ticks at powers of two (64, 1k, 16k, 1M)
-  std::optional<double> min{}, max{};  // fixed ends (used only if finite, and > 0 on a log2 axis);
+  bool log10 = false;                  // logarithmic, ticks at powers of ten (0.001, 1, 1000);
+                                       // log2 wins if both are set
+  std::optional<double> min{}, max{};  // fixed ends (used only if finite, and > 0 on a log axis);
                                        // otherwise the data's range widened by 4 % on each side,
                                        // except a linear end at exactly 0, which stays
 };
@@ -60,6 +63,8 @@ struct Series {
     kLine,    // straight segments through the points, in the order given
     kStep,    // y[i] holds from x[i] to x[i + 1] (right-continuous, like an empirical CDF)
     kPoints,  // a marker per point
+    kRings,   // an open ring around each point, wider than a marker: singles out points of
+              // another series
   };
   std::string name{};  // legend entry; empty: not in the legend
   std::vector<double> x{}, y{};
@@ -67,8 +72,14 @@ struct Series {
   int colour = 0;       // index into the palette
   bool dashed = false;  // for lines and steps
   // Empty, or one per point: a band shaded between them (drawn under all lines). A bound of
-  // ±infinity (or <= 0 on a log2 axis) reaches the plot's edge; a NaN one breaks the band.
+  // ±infinity (or <= 0 on a log axis) reaches the plot's edge; a NaN one breaks the band.
   std::vector<double> band_lower{}, band_upper{};
+  // An SVG colour ("#1b9e77", "red") in place of the palette's, for charts whose colours
+  // are fixed elsewhere; empty: the palette's.
+  std::string custom_colour{};
+  // Empty, or one per point: a short text beside the point, over everything (a key into
+  // the legend, say); an empty one draws nothing.
+  std::vector<std::string> labels{};
 };
 
 struct Circle {
@@ -82,10 +93,10 @@ struct Chart {
   Axis x{}, y{};
   std::vector<Series> series{};  // drawn in order, the last on top
   std::vector<ReferenceLine> lines{};
-  std::optional<Circle> circle{};  // drawn dotted, in black; not on log2 axes
+  std::optional<Circle> circle{};  // drawn dotted, in black; not on log axes
   // One data unit is as long in x as in y (a trajectory); the range of the shorter axis is
   // widened about its centre to fit, fixed ends included. Both axes then share one tick
-  // step. Ignored if an axis is log2.
+  // step. Ignored if an axis is logarithmic.
   bool equal_aspect = false;
   double width = 640.0, height = 360.0;  // of the viewBox [px]; the page scales it
 };
@@ -107,7 +118,7 @@ struct BarChart {
   std::string highlight_label{};       // legend entry for the highlight; empty: none
   std::vector<Bars> series{};          // side by side within a category, the first on top
   Axis value{};                        // the horizontal axis; always includes 0 and every value and
-                                       // error bar (negative ones too); log2 is ignored
+                                       // error bar (negative ones too); log scales are ignored
   std::vector<ReferenceLine> lines{};  // vertical ones only; horizontal ones are ignored
   double width = 640.0;                // of the viewBox [px]; the height follows from the rows
   double category_height = 28.0;       // [px] per category

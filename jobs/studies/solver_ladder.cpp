@@ -6,12 +6,12 @@
 #include <functional>
 #include <limits>
 #include <memory>
-#include <numbers>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
 #include "jobs/inputs/input_error.h"
+#include "jobs/report/svg_chart.h"
 #include "solvers/dynamic.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
@@ -147,18 +147,6 @@ Timed Run(const engine::Scene& scene, const solvers::Solver& solver, int steps, 
   return timed;
 }
 
-std::string Escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    if (c == '&') out += "&amp;";
-    else if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
-  }
-  return out;
-}
-
 }  // namespace
 
 LadderResult RunLadder(const engine::Scene& scene, const LadderOptions& options, std::ostream* progress) {
@@ -259,73 +247,55 @@ void PrintLadder(std::ostream& out, const LadderResult& result) {
 }
 
 void WriteLadderSvg(std::ostream& out, const LadderResult& result) {
-  constexpr double kWidth = 900.0, kHeight = 600.0;
-  constexpr double kLeft = 90.0, kRight = 330.0, kTop = 50.0, kBottom = 70.0;
   constexpr double kErrorFloor = 1e-3;  // [um] where errors below are drawn
-  const double plot_width = kWidth - kLeft - kRight;
-  const double plot_height = kHeight - kTop - kBottom;
-  // Decades that hold every point.
+  const auto drawable = [](const LadderRow& row) { return row.time > 0.0 && !std::isnan(row.error); };
+  // Whole decades that hold every point.
   double t_min = 1e300, t_max = 0.0, e_max = 1.0;
   for (const LadderRow& row : result.rows) {
-    if (!(row.time > 0.0) || std::isnan(row.error)) continue;
+    if (!drawable(row)) continue;
     t_min = std::min(t_min, row.time * kMs);
     t_max = std::max(t_max, row.time * kMs);
     e_max = std::max(e_max, row.error * units::kMicrometresPerMetre);
   }
   if (t_max == 0.0) t_min = 1e-3, t_max = 1.0;
-  const double x0 = std::floor(std::log10(t_min)), x1 = std::ceil(std::log10(t_max)) + (t_max == t_min ? 1.0 : 0.0);
-  const double y0 = std::log10(kErrorFloor), y1 = std::ceil(std::log10(e_max));
-  auto x = [&](double ms) { return kLeft + (std::log10(ms) - x0) / (x1 - x0) * plot_width; };
-  auto y = [&](double um) { return kTop + (y1 - std::log10(std::max(um, kErrorFloor))) / (y1 - y0) * plot_height; };
-  auto colour = [](const std::string& rung) {
-    return rung == "linear" ? "#1b9e77" : rung == "quasistatic" ? "#d95f02" : "#7570b3";
-  };
-  fmt::print(out, R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" font-family="sans-serif" font-size="12">)svg"
-                  "\n",
-             kWidth, kHeight);
-  fmt::print(out, R"svg(<rect width="100%" height="100%" fill="white"/>)svg" "\n");
-  fmt::print(out, R"svg(<text x="{}" y="25" font-size="16">ringtol solver ladder: error in D_trajectory against time per revolution ({} cases)</text>)svg" "\n",
-             kLeft, result.cases);
-  fmt::print(out, R"svg(<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="black"/>)svg" "\n", kLeft, kTop,
-             plot_width, plot_height);
-  for (double d = x0; d <= x1; d += 1.0) {
-    const double px = kLeft + (d - x0) / (x1 - x0) * plot_width;
-    fmt::print(out, R"svg(<line x1="{0}" y1="{1}" x2="{0}" y2="{2}" stroke="#ddd"/><text x="{0}" y="{3}" text-anchor="middle">{4:g}</text>)svg" "\n",
-               px, kTop, kTop + plot_height, kTop + plot_height + 18, std::pow(10.0, d));
-  }
-  for (double d = y0; d <= y1; d += 1.0) {
-    const double py = kTop + (y1 - d) / (y1 - y0) * plot_height;
-    fmt::print(out, R"svg(<line x1="{0}" y1="{1}" x2="{2}" y2="{1}" stroke="#ddd"/><text x="{3}" y="{4}" text-anchor="end">{5:g}</text>)svg" "\n",
-               kLeft, py, kLeft + plot_width, kLeft - 6, py + 4, std::pow(10.0, d));
-  }
-  fmt::print(out, R"svg(<line x1="{0}" y1="{1}" x2="{2}" y2="{1}" stroke="black" stroke-dasharray="6,4"/><text x="{3}" y="{4}">1 um</text>)svg" "\n",
-             kLeft, y(1.0), kLeft + plot_width, kLeft + plot_width - 30, y(1.0) - 4);
-  fmt::print(out, R"svg(<text x="{}" y="{}" text-anchor="middle">wall time per revolution [ms], settle included for the dynamic rung</text>)svg" "\n",
-             kLeft + plot_width / 2, kHeight - 25);
-  fmt::print(out, R"svg(<text transform="translate(25,{}) rotate(-90)" text-anchor="middle">max |D - D_reference| [um] (below 1e-3 drawn at 1e-3)</text>)svg" "\n",
-             kTop + plot_height / 2);
-  int label = 0;
+  svg::Chart chart;
+  chart.title =
+      fmt::format("ringtol solver ladder: error in D_trajectory against time per revolution ({} cases)", result.cases);
+  chart.x = {.label = "wall time per revolution [ms], settle included for the dynamic rung",
+             .log10 = true,
+             .min = std::pow(10.0, std::floor(std::log10(t_min))),
+             .max = std::pow(10.0, std::ceil(std::log10(t_max)) + (t_max == t_min ? 1.0 : 0.0))};
+  chart.y = {.label = "max |D - D_reference| [um] (below 1e-3 drawn at 1e-3)",
+             .log10 = true,
+             .min = kErrorFloor,
+             .max = std::pow(10.0, std::ceil(std::log10(e_max)))};
+  chart.width = 900.0;
+  chart.height = 800.0;  // the legend names every method
+  chart.lines.push_back({svg::ReferenceLine::Direction::kHorizontal, kWithin * units::kMicrometresPerMetre, "1 um"});
+  // One series per method, numbered in the legend and beside its marker, coloured by rung.
   for (std::size_t i = 0; i < result.rows.size(); ++i) {
     const LadderRow& row = result.rows[i];
-    const bool drawable = row.time > 0.0 && !std::isnan(row.error);
-    const bool best = static_cast<int>(i) == result.fastest_within;
-    const double ly = kTop + 14.0 * label++;
-    fmt::print(out, R"svg(<circle cx="{}" cy="{}" r="4" fill="{}"/><text x="{}" y="{}">{}. {}{}</text>)svg" "\n",
-               kLeft + plot_width + 20, ly - 4, colour(row.rung), kLeft + plot_width + 28, ly, i + 1,
-               Escape(row.method), drawable ? "" : " (failed)");
-    if (!drawable) continue;
-    const double px = x(row.time * kMs), py = y(row.error * units::kMicrometresPerMetre);
-    if (best) {
-      fmt::print(out, R"svg(<circle cx="{}" cy="{}" r="10" fill="none" stroke="red" stroke-width="2"/>)svg" "\n", px, py);
+    svg::Series series;
+    series.name = fmt::format("{}. {}{}", i + 1, row.method, drawable(row) ? "" : " (failed)");
+    series.style = svg::Series::Style::kPoints;
+    series.custom_colour = row.rung == "linear" ? "#1b9e77" : row.rung == "quasistatic" ? "#d95f02" : "#7570b3";
+    if (drawable(row)) {
+      series.x = {row.time * kMs};
+      series.y = {std::max(row.error * units::kMicrometresPerMetre, kErrorFloor)};
+      series.labels = {fmt::format("{}", i + 1)};
     }
-    fmt::print(out, R"svg(<circle cx="{}" cy="{}" r="5" fill="{}"><title>{}</title></circle><text x="{}" y="{}" font-size="10">{}</text>)svg" "\n",
-               px, py, colour(row.rung), Escape(row.method), px + 6, py - 6, i + 1);
+    chart.series.push_back(std::move(series));
   }
   if (result.fastest_within >= 0) {
-    fmt::print(out, R"svg(<text x="{}" y="{}" fill="red">circled: fastest within 1 um: {}</text>)svg" "\n", kLeft,
-               kTop - 8, Escape(result.rows[static_cast<std::size_t>(result.fastest_within)].method));
+    const std::size_t best = static_cast<std::size_t>(result.fastest_within);
+    svg::Series ring{.name = "fastest within 1 um: " + result.rows[best].method,
+                     .x = chart.series[best].x,
+                     .y = chart.series[best].y,
+                     .style = svg::Series::Style::kRings,
+                     .custom_colour = "red"};
+    chart.series.push_back(std::move(ring));
   }
-  fmt::print(out, "</svg>\n");
+  out << svg::RenderChart(chart);
 }
 
 }  // namespace ringtol::jobs

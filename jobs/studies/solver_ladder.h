@@ -57,7 +57,8 @@ void WriteLadderCsv(std::ostream& out, const LadderResult& result);
 
 // A self-contained log-log scatter chart: error in D_trajectory [um] against wall time per
 // revolution [ms], one marker per method coloured by rung, a dashed line at 1 um, and the
-// fastest method within 1 um highlighted. Errors below 1e-3 um are drawn at 1e-3 um.
+// fastest method within 1 um ringed, drawn like the report's charts (jobs/report/svg_chart.h).
+// Errors below 1e-3 um are drawn at 1e-3 um.
 void WriteLadderSvg(std::ostream& out, const LadderResult& result);
 
 // The rows as an aligned table, for the terminal.

@@ -87,9 +87,11 @@ TEST(SolverLadder, CsvAndSvgCarryEveryMethodAndTheHighlight) {
   EXPECT_THAT(text, HasSubstr("</svg>"));
   EXPECT_THAT(text, HasSubstr("fastest within 1 um: " +
                               result.rows[static_cast<std::size_t>(result.fastest_within)].method));
+  // Every method that ran gets a marker (a filled series of one point); the refused explicit
+  // step has none. The ring around the fastest is drawn unfilled.
+  const std::string marker = "<g class=\"series\" fill=\"#";
   std::size_t markers = 0;
-  for (std::size_t at = text.find("<title>"); at != std::string::npos; at = text.find("<title>", at + 1)) ++markers;
-  // Every method that ran gets a marker; the refused explicit step has none.
+  for (std::size_t at = text.find(marker); at != std::string::npos; at = text.find(marker, at + 1)) ++markers;
   EXPECT_EQ(markers, result.rows.size() - 1);
 }
 
