@@ -21,6 +21,8 @@
 namespace ringtol::jobs {
 namespace {
 
+using solvers::Rung;
+
 constexpr double kMs = 1e3;
 constexpr double kWithin = 1e-6;  // [m] "within 1 um"
 
@@ -36,7 +38,7 @@ struct Case {
 // One setting of one rung: how it changes the case's scene and which solver it runs.
 struct Method {
   std::string name;
-  std::string rung;
+  solvers::Rung rung;
   std::function<void(engine::Scene&)> adapt;
   std::shared_ptr<const solvers::Solver> solver;
   double steps_factor = 1.0;  // of the case's steps
@@ -85,36 +87,46 @@ void Reduce(engine::Scene& scene, bool massless, bool rolling) {
   scene.dynamics.friction = !rolling;
 }
 
+// The ladder chart's colour of each rung (ColorBrewer Dark2).
+const char* RungColour(solvers::Rung rung) {
+  switch (rung) {
+    case Rung::kLinear: return "#1b9e77";
+    case Rung::kQuasistatic: return "#d95f02";
+    case Rung::kDynamic: return "#7570b3";
+  }
+  return "#7570b3";
+}
+
 std::vector<Method> Methods(const LadderOptions& options) {
   auto keep = [](engine::Scene&) {};
   auto rigid = [](engine::Scene& scene) { scene.contact.model = engine::ContactLaw::Model::kRigid; };
   std::vector<Method> methods;
-  methods.push_back({"linear", "linear", keep, std::make_shared<solvers::LinearSolver>(), 1.0, false, {}});
+  methods.push_back({"linear", Rung::kLinear, keep, std::make_shared<solvers::LinearSolver>(), 1.0, false, {}});
   for (const double factor : {0.25, 1.0, 4.0}) {
     const std::string steps = factor == 1.0 ? "S" : fmt::format("{:g}S", factor);
-    methods.push_back({"quasistatic rigid, " + steps + " steps", "quasistatic", rigid,
+    methods.push_back({"quasistatic rigid, " + steps + " steps", Rung::kQuasistatic, rigid,
                        std::make_shared<solvers::QuasistaticSolver>(), factor, false, {}});
-    methods.push_back({"quasistatic penalty, " + steps + " steps", "quasistatic", keep,
+    methods.push_back({"quasistatic penalty, " + steps + " steps", Rung::kQuasistatic, keep,
                        std::make_shared<solvers::QuasistaticSolver>(), factor, false, {}});
   }
   for (const double tolerance : {1e-4, 1e-5, 1e-6, 1e-7, 1e-8}) {
-    methods.push_back({fmt::format("dynamic BDF rtol {:g}", tolerance), "dynamic", keep, Dynamic(tolerance), 1.0, false, {}});
+    methods.push_back({fmt::format("dynamic BDF rtol {:g}", tolerance), Rung::kDynamic, keep, Dynamic(tolerance), 1.0, false, {}});
   }
-  methods.push_back({"dynamic BDF rtol 1e-05, massless spring roller", "dynamic",
+  methods.push_back({"dynamic BDF rtol 1e-05, massless spring roller", Rung::kDynamic,
                      [](engine::Scene& s) { Reduce(s, true, false); }, Dynamic(1e-5), 1.0, false, {}});
-  methods.push_back({"dynamic BDF rtol 1e-05, rolling without slip", "dynamic",
+  methods.push_back({"dynamic BDF rtol 1e-05, rolling without slip", Rung::kDynamic,
                      [](engine::Scene& s) { Reduce(s, false, true); }, Dynamic(1e-5), 1.0, false, {}});
-  methods.push_back({"dynamic BDF rtol 1e-05, both reduced", "dynamic", [](engine::Scene& s) { Reduce(s, true, true); },
+  methods.push_back({"dynamic BDF rtol 1e-05, both reduced", Rung::kDynamic, [](engine::Scene& s) { Reduce(s, true, true); },
                      Dynamic(1e-5), 1.0, false, {}});
   for (const double step : {40e-6, 20e-6, 10e-6}) {
     // Below the stability limit each run takes seconds.
     if (options.skip_slow && step < 40e-6) continue;
-    methods.push_back({fmt::format("dynamic explicit RK4 h={:g}us, both reduced", step * 1e6), "dynamic",
+    methods.push_back({fmt::format("dynamic explicit RK4 h={:g}us, both reduced", step * 1e6), Rung::kDynamic,
                        [](engine::Scene& s) { Reduce(s, true, true); },
                        Dynamic(1e-6, solvers::DynamicMethod::kExplicitRungeKutta, step), 1.0, true, {}});
   }
   if (options.explicit_full_model) {
-    methods.push_back({"dynamic explicit RK4 h=65ns, full model", "dynamic", keep,
+    methods.push_back({"dynamic explicit RK4 h=65ns, full model", Rung::kDynamic, keep,
                        Dynamic(1e-6, solvers::DynamicMethod::kExplicitRungeKutta, 65e-9), 1.0, true,
                        "n=2 C=0.14mm"});
   }
@@ -206,7 +218,7 @@ LadderResult RunLadder(const engine::Scene& scene, const LadderOptions& options,
                            std::abs(run.result.d_trajectory - (rigid ? c.rigid_reference : c.penalty_reference)));
     }
     row.time = Median(times);
-    if (method.rung != "dynamic") row.numerical_error = numerical;
+    if (method.rung != Rung::kDynamic) row.numerical_error = numerical;
     if (row.cases_failed == row.cases_run) row.error = std::numeric_limits<double>::quiet_NaN();
     result.rows.push_back(row);
   }
@@ -227,7 +239,7 @@ void WriteLadderCsv(std::ostream& out, const LadderResult& result) {
     std::string failure = "\"";
     for (const char c : row.first_failure) failure += c == '"' ? std::string("\"\"") : std::string(1, c);
     failure += "\"";
-    fmt::print(out, "\"{}\",{},{},{},{},{},{},{}\n", row.method, row.rung, row.cases_run, row.cases_failed,
+    fmt::print(out, "\"{}\",{},{},{},{},{},{},{}\n", row.method, NameOf(solvers::kRungNames, row.rung), row.cases_run, row.cases_failed,
                number(row.time, kMs), number(row.error, units::kMicrometresPerMetre),
                row.numerical_error < 0.0 ? std::string() : number(row.numerical_error, units::kMicrometresPerMetre), failure);
   }
@@ -278,7 +290,7 @@ void WriteLadderSvg(std::ostream& out, const LadderResult& result) {
     svg::Series series;
     series.name = fmt::format("{}. {}{}", i + 1, row.method, drawable(row) ? "" : " (failed)");
     series.style = svg::Series::Style::kPoints;
-    series.custom_colour = row.rung == "linear" ? "#1b9e77" : row.rung == "quasistatic" ? "#d95f02" : "#7570b3";
+    series.custom_colour = RungColour(row.rung);
     if (drawable(row)) {
       series.x = {row.time * kMs};
       series.y = {std::max(row.error * units::kMicrometresPerMetre, kErrorFloor)};

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "engine/scene.h"
+#include "solvers/solver.h"
 
 namespace ringtol::jobs {
 
@@ -30,7 +31,7 @@ struct LadderOptions {
 
 struct LadderRow {
   std::string method;
-  std::string rung;                  // "linear", "quasistatic" or "dynamic"
+  solvers::Rung rung = solvers::Rung::kQuasistatic;
   int cases_run = 0;
   int cases_failed = 0;
   std::string first_failure;         // "<case>: <status>: <message>"
