@@ -140,7 +140,7 @@ TEST(Campaign, AloneItComputesEverySampleAndSummarisesThem) {
   EXPECT_EQ(Pending(folder / "results.h5"), 0);
 }
 
-TEST(Campaign, OneTwoAndThreeRanksAndAnyChunkSizeWriteIdenticalResults) {
+TEST(CampaignUnderMpirun, OneTwoAndThreeRanksAndAnyChunkSizeWriteIdenticalResults) {
   const std::filesystem::path folder = Folder();
   const auto file = Write(folder / "campaign.toml", kCampaign);
   ASSERT_EQ(Campaign(file, folder / "alone.h5").exit_code, 0);
@@ -183,7 +183,7 @@ TEST(Campaign, AfterTheCoordinatorIsKilledResumeComputesOnlyWhatIsMissing) {
   ExpectSameResults(folder / "whole.h5", folder / "killed.h5");
 }
 
-TEST(Campaign, AfterAWorkerIsKilledUnderMpirunResumeCompletesTheSameFile) {
+TEST(CampaignUnderMpirun, AfterAWorkerIsKilledUnderMpirunResumeCompletesTheSameFile) {
   const std::filesystem::path folder = Folder();
   const auto file = Write(folder / "campaign.toml", kCampaign);
   ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
@@ -275,7 +275,7 @@ TEST(Campaign, AnExistingResultsFileIsNeverOverwrittenOrTakenForAnother) {
   EXPECT_THAT(missing.err, AllOf(HasSubstr("absent.h5"), HasSubstr("--resume")));
 }
 
-TEST(Campaign, BadInputStopsEveryRankWithOneClearMessageBeforeAnySample) {
+TEST(CampaignUnderMpirun, BadInputStopsEveryRankWithOneClearMessageBeforeAnySample) {
   const std::filesystem::path folder = Folder();
   const auto unknown_class =
       Write(folder / "class.toml", testing::ReplaceOnce(kCampaign, "class = \"Normal\"", "class = \"P9\""));
