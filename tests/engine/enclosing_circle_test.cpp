@@ -148,6 +148,20 @@ bool AllInside(const Points& points, const Circle& circle) {
                      [&](const Point& p) { return (p - circle.centre).norm() <= circle.radius; });
 }
 
+// The engine's circle against the brute-force reference: the radius within
+// kRelativeRadiusTolerance of the coordinate scale, the centre within what that radius
+// tolerance allows (CentreTolerance). Returns the engine's circle for further checks.
+Circle ExpectMatchesBruteForce(const Points& points) {
+  const Circle expected = BruteForceCircle(points);
+  const Circle actual = MinimumEnclosingCircle(points);
+  const double radius_tolerance = kRelativeRadiusTolerance * CoordinateScale(points);
+  const double centre_tolerance = CentreTolerance(points, expected, radius_tolerance);
+  EXPECT_NEAR(actual.radius, expected.radius, radius_tolerance);
+  EXPECT_NEAR(actual.centre.x(), expected.centre.x(), centre_tolerance);
+  EXPECT_NEAR(actual.centre.y(), expected.centre.y(), centre_tolerance);
+  return actual;
+}
+
 TEST(MinimumEnclosingCircle, MatchesBruteForceOnRandomPoints) {
   for (Distribution distribution :
        {Distribution::kUniformSquare, Distribution::kGaussian, Distribution::kTinyRing}) {
@@ -155,14 +169,7 @@ TEST(MinimumEnclosingCircle, MatchesBruteForceOnRandomPoints) {
       for (unsigned seed = 1; seed <= 6; ++seed) {
         SCOPED_TRACE(::testing::Message() << "distribution " << static_cast<int>(distribution)
                                           << ", n " << n << ", seed " << seed);
-        const Points points = RandomPoints(distribution, n, seed);
-        const Circle expected = BruteForceCircle(points);
-        const Circle actual = MinimumEnclosingCircle(points);
-        const double radius_tolerance = kRelativeRadiusTolerance * CoordinateScale(points);
-        const double centre_tolerance = CentreTolerance(points, expected, radius_tolerance);
-        EXPECT_NEAR(actual.radius, expected.radius, radius_tolerance);
-        EXPECT_NEAR(actual.centre.x(), expected.centre.x(), centre_tolerance);
-        EXPECT_NEAR(actual.centre.y(), expected.centre.y(), centre_tolerance);
+        ExpectMatchesBruteForce(RandomPoints(distribution, n, seed));
       }
     }
   }
@@ -236,14 +243,7 @@ TEST(MinimumEnclosingCircle, NearlyCollinearPointsMatchBruteForce) {
       for (int i = 0; i < 30; ++i) {
         points.push_back(origin + 2e-4 * (along(engine) * direction + across(engine) * normal));
       }
-      const Circle expected = BruteForceCircle(points);
-      const Circle actual = MinimumEnclosingCircle(points);
-      const double radius_tolerance = kRelativeRadiusTolerance * CoordinateScale(points);
-      const double centre_tolerance = CentreTolerance(points, expected, radius_tolerance);
-      EXPECT_NEAR(actual.radius, expected.radius, radius_tolerance);
-      EXPECT_NEAR(actual.centre.x(), expected.centre.x(), centre_tolerance);
-      EXPECT_NEAR(actual.centre.y(), expected.centre.y(), centre_tolerance);
-      EXPECT_TRUE(AllInside(points, actual));
+      EXPECT_TRUE(AllInside(points, ExpectMatchesBruteForce(points)));
     }
   }
 }
@@ -291,13 +291,7 @@ TEST(MinimumEnclosingCircle, NearlyCoCircularPointsMatchBruteForce) {
         const double t = angle(engine);
         points.push_back(Point(0.1, -0.05) + 0.25 * (1.0 + radial(engine)) * Point(std::cos(t), std::sin(t)));
       }
-      const Circle expected = BruteForceCircle(points);
-      const Circle actual = MinimumEnclosingCircle(points);
-      const double radius_tolerance = kRelativeRadiusTolerance * CoordinateScale(points);
-      const double centre_tolerance = CentreTolerance(points, expected, radius_tolerance);
-      EXPECT_NEAR(actual.radius, expected.radius, radius_tolerance);
-      EXPECT_NEAR(actual.centre.x(), expected.centre.x(), centre_tolerance);
-      EXPECT_NEAR(actual.centre.y(), expected.centre.y(), centre_tolerance);
+      ExpectMatchesBruteForce(points);
     }
   }
 }
