@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <fstream>
 #include <functional>
 #include <numbers>
 #include <optional>
@@ -23,8 +22,11 @@
 namespace ringtol::jobs {
 namespace {
 
+using ringtol::testing::FreshTestFolder;
+using ringtol::testing::MessageOf;
 using ringtol::testing::ReadText;
 using ringtol::testing::ReplaceOnce;
+using ringtol::testing::WriteText;
 
 using ::testing::AllOf;
 using ::testing::HasSubstr;
@@ -57,13 +59,7 @@ std::string FixedAWith(std::string_view from, std::string_view to) {
 }
 
 std::string ErrorFor(const std::string& text) {
-  try {
-    ParseScene(text, "bad.toml");
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "ParseScene accepted the input";
-  return "";
+  return MessageOf<InputError>([&] { ParseScene(text, "bad.toml"); });
 }
 
 // A scene with only the required keys.
@@ -462,18 +458,7 @@ INSTANTIATE_TEST_SUITE_P(OneBadKey, SceneFileRejects, ::testing::ValuesIn(kBadSc
 
 // ---- ring.measured_profile
 
-// A fresh folder for this test, so tests run in parallel processes share nothing.
-std::filesystem::path MeasuredFolder() {
-  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const std::filesystem::path folder = std::filesystem::path(::testing::TempDir()) / ("scene_file_" + test);
-  std::filesystem::remove_all(folder);
-  std::filesystem::create_directories(folder);
-  return folder;
-}
-
-void WriteTextFile(const std::filesystem::path& file, const std::string& text) {
-  std::ofstream(file, std::ios::binary) << text;
-}
+std::filesystem::path MeasuredFolder() { return FreshTestFolder("scene_file_test"); }
 
 constexpr double kBoreRadius = 0.302;  // [m] of the paper scene
 // A set-up eccentricity (order 1) and form errors, as a roundness tester sees them.
@@ -523,22 +508,16 @@ std::string PaperSceneMeasuring(std::string_view measured, std::string_view harm
 // ReadScene's message for the paper scene with measured_profile = `measured`, written as
 // scene.toml in `folder`.
 std::string MeasuredErrorFor(const std::filesystem::path& folder, std::string_view measured) {
-  WriteTextFile(folder / "scene.toml", PaperSceneMeasuring(measured));
-  try {
-    ReadScene(folder / "scene.toml");
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "ReadScene accepted measured_profile = " << measured;
-  return "";
+  WriteText(folder / "scene.toml", PaperSceneMeasuring(measured));
+  return MessageOf<InputError>([&] { ReadScene(folder / "scene.toml"); });
 }
 
 TEST(SceneFile, MeasuredProfileGivesTheRingTheFittedHarmonics) {
   const std::filesystem::path folder = MeasuredFolder();
-  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  WriteText(folder / "ring.csv", MeasuredRadii());
   for (const bool keep : {false, true}) {
     SCOPED_TRACE(keep ? "keep_eccentricity = true" : "keep_eccentricity = false");
-    WriteTextFile(folder / "scene.toml", PaperSceneMeasuring("{ file = \"ring.csv\", orders = 6, keep_eccentricity = " +
+    WriteText(folder / "scene.toml", PaperSceneMeasuring("{ file = \"ring.csv\", orders = 6, keep_eccentricity = " +
                                                              std::string(keep ? "true" : "false") + " }"));
     const engine::PolarProfile& bore = ReadScene(folder / "scene.toml").ring.inner;
     EXPECT_EQ(bore.radius(), kBoreRadius);
@@ -569,8 +548,8 @@ TEST(SceneFile, MeasuredProfileAddsToTheRingsOwnHarmonicsAndMeanDeviation) {
       {"radii", MeasuredRadii(kBoreRadius + kMeasuredOffset)}};
   for (const auto& [name, csv] : exports) {
     SCOPED_TRACE(name);
-    WriteTextFile(folder / "ring.csv", csv);
-    WriteTextFile(folder / "scene.toml",
+    WriteText(folder / "ring.csv", csv);
+    WriteText(folder / "scene.toml",
                   PaperSceneWith(kOwnKeys, "mean_deviation_mm = 0.002\nharmonics = [" + std::string(kOwnHarmonic) +
                                                "]\nmeasured_profile = { file = \"ring.csv\", orders = 6 } #"));
     const engine::PolarProfile& bore = ReadScene(folder / "scene.toml").ring.inner;
@@ -591,9 +570,9 @@ TEST(SceneFile, MeasuredProfileAddsToTheRingsOwnHarmonicsAndMeanDeviation) {
 TEST(SceneFile, MeasuredProfileIsFoundRelativeToTheSceneFilesFolder) {
   const std::filesystem::path folder = MeasuredFolder();
   std::filesystem::create_directories(folder / "scenes" / "profiles");
-  WriteTextFile(folder / "scenes" / "profiles" / "ring.csv", MeasuredRadii());
+  WriteText(folder / "scenes" / "profiles" / "ring.csv", MeasuredRadii());
   const std::string text = PaperSceneMeasuring("{ file = \"profiles/ring.csv\", orders = 6 }");
-  WriteTextFile(folder / "scenes" / "scene.toml", text);
+  WriteText(folder / "scenes" / "scene.toml", text);
   const engine::Scene scene = ReadScene(folder / "scenes" / "scene.toml");
   EXPECT_EQ(scene.ring.inner.harmonics().size(), static_cast<std::size_t>(kMeasuredOrders - 1));
 
@@ -621,7 +600,7 @@ TEST(SceneFile, RejectsAMissingMeasuredProfileNamingKeyValueAndPath) {
 
 TEST(SceneFile, RejectsMeasuredProfileOrdersOutOfRange) {
   const std::filesystem::path folder = MeasuredFolder();
-  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  WriteText(folder / "ring.csv", MeasuredRadii());
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 0 }"),
               AllOf(HasSubstr((folder / "scene.toml").string() + ":"),
                     HasSubstr("ring.measured_profile.orders = 0: out of range; allowed: an integer >= 1 and <= 1000")));
@@ -633,7 +612,7 @@ TEST(SceneFile, RejectsMeasuredProfileOrdersOutOfRange) {
 
 TEST(SceneFile, RejectsUnknownMissingAndMistypedKeysOfTheMeasuredProfile) {
   const std::filesystem::path folder = MeasuredFolder();
-  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  WriteText(folder / "ring.csv", MeasuredRadii());
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", order = 6 }"),
               HasSubstr("unknown key 'ring.measured_profile.order'; valid keys here: file, orders, keep_eccentricity"));
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\" }"),
@@ -656,13 +635,13 @@ TEST(SceneFile, PassesCsvAndFitErrorsThroughAfterTheKeyPath) {
                                    '\n'));
   const std::string where = (folder / "scene.toml").string() + ":" + std::to_string(line) + ":";
 
-  WriteTextFile(folder / "ring.csv", "angle_deg,radius_mm\n0,1\n1,1\n2,1\n3,1\n4,1\n5,abc\n");
+  WriteText(folder / "ring.csv", "angle_deg,radius_mm\n0,1\n1,1\n2,1\n3,1\n4,1\n5,abc\n");
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 2 }"),
               AllOf(::testing::StartsWith(where),
                     HasSubstr(": ring.measured_profile: " + csv +
                               ":7: radius_mm = abc: not a number; allowed: a finite number > 0")));
 
-  WriteTextFile(folder / "ring.csv", "angle_deg,radius_mm\n0,302\n72,302.01\n144,302\n216,301.99\n288,302\n");
+  WriteText(folder / "ring.csv", "angle_deg,radius_mm\n0,302\n72,302.01\n144,302\n216,301.99\n288,302\n");
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 6 }"),
               AllOf(::testing::StartsWith(where),
                     HasSubstr(": ring.measured_profile: " + csv +

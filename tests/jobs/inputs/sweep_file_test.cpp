@@ -2,10 +2,8 @@
 
 #include <cstddef>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,8 +17,11 @@
 namespace ringtol::jobs {
 namespace {
 
+using ringtol::testing::FreshTestFolder;
+using ringtol::testing::MessageOf;
 using ringtol::testing::ReadText;
 using ringtol::testing::ReplaceOnce;
+using ringtol::testing::WriteText;
 
 namespace fs = std::filesystem;
 using ::testing::AllOf;
@@ -29,38 +30,17 @@ using ::testing::HasSubstr;
 
 const fs::path kExamples = fs::path(RINGTOL_SOURCE_DIR) / "examples" / "paper";
 
-void WriteText(const fs::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  if (!out) throw std::runtime_error("test cannot write " + path.string());
-}
-
-// A fresh folder per test under the test temp dir, so tests never see each other's files.
-fs::path TestFolder() {
-  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path folder = fs::path(::testing::TempDir()) / "ringtol_sweep_file_test" / test->name();
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
-}
-
 // Writes `sweep` as sweep.toml next to scene.toml (the paper scene unless given) and
 // returns the sweep file's path.
 fs::path WriteSweep(const std::string& sweep, const std::string& scene = ReadText(kExamples / "scene.toml")) {
-  const fs::path folder = TestFolder();
+  const fs::path folder = FreshTestFolder("sweep_file_test");
   WriteText(folder / "scene.toml", scene);
   WriteText(folder / "sweep.toml", sweep);
   return folder / "sweep.toml";
 }
 
 std::string ErrorFor(const fs::path& sweep_file) {
-  try {
-    ReadSweep(sweep_file);
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "ReadSweep accepted " << sweep_file;
-  return "";
+  return MessageOf<InputError>([&] { ReadSweep(sweep_file); });
 }
 
 std::vector<std::string> Names(const Sweep& sweep) {
@@ -180,7 +160,7 @@ TEST(SweepFile, ResolvesTheScenePathAgainstTheSweepFolder) {
 // ---- bad input
 
 TEST(SweepFile, RejectsAMissingSweepFile) {
-  const fs::path missing = TestFolder() / "absent.toml";
+  const fs::path missing = FreshTestFolder("sweep_file_test") / "absent.toml";
   EXPECT_THAT(ErrorFor(missing), AllOf(HasSubstr(missing.string()), HasSubstr("no such file")));
 }
 

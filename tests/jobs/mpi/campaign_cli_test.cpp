@@ -11,7 +11,6 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <thread>
 
@@ -58,23 +57,13 @@ d_trajectory_mm = 0.2
 
 using Outcome = testing::ShellOutcome;  // exit code 128 + signal when killed
 
-// This test's own folder (ctest runs tests in parallel).
-std::filesystem::path TestFolder() {
-  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  return std::filesystem::temp_directory_path() /
-         (std::string("ringtol_campaign_") + test->test_suite_name() + "_" + test->name());
-}
+std::filesystem::path TestFolder() { return testing::TestFolderPath("campaign_cli_test"); }
 
 // The test's folder, emptied.
-std::filesystem::path Folder() {
-  const std::filesystem::path folder = TestFolder();
-  std::filesystem::remove_all(folder);
-  std::filesystem::create_directories(folder);
-  return folder;
-}
+std::filesystem::path Folder() { return testing::FreshTestFolder("campaign_cli_test"); }
 
 std::filesystem::path Write(const std::filesystem::path& file, const std::string& text) {
-  std::ofstream(file) << text;
+  testing::WriteText(file, text);
   return file;
 }
 

@@ -24,10 +24,7 @@ using ::testing::Not;
 class CampaignReport : public ::testing::Test {
  protected:
   void SetUp() override {
-    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() / (std::string("ringtol_report_cli_") + test->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
+    dir_ = ringtol::testing::FreshTestFolder("report_cli_test");
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
