@@ -14,23 +14,19 @@
 namespace ringtol::jobs {
 namespace {
 
-using ringtol::testing::FreshTestFolder;
-using ringtol::testing::MessageOf;
-using ringtol::testing::WriteText;
-
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 std::string ErrorFor(const std::string& text) {
-  return MessageOf<InputError>([&] { ParseProfileCsv(text, "ring.csv"); });
+  return ringtol::testing::MessageOf<InputError>([&] { ParseProfileCsv(text, "ring.csv"); });
 }
 
 // `text` as ring.csv in a folder of the test's own.
 std::filesystem::path WriteFile(const std::string& text) {
-  const std::filesystem::path path = FreshTestFolder("profile_csv_test") / "ring.csv";
-  WriteText(path, text);
+  const std::filesystem::path path = ringtol::testing::FreshTestFolder("profile_csv_test") / "ring.csv";
+  ringtol::testing::WriteText(path, text);
   return path;
 }
 

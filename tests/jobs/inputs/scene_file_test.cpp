@@ -22,8 +22,6 @@
 namespace ringtol::jobs {
 namespace {
 
-using ringtol::testing::FreshTestFolder;
-using ringtol::testing::MessageOf;
 using ringtol::testing::ReadText;
 using ringtol::testing::ReplaceOnce;
 using ringtol::testing::WriteText;
@@ -59,7 +57,7 @@ std::string FixedAWith(std::string_view from, std::string_view to) {
 }
 
 std::string ErrorFor(const std::string& text) {
-  return MessageOf<InputError>([&] { ParseScene(text, "bad.toml"); });
+  return ringtol::testing::MessageOf<InputError>([&] { ParseScene(text, "bad.toml"); });
 }
 
 // A scene with only the required keys.
@@ -458,7 +456,7 @@ INSTANTIATE_TEST_SUITE_P(OneBadKey, SceneFileRejects, ::testing::ValuesIn(kBadSc
 
 // ---- ring.measured_profile
 
-std::filesystem::path MeasuredFolder() { return FreshTestFolder("scene_file_test"); }
+std::filesystem::path MeasuredFolder() { return ringtol::testing::FreshTestFolder("scene_file_test"); }
 
 constexpr double kBoreRadius = 0.302;  // [m] of the paper scene
 // A set-up eccentricity (order 1) and form errors, as a roundness tester sees them.
@@ -509,7 +507,7 @@ std::string PaperSceneMeasuring(std::string_view measured, std::string_view harm
 // scene.toml in `folder`.
 std::string MeasuredErrorFor(const std::filesystem::path& folder, std::string_view measured) {
   WriteText(folder / "scene.toml", PaperSceneMeasuring(measured));
-  return MessageOf<InputError>([&] { ReadScene(folder / "scene.toml"); });
+  return ringtol::testing::MessageOf<InputError>([&] { ReadScene(folder / "scene.toml"); });
 }
 
 TEST(SceneFile, MeasuredProfileGivesTheRingTheFittedHarmonics) {

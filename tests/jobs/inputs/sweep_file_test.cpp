@@ -17,8 +17,6 @@
 namespace ringtol::jobs {
 namespace {
 
-using ringtol::testing::FreshTestFolder;
-using ringtol::testing::MessageOf;
 using ringtol::testing::ReadText;
 using ringtol::testing::ReplaceOnce;
 using ringtol::testing::WriteText;
@@ -33,14 +31,14 @@ const fs::path kExamples = fs::path(RINGTOL_SOURCE_DIR) / "examples" / "paper";
 // Writes `sweep` as sweep.toml next to scene.toml (the paper scene unless given) and
 // returns the sweep file's path.
 fs::path WriteSweep(const std::string& sweep, const std::string& scene = ReadText(kExamples / "scene.toml")) {
-  const fs::path folder = FreshTestFolder("sweep_file_test");
+  const fs::path folder = ringtol::testing::FreshTestFolder("sweep_file_test");
   WriteText(folder / "scene.toml", scene);
   WriteText(folder / "sweep.toml", sweep);
   return folder / "sweep.toml";
 }
 
 std::string ErrorFor(const fs::path& sweep_file) {
-  return MessageOf<InputError>([&] { ReadSweep(sweep_file); });
+  return ringtol::testing::MessageOf<InputError>([&] { ReadSweep(sweep_file); });
 }
 
 std::vector<std::string> Names(const Sweep& sweep) {
@@ -160,7 +158,7 @@ TEST(SweepFile, ResolvesTheScenePathAgainstTheSweepFolder) {
 // ---- bad input
 
 TEST(SweepFile, RejectsAMissingSweepFile) {
-  const fs::path missing = FreshTestFolder("sweep_file_test") / "absent.toml";
+  const fs::path missing = ringtol::testing::FreshTestFolder("sweep_file_test") / "absent.toml";
   EXPECT_THAT(ErrorFor(missing), AllOf(HasSubstr(missing.string()), HasSubstr("no such file")));
 }
 

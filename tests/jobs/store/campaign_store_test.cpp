@@ -141,13 +141,7 @@ void ExpectPendingRow(const SampleRecord& actual) {
 }
 
 std::string InputErrorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "no InputError";
-  return "";
+  return ringtol::testing::MessageOf<InputError>(action);
 }
 
 // Writes every pending sample of [0, samples) as its DeterministicRecord, committing every
