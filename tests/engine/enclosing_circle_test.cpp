@@ -148,6 +148,15 @@ bool AllInside(const Points& points, const Circle& circle) {
                      [&](const Point& p) { return (p - circle.centre).norm() <= circle.radius; });
 }
 
+// `circle` is the one with diameter [a, b], within `tolerance`, and holds every point.
+void ExpectDiameterCircle(const Points& points, const Circle& circle, const Point& a, const Point& b,
+                          double tolerance) {
+  EXPECT_NEAR(circle.centre.x(), 0.5 * (a.x() + b.x()), tolerance);
+  EXPECT_NEAR(circle.centre.y(), 0.5 * (a.y() + b.y()), tolerance);
+  EXPECT_NEAR(circle.radius, 0.5 * (b - a).norm(), tolerance);
+  EXPECT_TRUE(AllInside(points, circle));
+}
+
 // The engine's circle against the brute-force reference: the radius within
 // kRelativeRadiusTolerance of the coordinate scale, the centre within what that radius
 // tolerance allows (CentreTolerance). Returns the engine's circle for further checks.
@@ -196,10 +205,7 @@ TEST(MinimumEnclosingCircle, CollinearPointsGiveTheDiameterCircleOfTheExtremes) 
 
   const Circle circle = MinimumEnclosingCircle(points);
   const double tolerance = kRelativeRoundingTolerance * CoordinateScale(points);
-  EXPECT_NEAR(circle.centre.x(), 0.5 * (low.x() + high.x()), tolerance);
-  EXPECT_NEAR(circle.centre.y(), 0.5 * (low.y() + high.y()), tolerance);
-  EXPECT_NEAR(circle.radius, 0.5 * (high - low).norm(), tolerance);
-  EXPECT_TRUE(AllInside(points, circle));
+  ExpectDiameterCircle(points, circle, low, high, tolerance);
 }
 
 TEST(MinimumEnclosingCircle, ManyCollinearPointsGiveTheDiameterCircleOfTheExtremes) {
@@ -221,10 +227,7 @@ TEST(MinimumEnclosingCircle, ManyCollinearPointsGiveTheDiameterCircleOfTheExtrem
   // The engine may settle on a point within its inside slack of an extreme, so the radius
   // tolerance rather than plain rounding; a circumcircle would be off by far more.
   const double tolerance = kRelativeRadiusTolerance * CoordinateScale(points);
-  EXPECT_NEAR(circle.centre.x(), 0.5 * (low.x() + high.x()), tolerance);
-  EXPECT_NEAR(circle.centre.y(), 0.5 * (low.y() + high.y()), tolerance);
-  EXPECT_NEAR(circle.radius, 0.5 * (high - low).norm(), tolerance);
-  EXPECT_TRUE(AllInside(points, circle));
+  ExpectDiameterCircle(points, circle, low, high, tolerance);
 }
 
 TEST(MinimumEnclosingCircle, NearlyCollinearPointsMatchBruteForce) {
@@ -303,10 +306,7 @@ TEST(MinimumEnclosingCircle, CoCircularPointsWithinLessThanASemicircleGiveTheArc
 
   const Circle circle = MinimumEnclosingCircle(points);
   const double tolerance = kRelativeRoundingTolerance * CoordinateScale(points);
-  EXPECT_NEAR(circle.centre.x(), 0.5 * (first.x() + last.x()), tolerance);
-  EXPECT_NEAR(circle.centre.y(), 0.5 * (first.y() + last.y()), tolerance);
-  EXPECT_NEAR(circle.radius, 0.5 * (last - first).norm(), tolerance);
-  EXPECT_TRUE(AllInside(points, circle));
+  ExpectDiameterCircle(points, circle, first, last, tolerance);
 }
 
 TEST(MinimumEnclosingCircle, SinglePointIsACircleOfRadiusZero) {
