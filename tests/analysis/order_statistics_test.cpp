@@ -158,16 +158,25 @@ TEST(EstimateQuantile, RanksAreTheTightestEqualTailedOnesAtLargeN) {
   }
 }
 
+// An estimate bounded by the order statistics of ranks l and u, whose values are the
+// interval's ends.
+::testing::Matcher<const QuantileEstimate&> RanksAndInterval(std::int64_t l, std::int64_t u, double lower,
+                                                             double upper) {
+  return ::testing::AllOf(
+      ::testing::Field("lower_rank", &QuantileEstimate::lower_rank, l),
+      ::testing::Field("upper_rank", &QuantileEstimate::upper_rank, u),
+      ::testing::Field("interval", &QuantileEstimate::interval,
+                       ::testing::AllOf(::testing::Field("lower", &Interval::lower, lower),
+                                        ::testing::Field("upper", &Interval::upper, upper))));
+}
+
 TEST(EstimateQuantile, MedianOfOneHundredUsesTheTextbookRanks40And61) {
   // Bin(100, 1/2): F(39) = 0.0176 <= 0.025 < F(40) = 0.0284 and, by symmetry, P(B > 60) = F(39),
   // P(B > 59) = F(40): the classic [x_(40), x_(61)] (Conover, Practical Nonparametric
   // Statistics, table A3), coverage 1 - 2 F(39).
   const std::vector<double> x = Ranks(100);
   const QuantileEstimate e = EstimateQuantile(x, 0.5, 0.95);
-  EXPECT_EQ(e.lower_rank, 40);
-  EXPECT_EQ(e.upper_rank, 61);
-  EXPECT_EQ(e.interval.lower, 40.0);
-  EXPECT_EQ(e.interval.upper, 61.0);
+  EXPECT_THAT(e, RanksAndInterval(40, 61, 40.0, 61.0));
 }
 
 TEST(EstimateQuantile, SampleRangeOfSixIsTheSmallestFiniteMedianIntervalAt95Percent) {
@@ -175,15 +184,9 @@ TEST(EstimateQuantile, SampleRangeOfSixIsTheSmallestFiniteMedianIntervalAt95Perc
   // and [x_(1), x_(6)] covers the median with probability 1 - 2/64.
   const std::vector<double> five = Ranks(5), six = Ranks(6);
   const QuantileEstimate e5 = EstimateQuantile(five, 0.5, 0.95);
-  EXPECT_EQ(e5.lower_rank, 0);
-  EXPECT_EQ(e5.upper_rank, 6);
-  EXPECT_EQ(e5.interval.lower, -kInfinity);
-  EXPECT_EQ(e5.interval.upper, kInfinity);
+  EXPECT_THAT(e5, RanksAndInterval(0, 6, -kInfinity, kInfinity));
   const QuantileEstimate e6 = EstimateQuantile(six, 0.5, 0.95);
-  EXPECT_EQ(e6.lower_rank, 1);
-  EXPECT_EQ(e6.upper_rank, 6);
-  EXPECT_EQ(e6.interval.lower, 1.0);
-  EXPECT_EQ(e6.interval.upper, 6.0);
+  EXPECT_THAT(e6, RanksAndInterval(1, 6, 1.0, 6.0));
 }
 
 TEST(EstimateQuantile, TooFewSamplesLeaveTheFarSideUnbounded) {
@@ -191,23 +194,14 @@ TEST(EstimateQuantile, TooFewSamplesLeaveTheFarSideUnbounded) {
   // p = 0.99: P(B >= 10) = 0.99^10 = 0.904 > 0.025, so no x_(u) bounds the 99 % quantile above.
   // Below: F(8) = 1 - 0.99^10 - 10 0.99^9 0.01 = 0.0043 <= 0.025 < F(9) = 1 - 0.99^10 = 0.096.
   const QuantileEstimate high = EstimateQuantile(x, 0.99, 0.95);
-  EXPECT_EQ(high.upper_rank, 11);
-  EXPECT_EQ(high.interval.upper, kInfinity);
-  EXPECT_EQ(high.lower_rank, 9);
-  EXPECT_EQ(high.interval.lower, 9.0);
+  EXPECT_THAT(high, RanksAndInterval(9, 11, 9.0, kInfinity));
   // p = 0.01 is the mirror image: l = 0 (P(B = 0) = 0.904), u = 2 (P(B > 1) = 0.0043).
   const QuantileEstimate low = EstimateQuantile(x, 0.01, 0.95);
-  EXPECT_EQ(low.lower_rank, 0);
-  EXPECT_EQ(low.interval.lower, -kInfinity);
-  EXPECT_EQ(low.upper_rank, 2);
-  EXPECT_EQ(low.interval.upper, 2.0);
+  EXPECT_THAT(low, RanksAndInterval(0, 2, -kInfinity, 2.0));
   // One sample bounds nothing at any useful level: F(0) = 1 - p > alpha/2 and P(B > 0) = p > alpha/2.
   const std::vector<double> one = {3.0};
   const QuantileEstimate single = EstimateQuantile(one, 0.5, 0.9);
-  EXPECT_EQ(single.lower_rank, 0);
-  EXPECT_EQ(single.upper_rank, 2);
-  EXPECT_EQ(single.interval.lower, -kInfinity);
-  EXPECT_EQ(single.interval.upper, kInfinity);
+  EXPECT_THAT(single, RanksAndInterval(0, 2, -kInfinity, kInfinity));
   EXPECT_EQ(single.value, 3.0);
 }
 

@@ -148,6 +148,29 @@ bool AllInside(const Points& points, const Circle& circle) {
                      [&](const Point& p) { return (p - circle.centre).norm() <= circle.radius; });
 }
 
+// `circle` is the one with diameter [a, b], within `tolerance`, and holds every point.
+void ExpectDiameterCircle(const Points& points, const Circle& circle, const Point& a, const Point& b,
+                          double tolerance) {
+  EXPECT_NEAR(circle.centre.x(), 0.5 * (a.x() + b.x()), tolerance);
+  EXPECT_NEAR(circle.centre.y(), 0.5 * (a.y() + b.y()), tolerance);
+  EXPECT_NEAR(circle.radius, 0.5 * (b - a).norm(), tolerance);
+  EXPECT_TRUE(AllInside(points, circle));
+}
+
+// The engine's circle against the brute-force reference: the radius within
+// kRelativeRadiusTolerance of the coordinate scale, the centre within what that radius
+// tolerance allows (CentreTolerance). Returns the engine's circle for further checks.
+Circle ExpectMatchesBruteForce(const Points& points) {
+  const Circle expected = BruteForceCircle(points);
+  const Circle actual = MinimumEnclosingCircle(points);
+  const double radius_tolerance = kRelativeRadiusTolerance * CoordinateScale(points);
+  const double centre_tolerance = CentreTolerance(points, expected, radius_tolerance);
+  EXPECT_NEAR(actual.radius, expected.radius, radius_tolerance);
+  EXPECT_NEAR(actual.centre.x(), expected.centre.x(), centre_tolerance);
+  EXPECT_NEAR(actual.centre.y(), expected.centre.y(), centre_tolerance);
+  return actual;
+}
+
 TEST(MinimumEnclosingCircle, MatchesBruteForceOnRandomPoints) {
   for (Distribution distribution :
        {Distribution::kUniformSquare, Distribution::kGaussian, Distribution::kTinyRing}) {
@@ -155,14 +178,7 @@ TEST(MinimumEnclosingCircle, MatchesBruteForceOnRandomPoints) {
       for (unsigned seed = 1; seed <= 6; ++seed) {
         SCOPED_TRACE(::testing::Message() << "distribution " << static_cast<int>(distribution)
                                           << ", n " << n << ", seed " << seed);
-        const Points points = RandomPoints(distribution, n, seed);
-        const Circle expected = BruteForceCircle(points);
-        const Circle actual = MinimumEnclosingCircle(points);
-        const double radius_tolerance = kRelativeRadiusTolerance * CoordinateScale(points);
-        const double centre_tolerance = CentreTolerance(points, expected, radius_tolerance);
-        EXPECT_NEAR(actual.radius, expected.radius, radius_tolerance);
-        EXPECT_NEAR(actual.centre.x(), expected.centre.x(), centre_tolerance);
-        EXPECT_NEAR(actual.centre.y(), expected.centre.y(), centre_tolerance);
+        ExpectMatchesBruteForce(RandomPoints(distribution, n, seed));
       }
     }
   }
@@ -189,10 +205,7 @@ TEST(MinimumEnclosingCircle, CollinearPointsGiveTheDiameterCircleOfTheExtremes) 
 
   const Circle circle = MinimumEnclosingCircle(points);
   const double tolerance = kRelativeRoundingTolerance * CoordinateScale(points);
-  EXPECT_NEAR(circle.centre.x(), 0.5 * (low.x() + high.x()), tolerance);
-  EXPECT_NEAR(circle.centre.y(), 0.5 * (low.y() + high.y()), tolerance);
-  EXPECT_NEAR(circle.radius, 0.5 * (high - low).norm(), tolerance);
-  EXPECT_TRUE(AllInside(points, circle));
+  ExpectDiameterCircle(points, circle, low, high, tolerance);
 }
 
 TEST(MinimumEnclosingCircle, ManyCollinearPointsGiveTheDiameterCircleOfTheExtremes) {
@@ -214,10 +227,7 @@ TEST(MinimumEnclosingCircle, ManyCollinearPointsGiveTheDiameterCircleOfTheExtrem
   // The engine may settle on a point within its inside slack of an extreme, so the radius
   // tolerance rather than plain rounding; a circumcircle would be off by far more.
   const double tolerance = kRelativeRadiusTolerance * CoordinateScale(points);
-  EXPECT_NEAR(circle.centre.x(), 0.5 * (low.x() + high.x()), tolerance);
-  EXPECT_NEAR(circle.centre.y(), 0.5 * (low.y() + high.y()), tolerance);
-  EXPECT_NEAR(circle.radius, 0.5 * (high - low).norm(), tolerance);
-  EXPECT_TRUE(AllInside(points, circle));
+  ExpectDiameterCircle(points, circle, low, high, tolerance);
 }
 
 TEST(MinimumEnclosingCircle, NearlyCollinearPointsMatchBruteForce) {
@@ -236,14 +246,7 @@ TEST(MinimumEnclosingCircle, NearlyCollinearPointsMatchBruteForce) {
       for (int i = 0; i < 30; ++i) {
         points.push_back(origin + 2e-4 * (along(engine) * direction + across(engine) * normal));
       }
-      const Circle expected = BruteForceCircle(points);
-      const Circle actual = MinimumEnclosingCircle(points);
-      const double radius_tolerance = kRelativeRadiusTolerance * CoordinateScale(points);
-      const double centre_tolerance = CentreTolerance(points, expected, radius_tolerance);
-      EXPECT_NEAR(actual.radius, expected.radius, radius_tolerance);
-      EXPECT_NEAR(actual.centre.x(), expected.centre.x(), centre_tolerance);
-      EXPECT_NEAR(actual.centre.y(), expected.centre.y(), centre_tolerance);
-      EXPECT_TRUE(AllInside(points, actual));
+      EXPECT_TRUE(AllInside(points, ExpectMatchesBruteForce(points)));
     }
   }
 }
@@ -291,13 +294,7 @@ TEST(MinimumEnclosingCircle, NearlyCoCircularPointsMatchBruteForce) {
         const double t = angle(engine);
         points.push_back(Point(0.1, -0.05) + 0.25 * (1.0 + radial(engine)) * Point(std::cos(t), std::sin(t)));
       }
-      const Circle expected = BruteForceCircle(points);
-      const Circle actual = MinimumEnclosingCircle(points);
-      const double radius_tolerance = kRelativeRadiusTolerance * CoordinateScale(points);
-      const double centre_tolerance = CentreTolerance(points, expected, radius_tolerance);
-      EXPECT_NEAR(actual.radius, expected.radius, radius_tolerance);
-      EXPECT_NEAR(actual.centre.x(), expected.centre.x(), centre_tolerance);
-      EXPECT_NEAR(actual.centre.y(), expected.centre.y(), centre_tolerance);
+      ExpectMatchesBruteForce(points);
     }
   }
 }
@@ -309,10 +306,7 @@ TEST(MinimumEnclosingCircle, CoCircularPointsWithinLessThanASemicircleGiveTheArc
 
   const Circle circle = MinimumEnclosingCircle(points);
   const double tolerance = kRelativeRoundingTolerance * CoordinateScale(points);
-  EXPECT_NEAR(circle.centre.x(), 0.5 * (first.x() + last.x()), tolerance);
-  EXPECT_NEAR(circle.centre.y(), 0.5 * (first.y() + last.y()), tolerance);
-  EXPECT_NEAR(circle.radius, 0.5 * (last - first).norm(), tolerance);
-  EXPECT_TRUE(AllInside(points, circle));
+  ExpectDiameterCircle(points, circle, first, last, tolerance);
 }
 
 TEST(MinimumEnclosingCircle, SinglePointIsACircleOfRadiusZero) {

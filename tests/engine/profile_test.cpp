@@ -757,6 +757,16 @@ std::pair<double, double> DenseExtremes(F f) {
   return {lo, hi};
 }
 
+// The engine's extremes [min, max] against the grid's [lo, hi]: at least as far out as the
+// grid up to `rounding`, and no further out than the grid can miss between its points
+// (`sampling`).
+void ExpectExtremesMatchTheGrid(double min, double max, double lo, double hi, double sampling, double rounding) {
+  EXPECT_LE(min, lo + rounding);
+  EXPECT_GE(min, lo - sampling - rounding);
+  EXPECT_GE(max, hi - rounding);
+  EXPECT_LE(max, hi + sampling + rounding);
+}
+
 template <Spec kSpec>
 void ExpectCurvatureExtremesMatchDenseSampling() {
   SCOPED_TRACE(::testing::Message() << "profile with max order " << MaxOrder(kSpec));
@@ -766,11 +776,7 @@ void ExpectCurvatureExtremesMatchDenseSampling() {
   const PolarProfile profile = Make(kSpec);
   const auto [lo, hi] =
       DenseExtremes([](double t) { return PolarCurvature(DirectSumAs<double>(kSpec, t)); });
-  // The engine must find at least the sampled extreme, and not beyond what lies between samples.
-  EXPECT_LE(profile.MinCurvature(), lo + kRounding);
-  EXPECT_GE(profile.MinCurvature(), lo - kSampling - kRounding);
-  EXPECT_GE(profile.MaxCurvature(), hi - kRounding);
-  EXPECT_LE(profile.MaxCurvature(), hi + kSampling + kRounding);
+  ExpectExtremesMatchTheGrid(profile.MinCurvature(), profile.MaxCurvature(), lo, hi, kSampling, kRounding);
 }
 
 TEST(PolarProfileConvexity, CurvatureExtremesMatchDenseSamplingOfThePolarFormula) {
@@ -817,10 +823,7 @@ void ExpectRadiusExtremesMatchDenseSampling() {
   constexpr double kRounding = 8.0 * kEps * MaxReach(kSpec);  // [m]
   const PolarProfile profile = Make(kSpec);
   const auto [lo, hi] = DenseExtremes([](double t) { return DirectSumAs<double>(kSpec, t).r; });
-  EXPECT_LE(profile.MinRadius(), lo + kRounding);
-  EXPECT_GE(profile.MinRadius(), lo - kSampling - kRounding);
-  EXPECT_GE(profile.MaxRadius(), hi - kRounding);
-  EXPECT_LE(profile.MaxRadius(), hi + kSampling + kRounding);
+  ExpectExtremesMatchTheGrid(profile.MinRadius(), profile.MaxRadius(), lo, hi, kSampling, kRounding);
 }
 
 TEST(PolarProfileConvexity, RadiusExtremesMatchDenseSampling) {

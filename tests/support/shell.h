@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <ostream>
 #include <string>
 
 #include "tests/support/text_files.h"
@@ -17,6 +18,11 @@ struct ShellOutcome {
   std::string out;
   std::string err;
 };
+
+// How a failed expectation shows a run: its exit code and what it said on stderr.
+inline void PrintTo(const ShellOutcome& run, std::ostream* out) {
+  *out << "exit code " << run.exit_code << ", stderr \"" << run.err << "\"";
+}
 
 // Runs `command` through /bin/sh with stderr captured in `err_file` (give each test its
 // own: ctest runs tests in parallel).

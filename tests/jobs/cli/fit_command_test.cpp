@@ -63,14 +63,7 @@ const std::filesystem::path kPaperScene = RINGTOL_SOURCE_DIR "/examples/paper/sc
 const std::filesystem::path kExampleProfile = RINGTOL_SOURCE_DIR "/examples/measured/ring_profile.csv";
 constexpr std::string_view kRingHarmonics = "harmonics = []                    # e.g.";
 
-// A fresh folder for this test, so tests run in parallel processes share nothing.
-std::filesystem::path TestFolder() {
-  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const std::filesystem::path folder = std::filesystem::path(::testing::TempDir()) / ("fit_command_" + test);
-  std::filesystem::remove_all(folder);
-  std::filesystem::create_directories(folder);
-  return folder;
-}
+std::filesystem::path TestFolder() { return ringtol::testing::FreshTestFolder("fit_command_test"); }
 
 double Value(double theta, double mean, const std::vector<Harmonic>& harmonics) {
   double value = mean;
@@ -86,7 +79,7 @@ std::filesystem::path WriteProfile(const std::filesystem::path& file, std::strin
     if (degree > 100 && degree < 130) continue;
     text += fmt::format("{}, {}\n", degree, Value(degree * kPi / 180.0, mean, harmonics) / unit);
   }
-  std::ofstream(file, std::ios::binary) << text;
+  ringtol::testing::WriteText(file, text);
   return file;
 }
 

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <string>
 
@@ -10,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "jobs/inputs/input_error.h"
+#include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -20,21 +20,13 @@ using ::testing::HasSubstr;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 std::string ErrorFor(const std::string& text) {
-  try {
-    ParseProfileCsv(text, "ring.csv");
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "ParseProfileCsv accepted the input";
-  return "";
+  return ringtol::testing::MessageOf<InputError>([&] { ParseProfileCsv(text, "ring.csv"); });
 }
 
-// A file under the test's temporary directory, named after the test so that tests run in
-// parallel processes do not share it.
+// `text` as ring.csv in a folder of the test's own.
 std::filesystem::path WriteFile(const std::string& text) {
-  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / ("profile_csv_" + test + ".csv");
-  std::ofstream(path, std::ios::binary) << text;
+  const std::filesystem::path path = ringtol::testing::FreshTestFolder("profile_csv_test") / "ring.csv";
+  ringtol::testing::WriteText(path, text);
   return path;
 }
 

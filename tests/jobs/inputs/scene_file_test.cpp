@@ -3,13 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <fstream>
+#include <functional>
 #include <numbers>
 #include <optional>
+#include <ostream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -22,6 +24,7 @@ namespace {
 
 using ringtol::testing::ReadText;
 using ringtol::testing::ReplaceOnce;
+using ringtol::testing::WriteText;
 
 using ::testing::AllOf;
 using ::testing::HasSubstr;
@@ -54,13 +57,7 @@ std::string FixedAWith(std::string_view from, std::string_view to) {
 }
 
 std::string ErrorFor(const std::string& text) {
-  try {
-    ParseScene(text, "bad.toml");
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "ParseScene accepted the input";
-  return "";
+  return ringtol::testing::MessageOf<InputError>([&] { ParseScene(text, "bad.toml"); });
 }
 
 // A scene with only the required keys.
@@ -94,6 +91,8 @@ mount = "fixed"
 width_mm = 4
 mass_kg = 0.002
 )";
+
+std::string MinimalSceneWith(const std::string& tables) { return std::string(kMinimalScene) + "\n" + tables; }
 
 // ---- valid input
 
@@ -252,216 +251,9 @@ TEST(SceneFile, ReportsTheLineAndColumnOfTheBadValue) {
   EXPECT_THAT(ErrorFor(text), HasSubstr("bad.toml:" + std::to_string(line) + ":" + std::to_string(column) + ": "));
 }
 
-// ---- bad input: keys
-
-TEST(SceneFile, RejectsAMissingRequiredKey) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("thickness_mm = 6.0\n", "")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.thickness_mm"), HasSubstr("missing required key"),
-                    HasSubstr("allowed: > 0")));
-}
-
-TEST(SceneFile, RejectsAMissingRingTable) {
-  EXPECT_THAT(ErrorFor(ReplaceOnce(kMinimalScene, "[ring]", "[wheel]")),
-              AllOf(HasSubstr("bad.toml"), HasSubstr("unknown key 'wheel'")));
-  const std::string without_ring = std::string(kMinimalScene).substr(std::string(kMinimalScene).find("[[rollers]]"));
-  EXPECT_THAT(ErrorFor(without_ring),
-              AllOf(HasSubstr("bad.toml: ring: missing required key"), HasSubstr("allowed: a table [ring]")));
-}
-
-TEST(SceneFile, RejectsAnUnknownTopLevelKey) {
-  EXPECT_THAT(ErrorFor("colour = \"red\"\n" + PaperSceneText()),
-              AllOf(HasSubstr("bad.toml:1:1: unknown key 'colour'"),
-                    HasSubstr("valid keys here: ring, roller_positions, rollers, contact, friction, sensor")));
-}
-
-TEST(SceneFile, RejectsAnUnknownKeyInTheRing) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("thickness_mm = 6.0\n", "thickness_mm = 6.0\ncolour = \"red\"\n")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("unknown key 'ring.colour'"),
-                    HasSubstr("valid keys here: inner_radius_mm, outer_radius_mm, thickness_mm")));
-}
-
-TEST(SceneFile, RejectsAnUnknownKeyInARoller) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("name = \"fixed_a\"\n", "name = \"fixed_a\"\ndiameter_mm = 10.0\n")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("unknown key 'rollers[1].diameter_mm'"),
-                    HasSubstr("name, angle_deg, radius_mm")));
-}
-
-TEST(SceneFile, RejectsAnUnknownKeyInAHarmonic) {
-  const std::string text =
-      PaperSceneWith(kRingHarmonics, "harmonics = [{ order = 3, amplitude_mm = 0.14, phase = 45.0 }] #");
-  EXPECT_THAT(ErrorFor(text),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("unknown key 'ring.harmonics[0].phase'"),
-                    HasSubstr("valid keys here: order, amplitude_mm, phase_deg")));
-}
-
-TEST(SceneFile, RejectsSpringKeysOnAFixedRoller) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("name = \"fixed_a\"\n", "name = \"fixed_a\"\nspring_preload_N = 19.3\n")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].spring_preload_N = 19.3"),
-                    HasSubstr("allowed: only when mount = \"spring\"")));
-}
-
-TEST(SceneFile, RejectsASpringRollerWithoutPreload) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("spring_preload_N = 19.3\n", "")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[0].spring_preload_N"),
-                    HasSubstr("missing required key (needed when mount = \"spring\")"), HasSubstr("allowed: > 0")));
-}
-
-TEST(SceneFile, RejectsBothDensityAndMass) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("thickness_mm = 6.0\n", "thickness_mm = 6.0\nmass_kg = 1.2\n")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.mass_kg = 1.2"),
-                    HasSubstr("allowed: exactly one of density_kg_per_m3 > 0 or mass_kg > 0")));
-}
-
-TEST(SceneFile, RejectsNeitherDensityNorMass) {
-  EXPECT_THAT(ErrorFor(FixedAWith("density_kg_per_m3 = 7850.0\n", "")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].density_kg_per_m3 or mass_kg"),
-                    HasSubstr("missing required key"), HasSubstr("exactly one of")));
-}
-
-// ---- bad input: types and values
-
-TEST(SceneFile, RejectsAStringWhereANumberIsExpected) {
-  EXPECT_THAT(ErrorFor(FixedAWith("radius_mm = 5.0", "radius_mm = \"5\"")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].radius_mm = \"5\""),
-                    HasSubstr("wrong type: expected a number, found string"), HasSubstr("allowed: > 0")));
-}
-
-TEST(SceneFile, RejectsAFractionalHarmonicOrder) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith(kRingHarmonics, "harmonics = [{ order = 2.5, amplitude_mm = 0.14 }] #")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.harmonics[0].order = 2.5"),
-                    HasSubstr("expected an integer, found float"), HasSubstr(">= 1 and <= 1000")));
-}
-
-TEST(SceneFile, RejectsHarmonicOrderZero) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith(kRingHarmonics, "harmonics = [{ order = 0, amplitude_mm = 0.14 }] #")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.harmonics[0].order = 0"), HasSubstr("out of range"),
-                    HasSubstr("allowed: an integer >= 1 and <= 1000")));
-}
-
-TEST(SceneFile, RejectsANegativeRollerRadius) {
-  EXPECT_THAT(ErrorFor(FixedAWith("radius_mm = 5.0", "radius_mm = -5.0")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].radius_mm = -5"), HasSubstr("out of range"),
-                    HasSubstr("allowed: > 0")));
-}
-
-TEST(SceneFile, RejectsAZeroRollerRadius) {
-  EXPECT_THAT(ErrorFor(FixedAWith("radius_mm = 5.0", "radius_mm = 0")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].radius_mm = 0"), HasSubstr("allowed: > 0")));
-}
-
-TEST(SceneFile, RejectsANanValue) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("thickness_mm = 6.0", "thickness_mm = nan")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.thickness_mm = nan"), HasSubstr("not a finite number"),
-                    HasSubstr("allowed: > 0")));
-}
-
-TEST(SceneFile, RejectsAnInfiniteValue) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("angle_deg = 90.0", "angle_deg = inf")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[0].angle_deg = inf"), HasSubstr("not a finite number"),
-                    HasSubstr("allowed: any finite number")));
-}
-
-TEST(SceneFile, RejectsAnOuterRadiusNotAboveTheInnerRadius) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("outer_radius_mm = 339.85", "outer_radius_mm = 300")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.outer_radius_mm = 300"),
-                    HasSubstr("allowed: > 302 (ring.inner_radius_mm)")));
-}
-
-TEST(SceneFile, RejectsAnExponentAboveThree) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("exponent = 1.5", "exponent = 3.5")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("contact.exponent = 3.5"), HasSubstr("allowed: >= 1 and <= 3")));
-}
-
-TEST(SceneFile, RejectsARollerLargerThanTheRing) {
-  EXPECT_THAT(ErrorFor(FixedAWith("radius_mm = 5.0", "radius_mm = 400")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].radius_mm = 400"),
-                    HasSubstr("not smaller than the ring's inner radius"), HasSubstr("allowed: > 0 and < 302")));
-}
-
-TEST(SceneFile, RejectsARollerCentreOutsideTheRing) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("name = \"fixed_a\"\n", "name = \"fixed_a\"\ncentre_radius_mm = 400.0\n")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].centre_radius_mm = 400"),
-                    HasSubstr("fixed_a does not fit in the ring"),
-                    HasSubstr("centre_radius_mm + radial position error <= ring.inner_radius_mm = 302")));
-}
-
-TEST(SceneFile, RejectsRingAmplitudesLargerThanTheRadius) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith(kRingHarmonics,
-                                      "harmonics = [{ order = 2, amplitude_mm = 200 }, { order = 3, "
-                                      "amplitude_mm = 150 }] #")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("ring.harmonics"), HasSubstr("amplitude_mm = 350"),
-                    HasSubstr("amplitudes larger than the radius"),
-                    HasSubstr("allowed: < 302 (ring.inner_radius_mm)")));
-}
-
-TEST(SceneFile, RejectsRollerAmplitudesLargerThanTheRadius) {
-  EXPECT_THAT(ErrorFor(FixedAWith("harmonics = []",
-                                  "mean_deviation_mm = 1.0\nharmonics = [{ order = 2, amplitude_mm = 4.5 }]")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].harmonics"), HasSubstr("amplitude_mm = 5.5"),
-                    HasSubstr("amplitudes larger than the radius"), HasSubstr("allowed: < 5 (rollers[1].radius_mm)")));
-}
-
-TEST(SceneFile, RejectsFewerThanThreeRollers) {
-  const std::string text = PaperSceneText();
-  const std::size_t third = text.rfind("[[rollers]]");
-  const std::size_t contact = text.find("[contact]");
-  const std::string two_rollers = text.substr(0, third) + text.substr(contact);
-  EXPECT_THAT(ErrorFor(two_rollers), AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers (2 entries): too few"),
-                                           HasSubstr("allowed: at least 3 [[rollers]] tables")));
-}
-
-TEST(SceneFile, RejectsAnUnknownMount) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("mount = \"spring\"", "mount = \"sliding\"")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[0].mount = \"sliding\""), HasSubstr("unknown value"),
-                    HasSubstr("allowed: \"fixed\", \"spring\"")));
-}
-
-TEST(SceneFile, RejectsAnUnknownContactLaw) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("law = \"penalty\"", "law = \"hertz\"")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("contact.law = \"hertz\""),
-                    HasSubstr("allowed: \"rigid\", \"penalty\"")));
-}
-
-TEST(SceneFile, RejectsAnUnknownShapePhaseReference) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("shape_phase_reference = \"radial\"", "shape_phase_reference = \"body\"")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[0].shape_phase_reference = \"body\""),
-                    HasSubstr("allowed: \"radial\", \"global\"")));
-}
-
-TEST(SceneFile, RejectsDuplicatedRollerNames) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("name = \"fixed_b\"", "name = \"fixed_a\"")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[2].name = \"fixed_a\""),
-                    HasSubstr("the same name as rollers[1]"), HasSubstr("allowed: a name no other roller has")));
-}
-
-TEST(SceneFile, RejectsADefaultNameTakenByAnotherRoller) {
-  EXPECT_THAT(ErrorFor(ReplaceOnce(kMinimalScene, "angle_deg = 90", "name = \"roller2\"\nangle_deg = 90")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("rollers[1].name = \"roller2\""),
-                    HasSubstr("the same name as rollers[0]")));
-}
-
-TEST(SceneFile, RejectsATransitionVelocityBelowTheStictionVelocity) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("transition_velocity_mm_per_s = 50.0", "transition_velocity_mm_per_s = 5.0")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("friction.transition_velocity_mm_per_s = 5"),
-                    HasSubstr("not above the stiction velocity"),
-                    HasSubstr("allowed: > stiction_velocity_mm_per_s = 10")));
-}
-
-TEST(SceneFile, RejectsAStictionVelocityAboveTheDefaultTransitionVelocity) {
-  EXPECT_THAT(ErrorFor(std::string(kMinimalScene) + "\n[friction]\nstiction_velocity_mm_per_s = 60\n"),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("friction.transition_velocity_mm_per_s = 50 (default)"),
-                    HasSubstr("allowed: > stiction_velocity_mm_per_s = 60")));
-}
-
-TEST(SceneFile, RejectsATableWhereANumberIsExpected) {
-  EXPECT_THAT(ErrorFor(PaperSceneWith("angle_deg = 0.0 ", "angle_deg = { value = 0 } ")),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("sensor.angle_deg = { value = 0 }"),
-                    HasSubstr("expected a number, found table")));
-}
-
 // ---- [motion] and [dynamics]
 
-engine::Scene SceneWith(const std::string& tables) { return ParseScene(std::string(kMinimalScene) + "\n" + tables, "bad.toml"); }
+engine::Scene SceneWith(const std::string& tables) { return ParseScene(MinimalSceneWith(tables), "bad.toml"); }
 
 TEST(SceneFile, DefaultsToTheArticleLawWithEveryStateModelled) {
   const engine::Scene scene = ParseScene(PaperSceneText(), "scene.toml");
@@ -489,66 +281,182 @@ TEST(SceneFile, ReadsTheDynamicModelSwitches) {
   EXPECT_TRUE(scene.dynamics.massless_spring_rollers);
 }
 
-TEST(SceneFile, RejectsKeysThatDoNotBelongToTheChosenLaw) {
-  try {
-    SceneWith("[motion]\nlaw = \"test_bench\"\nrate_deg_per_s = 100\n");
-    FAIL() << "accepted a rate for the test-bench law";
-  } catch (const InputError& e) {
-    EXPECT_THAT(e.what(), AllOf(HasSubstr("bad.toml:"), HasSubstr("motion.rate_deg_per_s = 100"),
-                                HasSubstr("only when law = \"article\"")));
-  }
-  try {
-    SceneWith("[motion]\nsegments = [{ duration_s = 1 }]\n");
-    FAIL() << "accepted segments for the article law";
-  } catch (const InputError& e) {
-    EXPECT_THAT(e.what(), AllOf(HasSubstr("motion.segments"), HasSubstr("only when law = \"piecewise\"")));
-  }
+// ---- bad input: one key or value
+//
+// Each case is a scene with one thing wrong, and the pieces its InputError must contain:
+// the file, the key with its value, what is wrong and what is allowed. One table, so that a
+// new check of the reader is one row, and a case that stops naming a piece fails by name.
+
+std::string PaperSceneWithTwoRollers() {
+  const std::string text = PaperSceneText();
+  const std::size_t third = text.rfind("[[rollers]]");
+  const std::size_t contact = text.find("[contact]");
+  return text.substr(0, third) + text.substr(contact);
 }
 
-TEST(SceneFile, RejectsBadMotionValuesNamingKeyAndRange) {
-  auto error = [](const std::string& tables) {
-    try {
-      SceneWith(tables);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_THAT(error("[motion]\nlaw = \"spline\"\n"),
-              AllOf(HasSubstr("motion.law = \"spline\""), HasSubstr("\"article\", \"test_bench\", \"piecewise\"")));
-  EXPECT_THAT(error("[motion]\nrate_deg_per_s = 0\n"), AllOf(HasSubstr("motion.rate_deg_per_s = 0"), HasSubstr("non-zero")));
-  EXPECT_THAT(error("[motion]\nsettle_s = -1\n"), AllOf(HasSubstr("motion.settle_s = -1"), HasSubstr(">= 0")));
-  EXPECT_THAT(error("[motion]\nrevolutions = 0\n"), AllOf(HasSubstr("motion.revolutions = 0"), HasSubstr("> 0")));
-  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\n"), AllOf(HasSubstr("motion.segments"), HasSubstr("missing")));
-  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = []\n"), HasSubstr("motion.segments"));
-  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 0 }]\n"),
-              AllOf(HasSubstr("motion.segments[0].duration_s = 0"), HasSubstr("> 0")));
-  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 1, jerk = 2 }]\n"),
-              HasSubstr("unknown key 'motion.segments[0].jerk'"));
-  EXPECT_THAT(error("[dynamics]\nfriction = \"yes\"\n"),
-              AllOf(HasSubstr("dynamics.friction = \"yes\""), HasSubstr("true or false")));
-  EXPECT_THAT(error("[dynamics]\ninertia = false\n"), HasSubstr("unknown key 'dynamics.inertia'"));
-  // Values in range whose law still overflows a double: refused as input, not thrown
-  // from the engine or passed on as infinities.
-  EXPECT_THAT(error("[motion]\nrate_deg_per_s = 1e-320\n"), AllOf(HasSubstr("bad.toml:"), HasSubstr("motion")));
-  EXPECT_THAT(error("[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 1e300, acceleration_deg_per_s2 = 1e300 }]\n"),
-              AllOf(HasSubstr("bad.toml:"), HasSubstr("overflows")));
+struct BadScene {
+  std::string name;                   // the case's name in the test's name
+  std::function<std::string()> text;  // built when the case runs, as the paper scene is read from disk
+  std::vector<std::string> message_pieces;
+};
+
+void PrintTo(const BadScene& scene, std::ostream* out) { *out << scene.name; }
+
+const std::vector<BadScene> kBadScenes = {
+    // keys
+    {"AMissingRequiredKey", [] { return PaperSceneWith("thickness_mm = 6.0\n", ""); },
+     {"bad.toml:", "ring.thickness_mm", "missing required key", "allowed: > 0"}},
+    {"ARenamedRingTable", [] { return ReplaceOnce(kMinimalScene, "[ring]", "[wheel]"); },
+     {"bad.toml", "unknown key 'wheel'"}},
+    {"AMissingRingTable",
+     [] { return std::string(kMinimalScene).substr(std::string(kMinimalScene).find("[[rollers]]")); },
+     {"bad.toml: ring: missing required key", "allowed: a table [ring]"}},
+    {"AnUnknownTopLevelKey", [] { return "colour = \"red\"\n" + PaperSceneText(); },
+     {"bad.toml:1:1: unknown key 'colour'",
+      "valid keys here: ring, roller_positions, rollers, contact, friction, sensor"}},
+    {"AnUnknownKeyInTheRing",
+     [] { return PaperSceneWith("thickness_mm = 6.0\n", "thickness_mm = 6.0\ncolour = \"red\"\n"); },
+     {"bad.toml:", "unknown key 'ring.colour'", "valid keys here: inner_radius_mm, outer_radius_mm, thickness_mm"}},
+    {"AnUnknownKeyInARoller",
+     [] { return PaperSceneWith("name = \"fixed_a\"\n", "name = \"fixed_a\"\ndiameter_mm = 10.0\n"); },
+     {"bad.toml:", "unknown key 'rollers[1].diameter_mm'", "name, angle_deg, radius_mm"}},
+    {"AnUnknownKeyInAHarmonic",
+     [] { return PaperSceneWith(kRingHarmonics, "harmonics = [{ order = 3, amplitude_mm = 0.14, phase = 45.0 }] #"); },
+     {"bad.toml:", "unknown key 'ring.harmonics[0].phase'", "valid keys here: order, amplitude_mm, phase_deg"}},
+    {"SpringKeysOnAFixedRoller",
+     [] { return PaperSceneWith("name = \"fixed_a\"\n", "name = \"fixed_a\"\nspring_preload_N = 19.3\n"); },
+     {"bad.toml:", "rollers[1].spring_preload_N = 19.3", "allowed: only when mount = \"spring\""}},
+    {"ASpringRollerWithoutPreload", [] { return PaperSceneWith("spring_preload_N = 19.3\n", ""); },
+     {"bad.toml:", "rollers[0].spring_preload_N", "missing required key (needed when mount = \"spring\")",
+      "allowed: > 0"}},
+    {"BothDensityAndMass",
+     [] { return PaperSceneWith("thickness_mm = 6.0\n", "thickness_mm = 6.0\nmass_kg = 1.2\n"); },
+     {"bad.toml:", "ring.mass_kg = 1.2", "allowed: exactly one of density_kg_per_m3 > 0 or mass_kg > 0"}},
+    {"NeitherDensityNorMass", [] { return FixedAWith("density_kg_per_m3 = 7850.0\n", ""); },
+     {"bad.toml:", "rollers[1].density_kg_per_m3 or mass_kg", "missing required key", "exactly one of"}},
+
+    // types and values
+    {"AStringWhereANumberIsExpected", [] { return FixedAWith("radius_mm = 5.0", "radius_mm = \"5\""); },
+     {"bad.toml:", "rollers[1].radius_mm = \"5\"", "wrong type: expected a number, found string", "allowed: > 0"}},
+    {"AFractionalHarmonicOrder",
+     [] { return PaperSceneWith(kRingHarmonics, "harmonics = [{ order = 2.5, amplitude_mm = 0.14 }] #"); },
+     {"bad.toml:", "ring.harmonics[0].order = 2.5", "expected an integer, found float", ">= 1 and <= 1000"}},
+    {"HarmonicOrderZero",
+     [] { return PaperSceneWith(kRingHarmonics, "harmonics = [{ order = 0, amplitude_mm = 0.14 }] #"); },
+     {"bad.toml:", "ring.harmonics[0].order = 0", "out of range", "allowed: an integer >= 1 and <= 1000"}},
+    {"ANegativeRollerRadius", [] { return FixedAWith("radius_mm = 5.0", "radius_mm = -5.0"); },
+     {"bad.toml:", "rollers[1].radius_mm = -5", "out of range", "allowed: > 0"}},
+    {"AZeroRollerRadius", [] { return FixedAWith("radius_mm = 5.0", "radius_mm = 0"); },
+     {"bad.toml:", "rollers[1].radius_mm = 0", "allowed: > 0"}},
+    {"ANanValue", [] { return PaperSceneWith("thickness_mm = 6.0", "thickness_mm = nan"); },
+     {"bad.toml:", "ring.thickness_mm = nan", "not a finite number", "allowed: > 0"}},
+    {"AnInfiniteValue", [] { return PaperSceneWith("angle_deg = 90.0", "angle_deg = inf"); },
+     {"bad.toml:", "rollers[0].angle_deg = inf", "not a finite number", "allowed: any finite number"}},
+    {"AnOuterRadiusNotAboveTheInnerRadius",
+     [] { return PaperSceneWith("outer_radius_mm = 339.85", "outer_radius_mm = 300"); },
+     {"bad.toml:", "ring.outer_radius_mm = 300", "allowed: > 302 (ring.inner_radius_mm)"}},
+    {"AnExponentAboveThree", [] { return PaperSceneWith("exponent = 1.5", "exponent = 3.5"); },
+     {"bad.toml:", "contact.exponent = 3.5", "allowed: >= 1 and <= 3"}},
+    {"ARollerLargerThanTheRing", [] { return FixedAWith("radius_mm = 5.0", "radius_mm = 400"); },
+     {"bad.toml:", "rollers[1].radius_mm = 400", "not smaller than the ring's inner radius",
+      "allowed: > 0 and < 302"}},
+    {"ARollerCentreOutsideTheRing",
+     [] { return PaperSceneWith("name = \"fixed_a\"\n", "name = \"fixed_a\"\ncentre_radius_mm = 400.0\n"); },
+     {"bad.toml:", "rollers[1].centre_radius_mm = 400", "fixed_a does not fit in the ring",
+      "centre_radius_mm + radial position error <= ring.inner_radius_mm = 302"}},
+    {"RingAmplitudesLargerThanTheRadius",
+     [] {
+       return PaperSceneWith(kRingHarmonics,
+                             "harmonics = [{ order = 2, amplitude_mm = 200 }, { order = 3, amplitude_mm = 150 }] #");
+     },
+     {"bad.toml:", "ring.harmonics", "amplitude_mm = 350", "amplitudes larger than the radius",
+      "allowed: < 302 (ring.inner_radius_mm)"}},
+    {"RollerAmplitudesLargerThanTheRadius",
+     [] {
+       return FixedAWith("harmonics = []", "mean_deviation_mm = 1.0\nharmonics = [{ order = 2, amplitude_mm = 4.5 }]");
+     },
+     {"bad.toml:", "rollers[1].harmonics", "amplitude_mm = 5.5", "amplitudes larger than the radius",
+      "allowed: < 5 (rollers[1].radius_mm)"}},
+    {"FewerThanThreeRollers", PaperSceneWithTwoRollers,
+     {"bad.toml:", "rollers (2 entries): too few", "allowed: at least 3 [[rollers]] tables"}},
+    {"AnUnknownMount", [] { return PaperSceneWith("mount = \"spring\"", "mount = \"sliding\""); },
+     {"bad.toml:", "rollers[0].mount = \"sliding\"", "unknown value", "allowed: \"fixed\", \"spring\""}},
+    {"AnUnknownContactLaw", [] { return PaperSceneWith("law = \"penalty\"", "law = \"hertz\""); },
+     {"bad.toml:", "contact.law = \"hertz\"", "allowed: \"rigid\", \"penalty\""}},
+    {"AnUnknownShapePhaseReference",
+     [] { return PaperSceneWith("shape_phase_reference = \"radial\"", "shape_phase_reference = \"body\""); },
+     {"bad.toml:", "rollers[0].shape_phase_reference = \"body\"", "allowed: \"radial\", \"global\""}},
+    {"DuplicatedRollerNames", [] { return PaperSceneWith("name = \"fixed_b\"", "name = \"fixed_a\""); },
+     {"bad.toml:", "rollers[2].name = \"fixed_a\"", "the same name as rollers[1]",
+      "allowed: a name no other roller has"}},
+    {"ADefaultNameTakenByAnotherRoller",
+     [] { return ReplaceOnce(kMinimalScene, "angle_deg = 90", "name = \"roller2\"\nangle_deg = 90"); },
+     {"bad.toml:", "rollers[1].name = \"roller2\"", "the same name as rollers[0]"}},
+    {"ATransitionVelocityBelowTheStictionVelocity",
+     [] { return PaperSceneWith("transition_velocity_mm_per_s = 50.0", "transition_velocity_mm_per_s = 5.0"); },
+     {"bad.toml:", "friction.transition_velocity_mm_per_s = 5", "not above the stiction velocity",
+      "allowed: > stiction_velocity_mm_per_s = 10"}},
+    {"AStictionVelocityAboveTheDefaultTransitionVelocity",
+     [] { return MinimalSceneWith("[friction]\nstiction_velocity_mm_per_s = 60\n"); },
+     {"bad.toml:", "friction.transition_velocity_mm_per_s = 50 (default)",
+      "allowed: > stiction_velocity_mm_per_s = 60"}},
+    {"ATableWhereANumberIsExpected", [] { return PaperSceneWith("angle_deg = 0.0 ", "angle_deg = { value = 0 } "); },
+     {"bad.toml:", "sensor.angle_deg = { value = 0 }", "expected a number, found table"}},
+
+    // [motion] and [dynamics]
+    {"ARateForTheTestBenchLaw",
+     [] { return MinimalSceneWith("[motion]\nlaw = \"test_bench\"\nrate_deg_per_s = 100\n"); },
+     {"bad.toml:", "motion.rate_deg_per_s = 100", "only when law = \"article\""}},
+    {"SegmentsForTheArticleLaw", [] { return MinimalSceneWith("[motion]\nsegments = [{ duration_s = 1 }]\n"); },
+     {"motion.segments", "only when law = \"piecewise\""}},
+    {"AnUnknownMotionLaw", [] { return MinimalSceneWith("[motion]\nlaw = \"spline\"\n"); },
+     {"motion.law = \"spline\"", "\"article\", \"test_bench\", \"piecewise\""}},
+    {"AZeroRate", [] { return MinimalSceneWith("[motion]\nrate_deg_per_s = 0\n"); },
+     {"motion.rate_deg_per_s = 0", "non-zero"}},
+    {"ANegativeSettlingTime", [] { return MinimalSceneWith("[motion]\nsettle_s = -1\n"); },
+     {"motion.settle_s = -1", ">= 0"}},
+    {"ZeroRevolutions", [] { return MinimalSceneWith("[motion]\nrevolutions = 0\n"); },
+     {"motion.revolutions = 0", "> 0"}},
+    {"APiecewiseLawWithoutSegments", [] { return MinimalSceneWith("[motion]\nlaw = \"piecewise\"\n"); },
+     {"motion.segments", "missing"}},
+    {"APiecewiseLawWithNoSegment", [] { return MinimalSceneWith("[motion]\nlaw = \"piecewise\"\nsegments = []\n"); },
+     {"motion.segments"}},
+    {"ASegmentOfZeroDuration",
+     [] { return MinimalSceneWith("[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 0 }]\n"); },
+     {"motion.segments[0].duration_s = 0", "> 0"}},
+    {"AnUnknownKeyInASegment",
+     [] { return MinimalSceneWith("[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 1, jerk = 2 }]\n"); },
+     {"unknown key 'motion.segments[0].jerk'"}},
+    {"AStringForADynamicsSwitch", [] { return MinimalSceneWith("[dynamics]\nfriction = \"yes\"\n"); },
+     {"dynamics.friction = \"yes\"", "true or false"}},
+    {"AnUnknownDynamicsSwitch", [] { return MinimalSceneWith("[dynamics]\ninertia = false\n"); },
+     {"unknown key 'dynamics.inertia'"}},
+    // Values in range whose law still overflows a double: refused as input, not thrown
+    // from the engine or passed on as infinities.
+    {"ARateSoSlowTheLawOverflows", [] { return MinimalSceneWith("[motion]\nrate_deg_per_s = 1e-320\n"); },
+     {"bad.toml:", "motion"}},
+    {"ASegmentWhoseRateOverflows",
+     [] {
+       return MinimalSceneWith(
+           "[motion]\nlaw = \"piecewise\"\nsegments = [{ duration_s = 1e300, acceleration_deg_per_s2 = 1e300 }]\n");
+     },
+     {"bad.toml:", "overflows"}},
+};
+
+class SceneFileRejects : public ::testing::TestWithParam<BadScene> {};
+
+TEST_P(SceneFileRejects, WithAMessageNamingWhatIsWrongAndWhere) {
+  std::vector<::testing::Matcher<std::string>> pieces;
+  for (const std::string& piece : GetParam().message_pieces) pieces.push_back(HasSubstr(piece));
+  EXPECT_THAT(ErrorFor(GetParam().text()), ::testing::AllOfArray(pieces));
 }
+
+INSTANTIATE_TEST_SUITE_P(OneBadKey, SceneFileRejects, ::testing::ValuesIn(kBadScenes),
+                         [](const ::testing::TestParamInfo<BadScene>& row) { return row.param.name; });
 
 // ---- ring.measured_profile
 
-// A fresh folder for this test, so tests run in parallel processes share nothing.
-std::filesystem::path MeasuredFolder() {
-  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const std::filesystem::path folder = std::filesystem::path(::testing::TempDir()) / ("scene_file_" + test);
-  std::filesystem::remove_all(folder);
-  std::filesystem::create_directories(folder);
-  return folder;
-}
-
-void WriteTextFile(const std::filesystem::path& file, const std::string& text) {
-  std::ofstream(file, std::ios::binary) << text;
-}
+std::filesystem::path MeasuredFolder() { return ringtol::testing::FreshTestFolder("scene_file_test"); }
 
 constexpr double kBoreRadius = 0.302;  // [m] of the paper scene
 // A set-up eccentricity (order 1) and form errors, as a roundness tester sees them.
@@ -598,22 +506,16 @@ std::string PaperSceneMeasuring(std::string_view measured, std::string_view harm
 // ReadScene's message for the paper scene with measured_profile = `measured`, written as
 // scene.toml in `folder`.
 std::string MeasuredErrorFor(const std::filesystem::path& folder, std::string_view measured) {
-  WriteTextFile(folder / "scene.toml", PaperSceneMeasuring(measured));
-  try {
-    ReadScene(folder / "scene.toml");
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "ReadScene accepted measured_profile = " << measured;
-  return "";
+  WriteText(folder / "scene.toml", PaperSceneMeasuring(measured));
+  return ringtol::testing::MessageOf<InputError>([&] { ReadScene(folder / "scene.toml"); });
 }
 
 TEST(SceneFile, MeasuredProfileGivesTheRingTheFittedHarmonics) {
   const std::filesystem::path folder = MeasuredFolder();
-  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  WriteText(folder / "ring.csv", MeasuredRadii());
   for (const bool keep : {false, true}) {
     SCOPED_TRACE(keep ? "keep_eccentricity = true" : "keep_eccentricity = false");
-    WriteTextFile(folder / "scene.toml", PaperSceneMeasuring("{ file = \"ring.csv\", orders = 6, keep_eccentricity = " +
+    WriteText(folder / "scene.toml", PaperSceneMeasuring("{ file = \"ring.csv\", orders = 6, keep_eccentricity = " +
                                                              std::string(keep ? "true" : "false") + " }"));
     const engine::PolarProfile& bore = ReadScene(folder / "scene.toml").ring.inner;
     EXPECT_EQ(bore.radius(), kBoreRadius);
@@ -644,8 +546,8 @@ TEST(SceneFile, MeasuredProfileAddsToTheRingsOwnHarmonicsAndMeanDeviation) {
       {"radii", MeasuredRadii(kBoreRadius + kMeasuredOffset)}};
   for (const auto& [name, csv] : exports) {
     SCOPED_TRACE(name);
-    WriteTextFile(folder / "ring.csv", csv);
-    WriteTextFile(folder / "scene.toml",
+    WriteText(folder / "ring.csv", csv);
+    WriteText(folder / "scene.toml",
                   PaperSceneWith(kOwnKeys, "mean_deviation_mm = 0.002\nharmonics = [" + std::string(kOwnHarmonic) +
                                                "]\nmeasured_profile = { file = \"ring.csv\", orders = 6 } #"));
     const engine::PolarProfile& bore = ReadScene(folder / "scene.toml").ring.inner;
@@ -666,9 +568,9 @@ TEST(SceneFile, MeasuredProfileAddsToTheRingsOwnHarmonicsAndMeanDeviation) {
 TEST(SceneFile, MeasuredProfileIsFoundRelativeToTheSceneFilesFolder) {
   const std::filesystem::path folder = MeasuredFolder();
   std::filesystem::create_directories(folder / "scenes" / "profiles");
-  WriteTextFile(folder / "scenes" / "profiles" / "ring.csv", MeasuredRadii());
+  WriteText(folder / "scenes" / "profiles" / "ring.csv", MeasuredRadii());
   const std::string text = PaperSceneMeasuring("{ file = \"profiles/ring.csv\", orders = 6 }");
-  WriteTextFile(folder / "scenes" / "scene.toml", text);
+  WriteText(folder / "scenes" / "scene.toml", text);
   const engine::Scene scene = ReadScene(folder / "scenes" / "scene.toml");
   EXPECT_EQ(scene.ring.inner.harmonics().size(), static_cast<std::size_t>(kMeasuredOrders - 1));
 
@@ -696,7 +598,7 @@ TEST(SceneFile, RejectsAMissingMeasuredProfileNamingKeyValueAndPath) {
 
 TEST(SceneFile, RejectsMeasuredProfileOrdersOutOfRange) {
   const std::filesystem::path folder = MeasuredFolder();
-  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  WriteText(folder / "ring.csv", MeasuredRadii());
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 0 }"),
               AllOf(HasSubstr((folder / "scene.toml").string() + ":"),
                     HasSubstr("ring.measured_profile.orders = 0: out of range; allowed: an integer >= 1 and <= 1000")));
@@ -708,7 +610,7 @@ TEST(SceneFile, RejectsMeasuredProfileOrdersOutOfRange) {
 
 TEST(SceneFile, RejectsUnknownMissingAndMistypedKeysOfTheMeasuredProfile) {
   const std::filesystem::path folder = MeasuredFolder();
-  WriteTextFile(folder / "ring.csv", MeasuredRadii());
+  WriteText(folder / "ring.csv", MeasuredRadii());
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", order = 6 }"),
               HasSubstr("unknown key 'ring.measured_profile.order'; valid keys here: file, orders, keep_eccentricity"));
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\" }"),
@@ -731,13 +633,13 @@ TEST(SceneFile, PassesCsvAndFitErrorsThroughAfterTheKeyPath) {
                                    '\n'));
   const std::string where = (folder / "scene.toml").string() + ":" + std::to_string(line) + ":";
 
-  WriteTextFile(folder / "ring.csv", "angle_deg,radius_mm\n0,1\n1,1\n2,1\n3,1\n4,1\n5,abc\n");
+  WriteText(folder / "ring.csv", "angle_deg,radius_mm\n0,1\n1,1\n2,1\n3,1\n4,1\n5,abc\n");
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 2 }"),
               AllOf(::testing::StartsWith(where),
                     HasSubstr(": ring.measured_profile: " + csv +
                               ":7: radius_mm = abc: not a number; allowed: a finite number > 0")));
 
-  WriteTextFile(folder / "ring.csv", "angle_deg,radius_mm\n0,302\n72,302.01\n144,302\n216,301.99\n288,302\n");
+  WriteText(folder / "ring.csv", "angle_deg,radius_mm\n0,302\n72,302.01\n144,302\n216,301.99\n288,302\n");
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 6 }"),
               AllOf(::testing::StartsWith(where),
                     HasSubstr(": ring.measured_profile: " + csv +

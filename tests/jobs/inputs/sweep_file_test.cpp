@@ -2,10 +2,9 @@
 
 #include <cstddef>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
+#include <ostream>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +20,7 @@ namespace {
 
 using ringtol::testing::ReadText;
 using ringtol::testing::ReplaceOnce;
+using ringtol::testing::WriteText;
 
 namespace fs = std::filesystem;
 using ::testing::AllOf;
@@ -29,38 +29,17 @@ using ::testing::HasSubstr;
 
 const fs::path kExamples = fs::path(RINGTOL_SOURCE_DIR) / "examples" / "paper";
 
-void WriteText(const fs::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  if (!out) throw std::runtime_error("test cannot write " + path.string());
-}
-
-// A fresh folder per test under the test temp dir, so tests never see each other's files.
-fs::path TestFolder() {
-  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path folder = fs::path(::testing::TempDir()) / "ringtol_sweep_file_test" / test->name();
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
-}
-
 // Writes `sweep` as sweep.toml next to scene.toml (the paper scene unless given) and
 // returns the sweep file's path.
 fs::path WriteSweep(const std::string& sweep, const std::string& scene = ReadText(kExamples / "scene.toml")) {
-  const fs::path folder = TestFolder();
+  const fs::path folder = ringtol::testing::FreshTestFolder("sweep_file_test");
   WriteText(folder / "scene.toml", scene);
   WriteText(folder / "sweep.toml", sweep);
   return folder / "sweep.toml";
 }
 
 std::string ErrorFor(const fs::path& sweep_file) {
-  try {
-    ReadSweep(sweep_file);
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "ReadSweep accepted " << sweep_file;
-  return "";
+  return ringtol::testing::MessageOf<InputError>([&] { ReadSweep(sweep_file); });
 }
 
 std::vector<std::string> Names(const Sweep& sweep) {
@@ -180,35 +159,8 @@ TEST(SweepFile, ResolvesTheScenePathAgainstTheSweepFolder) {
 // ---- bad input
 
 TEST(SweepFile, RejectsAMissingSweepFile) {
-  const fs::path missing = TestFolder() / "absent.toml";
+  const fs::path missing = ringtol::testing::FreshTestFolder("sweep_file_test") / "absent.toml";
   EXPECT_THAT(ErrorFor(missing), AllOf(HasSubstr(missing.string()), HasSubstr("no such file")));
-}
-
-TEST(SweepFile, RejectsASweepWithoutSceneKey) {
-  const fs::path file = WriteSweep("[[cases]]\nname = \"a\"\n");
-  EXPECT_THAT(ErrorFor(file),
-              AllOf(HasSubstr(file.string()), HasSubstr("scene: missing required key"),
-                    HasSubstr("allowed: the path of a scene file, relative to the sweep file's folder")));
-}
-
-TEST(SweepFile, RejectsASweepWithBothStudyAndCases) {
-  const fs::path file = WriteSweep(
-      "scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2]\namplitudes_mm = [0.14]\n"
-      "[[cases]]\nname = \"a\"\n");
-  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":"), HasSubstr("study and cases: both present"),
-                                    HasSubstr("allowed: exactly one of [study] or [[cases]]")));
-}
-
-TEST(SweepFile, RejectsASweepWithNeitherStudyNorCases) {
-  const fs::path file = WriteSweep("scene = \"scene.toml\"\n");
-  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string()), HasSubstr("study and cases: neither present"),
-                                    HasSubstr("allowed: exactly one of [study] or [[cases]]")));
-}
-
-TEST(SweepFile, RejectsASweepReferencingAMissingSceneFile) {
-  const fs::path file = WriteSweep("scene = \"missing.toml\"\n[[cases]]\nname = \"a\"\n");
-  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":1:"), HasSubstr("scene = \"missing.toml\""),
-                                    HasSubstr("no such file"), HasSubstr("allowed: the path of a scene file")));
 }
 
 TEST(SweepFile, ReportsErrorsInTheSceneAgainstTheSceneFile) {
@@ -218,74 +170,75 @@ TEST(SweepFile, ReportsErrorsInTheSceneAgainstTheSceneFile) {
                                     HasSubstr("ring.thickness_mm = -6"), HasSubstr("allowed: > 0")));
 }
 
-TEST(SweepFile, RejectsOrderZeroInAStudy) {
-  const fs::path file =
-      WriteSweep("scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2, 0]\namplitudes_mm = [0.14]\n");
-  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":"), HasSubstr("study.orders[1] = 0"),
-                                    HasSubstr("out of range"), HasSubstr("allowed: an integer >= 1 and <= 1000")));
+// A sweep file with one thing wrong, beside the paper scene, and the pieces its
+// InputError must contain: the sweep file's path followed by `where`, then the key with
+// its value, what is wrong and what is allowed.
+struct BadSweep {
+  std::string name;  // the case's name in the test's name
+  std::string text;
+  std::string where;
+  std::vector<std::string> message_pieces;
+};
+
+void PrintTo(const BadSweep& sweep, std::ostream* out) { *out << sweep.name; }
+
+const std::vector<BadSweep> kBadSweeps = {
+    {"NoSceneKey", "[[cases]]\nname = \"a\"\n", "",
+     {"scene: missing required key", "allowed: the path of a scene file, relative to the sweep file's folder"}},
+    {"BothStudyAndCases",
+     "scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2]\namplitudes_mm = [0.14]\n"
+     "[[cases]]\nname = \"a\"\n",
+     ":", {"study and cases: both present", "allowed: exactly one of [study] or [[cases]]"}},
+    {"NeitherStudyNorCases", "scene = \"scene.toml\"\n", "",
+     {"study and cases: neither present", "allowed: exactly one of [study] or [[cases]]"}},
+    {"AMissingSceneFile", "scene = \"missing.toml\"\n[[cases]]\nname = \"a\"\n", ":1:",
+     {"scene = \"missing.toml\"", "no such file", "allowed: the path of a scene file"}},
+    {"OrderZeroInAStudy",
+     "scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2, 0]\namplitudes_mm = [0.14]\n", ":",
+     {"study.orders[1] = 0", "out of range", "allowed: an integer >= 1 and <= 1000"}},
+    {"ARepeatedOrderInAStudy",
+     "scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2, 2]\namplitudes_mm = [0.14]\n", ":",
+     {"study.orders[1] = 2", "repeats orders[0]", "allowed: distinct orders"}},
+    {"AnEmptyAmplitudeList",
+     "scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2]\namplitudes_mm = []\n", ":",
+     {"study.amplitudes_mm = []", "empty", "allowed: a non-empty array of numbers >= 0"}},
+    {"AnUnknownStudyTarget",
+     "scene = \"scene.toml\"\n[study]\ntarget = \"pinion\"\norders = [2]\namplitudes_mm = [0.1]\n", ":",
+     {"study.target = \"pinion\"", "allowed: \"ring\", \"roller_positions\", \"roller_shape\""}},
+    {"AnUnknownKeyInAStudy",
+     "scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norder = [2]\norders = [2]\namplitudes_mm = [0.1]\n",
+     ":4:1", {"unknown key 'study.order'", "valid keys here: target, orders, amplitudes_mm, phase_deg"}},
+    {"AnUnknownKeyInACaseHarmonic",
+     "scene = \"scene.toml\"\n[[cases]]\nname = \"a\"\nring = [{ order = 2, amplitude = 0.1 }]\n", ":4:",
+     {"unknown key 'cases[0].ring[0].amplitude'", "valid keys here: order, amplitude_mm, phase_deg"}},
+    {"DuplicatedCaseNames", "scene = \"scene.toml\"\n[[cases]]\nname = \"a\"\n[[cases]]\nname = \"a\"\n", ":5:",
+     {"cases[1].name = \"a\"", "the same name as cases[0]", "allowed: a name no other case has"}},
+    {"AStudyCaseWhoseRollerShapeExceedsTheRollerRadius",
+     "scene = \"scene.toml\"\n[study]\ntarget = \"roller_shape\"\norders = [2]\namplitudes_mm = [0.01, 6.0]\n",
+     ":5:",
+     {"study.amplitudes_mm[1] = 6", "case \"roller_shape n=2 C=6mm\"",
+      "amplitudes larger than the radius of roller spring",
+      "allowed: < 5 mm (rollers[0].radius_mm in the scene file)"}},
+    // Order 2 at phase 0 moves the rollers at 210 and 330 deg outward by half the amplitude.
+    {"ACaseWhosePositionErrorsPushARollerOutOfTheRing",
+     "scene = \"scene.toml\"\n[[cases]]\nname = \"far\"\nring = []\n"
+     "roller_positions = [{ order = 2, amplitude_mm = 20.0 }]\n",
+     ":5:",
+     {"cases[0].roller_positions = ", "case \"far\"", "does not fit in the ring",
+      "centre_radius_mm + radial position error <= ring.inner_radius_mm"}},
+};
+
+class SweepFileRejects : public ::testing::TestWithParam<BadSweep> {};
+
+TEST_P(SweepFileRejects, WithAMessageNamingWhatIsWrongAndWhere) {
+  const fs::path file = WriteSweep(GetParam().text);
+  std::vector<::testing::Matcher<std::string>> pieces = {HasSubstr(file.string() + GetParam().where)};
+  for (const std::string& piece : GetParam().message_pieces) pieces.push_back(HasSubstr(piece));
+  EXPECT_THAT(ErrorFor(file), ::testing::AllOfArray(pieces));
 }
 
-TEST(SweepFile, RejectsARepeatedOrderInAStudy) {
-  const fs::path file =
-      WriteSweep("scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2, 2]\namplitudes_mm = [0.14]\n");
-  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":"), HasSubstr("study.orders[1] = 2"),
-                                    HasSubstr("repeats orders[0]"), HasSubstr("allowed: distinct orders")));
-}
-
-TEST(SweepFile, RejectsAnEmptyAmplitudeList) {
-  const fs::path file =
-      WriteSweep("scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norders = [2]\namplitudes_mm = []\n");
-  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":"), HasSubstr("study.amplitudes_mm = []"),
-                                    HasSubstr("empty"), HasSubstr("allowed: a non-empty array of numbers >= 0")));
-}
-
-TEST(SweepFile, RejectsAnUnknownStudyTarget) {
-  const fs::path file =
-      WriteSweep("scene = \"scene.toml\"\n[study]\ntarget = \"pinion\"\norders = [2]\namplitudes_mm = [0.1]\n");
-  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":"), HasSubstr("study.target = \"pinion\""),
-                                    HasSubstr("allowed: \"ring\", \"roller_positions\", \"roller_shape\"")));
-}
-
-TEST(SweepFile, RejectsAnUnknownKeyInAStudy) {
-  const fs::path file = WriteSweep(
-      "scene = \"scene.toml\"\n[study]\ntarget = \"ring\"\norder = [2]\norders = [2]\namplitudes_mm = [0.1]\n");
-  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":4:1"), HasSubstr("unknown key 'study.order'"),
-                                    HasSubstr("valid keys here: target, orders, amplitudes_mm, phase_deg")));
-}
-
-TEST(SweepFile, RejectsAnUnknownKeyInACaseHarmonic) {
-  const fs::path file =
-      WriteSweep("scene = \"scene.toml\"\n[[cases]]\nname = \"a\"\nring = [{ order = 2, amplitude = 0.1 }]\n");
-  EXPECT_THAT(ErrorFor(file),
-              AllOf(HasSubstr(file.string() + ":4:"), HasSubstr("unknown key 'cases[0].ring[0].amplitude'"),
-                    HasSubstr("valid keys here: order, amplitude_mm, phase_deg")));
-}
-
-TEST(SweepFile, RejectsDuplicatedCaseNames) {
-  const fs::path file = WriteSweep("scene = \"scene.toml\"\n[[cases]]\nname = \"a\"\n[[cases]]\nname = \"a\"\n");
-  EXPECT_THAT(ErrorFor(file),
-              AllOf(HasSubstr(file.string() + ":5:"), HasSubstr("cases[1].name = \"a\""),
-                    HasSubstr("the same name as cases[0]"), HasSubstr("allowed: a name no other case has")));
-}
-
-TEST(SweepFile, RejectsAStudyCaseWhoseRollerShapeExceedsTheRollerRadius) {
-  const fs::path file = WriteSweep(
-      "scene = \"scene.toml\"\n[study]\ntarget = \"roller_shape\"\norders = [2]\namplitudes_mm = [0.01, 6.0]\n");
-  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":5:"), HasSubstr("study.amplitudes_mm[1] = 6"),
-                                    HasSubstr("case \"roller_shape n=2 C=6mm\""),
-                                    HasSubstr("amplitudes larger than the radius of roller spring"),
-                                    HasSubstr("allowed: < 5 mm (rollers[0].radius_mm in the scene file)")));
-}
-
-TEST(SweepFile, RejectsACaseWhosePositionErrorsPushARollerOutOfTheRing) {
-  // Order 2 at phase 0 moves the rollers at 210 and 330 deg outward by half the amplitude.
-  const fs::path file = WriteSweep(
-      "scene = \"scene.toml\"\n[[cases]]\nname = \"far\"\nring = []\n"
-      "roller_positions = [{ order = 2, amplitude_mm = 20.0 }]\n");
-  EXPECT_THAT(ErrorFor(file), AllOf(HasSubstr(file.string() + ":5:"), HasSubstr("cases[0].roller_positions = "),
-                                    HasSubstr("case \"far\""), HasSubstr("does not fit in the ring"),
-                                    HasSubstr("centre_radius_mm + radial position error <= ring.inner_radius_mm")));
-}
+INSTANTIATE_TEST_SUITE_P(OneBadKey, SweepFileRejects, ::testing::ValuesIn(kBadSweeps),
+                         [](const ::testing::TestParamInfo<BadSweep>& row) { return row.param.name; });
 
 }  // namespace
 }  // namespace ringtol::jobs

@@ -11,7 +11,6 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <thread>
 
@@ -27,6 +26,7 @@ namespace {
 
 using ::testing::AllOf;
 using ::testing::HasSubstr;
+using ::testing::Ne;
 
 using testing::kMpiEnvironment;
 
@@ -58,23 +58,20 @@ d_trajectory_mm = 0.2
 
 using Outcome = testing::ShellOutcome;  // exit code 128 + signal when killed
 
-// This test's own folder (ctest runs tests in parallel).
-std::filesystem::path TestFolder() {
-  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  return std::filesystem::temp_directory_path() /
-         (std::string("ringtol_campaign_") + test->test_suite_name() + "_" + test->name());
+// A run that ended with exit code `code` and said `message` on stderr.
+::testing::Matcher<const Outcome&> ExitsWith(const ::testing::Matcher<int>& code,
+                                             const ::testing::Matcher<const std::string&>& message) {
+  return AllOf(::testing::Field("exit_code", &Outcome::exit_code, code),
+               ::testing::Field("err", &Outcome::err, message));
 }
+
+std::filesystem::path TestFolder() { return testing::TestFolderPath("campaign_cli_test"); }
 
 // The test's folder, emptied.
-std::filesystem::path Folder() {
-  const std::filesystem::path folder = TestFolder();
-  std::filesystem::remove_all(folder);
-  std::filesystem::create_directories(folder);
-  return folder;
-}
+std::filesystem::path Folder() { return testing::FreshTestFolder("campaign_cli_test"); }
 
 std::filesystem::path Write(const std::filesystem::path& file, const std::string& text) {
-  std::ofstream(file) << text;
+  testing::WriteText(file, text);
   return file;
 }
 
@@ -140,7 +137,7 @@ TEST(Campaign, AloneItComputesEverySampleAndSummarisesThem) {
   EXPECT_EQ(Pending(folder / "results.h5"), 0);
 }
 
-TEST(Campaign, OneTwoAndThreeRanksAndAnyChunkSizeWriteIdenticalResults) {
+TEST(CampaignUnderMpirun, OneTwoAndThreeRanksAndAnyChunkSizeWriteIdenticalResults) {
   const std::filesystem::path folder = Folder();
   const auto file = Write(folder / "campaign.toml", kCampaign);
   ASSERT_EQ(Campaign(file, folder / "alone.h5").exit_code, 0);
@@ -183,7 +180,7 @@ TEST(Campaign, AfterTheCoordinatorIsKilledResumeComputesOnlyWhatIsMissing) {
   ExpectSameResults(folder / "whole.h5", folder / "killed.h5");
 }
 
-TEST(Campaign, AfterAWorkerIsKilledUnderMpirunResumeCompletesTheSameFile) {
+TEST(CampaignUnderMpirun, AfterAWorkerIsKilledUnderMpirunResumeCompletesTheSameFile) {
   const std::filesystem::path folder = Folder();
   const auto file = Write(folder / "campaign.toml", kCampaign);
   ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
@@ -203,9 +200,7 @@ TEST(Campaign, ResumeWithMoreSamplesGrowsTheFileAsIfRunWhole) {
   ASSERT_EQ(grown.exit_code, 0) << grown.err;
   EXPECT_EQ(nlohmann::json::parse(grown.out)["run"]["computed"], 28);
   ExpectSameResults(folder / "whole.h5", folder / "grown.h5");
-  const Outcome shrink = Campaign(file, folder / "grown.h5", "--resume --samples 10");
-  EXPECT_NE(shrink.exit_code, 0);
-  EXPECT_THAT(shrink.err, HasSubstr("grown.h5"));
+  EXPECT_THAT(Campaign(file, folder / "grown.h5", "--resume --samples 10"), ExitsWith(Ne(0), HasSubstr("grown.h5")));
 }
 
 // Growing a finished file and being killed while at it: the resume that follows must
@@ -249,54 +244,43 @@ TEST(Campaign, AnExistingResultsFileIsNeverOverwrittenOrTakenForAnother) {
   const std::filesystem::path folder = Folder();
   const auto file = Write(folder / "campaign.toml", kCampaign);
   const auto text = Write(folder / "notes.h5", "not hdf5\n");
-  const Outcome exists = Campaign(file, text);
-  EXPECT_EQ(exists.exit_code, 1);
-  EXPECT_THAT(exists.err, AllOf(HasSubstr("notes.h5"), HasSubstr("exists"), HasSubstr("--resume")));
-  const Outcome foreign = Campaign(file, text, "--resume");
-  EXPECT_EQ(foreign.exit_code, 1);
-  EXPECT_THAT(foreign.err, AllOf(HasSubstr("notes.h5"), HasSubstr("HDF5")));
+  EXPECT_THAT(Campaign(file, text),
+              ExitsWith(1, AllOf(HasSubstr("notes.h5"), HasSubstr("exists"), HasSubstr("--resume"))));
+  EXPECT_THAT(Campaign(file, text, "--resume"), ExitsWith(1, AllOf(HasSubstr("notes.h5"), HasSubstr("HDF5"))));
   EXPECT_EQ(testing::ReadText(text), "not hdf5\n");
 
   ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
   std::string bytes = testing::ReadText(folder / "whole.h5");
   bytes.resize(bytes.size() / 2);
   Write(folder / "truncated.h5", bytes);
-  const Outcome truncated = Campaign(file, folder / "truncated.h5", "--resume");
-  EXPECT_EQ(truncated.exit_code, 1);
-  EXPECT_THAT(truncated.err, HasSubstr("truncated.h5"));
+  EXPECT_THAT(Campaign(file, folder / "truncated.h5", "--resume"), ExitsWith(1, HasSubstr("truncated.h5")));
   EXPECT_EQ(testing::ReadText(folder / "truncated.h5"), bytes);
 
   const auto other = Write(folder / "other.toml", testing::ReplaceOnce(kCampaign, "seed = 11", "seed = 12"));
-  const Outcome another = Campaign(other, folder / "whole.h5", "--resume");
-  EXPECT_EQ(another.exit_code, 1);
-  EXPECT_THAT(another.err, AllOf(HasSubstr("whole.h5"), HasSubstr("another campaign")));
-  const Outcome missing = Campaign(file, folder / "absent.h5", "--resume");
-  EXPECT_EQ(missing.exit_code, 1);
-  EXPECT_THAT(missing.err, AllOf(HasSubstr("absent.h5"), HasSubstr("--resume")));
+  EXPECT_THAT(Campaign(other, folder / "whole.h5", "--resume"),
+              ExitsWith(1, AllOf(HasSubstr("whole.h5"), HasSubstr("another campaign"))));
+  EXPECT_THAT(Campaign(file, folder / "absent.h5", "--resume"),
+              ExitsWith(1, AllOf(HasSubstr("absent.h5"), HasSubstr("--resume"))));
 }
 
-TEST(Campaign, BadInputStopsEveryRankWithOneClearMessageBeforeAnySample) {
+TEST(CampaignUnderMpirun, BadInputStopsEveryRankWithOneClearMessageBeforeAnySample) {
   const std::filesystem::path folder = Folder();
   const auto unknown_class =
       Write(folder / "class.toml", testing::ReplaceOnce(kCampaign, "class = \"Normal\"", "class = \"P9\""));
-  const Outcome run = Campaign(unknown_class, folder / "r.h5", "", Mpirun(2));
-  EXPECT_NE(run.exit_code, 0);
-  EXPECT_THAT(run.err, AllOf(HasSubstr("class.toml"), HasSubstr("P9")));
+  EXPECT_THAT(Campaign(unknown_class, folder / "r.h5", "", Mpirun(2)),
+              ExitsWith(Ne(0), AllOf(HasSubstr("class.toml"), HasSubstr("P9"))));
   EXPECT_FALSE(std::filesystem::exists(folder / "r.h5"));
 
   const auto no_scene = Write(folder / "scene.toml", testing::ReplaceOnce(kCampaign, kScene, "/nonexistent/scene.toml"));
-  const Outcome scene = Campaign(no_scene, folder / "r.h5", "", Mpirun(2));
-  EXPECT_NE(scene.exit_code, 0);
-  EXPECT_THAT(scene.err, AllOf(HasSubstr("scene.toml"), HasSubstr("/nonexistent/scene.toml")));
+  EXPECT_THAT(Campaign(no_scene, folder / "r.h5", "", Mpirun(2)),
+              ExitsWith(Ne(0), AllOf(HasSubstr("scene.toml"), HasSubstr("/nonexistent/scene.toml"))));
 
   const auto file = Write(folder / "campaign.toml", kCampaign);
-  const Outcome folderless = Campaign(file, folder / "no" / "such" / "r.h5", "", Mpirun(2));
-  EXPECT_NE(folderless.exit_code, 0);
-  EXPECT_THAT(folderless.err, AllOf(HasSubstr("r.h5"), HasSubstr("does not exist")));
+  EXPECT_THAT(Campaign(file, folder / "no" / "such" / "r.h5", "", Mpirun(2)),
+              ExitsWith(Ne(0), AllOf(HasSubstr("r.h5"), HasSubstr("does not exist"))));
 
-  const Outcome chunk = Campaign(file, folder / "r.h5", "--chunk-seconds 0");
-  EXPECT_NE(chunk.exit_code, 0);
-  EXPECT_THAT(chunk.err, AllOf(HasSubstr("--chunk-seconds"), HasSubstr("> 0")));
+  EXPECT_THAT(Campaign(file, folder / "r.h5", "--chunk-seconds 0"),
+              ExitsWith(Ne(0), AllOf(HasSubstr("--chunk-seconds"), HasSubstr("> 0"))));
 }
 
 TEST(Campaign, ResultsReadInH5pyAndH5dumpWithTheDocumentedSchema) {

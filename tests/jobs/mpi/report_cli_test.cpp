@@ -1,6 +1,6 @@
-// `ringtol report` as a user runs it (label mpi: it runs campaigns first): on ringtol's own physics (the per-order Sobol'
-// indices of the article's three rollers) and in a browser (headless Chromium loads the
-// page offline and paints its charts).
+// `ringtol report` as a user runs it, on campaigns run alone first: on ringtol's own physics
+// (the per-order Sobol' indices of the article's three rollers) and in a browser (headless
+// Chromium loads the page offline and paints its charts).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -24,10 +24,7 @@ using ::testing::Not;
 class CampaignReport : public ::testing::Test {
  protected:
   void SetUp() override {
-    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() / (std::string("ringtol_report_cli_") + test->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
+    dir_ = ringtol::testing::FreshTestFolder("report_cli_test");
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
@@ -44,6 +41,9 @@ class CampaignReport : public ::testing::Test {
 
   std::filesystem::path dir_;
 };
+
+// The tests that start headless Chromium (label browser).
+class CampaignReportInChromium : public CampaignReport {};
 
 // Three rollers 120 degrees apart, a ring whose orders 2..12 all have the same amplitude
 // scale, a Saltelli design with one group per order. Why the multiples of Z = 3 lead: the
@@ -92,7 +92,7 @@ TEST_F(CampaignReport, OrdersThatAreMultiplesOfTheRollerCountRankAboveTheOthers)
   EXPECT_THAT(ringtol::testing::ReadText(dir_ / "orders.html"), HasSubstr("Dominant orders, largest first: "));
 }
 
-TEST_F(CampaignReport, PageIsSelfContainedAndHeadlessChromiumPaintsItsCharts) {
+TEST_F(CampaignReportInChromium, PageIsSelfContainedAndHeadlessChromiumPaintsItsCharts) {
   const std::string results = (dir_ / "small.h5").string(), page = (dir_ / "report.html").string();
   const auto campaign = Ringtol("campaign " + Example("default.toml") + " --samples 64 --out " + results + " --quiet");
   ASSERT_EQ(campaign.exit_code, 0) << campaign.err;

@@ -18,6 +18,7 @@
 #include "jobs/inputs/input_error.h"
 #include "jobs/cli/report_command.h"
 #include "jobs/report/report_html.h"
+#include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -44,10 +45,7 @@ d_trajectory_mm = 0.25
 class ReportTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() / (std::string("ringtol_report_") + test->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
+    dir_ = ringtol::testing::FreshTestFolder("report_test");
     std::filesystem::copy_file(std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/paper/scene.toml",
                                dir_ / "scene.toml");
     std::ofstream(dir_ / "campaign.toml") << kCampaign;

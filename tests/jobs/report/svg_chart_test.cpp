@@ -162,6 +162,14 @@ std::size_t Count(const std::string& text, std::string_view what) {
   return count;
 }
 
+// The points of the chart's only polyline: none, and a test failure, when it has
+// another number of polylines.
+std::vector<Point> OnlyPolylinePoints(const std::string& svg) {
+  const std::vector<std::string> lines = Tags(svg, "<polyline");
+  EXPECT_EQ(lines.size(), 1u) << "polylines in the chart";
+  return lines.size() == 1 ? PointsOf(lines[0]) : std::vector<Point>{};
+}
+
 void ExpectInside(Point p, const Frame& f) {
   EXPECT_GE(p.x, f.left - kPixel);
   EXPECT_LE(p.x, f.right + kPixel);
@@ -262,9 +270,7 @@ TEST(SvgChart, MapsDataCoordinatesLinearlyOntoTheFrame) {
   chart.series.push_back({.x = {2.0, 8.0}, .y = {25.0, 75.0}});
   const std::string svg = RenderChart(chart);
   const Frame f = FrameOf(svg);
-  const std::vector<std::string> lines = Tags(svg, "<polyline");
-  ASSERT_EQ(lines.size(), 1u);
-  const std::vector<Point> points = PointsOf(lines[0]);
+  const std::vector<Point> points = OnlyPolylinePoints(svg);
   ASSERT_EQ(points.size(), 2u);
   const double width = f.right - f.left, height = f.bottom - f.top;
   EXPECT_NEAR(points[0].x, f.left + 0.2 * width, kPixel);
@@ -297,9 +303,7 @@ TEST(SvgChart, StepHoldsEachValueUntilTheNextPoint) {
   chart.series.push_back({.x = {0.0, 1.0, 2.0}, .y = {0.0, 0.5, 1.0}, .style = Series::Style::kStep});
   const std::string svg = RenderChart(chart);
   const Frame f = FrameOf(svg);
-  const std::vector<std::string> lines = Tags(svg, "<polyline");
-  ASSERT_EQ(lines.size(), 1u);
-  const std::vector<Point> p = PointsOf(lines[0]);
+  const std::vector<Point> p = OnlyPolylinePoints(svg);
   ASSERT_EQ(p.size(), 5u);
   const double mid_x = 0.5 * (f.left + f.right), mid_y = 0.5 * (f.top + f.bottom);
   const std::vector<Point> expected = {
@@ -391,9 +395,7 @@ TEST(SvgChart, LinesBeyondFixedAxesAreClippedAtTheFrame) {
   chart.series.push_back({.x = {-1.0, 0.5, 2.0}, .y = {0.5, 0.5, 3.5}});
   const std::string svg = RenderChart(chart);
   const Frame f = FrameOf(svg);
-  const std::vector<std::string> lines = Tags(svg, "<polyline");
-  ASSERT_EQ(lines.size(), 1u);
-  const std::vector<Point> p = PointsOf(lines[0]);
+  const std::vector<Point> p = OnlyPolylinePoints(svg);
   ASSERT_EQ(p.size(), 3u);
   for (const Point& point : p) ExpectInside(point, f);
   EXPECT_NEAR(p.front().x, f.left, kPixel);

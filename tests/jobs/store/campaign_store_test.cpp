@@ -27,6 +27,7 @@
 
 #include "jobs/inputs/input_error.h"
 #include "jobs/campaign/sample_record.h"
+#include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -38,14 +39,7 @@ using ::testing::HasSubstr;
 constexpr std::size_t kInputs = 4;
 constexpr std::size_t kStoredMessageChars = 255;  // /outputs/message: 256 bytes with the terminator
 
-// A fresh folder per test, so that tests never see each other's files.
-fs::path TestFolder() {
-  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path folder = fs::path(::testing::TempDir()) / "ringtol_campaign_store_test" / test->name();
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
-}
+fs::path TestFolder() { return ringtol::testing::FreshTestFolder("campaign_store_test"); }
 
 std::string ReadBytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -147,13 +141,7 @@ void ExpectPendingRow(const SampleRecord& actual) {
 }
 
 std::string InputErrorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "no InputError";
-  return "";
+  return ringtol::testing::MessageOf<InputError>(action);
 }
 
 // Writes every pending sample of [0, samples) as its DeterministicRecord, committing every

@@ -1,0 +1,36 @@
+# Fails unless every name of NAMES (Suite.Test, ':'-separated) is a test of one of the
+# EXECUTABLES (':'-separated): a label given by name would silently fall off a renamed test.
+# Run as: cmake -DNAMES=<names> -DEXECUTABLES=<paths> -P check_test_names.cmake
+cmake_minimum_required(VERSION 3.20)
+
+string(REPLACE ":" ";" names "${NAMES}")
+string(REPLACE ":" ";" executables "${EXECUTABLES}")
+set(found "")
+foreach(executable ${executables})
+  execute_process(COMMAND ${executable} --gtest_list_tests --gtest_filter=${NAMES}
+                  OUTPUT_VARIABLE listing RESULT_VARIABLE result)
+  if(NOT result EQUAL 0)
+    message(FATAL_ERROR "${executable} --gtest_list_tests failed (${result})")
+  endif()
+  string(REPLACE "\n" ";" lines "${listing}")
+  foreach(line ${lines})
+    if(line MATCHES "^([A-Za-z0-9_]+)\\.$")
+      set(suite ${CMAKE_MATCH_1})
+    elseif(line MATCHES "^  ([A-Za-z0-9_]+)")
+      list(APPEND found "${suite}.${CMAKE_MATCH_1}")
+    endif()
+  endforeach()
+endforeach()
+
+set(missing "")
+foreach(name ${names})
+  if(NOT name IN_LIST found)
+    list(APPEND missing ${name})
+  endif()
+endforeach()
+if(missing)
+  list(JOIN missing "\n  " missing)
+  message(FATAL_ERROR "no test of that name:\n  ${missing}")
+endif()
+list(LENGTH names count)
+message(STATUS "all ${count} names are tests")
