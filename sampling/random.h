@@ -8,6 +8,7 @@
 // librandom123-dev.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 namespace ringtol::sampling {
@@ -27,10 +28,14 @@ enum class RandomStream : std::uint64_t {
 std::uint64_t RandomBits(std::uint64_t seed, RandomStream stream, std::uint64_t a, std::uint64_t b,
                          std::uint64_t c);
 
-// The 53 high bits of x as a double strictly inside (0, 1): (floor(x / 2^11) + 0.5) / 2^53.
-// Never 0 or 1, so -log(u) and the normal quantile of u are always finite.
+// The 53 high bits of x as a double strictly inside (0, 1): the centre of their cell,
+// (floor(x / 2^11) + 0.5) / 2^53, rounded to a double. From 1/2 up doubles are 2^-53
+// apart, so the centre rounds (to even) onto a cell's edge, and the top cell's edge is 1:
+// that one cell is held at the largest double below 1. Never 0 or 1, so -log(u) and the
+// normal quantile of u are always finite.
 inline double UnitFromBits(std::uint64_t x) {
-  return (static_cast<double>(x >> 11) + 0.5) * 0x1p-53;
+  constexpr double kLargestBelowOne = 1.0 - 0x1p-53;
+  return std::min((static_cast<double>(x >> 11) + 0.5) * 0x1p-53, kLargestBelowOne);
 }
 
 // A uniform draw in (0, 1): UnitFromBits(RandomBits(...)).

@@ -131,6 +131,14 @@ TEST(UnitFromBits, NeverReturnsZeroSoMinusLogIsFinite) {
   EXPECT_TRUE(std::isfinite(-std::log(UnitFromBits(0))));
 }
 
+TEST(UnitFromBits, NeverReturnsOneSoTheNormalQuantileIsFinite) {
+  // The top cell's centre, 1 - 2^-54, rounds to 1 in a double; it is held just below.
+  constexpr std::uint64_t kTopCell = std::numeric_limits<std::uint64_t>::max();
+  EXPECT_LT(UnitFromBits(kTopCell), 1.0);
+  EXPECT_EQ(UnitFromBits(kTopCell), std::nextafter(1.0, 0.0));
+  EXPECT_TRUE(std::isfinite(-std::log1p(-UnitFromBits(kTopCell))));
+}
+
 TEST(RandomUnit, IsUnitFromBitsOfRandomBitsStrictlyInsideTheUnitInterval) {
   for (const Arguments& x : ArgumentGrid()) {
     const double u = RandomUnit(x.seed, x.stream, x.a, x.b, x.c);
