@@ -1,4 +1,4 @@
-// The conventions every part of ringtol shares, stated once (README repeats them).
+// The conventions every part of ringtol shares, stated once (docs/model.md §1 explains them).
 //
 // Frame and angles
 //   Global frame: x, y span the ring's plane, z points at the viewer. Angles are measured

@@ -1,6 +1,6 @@
 // The results file of a campaign: one HDF5 file (Debian's serial libhdf5, C API) written
 // by the coordinating rank as results arrive, readable by h5py and h5dump, and safe
-// against a kill at any moment. README's "Results file" section documents the schema for
+// against a kill at any moment. docs/results.md documents the schema for
 // readers; this header is the contract for writers.
 //
 // Schema version 1 (N = samples, d = sampler inputs; every 2-D dataset is [N, d]):

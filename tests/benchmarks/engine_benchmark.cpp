@@ -110,7 +110,7 @@ BENCHMARK(EnclosingCircle)->Unit(benchmark::kMicrosecond);
 // The dynamic rung at its speed target: the article's scene with an order-2
 // ring error (0.14 mm at 45 deg), the article's law (settle 0.5 s, then 270 deg/s), and
 // the time to settle and sample one revolution at 360 angles. Each setting's error in
-// D_trajectory against a 1e-11 reference is in README (`ringtol bench ladder`).
+// D_trajectory against a 1e-11 reference is in README, "Which rung when" (`ringtol bench ladder`).
 struct DynamicSetting {
   bool friction = true;
   bool reduced = false;  // massless spring roller and rolling without slip

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Reads a ringtol results file as a user's script would (Debian's h5py), checking the
-schema README documents. Usage: read_results.py results.h5"""
+schema docs/results.md documents. Usage: read_results.py results.h5"""
 import sys
 
 import h5py
