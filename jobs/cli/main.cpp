@@ -53,6 +53,18 @@ int RunCampaignCommand(const ringtol::jobs::CampaignCommand& command) {
   return code;
 }
 
+// The file a command reads: a positional argument that must name an existing file.
+void AddInputFile(CLI::App& app, const std::string& name, std::filesystem::path& file, const std::string& help) {
+  app.add_option(name, file, help)->required()->check(CLI::ExistingFile);
+}
+
+// --samples and --seed, which override a sampling or campaign file's own.
+void AddSamplesAndSeed(CLI::App& app, std::optional<std::int64_t>& samples, std::optional<std::uint64_t>& seed) {
+  app.add_option("--samples", samples, "Number of samples (default: the file's design.samples)")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));
+  app.add_option("--seed", seed, "Campaign seed (default: the file's)");
+}
+
 // --solver, --steps and --relative-tolerance, as simulate and sweep take them.
 void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings, const std::string& steps_help) {
   std::vector<std::string> names;
@@ -72,7 +84,7 @@ void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings,
 CLI::App* AddSimulate(CLI::App& app, ringtol::jobs::SimulateCommand& simulate) {
   CLI::App* sub = app.add_subcommand(
       "simulate", "Simulate one revolution of one scene and print D_trajectory, Dist_init, static offset, runout");
-  sub->add_option("scene", simulate.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+  AddInputFile(*sub, "scene", simulate.scene, "Scene file (TOML)");
   AddSolverOptions(*sub, simulate.solver, "Angles per revolution (default: chosen so no harmonic aliases)");
   sub->add_flag("--json", simulate.json, "Print one JSON object");
   sub->add_option("--trajectory", simulate.trajectory_csv, "Write the path to this CSV file");
@@ -86,7 +98,7 @@ CLI::App* AddSimulate(CLI::App& app, ringtol::jobs::SimulateCommand& simulate) {
 
 CLI::App* AddSweep(CLI::App& app, ringtol::jobs::SweepCommand& sweep) {
   CLI::App* sub = app.add_subcommand("sweep", "Simulate every case of a sweep file (orders, amplitudes or named cases)");
-  sub->add_option("sweep", sweep.sweep, "Sweep file (TOML)")->required()->check(CLI::ExistingFile);
+  AddInputFile(*sub, "sweep", sweep.sweep, "Sweep file (TOML)");
   AddSolverOptions(*sub, sweep.solver, "Angles per revolution (default: chosen per case)");
   sub->add_flag("--json", sweep.json, "Print a JSON array, one object per case");
   sub->add_option("--csv", sweep.csv, "Write one row per case to this CSV file");
@@ -96,10 +108,8 @@ CLI::App* AddSweep(CLI::App& app, ringtol::jobs::SweepCommand& sweep) {
 CLI::App* AddSample(CLI::App& app, ringtol::jobs::SampleCommand& sample) {
   CLI::App* sub = app.add_subcommand(
       "sample", "Draw the assemblies of a sampling file (tolerance classes and a design) without simulating them");
-  sub->add_option("file", sample.file, "Sampling file (TOML)")->required()->check(CLI::ExistingFile);
-  sub->add_option("--samples", sample.samples, "Number of samples (default: the file's design.samples)")
-      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));
-  sub->add_option("--seed", sample.seed, "Campaign seed (default: the file's)");
+  AddInputFile(*sub, "file", sample.file, "Sampling file (TOML)");
+  AddSamplesAndSeed(*sub, sample.samples, sample.seed);
   sub->add_option("--csv", sample.csv, "Write every sample's drawn inputs to this CSV file");
   sub->add_option("--index", sample.index, "With --scene: the sample to write (0-based)");
   sub->add_option("--scene", sample.scene, "Write sample --index as a standalone scene file, to replay it");
@@ -109,9 +119,7 @@ CLI::App* AddSample(CLI::App& app, ringtol::jobs::SampleCommand& sample) {
 CLI::App* AddFit(CLI::App& app, ringtol::jobs::FitCommand& fit) {
   CLI::App* sub = app.add_subcommand(
       "fit", "Fit a Fourier series to a roundness tester's export (angle, radius or deviation CSV)");
-  sub->add_option("profile", fit.profile, "Profile CSV: angle_deg, radius_mm | deviation_mm | deviation_um")
-      ->required()
-      ->check(CLI::ExistingFile);
+  AddInputFile(*sub, "profile", fit.profile, "Profile CSV: angle_deg, radius_mm | deviation_mm | deviation_um");
   sub->add_option("--orders", fit.orders, "Highest order fitted (1..1000)")->required();
   sub->add_flag("--keep-eccentricity", fit.keep_eccentricity,
                 "Keep order 1 in the fragment (by default it is the tester's set-up eccentricity)");
@@ -123,9 +131,7 @@ CLI::App* AddFit(CLI::App& app, ringtol::jobs::FitCommand& fit) {
 CLI::App* AddBenchDynamics(CLI::App& bench, ringtol::jobs::BenchDynamicsCommand& dynamics) {
   CLI::App* sub = bench.add_subcommand(
       "dynamics", "Start transient and speed: where the quasistatic answer stops being within 1 um of the dynamic one");
-  sub->add_option("scene", dynamics.scene, "Scene file (TOML); its ring errors are replaced per order")
-      ->required()
-      ->check(CLI::ExistingFile);
+  AddInputFile(*sub, "scene", dynamics.scene, "Scene file (TOML); its ring errors are replaced per order");
   sub->add_option("--orders", dynamics.orders, "Ring orders to study (default: the article's)")
       ->check(CLI::Range(1, 1000));
   sub->add_option("--rates-deg-per-s", dynamics.rates_deg_per_s, "Steady speeds to compare (default: 1 3 10 30 90 270)")
@@ -136,9 +142,7 @@ CLI::App* AddBenchDynamics(CLI::App& bench, ringtol::jobs::BenchDynamicsCommand&
 CLI::App* AddBenchLadder(CLI::App& bench, ringtol::jobs::BenchLadderCommand& ladder) {
   CLI::App* sub = bench.add_subcommand(
       "ladder", "Speed against accuracy of every rung and setting on the article's order and amplitude studies");
-  sub->add_option("scene", ladder.scene, "Scene file (TOML) whose error-free assembly the studies use")
-      ->required()
-      ->check(CLI::ExistingFile);
+  AddInputFile(*sub, "scene", ladder.scene, "Scene file (TOML) whose error-free assembly the studies use");
   sub->add_option("--cases", ladder.cases, "orders, amplitudes or all")
       ->check(CLI::IsMember({"orders", "amplitudes", "all"}))
       ->capture_default_str();
@@ -155,11 +159,9 @@ CLI::App* AddBenchLadder(CLI::App& bench, ringtol::jobs::BenchLadderCommand& lad
 CLI::App* AddCampaign(CLI::App& app, ringtol::jobs::CampaignCommand& campaign) {
   CLI::App* sub = app.add_subcommand(
       "campaign", "Run a Monte Carlo campaign into an HDF5 results file, alone or under mpirun, and summarise it");
-  sub->add_option("file", campaign.file, "Campaign file (TOML)")->required()->check(CLI::ExistingFile);
+  AddInputFile(*sub, "file", campaign.file, "Campaign file (TOML)");
   sub->add_option("--out", campaign.out, "Results file (HDF5); never overwritten")->required();
-  sub->add_option("--samples", campaign.samples, "Number of samples (default: the file's design.samples)")
-      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));
-  sub->add_option("--seed", campaign.seed, "Campaign seed (default: the file's)");
+  AddSamplesAndSeed(*sub, campaign.samples, campaign.seed);
   sub->add_flag("--resume", campaign.resume,
                 "Continue --out after an interruption, or grow it to --samples: compute only what it lacks");
   sub->add_flag("--json", campaign.json, "Print the summary as one JSON object");
@@ -190,9 +192,7 @@ CLI::App* AddCampaign(CLI::App& app, ringtol::jobs::CampaignCommand& campaign) {
 CLI::App* AddReport(CLI::App& app, ringtol::jobs::ReportCommand& report) {
   CLI::App* sub = app.add_subcommand(
       "report", "Turn a campaign's results file into a self-contained HTML report (and a JSON summary)");
-  sub->add_option("results", report.results, "Results file (HDF5) of ringtol campaign")
-      ->required()
-      ->check(CLI::ExistingFile);
+  AddInputFile(*sub, "results", report.results, "Results file (HDF5) of ringtol campaign");
   sub->add_option("--out", report.out, "HTML report to write (replaced if it exists)")->required();
   sub->add_option("--json", report.json, "Also write every number of the report to this JSON file");
   ringtol::jobs::ReportOptions& options = report.options;
