@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
+#include <limits>
 #include <numbers>
 #include <vector>
+
+#include <unsupported/Eigen/FFT>
 
 namespace ringtol::engine {
 
@@ -62,32 +66,82 @@ SensorReading ReadSensor(const PolarProfile& ring, const BodyPose& ring_pose, do
   return {along, theta + step};
 }
 
-Runout MeasureRunout(std::span<const double> signal) {
+double Swing(std::span<const double> signal, double resolution) {
+  if (signal.empty()) return 0.0;
+  const auto [min_it, max_it] = std::minmax_element(signal.begin(), signal.end());
+  const double total = *max_it - *min_it;
+  // The signal's extremes at this resolution, walking once around from the global maximum
+  // and back to it: a running extreme becomes one when the signal has turned away from it
+  // by more than the resolution. Peaks sit at even positions, valleys at odd ones.
+  const std::size_t n = signal.size();
+  const auto start = static_cast<std::size_t>(max_it - signal.begin());
+  std::vector<double> extremes{signal[start]};
+  bool falling = true;
+  double running = signal[start];
+  for (std::size_t k = 1; k <= n; ++k) {
+    const double value = signal[(start + k) % n];
+    if (falling ? value < running : value > running) {
+      running = value;
+    } else if (std::abs(value - running) > resolution) {
+      extremes.push_back(running);
+      falling = !falling;
+      running = value;
+    }
+  }
+  if (!falling) extremes.push_back(running);
+  // Only ripples within the resolution: nothing is charged, the swing is the whole range.
+  if (extremes.size() < 3) return total;
+
+  // Neither an optimal rise nor an optimal fall needs to pass the global maximum, where the
+  // walk starts and ends, so the arcs are the intervals of this list.
+  double swing = 0.0;
+  const std::size_t m = extremes.size();
+  const auto charge = [resolution](double counter_move) { return std::max(0.0, counter_move - resolution); };
+  for (std::size_t a = 0; a + 1 < m; ++a) {
+    const bool from_valley = a % 2 == 1;
+    const double sign = from_valley ? 1.0 : -1.0;  // rises from valleys, falls from peaks
+    double farthest = -std::numeric_limits<double>::infinity();  // signed, beyond e_a
+    double counter_move = 0.0;
+    for (std::size_t b = a + 1; b < m; ++b) {
+      const double reach = sign * (extremes[b] - extremes[a]);
+      if ((b - a) % 2 == 1) {
+        swing = std::max(swing, reach - charge(counter_move));
+        farthest = std::max(farthest, reach);
+      } else {
+        counter_move = std::max(counter_move, farthest - reach);
+      }
+      if (charge(counter_move) >= total) break;
+    }
+  }
+  return swing;
+}
+
+std::vector<double> GaussianFilterClosed(std::span<const double> period, double cutoff_upr) {
+  const std::size_t n = period.size();
+  if (n == 0) return {};
+  Eigen::FFT<double> fft;
+  std::vector<std::complex<double>> spectrum;
+  fft.fwd(spectrum, std::vector<double>(period.begin(), period.end()));
+  const double alpha = std::sqrt(std::numbers::ln2 / std::numbers::pi);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double undulations = static_cast<double>(std::min(k, n - k));
+    const double ratio = alpha * undulations / cutoff_upr;
+    spectrum[k] *= std::exp(-std::numbers::pi * ratio * ratio);
+  }
+  std::vector<double> filtered;
+  fft.inv(filtered, spectrum);
+  return filtered;
+}
+
+Runout MeasureRunout(std::span<const double> signal, const SwingRule& rule) {
   Runout runout;
   if (signal.empty()) return runout;
   const auto [min_it, max_it] = std::minmax_element(signal.begin(), signal.end());
   runout.total = *max_it - *min_it;
-  if (runout.total == 0.0) return runout;
-  // Walk once around the periodic signal starting at the global maximum, recording the
-  // value at every change of direction; neighbouring extremes then alternate.
-  const std::size_t n = signal.size();
-  const auto start = static_cast<std::size_t>(max_it - signal.begin());
-  std::vector<double> extremes{signal[start]};
-  int direction = -1;  // leaving the global maximum, the signal first falls (or plateaus)
-  double last = signal[start];
-  for (std::size_t k = 1; k <= n; ++k) {
-    const double value = signal[(start + k) % n];
-    if (value == last) continue;
-    const int now = value > last ? 1 : -1;
-    if (now != direction) {
-      extremes.push_back(last);
-      direction = now;
-    }
-    last = value;
-  }
-  extremes.push_back(signal[start]);
-  for (std::size_t k = 1; k < extremes.size(); ++k) {
-    runout.peak_to_nearest_valley = std::max(runout.peak_to_nearest_valley, std::abs(extremes[k] - extremes[k - 1]));
+  if (rule.cutoff_upr > 0.0 && signal.size() > 1) {
+    runout.swing = Swing(GaussianFilterClosed(signal.first(signal.size() - 1), rule.cutoff_upr), rule.resolution);
+  } else {
+    runout.swing = Swing(signal, rule.resolution);
   }
   return runout;
 }

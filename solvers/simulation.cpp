@@ -54,7 +54,9 @@ int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options) {
   return high;
 }
 
-double SamplingErrorBound(const engine::Scene& scene, int steps) {
+double SamplingErrorBounds::Largest() const { return std::max({d_trajectory, runout, 0.5 * swing}); }
+
+SamplingErrorBounds SamplingErrorBoundsAt(const engine::Scene& scene, int steps) {
   const int rollers = static_cast<int>(scene.rollers.size());
   Eigen::Matrix2d normal_products = Eigen::Matrix2d::Zero();
   int fixed = 0;
@@ -65,24 +67,40 @@ double SamplingErrorBound(const engine::Scene& scene, int steps) {
     ++fixed;
   }
   const double sigma_min_squared = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(normal_products).eigenvalues()(0);
-  if (fixed < 2 || !(sigma_min_squared > 0.0)) return std::numeric_limits<double>::infinity();
+  if (fixed < 2 || !(sigma_min_squared > 0.0)) {
+    constexpr double kInfinite = std::numeric_limits<double>::infinity();
+    return {kInfinite, kInfinite, kInfinite, kInfinite};
+  }
   const double gain = 1.0 / std::sqrt(sigma_min_squared);
   const double dpsi = 2.0 * std::numbers::pi / static_cast<double>(steps);
   const auto straying = [dpsi](double rate) { return std::min(2.0, rate * rate * dpsi * dpsi / 8.0); };
+  const bool filtered = scene.sensor_swing.cutoff_upr > 0.0;
+  const double nyquist = 0.5 * static_cast<double>(steps);
+  const auto filtered_straying = [&](double rate) { return filtered && rate >= nyquist ? 2.0 : straying(rate); };
 
-  double bound = 0.0;
+  double path = 0.0;
+  double signal = 0.0;
+  double filtered_signal = 0.0;
   const double ring_gain = gain * std::sqrt(static_cast<double>(fixed));
   for (const engine::Harmonic& h : scene.ring.inner.harmonics()) {
-    bound += ring_gain * h.amplitude * straying(static_cast<double>(h.order));
+    const double rate = static_cast<double>(h.order);
+    path += ring_gain * h.amplitude * straying(rate);
+    signal += (ring_gain + 1.0) * h.amplitude * straying(rate);
+    filtered_signal += (ring_gain + 1.0) * h.amplitude * filtered_straying(rate);
   }
   for (int i = 0; i < rollers; ++i) {
     const double spin = engine::SpinRatio(scene, i);
     for (const engine::Harmonic& h : scene.rollers[static_cast<std::size_t>(i)].outline.harmonics()) {
-      bound += gain * h.amplitude * straying(static_cast<double>(h.order) * spin);
+      const double rate = static_cast<double>(h.order) * spin;
+      path += gain * h.amplitude * straying(rate);
+      signal += gain * h.amplitude * straying(rate);
+      filtered_signal += gain * h.amplitude * filtered_straying(rate);
     }
   }
-  return 2.0 * bound;
+  return {path, 2.0 * path, 2.0 * signal, 4.0 * filtered_signal};
 }
+
+double SamplingErrorBound(const engine::Scene& scene, int steps) { return SamplingErrorBoundsAt(scene, steps).Largest(); }
 
 namespace {
 
@@ -107,9 +125,9 @@ void Measure(const engine::Scene& scene, const Trajectory& path, const Eigen::Ve
     theta = reading.ring_theta - (next_psi - path.psi[k]);
     result.sensor.push_back(reading.distance);
   }
-  const engine::Runout runout = engine::MeasureRunout(result.sensor);
-  result.runout = runout.peak_to_nearest_valley;
-  result.runout_total = runout.total;
+  const engine::Runout runout = engine::MeasureRunout(result.sensor, scene.sensor_swing);
+  result.runout = runout.total;
+  result.swing = runout.swing;
 
   const std::size_t z = scene.rollers.size();
   result.contact_force.assign(z, {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()});

@@ -1,6 +1,6 @@
 // One simulation as the article reports it (docs/model.md §5): run a solver over one
 // revolution and reduce the path to D_trajectory, Dist_init, the static offset, the
-// sensor runout and the contact-force range.
+// sensor's runout and swing and the contact-force range.
 #pragma once
 
 #include <memory>
@@ -26,7 +26,8 @@ struct SimulationOptions {
   int min_steps = 360;       // floor of the automatic resolution
   int max_steps = kMaxSteps;  // ceiling of the automatic resolution
   // > 0 [m]: instead of resolving every undulation, the fewest steps whose bound on the
-  // sampling error of D_trajectory (SamplingErrorBound) is at most this. Tiny fast terms
+  // sampling error of D_trajectory and runout (and of the swing, at twice this;
+  // SamplingErrorBound) is at most this. Tiny fast terms
   // (a roller's high lobes pass ~60 n times per revolution at sub-micrometre amplitude)
   // then cost what they are worth; campaigns set it, single runs keep the exact rule.
   double path_tolerance = 0.0;
@@ -56,18 +57,40 @@ std::unique_ptr<Solver> MakeSolver(const SolverSettings& settings);
 // `samples_per_undulation` times per period, so no harmonic aliases.
 int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options);
 
-// Upper bound [m] on how much D_trajectory sampled at `steps` angles can fall short of the
-// continuous path's, to first order in the error amplitudes. The path is a sum of terms,
-// one per error harmonic: amplitude G A (A the harmonic's radial amplitude, G the gain
-// from a contact's gap to the centre, below) at rate w per revolution (ring order n:
-// w = n; roller order m: w = m R / r_b). Between two samples dpsi apart a term strays
-// from the chord by at most min(2, w^2 dpsi^2 / 8) G A; the true path lies within the sum
-// of these of the sampled polygon, so within that much of the sampled enclosing circle,
-// whose diameter is short by at most twice the sum. G = 1 / sigma_min of the fixed
-// rollers' unit contact normals (rigid support by the fixed rollers, the spring roller
-// following); a ring harmonic meets every fixed contact at once, so its gain is
-// sqrt(fixed rollers) times that. Second-order products of amplitudes are left out. With
-// fewer than two fixed rollers the bound is infinite.
+// Upper bounds [m] on how far each metric of a revolution sampled at `steps` angles can be
+// from the continuous revolution's, to first order in the error amplitudes. The path and
+// the sensor signal are sums of terms, one per error harmonic: amplitude g A (A the
+// harmonic's radial amplitude, g a gain, below) at rate w per revolution (ring order n:
+// w = n; roller order m: w = m R / r_b). Between two samples dpsi apart a term strays from
+// the chord by at most min(2, w^2 dpsi^2 / 8) g A; the sums of these bound how far the
+// continuous path strays from the sampled polygon (`path`) and the continuous signal from
+// the sampled one's interpolant (eta). Then
+//   D_trajectory: the sampled circle encloses the polygon, so 0 <= D - D_N <= 2 path;
+//   runout (max - min): 0 <= TIR - TIR_N <= 2 eta;
+//   swing: a rise and a counter-move each move by at most 2 eta, so |swing - swing_N|
+//     <= 4 eta; with the rule's filter, a term at or above half the sampling rate aliases
+//     and counts 2 g A instead.
+// Gains: G = 1 / sigma_min of the fixed rollers' unit contact normals for the centre (rigid
+// support by the fixed rollers, the spring roller following); a ring harmonic meets every
+// fixed contact at once, so sqrt(fixed rollers) G, and passes the sensor itself with gain
+// 1. Second-order products of amplitudes are left out. Dist_init has no bound of this
+// kind: the enclosing circle's centre is only Hoelder-1/2 in the path (it can move by
+// sqrt(path (2 R + path)) for a circle of radius R), so docs/model.md §5 states its
+// convergence as measured. With fewer than two fixed rollers every bound is infinite.
+struct SamplingErrorBounds {
+  double path = 0.0;          // the continuous path lies within this of the sampled polygon
+  double d_trajectory = 0.0;  // 2 path
+  double runout = 0.0;        // 2 eta
+  double swing = 0.0;         // 4 eta (aliased terms counted in full when filtered)
+
+  // What the step rule keeps within its budget: the largest of D_trajectory's and runout's
+  // bounds and half the swing's. The swing reads two extremes and a counter-move, so it
+  // is allowed twice the budget rather than costing twice the steps' worth of accuracy.
+  double Largest() const;
+};
+SamplingErrorBounds SamplingErrorBoundsAt(const engine::Scene& scene, int steps);
+
+// SamplingErrorBoundsAt(scene, steps).Largest(): the step rule's measure.
 double SamplingErrorBound(const engine::Scene& scene, int steps);
 
 struct RollerForceRange {
@@ -82,8 +105,8 @@ struct SimulationResult {
   double d_trajectory = 0.0;    // [m] diameter of the smallest circle enclosing the path
   double dist_init = 0.0;       // [m] static equilibrium to that circle's centre
   double static_offset = 0.0;   // [m] error-free static equilibrium to the static equilibrium
-  double runout = 0.0;          // [m] sensor: largest peak to nearest valley
-  double runout_total = 0.0;    // [m] sensor: max - min
+  double runout = 0.0;          // [m] sensor: total indicator reading, max - min
+  double swing = 0.0;           // [m] sensor: peak-to-valley swing by the scene's SwingRule
   double min_contact_force = 0.0;  // [N] over all rollers and angles
   std::vector<RollerForceRange> contact_force;  // per roller
   engine::Circle enclosing_circle;              // [m]

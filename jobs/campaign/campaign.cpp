@@ -60,6 +60,7 @@ Campaign::Campaign(CampaignPlan plan, const std::string& source_name)
   identity_.campaign_path = file.string();
   identity_.campaign_file = plan_.sampling.text;
   identity_.base_scene = WriteScene(plan_.sampling.scene);
+  identity_.swing = plan_.sampling.scene.sensor_swing;
   identity_.design = sampling::DesignName(plan_.sampling.design.kind);
   identity_.solver = NameOf(solvers::kRungNames, plan_.solver.rung);
   identity_.seed = plan_.sampling.seed;
@@ -114,7 +115,7 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
         const std::array<double, kOutputCount> outputs = {
             result.d_trajectory * units::kMillimetresPerMetre, result.dist_init * units::kMillimetresPerMetre,
             result.static_offset * units::kMillimetresPerMetre, result.runout * units::kMillimetresPerMetre,
-            result.runout_total * units::kMillimetresPerMetre, result.min_contact_force, max_force};
+            result.swing * units::kMillimetresPerMetre, result.min_contact_force, max_force};
         bool finite = true;
         for (std::size_t k = 0; k < kOutputCount; ++k) finite = finite && std::isfinite(outputs[k]);
         if (finite) {

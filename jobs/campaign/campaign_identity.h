@@ -29,6 +29,9 @@ struct CampaignIdentity {
   std::uint64_t seed = 0;
   std::vector<sampling::SampledInput> inputs;  // the design's coordinates, in order
   std::vector<SpecLimit> spec;
+  // How the sensor's swing was read: the base scene's [sensor] table, so already compared
+  // through base_scene; the results file states it beside /outputs/swing_mm.
+  engine::SwingRule swing;
 };
 
 }  // namespace ringtol::jobs

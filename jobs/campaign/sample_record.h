@@ -43,7 +43,7 @@ const std::vector<SampleStatus>& AllSampleStatuses();
 // The per-sample outputs, in the order of kOutputNames (units in the names).
 inline constexpr std::array<const char*, 7> kOutputNames = {
     "d_trajectory_mm", "dist_init_mm",        "static_offset_mm",   "runout_mm",
-    "runout_total_mm", "min_contact_force_N", "max_contact_force_N"};
+    "swing_mm",        "min_contact_force_N", "max_contact_force_N"};
 inline constexpr std::size_t kOutputCount = kOutputNames.size();
 
 struct SampleRecord {

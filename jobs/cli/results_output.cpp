@@ -38,6 +38,12 @@ std::string Cell(const nlohmann::json& value, int decimals) {
 
 namespace {
 
+std::string DescribeSwingRule(const engine::SwingRule& rule) {
+  const std::string resolution = fmt::format("resolution {:g} um", rule.resolution * units::kMicrometresPerMetre);
+  if (!(rule.cutoff_upr > 0.0)) return resolution + ", unfiltered";
+  return fmt::format("{}, Gaussian filter at {:g} undulations per revolution", resolution, rule.cutoff_upr);
+}
+
 // The metric keys of one revolution (shared by the result and its steady revolution).
 void PutMetrics(nlohmann::json& j, const engine::Scene& scene, const solvers::SimulationResult& result) {
   j["status"] = std::string(solvers::StatusName(result.status));
@@ -48,7 +54,7 @@ void PutMetrics(nlohmann::json& j, const engine::Scene& scene, const solvers::Si
   j["dist_init_mm"] = metric(result.dist_init, units::kMillimetresPerMetre);
   j["static_offset_mm"] = metric(result.static_offset, units::kMillimetresPerMetre);
   j["runout_mm"] = metric(result.runout, units::kMillimetresPerMetre);
-  j["runout_total_mm"] = metric(result.runout_total, units::kMillimetresPerMetre);
+  j["swing_mm"] = metric(result.swing, units::kMillimetresPerMetre);
   j["min_contact_force_N"] = metric(result.min_contact_force, 1.0);
   nlohmann::json forces = nlohmann::json::array();
   if (ok) {
@@ -110,8 +116,10 @@ void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::S
   fmt::print(out, "solver            {} ({} steps, {:.3f} ms)\n", solver, result.steps, solve_seconds * 1e3);
   if (!PrintStatusAndDistances(out, "status", "", result)) return;
   fmt::print(out, "static offset     {:.4f} mm\n", result.static_offset * units::kMillimetresPerMetre);
-  fmt::print(out, "runout            {:.4f} mm peak to nearest valley, {:.4f} mm total (sensor at {:g} deg)\n",
-             result.runout * units::kMillimetresPerMetre, result.runout_total * units::kMillimetresPerMetre, scene.sensor_angle * units::kDegreesPerRadian);
+  fmt::print(out, "runout            {:.4f} mm max - min (sensor at {:g} deg)\n", result.runout * units::kMillimetresPerMetre,
+             scene.sensor_angle * units::kDegreesPerRadian);
+  fmt::print(out, "swing             {:.4f} mm peak to valley, {}\n", result.swing * units::kMillimetresPerMetre,
+             DescribeSwingRule(scene.sensor_swing));
   for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
     fmt::print(out, "contact force     {:<10} {:.3f} .. {:.3f} N\n", scene.rollers[i].name,
                result.contact_force[i].min, result.contact_force[i].max);
@@ -119,8 +127,8 @@ void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::S
   if (!result.steady) return;
   const solvers::SimulationResult& steady = *result.steady;
   if (!PrintStatusAndDistances(out, "steady revolution", "  ", steady)) return;
-  fmt::print(out, "  runout          {:.4f} mm peak to nearest valley, {:.4f} mm total\n", steady.runout * units::kMillimetresPerMetre,
-             steady.runout_total * units::kMillimetresPerMetre);
+  fmt::print(out, "  runout          {:.4f} mm max - min, swing {:.4f} mm\n", steady.runout * units::kMillimetresPerMetre,
+             steady.swing * units::kMillimetresPerMetre);
   fmt::print(out, "  min contact     {:.3f} N\n", steady.min_contact_force);
 }
 
@@ -145,7 +153,7 @@ void WriteSweepCsv(std::ostream& out, const std::vector<nlohmann::json>& rows) {
   const bool steady = AnySteady(rows);
   fmt::print(out, "case,solver,status,steps");
   for (const Column& c : kColumns) fmt::print(out, ",{}", c.key);
-  fmt::print(out, ",runout_total_mm,solve_time_ms,message{}\n", steady ? ",steady_d_trajectory_mm" : "");
+  fmt::print(out, ",swing_mm,solve_time_ms,message{}\n", steady ? ",steady_d_trajectory_mm" : "");
   auto quoted = [](const std::string& s) {
     std::string q = "\"";
     for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
@@ -156,7 +164,7 @@ void WriteSweepCsv(std::ostream& out, const std::vector<nlohmann::json>& rows) {
                row["status"].get<std::string>(), row["steps"].get<int>());
     for (const Column& c : kColumns) fmt::print(out, ",{}", row[c.key].is_null() ? "" : fmt::format("{:.9g}", row[c.key].get<double>()));
     fmt::print(out, ",{},{:.6g},{}",
-               row["runout_total_mm"].is_null() ? "" : fmt::format("{:.9g}", row["runout_total_mm"].get<double>()),
+               row["swing_mm"].is_null() ? "" : fmt::format("{:.9g}", row["swing_mm"].get<double>()),
                row["solve_time_ms"].get<double>(), quoted(row.value("message", std::string())));
     if (steady) {
       const nlohmann::json d = SteadyDiameter(row);

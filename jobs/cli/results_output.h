@@ -18,7 +18,7 @@
 namespace ringtol::jobs {
 
 // One simulation as a JSON object: solver, status (and message when not "ok"), steps,
-// d_trajectory_mm, dist_init_mm, static_offset_mm, runout_mm, runout_total_mm,
+// d_trajectory_mm, dist_init_mm, static_offset_mm, runout_mm (max - min), swing_mm,
 // min_contact_force_N, contact_force_N (per roller min/max), solve_time_ms. Metrics are
 // null when the status is not "ok". `case_name` adds a "case" key when non-empty. A
 // result with a steady revolution (dynamic solver) adds "steady": an object with the

@@ -409,7 +409,22 @@ std::vector<Field<engine::DynamicModel>> DynamicsFields() {
 }
 
 std::vector<Field<engine::Scene>> SensorFields() {
-  return {Number(scene_key::kAngleDeg, Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &engine::Scene::sensor_angle)};
+  using engine::Scene;
+  // A resolution beyond a millimetre or a cutoff beyond 100,000 undulations is a typo:
+  // the first ignores every undulation, the second filters nothing a revolution resolves.
+  const Range resolution = Between(0.0, 1000.0);
+  const Range cutoff = Between(0.0, 100000.0);
+  return {Number(scene_key::kAngleDeg, Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &Scene::sensor_angle),
+          {scene_key::kResolutionUm, Presence::kOptional, resolution.Describe(),
+           [resolution](const Site& site, Scene& scene) {
+             scene.sensor_swing.resolution = ReadNumber(site, resolution) * units::kMetresPerMicrometre;
+           },
+           {},
+           {}},
+          {scene_key::kCutoffUpr, Presence::kOptional, cutoff.Describe(),
+           [cutoff](const Site& site, Scene& scene) { scene.sensor_swing.cutoff_upr = ReadNumber(site, cutoff); },
+           {},
+           {}}};
 }
 
 std::vector<Field<engine::Scene>> SceneFields(const std::filesystem::path& folder) {

@@ -67,6 +67,9 @@
 //     transition_velocity_mm_per_s  > stiction_velocity_mm_per_s, default 50
 //   [sensor]                     optional
 //     angle_deg                  default 0
+//     resolution_um              >= 0 and <= 1000, default 0.1: counter-moves the swing ignores
+//     cutoff_upr                 >= 0 and <= 100000, default 0 (unfiltered): the swing's
+//                                Gaussian filter cutoff [undulations per revolution]
 //   [motion]                     optional; the imposed rotation (engine/motion_law.h), read
 //                                by the dynamic solver only
 //     law                        "article" (default), "test_bench" or "piecewise"

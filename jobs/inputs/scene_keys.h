@@ -27,6 +27,7 @@ inline constexpr NameTable<MotionKind, 3> kMotionKindNames = {
 namespace scene_key {
 inline constexpr std::string_view kAngleDeg = "angle_deg";
 inline constexpr std::string_view kCentreRadiusMm = "centre_radius_mm";
+inline constexpr std::string_view kCutoffUpr = "cutoff_upr";
 inline constexpr std::string_view kDynamicCoefficient = "dynamic_coefficient";
 inline constexpr std::string_view kExponent = "exponent";
 inline constexpr std::string_view kFriction = "friction";
@@ -45,6 +46,7 @@ inline constexpr std::string_view kRadialOffsetMm = "radial_offset_mm";
 inline constexpr std::string_view kRadiusMm = "radius_mm";
 inline constexpr std::string_view kRateDegPerS = "rate_deg_per_s";
 inline constexpr std::string_view kRevolutions = "revolutions";
+inline constexpr std::string_view kResolutionUm = "resolution_um";
 inline constexpr std::string_view kRollingWithoutSlip = "rolling_without_slip";
 inline constexpr std::string_view kSegments = "segments";
 inline constexpr std::string_view kSettleS = "settle_s";

@@ -222,6 +222,8 @@ std::string WriteScene(const engine::Scene& scene) {
 
   out.Table("[sensor]");
   out.Key(scene_key::kAngleDeg, Deg(scene.sensor_angle));
+  out.Key(scene_key::kResolutionUm, Float(InUnit(scene.sensor_swing.resolution, units::kMetresPerMicrometre)));
+  out.Key(scene_key::kCutoffUpr, Float(scene.sensor_swing.cutoff_upr));
 
   WriteMotion(out, scene.motion);
 

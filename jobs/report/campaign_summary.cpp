@@ -41,9 +41,17 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     }
   }
 
+  if (results.schema_version() < kCampaignSchemaVersion) {
+    summary.schema_note = fmt::format(
+        "schema {} file: runout_mm is its runout_total_mm (max - min); its own runout_mm, an ill-posed peak to "
+        "nearest valley, is not read, and it has no swing_mm",
+        results.schema_version());
+  }
+
   std::vector<bool> within(status.size(), true);
   bool any_spec = false;
   for (const char* name : kOutputNames) {
+    if (!results.HasOutput(name)) continue;
     OutputSummary output;
     output.name = name;
     for (const SpecLimit& limit : results.identity().spec) {
@@ -90,6 +98,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
 }
 
 void PrintSummary(std::ostream& out, const CampaignSummary& s) {
+  if (!s.schema_note.empty()) fmt::print(out, "note              {}\n", s.schema_note);
   fmt::print(out, "samples           {} in the campaign, {} used for statistics, {} done, {} ok\n", s.samples, s.used,
              s.done, s.ok);
   if (s.failures.empty()) {
@@ -131,6 +140,7 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
   j["samples_ok"] = s.ok;
   j["failures"] = s.failures;
   j["confidence"] = s.confidence;
+  if (!s.schema_note.empty()) j["schema_note"] = s.schema_note;
   nlohmann::json outputs = nlohmann::json::object();
   for (const OutputSummary& o : s.outputs) {
     nlohmann::json x;

@@ -45,6 +45,8 @@ struct CampaignSummary {
   std::optional<analysis::ProportionEstimate> in_spec;     // over done samples; none without a spec
   std::optional<analysis::ProportionEstimate> in_spec_ok;  // over ok samples
   double confidence = 0.95;
+  // What an older results file's columns are, in its schema's terms; empty for the current.
+  std::string schema_note;
 };
 
 inline constexpr double kSummaryProbabilities[] = {0.5, 0.9, 0.99, 0.999};

@@ -29,7 +29,7 @@ std::string Label(std::string_view name) {
   const std::string_view quantity = name.substr(0, cut);
   std::string text = quantity == "d_trajectory"   ? "D_trajectory"
                      : quantity == "dist_init"    ? "Dist_init"
-                     : quantity == "runout_total" ? "total runout"
+                     : quantity == "runout"       ? "runout (max - min)"
                                                   : std::string(quantity);
   if (text.front() != 'D') std::replace(text.begin(), text.end(), '_', ' ');
   return fmt::format("{} [{}]", text, name.substr(cut + 1));

@@ -18,6 +18,7 @@
 #include <system_error>
 #include <utility>
 
+#include "engine/units.h"
 #include "jobs/inputs/input_error.h"
 
 namespace ringtol::jobs {
@@ -215,7 +216,26 @@ std::string ColumnPath(std::size_t column) {
 
 bool IsMatrix(std::size_t column) { return column == kU || column == kValues; }
 
-std::string OutputPath(std::size_t output) { return ColumnPath(kFirstOutput + output); }
+constexpr const char* kRunoutDefinition =
+    "total indicator reading: max - min of the sensor signal over one revolution";
+constexpr const char* kSwingDefinition =
+    "largest rise or fall of the sensor signal, each net of the largest counter-move inside it beyond "
+    "resolution_um, after a Gaussian filter at cutoff_upr undulations per revolution when cutoff_upr > 0";
+
+// Where a file of `schema` keeps column `column`; empty when it has no such dataset. Schema
+// 1 named the ill-posed "peak to nearest valley" runout_mm and the max - min that runout_mm
+// is now runout_total_mm; it had no swing.
+std::string StoredColumnPath(std::size_t column, int schema) {
+  if (schema >= kCampaignSchemaVersion || column < kFirstOutput || column >= kStatus) return ColumnPath(column);
+  const std::string_view output = kOutputNames[column - kFirstOutput];
+  if (output == "runout_mm") return "/outputs/runout_total_mm";
+  constexpr std::array<std::string_view, 5> kSchema1Outputs = {
+      "d_trajectory_mm", "dist_init_mm", "static_offset_mm", "min_contact_force_N", "max_contact_force_N"};
+  if (std::find(kSchema1Outputs.begin(), kSchema1Outputs.end(), output) != kSchema1Outputs.end()) {
+    return ColumnPath(column);
+  }
+  return {};
+}
 
 // ---------------------------------------------------------------------------------------
 // Attributes
@@ -396,9 +416,9 @@ Stored ReadStored(const Where& where, hid_t file) {
     throw InputError(fmt::format("{}: was written by a newer ringtol (schema {}); this ringtol reads schema {}",
                                  where.file, schema, kCampaignSchemaVersion));
   }
-  if (schema != kCampaignSchemaVersion) {
-    throw InputError(fmt::format("{}: has unknown schema version {}; this ringtol reads schema {}", where.file, schema,
-                                 kCampaignSchemaVersion));
+  if (schema < kOldestReadableSchema) {
+    throw InputError(fmt::format("{}: has unknown schema version {}; this ringtol reads schemas {} to {}", where.file,
+                                 schema, kOldestReadableSchema, kCampaignSchemaVersion));
   }
   stored.schema_version = static_cast<int>(schema);
 
@@ -444,12 +464,22 @@ Stored ReadStored(const Where& where, hid_t file) {
   }
 
   for (std::size_t k = 0; k < kOutputCount; ++k) {
-    const std::string path = OutputPath(k);
+    const std::string path = StoredColumnPath(kFirstOutput + k, stored.schema_version);
+    if (path.empty()) continue;
     const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
     if (const auto upper =
             ReadNumberAttribute<double>(where, dataset.get(), "upper_spec_limit", H5T_FLOAT, H5T_NATIVE_DOUBLE)) {
       identity.spec.push_back({kOutputNames[k], *upper});
     }
+  }
+  if (stored.schema_version >= 2) {
+    const DatasetId swing(Check(H5Dopen2(file, "/outputs/swing_mm", H5P_DEFAULT), where, "opening dataset",
+                                "/outputs/swing_mm"));
+    const auto number = [&](const char* name) {
+      return Require(where, ReadNumberAttribute<double>(where, swing.get(), name, H5T_FLOAT, H5T_NATIVE_DOUBLE), name);
+    };
+    identity.swing.resolution = number("resolution_um") * units::kMetresPerMicrometre;
+    identity.swing.cutoff_upr = number("cutoff_upr");
   }
   return stored;
 }
@@ -564,10 +594,13 @@ FileId OpenForReading(const fs::path& path) {
 }
 
 // Opens every per-sample dataset and checks its shape against the attributes.
-Columns OpenColumns(const Where& where, hid_t file, std::int64_t samples, std::size_t inputs, hid_t matrix_access) {
+// Outputs a file of an older schema lacks stay closed (ReadRows reads them as NaN).
+Columns OpenColumns(const Where& where, hid_t file, std::int64_t samples, std::size_t inputs, int schema,
+                    hid_t matrix_access) {
   Columns columns;
   for (std::size_t c = 0; c < kColumnCount; ++c) {
-    const std::string path = ColumnPath(c);
+    const std::string path = StoredColumnPath(c, schema);
+    if (path.empty()) continue;
     const hid_t access = IsMatrix(c) ? matrix_access : H5P_DEFAULT;
     columns[c] = DatasetId(H5Dopen2(file, path.c_str(), access));
     if (columns[c].get() < 0) Fail(where, "is not a complete ringtol campaign file: cannot open dataset " + path);
@@ -778,6 +811,17 @@ void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identit
     const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
     WriteAttribute(where, dataset.get(), "upper_spec_limit", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &limit.upper);
   }
+  // What the two sensor columns mean and how the swing was read, for readers of the file
+  // that do not parse base_scene.
+  const DatasetId runout(Check(H5Dopen2(file, "/outputs/runout_mm", H5P_DEFAULT), where, "opening dataset",
+                               "/outputs/runout_mm"));
+  WriteStringAttribute(where, runout.get(), "definition", kRunoutDefinition);
+  const DatasetId swing(Check(H5Dopen2(file, "/outputs/swing_mm", H5P_DEFAULT), where, "opening dataset",
+                              "/outputs/swing_mm"));
+  WriteStringAttribute(where, swing.get(), "definition", kSwingDefinition);
+  const double resolution_um = identity.swing.resolution * units::kMicrometresPerMetre;
+  WriteAttribute(where, swing.get(), "resolution_um", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &resolution_um);
+  WriteAttribute(where, swing.get(), "cutoff_upr", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &identity.swing.cutoff_upr);
 }
 
 std::string ExistsMessage(const std::string& file) {
@@ -843,6 +887,10 @@ void WriteRows(const Where& where, const DatasetId& dataset, std::size_t column,
 void ReadRows(const Where& where, const DatasetId& dataset, std::size_t column, hid_t memory_type, hsize_t first,
               hsize_t rows, hsize_t width, void* data) {
   if (rows == 0) return;
+  if (dataset.get() < 0 && column >= kFirstOutput && column < kStatus && memory_type == H5T_NATIVE_DOUBLE) {
+    std::fill_n(static_cast<double*>(data), rows * width, std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
   const std::string path = ColumnPath(column);
   const SpaceId file_space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
   const hsize_t start[2] = {first, 0};
@@ -917,7 +965,7 @@ struct CampaignStore::File {
   void StartWriting(hsize_t chunk_rows, const CampaignStoreOptions& options) {
     CheckStatus(H5Fstart_swmr_write(file.get()), where, "starting", "SWMR writing");
     const PlistId matrix_access = MatrixAccess(where, options.chunk_cache_bytes, samples, chunk_rows, inputs);
-    columns = OpenColumns(where, file.get(), samples, inputs, matrix_access.get());
+    columns = OpenColumns(where, file.get(), samples, inputs, kCampaignSchemaVersion, matrix_access.get());
     status_type = StatusType(where);
   }
 
@@ -1017,7 +1065,13 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
       throw InputError(name + ": was written by another campaign: " + *difference +
                        "; resume it with the campaign that wrote it, or choose a new results file");
     }
-    const Columns columns = OpenColumns(opening, reading.get(), stored.samples, identity.inputs.size(), H5P_DEFAULT);
+    if (stored.schema_version != kCampaignSchemaVersion) {
+      throw InputError(fmt::format(
+          "{}: was written by an older ringtol (schema {}); it can be reported but not resumed by this one (schema "
+          "{}): start a new results file",
+          name, stored.schema_version, kCampaignSchemaVersion));
+    }
+    const Columns columns = OpenColumns(opening, reading.get(), stored.samples, identity.inputs.size(), stored.schema_version, H5P_DEFAULT);
     chunk_rows = ChunkRows(opening, columns[kU]);
   }
   if (samples < stored.samples) {
@@ -1229,7 +1283,7 @@ void CampaignReader::File::Open(const fs::path& path) {
   where = Where{path.string(), true};
   file = OpenForReading(path);
   stored = ReadStored(where, file.get());
-  columns = OpenColumns(where, file.get(), stored.samples, stored.identity.inputs.size(), H5P_DEFAULT);
+  columns = OpenColumns(where, file.get(), stored.samples, stored.identity.inputs.size(), stored.schema_version, H5P_DEFAULT);
   const TypeId type(Check(H5Dget_type(columns[kStatus].get()), where, "reading the type of", ColumnPath(kStatus)));
   status_type =
       TypeId(Check(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), where, "reading the type of", ColumnPath(kStatus)));
@@ -1254,6 +1308,12 @@ std::vector<SampleStatus> CampaignReader::ReadStatus(std::int64_t begin, std::in
   const QuietErrors quiet;
   file_->CheckRows("CampaignReader::ReadStatus", begin, count);
   return file_->Statuses(begin, count);
+}
+
+bool CampaignReader::HasOutput(std::string_view name) const {
+  const auto* found = std::find(kOutputNames.begin(), kOutputNames.end(), name);
+  if (found == kOutputNames.end()) return false;
+  return file_->columns[kFirstOutput + static_cast<std::size_t>(found - kOutputNames.begin())].get() >= 0;
 }
 
 std::vector<double> CampaignReader::ReadOutput(std::string_view name, std::int64_t begin, std::int64_t count) const {

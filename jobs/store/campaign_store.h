@@ -3,8 +3,8 @@
 // against a kill at any moment. docs/results.md documents the schema for
 // readers; this header is the contract for writers.
 //
-// Schema version 1 (N = samples, d = sampler inputs; every 2-D dataset is [N, d]):
-//   /                          attributes: format = "ringtol campaign", schema_version = 1,
+// Schema version 2 (N = samples, d = sampler inputs; every 2-D dataset is [N, d]):
+//   /                          attributes: format = "ringtol campaign", schema_version = 2,
 //                              ringtol_version, catalogue_version, seed (uint64), samples
 //                              (int64, N), design, solver, campaign_path, campaign_file (the
 //                              campaign file's text), base_scene (the base scene as a scene
@@ -18,7 +18,9 @@
 //   /inputs/values             float32 [N, d]  the drawn values, in the units of /inputs/name
 //   /inputs/redraws            int32 [N]
 //   /outputs/<kOutputNames>    float64 [N]     NaN when the sample failed; attribute
-//                              upper_spec_limit when the campaign sets one
+//                              upper_spec_limit when the campaign sets one; runout_mm and
+//                              swing_mm carry a `definition` string, swing_mm also the
+//                              resolution_um and cutoff_upr it was read with
 //   /outputs/steps             int32 [N]
 //   /outputs/status            int8 enum [N]   SampleStatusName names; fill value "pending"
 //   /outputs/message           fixed 256-byte strings [N]: why a sample failed (truncated)
@@ -59,7 +61,12 @@
 
 namespace ringtol::jobs {
 
-inline constexpr int kCampaignSchemaVersion = 1;
+inline constexpr int kCampaignSchemaVersion = 2;
+// The oldest schema CampaignReader still reads. Schema 1 (ringtol 0.3) kept the max - min
+// of the sensor signal as runout_total_mm and an ill-posed "peak to nearest valley" as
+// runout_mm: its runout_mm is read from runout_total_mm, and it has no swing_mm (HasOutput
+// says so; ReadOutput gives NaN). Resume refuses files of older schemas.
+inline constexpr int kOldestReadableSchema = 1;
 
 struct CampaignStoreOptions {
   int deflate_level = 0;            // 0..9: zlib level of the floating-point columns; 0 = none
@@ -119,7 +126,8 @@ std::vector<T> ReadInBlocks(std::int64_t samples, Read read) {
 
 class CampaignReader {
  public:
-  // InputError for a missing, truncated, non-HDF5, non-ringtol or newer-schema file.
+  // InputError for a missing, truncated, non-HDF5, non-ringtol, newer-schema file or one
+  // older than kOldestReadableSchema.
   explicit CampaignReader(const std::filesystem::path& path);
   ~CampaignReader();
   CampaignReader(CampaignReader&&) noexcept;
@@ -129,7 +137,10 @@ class CampaignReader {
   int schema_version() const;
 
   std::vector<SampleStatus> ReadStatus(std::int64_t begin, std::int64_t count) const;
-  // One output over [begin, begin + count), by its name in kOutputNames.
+  // Whether the file holds this output (a file of an older schema may not).
+  bool HasOutput(std::string_view name) const;
+  // One output over [begin, begin + count), by its name in kOutputNames; NaN for an output
+  // the file does not hold.
   std::vector<double> ReadOutput(std::string_view name, std::int64_t begin, std::int64_t count) const;
   // Row-major [count, d]: the drawn values of every input (stored as float32), as read.
   std::vector<double> ReadValues(std::int64_t begin, std::int64_t count) const;

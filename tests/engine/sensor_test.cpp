@@ -1,6 +1,7 @@
-// ReadSensor against a brute-force ray/outline intersection and a closed form; MeasureRunout
-// against signals whose extremes are known by construction and against an independent
-// reference implementation on random signals.
+// ReadSensor against a brute-force ray/outline intersection and a closed form; the runout's
+// total and swing against signals whose extremes are known by construction, against the
+// swing's definition evaluated by brute force on random signals, and for continuity; the
+// Gaussian filter against its ISO transmission.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -186,30 +187,30 @@ TEST(ReadSensor, ReadingsAlongATrajectoryWithASharedTrackMatchBruteForce) {
 }
 
 // ---------------------------------------------------------------------------------------
-// MeasureRunout
+// MeasureRunout and Swing
 
-// Independent reference: collapse repeats (cyclically), keep the points whose two cyclic
-// neighbours are both lower or both higher, take the largest difference between cyclically
-// neighbouring extremes.
-double ReferencePeakToNearestValley(const std::vector<double>& signal) {
-  std::vector<double> v;
-  for (const double x : signal) {
-    if (v.empty() || x != v.back()) v.push_back(x);
+// Independent reference, straight from the definition: every arc of the periodic signal of
+// at most one revolution (start i, n + 1 samples at most), each rise charged the excess of
+// its largest inner fall over the resolution, each fall likewise.
+double ReferenceSwing(const std::vector<double>& signal, double resolution) {
+  const std::size_t n = signal.size();
+  double swing = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    double top = signal[i];
+    double bottom = signal[i];
+    double drawdown = 0.0;  // largest fall inside the arc so far
+    double drawup = 0.0;    // largest rise inside the arc so far
+    for (std::size_t length = 0; length <= n; ++length) {
+      const double value = signal[(i + length) % n];
+      drawdown = std::max(drawdown, top - value);
+      drawup = std::max(drawup, value - bottom);
+      top = std::max(top, value);
+      bottom = std::min(bottom, value);
+      swing = std::max(swing, value - signal[i] - std::max(0.0, drawdown - resolution));
+      swing = std::max(swing, signal[i] - value - std::max(0.0, drawup - resolution));
+    }
   }
-  while (v.size() > 1 && v.front() == v.back()) v.pop_back();
-  if (v.size() < 2) return 0.0;
-  std::vector<double> extremes;
-  const std::size_t m = v.size();
-  for (std::size_t i = 0; i < m; ++i) {
-    const double prev = v[(i + m - 1) % m];
-    const double next = v[(i + 1) % m];
-    if ((v[i] > prev) == (v[i] > next)) extremes.push_back(v[i]);
-  }
-  double largest = 0.0;
-  for (std::size_t i = 0; i < extremes.size(); ++i) {
-    largest = std::max(largest, std::abs(extremes[i] - extremes[(i + 1) % extremes.size()]));
-  }
-  return largest;
+  return swing;
 }
 
 std::vector<double> Rotated(const std::vector<double>& signal, std::size_t by) {
@@ -219,15 +220,13 @@ std::vector<double> Rotated(const std::vector<double>& signal, std::size_t by) {
 }
 
 // Every value below is a small multiple of 1/8: differences are exact, so comparisons are.
-void ExpectRunoutInEveryRotation(const std::vector<double>& signal, double peak_to_nearest_valley, double total) {
+void ExpectSwingInEveryRotation(const std::vector<double>& signal, double resolution, double swing) {
   for (std::size_t by = 0; by < signal.size(); ++by) {
-    const Runout runout = MeasureRunout(Rotated(signal, by));
-    EXPECT_EQ(runout.peak_to_nearest_valley, peak_to_nearest_valley) << "rotated by " << by;
-    EXPECT_EQ(runout.total, total) << "rotated by " << by;
+    EXPECT_EQ(Swing(Rotated(signal, by), resolution), swing) << "rotated by " << by;
   }
 }
 
-TEST(MeasureRunout, PureSineGivesTwiceItsAmplitudeUpToTheSamplingMiss) {
+TEST(MeasureRunout, PureSineGivesTwiceItsAmplitudeUpToTheSamplingMissAsTotalAndSwing) {
   constexpr double kAmplitude = 75e-6;  // [m]
   constexpr int kSamples = 720;
   // The nearest sample to a crest is within half a step, pi / 720, of it: each extreme
@@ -240,81 +239,154 @@ TEST(MeasureRunout, PureSineGivesTwiceItsAmplitudeUpToTheSamplingMiss) {
     const Runout runout = MeasureRunout(signal);
     EXPECT_LE(runout.total, 2.0 * kAmplitude + kRounding) << "phase " << phase;
     EXPECT_GE(runout.total, 2.0 * kAmplitude - 2.0 * peak_miss - kRounding) << "phase " << phase;
-    // One peak and one valley: the only neighbouring pair is the global max and min.
-    EXPECT_EQ(runout.peak_to_nearest_valley, runout.total) << "phase " << phase;
+    // One peak and one valley: the swing is the whole range.
+    EXPECT_EQ(runout.swing, runout.total) << "phase " << phase;
   }
 }
 
-TEST(MeasureRunout, RepeatedPatternGivesItsLargestNeighbouringStep) {
-  // 0, 5, 1, 3 repeated: steps 5, 4, 2, 3.
-  std::vector<double> signal;
-  for (int k = 0; k < 4; ++k) signal.insert(signal.end(), {0.0, 5.0, 1.0, 3.0});
-  ExpectRunoutInEveryRotation(signal, 5.0, 5.0);
-}
-
-TEST(MeasureRunout, LargestNeighbouringStepCanBeSmallerThanTheTotal) {
-  // Extremes 2, 9, 4, 6, 1, 3 joined by ramps: steps 7, 5, 2, 5, 2, 1; max - min = 8.
+TEST(Swing, ChargesARiseTheExcessOfItsLargestInnerFallOverTheResolution) {
+  // Extremes 2, 9, 4, 6, 1, 3 joined by ramps; max - min = 8. Unresolved (resolution 0):
+  // the fall 9 -> 1 passes the rise 4 -> 6 (charged 2): 6; the rise 1 -> 9, wrapping round
+  // the end, passes the fall 3 -> 2 (charged 1): 7; no other arc does better.
   const std::vector<double> signal = {2.0, 4.5, 7.0, 9.0, 7.5, 5.0, 4.0, 5.0, 6.0, 5.5,
                                       3.0, 1.0, 2.0, 3.0, 2.5};
-  ExpectRunoutInEveryRotation(signal, 7.0, 8.0);
+  ExpectSwingInEveryRotation(signal, 0.0, 7.0);
+  // At resolution 1 the fall 3 -> 2 is free: the rise 1 -> 9 counts whole.
+  ExpectSwingInEveryRotation(signal, 1.0, 8.0);
+  // At resolution 2 the rise 4 -> 6 is free too: the fall 9 -> 1 counts whole as well.
+  ExpectSwingInEveryRotation(signal, 2.0, 8.0);
 }
 
-TEST(MeasureRunout, LargestStepAcrossTheEndOfTheArrayCounts) {
-  // Extremes 10, 6, 8, 0, 3, 1.5 with the rise 1.5 -> 4 -> 7 -> 10 wrapping round the end:
-  // steps 4, 2, 8, 3, 1.5, 8.5.
-  const std::vector<double> signal = {4.0, 7.0, 10.0, 6.0, 8.0, 0.0, 3.0, 1.5};
-  const Runout runout = MeasureRunout(signal);
-  EXPECT_EQ(runout.peak_to_nearest_valley, 8.5);
-  EXPECT_EQ(runout.total, 10.0);
-  ExpectRunoutInEveryRotation(signal, 8.5, 10.0);
+TEST(Swing, RepeatedPatternGivesItsLargestNetStep) {
+  // 0, 5, 1, 3 repeated: the rise 0 -> 5 is clean; 5 -> 0 passes the rise 1 -> 3.
+  std::vector<double> signal;
+  for (int k = 0; k < 4; ++k) signal.insert(signal.end(), {0.0, 5.0, 1.0, 3.0});
+  ExpectSwingInEveryRotation(signal, 0.0, 5.0);
+  ExpectSwingInEveryRotation(signal, 3.0, 5.0);
 }
 
-TEST(MeasureRunout, PlateausCountAsOneExtreme) {
-  // Extremes 9, 2, 7, 0, 5, 3, all but the last held over several samples, the rise from
-  // the 3-plateau to 9 ending on a plateau: steps 7, 5, 7, 5, 2, 6; max - min = 9.
+TEST(Swing, PlateausAndRepeatedExtremesChangeNothing) {
   const std::vector<double> signal = {9.0, 9.0, 9.0, 5.0, 2.0, 2.0, 2.0, 4.0, 7.0, 7.0, 7.0, 7.0,
                                       3.0, 0.0, 0.0, 0.0, 2.0, 5.0, 5.0, 4.0, 3.0, 3.0, 6.0, 9.0};
-  ExpectRunoutInEveryRotation(signal, 7.0, 9.0);
-  // A plateau inside a ramp is no extreme: 0, 2, 2, 2, 4 rises by 4.
-  ExpectRunoutInEveryRotation({0.0, 2.0, 2.0, 2.0, 4.0, 4.0, 1.0}, 4.0, 4.0);
-  // Two equal global maxima and two equal global minima.
-  ExpectRunoutInEveryRotation({5.0, 0.0, 5.0, 1.0, 5.0, 0.0}, 5.0, 5.0);
-}
-
-TEST(MeasureRunout, ClosingSampleEqualToTheFirstChangesNothing) {
-  const std::vector<double> open = {4.0, 7.0, 10.0, 6.0, 8.0, 0.0, 3.0, 1.5};
-  std::vector<double> closed = open;
-  closed.push_back(open.front());
-  const Runout a = MeasureRunout(open);
-  const Runout b = MeasureRunout(closed);
-  EXPECT_EQ(a.peak_to_nearest_valley, b.peak_to_nearest_valley);
-  EXPECT_EQ(a.total, b.total);
-}
-
-TEST(MeasureRunout, ConstantShortAndEmptySignalsGiveZeros) {
-  for (const std::vector<double>& signal : {std::vector<double>{}, std::vector<double>{4.2},
-                                            std::vector<double>(720, 1.5e-4)}) {
-    const Runout runout = MeasureRunout(signal);
-    EXPECT_EQ(runout.peak_to_nearest_valley, 0.0) << "size " << signal.size();
-    EXPECT_EQ(runout.total, 0.0) << "size " << signal.size();
+  for (const double resolution : {0.0, 1.0, 2.5, 5.0, 10.0}) {
+    ExpectSwingInEveryRotation(signal, resolution, ReferenceSwing(signal, resolution));
   }
-  const Runout two = MeasureRunout(std::vector<double>{1.0, 3.5});
-  EXPECT_EQ(two.peak_to_nearest_valley, 2.5);
-  EXPECT_EQ(two.total, 2.5);
+  ExpectSwingInEveryRotation({5.0, 0.0, 5.0, 1.0, 5.0, 0.0}, 0.0, 5.0);
 }
 
-TEST(MeasureRunout, MatchesReferenceOnRandomSignalsWithPlateaus) {
+TEST(Swing, ConstantShortAndEmptySignalsGiveTheirRange) {
+  EXPECT_EQ(Swing(std::vector<double>{}, 0.0), 0.0);
+  EXPECT_EQ(Swing(std::vector<double>{4.2}, 0.0), 0.0);
+  EXPECT_EQ(Swing(std::vector<double>(720, 1.5e-4), 0.1e-6), 0.0);
+  EXPECT_EQ(Swing(std::vector<double>{1.0, 3.5}, 0.0), 2.5);
+  // A range within the resolution is still the swing: nothing is charged.
+  EXPECT_EQ(Swing(std::vector<double>{1.0, 3.5, 2.0}, 4.0), 2.5);
+}
+
+TEST(Swing, MatchesTheDefinitionOnRandomSignalsWithPlateaus) {
   std::mt19937_64 rng(271828);
   for (int trial = 0; trial < 3000; ++trial) {
     const auto size = static_cast<std::size_t>(1 + rng() % 40);
-    const auto levels = 2 + rng() % 6;  // few levels: plenty of plateaus and equal extremes
+    const auto levels = 2 + rng() % 8;  // few levels: plenty of plateaus and equal extremes
     std::vector<double> signal;
     for (std::size_t i = 0; i < size; ++i) signal.push_back(0.125 * static_cast<double>(rng() % levels));
-    const Runout runout = MeasureRunout(signal);
+    const double resolution = 0.125 * static_cast<double>(rng() % 4);
+    ASSERT_EQ(Swing(signal, resolution), ReferenceSwing(signal, resolution))
+        << "trial " << trial << ", resolution " << resolution;
+    const Runout runout = MeasureRunout(signal, {resolution, 0.0});
     const auto [lo, hi] = std::minmax_element(signal.begin(), signal.end());
     ASSERT_EQ(runout.total, *hi - *lo) << "trial " << trial;
-    ASSERT_EQ(runout.peak_to_nearest_valley, ReferencePeakToNearestValley(signal)) << "trial " << trial;
   }
+}
+
+// The property the old "peak to nearest valley" lacked: a ripple that appears or grows can
+// move the swing only by what it moves the signal. A rise and its inner fall each move by
+// at most 2 max|delta|, so the swing by at most 4 max|delta|.
+TEST(Swing, MovesByAtMostFourTimesTheLargestChangeOfTheSignal) {
+  std::mt19937_64 rng(314159);
+  constexpr double kLipschitz = 4.0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const auto size = static_cast<std::size_t>(2 + rng() % 60);
+    std::vector<double> signal;
+    for (std::size_t i = 0; i < size; ++i) signal.push_back(Uniform(rng, -1.0, 1.0));
+    const double change = Uniform(rng, 0.0, 0.2);
+    std::vector<double> moved = signal;
+    for (double& x : moved) x += Uniform(rng, -change, change);
+    const double resolution = Uniform(rng, 0.0, 0.5);
+    // Rounding: each swing is a few additions of values of size 2 [-].
+    constexpr double kRounding = 16.0 * kEps;
+    ASSERT_LE(std::abs(Swing(moved, resolution) - Swing(signal, resolution)), kLipschitz * change + kRounding)
+        << "trial " << trial;
+  }
+}
+
+TEST(Swing, IgnoresARippleWithinTheResolutionAndIsContinuousAsItGrows) {
+  // A two-lobed signal with a fast ripple of depth 2 a: within the resolution the ripple is
+  // free and the swing is the whole range; beyond it the ripple is charged only its
+  // excess, so sweeping a through the resolution moves the swing smoothly.
+  constexpr int kSamples = 4096;
+  constexpr double kResolution = 0.1e-6;  // [m]
+  constexpr double kSlow = 50e-6;         // [m]
+  double previous = -1.0;
+  for (int step = 0; step <= 40; ++step) {
+    const double ripple = 0.0025e-6 * step;  // [m] 0 .. 0.1 um, depth 0 .. 0.2 um
+    std::vector<double> signal;
+    for (int k = 0; k < kSamples; ++k) {
+      const double angle = 2.0 * kPi * k / kSamples;
+      signal.push_back(kSlow * std::cos(2.0 * angle) + ripple * std::cos(421.0 * angle));
+    }
+    const Runout runout = MeasureRunout(signal, {kResolution, 0.0});
+    if (2.0 * ripple <= kResolution) {
+      EXPECT_EQ(runout.swing, runout.total) << "ripple " << ripple;
+    }
+    if (previous >= 0.0) {
+      // One sweep step changes the signal by at most 0.0025 um anywhere.
+      EXPECT_LE(std::abs(runout.swing - previous), 4.0 * 0.0025e-6 + 1e-15) << "ripple " << ripple;
+    }
+    previous = runout.swing;
+  }
+}
+
+TEST(GaussianFilterClosed, PassesEachHarmonicByTheIsoTransmission) {
+  // ISO 16610-21: a(k) = exp(-pi (alpha k / k_c)^2), alpha = sqrt(ln 2 / pi): 50 % at the
+  // cutoff, 2^-9 at three times it. An FFT's roundings add up like a random walk, to
+  // about eps sqrt(n) log2(n) of a unit amplitude per sample; twice that for the round trip.
+  constexpr int kSamples = 1000;
+  constexpr double kCutoff = 50.0;
+  const double tolerance = 2.0 * kEps * std::sqrt(kSamples) * std::log2(kSamples);
+  const double alpha = std::sqrt(std::log(2.0) / kPi);
+  for (const int order : {0, 1, 15, 50, 150, 499}) {
+    std::vector<double> signal;
+    for (int k = 0; k < kSamples; ++k) signal.push_back(std::cos(2.0 * kPi * order * k / kSamples + 0.7));
+    const std::vector<double> filtered = GaussianFilterClosed(signal, kCutoff);
+    const double ratio = alpha * order / kCutoff;
+    const double transmission = std::exp(-kPi * ratio * ratio);
+    for (int k = 0; k < kSamples; ++k) {
+      ASSERT_NEAR(filtered[static_cast<std::size_t>(k)], transmission * signal[static_cast<std::size_t>(k)], tolerance)
+          << "order " << order << ", sample " << k;
+    }
+  }
+  EXPECT_NEAR(std::exp(-kPi * std::pow(alpha, 2)), 0.5, kEps);
+}
+
+TEST(MeasureRunout, FilterRemovesFastRippleFromTheSwingButNotFromTheTotal) {
+  // Two lobes of 50 um under a 20 um ripple at 400 undulations: unfiltered, the ripple's
+  // falls (40 um) are charged; at a 50 upr cutoff the ripple passes by e^-(pi (8 alpha)^2)
+  // = 2^-64 and the lobes by 2^-(2/50)^2 ~ 0.9989.
+  constexpr int kSamples = 4000;
+  std::vector<double> signal;
+  for (int k = 0; k <= kSamples; ++k) {
+    const double angle = 2.0 * kPi * k / kSamples;
+    signal.push_back(50e-6 * std::cos(2.0 * angle) + 20e-6 * std::cos(400.0 * angle));
+  }
+  const Runout raw = MeasureRunout(signal, {0.1e-6, 0.0});
+  const Runout filtered = MeasureRunout(signal, {0.1e-6, 50.0});
+  EXPECT_EQ(raw.total, filtered.total);
+  EXPECT_GT(raw.total, 2.0 * 50e-6);
+  const double lobes = 2.0 * 50e-6 * std::pow(2.0, -std::pow(2.0 / 50.0, 2));
+  // The filtered extremes fall between samples by at most 50 um (1 - cos(2 pi / 4000)).
+  const double sampling = 2.0 * 50e-6 * (1.0 - std::cos(2.0 * kPi / kSamples));
+  EXPECT_NEAR(filtered.swing, lobes, sampling + 1e-15);
 }
 
 }  // namespace

@@ -8,7 +8,7 @@ import numpy as np
 
 with h5py.File(sys.argv[1], "r") as f:
     assert f.attrs["format"] == "ringtol campaign", f.attrs["format"]
-    assert int(f.attrs["schema_version"]) == 1
+    assert int(f.attrs["schema_version"]) == 2
     for key in ("ringtol_version", "catalogue_version", "campaign_file", "base_scene", "design", "solver"):
         assert isinstance(f.attrs[key], str) and f.attrs[key], key
     n = int(f.attrs["samples"])
@@ -26,4 +26,9 @@ with h5py.File(sys.argv[1], "r") as f:
     assert np.all(np.isfinite(d_trajectory[ok])) and np.all(np.isnan(d_trajectory[~ok]))
     assert f["outputs/d_trajectory_mm"].attrs["upper_spec_limit"] == 0.2
     assert f["timing/solve_time_s"].shape == (n,)
+    assert f["outputs/runout_mm"].attrs["definition"].startswith("total indicator reading")
+    swing = f["outputs/swing_mm"]
+    assert abs(swing.attrs["resolution_um"] - 0.1) < 1e-12 and swing.attrs["cutoff_upr"] == 0.0
+    runout = f["outputs/runout_mm"][:]
+    assert np.all(swing[:][ok] <= runout[ok]), "a swing never exceeds max - min"
     print(f"{int(ok.sum())} samples ok of {n}, {d} inputs")

@@ -409,9 +409,9 @@ TEST(CampaignStore, ResumeRefusesAnotherCampaignNamingWhatDiffers) {
       {"inputs differ (input 3", [](auto& id) { id.inputs[3].roller = 2; }},
       {"spec differs (upper_spec_limit of runout_mm: 0.012 in the file, 0.02 now)",
        [](auto& id) { id.spec[0].upper = 0.02; }},
-      {"spec differs (upper_spec_limit of runout_total_mm: not set in the file, 0.03 now)",
+      {"spec differs (upper_spec_limit of swing_mm: not set in the file, 0.03 now)",
        [](auto& id) {
-         id.spec.push_back({"runout_total_mm", 0.03});
+         id.spec.push_back({"swing_mm", 0.03});
        }},
   };
   for (const Change& change : changes) {
