@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <set>
 #include <span>
 #include <utility>
@@ -12,6 +13,8 @@
 #include "jobs/campaign/campaign.h"
 #include "jobs/report/campaign_summary.h"
 #include "jobs/campaign/sample_record.h"
+#include "jobs/report/svg_chart.h"
+#include "solvers/quasistatic.h"
 #include "solvers/simulation.h"
 #include "engine/units.h"
 
@@ -87,25 +90,17 @@ std::optional<SensitivityLevel> Aggregate(const std::vector<SensitivityEntry>& f
     } else {
       out.aggregation = Aggregation::kBounds;
       // Sums of intervals are not intervals of the sum: the estimate and the quadrature
-      // half-width are kept. A total index never exceeds 1, so neither does its bound.
-      double s1 = 0.0, s1_conf2 = 0.0, st = 0.0, st_conf2 = 0.0;
+      // half-width are kept.
+      std::vector<analysis::SobolIndex> first, total;
       for (const std::size_t g : part) {
         const SensitivityEntry& e = finest[g];
-        s1 += e.first_order.value;
-        s1_conf2 += e.first_order.conf * e.first_order.conf;
-        if (sobol) {
-          st += e.total_order->value;
-          st_conf2 += e.total_order->conf * e.total_order->conf;
-        }
+        first.push_back(e.first_order);
+        if (sobol) total.push_back(*e.total_order);
         sum.src += e.src * e.src;
         sum.srrc += e.srrc * e.srrc;
       }
-      const double s1_conf = std::sqrt(s1_conf2), st_conf = std::sqrt(st_conf2);
-      sum.first_order = {s1, s1_conf, {s1 - s1_conf, s1 + s1_conf}};
-      if (sobol) {
-        st = std::min(st, 1.0);
-        sum.total_order = analysis::SobolIndex{st, st_conf, {st - st_conf, std::min(1.0, st + st_conf)}};
-      }
+      sum.first_order = SumOfIndices(first, false);
+      if (sobol) sum.total_order = SumOfIndices(total, true);
     }
     if (!sobol) {
       // Given-data estimates carry a bias of order (M - 1)/(n - 1) each (its sign depends on
@@ -229,25 +224,80 @@ OutputSensitivity Screening(const std::string& output, const std::vector<double>
   return out;
 }
 
+std::size_t OutputColumn(std::string_view name) {
+  const auto* at = std::find_if(kOutputNames.begin(), kOutputNames.end(),
+                                [&](const char* output) { return name == output; });
+  return static_cast<std::size_t>(at - kOutputNames.begin());
+}
+
+// The kept points of a curve, in place.
+void KeepPoints(std::vector<double>& values, const std::vector<std::size_t>& kept) {
+  std::vector<double> picked;
+  picked.reserve(kept.size());
+  for (const std::size_t i : kept) picked.push_back(values[i]);
+  values = std::move(picked);
+}
+
+// The orbit of one sample as the campaign's solver computes it now, drawn only when it
+// reproduces the stored D_trajectory.
 ReplayedTrajectory Replay(const Campaign& campaign, const CampaignReader& reader, std::string label,
                           std::int64_t index) {
   const SampleRecord stored = reader.ReadSample(index);
   ReplayedTrajectory out;
   out.label = std::move(label);
   out.index = index;
-  out.stored_d_trajectory_mm = stored.outputs[0];
-  const sampling::SampledAssembly assembly = campaign.sampling().sampler.Realise(index, stored.u);
-  const std::unique_ptr<solvers::Solver> solver = campaign.MakeSolver();
-  const solvers::SimulationResult result = solvers::Simulate(assembly.scene, *solver, campaign.simulation());
-  out.status = solvers::StatusName(result.status);
-  out.d_trajectory_mm = result.d_trajectory * units::kMillimetresPerMetre;
-  for (const Eigen::Vector2d& c : result.trajectory.centre) {
-    out.x_um.push_back(c.x() * units::kMicrometresPerMetre);
-    out.y_um.push_back(c.y() * units::kMicrometresPerMetre);
+  out.stored_d_trajectory_mm = stored.outputs[OutputColumn("d_trajectory_mm")];
+  out.tolerance_mm = ReplayTolerance(campaign.plan().solver) * units::kMillimetresPerMetre;
+  solvers::SimulationResult result;
+  try {
+    const sampling::SampledAssembly assembly = campaign.sampling().sampler.Realise(index, stored.u);
+    const std::unique_ptr<solvers::Solver> solver = campaign.MakeSolver();
+    result = solvers::Simulate(assembly.scene, *solver, campaign.simulation());
+  } catch (const std::exception& e) {
+    out.status = SampleStatusName(SampleStatus::kException);
+    out.message = e.what();
+    return out;
   }
-  out.circle_x_um = result.enclosing_circle.centre.x() * units::kMicrometresPerMetre;
-  out.circle_y_um = result.enclosing_circle.centre.y() * units::kMicrometresPerMetre;
-  out.circle_radius_um = result.enclosing_circle.radius * units::kMicrometresPerMetre;
+  out.status = solvers::StatusName(result.status);
+  out.message = result.message;
+  out.steps = result.steps;
+  if (result.status != solvers::Status::kOk) return out;
+  out.d_trajectory_mm = result.d_trajectory * units::kMillimetresPerMetre;
+  out.reproduced = std::abs(out.d_trajectory_mm - out.stored_d_trajectory_mm) <= out.tolerance_mm;
+  if (!out.reproduced) return out;
+
+  constexpr double um = units::kMicrometresPerMetre;
+  const Eigen::Vector2d circle = result.enclosing_circle.centre;
+  for (const Eigen::Vector2d& c : result.trajectory.centre) {
+    out.x_um.push_back(c.x() * um);
+    out.y_um.push_back(c.y() * um);
+  }
+  out.circle_x_um = circle.x() * um;
+  out.circle_y_um = circle.y() * um;
+  out.circle_radius_um = result.enclosing_circle.radius * um;
+  out.static_x_um = result.trajectory.initial.centre.x() * um;
+  out.static_y_um = result.trajectory.initial.centre.y() * um;
+  const std::vector<std::size_t> path =
+      svg::DecimateCurve(out.x_um, out.y_um, kDrawnPoints, std::array{out.circle_x_um, out.circle_y_um});
+  KeepPoints(out.x_um, path);
+  KeepPoints(out.y_um, path);
+
+  const std::vector<double>& sensor = result.sensor;
+  if (sensor.empty()) return out;
+  const auto [lowest, highest] = std::minmax_element(sensor.begin(), sensor.end());
+  const auto angle_of = [&](auto at) {
+    return result.trajectory.psi[static_cast<std::size_t>(at - sensor.begin())] * units::kDegreesPerRadian;
+  };
+  out.tir_um = (*highest - *lowest) * um;
+  out.max_angle_deg = angle_of(highest);
+  out.min_angle_deg = angle_of(lowest);
+  for (std::size_t k = 0; k < sensor.size(); ++k) {
+    out.angle_deg.push_back(result.trajectory.psi[k] * units::kDegreesPerRadian);
+    out.sensor_um.push_back((sensor[k] - *lowest) * um);
+  }
+  const std::vector<std::size_t> signal = svg::DecimateCurve(out.angle_deg, out.sensor_um, kDrawnPoints);
+  KeepPoints(out.angle_deg, signal);
+  KeepPoints(out.sensor_um, signal);
   return out;
 }
 
@@ -377,20 +427,75 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
     if (std::string_view(name) == "d_trajectory_mm") trajectory_mm = std::move(all);
   }
 
-  if (options.replay && !used_ok.empty()) {
+  if (!options.replay) {
+    report.replay_problem = "replays were not asked for";
+  } else if (used_ok.empty()) {
+    report.replay_problem = "no sample finished ok";
+  } else {
     std::vector<std::int64_t> by_d = used_ok;
     std::sort(by_d.begin(), by_d.end(), [&](std::int64_t a, std::int64_t b) {
       const double da = trajectory_mm[static_cast<std::size_t>(a)], db = trajectory_mm[static_cast<std::size_t>(b)];
       return da != db ? da < db : a < b;
     });
-    try {
-      report.trajectories.push_back(Replay(campaign, reader, "median", by_d[(by_d.size() - 1) / 2]));
-      report.trajectories.push_back(Replay(campaign, reader, "worst", by_d.back()));
-    } catch (const std::exception& e) {
-      report.replay_problem = e.what();
-    }
+    // Of an even count the lower of the two middle samples: both are as near the median.
+    const std::int64_t median = by_d[(by_d.size() - 1) / 2];
+    report.trajectories.push_back(Replay(campaign, reader, "worst", by_d.back()));
+    if (median != by_d.back()) report.trajectories.push_back(Replay(campaign, reader, "median", median));
   }
   return report;
+}
+
+double ReplayTolerance(const solvers::SolverSettings& settings) {
+  // The multiple of a position tolerance, and the dynamic rung's absolute position
+  // tolerance per unit of relative tolerance [m] (solvers/dynamic.h: 1e-11 m at 1e-8).
+  constexpr double kRuns = 4.0;
+  constexpr double kDynamicPositionPerRelative = 1e-11 / 1e-8;
+  switch (settings.rung) {
+    case solvers::Rung::kDynamic:
+      return kRuns * kDynamicPositionPerRelative * settings.relative_tolerance;
+    case solvers::Rung::kQuasistatic:
+      if (settings.simulation.path_tolerance > 0.0) {
+        return kRuns * solvers::kAngleShareOfPathTolerance * settings.simulation.path_tolerance;
+      }
+      break;
+    case solvers::Rung::kLinear:
+      break;
+  }
+  return kRuns * solvers::QuasistaticOptions{}.position_tolerance;
+}
+
+std::vector<std::size_t> OrdersCarryingVariance(std::span<const double> ranking, double cumulative, double single) {
+  std::vector<double> carried(ranking.size());
+  double sum = 0.0;
+  for (std::size_t k = 0; k < ranking.size(); ++k) {
+    carried[k] = ranking[k] > 0.0 ? ranking[k] : 0.0;  // NaN and negative estimates carry nothing
+    sum += carried[k];
+  }
+  std::vector<std::size_t> kept(ranking.size());
+  std::iota(kept.begin(), kept.end(), std::size_t{0});
+  if (!(sum > 0.0)) return kept;
+  std::stable_sort(kept.begin(), kept.end(), [&](std::size_t a, std::size_t b) { return carried[a] > carried[b]; });
+  double reached = 0.0;
+  std::size_t count = 0;
+  for (; count < kept.size(); ++count) {
+    const double share = carried[kept[count]] / sum;
+    if (reached >= cumulative && share < single) break;
+    reached += share;
+  }
+  kept.resize(count);
+  std::sort(kept.begin(), kept.end());
+  return kept;
+}
+
+analysis::SobolIndex SumOfIndices(std::span<const analysis::SobolIndex> parts, bool total) {
+  double value = 0.0, conf2 = 0.0;
+  for (const analysis::SobolIndex& part : parts) {
+    value += part.value;
+    conf2 += part.conf * part.conf;
+  }
+  const double conf = std::sqrt(conf2);
+  if (total) value = std::min(value, 1.0);
+  return {value, conf, {value - conf, total ? std::min(1.0, value + conf) : value + conf}};
 }
 
 namespace {
@@ -533,15 +638,27 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   j["sensitivity"] = std::move(sensitivity);
   nlohmann::json trajectories = nlohmann::json::array();
   for (const ReplayedTrajectory& t : report.trajectories) {
-    trajectories.push_back(
-        {{"label", t.label},
-         {"index", t.index},
-         {"status", t.status},
-         {"stored_d_trajectory_mm", Number(t.stored_d_trajectory_mm)},
-         {"d_trajectory_mm", Number(t.d_trajectory_mm)},
-         {"x_um", t.x_um},
-         {"y_um", t.y_um},
-         {"circle", {{"x_um", t.circle_x_um}, {"y_um", t.circle_y_um}, {"radius_um", t.circle_radius_um}}}});
+    nlohmann::json entry = {{"label", t.label},
+                            {"index", t.index},
+                            {"status", t.status},
+                            {"message", t.message},
+                            {"steps", t.steps},
+                            {"stored_d_trajectory_mm", Number(t.stored_d_trajectory_mm)},
+                            {"d_trajectory_mm", Number(t.d_trajectory_mm)},
+                            {"tolerance_mm", Number(t.tolerance_mm)},
+                            {"reproduced", t.reproduced}};
+    if (t.reproduced) {
+      entry["x_um"] = t.x_um;
+      entry["y_um"] = t.y_um;
+      entry["circle"] = {{"x_um", t.circle_x_um}, {"y_um", t.circle_y_um}, {"radius_um", t.circle_radius_um}};
+      entry["static_equilibrium"] = {{"x_um", t.static_x_um}, {"y_um", t.static_y_um}};
+      entry["sensor"] = {{"angle_deg", t.angle_deg},
+                         {"above_min_um", t.sensor_um},
+                         {"tir_um", t.tir_um},
+                         {"max_angle_deg", t.max_angle_deg},
+                         {"min_angle_deg", t.min_angle_deg}};
+    }
+    trajectories.push_back(std::move(entry));
   }
   j["trajectories"] = std::move(trajectories);
   j["replay_problem"] = report.replay_problem ? nlohmann::json(*report.replay_problem) : nlohmann::json(nullptr);

@@ -2,8 +2,9 @@
 // with confidence intervals, capability and yield against the spec, how the estimates
 // converged and how many samples a stated precision needs, which tolerances and harmonic
 // orders drive the variance (Sobol' indices from a Saltelli design, or a cheaper screening
-// for other designs), and the centre trajectories of the median and the worst samples,
-// replayed from their stored design points. `ringtol report` writes it as one
+// for other designs), and the orbits of the worst and the median sample by D_trajectory
+// (centre path, enclosing circle, static equilibrium, sensor signal), replayed from their
+// stored design points. `ringtol report` writes it as one
 // self-contained HTML page (jobs/report/report_html.h) and as JSON (ReportJson).
 //
 // The numbers come from analysis/ (order statistics, distributions, sensitivities); this
@@ -25,6 +26,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -34,6 +36,7 @@
 #include "analysis/order_statistics.h"
 #include "analysis/sensitivity.h"
 #include "jobs/store/campaign_store.h"
+#include "solvers/simulation.h"
 
 namespace ringtol::jobs {
 
@@ -48,7 +51,12 @@ struct ReportOptions {
   // Screening (non-Saltelli designs) reads the drawn values of at most this many samples,
   // the first in design order: 8 bytes x inputs each.
   std::int64_t screening_samples = 16384;
-  bool replay = true;  // replay the median and worst samples' trajectories
+  bool replay = true;  // replay the worst and the median sample to draw their orbits
+  // The harmonic-order chart shows the fewest orders that together carry this share of
+  // what all orders carry, plus any other carrying at least `order_chart_single`
+  // (OrdersCarryingVariance); the rest are summed into one bar. Both in [0, 1].
+  double order_chart_cumulative = 0.99;
+  double order_chart_single = 0.005;
 };
 
 // Probability of the quantile whose convergence and precision the report follows.
@@ -110,14 +118,34 @@ struct OutputSensitivity {
   std::vector<SensitivityLevel> levels;
 };
 
+// Points of a replayed curve that the report keeps and draws (svg::DecimateCurve: every
+// extreme, and the path's points on its enclosing circle, kept).
+inline constexpr std::size_t kDrawnPoints = 2000;
+
+// One sample replayed from its stored design point (/inputs/u) with the campaign's solver
+// settings, to draw its orbit. Positions are in the scene's frame [µm]; the curves are
+// kept as drawn (at most kDrawnPoints points each, decimated from `steps` + 1).
 struct ReplayedTrajectory {
-  std::string label;  // "median", "worst"
+  std::string label;  // "worst" (largest D_trajectory) or "median" (nearest the median)
   std::int64_t index = 0;
   double stored_d_trajectory_mm = 0.0;
-  double d_trajectory_mm = 0.0;                                         // as replayed now
-  std::string status;                                                   // the replay's status
+  double d_trajectory_mm = 0.0;  // as replayed now
+  double tolerance_mm = 0.0;     // ReplayTolerance of the campaign's solver settings
+  // The replay's status is ok and its D_trajectory within tolerance_mm of the stored one:
+  // the orbit below is the stored sample's. Otherwise nothing below is drawn.
+  bool reproduced = false;
+  std::string status;   // the replay's status ("exception" when realising or solving threw)
+  std::string message;  // why, when status is not ok
+  int steps = 0;        // angles per revolution
   std::vector<double> x_um, y_um;                                       // ring centre over one revolution
   double circle_x_um = 0.0, circle_y_um = 0.0, circle_radius_um = 0.0;  // minimum enclosing circle
+  double static_x_um = 0.0, static_y_um = 0.0;                          // static equilibrium before rotation
+  // The sensor over the same revolution: ring angle psi [deg] and the reading's excess
+  // over its minimum [µm], so the total indicator reading (TIR = max - min) is the
+  // largest value; where the reading is greatest and least.
+  std::vector<double> angle_deg, sensor_um;
+  double tir_um = 0.0;
+  double max_angle_deg = 0.0, min_angle_deg = 0.0;
 };
 
 struct CampaignReport {
@@ -135,12 +163,34 @@ struct CampaignReport {
   std::vector<OutputReport> outputs;             // kOutputNames order
   std::string primary_output;                    // the spec'd output, else d_trajectory_mm
   std::vector<OutputSensitivity> sensitivities;  // one per output
-  std::vector<ReplayedTrajectory> trajectories;
-  std::optional<std::string> replay_problem;  // why trajectories are missing
+  std::vector<ReplayedTrajectory> trajectories;  // the worst first, then the median (if another sample)
+  std::optional<std::string> replay_problem;      // why trajectories are missing
   ReportOptions options;
 };
 
 CampaignReport BuildReport(const std::filesystem::path& results, const ReportOptions& options = {});
+
+// How far a replayed D_trajectory may lie from the stored one [m] and still be the same
+// run: four times the solver's position tolerance. Each converged run's centres lie within
+// that tolerance of the exact ones, so two runs' within twice it, and the enclosing
+// circle's diameter moves by at most twice its farthest point. The position tolerance is
+// the quasistatic rung's as MakeSolver sets it (1 % of path_tolerance, else 1 pm), the
+// same 1 pm for the linear rung (a closed form: round-off only), and the dynamic rung's
+// absolute position tolerance (1e-11 m at relative_tolerance 1e-8, proportional to it:
+// solvers/dynamic.h). A replay on the build that ran the campaign reproduces the bits.
+double ReplayTolerance(const solvers::SolverSettings& settings);
+
+// The harmonic orders the order chart shows, given what each carries (`ranking`: ST, or
+// a sum of SRC^2; a negative estimate counts as 0): the fewest, largest first, whose sum
+// reaches `cumulative` of the sum over all, plus every other that carries at least
+// `single` of that sum. Indices into `ranking`, ascending; all of them when nothing is
+// carried (a zero sum).
+std::vector<std::size_t> OrdersCarryingVariance(std::span<const double> ranking, double cumulative, double single);
+
+// The sum of index estimates over parts: values added, half-widths in quadrature (as if
+// their bootstrap errors were independent; they are not quite, so it is a guide, not an
+// interval). A sum of total indices is capped at 1, which no total index exceeds.
+analysis::SobolIndex SumOfIndices(std::span<const analysis::SobolIndex> parts, bool total);
 
 // Everything the HTML shows, keyed in the SALib / OpenTURNS vocabulary (S1, S1_conf, ST,
 // ST_conf); README documents the keys.

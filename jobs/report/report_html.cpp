@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/units.h"
 #include "jobs/report/svg_chart.h"
 
 namespace ringtol::jobs {
@@ -367,7 +368,26 @@ void ContributorsBySource(std::string& html, const SensitivityLevel& by_source, 
   SensitivityTable(html, by_source, sobol, 12);
 }
 
-// By harmonic order, against the roller count.
+// The entry of the orders the order chart leaves out, summed.
+SensitivityEntry OtherOrders(const std::vector<const SensitivityEntry*>& parts, bool sobol) {
+  SensitivityEntry sum;
+  sum.name = parts.size() == 1 ? "1 other order" : fmt::format("{} other orders", parts.size());
+  std::vector<analysis::SobolIndex> first, total;
+  for (const SensitivityEntry* e : parts) {
+    first.push_back(e->first_order);
+    if (e->total_order) total.push_back(*e->total_order);
+    // The order level's screening entries already hold sums of squares: they add.
+    sum.src += e->src;
+    sum.srrc += e->srrc;
+    sum.ranking += e->ranking;
+  }
+  sum.first_order = SumOfIndices(first, false);
+  if (sobol) sum.total_order = SumOfIndices(total, true);
+  return sum;
+}
+
+// By harmonic order, against the roller count: the orders that carry the variance, the
+// rest summed into one bar.
 void SensitivityByOrder(std::string& html, const CampaignReport& report, const SensitivityLevel& by_order, bool sobol) {
   std::vector<const SensitivityEntry*> orders;
   for (const SensitivityEntry& e : by_order.entries) {
@@ -377,20 +397,46 @@ void SensitivityByOrder(std::string& html, const CampaignReport& report, const S
             [](const SensitivityEntry* a, const SensitivityEntry* b) { return a->order < b->order; });
   if (orders.empty()) return;
   html += "<h3>Sensitivity by harmonic order</h3>\n";
+  std::vector<double> ranking;
+  for (const SensitivityEntry* e : orders) ranking.push_back(e->ranking);
+  const std::vector<std::size_t> kept =
+      OrdersCarryingVariance(ranking, report.options.order_chart_cumulative, report.options.order_chart_single);
+  std::vector<const SensitivityEntry*> shown, others;
+  for (std::size_t k = 0, next = 0; k < orders.size(); ++k) {
+    const bool keep = next < kept.size() && kept[next] == k;
+    (keep ? shown : others).push_back(orders[k]);
+    if (keep) ++next;
+  }
   std::vector<std::string> categories;
   std::vector<bool> highlighted;
-  for (const SensitivityEntry* e : orders) {
+  for (const SensitivityEntry* e : shown) {
     categories.push_back(fmt::format("order {}", e->order));
     highlighted.push_back(report.rollers > 0 && e->order % report.rollers == 0);
   }
-  html += Figure(
-      SensitivitySvg(by_order, "Sensitivity by harmonic order (ring and rollers together)", sobol, highlighted,
-                     fmt::format("multiple of the roller count Z = {}", report.rollers), categories, orders),
-      fmt::format("Highlighted: orders that are multiples of Z = {}. With Z rollers equally spaced, a ring "
-                  "harmonic whose order is a multiple of Z reaches every roller in the same phase: it swells "
-                  "and shrinks the ring at all contacts at once and pushes the centre along the spring axis, "
-                  "where other orders only make it circle.",
-                  report.rollers));
+  const SensitivityEntry rest = OtherOrders(others, sobol);
+  if (!others.empty()) {
+    categories.push_back(rest.name);
+    highlighted.push_back(false);
+    shown.push_back(&rest);
+  }
+  const std::string measure = sobol ? "ST" : "sum of SRC²";
+  std::string caption = fmt::format(
+      "Orders shown: the fewest that, taken largest first, together carry {:g} % of what all {} orders carry (by "
+      "{}; a negative estimate counts as 0), and any other that carries at least {:g} %",
+      100 * report.options.order_chart_cumulative, orders.size(), measure, 100 * report.options.order_chart_single);
+  caption += others.empty() ? ": here every order. "
+                            : fmt::format("; the other {} are summed into the last bar (every order is in the JSON "
+                                          "summary). ",
+                                          others.size());
+  caption += fmt::format(
+      "Highlighted: orders that are multiples of Z = {}. With Z rollers equally spaced, a ring harmonic whose order "
+      "is a multiple of Z reaches every roller in the same phase: it swells and shrinks the ring at all contacts at "
+      "once and pushes the centre along the spring axis, where other orders only make it circle.",
+      report.rollers);
+  html += Figure(SensitivitySvg(by_order, "Sensitivity by harmonic order (ring and rollers together)", sobol,
+                                highlighted, fmt::format("multiple of the roller count Z = {}", report.rollers),
+                                categories, shown),
+                 caption);
   std::vector<const SensitivityEntry*> ranked = orders;
   std::stable_sort(ranked.begin(), ranked.end(),
                    [](const SensitivityEntry* a, const SensitivityEntry* b) { return a->ranking > b->ranking; });
@@ -414,27 +460,57 @@ void SensitivitySection(std::string& html, const CampaignReport& report, const O
   html += "</details>\n";
 }
 
-std::string TrajectorySvg(const CampaignReport& report) {
+// Orbit and sensor charts side by side: as tall as each other, about square plots.
+constexpr double kOrbitChartWidth = 440.0, kOrbitChartHeight = 480.0;
+
+// The centre's path relative to its enclosing circle's centre, equal-scaled.
+std::string OrbitSvg(const ReplayedTrajectory& t) {
   svg::Chart chart;
-  chart.title = "Ring centre over one revolution, replayed";
-  chart.x.label = "x [µm]";
-  chart.y.label = "y [µm]";
+  chart.title = fmt::format("Sample {}: ring centre, D_trajectory {} µm", t.index, Num(2 * t.circle_radius_um));
+  chart.x.label = "x from the circle's centre [µm]";
+  chart.y.label = "y from the circle's centre [µm]";
   chart.equal_aspect = true;
-  chart.height = 480.0;
-  int colour = 0;
-  for (const ReplayedTrajectory& t : report.trajectories) {
-    svg::Series series;
-    series.name = fmt::format("{} (sample {}, D_trajectory {} mm)", t.label, t.index, Num(t.d_trajectory_mm));
-    series.x = t.x_um;
-    series.y = t.y_um;
-    series.colour = colour++;
-    chart.series.push_back(std::move(series));
+  chart.width = kOrbitChartWidth;
+  chart.height = kOrbitChartHeight;
+  svg::Series path{.name = "centre over one revolution", .colour = 0};
+  for (std::size_t k = 0; k < t.x_um.size(); ++k) {
+    path.x.push_back(t.x_um[k] - t.circle_x_um);
+    path.y.push_back(t.y_um[k] - t.circle_y_um);
   }
-  if (!report.trajectories.empty()) {
-    const ReplayedTrajectory& worst = report.trajectories.back();
-    chart.circle = svg::Circle{worst.circle_x_um, worst.circle_y_um, worst.circle_radius_um,
-                               "smallest circle enclosing the worst path"};
-  }
+  chart.series.push_back(std::move(path));
+  chart.series.push_back({.name = "circle's centre", .x = {0.0}, .y = {0.0}, .style = svg::Series::Style::kPoints,
+                          .colour = 2});
+  chart.series.push_back({.name = "static equilibrium",
+                          .x = {t.static_x_um - t.circle_x_um},
+                          .y = {t.static_y_um - t.circle_y_um},
+                          .style = svg::Series::Style::kRings,
+                          .colour = 3});
+  chart.circle = svg::Circle{0.0, 0.0, t.circle_radius_um, "smallest enclosing circle"};
+  return svg::RenderChart(chart);
+}
+
+// The sensor's reading over the revolution, above its minimum, with max and min marked.
+std::string SensorSvg(const ReplayedTrajectory& t) {
+  svg::Chart chart;
+  chart.title = fmt::format("Sample {}: sensor, TIR {} µm", t.index, Num(t.tir_um));
+  chart.x.label = "ring angle ψ [deg]";
+  chart.x.min = 0.0;
+  chart.x.max = 360.0;
+  chart.x.step = 90.0;
+  chart.y.label = "reading above its minimum [µm]";
+  chart.width = kOrbitChartWidth;
+  chart.height = kOrbitChartHeight;
+  chart.series.push_back({.name = "sensor reading", .x = t.angle_deg, .y = t.sensor_um, .colour = 0});
+  chart.series.push_back({.name = "max and min",
+                          .x = {t.max_angle_deg, t.min_angle_deg},
+                          .y = {t.tir_um, 0.0},
+                          .style = svg::Series::Style::kRings,
+                          .colour = 3,
+                          .labels = {fmt::format("max at {:.0f}°", t.max_angle_deg),
+                                     fmt::format("min at {:.0f}°", t.min_angle_deg)}});
+  chart.lines.push_back({svg::ReferenceLine::Direction::kHorizontal, t.tir_um,
+                         fmt::format("TIR = max − min = {} µm", Num(t.tir_um))});
+  chart.lines.push_back({svg::ReferenceLine::Direction::kHorizontal, 0.0, ""});
   return svg::RenderChart(chart);
 }
 
@@ -542,22 +618,48 @@ void ConvergenceSection(std::string& html, const CampaignReport& report, const O
       100 * confidence, primary.count);
 }
 
-void TrajectorySection(std::string& html, const CampaignReport& report) {
-  html += "<h2 id=\"trajectories\">Median and worst assemblies</h2>\n";
-  if (!report.trajectories.empty()) {
-    std::string caption = "Replayed from the stored design points of the median and the worst sample by D_trajectory.";
-    for (const ReplayedTrajectory& t : report.trajectories) {
-      if (!(std::abs(t.d_trajectory_mm - t.stored_d_trajectory_mm) <= 1e-9)) {
-        caption += fmt::format(
-            " The {} sample replays to {} mm against {} mm stored (status {}): this ringtol "
-            "differs from the one that ran the campaign.",
-            t.label, Num(t.d_trajectory_mm), Num(t.stored_d_trajectory_mm), t.status);
-      }
+// The orbits of the worst and the median sample, or why there are none.
+void OrbitSection(std::string& html, const CampaignReport& report) {
+  html += "<h2 id=\"orbits\">Orbits of the worst and the median assembly</h2>\n";
+  if (report.trajectories.empty()) {
+    html += fmt::format("<p>No orbit is drawn: {}.</p>\n",
+                        EscapeXml(report.replay_problem.value_or("no sample finished ok")));
+    return;
+  }
+  html += fmt::format(
+      "<p>Worst and median refer to D_trajectory, over the {} ok independent samples: the worst has the largest, "
+      "the median sample is the one nearest the median. Each is replayed from its stored design point "
+      "(<code>/inputs/u</code>) with the campaign's solver settings and drawn only if it reproduces its stored "
+      "D_trajectory. Left: the ring centre over one revolution, relative to the centre of its smallest enclosing "
+      "circle, whose diameter is D_trajectory; the ring sits at the static equilibrium before it turns, Dist_init "
+      "from that centre. Right: the sensor's reading over the same revolution, above its minimum; the total "
+      "indicator reading is TIR = max &#8722; min.</p>\n",
+      report.ok);
+  for (const ReplayedTrajectory& t : report.trajectories) {
+    const std::string which = t.label == "worst" ? "Worst D_trajectory" : "Median D_trajectory";
+    if (!t.reproduced) {
+      html += fmt::format("<h3>{}: sample {}</h3>\n", which, t.index);
+      const std::string replayed =
+          t.status == "ok" ? fmt::format("D_trajectory {} mm against {} mm stored (tolerance {} mm)",
+                                         Num(t.d_trajectory_mm), Num(t.stored_d_trajectory_mm), Num(t.tolerance_mm))
+                           : fmt::format("status {}{}", t.status, t.message.empty() ? "" : ": " + t.message);
+      html += fmt::format(
+          "<p class=\"warn\">Sample {} does not replay to its stored result ({}): this ringtol computes it "
+          "otherwise than the one that ran the campaign, so its orbit is not drawn.</p>\n",
+          t.index, EscapeXml(replayed));
+      continue;
     }
-    html += Figure(TrajectorySvg(report), caption);
-  } else {
-    html +=
-        fmt::format("<p>No trajectory: {}.</p>\n", EscapeXml(report.replay_problem.value_or("no sample finished ok")));
+    html += fmt::format("<h3>{}: sample {}, D_trajectory {} mm, TIR {} mm</h3>\n", which, t.index,
+                        Num(t.stored_d_trajectory_mm), Num(t.tir_um * units::kMetresPerMicrometre * units::kMillimetresPerMetre));
+    html += "<div class=\"charts\">\n";
+    html += Figure(OrbitSvg(t), "Dotted: the smallest circle enclosing the path; ring: the static equilibrium.");
+    html += Figure(SensorSvg(t), fmt::format("Ringed: the reading's maximum (at {:.1f}°) and minimum (at {:.1f}°).",
+                                             t.max_angle_deg, t.min_angle_deg));
+    html += "</div>\n";
+    html += fmt::format(
+        "<p class=\"note\">Replayed D_trajectory {} mm, stored {} mm (agreement required: {} mm); {} angles "
+        "per revolution.</p>\n",
+        Num(t.d_trajectory_mm), Num(t.stored_d_trajectory_mm), Num(t.tolerance_mm), t.steps);
   }
 }
 
@@ -642,7 +744,7 @@ std::string ReportHtml(const CampaignReport& report) {
   if (const OutputSensitivity* s = FindSensitivity(report, report.primary_output)) {
     SensitivitySection(html, report, *s);
   }
-  TrajectorySection(html, report);
+  OrbitSection(html, report);
   OutputsSection(html, report);
   ContributorsSection(html, report);
   MethodSection(html, report);

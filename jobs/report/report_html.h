@@ -4,8 +4,10 @@
 // ReportJson (jobs/report/campaign_report.h), in this order: the answer in three lines, samples
 // and failures, the distribution of the spec'd output (histogram, CDF, quantiles,
 // capability, yield), convergence and the samples a stated precision needs, sensitivities
-// (contributors, by source, by harmonic order against the roller count), the replayed
-// median and worst trajectories, every other output, and how each number was made.
+// (contributors, by source, by the harmonic orders that carry the variance against the
+// roller count), the orbits of the worst and the median sample (centre path with its
+// enclosing circle and static equilibrium, beside the sensor signal over the revolution),
+// every other output, and how each number was made.
 #pragma once
 
 #include <string>

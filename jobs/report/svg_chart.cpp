@@ -314,6 +314,27 @@ Ticks AxisTicks(const Scale& scale, int max_ticks) {
 // Between 2 and 8 ticks, as many as fit at a spacing that keeps their labels apart.
 int MaxTicks(double pixels, double per_tick) { return std::clamp(static_cast<int>(pixels / per_tick), 2, 8); }
 
+// A fixed step (Axis::step) is followed while it gives at most this many ticks.
+constexpr std::int64_t kMaxFixedStepTicks = 16;
+
+// The multiples of the axis's own step where it has a usable one, else AxisTicks.
+Ticks ChartTicks(const Axis& axis, const Scale& scale, int max_ticks) {
+  const double step = axis.step.value_or(0.0);
+  if (scale.log_base == kLinear && std::isfinite(step) && step > 0.0 && UsableRange(scale.lo, scale.hi)) {
+    const auto first = static_cast<std::int64_t>(std::ceil(scale.lo / step - kTickTolerance));
+    const auto last = static_cast<std::int64_t>(std::floor(scale.hi / step + kTickTolerance));
+    if (last >= first && last - first < kMaxFixedStepTicks) {
+      Ticks ticks;
+      for (std::int64_t k = first; k <= last; ++k) {
+        ticks.values.push_back(static_cast<double>(k) * step);
+        ticks.labels.push_back(k == 0 ? "0" : fmt::format("{:.6g}", ticks.values.back()));
+      }
+      return ticks;
+    }
+  }
+  return AxisTicks(scale, max_ticks);
+}
+
 double ValidSize(double size, double fallback, double minimum) {
   return std::isfinite(size) ? std::max(size, minimum) : fallback;
 }
@@ -789,6 +810,42 @@ std::string EscapeXml(std::string_view text) {
   return escaped;
 }
 
+std::vector<std::size_t> DecimateCurve(std::span<const double> x, std::span<const double> y, std::size_t max_points,
+                                       std::optional<std::array<double, 2>> from) {
+  // Kept of each run: first, last, least and greatest x and y, farthest from `from`.
+  constexpr std::size_t kPerRun = 7;
+  const std::size_t n = std::min(x.size(), y.size());
+  std::vector<std::size_t> kept;
+  if (n <= max_points) {
+    kept.resize(n);
+    for (std::size_t i = 0; i < n; ++i) kept[i] = i;
+    return kept;
+  }
+  const std::size_t runs = std::max<std::size_t>(1, max_points / kPerRun);
+  const auto distance2 = [&](std::size_t i) {
+    const double dx = x[i] - (*from)[0], dy = y[i] - (*from)[1];
+    return dx * dx + dy * dy;
+  };
+  for (std::size_t run = 0; run < runs; ++run) {
+    const std::size_t begin = n * run / runs, end = n * (run + 1) / runs;
+    if (begin == end) continue;
+    std::size_t picks[kPerRun] = {begin, end - 1, begin, begin, begin, begin, begin};
+    for (std::size_t i = begin; i < end; ++i) {
+      // A NaN loses every comparison: it is never an extreme (but one may start the run).
+      if (x[i] < x[picks[2]] || std::isnan(x[picks[2]])) picks[2] = i;
+      if (x[i] > x[picks[3]] || std::isnan(x[picks[3]])) picks[3] = i;
+      if (y[i] < y[picks[4]] || std::isnan(y[picks[4]])) picks[4] = i;
+      if (y[i] > y[picks[5]] || std::isnan(y[picks[5]])) picks[5] = i;
+      if (from && (distance2(i) > distance2(picks[6]) || std::isnan(distance2(picks[6])))) picks[6] = i;
+    }
+    std::sort(std::begin(picks), std::end(picks));
+    for (const std::size_t i : picks) {
+      if (kept.empty() || kept.back() != i) kept.push_back(i);
+    }
+  }
+  return kept;
+}
+
 Ticks NiceTicks(double lo, double hi, int max_ticks) {
   const std::optional<Step> step = ChooseStep(lo, hi, max_ticks);
   return step ? TicksWithStep(lo, hi, *step) : Ticks{};
@@ -869,8 +926,8 @@ std::string RenderChart(const Chart& chart) {
       y_ticks = TicksWithStep(ys.lo, ys.hi, step);
     }
   } else {
-    x_ticks = AxisTicks(xs, MaxTicks(r.Width(), kPixelsPerXTick));
-    y_ticks = AxisTicks(ys, MaxTicks(r.Height(), kPixelsPerYTick));
+    x_ticks = ChartTicks(chart.x, xs, MaxTicks(r.Width(), kPixelsPerXTick));
+    y_ticks = ChartTicks(chart.y, ys, MaxTicks(r.Height(), kPixelsPerYTick));
   }
 
   if (has_data) {

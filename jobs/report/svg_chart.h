@@ -19,13 +19,18 @@
 // entries beyond the shortest are ignored. Band bounds of ±infinity reach the edge of the
 // plot. Nothing outside the plot area is drawn (lines are clipped, points dropped).
 // Coordinates are written with two decimals of a pixel; long lines are thinned to a few
-// points per pixel column, so a step line of a million samples stays small.
+// points per pixel column, so a step line of a million samples stays small. A curve that
+// doubles back on itself (a path in the plane) is thinned less that way: DecimateCurve
+// picks its points before they reach a chart.
 //
 // Text (titles, labels, names, categories, colours) is plain UTF-8 and escaped here. The page that
 // embeds the SVG must be served as UTF-8 (µ, ≤).
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,6 +54,9 @@ struct Axis {
   std::optional<double> min{}, max{};  // fixed ends (used only if finite, and > 0 on a log axis);
                                        // otherwise the data's range widened by 4 % on each side,
                                        // except a linear end at exactly 0, which stays
+  // > 0: ticks at the multiples of this (90 for degrees) instead of nice numbers; linear
+  // axes without equal aspect only, and only while at most 16 ticks result.
+  std::optional<double> step{};
 };
 
 struct ReferenceLine {
@@ -154,6 +162,18 @@ Ticks NiceTicks(double lo, double hi, int max_ticks = 8);
 // Powers of two in [lo, hi] (0 < lo < hi), every m-th from the lowest so that at most
 // `max_ticks` remain, labelled compactly: 0.5, 1, 64, 1k (1024), 16k, 1M (2^20), 1G.
 Ticks Log2Ticks(double lo, double hi, int max_ticks = 8);
+
+// Indices, ascending, of at most max(max_points, 7) points of the curve (x[i], y[i]) that
+// draw like all of it: the curve is cut into runs of consecutive points, and of each run
+// its first and last points are kept, those with the least and the greatest x and y, and,
+// given `from`, the one farthest from that point. Each extreme of the whole curve is an
+// extreme of its run, so it survives: a path keeps its reach in every axis direction and,
+// about the centre of a circle that encloses it, its points on that circle; a signal keeps
+// its maximum and minimum. A curve of at most max_points points comes back whole. A NaN
+// coordinate is never an extreme of its axis, nor its point the farthest. Of x and y, the
+// entries beyond the shorter are ignored.
+std::vector<std::size_t> DecimateCurve(std::span<const double> x, std::span<const double> y, std::size_t max_points,
+                                       std::optional<std::array<double, 2>> from = std::nullopt);
 
 // Text for XML content and attribute values: & < > " ' escaped, control characters that
 // XML 1.0 forbids dropped.

@@ -6,12 +6,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "jobs/store/campaign_store.h"
 #include "tests/support/mpi_environment.h"
 #include "tests/support/shell.h"
 #include "tests/support/text_files.h"
@@ -89,7 +91,21 @@ TEST_F(CampaignReport, OrdersThatAreMultiplesOfTheRollerCountRankAboveTheOthers)
   // Not by chance: the bootstrap intervals (95 %) do not overlap either.
   EXPECT_GT(lowest_multiple_lower, highest_other_upper);
   // The ranking the page shows is the JSON's.
-  EXPECT_THAT(ringtol::testing::ReadText(dir_ / "orders.html"), HasSubstr("Dominant orders, largest first: "));
+  const std::string html = ringtol::testing::ReadText(dir_ / "orders.html");
+  EXPECT_THAT(html, HasSubstr("Dominant orders, largest first: "));
+
+  // The orbit drawn first is the sample with the largest D_trajectory of the independent
+  // draws, replayed to the value the results file holds for that index.
+  const nlohmann::json& worst = summary["trajectories"][0];
+  EXPECT_EQ(worst["label"], "worst");
+  EXPECT_EQ(worst["reproduced"], true);
+  EXPECT_EQ(worst["stored_d_trajectory_mm"], summary["outputs"]["d_trajectory_mm"]["max"]);
+  const ringtol::jobs::CampaignReader reader(results);
+  EXPECT_EQ(reader.ReadSample(worst["index"].get<std::int64_t>()).outputs[0], worst["stored_d_trajectory_mm"]);
+  EXPECT_LE(std::abs(worst["d_trajectory_mm"].get<double>() - worst["stored_d_trajectory_mm"].get<double>()),
+            worst["tolerance_mm"].get<double>());
+  EXPECT_THAT(html, HasSubstr("Orbits of the worst and the median assembly"));
+  EXPECT_THAT(html, HasSubstr("Worst D_trajectory: sample " + std::to_string(worst["index"].get<std::int64_t>())));
 }
 
 TEST_F(CampaignReportInChromium, PageIsSelfContainedAndHeadlessChromiumPaintsItsCharts) {
@@ -119,8 +135,9 @@ TEST_F(CampaignReportInChromium, PageIsSelfContainedAndHeadlessChromiumPaintsIts
   EXPECT_THAT(dom.err, Not(HasSubstr("net::ERR")));
   std::size_t charts = 0;
   for (std::size_t at = dom.out.find("<svg"); at != std::string::npos; at = dom.out.find("<svg", at + 1)) ++charts;
-  EXPECT_GE(charts, 6u) << "histogram, CDF, two convergence plots, sensitivity bars, trajectories";
+  EXPECT_GE(charts, 9u) << "histogram, CDF, two convergence plots, sensitivity bars, two orbits with their sensors";
   EXPECT_THAT(dom.out, HasSubstr("Which tolerance to tighten first"));
+  EXPECT_THAT(dom.out, HasSubstr("Orbits of the worst and the median assembly"));
 
   const auto shot = Run("timeout 120 " + chromium + "--screenshot=" + png + " file://" + page);
   ASSERT_EQ(shot.exit_code, 0) << shot.err;

@@ -8,11 +8,15 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
+#include <fmt/format.h>
+
+#include "engine/units.h"
 #include "jobs/campaign/campaign.h"
 #include "jobs/report/campaign_report.h"
 #include "jobs/inputs/input_error.h"
@@ -23,7 +27,9 @@
 namespace ringtol::jobs {
 namespace {
 
+using ::testing::ElementsAre;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 // A copy of the paper's scene beside the campaign file, so the test can take both away.
 const std::string kCampaign = R"(scene = "scene.toml"
@@ -64,15 +70,25 @@ class ReportTest : public ::testing::Test {
     CampaignStore store = CampaignStore::Create(results, campaign.identity(), campaign.samples());
     for (std::int64_t i = 0; i < campaign.samples(); ++i) {
       SampleRecord record = evaluator.Evaluate(i);
-      if (record.status == SampleStatus::kOk) ok_d_.push_back(record.outputs[0]);
+      if (record.status == SampleStatus::kOk) {
+        ok_d_.push_back(record.outputs[Column("d_trajectory_mm")]);
+        ok_records_.push_back(record);
+      }
       store.Add(std::move(record));
     }
     store.Commit();
     return results;
   }
 
+  static std::size_t Column(std::string_view name) {
+    return static_cast<std::size_t>(
+        std::find_if(kOutputNames.begin(), kOutputNames.end(), [&](const char* output) { return name == output; }) -
+        kOutputNames.begin());
+  }
+
   std::filesystem::path dir_;
-  std::vector<double> ok_d_;  // D_trajectory of the ok samples, in index order
+  std::vector<double> ok_d_;                 // D_trajectory of the ok samples, in index order
+  std::vector<SampleRecord> ok_records_;     // the ok samples as stored, in index order
 };
 
 TEST_F(ReportTest, FailedSamplesAreCountedListedAndExcludedFromEveryStatistic) {
@@ -124,7 +140,7 @@ TEST_F(ReportTest, FailedSamplesAreCountedListedAndExcludedFromEveryStatistic) {
   EXPECT_EQ(json["outputs"]["d_trajectory_mm"]["yield_counting_failures"]["trials"], 40);
 }
 
-TEST_F(ReportTest, MedianAndWorstSamplesReplayToTheirStoredOutputsAfterTheFilesAreGone) {
+TEST_F(ReportTest, OrbitsOfTheWorstAndTheMedianSampleReplayTheirStoredOutputsAfterTheFilesAreGone) {
   const std::filesystem::path results = RunWithFailures();
   // The report rebuilds the campaign from the text the results file keeps.
   std::filesystem::remove(dir_ / "campaign.toml");
@@ -134,23 +150,89 @@ TEST_F(ReportTest, MedianAndWorstSamplesReplayToTheirStoredOutputsAfterTheFilesA
   const CampaignReport report = BuildReport(results, options);
   ASSERT_FALSE(report.replay_problem.has_value()) << *report.replay_problem;
   ASSERT_EQ(report.trajectories.size(), 2u);
+
+  // The worst is the sample with the largest stored D_trajectory, the median the one at the
+  // lower middle rank (of an even count both middle ones are as near the median).
+  const auto worst = std::max_element(ok_records_.begin(), ok_records_.end(), [&](const auto& a, const auto& b) {
+    return a.outputs[Column("d_trajectory_mm")] < b.outputs[Column("d_trajectory_mm")];
+  });
   std::vector<double> sorted = ok_d_;
   std::sort(sorted.begin(), sorted.end());
-  EXPECT_EQ(report.trajectories[0].label, "median");
-  EXPECT_EQ(report.trajectories[0].stored_d_trajectory_mm, sorted[(sorted.size() - 1) / 2]);
-  EXPECT_EQ(report.trajectories[1].label, "worst");
-  EXPECT_EQ(report.trajectories[1].stored_d_trajectory_mm, sorted.back());
+  EXPECT_EQ(report.trajectories[0].label, "worst");
+  EXPECT_EQ(report.trajectories[0].index, worst->index);
+  EXPECT_EQ(report.trajectories[0].stored_d_trajectory_mm, sorted.back());
+  EXPECT_EQ(report.trajectories[1].label, "median");
+  EXPECT_EQ(report.trajectories[1].stored_d_trajectory_mm, sorted[(sorted.size() - 1) / 2]);
+
+  constexpr double kUmPerMm = 1e3;
+  // The campaign's own solver settings: 1 % of the 1 um sampling budget per angle.
+  const double tolerance_mm = ReplayTolerance(CampaignSolverDefaults()) * units::kMillimetresPerMetre;
+  const double tolerance_um = tolerance_mm * kUmPerMm;
+  // The circle's radius is the largest distance from its centre to a point of the path
+  // (engine/enclosing_circle.h); converted to µm, coordinates below 1e3 µm carry round-off
+  // of ~1e-13 µm: 1e-9 µm leaves four orders of room.
+  constexpr double kRoundOffUm = 1e-9;
+  // The last angle, 2 pi steps / steps converted to degrees: a few ulp of 360.
+  constexpr double kRoundOffDeg = 1e-9;
   for (const ReplayedTrajectory& t : report.trajectories) {
-    // Same scene, same solver, same steps: the same bits.
-    EXPECT_EQ(t.d_trajectory_mm, t.stored_d_trajectory_mm) << t.label;
-    EXPECT_EQ(t.status, "ok");
+    const SampleRecord& stored =
+        *std::find_if(ok_records_.begin(), ok_records_.end(), [&](const SampleRecord& r) { return r.index == t.index; });
+    EXPECT_EQ(t.status, "ok") << t.label;
+    EXPECT_TRUE(t.reproduced) << t.label;
+    EXPECT_EQ(t.tolerance_mm, tolerance_mm);
+    EXPECT_NEAR(t.d_trajectory_mm, t.stored_d_trajectory_mm, tolerance_mm) << t.label;
+    EXPECT_EQ(t.steps, stored.steps);
+    // The drawn circle is the stored D_trajectory's, and every drawn point lies in it.
+    EXPECT_NEAR(2 * t.circle_radius_um, t.stored_d_trajectory_mm * kUmPerMm, tolerance_um) << t.label;
     ASSERT_FALSE(t.x_um.empty());
-    // Every point of the path lies in its minimum enclosing circle, whose diameter is D.
+    EXPECT_LE(t.x_um.size(), kDrawnPoints);
+    double farthest = 0.0;
     for (std::size_t k = 0; k < t.x_um.size(); ++k) {
-      EXPECT_LE(std::hypot(t.x_um[k] - t.circle_x_um, t.y_um[k] - t.circle_y_um), t.circle_radius_um * (1 + 1e-9));
+      farthest = std::max(farthest, std::hypot(t.x_um[k] - t.circle_x_um, t.y_um[k] - t.circle_y_um));
     }
-    EXPECT_NEAR(2 * t.circle_radius_um, t.d_trajectory_mm * 1e3, 1e-9 * t.circle_radius_um);
+    EXPECT_LE(farthest, t.circle_radius_um + kRoundOffUm) << t.label;
+    // The path still touches its circle where the full path does (DecimateCurve keeps them).
+    EXPECT_NEAR(farthest, t.circle_radius_um, kRoundOffUm) << t.label;
+    // The static equilibrium lies Dist_init from the circle's centre.
+    EXPECT_NEAR(std::hypot(t.static_x_um - t.circle_x_um, t.static_y_um - t.circle_y_um),
+                stored.outputs[Column("dist_init_mm")] * kUmPerMm, tolerance_um)
+        << t.label;
+    // The sensor: one revolution, its minimum at 0 and its maximum at TIR, the stored
+    // total indicator reading (max - min: runout_total_mm, or runout_mm where that is it).
+    ASSERT_FALSE(t.sensor_um.empty());
+    EXPECT_EQ(t.angle_deg.front(), 0.0);
+    EXPECT_NEAR(t.angle_deg.back(), 360.0, kRoundOffDeg);
+    EXPECT_EQ(*std::min_element(t.sensor_um.begin(), t.sensor_um.end()), 0.0);
+    EXPECT_EQ(*std::max_element(t.sensor_um.begin(), t.sensor_um.end()), t.tir_um);
+    const bool total_column = Column("runout_total_mm") < kOutputCount;
+    EXPECT_NEAR(t.tir_um, stored.outputs[Column(total_column ? "runout_total_mm" : "runout_mm")] * kUmPerMm,
+                tolerance_um)
+        << t.label;
   }
+
+  const std::string html = ReportHtml(report);
+  EXPECT_THAT(html, HasSubstr("Orbits of the worst and the median assembly"));
+  EXPECT_THAT(html, HasSubstr(fmt::format("Worst D_trajectory: sample {},", worst->index)));
+  EXPECT_THAT(html, HasSubstr(fmt::format("Median D_trajectory: sample {},", report.trajectories[1].index)));
+  EXPECT_THAT(html, HasSubstr("TIR = max − min"));
+  const nlohmann::json json = ReportJson(report);
+  EXPECT_EQ(json["trajectories"][0]["index"], worst->index);
+  EXPECT_EQ(json["trajectories"][0]["reproduced"], true);
+}
+
+TEST_F(ReportTest, ASampleThatNoLongerReplaysIsReportedInsteadOfDrawn) {
+  CampaignReport report;
+  ReplayedTrajectory moved;
+  moved.label = "worst";
+  moved.index = 17;
+  moved.status = "ok";
+  moved.stored_d_trajectory_mm = 0.25;
+  moved.d_trajectory_mm = 0.26;
+  moved.tolerance_mm = 4e-5;
+  report.trajectories.push_back(moved);
+  const std::string html = ReportHtml(report);
+  EXPECT_THAT(html, HasSubstr("Sample 17 does not replay to its stored result (D_trajectory 0.26 mm against 0.25 mm"));
+  EXPECT_THAT(html, Not(HasSubstr("Sample 17: ring centre")));
 }
 
 TEST_F(ReportTest, AFileWithoutAnOkSampleGivesAReportThatSaysSo) {
@@ -173,6 +255,7 @@ TEST_F(ReportTest, AFileWithoutAnOkSampleGivesAReportThatSaysSo) {
   EXPECT_TRUE(report.trajectories.empty());
   const std::string html = ReportHtml(report);
   EXPECT_THAT(html, HasSubstr("No sample finished ok"));
+  EXPECT_THAT(html, HasSubstr("No orbit is drawn: no sample finished ok."));
   EXPECT_THAT(html, HasSubstr("every sample fails"));
   EXPECT_EQ(ReportJson(report)["samples"]["pending"], 30);
 }
@@ -214,6 +297,66 @@ TEST_F(ReportTest, CommandRefusesBadPathsAndOptionsBeforeAnyWork) {
   EXPECT_THAT(out.str(), HasSubstr("Report: " + command.out.string()));
   EXPECT_TRUE(std::filesystem::exists(command.out));
   EXPECT_FALSE(std::filesystem::exists(command.out.string() + ".partial"));
+}
+
+// Shares of a sum of 1, listed out of order; the rule (99 % together, then any other of at
+// least 0.5 %) keeps the largest five: 0.5 + 0.3 + 0.15 + 0.035 = 0.985 falls short, the
+// 0.006 order brings 0.991, and 0.004 is below 0.5 %.
+TEST(OrderChart, KeepsTheFewestOrdersThatCarryNinetyNinePercent) {
+  const std::vector<double> shares = {0.002, 0.3, 0.004, 0.5, 0.035, 0.003, 0.15, 0.006};
+  EXPECT_THAT(OrdersCarryingVariance(shares, 0.99, 0.005), ElementsAre(1, 3, 4, 6, 7));
+  // Shares, not values: the same table at another scale keeps the same orders.
+  std::vector<double> scaled = shares;
+  for (double& v : scaled) v *= 7.0;
+  EXPECT_THAT(OrdersCarryingVariance(scaled, 0.99, 0.005), ElementsAre(1, 3, 4, 6, 7));
+}
+
+// 0.9 + 0.092 = 0.992 reaches 99 % with two orders; 0.006 is kept for its own 0.6 %.
+TEST(OrderChart, KeepsAnOrderAboveHalfAPercentEvenAfterNinetyNinePercentAreReached) {
+  EXPECT_THAT(OrdersCarryingVariance(std::vector<double>{0.9, 0.002, 0.092, 0.006}, 0.99, 0.005),
+              ElementsAre(0, 2, 3));
+}
+
+// A negative estimate (noise about 0) and NaN carry nothing and are not counted in the sum.
+TEST(OrderChart, NegativeAndNonFiniteEstimatesCarryNothing) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THAT(OrdersCarryingVariance(std::vector<double>{-0.2, 0.6, kNaN, 0.4}, 0.99, 0.005), ElementsAre(1, 3));
+  EXPECT_THAT(OrdersCarryingVariance(std::vector<double>{0.0, -0.1, 0.0}, 0.99, 0.005), ElementsAre(0, 1, 2));
+}
+
+// A hand-made Sobol' table of twelve orders: the chart names the kept orders, sums the
+// others into one bar and states the rule; the JSON keeps every order.
+TEST(OrderChart, TheReportChartsOnlyTheKeptOrdersAndSumsTheRest) {
+  CampaignReport report;
+  report.rollers = 3;
+  report.primary_output = "d_trajectory_mm";
+  OutputSensitivity s;
+  s.output = "d_trajectory_mm";
+  s.method = "sobol";
+  s.rows = 1000;
+  SensitivityLevel by_order{"order", Aggregation::kExact, {}};
+  const std::vector<double> st = {0.6, 0.25, 0.1, 0.03, 0.012, 0.004, 0.002, 0.001, 0.0005, 0.0003, 0.0001, 0.0001};
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    SensitivityEntry e;
+    e.name = fmt::format("order {}", k + 2);
+    e.order = static_cast<int>(k) + 2;
+    e.first_order = {0.8 * st[k], 0.01, {0.8 * st[k] - 0.01, 0.8 * st[k] + 0.01}};
+    e.total_order = analysis::SobolIndex{st[k], 0.01, {st[k] - 0.01, st[k] + 0.01}};
+    e.ranking = st[k];
+    by_order.entries.push_back(e);
+  }
+  s.levels = {by_order, by_order};  // the first level is the finest table's
+  s.levels[0].level = "design";
+  for (SensitivityEntry& e : s.levels[0].entries) e.name = "ring " + e.name;
+  report.sensitivities.push_back(s);
+  const std::string html = ReportHtml(report);
+  // Sum 1.0: 0.6 + 0.25 + 0.1 + 0.03 = 0.98, + 0.012 = 0.992: orders 2 to 6.
+  for (int order = 2; order <= 6; ++order) EXPECT_THAT(html, HasSubstr(fmt::format(">order {}<", order))) << order;
+  for (int order = 7; order <= 13; ++order) EXPECT_THAT(html, Not(HasSubstr(fmt::format(">order {}<", order)))) << order;
+  EXPECT_THAT(html, HasSubstr(">7 other orders<"));
+  EXPECT_THAT(html, HasSubstr("together carry 99 % of what all 12 orders carry"));
+  EXPECT_THAT(html, HasSubstr("at least 0.5 %"));
+  EXPECT_EQ(ReportJson(report)["sensitivity"]["d_trajectory_mm"]["order"]["entries"].size(), st.size());
 }
 
 }  // namespace

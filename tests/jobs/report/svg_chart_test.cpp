@@ -1,12 +1,14 @@
 #include "jobs/report/svg_chart.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -425,6 +427,72 @@ TEST(SvgChart, AStepLineOfManySamplesIsThinnedToItsPixelColumns) {
   EXPECT_LE(static_cast<double>(points), 4.0 * 2.0 * (f.right - f.left + 1.0));
   EXPECT_LT(svg.size(), 100'000u);
   ExpectValidSvg({svg});
+}
+
+TEST(SvgChart, AFixedTickStepPutsTicksAtItsMultiples) {
+  Chart chart;
+  chart.x = {.label = "ring angle [deg]", .min = 0.0, .max = 360.0, .step = 90.0};
+  chart.series.push_back({.x = {0.0, 180.0, 360.0}, .y = {0.0, 1.0, 0.0}});
+  const std::string svg = RenderChart(chart);
+  for (const char* label : {">0<", ">90<", ">180<", ">270<", ">360<"}) EXPECT_THAT(svg, HasSubstr(label)) << label;
+  EXPECT_THAT(svg, Not(HasSubstr(">50<")));
+  // A step that would crowd the axis gives way to nice numbers.
+  chart.x.step = 1.0;
+  EXPECT_THAT(RenderChart(chart), Not(HasSubstr(">17<")));
+  ExpectValidSvg({svg});
+}
+
+TEST(SvgDecimate, AShortCurveComesBackWhole) {
+  const std::vector<double> x = {0.0, 1.0, 2.0}, y = {3.0, 4.0, 5.0};
+  EXPECT_THAT(DecimateCurve(x, y, 3), ElementsAre(0u, 1u, 2u));
+}
+
+// A centre path that winds fifty times around a slowly drifting circle, with a fast ripple:
+// 200,001 points, every one distinct. The kept ones are few, ascending, and hold the ends,
+// each axis's extremes, and the point farthest from a given centre.
+TEST(SvgDecimate, ALongPathKeepsItsEndsAndEveryExtreme) {
+  constexpr std::size_t kPoints = 200'001, kKept = 2000;
+  std::vector<double> x(kPoints), y(kPoints);
+  for (std::size_t i = 0; i < kPoints; ++i) {
+    const double t = 2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(kPoints - 1);
+    x[i] = (100.0 + std::sin(7.0 * t)) * std::cos(50.0 * t) + 3.0 * t;
+    y[i] = (100.0 + std::cos(331.0 * t)) * std::sin(50.0 * t) - 2.0 * t;
+  }
+  const std::array<double, 2> centre = {10.0, -5.0};
+  const std::vector<std::size_t> kept = DecimateCurve(x, y, kKept, centre);
+  EXPECT_LE(kept.size(), kKept);
+  constexpr std::size_t kRuns = kKept / 7;  // seven kept at most per run
+  EXPECT_GE(kept.size(), 2 * kRuns) << "every run keeps its first and last point";
+  EXPECT_TRUE(std::is_sorted(kept.begin(), kept.end()));
+  EXPECT_EQ(std::adjacent_find(kept.begin(), kept.end()), kept.end()) << "no index twice";
+  const auto has = [&](std::size_t i) { return std::binary_search(kept.begin(), kept.end(), i); };
+  EXPECT_TRUE(has(0));
+  EXPECT_TRUE(has(kPoints - 1));
+  const auto at = [](const std::vector<double>& v, auto it) { return static_cast<std::size_t>(it - v.begin()); };
+  EXPECT_TRUE(has(at(x, std::min_element(x.begin(), x.end()))));
+  EXPECT_TRUE(has(at(x, std::max_element(x.begin(), x.end()))));
+  EXPECT_TRUE(has(at(y, std::min_element(y.begin(), y.end()))));
+  EXPECT_TRUE(has(at(y, std::max_element(y.begin(), y.end()))));
+  std::size_t farthest = 0;
+  for (std::size_t i = 0; i < kPoints; ++i) {
+    if (std::hypot(x[i] - centre[0], y[i] - centre[1]) > std::hypot(x[farthest] - centre[0], y[farthest] - centre[1]))
+      farthest = i;
+  }
+  EXPECT_TRUE(has(farthest));
+}
+
+TEST(SvgDecimate, ANonFinitePointIsNeverAnExtreme) {
+  std::vector<double> x(100), y(100);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    x[i] = static_cast<double>(i);
+    y[i] = std::sin(0.1 * static_cast<double>(i));
+  }
+  x[40] = kNaN;
+  y[41] = kInf;  // infinite is an extreme like any other value: only NaN is not
+  const std::vector<std::size_t> kept = DecimateCurve(x, y, 7);
+  EXPECT_LE(kept.size(), 7u);
+  EXPECT_FALSE(std::binary_search(kept.begin(), kept.end(), std::size_t{40}));
+  EXPECT_TRUE(std::binary_search(kept.begin(), kept.end(), std::size_t{41}));
 }
 
 TEST(SvgBarChart, HighlightedCategoriesGetTheHighlightStyle) {
