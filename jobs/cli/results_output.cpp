@@ -130,7 +130,7 @@ void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::S
   if (!PrintStatusAndDistances(out, "status", "", result)) return;
   if (solver.rung == solvers::Rung::kDynamic) {
     const auto [first, steady] = FirstAndSteady(result, true);
-    fmt::print(out, "D_trajectory      first revolution {} mm, steady revolution {} mm\n", Cell(first, 4), Cell(steady, 4));
+    fmt::print(out, "revolutions       D_trajectory first {} mm, steady {} mm\n", Cell(first, 4), Cell(steady, 4));
   }
   fmt::print(out, "static offset     {:.4f} mm\n", result.static_offset * units::kMillimetresPerMetre);
   fmt::print(out, "runout            {:.4f} mm peak to nearest valley, {:.4f} mm total (sensor at {:g} deg)\n",
