@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include <arkode/arkode_erkstep.h>
@@ -19,6 +20,7 @@
 
 #include "engine/contact.h"
 #include "engine/units.h"
+#include "solvers/quasistatic.h"
 
 namespace ringtol::solvers {
 namespace {
@@ -139,16 +141,39 @@ class RingDynamics {
     return {};
   }
 
-  // The ring centred and at rest, rollers at their psi = 0 spin angle, spring rollers
-  // pressed against the centred ring where spring and contact stiffness balance, as an
-  // assembled roller sits. (Starting them at zero travel would add a flight to the bore and
-  // an impact, microseconds of physics no one asked about that cost a third of a run.)
+  // For the quasistatic start, finds the equilibrium InitialState starts from; kOk, or the
+  // quasistatic rung's status with its reason. The article's start needs nothing.
+  Status FindStart(std::string& message) {
+    if (options_.start != DynamicStart::kQuasistaticEquilibrium) return Status::kOk;
+    const Equilibrium equilibrium = QuasistaticSolver().SolveStatic(scene_);
+    if (equilibrium.status != Status::kOk) {
+      message = "the quasistatic equilibrium the run starts from: " + equilibrium.message;
+      return equilibrium.status;
+    }
+    start_ = equilibrium;
+    return Status::kOk;
+  }
+
+  // At rest, rollers at their psi = 0 spin angle, spinning as they would roll at the law's
+  // rate at t = 0. After FindStart for the quasistatic start, ring and spring rollers at
+  // that equilibrium; otherwise (the article's start) the ring centred and spring rollers
+  // pressed against it where spring and contact stiffness balance, as an assembled roller
+  // sits. (Starting them at zero travel would add a flight to the bore and an impact,
+  // microseconds of physics no one asked about that cost a third of a run.)
   void InitialState(double* y) const {
     std::fill(y, y + size_, 0.0);
+    const double rate = scene_.motion.Rate(0.0);
+    if (start_) {
+      y[0] = start_->centre.x();
+      y[1] = start_->centre.y();
+    }
     for (int i = 0; i < rollers(); ++i) {
       const auto k = static_cast<std::size_t>(i);
-      if (spin_[k] >= 0) y[spin_[k]] = engine::RollerBodyAngle(scene_, i, 0.0);
-      if (travel_[k] >= 0) y[travel_[k]] = BalancedTravel(i);
+      if (spin_[k] >= 0) {
+        y[spin_[k]] = engine::RollerBodyAngle(scene_, i, 0.0);
+        y[spin_[k] + 1] = engine::SpinRatio(scene_, i) * rate;
+      }
+      if (travel_[k] >= 0) y[travel_[k]] = start_ ? start_->travel[k] : BalancedTravel(i);
     }
   }
 
@@ -555,6 +580,7 @@ class RingDynamics {
 
   const Scene& scene_;
   const DynamicOptions& options_;
+  std::optional<Equilibrium> start_;  // the quasistatic start, once FindStart found it
   engine::DynamicModel model_;
   bool spin_states_;
   int size_ = 0;
@@ -804,8 +830,8 @@ DynamicSample Observe(RingDynamics& dynamics, const Integrator& integrator) {
   return dynamics.Observe(integrator.time(), integrator.state());
 }
 
-// Checks what a dynamic run needs before it starts; kOk when it can run.
-Status Prepare(const Scene& scene, const RingDynamics& dynamics, std::string& message) {
+// Checks what a dynamic run needs before it starts and finds its start; kOk when it can run.
+Status Prepare(const Scene& scene, RingDynamics& dynamics, std::string& message) {
   Status status = CheckSceneGeometry(scene, message);
   if (status != Status::kOk) return status;
   message = dynamics.MissingInertia();
@@ -814,7 +840,7 @@ Status Prepare(const Scene& scene, const RingDynamics& dynamics, std::string& me
     message = "the dynamic solver needs the penalty contact law";
     return Status::kIntegrationFailed;
   }
-  return Status::kOk;
+  return dynamics.FindStart(message);
 }
 
 // Samples revolution `revolution` (0 = the first after rotation starts) of a run already
@@ -932,7 +958,9 @@ struct SettledRun {
 }  // namespace
 
 Eigen::VectorXd InitialDynamicState(const Scene& scene, const DynamicOptions& options) {
-  const RingDynamics dynamics(scene, options);
+  RingDynamics dynamics(scene, options);
+  std::string unused;
+  dynamics.FindStart(unused);
   Eigen::VectorXd state(dynamics.size());
   dynamics.InitialState(state.data());
   return state;
@@ -982,17 +1010,15 @@ Trajectory DynamicSolver::SolveRevolution(const Scene& scene, int steps) const {
   }
   RingDynamics& dynamics = run.dynamics;
   Integrator& integrator = *run.integrator;
-  const double start = scene.motion.RotationStart();
   const Equilibrium initial = Record(Observe(dynamics, integrator));
-  // The settle may bounce (the ring falls onto its fixed rollers); from rotation start on,
+  // The article's settle may bounce (the ring falls onto its fixed rollers); from rotation start on,
   // any contact that opens, even between two samples, is lift-off.
   integrator.WatchSeparations();
   Trajectory trajectory = SampleRevolution(scene, dynamics, integrator, 0, steps);
   trajectory.initial = initial;
   const int later = options_.steady_revolution;
-  const double sense = scene.motion.RateIn(scene.motion.SegmentAt(start), start) < 0.0 ? -1.0 : 1.0;
-  if (trajectory.status == Status::kOk && later > 0 &&
-      std::isfinite(scene.motion.TimeAtAngle(sense * 2.0 * std::numbers::pi * (later + 1), start))) {
+  // A law that stops before the later revolution ends leaves it with that reason as status.
+  if (trajectory.status == Status::kOk && later > 0) {
     auto steady = std::make_shared<Trajectory>(SampleRevolution(scene, dynamics, integrator, later, steps));
     steady->initial = initial;
     trajectory.total_iterations = steady->total_iterations;

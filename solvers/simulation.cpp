@@ -28,10 +28,17 @@ std::unique_ptr<Solver> MakeSolver(const SolverSettings& settings) {
     case Rung::kDynamic: {
       DynamicOptions options;
       options.relative_tolerance = settings.relative_tolerance;
+      options.start = settings.dynamic_start;
       return std::make_unique<DynamicSolver>(options);
     }
   }
   return std::make_unique<QuasistaticSolver>();
+}
+
+std::string SolverDescription(const SolverSettings& settings) {
+  std::string description(NameOf(kRungNames, settings.rung));
+  if (settings.rung == Rung::kDynamic) description += ", start " + std::string(NameOf(kDynamicStartNames, settings.dynamic_start));
+  return description;
 }
 
 int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options) {

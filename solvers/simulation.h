@@ -4,10 +4,12 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "engine/enclosing_circle.h"
 #include "engine/scene.h"
+#include "solvers/dynamic.h"
 #include "solvers/solver.h"
 
 namespace ringtol::solvers {
@@ -34,7 +36,7 @@ struct SimulationOptions {
 };
 
 // Which solver runs a simulation and how, as a campaign file's [solver] table, the command
-// line (--solver, --steps, --relative-tolerance) and the report's replays state it; one
+// line (--solver, --steps, --relative-tolerance, --dynamic-start) and the report's replays state it; one
 // factory makes the solver from it, so the rules below hold wherever a solver is made.
 struct SolverSettings {
   Rung rung = Rung::kQuasistatic;
@@ -45,7 +47,12 @@ struct SolverSettings {
   // the predictor (half the cost of a campaign's sample).
   SimulationOptions simulation;
   double relative_tolerance = 1e-6;  // [-] in (0, 1): the dynamic rung's integration tolerance
+  DynamicStart dynamic_start = DynamicStart::kQuasistaticEquilibrium;  // the dynamic rung's start
 };
+
+// The rung's name, and for the dynamic rung its start ("dynamic, start
+// quasistatic_equilibrium"): what a results file records as its solver.
+std::string SolverDescription(const SolverSettings& settings);
 inline constexpr double kAngleShareOfPathTolerance = 0.01;
 
 // Never fails: every Rung has a solver.

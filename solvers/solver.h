@@ -79,7 +79,8 @@ struct Trajectory {
   int total_iterations = 0;                    // Newton iterations (dynamic: integrator steps) over the run
   // A later revolution of the same run, for a solver that simulates time (dynamic): the
   // steady state after the start transient, with `initial` still the state at rotation
-  // start. Null for the time-free rungs and when not asked for.
+  // start; its own status says whether it is usable (the law may stop before it). Null for
+  // the time-free rungs, when not asked for, and when the first revolution failed.
   std::shared_ptr<const Trajectory> steady;
 };
 

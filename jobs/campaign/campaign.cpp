@@ -62,7 +62,7 @@ Campaign::Campaign(CampaignPlan plan, const std::string& source_name)
   identity_.base_scene = WriteScene(plan_.sampling.scene);
   identity_.swing = plan_.sampling.scene.sensor_swing;
   identity_.design = sampling::DesignName(plan_.sampling.design.kind);
-  identity_.solver = NameOf(solvers::kRungNames, plan_.solver.rung);
+  identity_.solver = solvers::SolverDescription(plan_.solver);
   identity_.seed = plan_.sampling.seed;
   identity_.inputs = sampling_.sampler.inputs();
   identity_.spec = plan_.spec;
@@ -109,13 +109,21 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
       record.steps = result.steps;
       record.status = FromSolverStatus(result.status);
       record.message = result.message;
-      if (result.status == solvers::Status::kOk) {
+      // A time-simulating rung's steady revolution is an output too: when it failed (a
+      // contact opened, the law stopped before it) the sample did.
+      const double steady_d_trajectory = result.steady ? result.steady->d_trajectory : result.d_trajectory;
+      if (result.status == solvers::Status::kOk && result.steady && result.steady->status != solvers::Status::kOk) {
+        record.status = FromSolverStatus(result.steady->status);
+        record.message = "steady revolution: " + result.steady->message;
+      }
+      if (record.status == SampleStatus::kOk) {
         double max_force = -std::numeric_limits<double>::infinity();
         for (const solvers::RollerForceRange& range : result.contact_force) max_force = std::max(max_force, range.max);
         const std::array<double, kOutputCount> outputs = {
             result.d_trajectory * units::kMillimetresPerMetre, result.dist_init * units::kMillimetresPerMetre,
             result.static_offset * units::kMillimetresPerMetre, result.runout * units::kMillimetresPerMetre,
-            result.swing * units::kMillimetresPerMetre, result.min_contact_force, max_force};
+            result.swing * units::kMillimetresPerMetre, result.min_contact_force, max_force,
+            result.d_trajectory * units::kMillimetresPerMetre, steady_d_trajectory * units::kMillimetresPerMetre};
         bool finite = true;
         for (std::size_t k = 0; k < kOutputCount; ++k) finite = finite && std::isfinite(outputs[k]);
         if (finite) {

@@ -32,6 +32,7 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
     int steps = 0;
     double path_tolerance = kCampaignPathTolerance;
     double relative_tolerance = solvers::SolverSettings{}.relative_tolerance;
+    solvers::DynamicStart start = solvers::SolverSettings{}.dynamic_start;
   };
   SolverInput solver;
   const std::vector<Field<SolverInput>> solver_fields{
@@ -41,6 +42,7 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
              &SolverInput::path_tolerance),
       Number("relative_tolerance", Presence::kOptional, kSameUnit, Range{0, true, 1, true},
              &SolverInput::relative_tolerance),
+      Choice("start", Presence::kOptional, solvers::kDynamicStartNames, &SolverInput::start),
   };
   SpecInput spec;
   std::vector<Field<SpecInput>> spec_fields;
@@ -67,6 +69,7 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
   plan.solver.simulation.steps = solver.steps;
   plan.solver.simulation.path_tolerance = solver.path_tolerance;
   plan.solver.relative_tolerance = solver.relative_tolerance;
+  plan.solver.dynamic_start = solver.start;
   for (std::size_t k = 0; k < kOutputCount; ++k) {
     if (spec.upper[k]) plan.spec.push_back({kOutputNames[k], *spec.upper[k]});
   }

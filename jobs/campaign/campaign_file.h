@@ -11,6 +11,8 @@
 //                                  The quasistatic solver then converges each angle to
 //                                  1 % of it (solvers::SolverSettings), else to 1 pm
 //     relative_tolerance = 1e-6    > 0 and < 1: the dynamic solver's integration tolerance
+//     start = "quasistatic_equilibrium"  or "article_settle": where the dynamic solver
+//                                  starts (solvers::DynamicStart); the other rungs ignore it
 //   [spec]                         optional: upper specification limits (one-sided)
 //     d_trajectory_mm = 0.30       any output of jobs/campaign/sample_record.h, > 0 (mm or N)
 //

@@ -40,10 +40,14 @@ std::string_view SampleStatusName(SampleStatus status);
 // Every status, pending first, for enumerations in output files.
 const std::vector<SampleStatus>& AllSampleStatuses();
 
-// The per-sample outputs, in the order of kOutputNames (units in the names).
-inline constexpr std::array<const char*, 7> kOutputNames = {
-    "d_trajectory_mm", "dist_init_mm",        "static_offset_mm",   "runout_mm",
-    "swing_mm",        "min_contact_force_N", "max_contact_force_N"};
+// The per-sample outputs, in the order of kOutputNames (units in the names). The last two
+// are D_trajectory over the dynamic rung's first and steady revolutions
+// (solvers::DynamicOptions::steady_revolution); the time-free rungs' path is steady by
+// construction, so for them both equal d_trajectory_mm.
+inline constexpr std::array<const char*, 9> kOutputNames = {
+    "d_trajectory_mm",     "dist_init_mm",        "static_offset_mm",      "runout_mm",
+    "swing_mm",            "min_contact_force_N", "max_contact_force_N",   "d_trajectory_first_mm",
+    "d_trajectory_steady_mm"};
 inline constexpr std::size_t kOutputCount = kOutputNames.size();
 
 struct SampleRecord {

@@ -11,6 +11,8 @@
 namespace ringtol::jobs {
 int RunBenchDynamics(const BenchDynamicsCommand& command, std::ostream& out) {
   const engine::Scene scene = ReadScene(command.scene);
+  std::ofstream svg;
+  if (!command.svg.empty()) svg = OpenOutput(command.svg, "--svg");
   DynamicStudyOptions options;
   if (!command.orders.empty()) options.orders = command.orders;
   if (!command.rates_deg_per_s.empty()) {
@@ -19,6 +21,7 @@ int RunBenchDynamics(const BenchDynamicsCommand& command, std::ostream& out) {
   }
   const DynamicStudy study = RunDynamicStudy(scene, options, nullptr);
   PrintDynamicStudy(out, study);
+  if (svg.is_open()) WriteDynamicStudySvg(svg, study);
   return 0;
 }
 

@@ -18,6 +18,7 @@ struct BenchDynamicsCommand {
   std::filesystem::path scene;
   std::vector<int> orders;         // empty: the study's default (the article's orders)
   std::vector<double> rates_deg_per_s;  // empty: the study's default
+  std::filesystem::path svg;            // empty: none; else the start table's chart
 };
 int RunBenchDynamics(const BenchDynamicsCommand& command, std::ostream& out);
 

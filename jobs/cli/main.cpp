@@ -65,7 +65,7 @@ void AddSamplesAndSeed(CLI::App& app, std::optional<std::int64_t>& samples, std:
   app.add_option("--seed", seed, "Campaign seed (default: the file's)");
 }
 
-// --solver, --steps and --relative-tolerance, as simulate and sweep take them.
+// --solver, --steps, --relative-tolerance and --dynamic-start, as simulate and sweep take them.
 void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings, const std::string& steps_help) {
   std::vector<std::string> names;
   for (const auto& [rung, name] : ringtol::solvers::kRungNames) names.emplace_back(name);
@@ -79,6 +79,16 @@ void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings,
       ->check(CLI::Range(1, ringtol::solvers::kMaxSteps));
   app.add_option("--relative-tolerance", settings.relative_tolerance, "Dynamic solver: integrator tolerance, > 0 and < 1")
       ->capture_default_str();
+  std::vector<std::string> starts;
+  for (const auto& [start, name] : ringtol::solvers::kDynamicStartNames) starts.emplace_back(name);
+  app.add_option_function<std::string>(
+         "--dynamic-start",
+         [&settings](const std::string& name) {
+           settings.dynamic_start = *ValueNamed(ringtol::solvers::kDynamicStartNames, name);
+         },
+         "Dynamic solver: start at rest at the quasistatic equilibrium, or centred with the article's settle")
+      ->check(CLI::IsMember(starts))
+      ->default_str(std::string(NameOf(ringtol::solvers::kDynamicStartNames, settings.dynamic_start)));
 }
 
 CLI::App* AddSimulate(CLI::App& app, ringtol::jobs::SimulateCommand& simulate) {
@@ -136,6 +146,7 @@ CLI::App* AddBenchDynamics(CLI::App& bench, ringtol::jobs::BenchDynamicsCommand&
       ->check(CLI::Range(1, 1000));
   sub->add_option("--rates-deg-per-s", dynamics.rates_deg_per_s, "Steady speeds to compare (default: 1 3 10 30 90 270)")
       ->check(CLI::PositiveNumber);
+  sub->add_option("--svg", dynamics.svg, "Write the start table as a chart (D_trajectory against order) to this SVG file");
   return sub;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -67,13 +68,25 @@ void PutMetrics(nlohmann::json& j, const engine::Scene& scene, const solvers::Si
   j["contact_force_N"] = forces;
 }
 
-bool AnySteady(const std::vector<nlohmann::json>& rows) {
-  return std::any_of(rows.begin(), rows.end(), [](const nlohmann::json& row) { return row.contains("steady"); });
+// Whether any sweep row ran on the dynamic rung (and so has a start and two revolutions).
+bool AnyDynamic(const std::vector<nlohmann::json>& rows) {
+  return std::any_of(rows.begin(), rows.end(), [](const nlohmann::json& row) { return row.contains("dynamic_start"); });
 }
 
-// The steady revolution's D_trajectory of a sweep row, or null.
-nlohmann::json SteadyDiameter(const nlohmann::json& row) {
-  return row.contains("steady") ? row["steady"]["d_trajectory_mm"] : nlohmann::json();
+// D_trajectory of the first and of the steady revolution [mm], null where not usable. A
+// time-free rung's path does not depend on time, so both are its one D_trajectory; the
+// dynamic rung's steady one is its later revolution (null when it failed or the law
+// stopped before it).
+std::pair<nlohmann::json, nlohmann::json> FirstAndSteady(const solvers::SimulationResult& result, bool dynamic) {
+  if (result.status != solvers::Status::kOk) return {nlohmann::json(), nlohmann::json()};
+  const double first = result.d_trajectory * units::kMillimetresPerMetre;
+  if (!dynamic) return {first, first};
+  const bool steady = result.steady && result.steady->status == solvers::Status::kOk;
+  return {first, steady ? nlohmann::json(result.steady->d_trajectory * units::kMillimetresPerMetre) : nlohmann::json()};
+}
+
+std::string CsvNumber(const nlohmann::json& value) {
+  return value.is_null() ? "" : fmt::format("{:.9g}", value.get<double>());
 }
 
 // The lines the first and the steady revolution share: status, then the reason it failed or
@@ -96,11 +109,16 @@ bool PrintStatusAndDistances(std::ostream& out, std::string_view status, std::st
 }  // namespace
 
 nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationResult& result,
-                          std::string_view solver, double solve_seconds, const std::string& case_name) {
+                          const solvers::SolverSettings& solver, double solve_seconds, const std::string& case_name) {
   nlohmann::json j;
   if (!case_name.empty()) j["case"] = case_name;
-  j["solver"] = std::string(solver);
+  j["solver"] = std::string(NameOf(solvers::kRungNames, solver.rung));
+  const bool dynamic = solver.rung == solvers::Rung::kDynamic;
+  if (dynamic) j["dynamic_start"] = std::string(NameOf(solvers::kDynamicStartNames, solver.dynamic_start));
   PutMetrics(j, scene, result);
+  const auto [first_diameter, steady_diameter] = FirstAndSteady(result, dynamic);
+  j["d_trajectory_first_mm"] = first_diameter;
+  j["d_trajectory_steady_mm"] = steady_diameter;
   j["steps"] = result.steps;
   if (result.steady) {
     nlohmann::json steady;
@@ -112,9 +130,14 @@ nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationR
 }
 
 void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::SimulationResult& result,
-                 std::string_view solver, double solve_seconds) {
-  fmt::print(out, "solver            {} ({} steps, {:.3f} ms)\n", solver, result.steps, solve_seconds * 1e3);
+                 const solvers::SolverSettings& solver, double solve_seconds) {
+  fmt::print(out, "solver            {} ({} steps, {:.3f} ms)\n", solvers::SolverDescription(solver), result.steps,
+             solve_seconds * 1e3);
   if (!PrintStatusAndDistances(out, "status", "", result)) return;
+  if (solver.rung == solvers::Rung::kDynamic) {
+    const auto [first, steady] = FirstAndSteady(result, true);
+    fmt::print(out, "revolutions       D_trajectory first {} mm, steady {} mm\n", Cell(first, 4), Cell(steady, 4));
+  }
   fmt::print(out, "static offset     {:.4f} mm\n", result.static_offset * units::kMillimetresPerMetre);
   fmt::print(out, "runout            {:.4f} mm max - min (sensor at {:g} deg)\n", result.runout * units::kMillimetresPerMetre,
              scene.sensor_angle * units::kDegreesPerRadian);
@@ -135,25 +158,26 @@ void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::S
 void PrintSweepTable(std::ostream& out, const std::vector<nlohmann::json>& rows) {
   std::size_t case_width = 4;
   for (const nlohmann::json& row : rows) case_width = std::max(case_width, row.value("case", std::string()).size());
-  const bool steady = AnySteady(rows);
+  const bool dynamic = AnyDynamic(rows);
   fmt::print(out, "{:<{}}  {:<10}", "case", case_width, "status");
   for (const Column& c : kColumns) fmt::print(out, "  {:>{}}", c.header, c.width);
-  if (steady) fmt::print(out, "  {:>12}", "D_steady mm");
+  if (dynamic) fmt::print(out, "  {:>11}  {:>11}", "D_first mm", "D_steady mm");
   fmt::print(out, "\n");
   for (const nlohmann::json& row : rows) {
     fmt::print(out, "{:<{}}  {:<10}", row.value("case", std::string()), case_width, row["status"].get<std::string>());
     for (const Column& c : kColumns) fmt::print(out, "  {:>{}}", Cell(row[c.key], c.decimals), c.width);
-    if (steady) fmt::print(out, "  {:>12}", Cell(SteadyDiameter(row), 4));
+    if (dynamic) {
+      fmt::print(out, "  {:>11}  {:>11}", Cell(row["d_trajectory_first_mm"], 4), Cell(row["d_trajectory_steady_mm"], 4));
+    }
     if (row.contains("message")) fmt::print(out, "  {}", row["message"].get<std::string>());
     fmt::print(out, "\n");
   }
 }
 
 void WriteSweepCsv(std::ostream& out, const std::vector<nlohmann::json>& rows) {
-  const bool steady = AnySteady(rows);
   fmt::print(out, "case,solver,status,steps");
   for (const Column& c : kColumns) fmt::print(out, ",{}", c.key);
-  fmt::print(out, ",swing_mm,solve_time_ms,message{}\n", steady ? ",steady_d_trajectory_mm" : "");
+  fmt::print(out, ",swing_mm,solve_time_ms,message,d_trajectory_first_mm,d_trajectory_steady_mm,dynamic_start\n");
   auto quoted = [](const std::string& s) {
     std::string q = "\"";
     for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
@@ -166,11 +190,8 @@ void WriteSweepCsv(std::ostream& out, const std::vector<nlohmann::json>& rows) {
     fmt::print(out, ",{},{:.6g},{}",
                row["swing_mm"].is_null() ? "" : fmt::format("{:.9g}", row["swing_mm"].get<double>()),
                row["solve_time_ms"].get<double>(), quoted(row.value("message", std::string())));
-    if (steady) {
-      const nlohmann::json d = SteadyDiameter(row);
-      fmt::print(out, ",{}", d.is_null() ? "" : fmt::format("{:.9g}", d.get<double>()));
-    }
-    fmt::print(out, "\n");
+    fmt::print(out, ",{},{},{}\n", CsvNumber(row["d_trajectory_first_mm"]), CsvNumber(row["d_trajectory_steady_mm"]),
+               row.value("dynamic_start", std::string()));
   }
 }
 

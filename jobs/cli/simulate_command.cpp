@@ -59,8 +59,8 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out) {
   std::ofstream history_file;
   if (!command.history_csv.empty()) history_file = OpenOutput(command.history_csv, "--history");
   const Timed run = SimulateTimed(scene, *solver, command.solver.simulation);
-  nlohmann::json json = ResultJson(scene, run.result, solver->name(), run.seconds);
-  if (!command.json) PrintResult(out, scene, run.result, solver->name(), run.seconds);
+  nlohmann::json json = ResultJson(scene, run.result, command.solver, run.seconds);
+  if (!command.json) PrintResult(out, scene, run.result, command.solver, run.seconds);
   if (trajectory.is_open()) WriteTrajectoryCsv(trajectory, scene, run.result);
   if (history_file.is_open()) {
     const solvers::DynamicHistory history =
@@ -85,7 +85,7 @@ int RunSweep(const SweepCommand& command, std::ostream& out) {
   std::vector<nlohmann::json> rows;
   for (const SweepCase& c : sweep.cases) {
     const Timed run = SimulateTimed(c.scene, *solver, command.solver.simulation);
-    rows.push_back(ResultJson(c.scene, run.result, solver->name(), run.seconds, c.name));
+    rows.push_back(ResultJson(c.scene, run.result, command.solver, run.seconds, c.name));
   }
   if (command.json) {
     out << nlohmann::json(rows).dump(2) << "\n";

@@ -15,7 +15,7 @@ namespace ringtol::jobs {
 
 struct SimulateCommand {
   std::filesystem::path scene;           // scene TOML file
-  solvers::SolverSettings solver;        // --solver, --steps, --relative-tolerance; no sampling budget
+  solvers::SolverSettings solver;        // --solver, --steps, --relative-tolerance, --dynamic-start; no sampling budget
   bool json = false;                     // one JSON object instead of text
   std::filesystem::path trajectory_csv;  // empty: no trajectory file
   std::filesystem::path history_csv;     // dynamic solver only: time history over the motion law's span

@@ -3,11 +3,14 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
 #include "jobs/inputs/input_error.h"
+#include "jobs/report/svg_chart.h"
 #include "solvers/dynamic.h"
 #include "solvers/quasistatic.h"
 #include "solvers/simulation.h"
@@ -79,9 +82,11 @@ DynamicStudy RunDynamicStudy(const engine::Scene& scene, const DynamicStudyOptio
   study.rates = options.rates;
   const solvers::QuasistaticSolver quasistatic;
   const solvers::DynamicSolver dynamic;
-  solvers::DynamicOptions first_only;
-  first_only.steady_revolution = 0;
-  const solvers::DynamicSolver dynamic_first(first_only);
+  solvers::DynamicOptions article_start;
+  article_start.start = solvers::DynamicStart::kArticleSettle;
+  const solvers::DynamicSolver dynamic_article(article_start);
+  article_start.steady_revolution = 0;
+  const solvers::DynamicSolver dynamic_article_first(article_start);
   const double revolutions = dynamic.options().steady_revolution + 1.0;
   for (const int order : options.orders) {
     engine::Scene sample = scene;
@@ -95,8 +100,12 @@ DynamicStudy RunDynamicStudy(const engine::Scene& scene, const DynamicStudyOptio
     const Diameters at_speed = Run(sample, dynamic, name + ", dynamic", study.failures);
     transient.first = at_speed.first;
     transient.steady = at_speed.steady;
+    const Diameters settled = Run(sample, dynamic_article, name + ", dynamic after the article's settle", study.failures);
+    transient.first_article_settle = settled.first;
+    transient.steady_article_settle = settled.steady;
     sample.motion = engine::ArticleLaw(options.long_settle, study.rate, 1.0);
-    transient.first_long_settle = Run(sample, dynamic_first, name + ", dynamic after a long settle", study.failures).first;
+    transient.first_long_settle =
+        Run(sample, dynamic_article_first, name + ", dynamic after a long settle", study.failures).first;
     study.transient.push_back(transient);
 
     SpeedRow speed;
@@ -116,15 +125,21 @@ DynamicStudy RunDynamicStudy(const engine::Scene& scene, const DynamicStudyOptio
 void PrintDynamicStudy(std::ostream& out, const DynamicStudy& study) {
   fmt::print(out, "Start transient at {:g} deg/s after a {:g} s settle: D_trajectory [um]\n", study.rate * units::kDegreesPerRadian,
              study.settle);
-  fmt::print(out, "{:>5} {:>12} {:>12} {:>14} {:>12} {:>12} {:>12}\n", "order", "quasistatic", "first rev",
-             "after long", "steady rev", "unsettled", "speed step");
+  fmt::print(out, "{:>5} {:>12} | {:^38} | {:^38} | {:^25}\n", "", "", "from the quasistatic equilibrium",
+             "from the article's start", "article's first rev excess");
+  fmt::print(out, "{:>5} {:>12} | {:>12} {:>12} {:>12} | {:>12} {:>12} {:>12} | {:>12} {:>12}\n", "order", "quasistatic",
+             "first rev", "steady rev", "first-steady", "first rev", "after long", "steady rev", "unsettled",
+             "speed step");
   for (const TransientRow& row : study.transient) {
-    // The first revolution's excess over the quasi-static value splits into what a long
-    // settle removes (the ring had not settled) and what remains (the step in speed,
+    // The article's first revolution's excess over the quasi-static value splits into what
+    // a long settle removes (the ring had not settled) and what remains (the step in speed,
     // together with the steady lag the steady revolution also carries).
-    fmt::print(out, "{:>5} {:>12} {:>12} {:>14} {:>12} {:>12} {:>12}\n", row.order, Micrometres(row.quasistatic),
-               Micrometres(row.first), Micrometres(row.first_long_settle), Micrometres(row.steady),
-               Micrometres(row.first - row.first_long_settle), Micrometres(row.first_long_settle - row.quasistatic));
+    fmt::print(out, "{:>5} {:>12} | {:>12} {:>12} {:>12} | {:>12} {:>12} {:>12} | {:>12} {:>12}\n", row.order,
+               Micrometres(row.quasistatic), Micrometres(row.first), Micrometres(row.steady),
+               Micrometres(row.first - row.steady), Micrometres(row.first_article_settle),
+               Micrometres(row.first_long_settle), Micrometres(row.steady_article_settle),
+               Micrometres(row.first_article_settle - row.first_long_settle),
+               Micrometres(row.first_long_settle - row.quasistatic));
   }
   fmt::print(out, "\nSteady revolution against quasistatic: |D_dynamic - D_quasistatic| [um]\n{:>5}", "order");
   for (const double rate : study.rates) fmt::print(out, " {:>10}", fmt::format("{:g}deg/s", rate * units::kDegreesPerRadian));
@@ -142,6 +157,66 @@ void PrintDynamicStudy(std::ostream& out, const DynamicStudy& study) {
     fmt::print(out, "\nFailed runs ({}):\n", study.failures.size());
     for (const std::string& failure : study.failures) fmt::print(out, "  {}\n", failure);
   }
+}
+
+}  // namespace ringtol::jobs
+
+namespace ringtol::jobs {
+
+void WriteDynamicStudySvg(std::ostream& out, const DynamicStudy& study) {
+  // The article's abstract: D_trajectory from 0.29 to 0.63 mm over its order study.
+  constexpr double kArticleLowest = 0.29;   // [mm]
+  constexpr double kArticleHighest = 0.63;  // [mm]
+  svg::Chart chart;
+  chart.title = fmt::format("D_trajectory against ring order at {:g} deg/s: quasistatic, dynamic first and steady revolutions",
+                            study.rate * units::kDegreesPerRadian);
+  chart.x = {.label = "ring order n"};
+  chart.y = {.label = "D_trajectory [mm]"};
+  chart.width = 900.0;
+  chart.height = 500.0;
+  std::vector<double> orders;
+  for (const TransientRow& row : study.transient) orders.push_back(row.order);
+  if (!orders.empty()) {
+    svg::Series range;
+    range.name = fmt::format("article's reported range, {:g}-{:g} mm", kArticleLowest, kArticleHighest);
+    range.x = {orders.front() - 0.5, orders.back() + 0.5};
+    range.y = {kNaN, kNaN};  // the band alone
+    range.band_lower = {kArticleLowest, kArticleLowest};
+    range.band_upper = {kArticleHighest, kArticleHighest};
+    range.colour = 5;
+    chart.series.push_back(std::move(range));
+  }
+  struct Curve {
+    std::string name;
+    double TransientRow::*value;
+    int colour;
+    bool dashed;
+  };
+  const std::vector<Curve> curves = {
+      {fmt::format("dynamic, first revolution after the article's {:g} s settle", study.settle),
+       &TransientRow::first_article_settle, 1, false},
+      {"dynamic, first revolution from the quasistatic equilibrium (default)", &TransientRow::first, 0, false},
+      {"dynamic, steady (4th) revolution", &TransientRow::steady, 3, true},
+      {"quasistatic", &TransientRow::quasistatic, 2, true},
+  };
+  for (const Curve& curve : curves) {
+    svg::Series line;
+    line.name = curve.name;
+    line.colour = curve.colour;
+    line.dashed = curve.dashed;
+    svg::Series points;
+    points.style = svg::Series::Style::kPoints;
+    points.colour = curve.colour;
+    for (const TransientRow& row : study.transient) {
+      line.x.push_back(row.order);
+      line.y.push_back(row.*curve.value * units::kMillimetresPerMetre);
+    }
+    points.x = line.x;
+    points.y = line.y;
+    chart.series.push_back(std::move(line));
+    chart.series.push_back(std::move(points));
+  }
+  out << svg::RenderChart(chart);
 }
 
 }  // namespace ringtol::jobs

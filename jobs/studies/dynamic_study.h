@@ -1,10 +1,12 @@
 // `ringtol bench dynamics`: where the quasi-static answer stops being the answer. For one
 // scene (its ring errors replaced by one harmonic per order studied, docs/model.md §6.1) it
 // measures, with the dynamic rung's full model at its default tolerance:
-//   - the start transient: D_trajectory quasi-statically, over the first revolution after
-//     the scene's settle, over the first revolution after a long settle, and over a later
-//     steady revolution; the differences split the article's excess over the quasi-static
-//     value into "the ring had not settled" and "the step in speed";
+//   - the start: D_trajectory quasi-statically; over the first and a later steady
+//     revolution from the default start (at rest at the quasistatic equilibrium); and,
+//     from the article's start (centred, settling under the preload), over the first
+//     revolution after the scene's settle, the first after a long settle and the steady
+//     one. The differences split the article's excess over the quasi-static value into
+//     "the ring had not settled" and "the step in speed";
 //   - speed: the steady-revolution D_trajectory against the quasi-static one at several
 //     steady speeds, and per order the speed above which they differ by more than 1 um.
 // Every run that fails keeps its status in the table ("-" and a footnote), never a number.
@@ -30,12 +32,17 @@ struct DynamicStudyOptions {
   double agreement = 1e-6;            // [m] "within 1 um"
 };
 
+// D_trajectory per run [m], NaN when the run failed.
 struct TransientRow {
   int order = 0;
-  double quasistatic = 0.0;         // [m] D_trajectory, NaN when the run failed
-  double first = 0.0;               // [m] first revolution after the scene's settle
-  double first_long_settle = 0.0;   // [m] first revolution after options.long_settle
-  double steady = 0.0;              // [m] a later revolution (the solver's steady_revolution)
+  double quasistatic = 0.0;
+  // From the default start (solvers::DynamicStart::kQuasistaticEquilibrium), the scene's law.
+  double first = 0.0;               // first revolution
+  double steady = 0.0;              // a later revolution (the solver's steady_revolution)
+  // From the article's start (solvers::DynamicStart::kArticleSettle).
+  double first_article_settle = 0.0;   // first revolution after the scene's settle
+  double first_long_settle = 0.0;      // first revolution after options.long_settle
+  double steady_article_settle = 0.0;  // the later revolution after the scene's settle
 };
 
 struct SpeedRow {
@@ -58,5 +65,10 @@ struct DynamicStudy {
 DynamicStudy RunDynamicStudy(const engine::Scene& scene, const DynamicStudyOptions& options, std::ostream* progress);
 
 void PrintDynamicStudy(std::ostream& out, const DynamicStudy& study);
+
+// The start table as a chart (jobs/report/svg_chart.h): D_trajectory [mm] against ring
+// order, quasistatic, the first and steady revolutions from the default start, the first
+// after the article's settle, with the article's reported range 0.29-0.63 mm as a band.
+void WriteDynamicStudySvg(std::ostream& out, const DynamicStudy& study);
 
 }  // namespace ringtol::jobs

@@ -74,6 +74,8 @@ std::vector<Case> Cases(const engine::Scene& scene, const LadderOptions& options
 std::shared_ptr<const solvers::Solver> Dynamic(double tolerance, solvers::DynamicMethod method = solvers::DynamicMethod::kImplicitBdf,
                                                double step = 0.0) {
   solvers::DynamicOptions options;
+  // The article's start: the reference is its quantity, the first revolution after its settle.
+  options.start = solvers::DynamicStart::kArticleSettle;
   options.steady_revolution = 0;
   options.relative_tolerance = tolerance;
   options.method = method;

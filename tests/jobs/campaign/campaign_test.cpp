@@ -99,6 +99,22 @@ TEST(CampaignFile, BadKeysNameTheKeyTheValueAndWhatIsAllowed) {
               AllOf(HasSubstr("solver.path_tolerance_um"), HasSubstr(">= 0")));
   EXPECT_THAT(CampaignErrorOf(ReplaceOnce(kSmallCampaign, "zone_diameter_mm = 0.05", "class = \"IT99\"")),
               HasSubstr("IT99"));
+  EXPECT_THAT(CampaignErrorOf(ReplaceOnce(kSmallCampaign, "[solver]\n", "[solver]\nstart = \"at_rest\"\n")),
+              AllOf(HasSubstr("solver.start"), HasSubstr("at_rest"), HasSubstr("\"quasistatic_equilibrium\""),
+                    HasSubstr("\"article_settle\"")));
+}
+
+// The dynamic rung's start is a stated choice: the quasistatic equilibrium unless the file
+// says otherwise, and the results file's solver names it.
+TEST(CampaignFile, TheDynamicStartDefaultsToTheQuasistaticEquilibriumAndIsRecorded) {
+  using testing::ReplaceOnce;
+  const std::string dynamic = ReplaceOnce(kSmallCampaign, "name = \"quasistatic\"", "name = \"dynamic\"");
+  const TempFile default_start(dynamic);
+  EXPECT_EQ(ReadCampaignFile(default_start.path()).solver.dynamic_start, solvers::DynamicStart::kQuasistaticEquilibrium);
+  const Campaign campaign(default_start.path(), std::nullopt, std::nullopt);
+  EXPECT_EQ(campaign.identity().solver, "dynamic, start quasistatic_equilibrium");
+  const TempFile article(ReplaceOnce(dynamic, "[solver]\n", "[solver]\nstart = \"article_settle\"\n"));
+  EXPECT_EQ(ReadCampaignFile(article.path()).solver.dynamic_start, solvers::DynamicStart::kArticleSettle);
 }
 
 TEST(SampleEvaluator, ASampleIsTheSameWhereverAndWheneverItIsComputed) {

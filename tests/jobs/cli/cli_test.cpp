@@ -216,10 +216,13 @@ TEST(Cli, DynamicSimulateWritesItsHistoryAndSteadyRevolution) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json j = nlohmann::json::parse(run.out);
   EXPECT_EQ(j["solver"], "dynamic");
+  EXPECT_EQ(j["dynamic_start"], "quasistatic_equilibrium");
   EXPECT_EQ(j["status"], "ok") << j.dump();
   ASSERT_TRUE(j.contains("steady"));
   EXPECT_EQ(j["steady"]["status"], "ok");
   EXPECT_TRUE(j["steady"]["d_trajectory_mm"].is_number());
+  EXPECT_EQ(j["d_trajectory_first_mm"], j["d_trajectory_mm"]);
+  EXPECT_EQ(j["d_trajectory_steady_mm"], j["steady"]["d_trajectory_mm"]);
   EXPECT_EQ(j["history_status"], "ok");
   std::ifstream in(csv);
   std::string header;
@@ -249,10 +252,41 @@ TEST(Cli, HistoryNeedsTheDynamicSolverAndSaysSoBeforeAnyWork) {
   EXPECT_EQ(line, "earlier results");
 }
 
-TEST(Cli, QuasistaticJsonHasNoSteadyRevolution) {
+// A time-free rung's path is steady by construction: its first and steady revolutions are
+// its one D_trajectory, and it has no start.
+TEST(Cli, QuasistaticJsonHasNoSteadyRevolutionAndOneDiameterForBoth) {
   const Outcome run = Ringtol("simulate " + Example("order3.toml") + " --json --steps 90");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_FALSE(nlohmann::json::parse(run.out).contains("steady"));
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  EXPECT_FALSE(j.contains("steady"));
+  EXPECT_FALSE(j.contains("dynamic_start"));
+  EXPECT_EQ(j["d_trajectory_first_mm"], j["d_trajectory_mm"]);
+  EXPECT_EQ(j["d_trajectory_steady_mm"], j["d_trajectory_mm"]);
+}
+
+TEST(Cli, DynamicStartIsOneOfItsNamesAndSaysWhichWhenNot) {
+  const Outcome run = Ringtol("simulate " + Example("scene.toml") + " --solver dynamic --dynamic-start centred");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_THAT(run.err, HasSubstr("centred"));
+  EXPECT_THAT(run.err, HasSubstr("article_settle"));
+}
+
+TEST(Cli, DynamicSweepWritesFirstAndSteadyRevolutionsToItsTableAndCsv) {
+  const std::filesystem::path sweep = std::filesystem::path(::testing::TempDir()) / "ringtol_dynamic_sweep.toml";
+  std::ofstream(sweep) << "scene = \"" << ShortDynamicScene().string()
+                       << "\"\n[study]\ntarget = \"ring\"\norders = [2]\namplitudes_mm = [0.14]\n";
+  const std::filesystem::path csv = std::filesystem::path(::testing::TempDir()) / "ringtol_dynamic_sweep.csv";
+  const Outcome run = Ringtol("sweep " + sweep.string() + " --solver dynamic --dynamic-start article_settle --steps 36 --csv " +
+                              csv.string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("D_first mm"));
+  EXPECT_THAT(run.out, HasSubstr("D_steady mm"));
+  std::ifstream in(csv);
+  std::string header, row;
+  std::getline(in, header);
+  std::getline(in, row);
+  EXPECT_THAT(header, HasSubstr(",d_trajectory_first_mm,d_trajectory_steady_mm,dynamic_start"));
+  EXPECT_THAT(row, HasSubstr(",article_settle"));
 }
 
 TEST(Cli, BenchDynamicsPrintsBothTables) {

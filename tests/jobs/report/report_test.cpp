@@ -198,15 +198,13 @@ TEST_F(ReportTest, OrbitsOfTheWorstAndTheMedianSampleReplayTheirStoredOutputsAft
                 stored.outputs[Column("dist_init_mm")] * kUmPerMm, tolerance_um)
         << t.label;
     // The sensor: one revolution, its minimum at 0 and its maximum at TIR, the stored
-    // total indicator reading (max - min: runout_total_mm, or runout_mm where that is it).
+    // total indicator reading, runout_mm.
     ASSERT_FALSE(t.sensor_um.empty());
     EXPECT_EQ(t.angle_deg.front(), 0.0);
     EXPECT_NEAR(t.angle_deg.back(), 360.0, kRoundOffDeg);
     EXPECT_EQ(*std::min_element(t.sensor_um.begin(), t.sensor_um.end()), 0.0);
     EXPECT_EQ(*std::max_element(t.sensor_um.begin(), t.sensor_um.end()), t.tir_um);
-    const bool total_column = Column("runout_total_mm") < kOutputCount;
-    EXPECT_NEAR(t.tir_um, stored.outputs[Column(total_column ? "runout_total_mm" : "runout_mm")] * kUmPerMm,
-                tolerance_um)
+    EXPECT_NEAR(t.tir_um, stored.outputs[Column("runout_mm")] * kUmPerMm, tolerance_um)
         << t.label;
   }
 

@@ -41,6 +41,34 @@ TEST(DynamicStudy, ReportsWhatTheRungsGiveForTheSameScene) {
   EXPECT_EQ(study.transient[0].first, dynamic.d_trajectory);
   ASSERT_TRUE(dynamic.steady);
   EXPECT_EQ(study.transient[0].steady, dynamic.steady->d_trajectory);
+  solvers::DynamicOptions article;
+  article.start = solvers::DynamicStart::kArticleSettle;
+  const solvers::SimulationResult settled = solvers::Simulate(order3, solvers::DynamicSolver(article));
+  EXPECT_EQ(study.transient[0].first_article_settle, settled.d_trajectory);
+  ASSERT_TRUE(settled.steady);
+  EXPECT_EQ(study.transient[0].steady_article_settle, settled.steady->d_trajectory);
+}
+
+// The chart carries every curve of the start table and the article's range.
+TEST(DynamicStudy, ChartsEveryRevolutionAgainstTheArticlesRange) {
+  jobs::DynamicStudy study;
+  study.rate = 270.0 * kDeg;
+  study.settle = 0.5;
+  study.transient.push_back({.order = 3,
+                             .quasistatic = 546.8e-6,
+                             .first = 560.0e-6,
+                             .steady = 559.0e-6,
+                             .first_article_settle = 655.4e-6,
+                             .first_long_settle = 561.4e-6,
+                             .steady_article_settle = 559.0e-6});
+  std::ostringstream svg;
+  jobs::WriteDynamicStudySvg(svg, study);
+  EXPECT_THAT(svg.str(), HasSubstr("<svg"));
+  EXPECT_THAT(svg.str(), HasSubstr("reported range, 0.29-0.63 mm"));
+  EXPECT_THAT(svg.str(), HasSubstr("first revolution from the quasistatic equilibrium"));
+  EXPECT_THAT(svg.str(), HasSubstr("first revolution after the article"));
+  EXPECT_THAT(svg.str(), HasSubstr("steady (4th) revolution"));
+  EXPECT_THAT(svg.str(), HasSubstr("quasistatic"));
 }
 
 // The creep lag grows with speed (tau * rate * |dx/dpsi|), so the gap to the quasi-static
