@@ -298,6 +298,9 @@ class PhasorRun {
 struct TermGroup {
   std::vector<double> rates;
   std::vector<double> weights;
+  // Per output, the range of terms [first, last) outside which its weights are zero: a
+  // contact's slope rows see only the bore's or only one roller's terms.
+  std::vector<std::size_t> first, last;
   std::size_t size() const { return rates.size(); }
 };
 
@@ -308,7 +311,17 @@ TermGroup MakeGroup(const Eigen::MatrixXd& matrix, const std::vector<Eigen::Inde
   group.weights.reserve(columns.size() * static_cast<std::size_t>(matrix.rows()));
   for (Eigen::Index p : columns) group.rates.push_back(all_rates[static_cast<std::size_t>(p)]);
   for (Eigen::Index o = 0; o < matrix.rows(); ++o) {
-    for (Eigen::Index p : columns) group.weights.push_back(matrix(o, p));
+    std::size_t first = columns.size(), last = 0;
+    for (std::size_t q = 0; q < columns.size(); ++q) {
+      const double weight = matrix(o, columns[q]);
+      group.weights.push_back(weight);
+      if (weight != 0.0) {
+        first = std::min(first, q);
+        last = q + 1;
+      }
+    }
+    group.first.push_back(std::min(first, last));
+    group.last.push_back(last);
   }
   return group;
 }
@@ -320,9 +333,9 @@ Lanes SumGroup(const TermGroup& group, std::size_t o, const double* table, std::
   using Pair = Eigen::Array2d;
   const std::size_t terms = group.size();
   const double* weight = group.weights.data() + o * terms;
-  const double* values = table + j;
+  const double* values = table + group.first[o] * count + j;
   Pair a = Pair::Zero(), b = Pair::Zero(), c = Pair::Zero(), d = Pair::Zero();
-  for (std::size_t q = 0; q < terms; ++q, values += count) {
+  for (std::size_t q = group.first[o]; q < group.last[o]; ++q, values += count) {
     const double w = weight[q];
     a += w * Eigen::Map<const Pair>(values);
     b += w * Eigen::Map<const Pair>(values + 2);
@@ -467,7 +480,8 @@ double ErrorEstimate(const Scene& scene, const NominalResponse& nominal, const T
     if (nominal.travel_row[i] >= 0) travel0[i] = nominal.y0[nominal.travel_row[i]];
   }
   const double ring_radius = nominal.ring_radius;
-  std::vector<Eigen::Vector2d> error(trajectory.centre.size(), Eigen::Vector2d::Zero());
+  thread_local std::vector<Eigen::Vector2d> error;  // per thread, as the slopes
+  error.assign(trajectory.centre.size(), Eigen::Vector2d::Zero());
   for (std::size_t k = 0; k < trajectory.centre.size(); ++k) {
     const Eigen::Vector2d moved = trajectory.centre[k] - centre0;
     const double* slope = slopes.data() + k * 2 * zs;
@@ -552,8 +566,11 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
   path.row[0] = trajectory.centre.front().data();
   path.row[1] = path.row[0] + 1;
   path.stride[0] = path.stride[1] = 2;
-  // The gap slopes, psi-major: slopes[k * 2Z + j] for slope row first_slope_row + j.
-  std::vector<double> slopes(n * 2 * zs);
+  // The gap slopes, psi-major: slopes[k * 2Z + j] for slope row first_slope_row + j. Kept
+  // per thread: a fresh buffer (48 bytes an angle) lies above malloc's mmap threshold at
+  // campaign resolutions, and its page faults would cost more than the estimate.
+  thread_local std::vector<double> slopes;
+  slopes.resize(n * 2 * zs);
   for (std::size_t i = 0; i < zs; ++i) {
     const int s = nominal.travel_row[i];
     if (s >= 0) path.row[static_cast<std::size_t>(s)] = trajectory.travel.data() + i;

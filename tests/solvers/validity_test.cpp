@@ -96,7 +96,7 @@ std::vector<EdgeScene> Table() {
       Status::kRollerDoesNotFit);
   // Preload 0.4 N = 0.30 mm of spring travel: the 0.42 mm swing unloads it completely.
   add("preload_0.4N", WithSpring(WithRing({{3, 0.14e-3, 45.0 * kDeg}}), 0.4, 5e-3), Status::kLiftOff);
-  // Preload 1.0 N = 0.75 mm of spring travel: the swing leaves ~0.3 N at its lightest.
+  // Preload 1.0 N = 0.75 mm of spring travel: the swing leaves about 0.4 N at its lightest.
   add("preload_1.0N", WithSpring(WithRing({{3, 0.14e-3, 45.0 * kDeg}}), 1.0, 5e-3), Status::kOk);
   return table;
 }
