@@ -8,6 +8,9 @@
 
 #include <Eigen/LU>
 
+#include "engine/enclosing_circle.h"
+#include "solvers/validity.h"
+
 namespace ringtol::solvers {
 namespace {
 
@@ -15,12 +18,15 @@ using engine::Scene;
 using Complex = std::complex<double>;
 
 // Outputs y = [centre (2); travel per spring roller; contact force per roller (Z)]: the
-// travel rows are x's (fixed rollers do not travel, and carry no rows to evaluate).
+// travel rows are x's (fixed rollers do not travel, and carry no rows to evaluate). Below
+// them, 2Z rows that only the error estimate reads: the slope d(dg_i)/dphi that the
+// bore's harmonics (rows first_slope_row + i) and the roller's own (+ Z + i) give contact
+// i's gap function at its nominal normal.
 // Every error term p adds cosine_p cos(rate_p psi) + sine_p sin(rate_p psi), the real
 // part of v_p e^{-i rate_p psi} with v_p = cosine_p + i sine_p.
 struct Linearisation {
   std::shared_ptr<const NominalResponse> nominal;
-  Eigen::VectorXd offset;            // y at psi-independent errors: y0 + Y dg_constant
+  Eigen::VectorXd offset;            // y at psi-independent errors: y0 + Y dg_constant; slopes 0
   Eigen::MatrixXd cosine;            // outputs x terms
   Eigen::MatrixXd sine;              // outputs x terms
   std::vector<double> rates;         // [rad of phase per rad of ring angle]
@@ -36,11 +42,18 @@ struct NominalResponse {
   int rollers = 0;
   std::vector<int> travel_row;       // row of roller i's travel in y, or -1 (fixed)
   int first_force_row = 0;           // row of roller 0's contact force in y
+  int first_slope_row = 0;           // row of contact 0's bore slope (first_force_row + Z)
   std::vector<engine::Contact> contacts;  // at the equilibrium
   Eigen::VectorXd y0;                // outputs at the equilibrium
   // Response of the outputs to each contact's gap value (columns 0..Z-1) and gap slope
   // (Z..2Z-1).
   Eigen::MatrixXd response;
+  // What the second-order error estimate needs of each contact (ErrorEstimate).
+  double ring_radius = 0.0;                 // [m] the bore's
+  std::vector<double> roller_radius;        // [m]
+  std::vector<double> penetration;          // [m] delta at the equilibrium (penalty law; 0 rigid)
+  std::vector<double> force_stiffness;      // [N/m] dF/d delta there (penalty law; 0 rigid)
+  double exponent = 1.0;                    // [-] of the penalty law
 };
 
 namespace {
@@ -70,6 +83,9 @@ std::shared_ptr<const NominalResponse> ComputeNominal(engine::Scene perfect, con
 
   const int springs = system.size() - 2 - (system.rigid() ? z : 0);
   nominal->first_force_row = 2 + springs;
+  nominal->first_slope_row = nominal->first_force_row + z;
+  nominal->ring_radius = scene.ring.inner.radius();
+  nominal->exponent = scene.contact.exponent;
   const int outputs = nominal->first_force_row + z;
   Eigen::MatrixXd& response = nominal->response;
   Eigen::VectorXd& y0 = nominal->y0;
@@ -90,6 +106,8 @@ std::shared_ptr<const NominalResponse> ComputeNominal(engine::Scene perfect, con
     y0[f] = system.ContactForce(i, x, c);
     if (system.rigid()) {
       response.row(f) = dx.row(system.force_index(i));
+      nominal->penetration.push_back(0.0);
+      nominal->force_stiffness.push_back(0.0);
     } else {
       // F = k delta^e with delta = -(g + dg_i + dg/dx dx): dF = -k e delta^(e-1) (dg_i + dg/dx dx).
       const double e = scene.contact.exponent;
@@ -100,7 +118,10 @@ std::shared_ptr<const NominalResponse> ComputeNominal(engine::Scene perfect, con
       Eigen::RowVectorXd row = gap_gradient * dx;
       row[i] += 1.0;
       response.row(f) = -stiffness * row;
+      nominal->penetration.push_back(std::max(-c.gap, 0.0));
+      nominal->force_stiffness.push_back(stiffness);
     }
+    nominal->roller_radius.push_back(scene.rollers[static_cast<std::size_t>(i)].outline.radius());
   }
   return nominal;
 }
@@ -121,17 +142,21 @@ Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalRespons
       terms += roller.outline.cos_coefficient(m) != 0.0 || roller.outline.sin_coefficient(m) != 0.0;
     }
   }
-  lin.cosine.setZero(response.rows(), terms);
-  lin.sine.setZero(response.rows(), terms);
+  const Eigen::Index rows = nominal.first_slope_row + 2 * z;
+  lin.cosine.setZero(rows, terms);
+  lin.sine.setZero(rows, terms);
   lin.rates.reserve(static_cast<std::size_t>(terms));
 
   // Every error term as a change of each contact's gap function near its nominal
   // direction phi_i: a bore harmonic a e^{i n theta} adds Re[a e^{i n (phi - psi)}] to
   // g_i(phi), with slope Re[i n a e^{i n (phi - psi)}]; a roller harmonic subtracts.
-  auto add_gap_and_slope = [&](Eigen::Index p, int i, Complex value, double order) {
+  auto add_gap_and_slope = [&](Eigen::Index p, int i, Complex value, double order, Eigen::Index slope_row) {
     const Complex slope = Complex(0.0, order) * value;
-    lin.cosine.col(p) += value.real() * response.col(i) + slope.real() * response.col(z + i);
-    lin.sine.col(p) += value.imag() * response.col(i) + slope.imag() * response.col(z + i);
+    const Eigen::Index outputs = response.rows();
+    lin.cosine.col(p).head(outputs) += value.real() * response.col(i) + slope.real() * response.col(z + i);
+    lin.sine.col(p).head(outputs) += value.imag() * response.col(i) + slope.imag() * response.col(z + i);
+    lin.cosine(slope_row, p) += slope.real();
+    lin.sine(slope_row, p) += slope.imag();
   };
   Eigen::Index p = 0;
   // e^{i n phi_i} as powers of the nominal normal (cos phi_i, sin phi_i): no libm per order.
@@ -144,7 +169,9 @@ Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalRespons
     for (std::size_t i = 0; i < normal.size(); ++i) normal_power[i] *= normal[i];
     const Complex a(ring.cos_coefficient(n), ring.sin_coefficient(n));
     if (a == Complex(0.0)) continue;
-    for (int i = 0; i < z; ++i) add_gap_and_slope(p, i, a * normal_power[static_cast<std::size_t>(i)], n);
+    for (int i = 0; i < z; ++i) {
+      add_gap_and_slope(p, i, a * normal_power[static_cast<std::size_t>(i)], n, nominal.first_slope_row + i);
+    }
     lin.rates.push_back(n);
     ++p;
   }
@@ -159,12 +186,13 @@ Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalRespons
     for (int m = 1; m <= outline.max_order(); ++m) {
       const Complex a(outline.cos_coefficient(m), outline.sin_coefficient(m));
       if (a == Complex(0.0)) continue;
-      add_gap_and_slope(p, i, -a * std::polar(1.0, m * (c.normal_angle - body0)), m);
+      add_gap_and_slope(p, i, -a * std::polar(1.0, m * (c.normal_angle - body0)), m, nominal.first_slope_row + z + i);
       lin.rates.push_back(m * engine::SpinRatio(scene, i));
       ++p;
     }
   }
-  lin.offset = nominal.y0 + response * constant;
+  lin.offset = Eigen::VectorXd::Zero(rows);
+  lin.offset.head(response.rows()) = nominal.y0 + response * constant;
   return lin;
 }
 
@@ -270,6 +298,9 @@ class PhasorRun {
 struct TermGroup {
   std::vector<double> rates;
   std::vector<double> weights;
+  // Per output, the range of terms [first, last) outside which its weights are zero: a
+  // contact's slope rows see only the bore's or only one roller's terms.
+  std::vector<std::size_t> first, last;
   std::size_t size() const { return rates.size(); }
 };
 
@@ -280,7 +311,17 @@ TermGroup MakeGroup(const Eigen::MatrixXd& matrix, const std::vector<Eigen::Inde
   group.weights.reserve(columns.size() * static_cast<std::size_t>(matrix.rows()));
   for (Eigen::Index p : columns) group.rates.push_back(all_rates[static_cast<std::size_t>(p)]);
   for (Eigen::Index o = 0; o < matrix.rows(); ++o) {
-    for (Eigen::Index p : columns) group.weights.push_back(matrix(o, p));
+    std::size_t first = columns.size(), last = 0;
+    for (std::size_t q = 0; q < columns.size(); ++q) {
+      const double weight = matrix(o, columns[q]);
+      group.weights.push_back(weight);
+      if (weight != 0.0) {
+        first = std::min(first, q);
+        last = q + 1;
+      }
+    }
+    group.first.push_back(std::min(first, last));
+    group.last.push_back(last);
   }
   return group;
 }
@@ -292,9 +333,9 @@ Lanes SumGroup(const TermGroup& group, std::size_t o, const double* table, std::
   using Pair = Eigen::Array2d;
   const std::size_t terms = group.size();
   const double* weight = group.weights.data() + o * terms;
-  const double* values = table + j;
+  const double* values = table + group.first[o] * count + j;
   Pair a = Pair::Zero(), b = Pair::Zero(), c = Pair::Zero(), d = Pair::Zero();
-  for (std::size_t q = 0; q < terms; ++q, values += count) {
+  for (std::size_t q = group.first[o]; q < group.last[o]; ++q, values += count) {
     const double w = weight[q];
     a += w * Eigen::Map<const Pair>(values);
     b += w * Eigen::Map<const Pair>(values + 2);
@@ -411,6 +452,59 @@ void EvaluatePath(const Linearisation& lin, int steps, PathRows& path) {
   }
 }
 
+// The neglected second-order terms, as changes gamma_i of each contact's gap that the
+// first-order response carries to the centre (docs/model.md §3):
+//  - a profile's support function is h = r + dr + dr'^2 / (2 r) to second order (the
+//    touching point slides along the surface by dr' / r): +a_i^2 / (2 R) from the bore,
+//    -b_i^2 / (2 r_i) from the roller, a_i and b_i their slopes at the nominal normal;
+//  - the normal turns by -g'_i / g''_i, which lowers the gap by g'_i^2 / (2 g''_i), with
+//    g'_i = a_i + b_i + (dc - dc_roller_i) . t_i the gap function's slope there;
+//  - the penalty law's curvature: F(delta + d) = F + F' d + F'' d^2 / 2, an extra force
+//    that acts as a gap change of -(e - 1) d^2 / (2 delta), d = dF_i / F' the linearised
+//    change of penetration.
+// Their centre error dc(psi) = sum_i (dc / dg_i) gamma_i(psi) moves D_trajectory by at
+// most twice the radius of the circle enclosing dc over the revolution (a common shift
+// leaves D as it is): that is the estimate. Third-order terms (the gap's curvature
+// changing with the profiles, the force balance's n_i turning by dphi^2 / 2) are left out.
+double ErrorEstimate(const Scene& scene, const NominalResponse& nominal, const Trajectory& trajectory,
+                     const std::vector<double>& slopes) {
+  const int z = nominal.rollers;
+  const auto zs = static_cast<std::size_t>(z);
+  const Eigen::Vector2d centre0 = nominal.y0.head<2>();
+  std::vector<Eigen::Vector2d> shift(zs), axis(zs);
+  std::vector<double> travel0(zs, 0.0);
+  for (std::size_t i = 0; i < zs; ++i) {
+    const int index = static_cast<int>(i);
+    shift[i] = engine::RollerCentre(scene, index) - engine::RollerCentre(nominal.perfect, index);
+    axis[i] = engine::SpringAxis(scene, index);
+    if (nominal.travel_row[i] >= 0) travel0[i] = nominal.y0[nominal.travel_row[i]];
+  }
+  const double ring_radius = nominal.ring_radius;
+  thread_local std::vector<Eigen::Vector2d> error;  // per thread, as the slopes
+  error.assign(trajectory.centre.size(), Eigen::Vector2d::Zero());
+  for (std::size_t k = 0; k < trajectory.centre.size(); ++k) {
+    const Eigen::Vector2d moved = trajectory.centre[k] - centre0;
+    const double* slope = slopes.data() + k * 2 * zs;
+    for (std::size_t i = 0; i < zs; ++i) {
+      const engine::Contact& c = nominal.contacts[i];
+      const double a = slope[i];
+      const double b = slope[zs + i];
+      Eigen::Vector2d relative = moved - shift[i];
+      if (nominal.travel_row[i] >= 0) relative -= (trajectory.travel[k * zs + i] - travel0[i]) * axis[i];
+      const double turn = a + b + relative.dot(c.tangent);
+      double gamma = a * a / (2.0 * ring_radius) - b * b / (2.0 * nominal.roller_radius[i]) -
+                     turn * turn / (2.0 * c.gap_curvature);
+      if (nominal.penetration[i] > 0.0) {
+        const double d = (trajectory.contact_force[k * zs + i] - nominal.y0[nominal.first_force_row + static_cast<int>(i)]) /
+                         nominal.force_stiffness[i];
+        gamma -= (nominal.exponent - 1.0) * d * d / (2.0 * nominal.penetration[i]);
+      }
+      error[k] += gamma * nominal.response.block<2, 1>(0, static_cast<Eigen::Index>(i));
+    }
+  }
+  return 2.0 * engine::MinimumEnclosingCircle(error).radius;
+}
+
 // The outputs of one angle as an Equilibrium.
 void FillEquilibrium(const Linearisation& lin, const Eigen::VectorXd& y, Equilibrium& e) {
   const NominalResponse& nominal = *lin.nominal;
@@ -438,6 +532,7 @@ Equilibrium LinearSolver::SolveStatic(const Scene& scene) const {
   // At psi = 0 every cosine is 1 and every sine 0.
   Equilibrium e;
   FillEquilibrium(lin, lin.offset + lin.cosine.rowwise().sum(), e);
+  ValidityCheck(scene).Check(e);
   return e;
 }
 
@@ -471,10 +566,19 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
   path.row[0] = trajectory.centre.front().data();
   path.row[1] = path.row[0] + 1;
   path.stride[0] = path.stride[1] = 2;
+  // The gap slopes, psi-major: slopes[k * 2Z + j] for slope row first_slope_row + j. Kept
+  // per thread: a fresh buffer (48 bytes an angle) lies above malloc's mmap threshold at
+  // campaign resolutions, and its page faults would cost more than the estimate.
+  thread_local std::vector<double> slopes;
+  slopes.resize(n * 2 * zs);
   for (std::size_t i = 0; i < zs; ++i) {
     const int s = nominal.travel_row[i];
     if (s >= 0) path.row[static_cast<std::size_t>(s)] = trajectory.travel.data() + i;
     path.row[static_cast<std::size_t>(nominal.first_force_row) + i] = trajectory.contact_force.data() + i;
+  }
+  for (std::size_t j = 0; j < 2 * zs; ++j) {
+    path.row[static_cast<std::size_t>(nominal.first_slope_row) + j] = slopes.data() + j;
+    path.stride[static_cast<std::size_t>(nominal.first_slope_row) + j] = 2 * z;
   }
   EvaluatePath(lin, steps, path);
   trajectory.initial.centre = trajectory.centre.front();
@@ -484,17 +588,18 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
   for (int k = 0; k <= steps; ++k) {
     trajectory.psi[static_cast<std::size_t>(k)] = 2.0 * std::numbers::pi * static_cast<double>(k) / steps;
   }
-  // Finite coefficients (checked above) make a finite path, so the plain minimum sees
-  // every force.
-  if (!(Eigen::Map<const Eigen::ArrayXd>(trajectory.contact_force.data(), static_cast<Eigen::Index>(n * zs))
-            .minCoeff() > 0.0)) {
-    // The first angle at which any force turns tensile, as the quasistatic rung reports.
-    const auto tensile = std::find_if(trajectory.contact_force.begin(), trajectory.contact_force.end(),
-                                      [](double force) { return !(force > 0.0); });
-    const auto index = static_cast<std::size_t>(tensile - trajectory.contact_force.begin());
-    trajectory.status = Status::kLiftOff;
-    trajectory.failure_angle = trajectory.psi[index / zs];
-    trajectory.message = "roller " + scene.rollers[index % zs].name + "'s linearised contact force turns tensile";
+  trajectory.error_estimate = ErrorEstimate(scene, nominal, trajectory, slopes);
+  // The domain's limits first, as every rung states them; then the rung's own.
+  ValidityCheck(scene).Check(trajectory);
+  if (trajectory.status != Status::kOk) return trajectory;
+  double reach = 0.0;
+  for (const Eigen::Vector2d& centre : trajectory.centre) reach = std::max(reach, (centre - trajectory.centre.front()).norm());
+  const double limit = std::max(options_.max_relative_error * reach, options_.min_error_limit);
+  if (!(trajectory.error_estimate <= limit)) {
+    trajectory.status = Status::kBeyondLinearRange;
+    trajectory.message = "the first-order path's second-order error, estimated at " +
+                         Micrometres(trajectory.error_estimate) + " of D_trajectory, exceeds its limit of " +
+                         Micrometres(limit) + ": use the quasistatic rung";
   }
   return trajectory;
 }

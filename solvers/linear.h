@@ -4,7 +4,10 @@
 //   dg_i(psi) = dr_ring(phi_i - psi) - dr_roller_i(phi_i - gamma_i(psi)) - dp_i . n_i,
 // and the centre, travels and forces respond as y(psi) = y0 + Y dg(psi). Each error term
 // is a rotating phasor, so the path is a sum of phasors evaluated in closed form at every
-// angle: exact to first order in amplitude / radius, with a second-order error.
+// angle: exact to first order in amplitude / radius, with a second-order error, which the
+// rung estimates from the same phasors (the profiles' slopes, the centre's motion across
+// each contact normal, the penalty law's curvature; solvers/linear.cpp ErrorEstimate)
+// and returns as Trajectory::error_estimate; beyond LinearOptions' limit it refuses.
 #pragma once
 
 #include <memory>
@@ -18,6 +21,16 @@ namespace ringtol::solvers {
 struct LinearOptions {
   // Options of the quasistatic solve of the error-free assembly that is linearised.
   QuasistaticOptions nominal;
+  // The path is refused (Status::kBeyondLinearRange) when its estimated second-order
+  // error in D_trajectory (Trajectory::error_estimate) exceeds
+  //   max(max_relative_error * reach, min_error_limit),
+  // reach [m] the path's largest distance from its start (between D_trajectory / 2 and
+  // D_trajectory). The error grows as amplitude^2 while the path grows as amplitude, so a
+  // relative limit is a limit on amplitude / size: 1 % [-] in (0, 1]. The absolute floor
+  // [m] >= 0 keeps a nearly still path, whose relative error is meaningless, from being
+  // refused over errors far below any tolerance studied (1 nm).
+  double max_relative_error = 0.01;
+  double min_error_limit = 1e-9;
 };
 
 struct NominalResponse;

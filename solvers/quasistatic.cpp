@@ -1,14 +1,14 @@
 #include "solvers/quasistatic.h"
-#include "engine/units.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 
 #include <Eigen/LU>
 #include <Eigen/QR>
+
+#include "solvers/validity.h"
 
 namespace ringtol::solvers {
 namespace {
@@ -195,35 +195,6 @@ bool ContinuationNewton(const EquilibriumSystem& system, const RingTurn& turn, E
   return false;
 }
 
-std::string Micrometres(double metres) {
-  std::ostringstream out;
-  out.precision(4);
-  out << metres * units::kMicrometresPerMetre << " um";
-  return out.str();
-}
-
-std::string Degrees(double radians) {
-  std::ostringstream out;
-  out.precision(6);
-  out << radians * units::kDegreesPerRadian << " deg";
-  return out.str();
-}
-
-// Curvature bounds that let Blaschke's rolling theorem certify single-point contact.
-struct CurvatureBounds {
-  double ring_min_radius = 0.0;                // [m] smallest curvature radius of the bore
-  std::vector<double> roller_max_radius;       // [m] largest curvature radius per roller
-};
-
-CurvatureBounds Bounds(const Scene& scene) {
-  CurvatureBounds bounds;
-  bounds.ring_min_radius = 1.0 / scene.ring.inner.MaxCurvature();
-  for (const engine::Roller& roller : scene.rollers) {
-    bounds.roller_max_radius.push_back(1.0 / roller.outline.MinCurvature());
-  }
-  return bounds;
-}
-
 // The continuation iteration carries contact normals as vectors only: their angle costs
 // an atan2, and only the rare two-point check needs it.
 engine::Contact WithNormalAngle(engine::Contact c) {
@@ -240,38 +211,43 @@ void SetForces(const EquilibriumSystem& system, const EquilibriumSystem::State& 
   }
 }
 
-// Why a converged configuration is not a valid one, if it is not; the contacts carry
-// their forces (SetForces, or the continuation's own).
-Status Classify(const EquilibriumSystem& system, const CurvatureBounds& bounds, double psi,
+// Why a converged configuration is not a valid one, if it is not: the rungs' shared
+// verdict (solvers/validity.h) on x and the contacts, which carry their forces
+// (SetForces, or the continuation's own). `scratch` holds the configuration's numbers.
+struct Configuration {
+  std::vector<double> travel;
+  std::vector<double> force;
+  std::vector<engine::Contact> contacts;
+};
+
+Status Classify(const EquilibriumSystem& system, const ValidityCheck& check, double psi,
                 const EquilibriumSystem::State& x, const std::vector<TrackedContact>& contacts,
-                double two_point_tolerance, std::string& message) {
-  const Scene& scene = system.scene();
-  for (int i = 0; i < system.rollers(); ++i) {
-    const auto k = static_cast<std::size_t>(i);
+                Configuration& scratch, std::string& message) {
+  const auto z = static_cast<std::size_t>(system.rollers());
+  scratch.travel.resize(z);
+  scratch.force.resize(z);
+  scratch.contacts.resize(z);
+  for (std::size_t k = 0; k < z; ++k) {
+    const int s = system.travel_index(static_cast<int>(k));
+    scratch.travel[k] = s >= 0 ? x[s] : 0.0;
+    scratch.force[k] = contacts[k].force;
     const engine::Contact& c = contacts[k].contact;
-    const engine::Roller& roller = scene.rollers[k];
-    const bool open = system.rigid() ? contacts[k].force < 0.0 : c.gap >= 0.0;
-    if (open) {
-      message = "roller " + roller.name + " lifts off at psi = " + Degrees(psi) +
-                (system.rigid() ? " (it would have to pull with " + std::to_string(contacts[k].force) + " N)"
-                                : " (clearance " + Micrometres(c.gap) + ")");
-      return Status::kLiftOff;
-    }
-    const int s = system.travel_index(i);
-    if (s >= 0 && std::abs(x[s]) > roller.spring.travel_limit) {
-      message = "spring roller " + roller.name + " would travel " + Micrometres(x[s]) + " at psi = " + Degrees(psi) +
-                ", beyond its travel limit of " + Micrometres(roller.spring.travel_limit);
-      return Status::kRollerDoesNotFit;
-    }
-    if (bounds.roller_max_radius[k] + c.gap >= bounds.ring_min_radius &&
-        !engine::IsSinglePoint(scene.ring.inner, system.RingPose(psi, x), roller.outline,
-                               system.RollerPose(i, psi, x), WithNormalAngle(c), two_point_tolerance)) {
-      message = "roller " + roller.name + " touches the bore at two points at psi = " + Degrees(psi) +
-                ": the bore curves tighter than the roller there";
-      return Status::kTwoPointContact;
-    }
+    scratch.contacts[k] = check.NeedsTwoPointSearch(static_cast<int>(k), c.gap) ? WithNormalAngle(c) : c;
   }
-  return Status::kOk;
+  return check.Check(psi, x.head<2>(), scratch.travel, scratch.force, message, scratch.contacts);
+}
+
+// A contact search that finds no isolated touching point, for a roller flat enough to
+// bridge the bore, has met a gap function with two minima and a maximum between them
+// (g'' < 0 where it started): the contact is two-point, the case the shared check
+// reports for the other rungs. Sets `message` when so.
+bool BridgesTheBore(const EquilibriumSystem& system, const ValidityCheck& check, int roller, double psi,
+                    std::string& message) {
+  if (!check.NeedsTwoPointSearch(roller, 0.0)) return false;
+  message = "roller " + system.scene().rollers[static_cast<std::size_t>(roller)].name +
+            " finds no single touching point at psi = " + Degrees(psi) +
+            ": it is flatter than the bore there and touches it at two points";
+  return true;
 }
 
 Equilibrium Record(const EquilibriumSystem& system, const EquilibriumSystem::State& x,
@@ -334,7 +310,8 @@ void Revolve(const QuasistaticOptions& options, const EquilibriumSystem& system,
   trajectory.centre.reserve(n);
   trajectory.travel.reserve(n * z);
   trajectory.contact_force.reserve(n * z);
-  const CurvatureBounds bounds = Bounds(scene);
+  const ValidityCheck check(scene, {options.two_point_tolerance});
+  Configuration scratch;
   const Eigen::VectorXd dynamic_tolerance = system.Tolerances(options.position_tolerance, options.force_tolerance);
   const Vector tolerance = dynamic_tolerance;
   Vector x = x0;
@@ -377,19 +354,22 @@ void Revolve(const QuasistaticOptions& options, const EquilibriumSystem& system,
         trajectory.message = "Newton iteration did not converge at psi = " + Degrees(psi);
         std::string reason;
         contacts.clear();
-        if (system.UpdateContacts(psi, previous, contacts) < 0) {
+        const int lost = system.UpdateContacts(psi, previous, contacts);
+        if (lost < 0) {
           SetForces(system, previous, contacts);
-          if (Classify(system, bounds, psi, previous, contacts, options.two_point_tolerance, reason) ==
+          if (Classify(system, check, psi, previous, contacts, scratch, reason) ==
               Status::kLiftOff) {
             trajectory.status = Status::kLiftOff;
             trajectory.message = reason;
           }
+        } else if (BridgesTheBore(system, check, lost, psi, trajectory.message)) {
+          trajectory.status = Status::kTwoPointContact;
         }
         trajectory.failure_angle = psi;
         return;
       }
       const Status status =
-          Classify(system, bounds, psi, x, contacts, options.two_point_tolerance, trajectory.message);
+          Classify(system, check, psi, x, contacts, scratch, trajectory.message);
       if (status != Status::kOk) {
         trajectory.status = status;
         trajectory.failure_angle = psi;
@@ -471,6 +451,13 @@ Equilibrium QuasistaticSolver::SolveStatic(const EquilibriumSystem& system, Eige
   if (!outcome.converged) {
     result.status = Status::kNotConverged;
     result.message = "no static equilibrium found in " + std::to_string(outcome.iterations) + " Newton iterations";
+    std::vector<TrackedContact> probe;
+    const int lost = system.UpdateContacts(0.0, x, probe);
+    if (lost >= 0 && BridgesTheBore(system, ValidityCheck(scene, {options_.two_point_tolerance}), lost, 0.0,
+                                    result.message)) {
+      result.status = Status::kTwoPointContact;
+      return result;
+    }
     for (int i = 0; i < system.rollers() && !contacts.empty(); ++i) {
       const auto k = static_cast<std::size_t>(i);
       if (k < contacts.size() && contacts[k].valid && system.ContactForce(i, x, contacts[k].contact) <= 0.0) {
@@ -482,7 +469,9 @@ Equilibrium QuasistaticSolver::SolveStatic(const EquilibriumSystem& system, Eige
   }
   system.UpdateContacts(0.0, x, contacts);
   SetForces(system, x, contacts);
-  const Status status = Classify(system, Bounds(scene), 0.0, x, contacts, options_.two_point_tolerance, result.message);
+  Configuration scratch;
+  const Status status = Classify(system, ValidityCheck(scene, {options_.two_point_tolerance}), 0.0, x, contacts,
+                                 scratch, result.message);
   Equilibrium recorded = Record(system, x, contacts);
   recorded.iterations = outcome.iterations;
   recorded.status = status;
@@ -535,8 +524,9 @@ Equilibrium QuasistaticSolver::SolveStaticFromNominal(const EquilibriumSystem& s
           system.UpdateContacts(0.0, x, contacts);
           SetForces(system, x, contacts);
           std::string message;
-          const Status status =
-              Classify(system, Bounds(scene), 0.0, x, contacts, options_.two_point_tolerance, message);
+          Configuration scratch;
+          const Status status = Classify(system, ValidityCheck(scene, {options_.two_point_tolerance}), 0.0, x,
+                                         contacts, scratch, message);
           Equilibrium recorded = Record(system, x, contacts);
           recorded.iterations = iteration;
           recorded.status = status;

@@ -11,6 +11,7 @@
 #include "solvers/dynamic.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
+#include "solvers/validity.h"
 
 namespace ringtol::solvers {
 
@@ -159,6 +160,9 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
   result.status = CheckSceneGeometry(scene, result.message);
   if (result.status != Status::kOk) return result;
   result.trajectory = solver.SolveRevolution(scene, result.steps);
+  // One verdict for every rung: a rung's own checks may miss what another's catch.
+  const ValidityCheck validity(scene);
+  validity.Check(result.trajectory);
   const Trajectory& path = result.trajectory;
   if (path.status != Status::kOk) {
     result.status = path.status;
@@ -175,9 +179,11 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
   if (path.steady) {
     auto steady = std::make_shared<SimulationResult>();
     steady->steps = result.steps;
-    steady->status = path.steady->status;
-    steady->message = path.steady->message;
-    if (steady->status == Status::kOk) Measure(scene, *path.steady, nominal.centre, *steady);
+    Trajectory later = *path.steady;
+    validity.Check(later);
+    steady->status = later.status;
+    steady->message = later.message;
+    if (steady->status == Status::kOk) Measure(scene, later, nominal.centre, *steady);
     result.steady = std::move(steady);
   }
   return result;

@@ -28,11 +28,12 @@ enum class Status {
   kStaticallyIndeterminate,  // rigid contact with more than two fixed rollers: use the penalty law
   kIntegrationFailed,        // the dynamic integrator gave up (step-size collapse, repeated failures; see message)
   kNonFinite,                // the dynamic state or the linearised path turned NaN or infinite
+  kBeyondLinearRange,        // the linear rung's estimated second-order error exceeds its limit; path unusable
 };
 
 // Stable lower_snake_case names used in every output file, listed in the order of the
 // values, which are numbered 0, 1, ... (results files store the numbers).
-inline constexpr NameTable<Status, 10> kStatusNames = {{{Status::kOk, "ok"},
+inline constexpr NameTable<Status, 11> kStatusNames = {{{Status::kOk, "ok"},
                                                         {Status::kLiftOff, "lift_off"},
                                                         {Status::kNotConverged, "not_converged"},
                                                         {Status::kTwoPointContact, "two_point_contact"},
@@ -41,7 +42,8 @@ inline constexpr NameTable<Status, 10> kStatusNames = {{{Status::kOk, "ok"},
                                                         {Status::kRollerDoesNotFit, "roller_does_not_fit"},
                                                         {Status::kStaticallyIndeterminate, "statically_indeterminate"},
                                                         {Status::kIntegrationFailed, "integration_failed"},
-                                                        {Status::kNonFinite, "non_finite"}}};
+                                                        {Status::kNonFinite, "non_finite"},
+                                                        {Status::kBeyondLinearRange, "beyond_linear_range"}}};
 static_assert([] {
   for (std::size_t i = 0; i < kStatusNames.size(); ++i) {
     if (static_cast<std::size_t>(kStatusNames[i].value) != i) return false;
@@ -77,6 +79,10 @@ struct Trajectory {
   std::vector<double> travel;                  // [m] psi-major: travel[k * rollers + i]
   std::vector<double> contact_force;           // [N] psi-major: contact_force[k * rollers + i]
   int total_iterations = 0;                    // Newton iterations (dynamic: integrator steps) over the run
+  // [m] >= 0: the rung's own estimate of how far its approximation moves D_trajectory
+  // (the linear rung: its neglected second-order terms, LinearOptions); 0 for the rungs
+  // that solve the exact model, whose error is their tolerance.
+  double error_estimate = 0.0;
   // A later revolution of the same run, for a solver that simulates time (dynamic): the
   // steady state after the start transient, with `initial` still the state at rotation
   // start; its own status says whether it is usable (the law may stop before it). Null for

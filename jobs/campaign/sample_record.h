@@ -12,12 +12,12 @@
 
 namespace ringtol::jobs {
 
-// A sample's outcome. Values 0..9 are solvers::Status (same numbers, same names); the
+// A sample's outcome. Values 0..kLastSolverStatus are solvers::Status (same numbers, same names); the
 // campaign adds its own failures and the marker of a sample not yet on disk.
 enum class SampleStatus : std::int8_t {
   kPending = -1,          // not computed (the results file's fill value)
   kOk = 0,
-  // 1..9: the remaining solvers::Status values, in their order
+  // 1..kLastSolverStatus: the remaining solvers::Status values, in their order
   kException = 64,        // the sample threw (message: what()); the campaign goes on
   kNonFiniteOutput = 65,  // the solver said ok but an output is NaN or infinite
   kSamplingFailed = 66,   // the sampler could not realise the assembly (message says why)
@@ -34,7 +34,7 @@ inline constexpr NameTable<SampleStatus, 4> kCampaignStatusNames = {{{SampleStat
                                                                      {SampleStatus::kSamplingFailed, "sampling_failed"}}};
 
 SampleStatus FromSolverStatus(solvers::Status status);
-// "pending", "ok", the solvers::StatusName of 1..9, "exception", "non_finite_output",
+// "pending", "ok", the solvers::StatusName of 1..kLastSolverStatus, "exception", "non_finite_output",
 // "sampling_failed".
 std::string_view SampleStatusName(SampleStatus status);
 // Every status, pending first, for enumerations in output files.

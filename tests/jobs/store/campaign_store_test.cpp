@@ -163,7 +163,7 @@ void WriteDeterministic(
 // ---------------------------------------------------------------------------------------
 
 TEST(SampleStatus, SharesNumbersAndNamesWithSolverStatuses) {
-  for (int value = 0; value <= static_cast<int>(solvers::Status::kNonFinite); ++value) {
+  for (int value = 0; value <= kLastSolverStatus; ++value) {
     const auto status = static_cast<solvers::Status>(value);
     EXPECT_EQ(static_cast<int>(FromSolverStatus(status)), value);
     EXPECT_EQ(SampleStatusName(FromSolverStatus(status)), solvers::StatusName(status));
@@ -177,7 +177,7 @@ TEST(SampleStatus, SharesNumbersAndNamesWithSolverStatuses) {
 
 TEST(SampleStatus, ListsEveryStatusOnceWithPendingFirstAndDistinctNames) {
   const std::vector<SampleStatus>& all = AllSampleStatuses();
-  ASSERT_EQ(all.size(), 14u);  // pending, the 10 solver statuses, 3 campaign failures
+  ASSERT_EQ(all.size(), 15u);  // pending, the 11 solver statuses, 3 campaign failures
   EXPECT_EQ(all.front(), SampleStatus::kPending);
   std::set<std::string_view> names;
   std::set<int> values;

@@ -1,0 +1,77 @@
+// The one verdict on whether a solved configuration lies inside the model's domain, shared
+// by every rung so that no rung reports kOk where another refuses (docs/model.md §7).
+// A configuration (ring centre, spring travels and contact forces at a ring angle psi) is
+// valid when, for every roller,
+//   1. its contact force is > 0                                   else kLiftOff
+//   2. a spring roller's |travel| <= its travel limit             else kRollerDoesNotFit
+//   3. it touches the bore at one point only                      else kTwoPointContact
+// in that order. Condition 3 is searched only where Blaschke's rolling theorem cannot rule
+// it out (a roller whose largest curvature radius reaches the bore's smallest); the
+// roller's body angle is the rolling one (engine::RollerBodyAngle), which the time-free
+// rungs use and the dynamic rung's friction-driven spin follows while the roller rolls.
+// The outlines' convexity is the scene's (solvers::CheckSceneGeometry), which Simulate
+// checks before any rung runs.
+//
+// A trajectory is checked at its samples, in angle order: the first invalid sample
+// decides. Between samples only the dynamic rung watches the contacts (its root finder);
+// the time-free rungs are, as their path is, a sampled statement.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/contact.h"
+#include "engine/scene.h"
+#include "solvers/solver.h"
+
+namespace ringtol::solvers {
+
+struct ValidityOptions {
+  // A second touching point within this distance of touching makes the contact two-point
+  // [m] (QuasistaticOptions::two_point_tolerance, the same rule).
+  double two_point_tolerance = 1e-9;
+};
+
+// Thread-safe once made; keeps a reference to the scene, which must outlive it.
+class ValidityCheck {
+ public:
+  explicit ValidityCheck(const engine::Scene& scene, ValidityOptions options = {});
+
+  // The configuration at ring angle psi [rad]: centre [m], travel [m] and contact_force
+  // [N] per roller (travel 0 for fixed rollers). `contacts`, when given (one per roller,
+  // at this configuration), saves the contact search of condition 3. kOk or the failed
+  // condition's status, with its reason in `message`.
+  Status Check(double psi, const Eigen::Vector2d& centre, std::span<const double> travel,
+               std::span<const double> contact_force, std::string& message,
+               std::span<const engine::Contact> contacts = {}) const;
+
+  // Every sample of a trajectory whose status is kOk, its `initial` equilibrium first; the
+  // first failure sets the trajectory's status, message and failure_angle, and the path
+  // stays as solved. A trajectory already failed is left as it is.
+  void Check(Trajectory& trajectory) const;
+
+  // The static equilibrium at psi = 0, when its status is kOk.
+  void Check(Equilibrium& equilibrium) const;
+
+  // Whether condition 3 needs roller i's contact searched at a contact of this gap [m]:
+  // where Blaschke's theorem cannot certify a single point (largest roller curvature
+  // radius + gap >= smallest bore curvature radius).
+  bool NeedsTwoPointSearch(int i, double gap) const {
+    return roller_max_radius_[static_cast<std::size_t>(i)] + gap >= ring_min_radius_;
+  }
+
+ private:
+  const engine::Scene& scene_;
+  ValidityOptions options_;
+  double ring_min_radius_ = 0.0;            // [m] smallest curvature radius of the bore
+  std::vector<double> roller_max_radius_;   // [m] largest curvature radius per roller
+};
+
+// Lengths and angles as messages state them: "12.34 um", "45 deg".
+std::string Micrometres(double metres);
+std::string Degrees(double radians);
+
+}  // namespace ringtol::solvers
