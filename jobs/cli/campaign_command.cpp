@@ -3,12 +3,17 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -16,6 +21,7 @@
 
 #include "jobs/campaign/campaign.h"
 #include "jobs/inputs/input_error.h"
+#include "jobs/pool/stop_signals.h"
 #include "jobs/report/campaign_summary.h"
 #include "jobs/store/campaign_store.h"
 
@@ -150,12 +156,68 @@ class ProgressPrinter {
   bool finished_ = false;
 };
 
+// One shell word: as is when it holds only characters no shell treats specially,
+// single-quoted otherwise.
+std::string ShellWord(const std::string& word) {
+  const bool plain = !word.empty() && std::all_of(word.begin(), word.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || std::string_view("_-./=:,+@%").find(c) != std::string_view::npos;
+  });
+  if (plain) return word;
+  std::string quoted = "'";
+  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// The command that continues the campaign: the same arguments with --resume.
+std::string ResumeCommand(const CampaignCommand& command, int ranks) {
+  std::vector<std::string> words = command.arguments;
+  if (words.empty()) {
+    words = {"ringtol", "campaign", command.file.string(), "--out", command.out.string()};
+    if (command.samples) words.insert(words.end(), {"--samples", std::to_string(*command.samples)});
+    if (command.seed) words.insert(words.end(), {"--seed", std::to_string(*command.seed)});
+  }
+  if (std::find(words.begin(), words.end(), "--resume") == words.end()) words.emplace_back("--resume");
+  std::string line = ranks > 1 ? fmt::format("mpirun -n {} ", ranks) : std::string();
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    if (i > 0) line += ' ';
+    line += ShellWord(words[i]);
+  }
+  return line;
+}
+
+std::int64_t SamplesOnDisk(const std::filesystem::path& file) {
+  const CampaignReader results(file);
+  constexpr std::int64_t kBlock = std::int64_t{1} << 20;
+  std::int64_t done = 0;
+  for (std::int64_t begin = 0; begin < results.samples(); begin += kBlock) {
+    const std::vector<SampleStatus> status = results.ReadStatus(begin, std::min(kBlock, results.samples() - begin));
+    done += std::count_if(status.begin(), status.end(), [](SampleStatus s) { return s != SampleStatus::kPending; });
+  }
+  return done;
+}
+
+// Whether an MPI launcher started this process (Open MPI's mpirun, or a PMI launcher such
+// as MPICH's or Slurm's), as opposed to a singleton run alone.
+bool UnderLauncher(MPI_Comm communicator) {
+  int ranks = 1;
+  MPI_Comm_size(communicator, &ranks);
+  return ranks > 1 || std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMI_SIZE") != nullptr;
+}
+
 }  // namespace
 
 int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream& progress) {
   const MPI_Comm world = MPI_COMM_WORLD;
   int rank = 0;
+  int ranks = 1;
   MPI_Comm_rank(world, &rank);
+  MPI_Comm_size(world, &ranks);
+  // Watched from the start: a signal during the checks or the calibration stops the pool
+  // before its first sample, with the file created and closed.
+  std::optional<StopSignals> signals(std::in_place, UnderLauncher(world) ? StopSignals::Repeat::kIgnored
+                                                                         : StopSignals::Repeat::kEndsAtOnce);
+  PoolOptions pool = command.pool;
+  pool.stop = [&signals] { return signals->received(); };
 
   // Cheap checks first, so a wrong option fails before a second of calibration.
   std::string error = rank == 0 ? Attempt([&] {
@@ -183,9 +245,21 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   if (rank == 0 && !command.quiet) {
     report_progress = ProgressPrinter(progress, isatty(STDERR_FILENO) == 1, command.progress_seconds);
   }
-  const PoolReport run = RunPool(world, *campaign, store.get(), command.pool, report_progress);
-  if (rank != 0) return 0;
+  const PoolReport run = RunPool(world, *campaign, store.get(), pool, report_progress);
+  const int stopped = run.stopped != 0 ? run.stopped : signals->received();
+  if (rank != 0) return signals->received() != 0 ? StopSignals::ExitCode(signals->received()) : 0;
   store.reset();  // closes the file: the summary reads what is on disk
+  if (stopped != 0) {
+    const std::int64_t on_disk = SamplesOnDisk(command.out);
+    fmt::print(progress,
+               "{}ringtol: stopped by {}: {} of {} samples are on disk in {} ({} computed by this run, every one it "
+               "finished); continue with:\n  {}\n",
+               report_progress && isatty(STDERR_FILENO) == 1 ? "\n" : "", StopSignals::Name(stopped), on_disk,
+               campaign->samples(), command.out.string(), run.computed, ResumeCommand(command, ranks));
+    progress.flush();
+    return StopSignals::ExitCode(stopped);
+  }
+  signals.reset();  // the file is complete and closed: a signal now ends the summary at once
 
   const CampaignReader results(command.out);
   const CampaignSummary summary =

@@ -263,7 +263,10 @@ int main(int argc, char** argv) {
   const CLI::App* report_app = AddReport(app, report);
 
   CLI11_PARSE(app, argc, argv);
-  if (*campaign_app) return RunCampaignCommand(campaign);
+  if (*campaign_app) {
+    campaign.arguments.assign(argv, argv + argc);
+    return RunCampaignCommand(campaign);
+  }
   try {
     if (*simulate_app) return ringtol::jobs::RunSimulate(simulate, std::cout);
     if (*sweep_app) return ringtol::jobs::RunSweep(sweep, std::cout);

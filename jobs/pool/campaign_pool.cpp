@@ -1,6 +1,7 @@
 #include "jobs/pool/campaign_pool.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -22,6 +23,9 @@ namespace {
 
 constexpr int kTagResults = 1;  // worker -> rank 0: packed records, also the next request
 constexpr int kTagWork = 2;     // rank 0 -> worker: int64 sample indices; empty means stop
+// worker -> rank 0: the stop request's int32 value, then the packed records finished
+// before the worker saw it; also its last request
+constexpr int kTagStopping = 3;
 constexpr std::int64_t kPendingBlock = std::int64_t{1} << 16;  // indices read from the file at a time
 // Rank 0's main thread sleeps this long when nothing arrived, instead of spinning on a
 // core a worker could use; it is far below any chunk's duration.
@@ -56,6 +60,7 @@ class Packer {
     Put(static_cast<std::uint32_t>(text.size()));
     bytes_.insert(bytes_.end(), text.begin(), text.end());
   }
+  void Append(const std::vector<char>& bytes) { bytes_.insert(bytes_.end(), bytes.begin(), bytes.end()); }
   void Clear() { bytes_.clear(); }
   const std::vector<char>& bytes() const { return bytes_; }
 
@@ -120,13 +125,16 @@ SampleRecord Unpack(Unpacker& in, std::size_t dimension) {
   return r;
 }
 
+// 0 while the pool goes on; the stop request's value once there is one.
+int StopRequest(const PoolOptions& options) { return options.stop ? options.stop() : 0; }
+
 void RunWorker(MPI_Comm communicator, int rank, const Campaign& campaign, const PoolOptions& options) {
   SampleEvaluator evaluator(campaign);
   Packer results;  // empty: the first request
+  int tag = kTagResults;
   std::vector<std::int64_t> chunk;
   for (bool first = true;; first = false) {
-    Check(MPI_Send(results.bytes().data(), static_cast<int>(results.bytes().size()), MPI_BYTE, 0, kTagResults,
-                   communicator),
+    Check(MPI_Send(results.bytes().data(), static_cast<int>(results.bytes().size()), MPI_BYTE, 0, tag, communicator),
           "MPI_Send");
     MPI_Status status;
     Check(MPI_Probe(0, kTagWork, communicator, &status), "MPI_Probe");
@@ -136,7 +144,19 @@ void RunWorker(MPI_Comm communicator, int rank, const Campaign& campaign, const 
     Check(MPI_Recv(chunk.data(), count, MPI_INT64_T, 0, kTagWork, communicator, MPI_STATUS_IGNORE), "MPI_Recv");
     if (chunk.empty()) return;
     results.Clear();
-    for (const std::int64_t index : chunk) Pack(evaluator.Evaluate(index), results);
+    for (const std::int64_t index : chunk) {
+      if (const int stop = StopRequest(options); stop != 0) {
+        // Rebuilt with the request in front of the records finished so far; the rest of
+        // the chunk stays pending.
+        const std::vector<char> finished = results.bytes();
+        results.Clear();
+        results.Put(static_cast<std::int32_t>(stop));
+        results.Append(finished);
+        tag = kTagStopping;
+        break;
+      }
+      Pack(evaluator.Evaluate(index), results);
+    }
     if (first && rank == options.kill_rank) std::raise(SIGKILL);
   }
 }
@@ -166,7 +186,8 @@ class PendingCursor {
 // Rank 0's own computing thread, fed a chunk at a time like a remote worker.
 class LocalWorker {
  public:
-  explicit LocalWorker(const Campaign& campaign) : thread_([this, &campaign] { Run(campaign); }) {}
+  LocalWorker(const Campaign& campaign, const PoolOptions& options)
+      : thread_([this, &campaign, &options] { Run(campaign, options); }) {}
   ~LocalWorker() {
     Stop();
     thread_.join();
@@ -192,6 +213,11 @@ class LocalWorker {
     }
     wake_.notify_one();
   }
+  // Stops, leaving the rest of its chunk (after the sample in progress) undone.
+  void Abandon() {
+    abandon_ = true;
+    Stop();
+  }
   // Finished records since the last call; rethrows what killed the thread, if anything.
   std::vector<SampleRecord> Collect() {
     std::lock_guard lock(mutex_);
@@ -204,7 +230,7 @@ class LocalWorker {
   }
 
  private:
-  void Run(const Campaign& campaign) {
+  void Run(const Campaign& campaign, const PoolOptions& options) {
     try {
       SampleEvaluator evaluator(campaign);
       for (;;) {
@@ -218,6 +244,7 @@ class LocalWorker {
           busy_ = true;
         }
         for (const std::int64_t index : chunk) {
+          if (abandon_ || StopRequest(options) != 0) break;
           SampleRecord record = evaluator.Evaluate(index);
           std::lock_guard lock(mutex_);
           finished_.push_back(std::move(record));
@@ -239,6 +266,7 @@ class LocalWorker {
   bool has_work_ = false;
   bool busy_ = false;
   bool stop_ = false;
+  std::atomic<bool> abandon_{false};
   std::vector<SampleRecord> finished_;
   std::exception_ptr error_;
   std::thread thread_;  // last: starts once the members above exist
@@ -279,7 +307,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const Campaign& camp
                  : std::clamp<std::int64_t>(std::llround(std::min(fitting, static_cast<double>(share))), 1, share);
     }
     std::vector<std::int64_t> chunk;
-    while (static_cast<std::int64_t>(chunk.size()) < size) {
+    while (report.stopped == 0 && static_cast<std::int64_t>(chunk.size()) < size) {
       const std::optional<std::int64_t> index = cursor.Next();
       if (!index) break;
       chunk.push_back(*index);
@@ -314,7 +342,13 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const Campaign& camp
   };
 
   std::vector<std::unique_ptr<LocalWorker>> locals;
-  for (int t = 0; t < threads; ++t) locals.push_back(std::make_unique<LocalWorker>(campaign));
+  for (int t = 0; t < threads; ++t) locals.push_back(std::make_unique<LocalWorker>(campaign, options));
+  // From the first stop request on, no more work is handed out (next_chunk is empty).
+  auto stop = [&](int request) {
+    if (request == 0 || report.stopped != 0) return;
+    report.stopped = request;
+    for (const std::unique_ptr<LocalWorker>& local : locals) local->Abandon();
+  };
   int active_workers = ranks - 1;
   const std::size_t dimension = campaign.identity().inputs.size();
   std::vector<char> message;
@@ -322,23 +356,26 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const Campaign& camp
   for (;;) {
     const Clock::time_point round = Clock::now();
     bool arrived = false;
+    stop(StopRequest(options));
     for (;;) {
       int flag = 0;
       MPI_Status status;
-      Check(MPI_Iprobe(MPI_ANY_SOURCE, kTagResults, communicator, &flag, &status), "MPI_Iprobe");
+      Check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, communicator, &flag, &status), "MPI_Iprobe");
       if (!flag) break;
       int bytes = 0;
       Check(MPI_Get_count(&status, MPI_BYTE, &bytes), "MPI_Get_count");
       message.resize(static_cast<std::size_t>(bytes));
-      Check(MPI_Recv(message.data(), bytes, MPI_BYTE, status.MPI_SOURCE, kTagResults, communicator, MPI_STATUS_IGNORE),
+      Check(MPI_Recv(message.data(), bytes, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, communicator,
+                     MPI_STATUS_IGNORE),
             "MPI_Recv");
+      Unpacker in(message);
+      if (status.MPI_TAG == kTagStopping) stop(in.Get<std::int32_t>());
       // Reply first: the worker computes while rank 0 files what it sent.
       const std::vector<std::int64_t> chunk = next_chunk();
       Check(MPI_Send(chunk.data(), static_cast<int>(chunk.size()), MPI_INT64_T, status.MPI_SOURCE, kTagWork,
                      communicator),
             "MPI_Send");
       if (chunk.empty()) --active_workers;
-      Unpacker in(message);
       while (!in.done()) absorb(Unpack(in, dimension));
       arrived = true;
     }

@@ -19,6 +19,16 @@
 //
 // Results do not depend on the number of ranks, the chunk sizes or the order samples
 // finish in: a sample is a pure function of (campaign, index) and lands at its index.
+//
+// Stopping early (PoolOptions::stop, e.g. on SIGTERM through jobs/pool/stop_signals.h):
+// every computing thread polls it between samples. A worker that sees it sends what it
+// has finished of its chunk, flagged as a stop, and abandons the rest; the coordinator,
+// once it sees its own request or a worker's, hands out no more work (its replies are
+// empty chunks), lets its own threads abandon their chunks the same way, files every
+// record that arrives and commits. Abandoned samples stay pending for --resume; no
+// finished sample is lost, so none is computed twice. The stop takes at most one
+// sample's time on the ranks that see the request; a worker that does not see it
+// (only rank 0 was signalled) first finishes its chunk (about chunk_seconds).
 #pragma once
 
 #include <mpi.h>
@@ -49,6 +59,10 @@ struct PoolOptions {
   // computing its first chunk, before sending it.
   std::int64_t kill_after_committed = -1;
   int kill_rank = -1;
+  // Polled between samples by every computing thread of every rank, so it must be
+  // thread-safe: 0 goes on, any other value stops the pool early (see above) and is
+  // reported as PoolReport::stopped. Empty: never stops early.
+  std::function<int()> stop;
 };
 
 // What rank 0 reports while the pool runs.
@@ -73,6 +87,9 @@ struct PoolReport {
   double coordinator_time = 0.0;
   int computing_ranks = 0;                      // worker ranks plus rank 0's computing threads
   int ranks = 0;
+  // Nonzero: the pool stopped early at this request (PoolOptions::stop of rank 0, or of
+  // the first worker that asked), possibly with samples left pending.
+  int stopped = 0;
 };
 
 // Runs on every rank of `communicator`; `store` is rank 0's open results file (null on the

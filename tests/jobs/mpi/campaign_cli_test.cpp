@@ -8,11 +8,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <regex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -312,6 +316,177 @@ std::int64_t Done(const std::filesystem::path& file) {
   } catch (const std::exception&) {
     return 0;  // caught between creation and its name appearing
   }
+}
+
+// A run started in the background, so that a test can signal it while it works.
+struct Running {
+  pid_t pid = -1;  // ringtol's own, or mpirun's when started under it
+  std::filesystem::path out;
+  std::filesystem::path err;
+};
+
+// How a background run ended: by itself with an exit code, or killed by a signal.
+struct Ended {
+  bool killed = false;
+  int code = -1;  // exit code, or the signal that killed it
+  std::string out;
+  std::string err;
+};
+
+// `command` (a full command line, e.g. one a stopped run printed) in the background.
+Running Start(const std::string& command, const std::string& name) {
+  Running run{-1, TestFolder() / (name + ".out"), TestFolder() / (name + ".err")};
+  const std::string line = kMpiEnvironment + "exec " + command + " >" + run.out.string() + " 2>" + run.err.string();
+  run.pid = fork();
+  if (run.pid == 0) {
+    execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return run;
+}
+
+Ended Wait(const Running& run) {
+  int status = 0;
+  waitpid(run.pid, &status, 0);
+  return {WIFSIGNALED(status), WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status),
+          testing::ReadText(run.out), testing::ReadText(run.err)};
+}
+
+// Polls until `ready` or two minutes have passed; false on the latter.
+template <typename Ready>
+bool WaitFor(Ready ready) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (!ready()) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return true;
+}
+
+// What a run stopped by a signal said on stderr.
+struct StopReport {
+  std::int64_t on_disk = -1;
+  std::int64_t total = -1;
+  std::int64_t computed = -1;  // by the stopped run
+  std::string resume;          // the command line it gave to continue
+};
+
+StopReport ParseStop(const std::string& err, const std::string& signal_name) {
+  const std::regex pattern("stopped by " + signal_name +
+                           R"(: (\d+) of (\d+) samples are on disk in .* \((\d+) computed by this run.*\n  (.*)\n)");
+  std::smatch match;
+  if (!std::regex_search(err, match, pattern)) {
+    ADD_FAILURE() << "no stop report for " << signal_name << " in: " << err;
+    return {};
+  }
+  return {std::stoll(match[1]), std::stoll(match[2]), std::stoll(match[3]), match[4]};
+}
+
+// One interruption of a campaign: `command` runs until `ready(samples on disk)`, gets
+// `signal` (at mpirun when `launcher`), and must stop cleanly, keeping on disk what was
+// there before plus every sample it reports computed. Returns what it printed.
+template <typename Ready>
+StopReport Interrupt(const std::string& command, const std::filesystem::path& out, int signal, bool launcher,
+                     Ready ready, const std::string& name) {
+  const std::int64_t before = Done(out);
+  const Running run = Start(command, name);
+  EXPECT_TRUE(WaitFor([&] { return std::filesystem::exists(out) && ready(Done(out)); }));
+  kill(run.pid, signal);
+  const Ended ended = Wait(run);
+  // Alone the exit code is the shell's 128 + signal; mpirun has its own for an aborted
+  // job, and passes SIGINT on to the ranks as SIGTERM.
+  const std::string signal_name = launcher ? "SIGTERM" : signal == SIGINT ? "SIGINT" : "SIGTERM";
+  EXPECT_FALSE(ended.killed) << name << ": killed by signal " << ended.code << "; " << ended.err;
+  if (launcher) {
+    EXPECT_NE(ended.code, 0) << name;
+  } else {
+    EXPECT_EQ(ended.code, 128 + signal) << name << ": " << ended.err;
+  }
+  EXPECT_EQ(ended.out, "") << name << ": a stopped run prints no summary";
+  const StopReport stop = ParseStop(ended.err, signal_name);
+  EXPECT_EQ(stop.on_disk, Done(out)) << name;
+  EXPECT_EQ(stop.on_disk, before + stop.computed) << name << ": a sample it computed is missing from the file";
+  EXPECT_THAT(stop.resume, AllOf(HasSubstr(out.string()), HasSubstr("--resume"))) << name;
+  return stop;
+}
+
+// A moment to stop a run: `signal` once the run has put `fraction` of the samples it
+// lacked on disk (0: as soon as its file exists).
+struct Moment {
+  int signal;
+  double fraction;
+  const char* name;
+};
+
+// About 5 ms a sample (ten times the steps of kCampaign's), so that runs of a few
+// hundred samples last long enough to be stopped at chosen moments.
+std::filesystem::path SlowCampaign(const std::filesystem::path& folder, std::int64_t samples) {
+  return Write(folder / "campaign.toml",
+               testing::ReplaceOnce(testing::ReplaceOnce(kCampaign, "samples = 48", "samples = " + std::to_string(samples)),
+                                    "path_tolerance_um = 2.0", "path_tolerance_um = 0.2"));
+}
+
+// Stops a campaign of `samples` at each of `moments` in turn, every run continuing the
+// file with the command the previous one printed, then lets the last run finish. No
+// sample may be computed twice, and the file must end as an uninterrupted run's.
+void StopThenFinish(const std::string& prefix, std::int64_t samples, const std::vector<Moment>& moments) {
+  const std::filesystem::path folder = Folder();
+  const auto file = SlowCampaign(folder, samples);
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  const std::filesystem::path out = folder / "stopped.h5";
+  std::string command = prefix + RINGTOL_EXECUTABLE + " campaign " + file.string() + " --out " + out.string() +
+                        " --quiet --json --commit-seconds 0.05";
+  std::int64_t on_disk = 0;
+  std::int64_t computed = 0;
+  for (const Moment& moment : moments) {
+    const std::int64_t lacking = samples - on_disk;
+    const auto wanted = std::max<std::int64_t>(1, std::llround(moment.fraction * static_cast<double>(lacking)));
+    const StopReport stop = Interrupt(
+        command, out, moment.signal, !prefix.empty(),
+        [&](std::int64_t done) { return moment.fraction == 0 || done >= on_disk + wanted; }, moment.name);
+    ASSERT_LT(stop.on_disk, samples) << moment.name << ": the run finished before it was stopped: make it longer";
+    on_disk = stop.on_disk;
+    computed += stop.computed;
+    command = stop.resume;
+  }
+  const Ended last = Wait(Start(command, "last"));
+  ASSERT_EQ(last.code, 0) << last.err;
+  const nlohmann::json summary = nlohmann::json::parse(last.out);
+  EXPECT_EQ(summary["run"]["already_done"], on_disk);
+  EXPECT_EQ(computed + summary["run"]["computed"].get<std::int64_t>(), samples) << "a sample was computed twice or never";
+  ExpectSameResults(folder / "whole.h5", out);
+}
+
+TEST(Campaign, SigtermOrSigintAtAnyMomentKeepsEveryFinishedSampleAndResumeEndsAsAnUninterruptedRun) {
+  StopThenFinish("", 400, {{SIGTERM, 0.0, "start"}, {SIGINT, 0.01, "middle"}, {SIGTERM, 0.5, "end"}});
+}
+
+// mpirun passes a signal on to the ranks one odls_base_sigkill_timeout (1 s) later, so each
+// run computes about a second's worth (some 500 samples on two ranks) past the moment:
+// the campaign is longer and stopped twice.
+TEST(CampaignUnderMpirun, SigtermOrSigintToMpirunKeepsEveryFinishedSampleAndResumeEndsAsAnUninterruptedRun) {
+  StopThenFinish(Mpirun(2), 2000, {{SIGTERM, 0.0, "start"}, {SIGINT, 0.01, "middle"}});
+}
+
+TEST(Campaign, ASecondSignalDuringTheStopEndsTheRunAtOnceAndResumeStillCompletesTheFile) {
+  const std::filesystem::path folder = Folder();
+  const auto file = SlowCampaign(folder, 400);
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  const std::filesystem::path out = folder / "stopped.h5";
+  const Running run = Start(std::string(RINGTOL_EXECUTABLE) + " campaign " + file.string() + " --out " + out.string() +
+                                " --quiet --commit-seconds 0.05",
+                            "twice");
+  ASSERT_TRUE(WaitFor([&] { return Done(out) > 0; }));
+  // Two different signals: the kernel merges a second pending signal of the same kind
+  // into the first, but never two kinds.
+  kill(run.pid, SIGINT);
+  kill(run.pid, SIGTERM);
+  const Ended ended = Wait(run);
+  EXPECT_TRUE(ended.killed) << "exit code " << ended.code << "; " << ended.err;
+  EXPECT_THAT(ended.code, ::testing::AnyOf(SIGINT, SIGTERM));
+  const Outcome resumed = Campaign(file, out, "--resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  ExpectSameResults(folder / "whole.h5", out);
 }
 
 // A real kill -9 while samples are being written, several times over, then a resume.
