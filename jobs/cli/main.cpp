@@ -16,6 +16,7 @@
 #include "jobs/cli/report_command.h"
 #include "jobs/cli/sample_command.h"
 #include "jobs/cli/simulate_command.h"
+#include "jobs/cli/verify_command.h"
 #include "jobs/inputs/input_error.h"
 #include "solvers/simulation.h"
 
@@ -46,6 +47,9 @@ int RunCampaignCommand(const ringtol::jobs::CampaignCommand& command) {
     } catch (const std::exception& e) {
       // A failure after the start (disk full, a lost rank): what is committed stays on disk.
       std::cerr << "ringtol: error: rank " << rank << ": " << e.what() << "; --resume continues from the file\n";
+      MPI_Abort(MPI_COMM_WORLD, 2);
+    } catch (...) {
+      std::cerr << "ringtol: error: rank " << rank << ": an unknown exception; --resume continues from the file\n";
       MPI_Abort(MPI_COMM_WORLD, 2);
     }
   }
@@ -230,6 +234,14 @@ CLI::App* AddReport(CLI::App& app, ringtol::jobs::ReportCommand& report) {
   return sub;
 }
 
+CLI::App* AddVerify(CLI::App& app, ringtol::jobs::VerifyCommand& verify) {
+  CLI::App* sub = app.add_subcommand(
+      "verify", "Read every dataset of a results file: what is intact, what is damaged, what --resume computes");
+  AddInputFile(*sub, "results", verify.results, "Results file (HDF5) of ringtol campaign");
+  sub->add_flag("--json", verify.json, "Print one JSON object");
+  return sub;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -248,6 +260,7 @@ int main(int argc, char** argv) {
   ringtol::jobs::BenchLadderCommand ladder;
   ringtol::jobs::CampaignCommand campaign;
   ringtol::jobs::ReportCommand report;
+  ringtol::jobs::VerifyCommand verify;
 
   const CLI::App* simulate_app = AddSimulate(app, simulate);
   const CLI::App* sweep_app = AddSweep(app, sweep);
@@ -261,6 +274,7 @@ int main(int argc, char** argv) {
   const CLI::App* ladder_app = AddBenchLadder(*bench_app, ladder);
   const CLI::App* campaign_app = AddCampaign(app, campaign);
   const CLI::App* report_app = AddReport(app, report);
+  const CLI::App* verify_app = AddVerify(app, verify);
 
   CLI11_PARSE(app, argc, argv);
   if (*campaign_app) {
@@ -276,9 +290,18 @@ int main(int argc, char** argv) {
     if (*dynamics_app) return ringtol::jobs::RunBenchDynamics(dynamics, std::cout);
     if (*ladder_app) return ringtol::jobs::RunBenchLadder(ladder, std::cout, std::cerr);
     if (*report_app) return ringtol::jobs::RunReport(report, std::cout);
+    if (*verify_app) return ringtol::jobs::RunVerify(verify, std::cout);
   } catch (const ringtol::jobs::InputError& e) {
     std::cerr << "ringtol: error: " << e.what() << "\n";
     return 1;
+  } catch (const std::exception& e) {
+    // Not the user's input (disk full, a broken invariant reported by an exception): still
+    // a message and a status, never std::terminate.
+    std::cerr << "ringtol: error: " << e.what() << "\n";
+    return 2;
+  } catch (...) {
+    std::cerr << "ringtol: error: an unknown exception\n";
+    return 2;
   }
   return 0;
 }

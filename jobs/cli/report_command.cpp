@@ -7,6 +7,7 @@
 
 #include "jobs/inputs/input_error.h"
 #include "jobs/report/report_html.h"
+#include "jobs/store/campaign_store.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -50,6 +51,12 @@ int RunReport(const ReportCommand& command, std::ostream& out) {
   options.estimator = EstimatorNamed(command.estimator);
   CheckWritable(command.out, command.results, "--out");
   if (command.json) CheckWritable(*command.json, command.results, "--json");
+  // Every chunk is read once up front, not only those the report reads: a page built on a
+  // damaged file must not exist, and the replays would otherwise catch a damaged design
+  // point as a replay problem.
+  if (const ResultsCheck check = CheckResults(command.results); !check.intact()) {
+    throw InputError(DamageMessage(command.results, check));
+  }
   const CampaignReport report = BuildReport(command.results, options);
   WriteAtomically(command.out, ReportHtml(report));
   out << "Report: " << command.out.string() << "\n";

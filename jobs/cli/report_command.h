@@ -3,7 +3,7 @@
 // numbers as JSON (jobs/report/campaign_report.h).
 //
 // Failure: InputError, before any statistic is computed, for a results file that does not
-// open, a report path in a folder that does not exist, a report path that is the results
+// open or is damaged (any chunk that fails its checksum: CheckResults), a report path in a folder that does not exist, a report path that is the results
 // file itself, or options outside their ranges. Reports are derived files: an existing
 // one is replaced, atomically (written beside it, then renamed), so a failed run never
 // leaves half a page.

@@ -9,13 +9,16 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <iostream>
+#include <thread>
 #include <limits>
 #include <optional>
 #include <stdexcept>
 #include <system_error>
+#include <type_traits>
 #include <utility>
 
 #include "engine/units.h"
@@ -42,6 +45,18 @@ constexpr std::size_t kMaxSlots = 1u << 17;
 constexpr unsigned kMetadataReadAttempts = 24;
 // Pending() reads statuses in blocks of this many samples to bound its memory.
 constexpr hsize_t kStatusBlock = 1u << 20;
+// A reader of a file being written may read a chunk while the writer rewrites it in place:
+// that torn read fails its checksum once and succeeds on the next attempt. Real damage
+// fails every attempt, which costs a damaged chunk these few milliseconds.
+constexpr int kRawReadAttempts = 3;
+constexpr std::chrono::milliseconds kRawReadRetryDelay{2};
+
+// HDF5 shuts itself down at exit. After an object header that failed its checksum it
+// cannot (the half-loaded object stays in its free lists) and prints "HDF5: infinite loop
+// closing library" below ringtol's own message. Every file is closed explicitly before
+// exit, so skipping that shutdown loses nothing. It must precede HDF5's first call, hence
+// a static initialiser.
+[[maybe_unused]] const herr_t kNoShutdownAtExit = H5dont_atexit();
 
 // ---------------------------------------------------------------------------------------
 // HDF5 handles and errors
@@ -312,7 +327,24 @@ PlistId ObjectCreation(const Where& where, hid_t plist_class) {
   return plist;
 }
 
-void WriteStringColumn(const Where& where, hid_t group, const char* name, const std::vector<std::string>& values) {
+// Appended last to a dataset's filters, so that it checks the bytes as stored: a damaged
+// chunk then fails to read instead of reading as other numbers.
+void AddChecksum(const Where& where, const PlistId& dcpl, const std::string& path) {
+  CheckStatus(H5Pset_fletcher32(dcpl.get()), where, "setting the Fletcher-32 checksum of", path);
+}
+
+// A description dataset [d]: one chunk, so that it can carry a checksum.
+PlistId DescriptionCreation(const Where& where, hsize_t inputs, const std::string& path, bool checksum) {
+  PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+  if (!checksum) return dcpl;
+  const hsize_t chunk[1] = {std::max<hsize_t>(1, inputs)};
+  CheckStatus(H5Pset_chunk(dcpl.get(), 1, chunk), where, "chunking", path);
+  AddChecksum(where, dcpl, path);
+  return dcpl;
+}
+
+void WriteStringColumn(const Where& where, hid_t group, const char* name, const std::vector<std::string>& values,
+                       bool checksum) {
   std::size_t width = 1;  // the terminator
   for (const std::string& value : values) width = std::max(width, value.size() + 1);
   const TypeId type = FixedString(where, width);
@@ -320,17 +352,18 @@ void WriteStringColumn(const Where& where, hid_t group, const char* name, const 
   for (std::size_t i = 0; i < values.size(); ++i) values[i].copy(buffer.data() + i * width, width);
   const hsize_t dims[1] = {values.size()};
   const SpaceId space(Check(H5Screate_simple(1, dims, nullptr), where, "creating", "a dataspace"));
-  const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+  const PlistId dcpl = DescriptionCreation(where, dims[0], std::string("/inputs/") + name, checksum);
   const DatasetId dataset(Check(H5Dcreate2(group, name, type.get(), space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
                                 where, "creating dataset /inputs/", name));
   CheckStatus(H5Dwrite(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()), where,
               "writing dataset /inputs/", name);
 }
 
-void WriteIntColumn(const Where& where, hid_t group, const char* name, const std::vector<std::int32_t>& values) {
+void WriteIntColumn(const Where& where, hid_t group, const char* name, const std::vector<std::int32_t>& values,
+                    bool checksum) {
   const hsize_t dims[1] = {values.size()};
   const SpaceId space(Check(H5Screate_simple(1, dims, nullptr), where, "creating", "a dataspace"));
-  const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+  const PlistId dcpl = DescriptionCreation(where, dims[0], std::string("/inputs/") + name, checksum);
   const DatasetId dataset(
       Check(H5Dcreate2(group, name, H5T_STD_I32LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
             "creating dataset /inputs/", name));
@@ -702,7 +735,7 @@ hsize_t DefaultChunkRows(const CampaignStoreOptions& options, std::int64_t sampl
 constexpr int kSmallColumnDeflateLevel = 1;
 
 void CreateColumn(const Where& where, hid_t file, std::size_t column, hsize_t samples, hsize_t inputs,
-                  hsize_t chunk_rows, int deflate_level, hid_t status_type, hid_t message_type) {
+                  hsize_t chunk_rows, int deflate_level, bool checksum, hid_t status_type, hid_t message_type) {
   const std::string path = ColumnPath(column);
   const int rank = IsMatrix(column) ? 2 : 1;
   const hsize_t dims[2] = {samples, inputs};
@@ -722,6 +755,8 @@ void CreateColumn(const Where& where, hid_t file, std::size_t column, hsize_t sa
     CheckStatus(H5Pset_shuffle(dcpl.get()), where, "setting the shuffle filter of", path);
     CheckStatus(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(deflate_level)), where, "setting deflate on", path);
   }
+  // Same size for every chunk of an uncompressed column, so those are still rewritten in place.
+  if (checksum) AddChecksum(where, dcpl, path);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const float nan_float = std::numeric_limits<float>::quiet_NaN();
   const std::int32_t zero = 0;
@@ -785,26 +820,30 @@ void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identit
     return values;
   };
   using Input = sampling::SampledInput;
-  WriteStringColumn(where, inputs.get(), "name", strings([](const Input& in) { return in.name; }));
-  WriteStringColumn(where, inputs.get(), "quantity", strings([](const Input& in) { return in.quantity; }));
-  WriteStringColumn(where, inputs.get(), "component", strings([](const Input& in) { return in.component; }));
+  WriteStringColumn(where, inputs.get(), "name", strings([](const Input& in) { return in.name; }),
+                    options.checksums);
+  WriteStringColumn(where, inputs.get(), "quantity", strings([](const Input& in) { return in.quantity; }),
+                    options.checksums);
+  WriteStringColumn(where, inputs.get(), "component", strings([](const Input& in) { return in.component; }),
+                    options.checksums);
   WriteStringColumn(where, inputs.get(), "source",
-                    strings([](const Input& in) { return std::string(sampling::ErrorSourceName(in.source)); }));
+                    strings([](const Input& in) { return std::string(sampling::ErrorSourceName(in.source)); }),
+                    options.checksums);
   std::vector<std::int32_t> rollers;
   std::vector<std::int32_t> orders;
   for (const Input& input : identity.inputs) {
     rollers.push_back(input.roller);
     orders.push_back(input.order);
   }
-  WriteIntColumn(where, inputs.get(), "roller", rollers);
-  WriteIntColumn(where, inputs.get(), "order", orders);
+  WriteIntColumn(where, inputs.get(), "roller", rollers, options.checksums);
+  WriteIntColumn(where, inputs.get(), "order", orders, options.checksums);
 
   const TypeId status_type = StatusType(where);
   const TypeId message_type = FixedString(where, kMessageBytes);
   const hsize_t chunk_rows = DefaultChunkRows(options, samples, identity.inputs.size());
   for (std::size_t c = 0; c < kColumnCount; ++c) {
     CreateColumn(where, file, c, static_cast<hsize_t>(samples), identity.inputs.size(), chunk_rows,
-                 options.deflate_level, status_type.get(), message_type.get());
+                 options.deflate_level, options.checksums, status_type.get(), message_type.get());
   }
   for (const SpecLimit& limit : identity.spec) {
     const std::string path = "/outputs/" + limit.output;
@@ -884,12 +923,19 @@ void WriteRows(const Where& where, const DatasetId& dataset, std::size_t column,
   CheckStatus(H5Dflush(dataset.get()), where, "flushing", path);
 }
 
-void ReadRows(const Where& where, const DatasetId& dataset, std::size_t column, hid_t memory_type, hsize_t first,
-              hsize_t rows, hsize_t width, void* data) {
-  if (rows == 0) return;
+std::string VerifyHint(const std::string& file) {
+  return fmt::format("; `ringtol verify {}` lists every damaged dataset", file);
+}
+
+// Rows [first, first + rows) of one column; HDF5's reason when they do not read (a damaged
+// chunk: checksum, decompression or I/O), after kRawReadAttempts.
+std::optional<std::string> TryReadRows(const Where& where, const DatasetId& dataset, std::size_t column,
+                                       hid_t memory_type, hsize_t first, hsize_t rows, hsize_t width, void* data) {
+  if (rows == 0) return std::nullopt;
+  // An output an older schema lacks stays closed and reads as NaN (StoredColumnPath).
   if (dataset.get() < 0 && column >= kFirstOutput && column < kStatus && memory_type == H5T_NATIVE_DOUBLE) {
     std::fill_n(static_cast<double*>(data), rows * width, std::numeric_limits<double>::quiet_NaN());
-    return;
+    return std::nullopt;
   }
   const std::string path = ColumnPath(column);
   const SpaceId file_space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
@@ -899,8 +945,53 @@ void ReadRows(const Where& where, const DatasetId& dataset, std::size_t column, 
               "selecting rows of", path);
   const SpaceId memory_space(
       Check(H5Screate_simple(IsMatrix(column) ? 2 : 1, count, nullptr), where, "creating a dataspace for", path));
-  CheckStatus(H5Dread(dataset.get(), memory_type, memory_space.get(), file_space.get(), H5P_DEFAULT, data), where,
-              "reading", path);
+  for (int attempt = 1;; ++attempt) {
+    if (H5Dread(dataset.get(), memory_type, memory_space.get(), file_space.get(), H5P_DEFAULT, data) >= 0) {
+      return std::nullopt;
+    }
+    if (attempt == kRawReadAttempts) break;
+    std::this_thread::sleep_for(kRawReadRetryDelay);
+  }
+  const std::string detail = Hdf5Detail();
+  return detail.empty() ? std::string("HDF5 cannot read it") : detail;
+}
+
+// As TryReadRows; a damaged chunk is an InputError naming the file, the dataset and the samples.
+void ReadRows(const Where& where, const DatasetId& dataset, std::size_t column, hid_t memory_type, hsize_t first,
+              hsize_t rows, hsize_t width, void* data) {
+  if (const auto problem = TryReadRows(where, dataset, column, memory_type, first, rows, width, data)) {
+    throw InputError(fmt::format("{}: dataset {} is damaged: samples {} to {} cannot be read ({}){}", where.file,
+                                 ColumnPath(column), first, first + rows - 1, *problem, VerifyHint(where.file)));
+  }
+}
+
+// Whether a finished sample's row of `column` must hold finite numbers: its design point
+// always, its drawn values unless sampling failed, its outputs when it is ok. A non-finite
+// number there is damage the writer cannot have made (jobs/campaign/campaign.cpp).
+bool MustBeFinite(std::size_t column, SampleStatus status) {
+  if (status == SampleStatus::kPending) return false;
+  if (column == kU) return true;
+  if (column == kValues) return status != SampleStatus::kSamplingFailed;
+  if (column >= kFirstOutput && column < kFirstOutput + kOutputCount) return status == SampleStatus::kOk;
+  return false;
+}
+
+// The first (row, input) in `rows` rows of `width` numbers that breaks MustBeFinite.
+template <typename T>
+std::optional<std::pair<hsize_t, hsize_t>> FirstNonFinite(std::size_t column, const T* values, hsize_t rows,
+                                                          hsize_t width, const SampleStatus* statuses) {
+  for (hsize_t i = 0; i < rows; ++i) {
+    if (!MustBeFinite(column, statuses[i])) continue;
+    for (hsize_t j = 0; j < width; ++j) {
+      if (!std::isfinite(values[i * width + j])) return std::make_pair(i, j);
+    }
+  }
+  return std::nullopt;
+}
+
+std::string NonFiniteProblem(std::size_t column, hsize_t sample, hsize_t input, SampleStatus status) {
+  return fmt::format("sample {} is {} but holds a non-finite number{}", sample, SampleStatusName(status),
+                     IsMatrix(column) ? fmt::format(" at input {}", input) : std::string());
 }
 
 void CheckRange(std::string_view what, std::int64_t begin, std::int64_t end, std::int64_t samples) {
@@ -908,6 +999,193 @@ void CheckRange(std::string_view what, std::int64_t begin, std::int64_t end, std
     throw std::out_of_range(
         fmt::format("{}: range [{}, {}) is outside the campaign's [0, {})", what, begin, end, samples));
   }
+}
+
+// ---------------------------------------------------------------------------------------
+// Damage: CheckResults reads every chunk; Resume rewrites the damaged ones.
+
+constexpr std::array<const char*, 6> kDescriptions = {"/inputs/name",   "/inputs/quantity", "/inputs/component",
+                                                      "/inputs/source", "/inputs/roller",   "/inputs/order"};
+
+std::vector<SampleRange> Merged(std::vector<SampleRange> ranges) {
+  std::sort(ranges.begin(), ranges.end(), [](const SampleRange& a, const SampleRange& b) { return a.begin < b.begin; });
+  std::vector<SampleRange> merged;
+  for (const SampleRange& range : ranges) {
+    if (!merged.empty() && range.begin <= merged.back().end) {
+      merged.back().end = std::max(merged.back().end, range.end);
+    } else {
+      merged.push_back(range);
+    }
+  }
+  return merged;
+}
+
+bool HasChecksum(const Where& where, hid_t dataset, const std::string& path) {
+  const PlistId dcpl(Check(H5Dget_create_plist(dataset), where, "reading the creation properties of", path));
+  return H5Pget_filter_by_id2(dcpl.get(), H5Z_FILTER_FLETCHER32, nullptr, nullptr, nullptr, 0, nullptr, nullptr) >= 0;
+}
+
+hsize_t ColumnChunkRows(const Where& where, const DatasetId& dataset, std::size_t column) {
+  const PlistId dcpl(Check(H5Dget_create_plist(dataset.get()), where, "reading the layout of", ColumnPath(column)));
+  hsize_t chunk[2] = {0, 0};
+  if (H5Pget_chunk(dcpl.get(), 2, chunk) < 1 || chunk[0] == 0) {
+    Fail(where, fmt::format("dataset {} is not chunked", ColumnPath(column)));
+  }
+  return chunk[0];
+}
+
+// Reads one per-sample column chunk by chunk. `statuses` (read first, from the status
+// column) says which rows must hold finite numbers; reading the status column fills it,
+// and `known` marks the rows whose status chunk read.
+DatasetCheck ScanColumn(const Where& where, const DatasetId& dataset, std::size_t column, hsize_t samples,
+                        hsize_t inputs, std::vector<SampleStatus>& statuses, std::vector<char>& known) {
+  const std::string path = ColumnPath(column);
+  DatasetCheck check;
+  check.path = path;
+  check.per_sample = true;
+  check.checksummed = HasChecksum(where, dataset.get(), path);
+  const hsize_t rows = ColumnChunkRows(where, dataset, column);
+  const hsize_t width = IsMatrix(column) ? inputs : 1;
+  const TypeId stored(Check(H5Dget_type(dataset.get()), where, "reading the type of", path));
+  // Numbers as numbers, to check them; everything else as the bytes it is stored as.
+  hid_t memory = stored.get();
+  if (column == kValues) {
+    memory = H5T_NATIVE_FLOAT;
+  } else if (column == kU || (column >= kFirstOutput && column < kFirstOutput + kOutputCount)) {
+    memory = H5T_NATIVE_DOUBLE;
+  }
+  std::vector<unsigned char> buffer;
+  const auto damage = [&](hsize_t first, const std::string& problem) {
+    if (check.damaged.empty()) check.first_problem = problem;
+    check.damaged.push_back({static_cast<std::int64_t>(first), static_cast<std::int64_t>(std::min(first + rows, samples))});
+  };
+  for (hsize_t first = 0; first < samples; first += rows) {
+    const hsize_t count = std::min(rows, samples - first);
+    buffer.resize(count * width * H5Tget_size(memory));
+    if (const auto problem = TryReadRows(where, dataset, column, memory, first, count, width, buffer.data())) {
+      damage(first, *problem);
+      continue;
+    }
+    if (column == kStatus) {
+      const auto* raw = reinterpret_cast<const std::int8_t*>(buffer.data());
+      const auto unknown = std::find_if(raw, raw + count, [](std::int8_t value) { return !IsKnownStatus(value); });
+      if (unknown != raw + count) {
+        damage(first, fmt::format("sample {} has status {}, which no ringtol writes",
+                                  first + static_cast<hsize_t>(unknown - raw), *unknown));
+        continue;
+      }
+      for (hsize_t i = 0; i < count; ++i) {
+        statuses[first + i] = static_cast<SampleStatus>(raw[i]);
+        known[first + i] = 1;
+      }
+      continue;
+    }
+    std::optional<std::pair<hsize_t, hsize_t>> bad;
+    if (memory == H5T_NATIVE_FLOAT) {
+      bad = FirstNonFinite(column, reinterpret_cast<const float*>(buffer.data()), count, width, &statuses[first]);
+    } else if (memory == H5T_NATIVE_DOUBLE) {
+      bad = FirstNonFinite(column, reinterpret_cast<const double*>(buffer.data()), count, width, &statuses[first]);
+    }
+    if (bad) damage(first, NonFiniteProblem(column, first + bad->first, bad->second, statuses[first + bad->first]));
+  }
+  check.damaged = Merged(std::move(check.damaged));
+  return check;
+}
+
+ResultsCheck Scan(const Where& where, hid_t file, const Stored& stored, const Columns& columns) {
+  ResultsCheck check;
+  check.samples = stored.samples;
+  const auto samples = static_cast<hsize_t>(stored.samples);
+  // ReadStored has read the descriptions whole: a damaged one does not get this far.
+  for (const char* path : kDescriptions) {
+    const DatasetId dataset(Check(H5Dopen2(file, path, H5P_DEFAULT), where, "opening dataset", path));
+    DatasetCheck description;
+    description.path = path;
+    description.checksummed = HasChecksum(where, dataset.get(), path);
+    check.datasets.push_back(std::move(description));
+  }
+  std::vector<SampleStatus> statuses(samples, SampleStatus::kPending);
+  std::vector<char> known(samples, 0);
+  const hsize_t inputs = stored.identity.inputs.size();
+  DatasetCheck status = ScanColumn(where, columns[kStatus], kStatus, samples, inputs, statuses, known);
+  for (std::size_t c = 0; c < kColumnCount; ++c) {
+    if (c == kStatus || columns[c].get() < 0) continue;  // an output an older schema lacks
+    check.datasets.push_back(ScanColumn(where, columns[c], c, samples, inputs, statuses, known));
+  }
+  check.datasets.push_back(std::move(status));
+
+  std::vector<SampleRange> recompute;
+  for (hsize_t i = 0; i < samples; ++i) {
+    if (!known[i]) continue;
+    const auto index = static_cast<std::int64_t>(i);
+    if (statuses[i] != SampleStatus::kPending) {
+      ++check.done;
+    } else if (!check.pending.empty() && check.pending.back().end == index) {
+      ++check.pending.back().end;
+    } else {
+      check.pending.push_back({index, index + 1});
+    }
+  }
+  recompute = check.pending;
+  for (const DatasetCheck& dataset : check.datasets) {
+    recompute.insert(recompute.end(), dataset.damaged.begin(), dataset.damaged.end());
+  }
+  check.recompute = Merged(std::move(recompute));
+  return check;
+}
+
+// Gives every damaged chunk of `check` its fill values (the status chunk: pending) and marks
+// its samples pending, so that the run computes them again. A rewritten chunk is stored
+// with its filters skipped (its filter mask says so, and readers honour it): HDF5 can then
+// take it without reading the damaged one, and the next commit into it runs the filters
+// again. Chunks first, statuses after: a kill in between leaves finished statuses over
+// NaN design points, which the next resume finds damaged and rewrites again.
+void RepairDamage(const Where& where, hid_t file, const ResultsCheck& check) {
+  std::vector<SampleRange> recompute;
+  for (std::size_t c = 0; c < kColumnCount; ++c) {
+    const std::string path = ColumnPath(c);
+    const auto found = std::find_if(check.datasets.begin(), check.datasets.end(),
+                                    [&](const DatasetCheck& dataset) { return dataset.path == path; });
+    if (found == check.datasets.end() || found->damaged.empty()) continue;
+    const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening", path));
+    const PlistId dcpl(Check(H5Dget_create_plist(dataset.get()), where, "reading the layout of", path));
+    hsize_t chunk[2] = {0, 1};
+    const int rank = IsMatrix(c) ? 2 : 1;
+    if (H5Pget_chunk(dcpl.get(), rank, chunk) != rank) Fail(where, fmt::format("dataset {} is not chunked", path));
+    const TypeId type(Check(H5Dget_type(dataset.get()), where, "reading the type of", path));
+    const std::size_t element = H5Tget_size(type.get());
+    std::vector<unsigned char> fill(element);
+    CheckStatus(H5Pget_fill_value(dcpl.get(), type.get(), fill.data()), where, "reading the fill value of", path);
+    std::vector<unsigned char> bytes(chunk[0] * chunk[1] * element);
+    for (std::size_t at = 0; at < bytes.size(); at += element) std::memcpy(bytes.data() + at, fill.data(), element);
+    const int filters = H5Pget_nfilters(dcpl.get());
+    if (filters < 0 || filters >= 32) Fail(where, fmt::format("reading the filters of {} failed", path));
+    const std::uint32_t skip_all = (std::uint32_t{1} << filters) - 1;
+    for (const SampleRange& range : found->damaged) {
+      for (auto first = static_cast<hsize_t>(range.begin); first < static_cast<hsize_t>(range.end); first += chunk[0]) {
+        const hsize_t offset[2] = {first, 0};
+        CheckStatus(H5Dwrite_chunk(dataset.get(), H5P_DEFAULT, skip_all, offset, bytes.size(), bytes.data()), where,
+                    "rewriting a damaged chunk of", path);
+      }
+      std::cerr << fmt::format("ringtol: {}: dataset {} was damaged at samples {}; they are computed again\n",
+                               where.file, path, FormatRanges({range}));
+    }
+    CheckStatus(H5Dflush(dataset.get()), where, "flushing", path);
+    if (c != kStatus) recompute.insert(recompute.end(), found->damaged.begin(), found->damaged.end());
+  }
+  if (recompute.empty()) return;
+  const std::string path = ColumnPath(kStatus);
+  const DatasetId status(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening", path));
+  const TypeId type(Check(H5Dget_type(status.get()), where, "reading the type of", path));
+  std::vector<Run> runs;
+  hsize_t rows = 0;
+  for (const SampleRange& range : Merged(std::move(recompute))) {
+    runs.push_back({static_cast<hsize_t>(range.begin), static_cast<hsize_t>(range.end - range.begin)});
+    rows += runs.back().count;
+  }
+  const std::vector<std::int8_t> pending(rows, static_cast<std::int8_t>(SampleStatus::kPending));
+  const TypeId native(Check(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), where, "reading the type of", path));
+  WriteRows(where, status, kStatus, native.get(), runs, rows, 1, pending.data());
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1058,6 +1336,7 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
   // Everything is checked read-only first: a refused file is never modified.
   Stored stored;
   hsize_t chunk_rows = 0;
+  ResultsCheck damage;
   {
     const FileId reading = OpenForReading(path);
     stored = ReadStored(opening, reading.get());
@@ -1071,8 +1350,10 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
           "{}): start a new results file",
           name, stored.schema_version, kCampaignSchemaVersion));
     }
-    const Columns columns = OpenColumns(opening, reading.get(), stored.samples, identity.inputs.size(), stored.schema_version, H5P_DEFAULT);
+    const Columns columns =
+        OpenColumns(opening, reading.get(), stored.samples, identity.inputs.size(), stored.schema_version, H5P_DEFAULT);
     chunk_rows = ChunkRows(opening, columns[kU]);
+    damage = Scan(opening, reading.get(), stored, columns);
   }
   if (samples < stored.samples) {
     throw InputError(fmt::format("{}: holds {} samples and cannot shrink to {}; --samples can only grow a campaign",
@@ -1096,6 +1377,7 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
   if (file->file.get() < 0) Fail(opening, "cannot be opened for writing");
   // ...and move that mark to the end of the file, so that new objects never land on old ones.
   CheckStatus(H5Fincrement_filesize(file->file.get(), 0), file->where, "updating", "the end-of-allocation mark");
+  RepairDamage(file->where, file->file.get(), damage);
 
   if (samples > stored.samples) {
     for (std::size_t c = 0; c < kColumnCount; ++c) {
@@ -1249,7 +1531,26 @@ struct CampaignReader::File {
     std::vector<T> values(static_cast<std::size_t>(count) * width);
     ReadRows(where, columns[column], column, memory_type, static_cast<hsize_t>(begin), static_cast<hsize_t>(count),
              width, values.data());
+    if constexpr (std::is_floating_point_v<T>) {
+      const bool held = columns[column].get() >= 0;  // an output an older schema lacks reads as NaN
+      if (held && (column == kU || column == kValues || (column >= kFirstOutput && column < kFirstOutput + kOutputCount))) {
+        CheckFinite(column, begin, count, width, values.data(), Statuses(begin, count).data());
+      }
+    }
     return values;
+  }
+
+  // InputError when a finished sample holds a non-finite number where it cannot
+  // (MustBeFinite); `statuses` are those of the `count` samples from `begin`.
+  template <typename T>
+  void CheckFinite(std::size_t column, std::int64_t begin, std::int64_t count, std::size_t width, const T* values,
+                   const SampleStatus* statuses) const {
+    if (const auto bad = FirstNonFinite(column, values, static_cast<hsize_t>(count), width, statuses)) {
+      const auto sample = static_cast<hsize_t>(begin) + bad->first;
+      throw InputError(fmt::format("{}: dataset {} is damaged: {}{}", where.file, ColumnPath(column),
+                                   NonFiniteProblem(column, sample, bad->second, statuses[bad->first]),
+                                   VerifyHint(where.file)));
+    }
   }
 
   std::vector<SampleStatus> Statuses(std::int64_t begin, std::int64_t count) const {
@@ -1260,8 +1561,9 @@ struct CampaignReader::File {
     statuses.reserve(raw.size());
     for (std::size_t i = 0; i < raw.size(); ++i) {
       if (!IsKnownStatus(raw[i])) {
-        throw std::runtime_error(fmt::format("{}: /outputs/status[{}] = {} is not a status this ringtol knows",
-                                             where.file, begin + static_cast<std::int64_t>(i), raw[i]));
+        throw InputError(fmt::format("{}: dataset /outputs/status is damaged: sample {} has status {}, which no "
+                                     "ringtol writes{}",
+                                     where.file, begin + static_cast<std::int64_t>(i), raw[i], VerifyHint(where.file)));
       }
       statuses.push_back(static_cast<SampleStatus>(raw[i]));
     }
@@ -1283,7 +1585,8 @@ void CampaignReader::File::Open(const fs::path& path) {
   where = Where{path.string(), true};
   file = OpenForReading(path);
   stored = ReadStored(where, file.get());
-  columns = OpenColumns(where, file.get(), stored.samples, stored.identity.inputs.size(), stored.schema_version, H5P_DEFAULT);
+  columns =
+      OpenColumns(where, file.get(), stored.samples, stored.identity.inputs.size(), stored.schema_version, H5P_DEFAULT);
   const TypeId type(Check(H5Dget_type(columns[kStatus].get()), where, "reading the type of", ColumnPath(kStatus)));
   status_type =
       TypeId(Check(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), where, "reading the type of", ColumnPath(kStatus)));
@@ -1359,8 +1662,53 @@ SampleRecord CampaignReader::ReadSample(std::int64_t index) const {
   ReadRows(f.where, f.columns[kSolveTime], kSolveTime, H5T_NATIVE_DOUBLE, row, 1, 1, &record.solve_time);
   for (std::size_t k = 0; k < kOutputCount; ++k) {
     ReadRows(f.where, f.columns[kFirstOutput + k], kFirstOutput + k, H5T_NATIVE_DOUBLE, row, 1, 1, &record.outputs[k]);
+    if (f.columns[kFirstOutput + k].get() >= 0) f.CheckFinite(kFirstOutput + k, index, 1, 1, &record.outputs[k], &record.status);
   }
+  f.CheckFinite(kU, index, 1, d, record.u.data(), &record.status);
+  f.CheckFinite(kValues, index, 1, d, values.data(), &record.status);
   return record;
+}
+
+// ---------------------------------------------------------------------------------------
+
+bool ResultsCheck::intact() const {
+  return std::all_of(datasets.begin(), datasets.end(), [](const DatasetCheck& d) { return d.damaged.empty(); });
+}
+
+bool ResultsCheck::checksummed() const {
+  return std::all_of(datasets.begin(), datasets.end(), [](const DatasetCheck& d) { return d.checksummed; });
+}
+
+ResultsCheck CheckResults(const fs::path& path) {
+  const QuietErrors quiet;
+  const Where where{path.string(), true};
+  const FileId file = OpenForReading(path);
+  const Stored stored = ReadStored(where, file.get());
+  const Columns columns =
+      OpenColumns(where, file.get(), stored.samples, stored.identity.inputs.size(), stored.schema_version, H5P_DEFAULT);
+  return Scan(where, file.get(), stored, columns);
+}
+
+std::string FormatRanges(const std::vector<SampleRange>& ranges) {
+  std::vector<std::string> parts;
+  for (const SampleRange& range : ranges) {
+    parts.push_back(range.end - range.begin == 1 ? fmt::format("{}", range.begin)
+                                                 : fmt::format("{} to {}", range.begin, range.end - 1));
+  }
+  return fmt::format("{}", fmt::join(parts, ", "));
+}
+
+std::string DamageMessage(const fs::path& path, const ResultsCheck& check) {
+  std::vector<std::string> damaged;
+  for (const DatasetCheck& dataset : check.datasets) {
+    if (dataset.damaged.empty()) continue;
+    damaged.push_back(fmt::format("dataset {} is damaged at samples {} ({})", dataset.path,
+                                  FormatRanges(dataset.damaged), dataset.first_problem));
+  }
+  return fmt::format(
+      "{}: {}; `ringtol campaign CAMPAIGN --out {} --resume` computes those samples again, `ringtol verify {}` "
+      "lists what is intact",
+      path.string(), fmt::join(damaged, "; "), path.string(), path.string());
 }
 
 }  // namespace ringtol::jobs

@@ -27,7 +27,9 @@
 //   /timing/solve_time_s       float64 [N]     wall time of each sample: the one dataset
 //                              that differs between two runs of the same campaign
 // Every per-sample dataset is chunked along samples and extendable (maximum size
-// unlimited), so a campaign can grow with --samples. Redraws, steps, statuses and messages
+// unlimited), so a campaign can grow with --samples. Every dataset ends its filter pipeline
+// with HDF5's Fletcher-32 checksum, so that a chunk damaged on disk fails to read instead
+// of reading as other numbers (files of earlier builds have none and still read). Redraws, steps, statuses and messages
 // are shuffled and deflated (they shrink a hundredfold); the floating-point columns are
 // deflated only on request (deflate_level), because they barely compress and, in SWMR
 // mode, HDF5 never frees the old copy of a compressed chunk it rewrites: each commit of a
@@ -40,11 +42,17 @@
 // kill between the two leaves it pending and it is computed again on resume, to the same
 // bits.
 //
+// Damage: a chunk whose checksum fails (or, in files without checksums, a finished sample
+// holding a non-finite design point, drawn value or ok output) is damaged. Readers throw
+// InputError naming the file, the dataset and the samples; CheckResults lists every damaged
+// chunk; Resume recomputes the samples of damaged chunks (see Resume).
+//
 // Failure: InputError (jobs/inputs/input_error.h) naming the file, for every problem a user can
 // cause: creating over an existing file, a directory that does not exist or cannot be
 // written, resuming a file that is missing, truncated, not HDF5, not a ringtol campaign,
-// of another schema version, or of another campaign (what differs is named). HDF5 errors
-// after a successful open (disk full) throw std::runtime_error naming the file and dataset.
+// of another schema version, or of another campaign (what differs is named), and a damaged
+// file. HDF5 write errors after a successful open (disk full) throw std::runtime_error
+// naming the file and dataset.
 #pragma once
 
 #include <algorithm>
@@ -74,6 +82,9 @@ struct CampaignStoreOptions {
   // /outputs/message, 256 bytes a row, when there are fewer than 32 inputs)
   std::int64_t chunk_samples = 0;
   std::size_t chunk_cache_bytes = 32u << 20;  // per 2-D dataset: keeps the chunks being filled in memory
+  // false writes datasets without Fletcher-32, as builds before checksums did: for tests of
+  // such files and for measuring what the checksum costs.
+  bool checksums = true;
 };
 
 class CampaignStore {
@@ -83,6 +94,12 @@ class CampaignStore {
                               std::int64_t samples, const CampaignStoreOptions& options = {});
   // An existing file of the same campaign, opened for writing after a clean or killed run;
   // grows it to `samples` when that is larger than the file's N, refuses a smaller one.
+  // Reads the whole file first (CheckResults): every damaged chunk of a per-sample dataset
+  // is rewritten with fill values and its samples marked pending, so they are computed
+  // again, to the same bits. A kill during a chunk's rewrite can leave it torn, failing its
+  // checksum although no finished sample in it changed: resuming must repair, not refuse.
+  // Damage that leaves the file unopenable (superblock, object headers, /inputs
+  // descriptions) is an InputError.
   static CampaignStore Resume(const std::filesystem::path& path, const CampaignIdentity& identity,
                               std::int64_t samples, const CampaignStoreOptions& options = {});
 
@@ -127,7 +144,9 @@ std::vector<T> ReadInBlocks(std::int64_t samples, Read read) {
 class CampaignReader {
  public:
   // InputError for a missing, truncated, non-HDF5, non-ringtol, newer-schema file or one
-  // older than kOldestReadableSchema.
+  // older than kOldestReadableSchema, and from the Read functions for a damaged chunk or a
+  // finished sample holding a non-finite design point, drawn value (sampling_failed aside)
+  // or ok output.
   explicit CampaignReader(const std::filesystem::path& path);
   ~CampaignReader();
   CampaignReader(CampaignReader&&) noexcept;
@@ -152,5 +171,47 @@ class CampaignReader {
   struct File;
   std::unique_ptr<File> file_;
 };
+
+// Samples [begin, end).
+struct SampleRange {
+  std::int64_t begin = 0;
+  std::int64_t end = 0;
+  friend bool operator==(const SampleRange&, const SampleRange&) = default;
+};
+
+// One dataset of a results file, read chunk by chunk.
+struct DatasetCheck {
+  std::string path;          // e.g. "/inputs/u"
+  bool per_sample = false;   // a row per sample (else one of the /inputs descriptions, [d])
+  bool checksummed = false;  // Fletcher-32 is in its filter pipeline
+  // The samples of its chunks that fail to read (checksum, decompression, I/O) or hold a
+  // non-finite number where a finished sample has none, merged; a description dataset
+  // that fails reports [0, samples).
+  std::vector<SampleRange> damaged;
+  std::string first_problem;  // HDF5's or ringtol's reason for the first damaged chunk
+};
+
+// What `ringtol verify` reports: every dataset, what is on disk, what a --resume computes.
+struct ResultsCheck {
+  std::int64_t samples = 0;
+  std::vector<DatasetCheck> datasets;  // descriptions first, then the per-sample datasets
+  std::int64_t done = 0;               // finished samples in status chunks that read
+  std::vector<SampleRange> pending;    // pending samples in status chunks that read
+  std::vector<SampleRange> recompute;  // what Resume computes: pending and every damaged chunk's samples
+
+  bool intact() const;       // no dataset damaged
+  bool checksummed() const;  // every dataset carries Fletcher-32: intact() is then a verdict
+};
+
+// Reads every dataset of a results file chunk by chunk. InputError when the file cannot be
+// opened as a ringtol campaign (metadata damage included: HDF5 checksums its metadata).
+ResultsCheck CheckResults(const std::filesystem::path& path);
+
+// "0 to 99, 250, 300 to 399": samples as a reader counts them, both ends included.
+std::string FormatRanges(const std::vector<SampleRange>& ranges);
+
+// "file: dataset /inputs/u is damaged (samples 0 to 99: <problem>)...", naming every damaged
+// dataset, for the commands that refuse such a file.
+std::string DamageMessage(const std::filesystem::path& path, const ResultsCheck& check);
 
 }  // namespace ringtol::jobs

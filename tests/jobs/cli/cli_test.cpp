@@ -33,6 +33,7 @@ TEST(Cli, HelpListsEveryCommand) {
   EXPECT_THAT(run.out, HasSubstr("simulate"));
   EXPECT_THAT(run.out, HasSubstr("sweep"));
   EXPECT_THAT(run.out, HasSubstr("report"));
+  EXPECT_THAT(run.out, HasSubstr("verify"));
 }
 
 TEST(Cli, VersionPrintsTheProjectVersion) {
@@ -65,7 +66,7 @@ TEST(Cli, EveryCommandHasHelp) {
     EXPECT_THAT(run.out, HasSubstr("Scene file")) << command;
   }
   for (const auto& [command, option] : {std::pair{"sample", "--scene"}, {"classes", "--toml"}, {"fit", "--orders"},
-                                        {"report", "--estimator"}}) {
+                                        {"report", "--estimator"}, {"verify", "--json"}}) {
     const Outcome run = Ringtol(std::string(command) + " --help");
     EXPECT_EQ(run.exit_code, 0) << command;
     EXPECT_THAT(run.out, HasSubstr(option)) << command;
