@@ -462,10 +462,11 @@ TEST(Campaign, SigtermOrSigintAtAnyMomentKeepsEveryFinishedSampleAndResumeEndsAs
 }
 
 // mpirun passes a signal on to the ranks one odls_base_sigkill_timeout (1 s) later, so each
-// run computes about a second's worth (some 500 samples on two ranks) past the moment:
-// the campaign is longer and stopped twice.
+// run computes about a second's worth past the moment (500 samples on two loaded cores,
+// 1,500 on idle ones): the campaign is long enough for two such seconds and more, and
+// stopped twice.
 TEST(CampaignUnderMpirun, SigtermOrSigintToMpirunKeepsEveryFinishedSampleAndResumeEndsAsAnUninterruptedRun) {
-  StopThenFinish(Mpirun(2), 2000, {{SIGTERM, 0.0, "start"}, {SIGINT, 0.01, "middle"}});
+  StopThenFinish(Mpirun(2), 6000, {{SIGTERM, 0.0, "start"}, {SIGINT, 0.01, "middle"}});
 }
 
 TEST(Campaign, ASecondSignalDuringTheStopEndsTheRunAtOnceAndResumeStillCompletesTheFile) {
