@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sampling/assembly_sampler.h"
@@ -33,5 +34,13 @@ struct CampaignIdentity {
   // through base_scene; the results file states it beside /outputs/swing_mm.
   engine::SwingRule swing;
 };
+
+// Whether a summary or report shows `output` for this campaign: the first and steady
+// revolutions' D_trajectory only where the dynamic rung ran, since for the time-free rungs
+// both equal d_trajectory_mm.
+inline bool ShowsOutput(const CampaignIdentity& identity, std::string_view output) {
+  const bool per_revolution = output == "d_trajectory_first_mm" || output == "d_trajectory_steady_mm";
+  return !per_revolution || identity.solver.starts_with("dynamic");
+}
 
 }  // namespace ringtol::jobs

@@ -380,7 +380,7 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   report.samples_per_draw = saltelli ? design.samples_per_row() / 2.0 : 1.0;
   std::vector<double> trajectory_mm;  // kept from the loop for picking the samples to replay
   for (const char* name : kOutputNames) {
-    if (!reader.HasOutput(name)) continue;
+    if (!reader.HasOutput(name) || !ShowsOutput(report.identity, name)) continue;
     OutputReport out;
     out.name = name;
     out.upper_spec_limit = SpecOf(report.identity, name);

@@ -51,7 +51,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
   std::vector<bool> within(status.size(), true);
   bool any_spec = false;
   for (const char* name : kOutputNames) {
-    if (!results.HasOutput(name)) continue;
+    if (!results.HasOutput(name) || !ShowsOutput(results.identity(), name)) continue;
     OutputSummary output;
     output.name = name;
     for (const SpecLimit& limit : results.identity().spec) {
