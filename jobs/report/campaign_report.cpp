@@ -309,6 +309,7 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   report.results = results;
   const CampaignReader reader(results);
   report.identity = reader.identity();
+  report.schema_note = SchemaNote(reader);
   report.design = report.identity.design;
   report.samples = reader.samples();
   const Campaign campaign(report.identity, report.samples);
@@ -598,6 +599,7 @@ nlohmann::json ReportJson(const CampaignReport& report) {
                    {"seed", report.identity.seed},
                    {"rollers", report.rollers}};
   j["confidence"] = report.options.confidence;
+  if (!report.schema_note.empty()) j["schema_note"] = report.schema_note;
   j["samples"] = {{"campaign", report.samples},
                   {"used", report.used},
                   {"done", report.done},

@@ -151,6 +151,7 @@ struct ReplayedTrajectory {
 struct CampaignReport {
   std::filesystem::path results;
   CampaignIdentity identity;
+  std::string schema_note;  // SchemaNote: what an older file's columns are; empty for the current
   std::string design;
   int rollers = 0;  // Z, for "orders that are multiples of the roller count"
   std::int64_t samples = 0, used = 0, done = 0, ok = 0, pending = 0;

@@ -20,6 +20,14 @@ std::string ShowBound(double value) { return std::isfinite(value) ? fmt::format(
 
 }  // namespace
 
+std::string SchemaNote(const CampaignReader& results) {
+  if (results.schema_version() >= kCampaignSchemaVersion) return {};
+  return fmt::format(
+      "schema {} file: runout_mm is its runout_total_mm (max - min); its own runout_mm, an ill-posed peak to "
+      "nearest valley, is not read, and it has no swing_mm",
+      results.schema_version());
+}
+
 CampaignSummary Summarise(const CampaignReader& results, const std::function<bool(std::int64_t)>& independent,
                           double confidence) {
   CampaignSummary summary;
@@ -41,12 +49,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     }
   }
 
-  if (results.schema_version() < kCampaignSchemaVersion) {
-    summary.schema_note = fmt::format(
-        "schema {} file: runout_mm is its runout_total_mm (max - min); its own runout_mm, an ill-posed peak to "
-        "nearest valley, is not read, and it has no swing_mm",
-        results.schema_version());
-  }
+  summary.schema_note = SchemaNote(results);
 
   std::vector<bool> within(status.size(), true);
   bool any_spec = false;

@@ -51,6 +51,9 @@ struct CampaignSummary {
 
 inline constexpr double kSummaryProbabilities[] = {0.5, 0.9, 0.99, 0.999};
 
+// What an older results file's columns are, in its schema's terms; empty for the current.
+std::string SchemaNote(const CampaignReader& results);
+
 // `independent(index)` says whether a sample is an independent draw (empty: all are).
 CampaignSummary Summarise(const CampaignReader& results, const std::function<bool(std::int64_t)>& independent,
                           double confidence = 0.95);

@@ -525,6 +525,7 @@ void PageHead(std::string& html, const CampaignReport& report) {
       "ringtol {} (ran with {}) &#183; catalogue {}</p>\n",
       EscapeXml(report.results.string()), EscapeXml(report.design), EscapeXml(id.solver), id.seed, report.rollers,
       RINGTOL_VERSION, EscapeXml(id.ringtol_version), EscapeXml(id.catalogue_version));
+  if (!report.schema_note.empty()) html += fmt::format("<p class=\"meta\">Note: {}</p>\n", EscapeXml(report.schema_note));
 }
 
 // The answer first: the spec'd output's 99 % quantile and yield, and how many samples say so.

@@ -1111,6 +1111,8 @@ ResultsCheck Scan(const Where& where, hid_t file, const Stored& stored, const Co
   for (std::size_t c = 0; c < kColumnCount; ++c) {
     if (c == kStatus || columns[c].get() < 0) continue;  // an output an older schema lacks
     check.datasets.push_back(ScanColumn(where, columns[c], c, samples, inputs, statuses, known));
+    const std::string stored_path = StoredColumnPath(c, stored.schema_version);
+    if (stored_path != ColumnPath(c)) check.datasets.back().path = stored_path + " (read as " + ColumnPath(c) + ")";
   }
   check.datasets.push_back(std::move(status));
 
@@ -1340,15 +1342,15 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
   {
     const FileId reading = OpenForReading(path);
     stored = ReadStored(opening, reading.get());
-    if (const std::optional<std::string> difference = IdentityDifference(stored.identity, identity)) {
-      throw InputError(name + ": was written by another campaign: " + *difference +
-                       "; resume it with the campaign that wrote it, or choose a new results file");
-    }
     if (stored.schema_version != kCampaignSchemaVersion) {
       throw InputError(fmt::format(
           "{}: was written by an older ringtol (schema {}); it can be reported but not resumed by this one (schema "
           "{}): start a new results file",
           name, stored.schema_version, kCampaignSchemaVersion));
+    }
+    if (const std::optional<std::string> difference = IdentityDifference(stored.identity, identity)) {
+      throw InputError(name + ": was written by another campaign: " + *difference +
+                       "; resume it with the campaign that wrote it, or choose a new results file");
     }
     const Columns columns =
         OpenColumns(opening, reading.get(), stored.samples, identity.inputs.size(), stored.schema_version, H5P_DEFAULT);

@@ -502,6 +502,56 @@ TEST(CampaignReader, RefusesAFileOfANewerSchema) {
   EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), 2); }), HasSubstr(expected));
 }
 
+// A schema-1 file as ringtol 0.3 wrote it, made from a current one: its max - min sat in
+// runout_total_mm, its runout_mm held the ill-posed peak to nearest valley, and it had no
+// swing and no per-revolution diameters.
+TEST(CampaignReader, ReadsASchemaOneFileWithItsColumnsForWhatTheyAre) {
+  constexpr std::int64_t kSamples = 8;
+  const fs::path path = TestFolder() / "results.h5";
+  {
+    CampaignStore store = CampaignStore::Create(path, TestIdentity(), kSamples);
+    for (std::int64_t i = 0; i < kSamples; ++i) store.Add(DeterministicRecord(i));
+  }
+  {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    ASSERT_GE(H5Lmove(file, "/outputs/runout_mm", file, "/outputs/runout_total_mm", H5P_DEFAULT, H5P_DEFAULT), 0);
+    ASSERT_GE(H5Lmove(file, "/outputs/swing_mm", file, "/outputs/runout_mm", H5P_DEFAULT, H5P_DEFAULT), 0);
+    ASSERT_GE(H5Ldelete(file, "/outputs/d_trajectory_first_mm", H5P_DEFAULT), 0);
+    ASSERT_GE(H5Ldelete(file, "/outputs/d_trajectory_steady_mm", H5P_DEFAULT), 0);
+    const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);
+    const int schema = 1;
+    H5Awrite(attribute, H5T_NATIVE_INT, &schema);
+    H5Aclose(attribute);
+    H5Fclose(file);
+  }
+  const auto column = [](const char* name) {
+    return static_cast<std::size_t>(std::find(kOutputNames.begin(), kOutputNames.end(), std::string_view(name)) -
+                                    kOutputNames.begin());
+  };
+  const CampaignReader reader(path);
+  EXPECT_EQ(reader.schema_version(), 1);
+  EXPECT_TRUE(reader.HasOutput("runout_mm"));
+  EXPECT_FALSE(reader.HasOutput("swing_mm"));
+  EXPECT_FALSE(reader.HasOutput("d_trajectory_first_mm"));
+  const std::vector<double> runout = reader.ReadOutput("runout_mm", 0, kSamples);
+  const std::vector<double> swing = reader.ReadOutput("swing_mm", 0, kSamples);
+  for (std::int64_t i = 0; i < kSamples; ++i) {
+    const SampleRecord written = DeterministicRecord(i);
+    const auto row = static_cast<std::size_t>(i);
+    // runout_mm comes from the old runout_total_mm, which holds what was written as runout.
+    EXPECT_TRUE(std::isnan(runout[row]) ? std::isnan(written.outputs[column("runout_mm")])
+                                        : runout[row] == written.outputs[column("runout_mm")])
+        << "sample " << i;
+    EXPECT_TRUE(std::isnan(swing[row])) << "sample " << i;
+    const SampleRecord read = reader.ReadSample(i);
+    EXPECT_TRUE(std::isnan(read.outputs[column("d_trajectory_steady_mm")])) << "sample " << i;
+  }
+  EXPECT_TRUE(CheckResults(path).intact());
+  EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), kSamples); }),
+              HasSubstr("written by an older ringtol (schema 1); it can be reported but not resumed"));
+}
+
 // ---------------------------------------------------------------------------------------
 // Damage: copies of a finished file with bytes flipped inside one chosen chunk, found
 // through HDF5's own chunk index, so that the damage lands where the test says.
