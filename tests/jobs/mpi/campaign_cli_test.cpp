@@ -13,7 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <regex>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -371,15 +371,26 @@ struct StopReport {
   std::string resume;          // the command line it gave to continue
 };
 
+// Plain string search rather than <regex>, whose GCC 12 headers trip -Wmaybe-uninitialized
+// in the sanitizer build.
 StopReport ParseStop(const std::string& err, const std::string& signal_name) {
-  const std::regex pattern("stopped by " + signal_name +
-                           R"(: (\d+) of (\d+) samples are on disk in .* \((\d+) computed by this run.*\n  (.*)\n)");
-  std::smatch match;
-  if (!std::regex_search(err, match, pattern)) {
+  const std::string head = "stopped by " + signal_name + ": ";
+  const std::size_t at = err.find(head);
+  std::istringstream line(at == std::string::npos ? std::string() : err.substr(at + head.size()));
+  StopReport report;
+  std::string of, total, samples, are, on, disk, in;
+  line >> report.on_disk >> of >> report.total >> samples >> are >> on >> disk >> in;
+  const std::size_t computed = err.find(" computed by this run", at);
+  const std::size_t open = computed == std::string::npos ? computed : err.rfind('(', computed);
+  const std::size_t next_line = computed == std::string::npos ? computed : err.find("\n  ", computed);
+  if (at == std::string::npos || !line || open == std::string::npos || next_line == std::string::npos) {
     ADD_FAILURE() << "no stop report for " << signal_name << " in: " << err;
     return {};
   }
-  return {std::stoll(match[1]), std::stoll(match[2]), std::stoll(match[3]), match[4]};
+  report.computed = std::stoll(err.substr(open + 1, computed - open - 1));
+  const std::size_t end = err.find('\n', next_line + 3);
+  report.resume = err.substr(next_line + 3, end == std::string::npos ? std::string::npos : end - next_line - 3);
+  return report;
 }
 
 // One interruption of a campaign: `command` runs until `ready(samples on disk)`, gets
