@@ -24,4 +24,4 @@ ctest --test-dir build/release -j "$jobs" --output-on-failure
 
 cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRINGTOL_WERROR=ON -DRINGTOL_SANITIZE=ON
 cmake --build build/sanitize -j "$jobs"
-ctest --test-dir build/sanitize -j "$jobs" --output-on-failure
+LSAN_OPTIONS="suppressions=$PWD/tests/support/lsan.supp" ctest --test-dir build/sanitize -j "$jobs" --output-on-failure
