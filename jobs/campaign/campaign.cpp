@@ -88,6 +88,7 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
   SampleRecord record;
   record.index = index;
   record.outputs.fill(kNaN);
+  record.d_trajectory_error = kNaN;
   design_.Point(index, u_);
   record.u = u_;
   record.values.assign(campaign_->sampling().sampler.inputs().size(), kNaN);
@@ -128,6 +129,7 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
         for (std::size_t k = 0; k < kOutputCount; ++k) finite = finite && std::isfinite(outputs[k]);
         if (finite) {
           record.outputs = outputs;
+          record.d_trajectory_error = result.trajectory.error_estimate * units::kMillimetresPerMetre;
         } else {
           record.status = SampleStatus::kNonFiniteOutput;
           record.message = "the solver reported ok but an output is not finite";

@@ -59,6 +59,10 @@ struct SampleRecord {
   std::int32_t redraws = 0;              // inspected parts rejected and drawn again
   std::int32_t steps = 0;                // angles per revolution the solver used
   std::array<double, kOutputCount> outputs{};  // NaN when status != kOk
+  // [mm] the rung's own bound on its error in d_trajectory_mm against the exact model
+  // (solvers::Trajectory::error_estimate: the linear rung's neglected second-order terms,
+  // 0 for the rungs that solve the exact model); NaN when status != kOk.
+  double d_trajectory_error = 0.0;
   double solve_time = 0.0;               // [s] wall time of realise + simulate
 };
 

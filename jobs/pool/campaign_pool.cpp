@@ -105,6 +105,7 @@ void Pack(const SampleRecord& r, Packer& out) {
   out.Put(r.redraws);
   out.Put(r.steps);
   out.Put(r.outputs);
+  out.Put(r.d_trajectory_error);
   out.Put(r.solve_time);
   out.Put(r.u);
   out.Put(r.values);
@@ -118,6 +119,7 @@ SampleRecord Unpack(Unpacker& in, std::size_t dimension) {
   r.redraws = in.Get<std::int32_t>();
   r.steps = in.Get<std::int32_t>();
   r.outputs = in.Get<std::array<double, kOutputCount>>();
+  r.d_trajectory_error = in.Get<double>();
   r.solve_time = in.Get<double>();
   r.u = in.GetDoubles(dimension);
   r.values = in.GetDoubles(dimension);
