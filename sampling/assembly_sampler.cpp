@@ -4,6 +4,7 @@
 #include <boost/math/special_functions/erf.hpp>
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -195,8 +196,12 @@ class AssemblySampler::Builder {
           calibrated_shapes_[k] == c.shape)
         scale.calibration = done.calibration;
     }
-    if (scale.calibration.draws == 0)
-      scale.calibration = CalibrateSpectrum(c.shape, measure, c.tolerance, p, sampler_.options_.calibration);
+    if (scale.calibration.draws == 0) {
+      const AssemblySamplerOptions& options = sampler_.options_;
+      scale.calibration = options.calibrations
+                              ? options.calibrations->Calibrate(c.shape, measure, c.tolerance, p, options.calibration)
+                              : CalibrateSpectrum(c.shape, measure, c.tolerance, p, options.calibration);
+    }
     c.sigma = scale.calibration.scale;
     scales.push_back(std::move(scale));
     calibrated_shapes_.push_back(c.shape);
@@ -207,6 +212,48 @@ class AssemblySampler::Builder {
   // it depends only on what is compared here.
   std::vector<SpectrumShape> calibrated_shapes_;
 };
+
+struct CalibrationCache::Entries {
+  struct Entry {
+    SpectrumShape shape;
+    FormMeasure measure;
+    double tolerance;
+    double coverage;
+    CalibrationOptions options;
+    SpectrumCalibration calibration;
+  };
+  mutable std::mutex mutex;
+  std::vector<Entry> entries;
+};
+
+CalibrationCache::CalibrationCache() : entries_(std::make_unique<Entries>()) {}
+CalibrationCache::~CalibrationCache() = default;
+
+SpectrumCalibration CalibrationCache::Calibrate(const SpectrumShape& shape, FormMeasure measure, double tolerance,
+                                                double coverage, const CalibrationOptions& options) {
+  auto same = [&](const Entries::Entry& e) {
+    return e.shape == shape && e.measure == measure && e.tolerance == tolerance && e.coverage == coverage &&
+           e.options.min_draws == options.min_draws && e.options.max_draws == options.max_draws &&
+           e.options.seed == options.seed;
+  };
+  {
+    std::lock_guard lock(entries_->mutex);
+    for (const Entries::Entry& e : entries_->entries)
+      if (same(e)) return e.calibration;
+  }
+  // Calibrated outside the lock: two threads may both calibrate one class, to the same
+  // bits (the calibration is deterministic), rather than one waiting a quarter second.
+  const SpectrumCalibration calibration = CalibrateSpectrum(shape, measure, tolerance, coverage, options);
+  std::lock_guard lock(entries_->mutex);
+  if (std::none_of(entries_->entries.begin(), entries_->entries.end(), same))
+    entries_->entries.push_back({shape, measure, tolerance, coverage, options, calibration});
+  return calibration;
+}
+
+std::size_t CalibrationCache::size() const {
+  std::lock_guard lock(entries_->mutex);
+  return entries_->entries.size();
+}
 
 AssemblySampler::AssemblySampler(engine::Scene base, AssemblyTolerances tolerances, AssemblySamplerOptions options)
     : base_(std::move(base)), tolerances_(std::move(tolerances)), options_(std::move(options)) {

@@ -24,6 +24,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -140,12 +141,31 @@ struct ComponentScale {
   SpectrumCalibration calibration;
 };
 
+// Calibrations kept for reuse by every sampler given the same cache: a calibration costs
+// about a quarter of a second and depends only on (shape, measure, tolerance, coverage,
+// options), so samplers that share classes (one per candidate of a tolerance allocation)
+// calibrate each class once. Thread-safe; a calibration that throws is not kept.
+class CalibrationCache {
+ public:
+  CalibrationCache();
+  ~CalibrationCache();
+  SpectrumCalibration Calibrate(const SpectrumShape& shape, FormMeasure measure, double tolerance, double coverage,
+                                const CalibrationOptions& options);
+  std::size_t size() const;
+
+ private:
+  struct Entries;
+  std::unique_ptr<Entries> entries_;
+};
+
 struct AssemblySamplerOptions {
   std::uint64_t seed = 1;  // the campaign seed (redraws)
   // Attempts per inspected component before the sample is refused. With p >= 0.24 (Cp >=
   // 0.1), 200 attempts all failing has probability below 1e-23.
   int max_attempts = 200;
   CalibrationOptions calibration;
+  // Shared calibrations (may be null: every sampler calibrates its own).
+  std::shared_ptr<CalibrationCache> calibrations;
 };
 
 class AssemblySampler {

@@ -3,8 +3,8 @@
 #   - engine, sampling, solvers and analysis are pure computation: no TOML, HDF5, MPI,
 #     command line, JSON or formatting library, and nothing of a layer above them;
 #   - in jobs/, each library sees only the libraries below it, the report and the input
-#     files never see mpi.h, and no command but `ringtol campaign` (and main, which starts
-#     MPI for it) compiles against mpi.h.
+#     files never see mpi.h, and no command but `ringtol campaign` and `ringtol allocate`
+#     (and main, which starts MPI for them) compiles against mpi.h.
 # Run as: cmake -DROOT=<source dir> -P check_layering.cmake
 cmake_minimum_required(VERSION 3.20)
 include(${CMAKE_CURRENT_LIST_DIR}/report_failures.cmake)
@@ -44,9 +44,10 @@ set(rules
   "analysis=engine sampling solvers analysis=${application_headers}"
   "jobs/inputs=engine sampling solvers jobs/inputs=^(mpi\\.h|hdf5\\.h|CLI/)"
   "jobs/campaign=engine sampling solvers jobs/inputs jobs/campaign=^(mpi\\.h|hdf5\\.h|CLI/)"
-  "jobs/store=engine sampling solvers jobs/inputs jobs/campaign jobs/store=^(mpi\\.h|CLI/)"
-  "jobs/pool=engine sampling solvers jobs/inputs jobs/campaign jobs/store jobs/pool=^(hdf5\\.h|CLI/)"
-  "jobs/report=engine sampling solvers analysis jobs/inputs jobs/campaign jobs/store jobs/report=^(mpi\\.h|hdf5\\.h|CLI/)"
+  "jobs/allocation=engine sampling solvers analysis jobs/inputs jobs/campaign jobs/allocation=^(mpi\\.h|hdf5\\.h|CLI/)"
+  "jobs/store=engine sampling solvers analysis jobs/inputs jobs/campaign jobs/allocation jobs/store=^(mpi\\.h|CLI/)"
+  "jobs/pool=engine sampling solvers analysis jobs/inputs jobs/campaign jobs/allocation jobs/store jobs/pool=^(hdf5\\.h|CLI/)"
+  "jobs/report=engine sampling solvers analysis jobs/inputs jobs/campaign jobs/allocation jobs/store jobs/report=^(mpi\\.h|hdf5\\.h|CLI/)"
   "jobs/studies=engine sampling solvers jobs/inputs jobs/report jobs/studies=^(mpi\\.h|hdf5\\.h|CLI/)")
 
 set(failures "")
@@ -72,15 +73,16 @@ foreach(rule ${rules})
   endforeach()
 endforeach()
 
-# The command line: only the campaign command and main (which starts MPI for it) see MPI.
+# The command line: only the commands that run the pool (campaign, allocate), what they
+# share (pool_run) and main (which starts MPI for them) see MPI.
 file(GLOB files RELATIVE ${ROOT} ${ROOT}/jobs/cli/*.h ${ROOT}/jobs/cli/*.cpp)
 foreach(f ${files})
-  if(f MATCHES "^jobs/cli/(campaign_command\\.(h|cpp)|main\\.cpp)$")
+  if(f MATCHES "^jobs/cli/((campaign|allocate)_command\\.(h|cpp)|pool_run\\.(h|cpp)|main\\.cpp)$")
     continue()
   endif()
   reach("${f}" project system)
   if("mpi.h" IN_LIST system)
-    list(APPEND failures "${f} reaches <mpi.h>: only `ringtol campaign` runs the MPI pool")
+    list(APPEND failures "${f} reaches <mpi.h>: only `ringtol campaign` and `ringtol allocate` run the MPI pool")
   endif()
 endforeach()
 

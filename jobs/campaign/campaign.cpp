@@ -34,10 +34,10 @@ CampaignPlan ReadStored(const CampaignIdentity& stored, std::int64_t samples) {
 
 Campaign::Campaign(const std::filesystem::path& file, std::optional<std::int64_t> samples,
                    std::optional<std::uint64_t> seed)
-    : Campaign(ReadWithOverrides(file, samples, seed), file.string()) {}
+    : Campaign(ReadWithOverrides(file, samples, seed), file.string(), nullptr) {}
 
 Campaign::Campaign(const CampaignIdentity& stored, std::int64_t samples)
-    : Campaign(ReadStored(stored, samples), stored.campaign_path + " (as stored)") {
+    : Campaign(ReadStored(stored, samples), stored.campaign_path + " (as stored)", nullptr) {
   const auto same = [](const sampling::SampledInput& a, const sampling::SampledInput& b) {
     return a.name == b.name && a.quantity == b.quantity && a.component == b.component && a.source == b.source &&
            a.roller == b.roller && a.order == b.order;
@@ -51,8 +51,9 @@ Campaign::Campaign(const CampaignIdentity& stored, std::int64_t samples)
   identity_.campaign_path = stored.campaign_path;
 }
 
-Campaign::Campaign(CampaignPlan plan, const std::string& source_name)
-    : plan_(std::move(plan)), sampling_(MakeSampling(plan_.sampling, source_name)) {
+Campaign::Campaign(CampaignPlan plan, const std::string& source_name,
+                   std::shared_ptr<sampling::CalibrationCache> calibrations)
+    : plan_(std::move(plan)), sampling_(MakeSampling(plan_.sampling, source_name, std::move(calibrations))) {
   const std::filesystem::path& file = plan_.file;
 
   identity_.ringtol_version = RINGTOL_VERSION;

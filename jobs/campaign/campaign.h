@@ -26,6 +26,12 @@ class Campaign {
   // seed: replays its samples. Throws InputError when the stored text no longer reads
   // (another ringtol version) or makes other inputs than the file lists.
   Campaign(const CampaignIdentity& stored, std::int64_t samples);
+  // A campaign of a plan built in memory (a tolerance allocation's candidate: the current
+  // design with other classes); `source_name` names it in messages, `calibrations` (may be
+  // null) shares spectrum calibrations with other campaigns. Throws InputError as
+  // MakeSampling does.
+  Campaign(CampaignPlan plan, const std::string& source_name,
+           std::shared_ptr<sampling::CalibrationCache> calibrations);
 
   const CampaignPlan& plan() const { return plan_; }
   const Sampling& sampling() const { return sampling_; }
@@ -39,8 +45,6 @@ class Campaign {
   std::unique_ptr<solvers::Solver> MakeSolver() const;
 
  private:
-  Campaign(CampaignPlan plan, const std::string& source_name);
-
   CampaignPlan plan_;
   Sampling sampling_;
   CampaignIdentity identity_;

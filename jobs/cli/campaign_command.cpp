@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "jobs/campaign/campaign.h"
+#include "jobs/cli/pool_run.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/pool/stop_signals.h"
 #include "jobs/report/campaign_summary.h"
@@ -58,64 +59,10 @@ nlohmann::json RunJson(const PoolReport& run) {
           {"computing_ranks", run.computing_ranks}};
 }
 
-// The first error of any rank (lowest rank first), known to every rank; empty if none.
-std::string Agree(MPI_Comm communicator, const std::string& error) {
-  int rank = 0;
-  int ranks = 1;
-  MPI_Comm_rank(communicator, &rank);
-  MPI_Comm_size(communicator, &ranks);
-  const int mine = error.empty() ? ranks : rank;
-  int first = ranks;
-  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, communicator);
-  if (first == ranks) return {};
-  std::string message = error;
-  int length = static_cast<int>(message.size());
-  MPI_Bcast(&length, 1, MPI_INT, first, communicator);
-  message.resize(static_cast<std::size_t>(length));
-  MPI_Bcast(message.data(), length, MPI_CHAR, first, communicator);
-  return first == 0 ? message : fmt::format("rank {}: {}", first, message);
-}
 
-template <typename F>
-std::string Attempt(F&& step) {
-  try {
-    step();
-    return {};
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-}
 
-void CheckOutput(const CampaignCommand& command) {
-  const std::string name = command.out.string();
-  if (command.resume) {
-    if (!std::filesystem::exists(command.out))
-      throw InputError(name + ": --resume: there is no such results file to continue");
-    return;
-  }
-  if (std::filesystem::exists(command.out))
-    throw InputError(name + ": exists; pass --resume to continue it, or remove it or choose another --out");
-  const std::filesystem::path folder = command.out.parent_path().empty() ? "." : command.out.parent_path();
-  if (!std::filesystem::is_directory(folder))
-    throw InputError(name + ": cannot be written: folder " + folder.string() + " does not exist");
-  if (access(folder.c_str(), W_OK) != 0)
-    throw InputError(name + ": cannot be written: folder " + folder.string() + " is not writable");
-}
 
-void CheckPoolOptions(const PoolOptions& pool, double progress_seconds) {
-  if (pool.chunk_samples < 0) throw InputError("--chunk " + std::to_string(pool.chunk_samples) + ": allowed: >= 0");
-  if (!(pool.chunk_seconds > 0.0))
-    throw InputError("--chunk-seconds " + std::to_string(pool.chunk_seconds) + ": allowed: > 0");
-  if (!(pool.commit_seconds >= 0.0))
-    throw InputError("--commit-seconds " + std::to_string(pool.commit_seconds) + ": allowed: >= 0");
-  if (!(progress_seconds > 0.0))
-    throw InputError("--progress-seconds " + std::to_string(progress_seconds) + ": allowed: > 0");
-}
 
-std::string Clock(double seconds) {
-  const auto s = static_cast<long long>(std::llround(seconds));
-  return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60) : fmt::format("{}:{:02}", s / 60, s % 60);
-}
 
 // Progress on stderr: a bar redrawn in place on a terminal, a line every `interval`
 // seconds otherwise (logs of batch jobs).
@@ -156,17 +103,6 @@ class ProgressPrinter {
   bool finished_ = false;
 };
 
-// One shell word: as is when it holds only characters no shell treats specially,
-// single-quoted otherwise.
-std::string ShellWord(const std::string& word) {
-  const bool plain = !word.empty() && std::all_of(word.begin(), word.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) != 0 || std::string_view("_-./=:,+@%").find(c) != std::string_view::npos;
-  });
-  if (plain) return word;
-  std::string quoted = "'";
-  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
 
 // The command that continues the campaign: the same arguments with --resume.
 std::string ResumeCommand(const CampaignCommand& command, int ranks) {
@@ -176,13 +112,7 @@ std::string ResumeCommand(const CampaignCommand& command, int ranks) {
     if (command.samples) words.insert(words.end(), {"--samples", std::to_string(*command.samples)});
     if (command.seed) words.insert(words.end(), {"--seed", std::to_string(*command.seed)});
   }
-  if (std::find(words.begin(), words.end(), "--resume") == words.end()) words.emplace_back("--resume");
-  std::string line = ranks > 1 ? fmt::format("mpirun -n {} ", ranks) : std::string();
-  for (std::size_t i = 0; i < words.size(); ++i) {
-    if (i > 0) line += ' ';
-    line += ShellWord(words[i]);
-  }
-  return line;
+  return ResumeLine(std::move(words), ranks);
 }
 
 std::int64_t SamplesOnDisk(const std::filesystem::path& file) {
@@ -196,13 +126,6 @@ std::int64_t SamplesOnDisk(const std::filesystem::path& file) {
   return done;
 }
 
-// Whether an MPI launcher started this process (Open MPI's mpirun, or a PMI launcher such
-// as MPICH's or Slurm's), as opposed to a singleton run alone.
-bool UnderLauncher(MPI_Comm communicator) {
-  int ranks = 1;
-  MPI_Comm_size(communicator, &ranks);
-  return ranks > 1 || std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMI_SIZE") != nullptr;
-}
 
 }  // namespace
 
@@ -222,7 +145,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   // Cheap checks first, so a wrong option fails before a second of calibration.
   std::string error = rank == 0 ? Attempt([&] {
     CheckPoolOptions(command.pool, command.progress_seconds);
-    CheckOutput(command);
+    CheckOutput(command.out, command.resume);
   })
                                 : std::string();
   if (error = Agree(world, error); !error.empty()) throw InputError(error);

@@ -22,8 +22,9 @@
 
 namespace {
 
-// `ringtol campaign` is the one MPI command: it runs alone as a singleton or under mpirun.
-int RunCampaignCommand(const ringtol::jobs::CampaignCommand& command) {
+// `ringtol campaign` is the MPI command: it runs alone as a singleton or under mpirun.
+template <typename Run>
+int RunMpiCommand(Run run) {
   int provided = 0;
   if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
     std::cerr << "ringtol: error: MPI could not start (MPI_Init_thread failed); under mpirun as root, pass "
@@ -40,7 +41,7 @@ int RunCampaignCommand(const ringtol::jobs::CampaignCommand& command) {
     code = 1;
   } else {
     try {
-      code = ringtol::jobs::RunCampaign(command, std::cout, std::cerr);
+      code = run();
     } catch (const ringtol::jobs::InputError& e) {
       if (rank == 0) std::cerr << "ringtol: error: " << e.what() << "\n";
       code = 1;
@@ -171,6 +172,26 @@ CLI::App* AddBenchLadder(CLI::App& bench, ringtol::jobs::BenchLadderCommand& lad
   return sub;
 }
 
+// The pool's options, as campaign and allocate take them.
+void AddPoolOptions(CLI::App& app, ringtol::jobs::PoolOptions& pool) {
+  app.add_option("--chunk", pool.chunk_samples, "Samples per chunk handed to a rank (default 0: adaptive)")
+      ->capture_default_str();
+  app.add_option("--chunk-seconds", pool.chunk_seconds, "Adaptive chunks' target duration [s]")->capture_default_str();
+  app.add_option("--commit-seconds", pool.commit_seconds,
+                  "Longest time results wait before they are written to the file [s]")
+      ->capture_default_str();
+  app.add_option("--coordinator-computes", pool.coordinator_computes,
+                  "Whether rank 0 also computes: 1 yes, 0 no, -1 below 16 ranks")
+      ->check(CLI::Range(-1, 1))
+      ->capture_default_str();
+  app.add_option("--threads", pool.threads, "Computing threads of rank 0 (default 0: every core alone, one under mpirun)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  // Test hooks standing in for kill -9 (tests/jobs/mpi/campaign_cli_test.cpp); not for users.
+  app.add_option("--test-kill-after", pool.kill_after_committed)->group("");
+  app.add_option("--test-kill-rank", pool.kill_rank)->group("");
+}
+
 CLI::App* AddCampaign(CLI::App& app, ringtol::jobs::CampaignCommand& campaign) {
   CLI::App* sub = app.add_subcommand(
       "campaign", "Run a Monte Carlo campaign into an HDF5 results file, alone or under mpirun, and summarise it");
@@ -184,23 +205,7 @@ CLI::App* AddCampaign(CLI::App& app, ringtol::jobs::CampaignCommand& campaign) {
   sub->add_option("--progress-seconds", campaign.progress_seconds,
                   "Seconds between progress lines when stderr is not a terminal")
       ->capture_default_str();
-  ringtol::jobs::PoolOptions& pool = campaign.pool;
-  sub->add_option("--chunk", pool.chunk_samples, "Samples per chunk handed to a rank (default 0: adaptive)")
-      ->capture_default_str();
-  sub->add_option("--chunk-seconds", pool.chunk_seconds, "Adaptive chunks' target duration [s]")->capture_default_str();
-  sub->add_option("--commit-seconds", pool.commit_seconds,
-                  "Longest time results wait before they are written to the file [s]")
-      ->capture_default_str();
-  sub->add_option("--coordinator-computes", pool.coordinator_computes,
-                  "Whether rank 0 also computes: 1 yes, 0 no, -1 below 16 ranks")
-      ->check(CLI::Range(-1, 1))
-      ->capture_default_str();
-  sub->add_option("--threads", pool.threads, "Computing threads of rank 0 (default 0: every core alone, one under mpirun)")
-      ->check(CLI::Range(0, 4096))
-      ->capture_default_str();
-  // Test hooks standing in for kill -9 (tests/jobs/mpi/campaign_cli_test.cpp); not for users.
-  sub->add_option("--test-kill-after", pool.kill_after_committed)->group("");
-  sub->add_option("--test-kill-rank", pool.kill_rank)->group("");
+  AddPoolOptions(*sub, campaign.pool);
   return sub;
 }
 
@@ -279,8 +284,9 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (*campaign_app) {
     campaign.arguments.assign(argv, argv + argc);
-    return RunCampaignCommand(campaign);
+    return RunMpiCommand([&] { return ringtol::jobs::RunCampaign(campaign, std::cout, std::cerr); });
   }
+
   try {
     if (*simulate_app) return ringtol::jobs::RunSimulate(simulate, std::cout);
     if (*sweep_app) return ringtol::jobs::RunSweep(sweep, std::cout);

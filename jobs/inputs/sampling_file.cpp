@@ -369,7 +369,8 @@ void OverridePlan(SamplingPlan& plan, std::optional<std::int64_t> samples, std::
   if (seed) plan.seed = plan.design.seed = *seed;
 }
 
-Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name) {
+Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name,
+                      std::shared_ptr<sampling::CalibrationCache> calibrations) {
   auto check_count = [&](const sampling::Design& design) {
     const std::string problem = design.CheckSampleCount(plan.samples);
     if (!problem.empty())
@@ -388,6 +389,7 @@ Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name) 
   try {
     sampling::AssemblySamplerOptions options;
     options.seed = plan.seed;
+    options.calibrations = std::move(calibrations);
     sampler.emplace(plan.scene, plan.tolerances, options);
   } catch (const std::invalid_argument& e) {
     throw InputError(source_name + ": [tolerances]: " + e.what());

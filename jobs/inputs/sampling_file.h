@@ -42,6 +42,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -88,6 +89,9 @@ struct Sampling {
   sampling::AssemblySampler sampler;
   sampling::Design design;
 };
-Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name);
+// `calibrations` (may be null) shares spectrum calibrations with other samplers
+// (sampling::CalibrationCache).
+Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name,
+                      std::shared_ptr<sampling::CalibrationCache> calibrations = nullptr);
 
 }  // namespace ringtol::jobs

@@ -127,11 +127,39 @@ SampleRecord Unpack(Unpacker& in, std::size_t dimension) {
   return r;
 }
 
+class CampaignWork final : public PoolWork {
+ public:
+  explicit CampaignWork(const Campaign& campaign) : campaign_(campaign) {}
+  Evaluator MakeEvaluator() const override {
+    auto evaluator = std::make_shared<SampleEvaluator>(campaign_);
+    return [evaluator](std::int64_t index) { return evaluator->Evaluate(index); };
+  }
+  std::size_t dimension() const override { return campaign_.identity().inputs.size(); }
+
+ private:
+  const Campaign& campaign_;
+};
+
+class CampaignResults final : public PoolResults {
+ public:
+  explicit CampaignResults(CampaignStore& store) : store_(store) {}
+  std::int64_t items() const override { return store_.samples(); }
+  std::vector<std::int64_t> Pending(std::int64_t begin, std::int64_t end) const override {
+    return store_.Pending(begin, end);
+  }
+  void Add(SampleRecord record) override { store_.Add(std::move(record)); }
+  std::size_t buffered() const override { return store_.buffered(); }
+  void Commit() override { store_.Commit(); }
+
+ private:
+  CampaignStore& store_;
+};
+
 // 0 while the pool goes on; the stop request's value once there is one.
 int StopRequest(const PoolOptions& options) { return options.stop ? options.stop() : 0; }
 
-void RunWorker(MPI_Comm communicator, int rank, const Campaign& campaign, const PoolOptions& options) {
-  SampleEvaluator evaluator(campaign);
+void RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, const PoolOptions& options) {
+  const PoolWork::Evaluator evaluate = work.MakeEvaluator();
   Packer results;  // empty: the first request
   int tag = kTagResults;
   std::vector<std::int64_t> chunk;
@@ -157,20 +185,20 @@ void RunWorker(MPI_Comm communicator, int rank, const Campaign& campaign, const 
         tag = kTagStopping;
         break;
       }
-      Pack(evaluator.Evaluate(index), results);
+      Pack(evaluate(index), results);
     }
     if (first && rank == options.kill_rank) std::raise(SIGKILL);
   }
 }
 
-// Pending indices of the file in ascending order, read a block at a time.
+// Pending indices of the results in ascending order, read a block at a time.
 class PendingCursor {
  public:
-  explicit PendingCursor(const CampaignStore& store) : store_(store) {}
+  explicit PendingCursor(const PoolResults& store) : store_(store) {}
   std::optional<std::int64_t> Next() {
     while (at_ == block_.size()) {
-      if (begin_ >= store_.samples()) return std::nullopt;
-      const std::int64_t end = std::min(store_.samples(), begin_ + kPendingBlock);
+      if (begin_ >= store_.items()) return std::nullopt;
+      const std::int64_t end = std::min(store_.items(), begin_ + kPendingBlock);
       block_ = store_.Pending(begin_, end);
       at_ = 0;
       begin_ = end;
@@ -179,7 +207,7 @@ class PendingCursor {
   }
 
  private:
-  const CampaignStore& store_;
+  const PoolResults& store_;
   std::int64_t begin_ = 0;
   std::vector<std::int64_t> block_;
   std::size_t at_ = 0;
@@ -188,8 +216,8 @@ class PendingCursor {
 // Rank 0's own computing thread, fed a chunk at a time like a remote worker.
 class LocalWorker {
  public:
-  LocalWorker(const Campaign& campaign, const PoolOptions& options)
-      : thread_([this, &campaign, &options] { Run(campaign, options); }) {}
+  LocalWorker(const PoolWork& work, const PoolOptions& options)
+      : thread_([this, &work, &options] { Run(work, options); }) {}
   ~LocalWorker() {
     Stop();
     thread_.join();
@@ -232,9 +260,9 @@ class LocalWorker {
   }
 
  private:
-  void Run(const Campaign& campaign, const PoolOptions& options) {
+  void Run(const PoolWork& work, const PoolOptions& options) {
     try {
-      SampleEvaluator evaluator(campaign);
+      const PoolWork::Evaluator evaluate = work.MakeEvaluator();
       for (;;) {
         std::vector<std::int64_t> chunk;
         {
@@ -247,7 +275,7 @@ class LocalWorker {
         }
         for (const std::int64_t index : chunk) {
           if (abandon_ || StopRequest(options) != 0) break;
-          SampleRecord record = evaluator.Evaluate(index);
+          SampleRecord record = evaluate(index);
           std::lock_guard lock(mutex_);
           finished_.push_back(std::move(record));
         }
@@ -274,7 +302,7 @@ class LocalWorker {
   std::thread thread_;  // last: starts once the members above exist
 };
 
-PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const Campaign& campaign, CampaignStore& store,
+PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work, PoolResults& store,
                           const PoolOptions& options, const std::function<void(const PoolProgress&)>& progress) {
   const Clock::time_point start = Clock::now();
   PoolReport report;
@@ -288,10 +316,10 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const Campaign& camp
   report.computing_ranks = (ranks - 1) + threads;
 
   std::int64_t pending = 0;
-  for (std::int64_t begin = 0; begin < store.samples(); begin += kPendingBlock) {
-    pending += static_cast<std::int64_t>(store.Pending(begin, std::min(store.samples(), begin + kPendingBlock)).size());
+  for (std::int64_t begin = 0; begin < store.items(); begin += kPendingBlock) {
+    pending += static_cast<std::int64_t>(store.Pending(begin, std::min(store.items(), begin + kPendingBlock)).size());
   }
-  report.already_done = store.samples() - pending;
+  report.already_done = store.items() - pending;
   std::int64_t unassigned = pending;
   PendingCursor cursor(store);
 
@@ -339,12 +367,12 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const Campaign& camp
     store.Add(std::move(record));
   };
   auto tell = [&] {
-    if (progress) progress({report.already_done + report.computed, store.samples(), report.computed, failed,
+    if (progress) progress({report.already_done + report.computed, store.items(), report.computed, failed,
                             Seconds(Clock::now() - start)});
   };
 
   std::vector<std::unique_ptr<LocalWorker>> locals;
-  for (int t = 0; t < threads; ++t) locals.push_back(std::make_unique<LocalWorker>(campaign, options));
+  for (int t = 0; t < threads; ++t) locals.push_back(std::make_unique<LocalWorker>(work, options));
   // From the first stop request on, no more work is handed out (next_chunk is empty).
   auto stop = [&](int request) {
     if (request == 0 || report.stopped != 0) return;
@@ -352,7 +380,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const Campaign& camp
     for (const std::unique_ptr<LocalWorker>& local : locals) local->Abandon();
   };
   int active_workers = ranks - 1;
-  const std::size_t dimension = campaign.identity().inputs.size();
+  const std::size_t dimension = work.dimension();
   std::vector<char> message;
   tell();
   for (;;) {
@@ -425,18 +453,26 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const Campaign& camp
 
 }  // namespace
 
-PoolReport RunPool(MPI_Comm communicator, const Campaign& campaign, CampaignStore* store, const PoolOptions& options,
+PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* results, const PoolOptions& options,
                    const std::function<void(const PoolProgress&)>& progress) {
   int rank = 0;
   int ranks = 1;
   Check(MPI_Comm_rank(communicator, &rank), "MPI_Comm_rank");
   Check(MPI_Comm_size(communicator, &ranks), "MPI_Comm_size");
   if (rank != 0) {
-    RunWorker(communicator, rank, campaign, options);
+    RunWorker(communicator, rank, work, options);
     return {};
   }
-  if (store == nullptr) throw std::logic_error("RunPool: rank 0 needs the results file");
-  return RunCoordinator(communicator, ranks, campaign, *store, options, progress);
+  if (results == nullptr) throw std::logic_error("RunPool: rank 0 needs the results file");
+  return RunCoordinator(communicator, ranks, work, *results, options, progress);
+}
+
+PoolReport RunPool(MPI_Comm communicator, const Campaign& campaign, CampaignStore* store, const PoolOptions& options,
+                   const std::function<void(const PoolProgress&)>& progress) {
+  const CampaignWork work(campaign);
+  std::optional<CampaignResults> results;
+  if (store != nullptr) results.emplace(*store);
+  return RunPool(communicator, work, results ? &*results : nullptr, options, progress);
 }
 
 }  // namespace ringtol::jobs

@@ -92,10 +92,43 @@ struct PoolReport {
   int stopped = 0;
 };
 
-// Runs on every rank of `communicator`; `store` is rank 0's open results file (null on the
-// others). `progress` (rank 0 only, may be empty) is called as results arrive. Returns
-// the report on rank 0 (a default one elsewhere). Throws std::runtime_error for an MPI or
-// HDF5 failure after the start.
+// What a pool computes: numbered items (a campaign's samples; a round of a tolerance
+// allocation's candidate samples), each a pure function of its number. Shared by every
+// computing thread of a rank, so const.
+class PoolWork {
+ public:
+  virtual ~PoolWork() = default;
+  // Computes item `index` into a record whose index is `index`; never throws for the
+  // item's own failure (it becomes the record's status). One per computing thread.
+  using Evaluator = std::function<SampleRecord(std::int64_t index)>;
+  virtual Evaluator MakeEvaluator() const = 0;
+  // The size of every record's u and values, which travel with it between ranks.
+  virtual std::size_t dimension() const = 0;
+};
+
+// Where rank 0 files the records, and which items are still to do: a results file, or an
+// adapter in front of one.
+class PoolResults {
+ public:
+  virtual ~PoolResults() = default;
+  virtual std::int64_t items() const = 0;
+  // The pending items in [begin, end), ascending.
+  virtual std::vector<std::int64_t> Pending(std::int64_t begin, std::int64_t end) const = 0;
+  virtual void Add(SampleRecord record) = 0;
+  virtual std::size_t buffered() const = 0;
+  // Makes every added record durable.
+  virtual void Commit() = 0;
+};
+
+// Runs on every rank of `communicator`; `results` is rank 0's (null on the others).
+// `progress` (rank 0 only, may be empty) is called as results arrive. Returns the report
+// on rank 0 (a default one elsewhere). Throws std::runtime_error for an MPI failure, and
+// what `results` throws, after the start.
+PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* results, const PoolOptions& options,
+                   const std::function<void(const PoolProgress&)>& progress);
+
+// A campaign's pending samples into its results file (`store`: rank 0's, null on the
+// others).
 PoolReport RunPool(MPI_Comm communicator, const Campaign& campaign, CampaignStore* store, const PoolOptions& options,
                    const std::function<void(const PoolProgress&)>& progress);
 

@@ -102,6 +102,24 @@ TEST(AssemblySampler, SampleIReplaysAloneBitForBit) {
   }
 }
 
+TEST(CalibrationCache, SamplersSharingItCalibrateEachClassOnceAndDrawTheSameAssemblies) {
+  const engine::Scene scene = testing::PaperScene();
+  const AssemblyTolerances loose = Everything({}, 3);
+  AssemblyTolerances tight = loose;
+  tight.ring->circularity /= 2;
+  AssemblySamplerOptions shared = Fast();
+  shared.calibrations = std::make_shared<CalibrationCache>();
+  const AssemblySampler alone(scene, tight, Fast());
+  const AssemblySampler first(scene, loose, shared);
+  // The ring and the (shared) roller shape class.
+  EXPECT_EQ(shared.calibrations->size(), 2u);
+  const AssemblySampler second(scene, tight, shared);
+  // Only the tighter ring is new: the rollers' class comes from the cache.
+  EXPECT_EQ(shared.calibrations->size(), 3u);
+  std::vector<double> u(static_cast<std::size_t>(alone.dimension()), 0.3);
+  EXPECT_EQ(second.Realise(7, u).scene, alone.Realise(7, u).scene);
+}
+
 TEST(AssemblySampler, InspectedPartsAllMeetTheirTolerances) {
   // Cp = 0.5 puts 13 % of parts outside: inspection must reject and redraw every one.
   const AssemblySampler sampler(testing::PaperScene(), Everything({ToleranceMode::kInspected, 0.5}, 3), Fast());

@@ -1,0 +1,91 @@
+#include "jobs/cli/pool_run.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "jobs/inputs/input_error.h"
+
+namespace ringtol::jobs {
+
+std::string Agree(MPI_Comm communicator, const std::string& error) {
+  int rank = 0;
+  int ranks = 1;
+  MPI_Comm_rank(communicator, &rank);
+  MPI_Comm_size(communicator, &ranks);
+  const int mine = error.empty() ? ranks : rank;
+  int first = ranks;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, communicator);
+  if (first == ranks) return {};
+  std::string message = error;
+  int length = static_cast<int>(message.size());
+  MPI_Bcast(&length, 1, MPI_INT, first, communicator);
+  message.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(message.data(), length, MPI_CHAR, first, communicator);
+  return first == 0 ? message : fmt::format("rank {}: {}", first, message);
+}
+
+void CheckOutput(const std::filesystem::path& out, bool resume) {
+  const std::string name = out.string();
+  if (resume) {
+    if (!std::filesystem::exists(out))
+      throw InputError(name + ": --resume: there is no such results file to continue");
+    return;
+  }
+  if (std::filesystem::exists(out))
+    throw InputError(name + ": exists; pass --resume to continue it, or remove it or choose another --out");
+  const std::filesystem::path folder = out.parent_path().empty() ? "." : out.parent_path();
+  if (!std::filesystem::is_directory(folder))
+    throw InputError(name + ": cannot be written: folder " + folder.string() + " does not exist");
+  if (access(folder.c_str(), W_OK) != 0)
+    throw InputError(name + ": cannot be written: folder " + folder.string() + " is not writable");
+}
+
+void CheckPoolOptions(const PoolOptions& pool, double progress_seconds) {
+  if (pool.chunk_samples < 0) throw InputError("--chunk " + std::to_string(pool.chunk_samples) + ": allowed: >= 0");
+  if (!(pool.chunk_seconds > 0.0))
+    throw InputError("--chunk-seconds " + std::to_string(pool.chunk_seconds) + ": allowed: > 0");
+  if (!(pool.commit_seconds >= 0.0))
+    throw InputError("--commit-seconds " + std::to_string(pool.commit_seconds) + ": allowed: >= 0");
+  if (!(progress_seconds > 0.0))
+    throw InputError("--progress-seconds " + std::to_string(progress_seconds) + ": allowed: > 0");
+}
+
+std::string Clock(double seconds) {
+  const auto s = static_cast<long long>(std::llround(seconds));
+  return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60) : fmt::format("{}:{:02}", s / 60, s % 60);
+}
+
+std::string ShellWord(const std::string& word) {
+  const bool plain = !word.empty() && std::all_of(word.begin(), word.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || std::string_view("_-./=:,+@%").find(c) != std::string_view::npos;
+  });
+  if (plain) return word;
+  std::string quoted = "'";
+  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+bool UnderLauncher(MPI_Comm communicator) {
+  int ranks = 1;
+  MPI_Comm_size(communicator, &ranks);
+  return ranks > 1 || std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMI_SIZE") != nullptr;
+}
+
+std::string ResumeLine(std::vector<std::string> words, int ranks) {
+  if (std::find(words.begin(), words.end(), "--resume") == words.end()) words.emplace_back("--resume");
+  std::string line = ranks > 1 ? fmt::format("mpirun -n {} ", ranks) : std::string();
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    if (i > 0) line += ' ';
+    line += ShellWord(words[i]);
+  }
+  return line;
+}
+
+}  // namespace ringtol::jobs

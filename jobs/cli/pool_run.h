@@ -1,0 +1,51 @@
+// What the commands that run the pool (`ringtol campaign`, `ringtol allocate`) share:
+// agreeing on an error across ranks before any work, checking the output file and the pool
+// options, and the command line that resumes a stopped run.
+#pragma once
+
+#include <mpi.h>
+
+#include <exception>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "jobs/pool/campaign_pool.h"
+
+namespace ringtol::jobs {
+
+// The first error of any rank (lowest rank first), known to every rank; empty if none.
+// Collective: every rank calls it.
+std::string Agree(MPI_Comm communicator, const std::string& error);
+
+// Runs `step`; what it throws, as text (empty when it succeeded).
+template <typename F>
+std::string Attempt(F&& step) {
+  try {
+    step();
+    return {};
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+}
+
+// InputError unless `out` can be created (new: the path is free and its folder writable)
+// or continued (resume: the file exists).
+void CheckOutput(const std::filesystem::path& out, bool resume);
+// InputError naming the option for a pool option or progress interval out of range.
+void CheckPoolOptions(const PoolOptions& pool, double progress_seconds);
+
+// "m:ss" or "h:mm:ss".
+std::string Clock(double seconds);
+// One shell word: as is when it holds only characters no shell treats specially,
+// single-quoted otherwise.
+std::string ShellWord(const std::string& word);
+// The command line `words` with --resume (added if absent), under `mpirun -n ranks` when
+// ranks > 1, quoted for a shell.
+std::string ResumeLine(std::vector<std::string> words, int ranks);
+
+// Whether an MPI launcher started this process (Open MPI's mpirun, or a PMI launcher such
+// as MPICH's or Slurm's), as opposed to a singleton run alone.
+bool UnderLauncher(MPI_Comm communicator);
+
+}  // namespace ringtol::jobs
