@@ -360,6 +360,18 @@ TEST(AllocationSearch, BothSearchesFindTheBruteForceOptimumOnRandomCostTables) {
   }
 }
 
+TEST(AllocationSearch, BranchAndBoundFindsTheOptimumOfAHundredThousandCandidateSpace) {
+  for (int table = 0; table < 10; ++table) {
+    const Toy toy = MakeToy({10, 10, 10, 10, 10}, 700 + static_cast<std::uint64_t>(table), table % 2 == 0 ? 0.0 : 0.03);
+    const AllocationSpace space(toy.costs);
+    const SearchOptions options{SearchKind::kBranchAndBound, 8};
+    AllocationSearch search(space, options);
+    const SearchRun run = Drive(search, options, [&](std::int64_t x) { return ToyVerdict(toy, space, x); });
+    ASSERT_EQ(run.best, CheapestFeasible(toy, space)) << "table " << table;
+    EXPECT_NE(search.settlement(0), Settlement::kNotVisited);
+  }
+}
+
 TEST(AllocationSearch, BranchAndBoundSimulatesASmallFractionOfATenThousandCandidateSpace) {
   // Measured over these 200 tables (10 x 10 x 10 x 10, batch 8): mean 2.43 %, largest
   // 9.22 % of the 10^4 candidates simulated. The bounds, about 1.6 times those, leave
