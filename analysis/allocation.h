@@ -17,6 +17,7 @@
 // make it skip the answer.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -43,7 +44,7 @@ class AllocationSpace {
   std::int64_t size() const { return size_; }  // number of candidates
 
   // Mixed radix, the last component fastest: candidate 0 is the loosest in every component,
-  // size() - 1 the tightest.
+  // size() - 1 the tightest. std::out_of_range for a candidate or option outside the space.
   std::vector<int> Options(std::int64_t candidate) const;
   std::int64_t Candidate(std::span<const int> options) const;
   // The sum of the components' option costs.
@@ -71,6 +72,8 @@ struct CostModel {
   double a = 0.0;  // >= 0: the cost of any tolerance (setup, handling)
   double b = 1.0;  // > 0
   double k = 1.0;  // > 0
+  // Throws std::invalid_argument for a tolerance not finite and > 0 or parameters out of
+  // their ranges.
   double Cost(double tolerance) const;
 };
 
@@ -107,9 +110,11 @@ struct ConstraintJudgement {
   Interval interval;      // confidence interval of the same quantity
   std::int64_t samples = 0;
   // Undecided: about how many samples would decide it, from the interval's half-width
-  // shrinking as 1/sqrt(n) around the estimate (n (half-width / |estimate - limit|)^2);
-  // -1 when the estimate sits on the limit, where no sample count decides it. 0 when
-  // decided.
+  // shrinking as 1/sqrt(n) around the estimate (n (half-width / |estimate - limit|)^2,
+  // the half-width being the distance from the estimate to the interval's end facing the
+  // limit). Where too few samples bound that end at all (a quantile's rank beyond n), the
+  // least n that bounds it. -1 when the estimate sits on the limit, where no sample count
+  // decides it, or is infinite (failures beyond the quantile). 0 when decided.
   std::int64_t samples_to_decide = 0;
 };
 
@@ -123,13 +128,15 @@ struct ConstraintJudgement {
 // of the samples surely within (upper <= limit) to the upper bound of those possibly
 // within (lower <= limit). Feasible when the whole interval is within the limit
 // (quantile: interval.upper <= limit; yield: interval.lower >= level), infeasible when the
-// whole of it is beyond, else undecided.
+// whole of it is beyond, else undecided. Throws std::invalid_argument for spans of
+// unequal length or empty, a level or confidence outside (0, 1), or a non-finite limit.
 ConstraintJudgement JudgeConstraint(const Constraint& constraint, std::span<const double> value,
                                     std::span<const double> lower, std::span<const double> upper,
                                     double confidence);
 
 // A candidate's verdict from its constraints' verdicts: infeasible when any is
-// infeasible, feasible when all are feasible, else undecided (kUnknown when any is).
+// infeasible, feasible when all are feasible (so when there are none), else undecided
+// (kUnknown when any is).
 Verdict CombineVerdicts(std::span<const Verdict> verdicts);
 
 // How the search visits the space.
@@ -153,8 +160,8 @@ enum class Settlement : std::int8_t {
   kSimulated = 1,   // simulated; its verdict is its own
   kImplied = 2,     // not simulated: looser than an infeasible candidate (infeasible) or
                     // tighter than a feasible one (feasible)
-  kCostlier = 3,    // not simulated: costs more than the recommendation, so it cannot
-                    // change it
+  kCostlier = 3,    // not simulated nor implied: costs at least as much as the
+                    // recommendation (ties lose to its lower index), so it cannot change it
 };
 inline constexpr NameTable<Settlement, 4> kSettlementNames = {{{Settlement::kNotVisited, "not_visited"},
                                                                {Settlement::kSimulated, "simulated"},
@@ -171,15 +178,29 @@ inline constexpr NameTable<Settlement, 4> kSettlementNames = {{{Settlement::kNot
 // component per level, loosest option first. A node (the first j components fixed) is
 // bounded by two candidates: its loosest completion L (the rest at their loosest: the
 // node's cheapest candidate) and its tightest completion T (the rest at their tightest).
-// Nodes are expanded cheapest L first; a node is
-//   - cut when cost(L) >= the cost of the best feasible candidate found (ties: the lower
-//     index wins, and L has the node's lowest index),
+// Nodes are taken cheapest L first (ties: lower L index, then the shallower node); a node is
+//   - cut when the best feasible candidate found beats L: cheaper, or as cheap with a
+//     lower index (every candidate of the node costs at least cost(L), and L has the
+//     node's lowest index),
 //   - cut when T is infeasible: every candidate of the node is looser than T,
-//   - closed when L is feasible: L is the node's cheapest candidate, and becomes the best,
-//   - else expanded into its children (T or L undecided included).
-// Each step asks for the L and T of up to `batch` open nodes, cheapest first. The result
-// is the cheapest feasible candidate, equal to exhaustive evaluation's whenever the two
-// monotone facts hold for the verdicts.
+//   - closed when L is feasible: L is the node's cheapest candidate (the best is then L or
+//     one that beats it),
+//   - else expanded into its children (T or L undecided included; an undecided leaf is
+//     dropped).
+// A verdict is known when the candidate was simulated, or implied by a decided simulated
+// one (looser than an infeasible one: infeasible; tighter than a feasible one: feasible;
+// infeasible wins where noise makes both hold). kUndecided implies nothing. A node whose
+// T and L are known is settled without asking; otherwise it asks for its T first and for
+// its L only once T is known not to be infeasible, so a node beyond the limit costs one
+// simulation (and a space without a feasible candidate ends on the tightest). Each step
+// settles what it can and asks for the unknown T or L of the open nodes, cheapest first,
+// until `batch` candidates are asked. The best is the cheapest simulated feasible
+// candidate (ties: lower index), whichever node asked for it. The result is the cheapest
+// feasible candidate, equal to exhaustive evaluation's whenever the two monotone facts
+// hold for the verdicts. Cost per step: O(log) per node settled plus, per verdict looked
+// up, the size of the frontier of decided candidates; verdict() and settlement() build a
+// per-candidate table (O(size x components)) after each step in which they are first
+// called.
 class AllocationSearch {
  public:
   AllocationSearch(const AllocationSpace& space, SearchOptions options);
@@ -187,15 +208,18 @@ class AllocationSearch {
 
   // The next candidates to simulate (at most options.batch, none already asked for), in
   // ascending index order; empty when the search is over. Every candidate returned by the
-  // previous call must have been reported (Report) first.
+  // previous call must have been reported (Report) first (else std::logic_error).
   std::vector<std::int64_t> Next();
-  // The verdict of a simulated candidate: kFeasible, kInfeasible or kUndecided.
+  // The verdict of a simulated candidate: kFeasible, kInfeasible or kUndecided (else
+  // std::invalid_argument). Throws std::logic_error for a candidate not in the last batch
+  // or already reported.
   void Report(std::int64_t candidate, Verdict verdict);
 
   bool done() const;
   // The cheapest candidate known to be feasible (ties: lowest index), if any.
   std::optional<std::int64_t> best() const;
-  // Per candidate, what is known and how.
+  // Per candidate, what is known and how: a simulated candidate's own verdict, else the
+  // implied one, else kUnknown. Throws std::out_of_range outside the space.
   Verdict verdict(std::int64_t candidate) const;
   Settlement settlement(std::int64_t candidate) const;
   std::int64_t simulated() const;  // candidates reported so far
