@@ -196,9 +196,14 @@ std::vector<Field<ComponentInput>> ComponentFields() {
   };
 }
 
-std::vector<Field<analysis::Constraint>> ConstraintFields(std::array<bool, kUpperKeys.size()>& upper_given) {
+std::string OutputList() {
   std::string outputs;
   for (const char* name : kOutputNames) outputs += (outputs.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+  return outputs;
+}
+
+std::vector<Field<analysis::Constraint>> ConstraintFields(std::array<bool, kUpperKeys.size()>& upper_given) {
+  const std::string outputs = OutputList();
   std::vector<Field<analysis::Constraint>> fields{
       Text("output", Presence::kRequired, outputs, &analysis::Constraint::output),
       {"quantile", Presence::kOptional, "> 0 and < 1",
@@ -229,13 +234,9 @@ analysis::Constraint ReadConstraint(const TableReader& t) {
   std::array<bool, kUpperKeys.size()> upper_given{};
   analysis::Constraint c;
   t.Read(ConstraintFields(upper_given), c);
-  std::string outputs;
   bool known = false;
-  for (const char* name : kOutputNames) {
-    outputs += (outputs.empty() ? "\"" : ", \"") + std::string(name) + "\"";
-    known = known || c.output == name;
-  }
-  if (!known) t.Fail("output", "not an output of a campaign", outputs);
+  for (const char* name : kOutputNames) known = known || c.output == name;
+  if (!known) t.Fail("output", "not an output of a campaign", OutputList());
   t.RequireExactlyOne("quantile", "yield",
                       "exactly one of quantile (> 0 and < 1: that quantile must be <= the limit) and yield (> 0 "
                       "and < 1: at least that fraction within the limit)");
@@ -261,20 +262,19 @@ AllocationOption ReadOption(const Site& site, AllocatedComponent component, cons
                                     " class of the catalogue (`ringtol classes` lists them): " + classes;
   OptionText text;
   std::optional<Site> class_site;
-  std::optional<TableReader> table;
   if (site.node.is_string()) {
     text.class_name = ReadText(site, class_allowed);
     class_site.emplace(site);
   } else if (const toml::table* t = site.node.as_table()) {
-    table.emplace(*t, site.key_path, site.file);
+    const TableReader table(*t, site.key_path, site.file);
     const std::vector<Field<OptionText>> fields{
         Text("class", Presence::kRequired, class_allowed, &OptionText::class_name),
         Choice<OptionText, std::optional<ToleranceMode>>(
             "mode", Presence::kOptional, {{"process", ToleranceMode::kProcess}, {"inspected", ToleranceMode::kInspected}},
             &OptionText::mode),
     };
-    table->Read(fields, text);
-    class_site.emplace(table->At("class"));
+    table.Read(fields, text);
+    class_site.emplace(table.At("class"));
   } else {
     site.Fail("neither a class name nor a table",
               "a class name or { class = \"...\", mode = \"process\" | \"inspected\" }");

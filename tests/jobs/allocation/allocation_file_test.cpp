@@ -162,6 +162,17 @@ TEST(AllocationFile, AnInlineOptionSetsItsModeAndAnAliasIsTheCurrentClass) {
   EXPECT_EQ(*plan.current, ((0 * 3 + 0) * 4 + 2) * 2 + 0);
 }
 
+// ISO 492 class 6 at 6 < D <= 18 mm: VDsp 9 um in diameter series 9, 5 um in series 2-4
+// (jobs/inputs/catalogue.toml); an option is looked up in its table's series.
+TEST(AllocationFile, RollerOptionsAreLookedUpInTheTablesDiameterSeries) {
+  const TempFile file(ReplaceOnce(ExampleText(), "mode = \"inspected\"\n", "mode = \"inspected\"\ndiameter_series = \"2\"\n"));
+  const AllocationPlan plan = ReadAllocationFile(file.path());
+  constexpr double kVdspSeries2 = 5e-6;  // [m], the catalogue's number, converted exactly enough
+  constexpr double kConversionTolerance = 1e-18;  // [m], ~ eps x 5e-6
+  for (const auto& roller : plan.components[1].options[1].tolerances.roller_shapes)
+    EXPECT_NEAR(roller->vdsp, kVdspSeries2, kConversionTolerance);
+}
+
 TEST(AllocationFile, BranchAndBoundIsChosenAboveMaxExhaustiveCandidates) {
   const TempFile file(ReplaceOnce(ExampleText(), "search = \"auto\"", "search = \"auto\"\nmax_exhaustive = 100"));
   EXPECT_EQ(ReadAllocationFile(file.path()).search.kind, analysis::SearchKind::kBranchAndBound);
@@ -211,7 +222,7 @@ TEST_P(AllocationFileRefusal, NamesTheFileTheKeyAndWhatIsAllowed) {
 
 const std::string kRingOptions = "options = [\"waterjet\", \"precise\", \"IT7/2\", \"IT6/2\", \"IT5/2\"]";
 const std::string kRingCost = "cost = [1.0, 1.6, 3.0, 4.5, 7.0]";
-const std::string kQuantile = "output = \"d_trajectory_mm\"\nquantile = 0.99\nupper_mm = 0.050";
+const std::string kQuantile = "output = \"d_trajectory_mm\"\nquantile = 0.99\nupper_mm = 0.053";
 
 INSTANTIATE_TEST_SUITE_P(
     EveryRule, AllocationFileRefusal,
@@ -235,13 +246,13 @@ INSTANTIATE_TEST_SUITE_P(
                 {"allocation.components.ring.options", "non-empty array"}},
         Refusal{"OutputThatDoesNotExist", "output = \"static_offset_mm\"", "output = \"wobble_mm\"",
                 {"allocation.constraint[1].output", "wobble_mm", "\"static_offset_mm\"", "\"runout_mm\""}},
-        Refusal{"NeitherQuantileNorYield", kQuantile, "output = \"d_trajectory_mm\"\nupper_mm = 0.050",
+        Refusal{"NeitherQuantileNorYield", kQuantile, "output = \"d_trajectory_mm\"\nupper_mm = 0.053",
                 {"allocation.constraint[0]", "quantile", "yield", "exactly one"}},
-        Refusal{"BothQuantileAndYield", kQuantile, "output = \"d_trajectory_mm\"\nquantile = 0.99\nyield = 0.9\nupper_mm = 0.050",
+        Refusal{"BothQuantileAndYield", kQuantile, "output = \"d_trajectory_mm\"\nquantile = 0.99\nyield = 0.9\nupper_mm = 0.053",
                 {"allocation.constraint[0].yield", "exactly one"}},
-        Refusal{"YieldOutOfRange", kQuantile, "output = \"d_trajectory_mm\"\nyield = 1.0\nupper_mm = 0.050",
+        Refusal{"YieldOutOfRange", kQuantile, "output = \"d_trajectory_mm\"\nyield = 1.0\nupper_mm = 0.053",
                 {"allocation.constraint[0].yield", "> 0 and < 1"}},
-        Refusal{"WrongUpperUnit", kQuantile, "output = \"d_trajectory_mm\"\nquantile = 0.99\nupper_N = 0.050",
+        Refusal{"WrongUpperUnit", kQuantile, "output = \"d_trajectory_mm\"\nquantile = 0.99\nupper_N = 0.053",
                 {"allocation.constraint[0].upper_N", "upper_mm > 0"}},
         Refusal{"SpecPresent", "[allocation]\n", "[spec]\nd_trajectory_mm = 0.3\n\n[allocation]\n",
                 {"spec", "[[allocation.constraint]]"}},
