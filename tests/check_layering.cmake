@@ -2,9 +2,9 @@
 # a header of a library it must not depend on (docs/architecture.md):
 #   - engine, sampling, solvers and analysis are pure computation: no TOML, HDF5, MPI,
 #     command line, JSON or formatting library, and nothing of a layer above them;
-#   - in jobs/, each library sees only the libraries below it, the report and the input
-#     files never see mpi.h, and no command but `ringtol campaign` and `ringtol allocate`
-#     (and main, which starts MPI for them) compiles against mpi.h.
+#   - in jobs/, each library sees only the libraries below it, the report, the input
+#     files and the allocation never see mpi.h, and no command but `ringtol campaign` and
+#     `ringtol allocate` (and main, which starts MPI for them) compiles against mpi.h.
 # Run as: cmake -DROOT=<source dir> -P check_layering.cmake
 cmake_minimum_required(VERSION 3.20)
 include(${CMAKE_CURRENT_LIST_DIR}/report_failures.cmake)

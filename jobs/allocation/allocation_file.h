@@ -14,6 +14,7 @@
 //     batch = 8                     integer 1..4096: candidates simulated at a time
 //     first_samples = 256           integer >= 1, <= design.samples: a candidate's first
 //                                   stage; each later stage doubles it, up to design.samples
+//                                   (absent and above design.samples: design.samples)
 //     confidence = 0.95             in (0, 1): of every interval a verdict is judged by
 //     reference = "current"         "current" (the [tolerances] design, which must then be one
 //                                   of the candidates) or "loosest": what relative cost is against
@@ -40,8 +41,11 @@
 // unknown class, an unknown mode, options not ordered loosest first (by their
 // characteristic tolerance, then process before inspected), a cost or model parameter out
 // of range, a cost that falls as options tighten, a constraint on an output that does not
-// exist or with neither or both of quantile and yield, an empty option list, candidates
-// that would draw different sampler inputs (common random numbers need the same), and
+// exist or with neither or both of quantile and yield, an empty option list, an option
+// listed twice, springs on a scene without a spring roller, candidates that would draw
+// different sampler inputs (common random numbers need the same: options of a component
+// must agree on which of Kea, VDsp, the ΔDmp interval, the spring stiffness and preload
+// tolerances are zero, the only class values that change the sampler's input list), and
 // reference = "current" when the current design is not a candidate.
 #pragma once
 

@@ -18,15 +18,7 @@ struct SpecInput {
 
 }  // namespace
 
-CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSampling* stored) {
-  CampaignPlan plan;
-  plan.file = file;
-  plan.sampling = ReadSamplingFile(file, kCampaignTables, stored);
-
-  const std::string source = file.string();
-  const toml::table document = ParseToml(plan.sampling.text, source);
-  const TableReader root(document, "", source);
-
+solvers::SolverSettings ReadSolverTable(const TableReader& table) {
   struct SolverInput {
     solvers::Rung rung = solvers::Rung::kQuasistatic;
     int steps = 0;
@@ -44,6 +36,25 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
              &SolverInput::relative_tolerance),
       Choice("start", Presence::kOptional, solvers::kDynamicStartNames, &SolverInput::start),
   };
+  table.Read(solver_fields, solver);
+  solvers::SolverSettings settings = CampaignSolverDefaults();
+  settings.rung = solver.rung;
+  settings.simulation.steps = solver.steps;
+  settings.simulation.path_tolerance = solver.path_tolerance;
+  settings.relative_tolerance = solver.relative_tolerance;
+  settings.dynamic_start = solver.start;
+  return settings;
+}
+
+CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSampling* stored) {
+  CampaignPlan plan;
+  plan.file = file;
+  plan.sampling = ReadSamplingFile(file, kCampaignTables, stored);
+
+  const std::string source = file.string();
+  const toml::table document = ParseToml(plan.sampling.text, source);
+  const TableReader root(document, "", source);
+
   SpecInput spec;
   std::vector<Field<SpecInput>> spec_fields;
   for (std::size_t k = 0; k < kOutputCount; ++k) {
@@ -54,7 +65,8 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
   struct Root {};
   Root unused;
   std::vector<Field<Root>> fields{
-      Section<Root>("solver", Presence::kOptional, [&](const TableReader& t, Root&) { t.Read(solver_fields, solver); }),
+      Section<Root>("solver", Presence::kOptional,
+                    [&](const TableReader& t, Root&) { plan.solver = ReadSolverTable(t); }),
       Section<Root>("spec", Presence::kOptional, [&](const TableReader& t, Root&) { t.Read(spec_fields, spec); }),
   };
   // The sampling half was read and checked above; here only the campaign's own tables.
@@ -65,11 +77,6 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
   }
   root.Read(fields, unused);
 
-  plan.solver.rung = solver.rung;
-  plan.solver.simulation.steps = solver.steps;
-  plan.solver.simulation.path_tolerance = solver.path_tolerance;
-  plan.solver.relative_tolerance = solver.relative_tolerance;
-  plan.solver.dynamic_start = solver.start;
   for (std::size_t k = 0; k < kOutputCount; ++k) {
     if (spec.upper[k]) plan.spec.push_back({kOutputNames[k], *spec.upper[k]});
   }

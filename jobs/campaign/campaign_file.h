@@ -52,6 +52,11 @@ struct CampaignPlan {
 // The root tables a campaign file adds to a sampling file.
 inline constexpr std::array<std::string_view, 2> kCampaignTables = {"solver", "spec"};
 
+// The keys of a [solver] table (above), read from the table's reader: a campaign's and an
+// allocation file's (jobs/allocation/allocation_file.h). Throws InputError.
+class TableReader;
+solvers::SolverSettings ReadSolverTable(const TableReader& table);
+
 // `stored`: see ReadSamplingFile.
 CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSampling* stored = nullptr);
 

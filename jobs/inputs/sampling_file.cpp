@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -222,14 +223,54 @@ void ResolveDesign(const TableReader& root, const FileInput& in, SamplingPlan& p
     design.Fail("replicates", "applies to kind = \"sobol\" only", "1 for kind = \"" + in.design_kind + "\"");
 }
 
+// A class looked up at every part's diameter (ReadSamplingFile's rule): the numbers the
+// class sets, the other fields left to the caller. Throw the catalogue's
+// std::invalid_argument for an unknown class or a diameter no row covers.
+sampling::RingFormTolerance RingOfClass(const SamplingPlan& plan, const std::string& name) {
+  sampling::RingFormTolerance r;
+  r.class_name = name;
+  r.circularity = plan.catalogue.Ring(name, 2 * plan.scene.ring.inner.radius()).circularity;
+  return r;
+}
+
+std::vector<sampling::RollerShapeTolerance> RollersOfClass(const SamplingPlan& plan, const std::string& name,
+                                                           sampling::DiameterSeries series) {
+  std::vector<sampling::RollerShapeTolerance> rollers;
+  for (const engine::Roller& roller : plan.scene.rollers) {
+    const sampling::RollerTolerance row = plan.catalogue.Roller(name, 2 * roller.outline.radius(), series);
+    rollers.push_back({name, row.kea, row.vdsp, row.mean_diameter_lower, row.mean_diameter_upper, {}, {}});
+  }
+  return rollers;
+}
+
+std::vector<sampling::PositionTolerance> PositionsOfClass(const SamplingPlan& plan, const std::string& name) {
+  std::vector<sampling::PositionTolerance> positions;
+  for (const engine::Roller& roller : plan.scene.rollers)
+    positions.push_back({name, plan.catalogue.Position(name, 2 * roller.centre_radius).zone_diameter, {}});
+  return positions;
+}
+
+// One spring tolerance per spring roller; fixed rollers keep an empty slot.
+std::vector<std::optional<sampling::SpringTolerance>> SpringsOf(const engine::Scene& scene,
+                                                               const sampling::SpringTolerance& spring) {
+  std::vector<std::optional<sampling::SpringTolerance>> springs;
+  for (const engine::Roller& roller : scene.rollers) {
+    springs.push_back(roller.mount == engine::RollerMount::kSpring ? std::optional(spring) : std::nullopt);
+  }
+  return springs;
+}
+
+std::vector<std::optional<sampling::SpringTolerance>> SpringsOfClass(const SamplingPlan& plan,
+                                                                     const std::string& name) {
+  const sampling::SpringClassRow row = plan.catalogue.Spring(name);
+  return SpringsOf(plan.scene, {name, row.stiffness, row.preload, {}});
+}
+
 // [tolerances.ring] resolved against the catalogue at the ring's diameter.
 void ResolveRing(const TableReader& t, const RingInput& in, SamplingPlan& plan) {
-  const engine::Scene& scene = plan.scene;
   sampling::RingFormTolerance r;
   if (ClassOrNumbers(t, in, {"circularity_mm"})) {
-    r.class_name = *in.class_name;
-    r.circularity = Lookup(t, [&] { return plan.catalogue.Ring(r.class_name, 2 * scene.ring.inner.radius()); })
-                        .circularity;
+    r = Lookup(t, [&] { return RingOfClass(plan, *in.class_name); });
   } else {
     r.circularity = in.circularity;
   }
@@ -240,22 +281,15 @@ void ResolveRing(const TableReader& t, const RingInput& in, SamplingPlan& plan) 
 
 // [tolerances.rollers]: one tolerance per roller, each at its own diameter.
 void ResolveRollers(const TableReader& t, const RollerInput& in, SamplingPlan& plan) {
-  const engine::Scene& scene = plan.scene;
-  const std::size_t count = scene.rollers.size();
-  const sampling::DiameterSeries series = Series(t, in.series);
+  const std::size_t count = plan.scene.rollers.size();
+  plan.roller_series = Series(t, in.series);
   const bool by_class = ClassOrNumbers(t, in, {"kea_um", "vdsp_um", "mean_diameter_lower_um", "mean_diameter_upper_um"});
   if (!by_class && in.lower > in.upper)
     t.Fail("mean_diameter_lower_um", "is above mean_diameter_upper_um", "<= mean_diameter_upper_um");
-  for (std::size_t i = 0; i < count; ++i) {
-    sampling::RollerShapeTolerance r;
-    if (by_class) {
-      const sampling::RollerTolerance row = Lookup(t, [&] {
-        return plan.catalogue.Roller(*in.class_name, 2 * scene.rollers[i].outline.radius(), series);
-      });
-      r = {*in.class_name, row.kea, row.vdsp, row.mean_diameter_lower, row.mean_diameter_upper, {}, {}};
-    } else {
-      r = {"", in.kea, in.vdsp, in.lower, in.upper, {}, {}};
-    }
+  std::vector<sampling::RollerShapeTolerance> rollers =
+      by_class ? Lookup(t, [&] { return RollersOfClass(plan, *in.class_name, plan.roller_series); })
+               : std::vector<sampling::RollerShapeTolerance>(count, {"", in.kea, in.vdsp, in.lower, in.upper, {}, {}});
+  for (sampling::RollerShapeTolerance& r : rollers) {
     r.form = Spectrum(t, in, 8);
     r.capability = in.capability();
     plan.tolerances.roller_shapes.push_back(r);
@@ -264,16 +298,12 @@ void ResolveRollers(const TableReader& t, const RollerInput& in, SamplingPlan& p
 
 // [tolerances.roller_positions]: one zone per roller, on its centre circle.
 void ResolvePositions(const TableReader& t, const PositionInput& in, SamplingPlan& plan) {
-  const engine::Scene& scene = plan.scene;
-  const std::size_t count = scene.rollers.size();
-  const bool by_class = ClassOrNumbers(t, in, {"zone_diameter_mm"});
-  for (std::size_t i = 0; i < count; ++i) {
-    sampling::PositionTolerance r;
-    r.class_name = by_class ? *in.class_name : "";
-    r.zone_diameter = by_class ? Lookup(t, [&] {
-                                   return plan.catalogue.Position(r.class_name, 2 * scene.rollers[i].centre_radius);
-                                 }).zone_diameter
-                               : in.zone;
+  const std::size_t count = plan.scene.rollers.size();
+  std::vector<sampling::PositionTolerance> positions =
+      ClassOrNumbers(t, in, {"zone_diameter_mm"})
+          ? Lookup(t, [&] { return PositionsOfClass(plan, *in.class_name); })
+          : std::vector<sampling::PositionTolerance>(count, {"", in.zone, {}});
+  for (sampling::PositionTolerance& r : positions) {
     r.capability = in.capability();
     plan.tolerances.roller_positions.push_back(r);
   }
@@ -281,24 +311,14 @@ void ResolvePositions(const TableReader& t, const PositionInput& in, SamplingPla
 
 // [tolerances.springs]: spring rollers only; fixed ones keep an empty slot.
 void ResolveSprings(const TableReader& t, const SpringInput& in, SamplingPlan& plan) {
-  const engine::Scene& scene = plan.scene;
-  const std::size_t count = scene.rollers.size();
   const bool by_class = ClassOrNumbers(t, in, {"stiffness_percent", "preload_percent"});
-  if (engine::SpringRollerCount(scene) == 0)
+  if (engine::SpringRollerCount(plan.scene) == 0)
     t.FailAbout("class", "tolerances.springs", "the scene has no spring roller", "no [tolerances.springs]");
-  for (std::size_t i = 0; i < count; ++i) {
-    if (scene.rollers[i].mount != engine::RollerMount::kSpring) {
-      plan.tolerances.springs.emplace_back();
-      continue;
-    }
-    sampling::SpringTolerance r;
-    if (by_class) {
-      const sampling::SpringClassRow row = Lookup(t, [&] { return plan.catalogue.Spring(*in.class_name); });
-      r = {*in.class_name, row.stiffness, row.preload, {}};
-    } else {
-      r = {"", in.stiffness, in.preload, {}};
-    }
-    r.capability = in.capability();
+  std::vector<std::optional<sampling::SpringTolerance>> springs =
+      by_class ? Lookup(t, [&] { return SpringsOfClass(plan, *in.class_name); })
+               : SpringsOf(plan.scene, {"", in.stiffness, in.preload, {}});
+  for (std::optional<sampling::SpringTolerance>& r : springs) {
+    if (r) r->capability = in.capability();
     plan.tolerances.springs.push_back(r);
   }
 }
@@ -361,6 +381,63 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
   if (tolerances.positions) ResolvePositions(SubTable(table, "roller_positions"), *tolerances.positions, plan);
   if (tolerances.springs) ResolveSprings(SubTable(table, "springs"), *tolerances.springs, plan);
   return plan;
+}
+
+sampling::AssemblyTolerances ToleranceOfClass(const SamplingPlan& plan, sampling::ErrorSource component,
+                                              const std::string& class_name, sampling::ToleranceMode mode) {
+  const sampling::AssemblyTolerances& current = plan.tolerances;
+  // The first set entry of a per-roller list: every roller's reads from the same table.
+  auto first = [](const auto& list) {
+    for (const auto& entry : list) {
+      if (entry) return entry;
+    }
+    return std::decay_t<decltype(list.front())>{};
+  };
+  sampling::AssemblyTolerances result;
+  switch (component) {
+    case sampling::ErrorSource::kRingShape: {
+      sampling::RingFormTolerance r = RingOfClass(plan, class_name);
+      if (current.ring) {
+        r.spectrum = current.ring->spectrum;
+        r.capability = current.ring->capability;
+      }
+      r.capability.mode = mode;
+      result.ring = r;
+      break;
+    }
+    case sampling::ErrorSource::kRollerShape: {
+      const std::optional<sampling::RollerShapeTolerance> inherited = first(current.roller_shapes);
+      for (sampling::RollerShapeTolerance& r : RollersOfClass(plan, class_name, plan.roller_series)) {
+        if (inherited) {
+          r.form = inherited->form;
+          r.capability = inherited->capability;
+        }
+        r.capability.mode = mode;
+        result.roller_shapes.push_back(r);
+      }
+      break;
+    }
+    case sampling::ErrorSource::kRollerPosition: {
+      const std::optional<sampling::PositionTolerance> inherited = first(current.roller_positions);
+      for (sampling::PositionTolerance& r : PositionsOfClass(plan, class_name)) {
+        if (inherited) r.capability = inherited->capability;
+        r.capability.mode = mode;
+        result.roller_positions.push_back(r);
+      }
+      break;
+    }
+    case sampling::ErrorSource::kSpring: {
+      const std::optional<sampling::SpringTolerance> inherited = first(current.springs);
+      result.springs = SpringsOfClass(plan, class_name);
+      for (std::optional<sampling::SpringTolerance>& r : result.springs) {
+        if (!r) continue;
+        if (inherited) r->capability = inherited->capability;
+        r->capability.mode = mode;
+      }
+      break;
+    }
+  }
+  return result;
 }
 
 void OverridePlan(SamplingPlan& plan, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed) {

@@ -63,6 +63,9 @@ struct SamplingPlan {
   std::int64_t samples = 1000;
   sampling::InputGrouping grouping = sampling::InputGrouping::kSource;
   sampling::AssemblyTolerances tolerances;
+  // [tolerances.rollers] diameter_series, which other roller classes are looked up with
+  // (ToleranceOfClass).
+  sampling::DiameterSeries roller_series = sampling::DiameterSeries::kSeries9;
   sampling::ToleranceCatalogue catalogue;  // shipped plus [catalogue]
   std::string text;                        // the file as read, for provenance
 };
@@ -79,6 +82,16 @@ struct StoredSampling {
 };
 SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const std::string_view> other_tables = {},
                               const StoredSampling* stored = nullptr);
+
+// One component's tolerance as its [tolerances.*] table would give it with `class_name`
+// (a name or alias of the catalogue) and `mode` in place of its class or numbers: the
+// table's other keys (capability_cp, the spectrum, diameter_series) as `plan` read them,
+// their defaults where the file has no such table; looked up at every part's diameter as
+// ReadSamplingFile does. Only that component's entries of the result are set (the ring, or
+// one per scene roller; springs: empty slots for fixed rollers). Throws the catalogue's
+// std::invalid_argument for an unknown class or a diameter its rows do not cover.
+sampling::AssemblyTolerances ToleranceOfClass(const SamplingPlan& plan, sampling::ErrorSource component,
+                                              const std::string& class_name, sampling::ToleranceMode mode);
 
 // Command-line overrides of the file's design.samples and seed (a Latin hypercube's size
 // follows the sample count).
