@@ -220,7 +220,7 @@ AllocationReport MakeAllocationReport(const AllocationReportInput& input, const 
   report.undecided_cheaper = outcome.undecided_cheaper;
   report.front = outcome.front;
   report.binding = outcome.binding;
-  if (!outcome.recommendation && !outcome.candidates.empty()) {
+  if (!outcome.recommendation && outcome.complete && !outcome.candidates.empty()) {
     report.tightest = static_cast<std::int64_t>(outcome.candidates.size()) - 1;
   }
   report.complete = outcome.complete;

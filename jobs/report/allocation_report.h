@@ -108,8 +108,8 @@ struct AllocationReport {
   std::optional<std::int64_t> recommendation;
   std::vector<std::int64_t> alternatives, undecided_cheaper, front;
   std::vector<int> binding;
-  // The tightest candidate (the last) when no candidate is feasible: whose intervals show
-  // how far the binding constraints miss.
+  // The tightest candidate (the last) when the search ran to its end and no candidate is
+  // feasible: its intervals show how far the binding constraints miss.
   std::optional<std::int64_t> tightest;
   std::vector<RecommendedOutput> recommended_outputs;  // one per constrained output, in constraint order
   // What the search did.

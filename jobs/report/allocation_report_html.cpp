@@ -80,13 +80,14 @@ void PageHead(std::string& html, const AllocationReport& report) {
 void RecommendationTable(std::string& html, const AllocationReport& report, const CandidateReport& c) {
   const AllocationIdentity& id = report.identity;
   const CandidateReport* reference = id.reference ? &At(report, *id.reference) : nullptr;
-  html += "<table>\n";
-  Row(html, {"component", "class", "characteristic tolerance", "cost", reference ? "current design" : ""}, true);
+  html += "<table>\n<tr><th>component</th><th>class</th><th>characteristic tolerance</th><th>cost</th>";
+  html += reference ? "<th>current design</th></tr>\n" : "</tr>\n";
   for (std::size_t k = 0; k < c.classes.size(); ++k) {
     const AllocationIdentity::Option& o = id.options[k][static_cast<std::size_t>(c.outcome.options[k])];
-    Row(html, {EscapeXml(SourceLabel(id.components[k])), "<b>" + EscapeXml(c.classes[k]) + "</b>",
-               Num(o.tolerance) + (id.components[k] == "springs" ? " %" : " µm"), Num(o.cost),
-               reference ? EscapeXml(reference->classes[k]) : ""});
+    html += fmt::format("<tr><td>{}</td><td><b>{}</b></td><td>{} {}</td><td>{}</td>",
+                        EscapeXml(SourceLabel(id.components[k])), EscapeXml(c.classes[k]), Num(o.tolerance),
+                        id.components[k] == "springs" ? "%" : "µm", Num(o.cost));
+    html += reference ? fmt::format("<td>{}</td></tr>\n", EscapeXml(reference->classes[k])) : "</tr>\n";
   }
   html += "</table>\n<table>\n";
   Row(html, {"constraint", fmt::format("estimate [{:g} % interval]", 100 * id.confidence), "margin", "verdict"}, true);
@@ -120,6 +121,8 @@ void AnswerSection(std::string& html, const AllocationReport& report) {
       }
       html += "</ul>\n";
     }
+  } else if (!report.complete) {
+    html += "<p><b>No candidate is known to be feasible yet</b>: the search has not run to its end.</p>\n";
   } else {
     html += "<p><b>No candidate is feasible</b>: not even the tightest classes meet every constraint.</p>\n";
     if (report.tightest) {

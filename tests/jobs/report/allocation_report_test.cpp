@@ -286,6 +286,21 @@ TEST(AllocationReport, NoFeasibleCandidateNamesTheBindingConstraintAndHowFarItMi
   EXPECT_TRUE(report.recommended_outputs.empty());
 }
 
+TEST(AllocationReport, AnInterruptedSearchSaysItsAnswerMayChange) {
+  AllocationReportInput input = Input();
+  input.outcome.complete = false;
+  std::string answer = Between(AllocationReportHtml(MakeAllocationReport(input)), "id=\"answer\"", "</div>");
+  EXPECT_THAT(answer, HasSubstr("Recommended (candidate 4)"));
+  EXPECT_THAT(answer, HasSubstr("The search did not run to its end"));
+  // Without a recommendation yet, nothing is said to be infeasible.
+  input.outcome.recommendation.reset();
+  const AllocationReport report = MakeAllocationReport(input);
+  answer = Between(AllocationReportHtml(report), "id=\"answer\"", "</div>");
+  EXPECT_THAT(answer, HasSubstr("No candidate is known to be feasible yet"));
+  EXPECT_THAT(answer, Not(HasSubstr("No candidate is feasible")));
+  EXPECT_FALSE(report.tightest);
+}
+
 TEST(AllocationReport, TheGroupThatDrivesTheOutputRanksFirstBySource) {
   const AllocationReport report = MakeAllocationReport(Input());
   ASSERT_EQ(report.recommended_outputs.size(), 2u);
