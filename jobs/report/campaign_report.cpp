@@ -191,9 +191,11 @@ OutputSensitivity SobolSensitivity(const std::string& output, const std::vector<
   return out;
 }
 
-OutputSensitivity Screening(const std::string& output, const std::vector<double>& y_used,
-                            const std::vector<double>& x_used, int d, const std::vector<sampling::SampledInput>& inputs,
-                            const ReportOptions& options) {
+}  // namespace
+
+OutputSensitivity ScreenOutput(const std::string& output, std::span<const double> y_used,
+                               std::span<const double> x_used, int d,
+                               const std::vector<sampling::SampledInput>& inputs, const ReportOptions& options) {
   OutputSensitivity out;
   out.output = output;
   out.method = "screening";
@@ -223,6 +225,8 @@ OutputSensitivity Screening(const std::string& output, const std::vector<double>
   AddAggregates(out, finest, members, inputs);
   return out;
 }
+
+namespace {
 
 std::size_t OutputColumn(std::string_view name) {
   const auto* at = std::find_if(kOutputNames.begin(), kOutputNames.end(),
@@ -303,6 +307,31 @@ ReplayedTrajectory Replay(const Campaign& campaign, const CampaignReader& reader
 
 }  // namespace
 
+OutputReport DescribeOutput(std::string name, std::optional<double> upper_spec_limit, std::span<const double> ok_values,
+                            std::int64_t failed, std::span<const double> probabilities, const ReportOptions& options) {
+  OutputReport out;
+  out.name = std::move(name);
+  out.upper_spec_limit = upper_spec_limit;
+  out.count = static_cast<std::int64_t>(ok_values.size());
+  if (ok_values.empty()) return out;
+  analysis::SpecLimits limits;
+  limits.upper = upper_spec_limit;
+  out.distribution = analysis::Describe(ok_values, probabilities, limits, options.confidence);
+  out.convergence = analysis::TraceConvergence(ok_values, kReportQuantile, limits, options.confidence);
+  for (const analysis::QuantileEstimate& q : out.distribution->quantiles) {
+    if (q.probability != kReportQuantile || !(q.value > 0.0)) continue;
+    out.samples_for_quantile =
+        analysis::SamplesForQuantilePrecision(q, out.count, options.quantile_precision * std::abs(q.value));
+  }
+  if (const std::optional<analysis::ProportionEstimate>& within = out.distribution->within_spec) {
+    out.samples_for_yield =
+        analysis::SamplesForProportionPrecision(within->value, options.yield_precision, options.confidence);
+    out.within_spec_counting_failures =
+        analysis::EstimateProportion(within->successes, within->trials + failed, options.confidence);
+  }
+  return out;
+}
+
 CampaignReport BuildReport(const std::filesystem::path& results, const ReportOptions& options) {
   CampaignReport report;
   report.options = options;
@@ -382,36 +411,13 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   std::vector<double> trajectory_mm;  // kept from the loop for picking the samples to replay
   for (const char* name : kOutputNames) {
     if (!reader.HasOutput(name) || !ShowsOutput(report.identity, name)) continue;
-    OutputReport out;
-    out.name = name;
-    out.upper_spec_limit = SpecOf(report.identity, name);
     std::vector<double> all = ReadInBlocks<double>(
         report.samples, [&](std::int64_t begin, std::int64_t count) { return reader.ReadOutput(name, begin, count); });
     std::vector<double> values;
     values.reserve(used_ok.size());
     for (const std::int64_t i : used_ok) values.push_back(all[static_cast<std::size_t>(i)]);
-    out.count = static_cast<std::int64_t>(values.size());
-    analysis::SpecLimits limits;
-    limits.upper = out.upper_spec_limit;
-    if (!values.empty()) {
-      out.distribution = analysis::Describe(values, kSummaryProbabilities, limits, options.confidence);
-      out.convergence = analysis::TraceConvergence(values, kReportQuantile, limits, options.confidence);
-      const analysis::QuantileEstimate& q =
-          *std::find_if(out.distribution->quantiles.begin(), out.distribution->quantiles.end(),
-                        [](const analysis::QuantileEstimate& e) { return e.probability == kReportQuantile; });
-      if (q.value > 0.0) {
-        out.samples_for_quantile =
-            analysis::SamplesForQuantilePrecision(q, out.count, options.quantile_precision * std::abs(q.value));
-      }
-      if (out.distribution->within_spec) {
-        out.samples_for_yield = analysis::SamplesForProportionPrecision(out.distribution->within_spec->value,
-                                                                        options.yield_precision, options.confidence);
-        const std::int64_t failed = report.done - report.ok;
-        out.within_spec_counting_failures =
-            analysis::EstimateProportion(out.distribution->within_spec->successes,
-                                         out.distribution->within_spec->trials + failed, options.confidence);
-      }
-    }
+    OutputReport out = DescribeOutput(name, SpecOf(report.identity, name), values, report.done - report.ok,
+                                      kSummaryProbabilities, options);
     // Sensitivities need spread: an output that never varies (or no ok sample) has none.
     if (out.distribution && out.distribution->standard_deviation > 0.0) {
       if (saltelli) {
@@ -421,7 +427,7 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
         y_screen.reserve(screened.size());
         for (const std::int64_t i : screened) y_screen.push_back(all[static_cast<std::size_t>(i)]);
         if (screened.size() >= 2)
-          report.sensitivities.push_back(Screening(name, y_screen, x_screen, d, inputs, options));
+          report.sensitivities.push_back(ScreenOutput(name, y_screen, x_screen, d, inputs, options));
       }
     }
     report.outputs.push_back(std::move(out));
@@ -499,39 +505,41 @@ analysis::SobolIndex SumOfIndices(std::span<const analysis::SobolIndex> parts, b
   return {value, conf, {value - conf, total ? std::min(1.0, value + conf) : value + conf}};
 }
 
-namespace {
-
-nlohmann::json Number(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
+nlohmann::json JsonNumber(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
 
 nlohmann::json Json(const analysis::Interval& interval) {
-  return nlohmann::json::array({Number(interval.lower), Number(interval.upper)});
+  return nlohmann::json::array({JsonNumber(interval.lower), JsonNumber(interval.upper)});
 }
 
 nlohmann::json Json(const analysis::QuantileEstimate& q) {
-  return {{"probability", q.probability}, {"value", Number(q.value)}, {"interval", Json(q.interval)}};
+  return {{"probability", q.probability}, {"value", JsonNumber(q.value)}, {"interval", Json(q.interval)}};
 }
 
 nlohmann::json Json(const analysis::ProportionEstimate& p) {
-  return {{"value", Number(p.value)}, {"interval", Json(p.interval)}, {"successes", p.successes}, {"trials", p.trials}};
+  return {{"value", JsonNumber(p.value)}, {"interval", Json(p.interval)}, {"successes", p.successes}, {"trials", p.trials}};
 }
 
-nlohmann::json Optional(const std::optional<double>& value) { return value ? Number(*value) : nlohmann::json(nullptr); }
+namespace {
+
+nlohmann::json Optional(const std::optional<double>& value) { return value ? JsonNumber(*value) : nlohmann::json(nullptr); }
 
 template <typename T>
 nlohmann::json OptionalInteger(const std::optional<T>& value) {
   return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
 }
 
-nlohmann::json Json(const OutputReport& out, double samples_per_draw) {
+}  // namespace
+
+nlohmann::json OutputJson(const OutputReport& out, double samples_per_draw) {
   nlohmann::json j;
   j["count"] = out.count;
   j["upper_spec_limit"] = Optional(out.upper_spec_limit);
   if (!out.distribution) return j;
   const analysis::DistributionSummary& d = *out.distribution;
-  j["mean"] = Number(d.mean);
-  j["std"] = Number(d.standard_deviation);
-  j["min"] = Number(d.min);
-  j["max"] = Number(d.max);
+  j["mean"] = JsonNumber(d.mean);
+  j["std"] = JsonNumber(d.standard_deviation);
+  j["min"] = JsonNumber(d.min);
+  j["max"] = JsonNumber(d.max);
   j["quantiles"] = nlohmann::json::array();
   for (const analysis::QuantileEstimate& q : d.quantiles) j["quantiles"].push_back(Json(q));
   j["histogram"] = {{"lower", d.histogram.lower}, {"bin_width", d.histogram.bin_width}, {"counts", d.histogram.counts}};
@@ -568,23 +576,45 @@ nlohmann::json Json(const OutputReport& out, double samples_per_draw) {
   return j;
 }
 
-nlohmann::json Json(const SensitivityEntry& e) {
+namespace {
+
+nlohmann::json EntryJson(const SensitivityEntry& e) {
   nlohmann::json j = {{"name", e.name}, {"source", e.source}, {"order", e.order}};
-  j["S1"] = Number(e.first_order.value);
-  j["S1_conf"] = Number(e.first_order.conf);
+  j["S1"] = JsonNumber(e.first_order.value);
+  j["S1_conf"] = JsonNumber(e.first_order.conf);
   j["S1_interval"] = Json(e.first_order.interval);
   if (e.total_order) {
-    j["ST"] = Number(e.total_order->value);
-    j["ST_conf"] = Number(e.total_order->conf);
+    j["ST"] = JsonNumber(e.total_order->value);
+    j["ST_conf"] = JsonNumber(e.total_order->conf);
     j["ST_interval"] = Json(e.total_order->interval);
   } else {
-    j["SRC"] = Number(e.src);
-    j["SRRC"] = Number(e.srrc);
+    j["SRC"] = JsonNumber(e.src);
+    j["SRRC"] = JsonNumber(e.srrc);
   }
   return j;
 }
 
 }  // namespace
+
+nlohmann::json SensitivityJson(const OutputSensitivity& s) {
+  nlohmann::json o = {{"method", s.method},
+                      {"estimator", s.estimator},
+                      {"rows", s.rows},
+                      {"rows_excluded", s.rows_excluded},
+                      {"rows_pending", s.rows_pending},
+                      {"variance", JsonNumber(s.variance)},
+                      {"rows_for_precision", OptionalInteger(s.rows_for_precision)}};
+  o["r2"] = Optional(s.r2);
+  o["ab_correlation"] = Optional(s.ab_correlation);
+  o["rank_r2"] = Optional(s.rank_r2);
+  for (const SensitivityLevel& level : s.levels) {
+    nlohmann::json entries = nlohmann::json::array();
+    for (const SensitivityEntry& e : level.entries) entries.push_back(EntryJson(e));
+    o[level.level] = {{"aggregation", level.aggregation == Aggregation::kExact ? "exact" : "sum of parts"},
+                      {"entries", std::move(entries)}};
+  }
+  return o;
+}
 
 nlohmann::json ReportJson(const CampaignReport& report) {
   nlohmann::json j;
@@ -615,28 +645,10 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   j["failed_samples"] = std::move(failed);
   j["primary_output"] = report.primary_output;
   nlohmann::json outputs = nlohmann::json::object();
-  for (const OutputReport& out : report.outputs) outputs[out.name] = Json(out, report.samples_per_draw);
+  for (const OutputReport& out : report.outputs) outputs[out.name] = OutputJson(out, report.samples_per_draw);
   j["outputs"] = std::move(outputs);
   nlohmann::json sensitivity = nlohmann::json::object();
-  for (const OutputSensitivity& s : report.sensitivities) {
-    nlohmann::json o = {{"method", s.method},
-                        {"estimator", s.estimator},
-                        {"rows", s.rows},
-                        {"rows_excluded", s.rows_excluded},
-                        {"rows_pending", s.rows_pending},
-                        {"variance", Number(s.variance)},
-                        {"rows_for_precision", OptionalInteger(s.rows_for_precision)}};
-    o["r2"] = Optional(s.r2);
-    o["ab_correlation"] = Optional(s.ab_correlation);
-    o["rank_r2"] = Optional(s.rank_r2);
-    for (const SensitivityLevel& level : s.levels) {
-      nlohmann::json entries = nlohmann::json::array();
-      for (const SensitivityEntry& e : level.entries) entries.push_back(Json(e));
-      o[level.level] = {{"aggregation", level.aggregation == Aggregation::kExact ? "exact" : "sum of parts"},
-                        {"entries", std::move(entries)}};
-    }
-    sensitivity[s.output] = std::move(o);
-  }
+  for (const OutputSensitivity& s : report.sensitivities) sensitivity[s.output] = SensitivityJson(s);
   j["sensitivity"] = std::move(sensitivity);
   nlohmann::json trajectories = nlohmann::json::array();
   for (const ReplayedTrajectory& t : report.trajectories) {
@@ -645,9 +657,9 @@ nlohmann::json ReportJson(const CampaignReport& report) {
                             {"status", t.status},
                             {"message", t.message},
                             {"steps", t.steps},
-                            {"stored_d_trajectory_mm", Number(t.stored_d_trajectory_mm)},
-                            {"d_trajectory_mm", Number(t.d_trajectory_mm)},
-                            {"tolerance_mm", Number(t.tolerance_mm)},
+                            {"stored_d_trajectory_mm", JsonNumber(t.stored_d_trajectory_mm)},
+                            {"d_trajectory_mm", JsonNumber(t.d_trajectory_mm)},
+                            {"tolerance_mm", JsonNumber(t.tolerance_mm)},
                             {"reproduced", t.reproduced}};
     if (t.reproduced) {
       entry["x_um"] = t.x_um;

@@ -35,6 +35,7 @@
 #include "analysis/distribution.h"
 #include "analysis/order_statistics.h"
 #include "analysis/sensitivity.h"
+#include "sampling/assembly_sampler.h"
 #include "jobs/store/campaign_store.h"
 #include "solvers/simulation.h"
 
@@ -196,5 +197,35 @@ analysis::SobolIndex SumOfIndices(std::span<const analysis::SobolIndex> parts, b
 // Everything the HTML shows, keyed in the SALib / OpenTURNS vocabulary (S1, S1_conf, ST,
 // ST_conf); README documents the keys.
 nlohmann::json ReportJson(const CampaignReport& report);
+
+// The pieces of the report the allocation report (jobs/report/allocation_report.h) also
+// builds and writes, for one output whose samples the caller picked.
+
+// The distribution of one output from its ok values (any order, the caller's choice of
+// independent draws; none: count 0 and no distribution), against an upper spec limit if
+// any: quantiles at `probabilities` (each in (0, 1)) with intervals at options.confidence,
+// the convergence of the kReportQuantile quantile over the values' order, samples needed
+// for the stated precisions (the quantile's only when kReportQuantile is among
+// `probabilities`), and the yield also counting `failed` samples as outside the spec.
+OutputReport DescribeOutput(std::string name, std::optional<double> upper_spec_limit, std::span<const double> ok_values,
+                            std::int64_t failed, std::span<const double> probabilities, const ReportOptions& options);
+
+// The screening of one output (method "screening"): y_used[i] is the output of sample i
+// and x_used its d inputs (row-major [n, d]); levels "input", then "source" and "order"
+// where the inputs fall into more than one category. Throws as analysis::ScreenInputs.
+OutputSensitivity ScreenOutput(const std::string& output, std::span<const double> y_used,
+                               std::span<const double> x_used, int d,
+                               const std::vector<sampling::SampledInput>& inputs, const ReportOptions& options);
+
+// JSON as ReportJson writes it: a non-finite number as null, an interval as [lower,
+// upper], estimates with their intervals, one output's distribution ("outputs" entries,
+// campaign samples scaled by samples_per_draw) and one output's sensitivities
+// ("sensitivity" entries).
+nlohmann::json JsonNumber(double value);
+nlohmann::json Json(const analysis::Interval& interval);
+nlohmann::json Json(const analysis::QuantileEstimate& quantile);
+nlohmann::json Json(const analysis::ProportionEstimate& proportion);
+nlohmann::json OutputJson(const OutputReport& out, double samples_per_draw);
+nlohmann::json SensitivityJson(const OutputSensitivity& sensitivity);
 
 }  // namespace ringtol::jobs

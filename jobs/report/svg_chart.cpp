@@ -455,7 +455,33 @@ struct LegendEntry {
   std::string colour{};  // escaped; for lines, points, rings and bars
   bool dashed = false;
   bool band = false;
+  Series::Marker marker = Series::Marker::kCircle;  // for points
 };
+
+// A point marker centred on (x, y), about as large as a circle of radius r, in the
+// enclosing group's fill: shapes of equal ink, so that none looks weightier.
+std::string MarkerShape(Series::Marker marker, double x, double y, double r) {
+  switch (marker) {
+    case Series::Marker::kCircle:
+      break;
+    case Series::Marker::kSquare: {
+      const double h = 0.89 * r;  // a square of the circle's area: side sqrt(pi) r
+      return fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"/>", Num(x - h), Num(y - h), Num(2 * h),
+                         Num(2 * h));
+    }
+    case Series::Marker::kTriangle: {
+      const double h = 1.35 * r;  // an equilateral triangle of the circle's area, centroid on the point
+      return fmt::format("<path d=\"M{} {}L{} {}L{} {}Z\"/>", Num(x), Num(y - h), Num(x + 0.866 * h),
+                         Num(y + 0.5 * h), Num(x - 0.866 * h), Num(y + 0.5 * h));
+    }
+    case Series::Marker::kDiamond: {
+      const double h = 1.25 * r;  // a square of the circle's area, turned by 45 degrees
+      return fmt::format("<path d=\"M{} {}L{} {}L{} {}L{} {}Z\"/>", Num(x), Num(y - h), Num(x + h), Num(y), Num(x),
+                         Num(y + h), Num(x - h), Num(y));
+    }
+  }
+  return fmt::format("<circle cx=\"{}\" cy=\"{}\" r=\"{}\"/>", Num(x), Num(y), Num(r));
+}
 
 // Entries left to right from x = 8, wrapping into rows; returns the number of rows.
 int PlaceLegend(const std::vector<LegendEntry>& entries, double width, std::vector<Point>& places) {
@@ -491,7 +517,7 @@ void DrawLegend(Svg& svg, const std::vector<LegendEntry>& entries, const std::ve
                 e.dashed ? fmt::format(" stroke-dasharray=\"{}\"", kDash) : "");
         break;
       case LegendEntry::Swatch::kPoint:
-        svg.Add("<circle cx=\"{}\" cy=\"{}\" r=\"3\" fill=\"{}\"/>", Num(x + 9.0), Num(y), colour);
+        svg.Add("<g fill=\"{}\">{}</g>", colour, MarkerShape(e.marker, x + 9.0, y, 3.5));
         break;
       case LegendEntry::Swatch::kRing:
         svg.Add("<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\"/>", Num(x + 9.0),
@@ -709,8 +735,7 @@ void DrawSeries(Svg& svg, const Series& s, const Scale& x, const Scale& y, const
     for (const std::vector<Point>& run : Runs(s, x, y)) {
       for (const Point& p : run) {
         if (!r.Contains(p)) continue;
-        fmt::format_to(std::back_inserter(circles), "<circle cx=\"{}\" cy=\"{}\" r=\"{}\"/>", Num(p.x), Num(p.y),
-                       rings ? "6" : "2.5");
+        circles += rings ? MarkerShape(Series::Marker::kCircle, p.x, p.y, 6.0) : MarkerShape(s.marker, p.x, p.y, 3.0);
       }
     }
     if (circles.empty()) return;
@@ -866,7 +891,7 @@ std::string RenderChart(const Chart& chart) {
     const LegendEntry::Swatch swatch = s.style == Series::Style::kPoints  ? LegendEntry::Swatch::kPoint
                                        : s.style == Series::Style::kRings ? LegendEntry::Swatch::kRing
                                                                           : LegendEntry::Swatch::kLine;
-    legend.push_back({swatch, s.name, SeriesColour(s), s.dashed, !s.band_lower.empty()});
+    legend.push_back({swatch, s.name, SeriesColour(s), s.dashed, !s.band_lower.empty(), s.marker});
   }
   // A circle needs one scale for all directions, which log axes do not have.
   const int log_x = LogBase(chart.x), log_y = LogBase(chart.y);

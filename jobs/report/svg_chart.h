@@ -4,8 +4,8 @@
 // black and grey text, and colours from a palette that stays readable in greyscale print.
 //
 // Three kinds of chart:
-//   RenderChart      x-y data: lines, steps (an empirical CDF), points (labelled, or ringed
-//                    to single some out), shaded bands (a confidence band), log2 axes
+//   RenderChart      x-y data: lines, steps (an empirical CDF), points (labelled, of four
+//                    marker shapes, or ringed to single some out), shaded bands (a confidence band), log2 axes
 //                    (estimate vs sample count), log10 axes (error vs time over decades),
 //                    equal aspect (a trajectory in µm, with its minimum enclosing circle);
 //   RenderBarChart   horizontal grouped bars with error bars (sensitivity indices S1, ST
@@ -74,9 +74,13 @@ struct Series {
     kRings,   // an open ring around each point, wider than a marker: singles out points of
               // another series
   };
+  // The shape of a kPoints marker, also in the legend: shapes tell series apart where
+  // colours do not (greyscale print).
+  enum class Marker { kCircle, kSquare, kTriangle, kDiamond };
   std::string name{};  // legend entry; empty: not in the legend
   std::vector<double> x{}, y{};
   Style style = Style::kLine;
+  Marker marker = Marker::kCircle;  // kPoints only
   int colour = 0;       // index into the palette
   bool dashed = false;  // for lines and steps
   // Empty, or one per point: a band shaded between them (drawn under all lines). A bound of

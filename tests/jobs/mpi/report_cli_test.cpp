@@ -8,12 +8,12 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "jobs/store/campaign_store.h"
+#include "tests/support/chromium.h"
 #include "tests/support/mpi_environment.h"
 #include "tests/support/shell.h"
 #include "tests/support/text_files.h"
@@ -116,43 +116,17 @@ TEST_F(CampaignReportInChromium, PageIsSelfContainedAndHeadlessChromiumPaintsIts
   ASSERT_EQ(report.exit_code, 0) << report.err;
   EXPECT_THAT(report.out, HasSubstr("Report: " + page));
 
-  // Self-contained: nothing a browser would fetch (the SVG namespace is a name, not a fetch).
+  // Self-contained: nothing a browser would fetch.
   const std::string html = ringtol::testing::ReadText(page);
-  for (const char* fetch : {"<script", "<link", "<img", "<iframe", "src=", "url(", "@import", "href=\"http"}) {
-    EXPECT_THAT(html, Not(HasSubstr(fetch))) << fetch;
-  }
+  for (const char* fetch : ringtol::testing::kFetches) EXPECT_THAT(html, Not(HasSubstr(fetch))) << fetch;
   EXPECT_GE(std::count(html.begin(), html.end(), '<'), 100);
 
-  // Chromium renders the file offline; its log (stderr) shows page errors as "CONSOLE" lines.
-  const std::string profile = (dir_ / "chromium-profile").string(), png = (dir_ / "page.png").string();
-  const std::string chromium =
-      "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --no-first-run "
-      "--user-data-dir=" +
-      profile + " --enable-logging=stderr --v=0 --window-size=1000,2600 ";
-  const auto dom = Run("timeout 120 " + chromium + "--dump-dom file://" + page);
-  ASSERT_EQ(dom.exit_code, 0) << dom.err;
-  EXPECT_THAT(dom.err, Not(HasSubstr("CONSOLE")));
-  EXPECT_THAT(dom.err, Not(HasSubstr("net::ERR")));
-  std::size_t charts = 0;
-  for (std::size_t at = dom.out.find("<svg"); at != std::string::npos; at = dom.out.find("<svg", at + 1)) ++charts;
-  EXPECT_GE(charts, 9u) << "histogram, CDF, two convergence plots, sensitivity bars, two orbits with their sensors";
-  EXPECT_THAT(dom.out, HasSubstr("Which tolerance to tighten first"));
-  EXPECT_THAT(dom.out, HasSubstr("Orbits of the worst and the median assembly"));
-
-  const auto shot = Run("timeout 120 " + chromium + "--screenshot=" + png + " file://" + page);
-  ASSERT_EQ(shot.exit_code, 0) << shot.err;
-  // Non-blank: a page of charts paints many pixels that are neither white nor one flat colour.
-  const auto pixels =
-      Run("/usr/bin/python3 -c \"import sys; from PIL import Image; im = Image.open(sys.argv[1])"
-          ".convert('RGB'); px = list(im.getdata()); ink = sum(1 for p in px if p != (255, 255, 255));"
-          " print(ink / len(px), len(set(px)))\" " +
-          png);
-  ASSERT_EQ(pixels.exit_code, 0) << pixels.err;
-  double ink = 0.0;
-  std::size_t colours = 0;
-  std::istringstream(pixels.out) >> ink >> colours;
-  EXPECT_GT(ink, 0.03) << pixels.out;
-  EXPECT_GT(colours, 20u) << pixels.out;
+  // Chromium renders the file offline and paints its charts.
+  const ringtol::testing::ChromiumPage shown = ringtol::testing::RenderInChromium(page, dir_);
+  ringtol::testing::ExpectPaintedWithoutErrors(shown);
+  EXPECT_GE(shown.svg_count, 9u) << "histogram, CDF, two convergence plots, sensitivity bars, two orbits with their sensors";
+  EXPECT_THAT(shown.dom.out, HasSubstr("Which tolerance to tighten first"));
+  EXPECT_THAT(shown.dom.out, HasSubstr("Orbits of the worst and the median assembly"));
 }
 
 }  // namespace

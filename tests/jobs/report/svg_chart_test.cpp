@@ -282,6 +282,41 @@ TEST(SvgChart, MapsDataCoordinatesLinearlyOntoTheFrame) {
   ExpectValidSvg({svg});
 }
 
+TEST(SvgChart, PointMarkersKeepTheirShapeCentredOnThePointAndInTheLegend) {
+  Chart chart;
+  chart.x = {.label = "cost", .min = 0.0, .max = 10.0};
+  chart.y = {.label = "yield", .min = 0.0, .max = 1.0};
+  chart.series.push_back({.name = "square", .x = {5.0}, .y = {0.5}, .style = Series::Style::kPoints,
+                          .marker = Series::Marker::kSquare});
+  chart.series.push_back({.name = "triangle", .x = {2.0}, .y = {0.5}, .style = Series::Style::kPoints,
+                          .marker = Series::Marker::kTriangle});
+  chart.series.push_back({.name = "diamond", .x = {8.0}, .y = {0.5}, .style = Series::Style::kPoints,
+                          .marker = Series::Marker::kDiamond});
+  const std::string svg = RenderChart(chart);
+  const Frame f = FrameOf(svg);
+  // The square's rectangle is centred on the point: the middle of the frame.
+  const std::vector<std::string> rects = Tags(svg, "<rect x");
+  const double middle_x = 0.5 * (f.left + f.right), middle_y = 0.5 * (f.top + f.bottom);
+  const auto centred = std::count_if(rects.begin(), rects.end(), [&](const std::string& r) {
+    return std::abs(NumberAttribute(r, "x") + 0.5 * NumberAttribute(r, "width") - middle_x) < kPixel &&
+           std::abs(NumberAttribute(r, "y") + 0.5 * NumberAttribute(r, "height") - middle_y) < kPixel;
+  });
+  EXPECT_EQ(centred, 1);
+  // The triangle (three corners) and the diamond (four) as closed paths, in the plot and in
+  // the legend: two of each, and no circle anywhere.
+  const std::vector<std::string> paths = Tags(svg, "<path d=\"M");
+  const auto closed = [&](std::size_t corners) {
+    return std::count_if(paths.begin(), paths.end(), [&](const std::string& p) {
+      const std::string d = Attribute(p, "d");
+      return d.back() == 'Z' && static_cast<std::size_t>(std::count(d.begin(), d.end(), 'L')) + 1 == corners;
+    });
+  };
+  EXPECT_EQ(closed(3), 2);
+  EXPECT_EQ(closed(4), 2);
+  EXPECT_THAT(svg, Not(HasSubstr("<circle")));
+  ExpectValidSvg({svg});
+}
+
 TEST(SvgChart, Log2AxisPlacesEachDoublingOneStepFurther) {
   Chart chart;
   chart.x = {.label = "samples", .log2 = true, .min = 64.0, .max = 1024.0};
