@@ -39,7 +39,7 @@ class AllocationSpace {
   explicit AllocationSpace(std::vector<std::vector<double>> costs);
 
   int components() const { return static_cast<int>(costs_.size()); }
-  int options(int component) const { return static_cast<int>(costs_[component].size()); }
+  int options(int component) const { return static_cast<int>(costs_[static_cast<std::size_t>(component)].size()); }
   std::int64_t size() const { return size_; }  // number of candidates
 
   // Mixed radix, the last component fastest: candidate 0 is the loosest in every component,

@@ -59,9 +59,11 @@ namespace ringtol::jobs {
 inline constexpr int kAllocationSchemaVersion = 1;
 
 struct AllocationStoreOptions {
-  std::int64_t chunk_samples = 0;  // > 0: samples per chunk along N; 0: min(N, 1024)
-  std::size_t chunk_cache_bytes = 32u << 20;
-  bool checksums = true;
+  // > 0: samples per chunk along N; 0: first_samples clamped to [64, 1024] and to N. The
+  // stages end at multiples of first_samples, so a screened candidate fills its one chunk.
+  std::int64_t chunk_samples = 0;
+  std::size_t chunk_cache_bytes = 32u << 20;  // per [C, N] dataset: keeps the chunks a commit fills in memory
+  bool checksums = true;  // false: no Fletcher-32, for tests and for measuring what it costs
 };
 
 class AllocationStore {
