@@ -37,8 +37,9 @@ constexpr std::int64_t kMostChunkSamples = 1024;
 constexpr hsize_t kCandidateChunkRows = 4096;
 // Rows of /inputs/u in one chunk: about 256 KiB, as the campaign's.
 constexpr std::size_t kDesignChunkBytes = 256u << 10;
-// Hash slots of each [C, N] dataset's chunk cache: a prime (HDF5's advice), about 100 per
-// chunk of the 1 MiB a commit of a batch of candidates touches.
+// Hash slots of each [C, N] dataset's chunk cache: a prime (HDF5's advice), many times the
+// chunks a batch of candidates fills (8 candidates of 2,048 samples in chunks of at least
+// 64: at most 256), so that those chunks never evict each other.
 constexpr std::size_t kCacheSlots = 12421;
 constexpr std::array<EvaluationRole, 2> kRoles = {EvaluationRole::kScreen, EvaluationRole::kConfirm};
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -749,10 +750,12 @@ struct DamagedChunk {
   EvaluationRole role = EvaluationRole::kScreen;
   std::size_t column = 0;
   std::array<hsize_t, 2> offset{};  // candidate, first sample
+  hsize_t samples = 0;              // in the chunk
   std::string problem;
 };
 
-std::vector<DamagedChunk> ScanSamples(const Samples& samples) {
+// `done` (per role, optional) counts the finished samples of the status chunks that read.
+std::vector<DamagedChunk> ScanSamples(const Samples& samples, std::array<std::int64_t, 2>* done = nullptr) {
   std::vector<DamagedChunk> damaged;
   for (const EvaluationRole role : kRoles) {
     const std::size_t r = RoleIndex(role);
@@ -790,8 +793,12 @@ std::vector<DamagedChunk> ScanSamples(const Samples& samples) {
           const auto* raw = reinterpret_cast<const std::int8_t*>(buffer.data());
           const auto* unknown = std::find_if(raw, raw + count[1], [](std::int8_t v) { return !IsKnownStatus(v); });
           if (unknown != raw + count[1]) problem = fmt::format("status {}, which no ringtol writes", *unknown);
+          if (!problem && done != nullptr) {
+            const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
+            (*done)[r] += static_cast<std::int64_t>(count[1]) - std::count(raw, raw + count[1], pending);
+          }
         }
-        if (problem) damaged.push_back({role, column, offset, *problem});
+        if (problem) damaged.push_back({role, column, offset, count[1], *problem});
       }
     }
   }
@@ -1029,6 +1036,25 @@ AllocationOutcome ReadOutcomeFrom(const Where& where, hid_t file, const Allocati
                                           H5T_NATIVE_DOUBLE),
               "common_random_numbers_gain");
   return outcome;
+}
+
+// Rows [begin, end) of /inputs/u, row-major; InputError when they do not read.
+std::vector<double> ReadDesignRows(const Where& where, hid_t file, hsize_t inputs, std::int64_t begin,
+                                   std::int64_t end) {
+  std::vector<double> values(static_cast<std::size_t>(end - begin) * inputs);
+  if (values.empty()) return values;
+  const DatasetId dataset(Check(H5Dopen2(file, "/inputs/u", H5P_DEFAULT), where, "opening", "/inputs/u"));
+  const SpaceId file_space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", "/inputs/u"));
+  const hsize_t start[2] = {static_cast<hsize_t>(begin), 0};
+  const hsize_t count[2] = {static_cast<hsize_t>(end - begin), inputs};
+  CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr), where,
+              "selecting rows of", "/inputs/u");
+  const SpaceId memory(Check(H5Screate_simple(2, count, nullptr), where, "creating", "a dataspace"));
+  if (const auto problem = TryRead(dataset.get(), H5T_NATIVE_DOUBLE, memory.get(), file_space.get(), values.data())) {
+    throw InputError(fmt::format("{}: dataset /inputs/u is damaged: samples {} to {} cannot be read ({})", where.file,
+                                 begin, end - 1, *problem));
+  }
+  return values;
 }
 
 }  // namespace
@@ -1376,21 +1402,52 @@ std::vector<double> AllocationReader::ReadDesignPoints(std::int64_t begin, std::
     throw std::out_of_range(
         fmt::format("AllocationReader::ReadDesignPoints: range [{}, {}) is outside [0, {})", begin, end, n));
   }
-  const hsize_t d = f.identity.inputs.size();
-  std::vector<double> values(static_cast<std::size_t>(end - begin) * d);
-  if (values.empty()) return values;
-  const DatasetId dataset(Check(H5Dopen2(f.file.get(), "/inputs/u", H5P_DEFAULT), f.where, "opening", "/inputs/u"));
-  const SpaceId file_space(Check(H5Dget_space(dataset.get()), f.where, "reading the shape of", "/inputs/u"));
-  const hsize_t start[2] = {static_cast<hsize_t>(begin), 0};
-  const hsize_t count[2] = {static_cast<hsize_t>(end - begin), d};
-  CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr), f.where,
-              "selecting rows of", "/inputs/u");
-  const SpaceId memory(Check(H5Screate_simple(2, count, nullptr), f.where, "creating", "a dataspace"));
-  if (const auto problem = TryRead(dataset.get(), H5T_NATIVE_DOUBLE, memory.get(), file_space.get(), values.data())) {
-    throw InputError(fmt::format("{}: dataset /inputs/u is damaged: samples {} to {} cannot be read ({})", f.where.file,
-                                 begin, end - 1, *problem));
+  return ReadDesignRows(f.where, f.file.get(), f.identity.inputs.size(), begin, end);
+}
+
+AllocationCheck CheckAllocationResults(const fs::path& path) {
+  const QuietErrors quiet;
+  const Where where{path.string(), true};
+  const FileId file = OpenForReading(path);
+  const Stored stored = ReadStored(where, file.get());
+  AllocationCheck check;
+  check.candidates = stored.candidates;
+  check.samples = stored.identity.samples;
+  H5Ovisit2(
+      file.get(), H5_INDEX_NAME, H5_ITER_INC,
+      [](hid_t, const char* name, const H5O_info_t* info, void* data) -> herr_t {
+        if (info->type == H5O_TYPE_DATASET) static_cast<std::vector<std::string>*>(data)->push_back(std::string("/") + name);
+        return 0;
+      },
+      &check.datasets, H5O_INFO_BASIC);
+  for (const std::string& dataset_path : check.datasets) {
+    const DatasetId dataset(Check(H5Dopen2(file.get(), dataset_path.c_str(), H5P_DEFAULT), where, "opening",
+                                  dataset_path));
+    if (!HasChecksum(where, dataset.get(), dataset_path)) check.unchecked.push_back(dataset_path);
   }
-  return values;
+  Samples samples;
+  samples.where = where;
+  samples.Open(file.get(), stored.identity, H5P_DEFAULT);
+  std::array<std::int64_t, 2> done{};
+  for (const DamagedChunk& chunk : ScanSamples(samples, &done)) {
+    const auto first = static_cast<std::int64_t>(chunk.offset[1]);
+    check.damaged.push_back({ColumnPath(chunk.role, samples.specs[RoleIndex(chunk.role)][chunk.column]),
+                             static_cast<std::int64_t>(chunk.offset[0]),
+                             {first, first + static_cast<std::int64_t>(chunk.samples)}, chunk.problem});
+  }
+  check.done_screen = done[RoleIndex(EvaluationRole::kScreen)];
+  check.done_confirm = done[RoleIndex(EvaluationRole::kConfirm)];
+  try {
+    ReadDesignRows(where, file.get(), stored.identity.inputs.size(), 0, check.samples);
+  } catch (const InputError& error) {
+    check.damaged.push_back({"/inputs/u", -1, {0, check.samples}, error.what()});
+  }
+  try {
+    ReadOutcomeFrom(where, file.get(), stored.identity);
+  } catch (const InputError& error) {
+    check.outcome_problem = error.what();
+  }
+  return check;
 }
 
 ResultsKind ReadResultsKind(const fs::path& path) {

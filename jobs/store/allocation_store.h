@@ -68,6 +68,7 @@
 
 #include "jobs/allocation/allocation_outcome.h"
 #include "jobs/campaign/sample_record.h"
+#include "jobs/store/campaign_store.h"
 
 namespace ringtol::jobs {
 
@@ -77,7 +78,10 @@ struct AllocationStoreOptions {
   // > 0: samples per chunk along N; 0: first_samples clamped to [64, 1024] and to N. The
   // stages end at multiples of first_samples, so a screened candidate fills its one chunk.
   std::int64_t chunk_samples = 0;
-  std::size_t chunk_cache_bytes = 32u << 20;  // per [C, N] dataset: keeps the chunks a commit fills in memory
+  // Per [C, N] dataset: keeps the chunks a batch of candidates fills in memory between its
+  // commits (8 candidates of 2,048 samples are 128 KiB a dataset); finished candidates'
+  // chunks are never written again, so more only holds memory.
+  std::size_t chunk_cache_bytes = 4u << 20;
   bool checksums = true;  // false: no Fletcher-32, for tests and for measuring what it costs
 };
 
@@ -157,6 +161,31 @@ class AllocationReader {
   struct File;
   std::unique_ptr<File> file_;
 };
+
+// What `ringtol verify` reports of an allocation file (CheckResults is the campaign's).
+struct AllocationCheck {
+  struct Damage {
+    std::string path;        // e.g. "/samples/confirm/runout_mm"
+    std::int64_t candidate = 0;  // -1 for /inputs/u, which a resume does not repair
+    SampleRange samples;     // the chunk's samples: Resume computes them again
+    std::string problem;     // HDF5's or ringtol's reason
+  };
+  std::int64_t candidates = 0;
+  std::int64_t samples = 0;  // N
+  std::vector<std::string> datasets;   // every dataset of the file
+  std::vector<std::string> unchecked;  // those without Fletcher-32
+  std::vector<Damage> damaged;         // [C, N] chunks that fail to read, and /inputs/u's
+  std::string outcome_problem;         // why /outcome does not read (derived: the next commit rewrites it)
+  std::int64_t done_screen = 0;        // finished samples in status chunks that read
+  std::int64_t done_confirm = 0;
+
+  bool intact() const { return damaged.empty() && outcome_problem.empty(); }
+  bool checksummed() const { return unchecked.empty(); }
+};
+
+// Reads every allocated chunk of an allocation file. InputError when it cannot be opened as
+// one (metadata and description damage included).
+AllocationCheck CheckAllocationResults(const std::filesystem::path& path);
 
 // What a results file holds, from its root `format` attribute: "ringtol campaign" or
 // "ringtol allocation". InputError for a file that is not a ringtol results file.

@@ -1,19 +1,13 @@
 #include "jobs/store/campaign_store.h"
 
-#include <fcntl.h>
 #include <hdf5.h>
-#include <unistd.h>
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
-#include <chrono>
 #include <cmath>
-#include <cstring>
 #include <iostream>
-#include <thread>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -127,11 +121,8 @@ struct Stored {
 Stored ReadStored(const Where& where, hid_t file) {
   const std::optional<std::string> format = FormatOf(where, file);
   if (format == std::optional<std::string>(kAllocationFormat)) {
-    // `ringtol verify` and the campaign's readers get here: name what the file is instead.
-    throw InputError(where.file +
-                     ": is a ringtol allocation results file; `ringtol verify` and the campaign commands read "
-                     "campaign files only (`ringtol report` draws an allocation; its --resume reads every chunk and "
-                     "computes damaged ones again)");
+    // The campaign's readers get here: name what the file is instead.
+    throw InputError(where.file + ": is a ringtol allocation results file, not a campaign's");
   }
   if (format != std::optional<std::string>(kFormat)) {
     throw InputError(where.file + ": is not a ringtol campaign file (its root has no attribute format = \"" + kFormat +

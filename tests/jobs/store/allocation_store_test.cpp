@@ -436,8 +436,9 @@ TEST(ReadResultsKind, TellsCampaignsFromAllocationsAndRefusesOtherHdf5Files) {
   EXPECT_EQ(ReadResultsKind(campaign), ResultsKind::kCampaign);
   EXPECT_THAT(InputErrorOf([&] { ReadResultsKind(foreign); }), HasSubstr("is not a ringtol results file"));
   EXPECT_THAT(InputErrorOf([&] { ReadResultsKind(folder / "missing.h5"); }), HasSubstr("does not exist"));
-  // The campaign's readers and `ringtol verify` name what an allocation file is.
+  // The campaign's readers name what an allocation file is.
   EXPECT_THAT(InputErrorOf([&] { CheckResults(allocation); }), HasSubstr("is a ringtol allocation results file"));
+  EXPECT_THAT(InputErrorOf([&] { CampaignReader reader(allocation); }), HasSubstr("not a campaign's"));
 }
 
 // ---------------------------------------------------------------------------------------
@@ -475,8 +476,16 @@ TEST(AllocationStore, ResumeRepairsADamagedChunkToPendingAndKeepsTheRest) {
               }),
               AllOf(HasSubstr("dataset /samples/confirm/runout_mm is damaged"), HasSubstr("candidate 2")));
 
-  AllocationStore store = AllocationStore::Resume(path, TestIdentity(), TestOptions());
   const std::int64_t first = kDamagedSample / kChunkSamples * kChunkSamples;
+  const AllocationCheck check = CheckAllocationResults(path);
+  EXPECT_FALSE(check.intact());
+  ASSERT_EQ(check.damaged.size(), 1u);
+  EXPECT_EQ(check.damaged[0].path, "/samples/confirm/runout_mm");
+  EXPECT_EQ(check.damaged[0].candidate, kDamagedCandidate);
+  EXPECT_EQ(check.damaged[0].samples, (SampleRange{first, first + kChunkSamples}));
+  EXPECT_EQ(check.done_confirm, kSamples);
+
+  AllocationStore store = AllocationStore::Resume(path, TestIdentity(), TestOptions());
   const std::vector<bool> done = store.Done(EvaluationRole::kConfirm, kDamagedCandidate, 0, kSamples);
   for (std::int64_t i = 0; i < kSamples; ++i) {
     EXPECT_EQ(done[static_cast<std::size_t>(i)], i < first || i >= first + kChunkSamples) << "sample " << i;
@@ -514,6 +523,12 @@ TEST(AllocationStore, EveryDatasetEndsItsFiltersWithTheFletcher32Checksum) {
       &unchecked, H5O_INFO_BASIC);
   H5Fclose(file);
   EXPECT_THAT(unchecked, ::testing::IsEmpty());
+  const AllocationCheck check = CheckAllocationResults(path);
+  EXPECT_TRUE(check.intact());
+  EXPECT_TRUE(check.checksummed());
+  EXPECT_EQ(check.candidates, kCandidates);
+  EXPECT_EQ(check.done_screen + check.done_confirm, 0);
+  EXPECT_THAT(check.datasets, ::testing::Contains("/samples/screen/d_trajectory_error_mm"));
 }
 
 // ---------------------------------------------------------------------------------------
