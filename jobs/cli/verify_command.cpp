@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "jobs/store/allocation_store.h"
 #include "jobs/store/campaign_store.h"
 
 namespace ringtol::jobs {
@@ -91,9 +92,46 @@ void PrintTable(const VerifyCommand& command, const ResultsCheck& check, std::os
   }
 }
 
+// An allocation file: its damaged chunks by dataset and candidate, and what is done.
+int VerifyAllocation(const VerifyCommand& command, std::ostream& out) {
+  const AllocationCheck check = CheckAllocationResults(command.results);
+  const std::string verdict = !check.intact() ? "damaged" : check.checksummed() ? "intact" : "unchecked";
+  if (command.json) {
+    nlohmann::json damaged = nlohmann::json::array();
+    for (const AllocationCheck::Damage& d : check.damaged) {
+      damaged.push_back({{"path", d.path},
+                         {"candidate", d.candidate},
+                         {"samples", {d.samples.begin, d.samples.end - 1}},
+                         {"problem", d.problem}});
+    }
+    const nlohmann::json result = {{"file", command.results.string()}, {"kind", "allocation"},
+                                   {"verdict", verdict},              {"candidates", check.candidates},
+                                   {"samples", check.samples},        {"done_screen", check.done_screen},
+                                   {"done_confirm", check.done_confirm}, {"unchecked_datasets", check.unchecked},
+                                   {"damaged", damaged},              {"outcome_problem", check.outcome_problem}};
+    out << result.dump(1) << "\n";
+  } else {
+    out << fmt::format("{}: allocation of {} candidates x {} samples, {} datasets\n", command.results.string(),
+                       check.candidates, check.samples, check.datasets.size());
+    for (const AllocationCheck::Damage& d : check.damaged) {
+      out << fmt::format("  {}  DAMAGED at candidate {}, samples {} ({})\n", d.path, d.candidate,
+                         FormatRanges({d.samples}), d.problem);
+    }
+    if (!check.outcome_problem.empty()) out << "  /outcome  DAMAGED (" << check.outcome_problem << ")\n";
+    for (const std::string& path : check.unchecked) out << "  " << path << "  no checksum\n";
+    out << fmt::format("Samples done: {} screened, {} confirmed\n", check.done_screen, check.done_confirm);
+    out << "Verdict: " << verdict
+        << (check.intact() ? "" : "; --resume computes the samples of damaged chunks again and rewrites /outcome")
+        << "\n";
+  }
+  if (!check.intact()) return kVerifyDamaged;
+  return check.checksummed() ? kVerifyIntact : kVerifyUnchecked;
+}
+
 }  // namespace
 
 int RunVerify(const VerifyCommand& command, std::ostream& out) {
+  if (ReadResultsKind(command.results) == ResultsKind::kAllocation) return VerifyAllocation(command, out);
   const ResultsCheck check = CheckResults(command.results);
   if (command.json) {
     PrintJson(command, check, out);

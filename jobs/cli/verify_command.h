@@ -1,7 +1,8 @@
 // `ringtol verify RESULTS.h5`: reads every dataset of a results file chunk by chunk and
 // says what is intact, what is damaged (the samples of each damaged chunk), what is on
 // disk and which samples a --resume would compute (jobs/store/campaign_store.h,
-// CheckResults).
+// CheckResults). An allocation's file (ReadResultsKind) is read by CheckAllocationResults
+// (jobs/store/allocation_store.h): its damaged chunks by dataset, candidate and samples.
 //
 // Exit status (kVerify...): 0 every dataset carries a checksum and every chunk reads; 1 a
 // dataset is damaged; 2 nothing failed but some dataset has no checksum (written by an

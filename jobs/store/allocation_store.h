@@ -18,8 +18,11 @@
 //   /options/class, mode       [O] strings
 //   /options/tolerance, cost   float64 [O]  characteristic tolerance (µm, % for springs), cost
 //   /constraints/output, kind  [M] strings;  /constraints/level, upper  float64 [M]
-//   /candidates/options        int32 [C, K]  option per component (0 = loosest)
-//   /candidates/cost, relative_cost  float64 [C]
+//   /candidates/options        int32 [C, K]  option per component (0 = loosest), mixed radix
+//                              with the last component fastest (analysis::AllocationSpace)
+//   /candidates/cost, relative_cost  float64 [C]  the sum of its options' costs, and that
+//                              over the reference candidate's (candidate 0's when there is
+//                              none; NaN when that costs 0). Written by Create, from the identity.
 //   /samples/<role>/status     int8 enum [C, N]   SampleStatusName names, fill "pending";
 //                              role: screen, confirm (EvaluationRole)
 //   /samples/<role>/<output>   float64 [C, N]  each output a constraint names (Q of them),
@@ -29,19 +32,31 @@
 //   /samples/<role>/steps      int32 [C, N];  /samples/<role>/solve_time_s  float64 [C, N]
 //   /outcome/...               the AllocationOutcome as of the last commit (derived from
 //                              the samples; rewritten whole at every commit):
-//     verdict, settlement, settled_by  int8 enums [C] (settled_by -1: none)
+//     verdict, settlement, settled_by  int8 enums [C] named by kVerdictNames,
+//                              kSettlementNames, kEvaluationRoleNames (settled_by -1: "none")
 //     samples, implied_by      int64 [C]
-//     estimate, lower, upper   float64 [C, M];  constraint_verdict int8 [C, M];
-//     samples_to_decide        int64 [C, M]
+//     estimate, lower, upper   float64 [C, M];  constraint_verdict int8 enum [C, M];
+//     samples_to_decide        int64 [C, M]  (rows of candidates not simulated: NaN, unknown, 0)
 //     yield, yield_lower, yield_upper  float64 [C];  yield_trials int64 [C]
 //     recommendation (int64, -1 for none), complete (int8), simulated, settled_by_screen,
 //     samples_screen, samples_confirm, common_random_numbers_gain: attributes of /outcome
-//     alternatives, undecided_cheaper, front  int64 [*];  binding int32 [*]
-// [C, N] datasets are chunked by candidate rows, so a candidate never simulated takes no
-// space on disk.
+//     alternatives, undecided_cheaper, front  int64 [*];  binding int32 [*]  (extendable)
+// Create writes /outcome as an allocation with nothing visited. Every dataset is chunked
+// and ends its filters with Fletcher-32; nothing is compressed (in SWMR mode HDF5 leaves
+// the old copy of a rewritten compressed chunk behind). [C, N] datasets are chunked by
+// candidate rows (1 x chunk_samples) and their chunks allocated when first written, so a
+// candidate never simulated takes no space on disk (docs/results.md gives a measured size).
 //
-// Crash safety as CampaignStore: statuses are flushed last, so a sample is on disk exactly
-// when its status is not pending. Failure: InputError as CampaignStore's, naming the file.
+// Crash safety as CampaignStore: Commit writes the buffered samples' outputs, steps and
+// times, then their statuses, then /outcome whole, flushing each; a sample is on disk
+// exactly when its status is not pending, and /outcome describes the last complete
+// commit (a kill during its rewrite can tear it: it is derived, and the next commit
+// rewrites it). Failure: InputError as CampaignStore's, naming the file: creating over an
+// existing file or in a missing directory, resuming a file that is missing, not a ringtol
+// allocation file (a campaign file is named as one), of another schema or of another
+// allocation (the first differing field is named), reading a damaged chunk (naming the
+// dataset, the candidate and the samples). Arguments that do not fit the allocation:
+// std::invalid_argument or std::out_of_range. HDF5 write errors: std::runtime_error.
 #pragma once
 
 #include <cstdint>
@@ -53,15 +68,21 @@
 
 #include "jobs/allocation/allocation_outcome.h"
 #include "jobs/campaign/sample_record.h"
+#include "jobs/store/campaign_store.h"
 
 namespace ringtol::jobs {
 
 inline constexpr int kAllocationSchemaVersion = 1;
 
 struct AllocationStoreOptions {
-  std::int64_t chunk_samples = 0;  // > 0: samples per chunk along N; 0: min(N, 1024)
-  std::size_t chunk_cache_bytes = 32u << 20;
-  bool checksums = true;
+  // > 0: samples per chunk along N; 0: first_samples clamped to [64, 1024] and to N. The
+  // stages end at multiples of first_samples, so a screened candidate fills its one chunk.
+  std::int64_t chunk_samples = 0;
+  // Per [C, N] dataset: keeps the chunks a batch of candidates fills in memory between its
+  // commits (8 candidates of 2,048 samples are 128 KiB a dataset); finished candidates'
+  // chunks are never written again, so more only holds memory.
+  std::size_t chunk_cache_bytes = 4u << 20;
+  bool checksums = true;  // false: no Fletcher-32, for tests and for measuring what it costs
 };
 
 class AllocationStore {
@@ -71,9 +92,15 @@ class AllocationStore {
   static AllocationStore Create(const std::filesystem::path& path, const AllocationIdentity& identity,
                                 const std::vector<double>& design_points, const AllocationStoreOptions& options = {});
   // An existing file of the same allocation, after a clean or killed run; damaged chunks of
-  // [C, N] datasets are reset to pending (as CampaignStore::Resume).
+  // [C, N] datasets are reset to pending (as CampaignStore::Resume: every allocated chunk
+  // is read first, a refused file is never modified). Damage elsewhere (/inputs/u, the
+  // descriptions, /outcome) is not repaired: the descriptions are refused when they do
+  // not read, /outcome is rewritten by the next Commit.
   static AllocationStore Resume(const std::filesystem::path& path, const AllocationIdentity& identity,
                                 const AllocationStoreOptions& options = {});
+  // Closes the file without committing: buffered samples are dropped (only Commit has the
+  // outcome that describes them, and the file keeps samples and /outcome of one commit);
+  // a resume computes them again. Never throws (errors go to stderr).
   ~AllocationStore();
   AllocationStore(AllocationStore&&) noexcept;
   AllocationStore& operator=(AllocationStore&&) noexcept;
@@ -94,10 +121,16 @@ class AllocationStore {
 
   // Buffers one finished sample of a candidate: `record.index` is the sample index; the
   // stored outputs are taken from record.outputs by name, the error bound from
-  // record.d_trajectory_error.
+  // record.d_trajectory_error (screen only), each NaN unless the sample is ok. The last of
+  // two records of one sample wins. std::out_of_range for a candidate or index outside the
+  // file, std::invalid_argument for a pending or unknown status.
   void Add(EvaluationRole role, std::int64_t candidate, const SampleRecord& record);
   std::size_t buffered() const;
-  // Writes every buffered sample (statuses last) and the outcome, and flushes.
+  // Writes every buffered sample (statuses last) and the outcome, and flushes; also with
+  // nothing buffered. std::invalid_argument, before writing anything, for an outcome of
+  // another candidate count, judgements of another constraint count, or a list naming a
+  // candidate outside [0, C). The outcome's options, cost and relative_cost are not
+  // stored (they are /candidates', from the identity).
   void Commit(const AllocationOutcome& outcome);
 
  private:
@@ -113,6 +146,9 @@ class AllocationReader {
   AllocationReader(AllocationReader&&) noexcept;
 
   const AllocationIdentity& identity() const;
+  // The outcome of the last commit; options, cost and relative_cost from /candidates;
+  // constraint judgements for simulated candidates only, each with the candidate's samples;
+  // yield.successes = round(yield x trials), yield.confidence the identity's.
   AllocationOutcome ReadOutcome() const;
   std::vector<SampleStatus> ReadStatus(EvaluationRole role, std::int64_t candidate, std::int64_t begin,
                                        std::int64_t end) const;
@@ -125,6 +161,31 @@ class AllocationReader {
   struct File;
   std::unique_ptr<File> file_;
 };
+
+// What `ringtol verify` reports of an allocation file (CheckResults is the campaign's).
+struct AllocationCheck {
+  struct Damage {
+    std::string path;        // e.g. "/samples/confirm/runout_mm"
+    std::int64_t candidate = 0;  // -1 for /inputs/u, which a resume does not repair
+    SampleRange samples;     // the chunk's samples: Resume computes them again
+    std::string problem;     // HDF5's or ringtol's reason
+  };
+  std::int64_t candidates = 0;
+  std::int64_t samples = 0;  // N
+  std::vector<std::string> datasets;   // every dataset of the file
+  std::vector<std::string> unchecked;  // those without Fletcher-32
+  std::vector<Damage> damaged;         // [C, N] chunks that fail to read, and /inputs/u's
+  std::string outcome_problem;         // why /outcome does not read (derived: the next commit rewrites it)
+  std::int64_t done_screen = 0;        // finished samples in status chunks that read
+  std::int64_t done_confirm = 0;
+
+  bool intact() const { return damaged.empty() && outcome_problem.empty(); }
+  bool checksummed() const { return unchecked.empty(); }
+};
+
+// Reads every allocated chunk of an allocation file. InputError when it cannot be opened as
+// one (metadata and description damage included).
+AllocationCheck CheckAllocationResults(const std::filesystem::path& path);
 
 // What a results file holds, from its root `format` attribute: "ringtol campaign" or
 // "ringtol allocation". InputError for a file that is not a ringtol results file.

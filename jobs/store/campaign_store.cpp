@@ -1,35 +1,35 @@
 #include "jobs/store/campaign_store.h"
 
-#include <fcntl.h>
 #include <hdf5.h>
-#include <unistd.h>
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
-#include <chrono>
 #include <cmath>
-#include <cstring>
 #include <iostream>
-#include <thread>
 #include <limits>
 #include <optional>
 #include <stdexcept>
 #include <system_error>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 
 #include "engine/units.h"
 #include "jobs/inputs/input_error.h"
+#include "jobs/store/hdf5_file.h"
 
 namespace ringtol::jobs {
+
+using namespace hdf5;  // NOLINT(google-build-using-namespace): the store's own HDF5 helpers
+
 namespace {
 
 namespace fs = std::filesystem;
 
 constexpr const char* kFormat = "ringtol campaign";
+constexpr const char* kAllocationFormat = "ringtol allocation";
 constexpr std::size_t kMessageBytes = 256;
 constexpr std::size_t kMessageChars = kMessageBytes - 1;  // and the terminator
 // Default chunk of /inputs/u: large enough that deflate works well, small enough that the
@@ -39,158 +39,8 @@ constexpr std::size_t kDefaultChunkBytes = 256u << 10;
 // capped, since HDF5 allocates and scans every slot (small chunks would ask for millions).
 constexpr std::size_t kSlotsPerCachedChunk = 100;
 constexpr std::size_t kMaxSlots = 1u << 17;
-// SWMR readers read checksummed metadata again while a writer may be rewriting it, sleeping
-// 1 ns, 2 ns, 4 ns, ... between attempts: HDF5's default of 100 attempts turns a damaged
-// file into a hang of centuries; 24 attempts wait about 17 ms in all before giving up.
-constexpr unsigned kMetadataReadAttempts = 24;
 // Pending() reads statuses in blocks of this many samples to bound its memory.
 constexpr hsize_t kStatusBlock = 1u << 20;
-// A reader of a file being written may read a chunk while the writer rewrites it in place:
-// that torn read fails its checksum once and succeeds on the next attempt. Real damage
-// fails every attempt, which costs a damaged chunk these few milliseconds.
-constexpr int kRawReadAttempts = 3;
-constexpr std::chrono::milliseconds kRawReadRetryDelay{2};
-
-// HDF5 shuts itself down at exit. After an object header that failed its checksum it
-// cannot (the half-loaded object stays in its free lists) and prints "HDF5: infinite loop
-// closing library" below ringtol's own message. Every file is closed explicitly before
-// exit, so skipping that shutdown loses nothing. It must precede HDF5's first call, hence
-// a static initialiser.
-[[maybe_unused]] const herr_t kNoShutdownAtExit = H5dont_atexit();
-
-// ---------------------------------------------------------------------------------------
-// HDF5 handles and errors
-
-template <herr_t (*Closer)(hid_t)>
-class Id {
- public:
-  Id() = default;
-  explicit Id(hid_t id) : id_(id) {}
-  ~Id() { reset(); }
-  Id(Id&& other) noexcept : id_(std::exchange(other.id_, H5I_INVALID_HID)) {}
-  Id& operator=(Id&& other) noexcept {
-    if (this != &other) {
-      reset();
-      id_ = std::exchange(other.id_, H5I_INVALID_HID);
-    }
-    return *this;
-  }
-  Id(const Id&) = delete;
-  Id& operator=(const Id&) = delete;
-
-  hid_t get() const { return id_; }
-  // Closes now and reports whether HDF5 managed to (a file's close flushes).
-  bool Close() {
-    const hid_t id = std::exchange(id_, H5I_INVALID_HID);
-    return id < 0 || Closer(id) >= 0;
-  }
-  void reset() {
-    if (id_ >= 0) Closer(id_);
-    id_ = H5I_INVALID_HID;
-  }
-
- private:
-  hid_t id_ = H5I_INVALID_HID;
-};
-
-using FileId = Id<H5Fclose>;
-using GroupId = Id<H5Gclose>;
-using DatasetId = Id<H5Dclose>;
-using AttributeId = Id<H5Aclose>;
-using SpaceId = Id<H5Sclose>;
-using TypeId = Id<H5Tclose>;
-using PlistId = Id<H5Pclose>;
-
-// HDF5 prints its error stack to stderr by default; ringtol turns failures into exceptions
-// instead. Restores the previous handler so that other HDF5 users in the process keep theirs.
-class QuietErrors {
- public:
-  QuietErrors() {
-    H5Eget_auto2(H5E_DEFAULT, &function_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietErrors() { H5Eset_auto2(H5E_DEFAULT, function_, data_); }
-  QuietErrors(const QuietErrors&) = delete;
-  QuietErrors& operator=(const QuietErrors&) = delete;
-
- private:
-  H5E_auto2_t function_ = nullptr;
-  void* data_ = nullptr;
-};
-
-// The most specific message on HDF5's error stack; for system errors only the errno text,
-// since the full message also carries times, descriptors and buffer addresses.
-std::string Hdf5Detail() {
-  std::string detail;
-  H5Ewalk2(
-      H5E_DEFAULT, H5E_WALK_UPWARD,
-      [](unsigned n, const H5E_error2_t* error, void* data) -> herr_t {
-        if (n == 0 && error->desc != nullptr) *static_cast<std::string*>(data) = error->desc;
-        return 0;
-      },
-      &detail);
-  const std::string key = "error message = '";
-  if (const std::size_t at = detail.find(key); at != std::string::npos) {
-    const std::size_t begin = at + key.size();
-    return detail.substr(begin, detail.find('\'', begin) - begin);
-  }
-  return detail;
-}
-
-// Who is to blame for a failure: while a file is opened and validated, the user (a wrong
-// or damaged file: InputError); once it is open, the system (disk full: runtime_error).
-struct Where {
-  std::string file;
-  bool input = false;
-};
-
-[[noreturn]] void Fail(const Where& where, const std::string& what) {
-  std::string message = where.file + ": " + what;
-  if (const std::string detail = Hdf5Detail(); !detail.empty()) message += " (HDF5: " + detail + ")";
-  if (where.input) throw InputError(message);
-  throw std::runtime_error(message);
-}
-
-hid_t Check(hid_t id, const Where& where, std::string_view action, std::string_view object) {
-  if (id < 0) Fail(where, fmt::format("{} {} failed", action, object));
-  return id;
-}
-
-void CheckStatus(herr_t status, const Where& where, std::string_view action, std::string_view object) {
-  if (status < 0) Fail(where, fmt::format("{} {} failed", action, object));
-}
-
-// ---------------------------------------------------------------------------------------
-// Types
-
-TypeId VariableString(const Where& where) {
-  TypeId type(Check(H5Tcopy(H5T_C_S1), where, "creating", "a string type"));
-  CheckStatus(H5Tset_size(type.get(), H5T_VARIABLE), where, "sizing", "a string type");
-  CheckStatus(H5Tset_cset(type.get(), H5T_CSET_UTF8), where, "setting", "a string type's character set");
-  return type;
-}
-
-// Fixed length, because variable-length data lives in the global heap, which SWMR readers
-// cannot follow safely while it grows. Null-terminated (the size includes the terminator),
-// so that h5dump shows the text without its padding; h5py reads bytes either way.
-TypeId FixedString(const Where& where, std::size_t bytes) {
-  TypeId type(Check(H5Tcopy(H5T_C_S1), where, "creating", "a string type"));
-  CheckStatus(H5Tset_size(type.get(), bytes), where, "sizing", "a string type");
-  CheckStatus(H5Tset_strpad(type.get(), H5T_STR_NULLTERM), where, "setting", "a string type's padding");
-  CheckStatus(H5Tset_cset(type.get(), H5T_CSET_UTF8), where, "setting", "a string type's character set");
-  return type;
-}
-
-TypeId StatusType(const Where& where) {
-  TypeId type(Check(H5Tenum_create(H5T_NATIVE_INT8), where, "creating", "the status type"));
-  for (const SampleStatus status : AllSampleStatuses()) {
-    const auto value = static_cast<std::int8_t>(status);
-    const std::string name(SampleStatusName(status));
-    CheckStatus(H5Tenum_insert(type.get(), name.c_str(), &value), where, "naming status", name);
-  }
-  return type;
-}
-
 // ---------------------------------------------------------------------------------------
 // The per-sample datasets ("columns"), statuses last: Commit writes them in this order.
 
@@ -252,65 +102,6 @@ std::string StoredColumnPath(std::size_t column, int schema) {
   return {};
 }
 
-// ---------------------------------------------------------------------------------------
-// Attributes
-
-void WriteAttribute(const Where& where, hid_t location, const char* name, hid_t file_type, hid_t memory_type,
-                    const void* value) {
-  SpaceId scalar(Check(H5Screate(H5S_SCALAR), where, "creating", "a scalar dataspace"));
-  AttributeId attribute(Check(H5Acreate2(location, name, file_type, scalar.get(), H5P_DEFAULT, H5P_DEFAULT), where,
-                              "creating attribute", name));
-  CheckStatus(H5Awrite(attribute.get(), memory_type, value), where, "writing attribute", name);
-}
-
-// Variable-length, so that h5py reads it as str; attributes are written before SWMR starts.
-void WriteStringAttribute(const Where& where, hid_t location, const char* name, const std::string& value) {
-  const TypeId type = VariableString(where);
-  const char* text = value.c_str();
-  WriteAttribute(where, location, name, type.get(), type.get(), &text);
-}
-
-std::optional<AttributeId> OpenAttribute(const Where& where, hid_t location, const char* name) {
-  const htri_t exists = H5Aexists(location, name);
-  if (exists < 0) Fail(where, fmt::format("looking up attribute {} failed", name));
-  if (exists == 0) return std::nullopt;
-  return AttributeId(Check(H5Aopen(location, name, H5P_DEFAULT), where, "opening attribute", name));
-}
-
-H5T_class_t AttributeClass(const Where& where, const AttributeId& attribute, const char* name) {
-  const TypeId type(Check(H5Aget_type(attribute.get()), where, "reading the type of attribute", name));
-  return H5Tget_class(type.get());
-}
-
-std::optional<std::string> ReadStringAttribute(const Where& where, hid_t location, const char* name) {
-  const std::optional<AttributeId> attribute = OpenAttribute(where, location, name);
-  if (!attribute) return std::nullopt;
-  const TypeId type(Check(H5Aget_type(attribute->get()), where, "reading the type of attribute", name));
-  if (H5Tget_class(type.get()) != H5T_STRING) Fail(where, fmt::format("attribute {} is not a string", name));
-  if (H5Tis_variable_str(type.get()) > 0) {
-    char* text = nullptr;
-    CheckStatus(H5Aread(attribute->get(), type.get(), &text), where, "reading attribute", name);
-    std::string value = text != nullptr ? text : "";
-    H5free_memory(text);
-    return value;
-  }
-  std::string value(H5Tget_size(type.get()), '\0');
-  CheckStatus(H5Aread(attribute->get(), type.get(), value.data()), where, "reading attribute", name);
-  value.resize(std::strlen(value.c_str()));
-  return value;
-}
-
-template <typename T>
-std::optional<T> ReadNumberAttribute(const Where& where, hid_t location, const char* name, H5T_class_t wanted,
-                                     hid_t memory_type) {
-  const std::optional<AttributeId> attribute = OpenAttribute(where, location, name);
-  if (!attribute) return std::nullopt;
-  if (AttributeClass(where, *attribute, name) != wanted) Fail(where, fmt::format("attribute {} is not a number", name));
-  T value{};
-  CheckStatus(H5Aread(attribute->get(), memory_type, &value), where, "reading attribute", name);
-  return value;
-}
-
 template <typename T>
 T Require(const Where& where, std::optional<T> value, const char* name) {
   if (!value) Fail(where, fmt::format("is not a complete ringtol campaign file: attribute {} is missing", name));
@@ -318,108 +109,7 @@ T Require(const Where& where, std::optional<T> value, const char* name) {
 }
 
 // ---------------------------------------------------------------------------------------
-// The per-input datasets [d]
-
-PlistId ObjectCreation(const Where& where, hid_t plist_class) {
-  PlistId plist(Check(H5Pcreate(plist_class), where, "creating", "a property list"));
-  // Without time stamps, two runs of the same campaign write the same bytes.
-  CheckStatus(H5Pset_obj_track_times(plist.get(), false), where, "configuring", "a property list");
-  return plist;
-}
-
-// Appended last to a dataset's filters, so that it checks the bytes as stored: a damaged
-// chunk then fails to read instead of reading as other numbers.
-void AddChecksum(const Where& where, const PlistId& dcpl, const std::string& path) {
-  CheckStatus(H5Pset_fletcher32(dcpl.get()), where, "setting the Fletcher-32 checksum of", path);
-}
-
-// A description dataset [d]: one chunk, so that it can carry a checksum.
-PlistId DescriptionCreation(const Where& where, hsize_t inputs, const std::string& path, bool checksum) {
-  PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
-  if (!checksum) return dcpl;
-  const hsize_t chunk[1] = {std::max<hsize_t>(1, inputs)};
-  CheckStatus(H5Pset_chunk(dcpl.get(), 1, chunk), where, "chunking", path);
-  AddChecksum(where, dcpl, path);
-  return dcpl;
-}
-
-void WriteStringColumn(const Where& where, hid_t group, const char* name, const std::vector<std::string>& values,
-                       bool checksum) {
-  std::size_t width = 1;  // the terminator
-  for (const std::string& value : values) width = std::max(width, value.size() + 1);
-  const TypeId type = FixedString(where, width);
-  std::string buffer(width * values.size(), '\0');
-  for (std::size_t i = 0; i < values.size(); ++i) values[i].copy(buffer.data() + i * width, width);
-  const hsize_t dims[1] = {values.size()};
-  const SpaceId space(Check(H5Screate_simple(1, dims, nullptr), where, "creating", "a dataspace"));
-  const PlistId dcpl = DescriptionCreation(where, dims[0], std::string("/inputs/") + name, checksum);
-  const DatasetId dataset(Check(H5Dcreate2(group, name, type.get(), space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
-                                where, "creating dataset /inputs/", name));
-  CheckStatus(H5Dwrite(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()), where,
-              "writing dataset /inputs/", name);
-}
-
-void WriteIntColumn(const Where& where, hid_t group, const char* name, const std::vector<std::int32_t>& values,
-                    bool checksum) {
-  const hsize_t dims[1] = {values.size()};
-  const SpaceId space(Check(H5Screate_simple(1, dims, nullptr), where, "creating", "a dataspace"));
-  const PlistId dcpl = DescriptionCreation(where, dims[0], std::string("/inputs/") + name, checksum);
-  const DatasetId dataset(
-      Check(H5Dcreate2(group, name, H5T_STD_I32LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
-            "creating dataset /inputs/", name));
-  CheckStatus(H5Dwrite(dataset.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), where,
-              "writing dataset /inputs/", name);
-}
-
-// One dimension, its length, and the dataset's type.
-std::pair<hsize_t, TypeId> OpenInputColumn(const Where& where, hid_t file, const std::string& path,
-                                           DatasetId& dataset) {
-  dataset = DatasetId(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
-  const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
-  hsize_t dims[1] = {0};
-  if (H5Sget_simple_extent_ndims(space.get()) != 1) Fail(where, fmt::format("dataset {} is not one-dimensional", path));
-  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-  return {dims[0], TypeId(Check(H5Dget_type(dataset.get()), where, "reading the type of", path))};
-}
-
-std::vector<std::string> ReadStringColumn(const Where& where, hid_t file, const std::string& path) {
-  DatasetId dataset;
-  const auto [count, type] = OpenInputColumn(where, file, path, dataset);
-  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) != 0) {
-    Fail(where, fmt::format("dataset {} does not hold fixed-length strings", path));
-  }
-  const std::size_t width = H5Tget_size(type.get());
-  std::string buffer(width * count, '\0');
-  if (count > 0) {
-    CheckStatus(H5Dread(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()), where, "reading",
-                path);
-  }
-  std::vector<std::string> values(count);
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::string_view cell(buffer.data() + i * width, width);
-    values[i] = std::string(cell.substr(0, cell.find('\0')));
-  }
-  return values;
-}
-
-std::vector<std::int32_t> ReadIntColumn(const Where& where, hid_t file, const std::string& path) {
-  DatasetId dataset;
-  const auto [count, type] = OpenInputColumn(where, file, path, dataset);
-  if (H5Tget_class(type.get()) != H5T_INTEGER) Fail(where, fmt::format("dataset {} does not hold integers", path));
-  std::vector<std::int32_t> values(count);
-  if (count > 0) {
-    CheckStatus(H5Dread(dataset.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), where,
-                "reading", path);
-  }
-  return values;
-}
-
-// ---------------------------------------------------------------------------------------
 // Identity
-
-constexpr std::array<sampling::ErrorSource, 4> kErrorSources = {
-    sampling::ErrorSource::kRingShape, sampling::ErrorSource::kRollerShape, sampling::ErrorSource::kRollerPosition,
-    sampling::ErrorSource::kSpring};
 
 // What Resume and CampaignReader find in a file before trusting it.
 struct Stored {
@@ -428,16 +118,13 @@ struct Stored {
   int schema_version = 0;
 };
 
-bool HasRingtolFormat(const Where& where, hid_t file) {
-  try {
-    return ReadStringAttribute(where, file, "format") == std::optional<std::string>(kFormat);
-  } catch (const std::runtime_error&) {
-    return false;
-  }
-}
-
 Stored ReadStored(const Where& where, hid_t file) {
-  if (!HasRingtolFormat(where, file)) {
+  const std::optional<std::string> format = FormatOf(where, file);
+  if (format == std::optional<std::string>(kAllocationFormat)) {
+    // The campaign's readers get here: name what the file is instead.
+    throw InputError(where.file + ": is a ringtol allocation results file, not a campaign's");
+  }
+  if (format != std::optional<std::string>(kFormat)) {
     throw InputError(where.file + ": is not a ringtol campaign file (its root has no attribute format = \"" + kFormat +
                      "\")");
   }
@@ -470,31 +157,7 @@ Stored ReadStored(const Where& where, hid_t file) {
       where, ReadNumberAttribute<std::int64_t>(where, file, "samples", H5T_INTEGER, H5T_NATIVE_INT64), "samples");
   if (stored.samples < 1) Fail(where, fmt::format("attribute samples = {} is not positive", stored.samples));
 
-  const std::vector<std::string> names = ReadStringColumn(where, file, "/inputs/name");
-  const std::vector<std::string> quantities = ReadStringColumn(where, file, "/inputs/quantity");
-  const std::vector<std::string> components = ReadStringColumn(where, file, "/inputs/component");
-  const std::vector<std::string> sources = ReadStringColumn(where, file, "/inputs/source");
-  const std::vector<std::int32_t> rollers = ReadIntColumn(where, file, "/inputs/roller");
-  const std::vector<std::int32_t> orders = ReadIntColumn(where, file, "/inputs/order");
-  const std::size_t d = names.size();
-  if (d == 0 || quantities.size() != d || components.size() != d || sources.size() != d || rollers.size() != d ||
-      orders.size() != d) {
-    Fail(where, "the datasets in /inputs describe different numbers of inputs");
-  }
-  for (std::size_t i = 0; i < d; ++i) {
-    sampling::SampledInput input;
-    input.name = names[i];
-    input.quantity = quantities[i];
-    input.component = components[i];
-    input.roller = rollers[i];
-    input.order = orders[i];
-    const auto* source = std::find_if(kErrorSources.begin(), kErrorSources.end(), [&](sampling::ErrorSource s) {
-      return sources[i] == sampling::ErrorSourceName(s);
-    });
-    if (source == kErrorSources.end()) Fail(where, fmt::format("/inputs/source[{}] = '{}' is unknown", i, sources[i]));
-    input.source = *source;
-    identity.inputs.push_back(std::move(input));
-  }
+  identity.inputs = ReadInputDescriptions(where, file);
 
   for (std::size_t k = 0; k < kOutputCount; ++k) {
     const std::string path = StoredColumnPath(kFirstOutput + k, stored.schema_version);
@@ -515,27 +178,6 @@ Stored ReadStored(const Where& where, hid_t file) {
     identity.swing.cutoff_upr = number("cutoff_upr");
   }
   return stored;
-}
-
-std::size_t FirstDifferingLine(const std::string& a, const std::string& b) {
-  const auto [at, unused] = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
-  return 1 + static_cast<std::size_t>(std::count(a.begin(), at, '\n'));
-}
-
-std::optional<std::string> InputDifference(const std::vector<sampling::SampledInput>& file,
-                                           const std::vector<sampling::SampledInput>& now) {
-  if (file.size() != now.size()) {
-    return fmt::format("inputs differ (the file has {} inputs, this campaign {})", file.size(), now.size());
-  }
-  for (std::size_t i = 0; i < file.size(); ++i) {
-    const sampling::SampledInput& a = file[i];
-    const sampling::SampledInput& b = now[i];
-    if (a.name != b.name || a.quantity != b.quantity || a.component != b.component || a.source != b.source ||
-        a.roller != b.roller || a.order != b.order) {
-      return fmt::format("inputs differ (input {}: '{}' in the file, '{}' now)", i, a.name, b.name);
-    }
-  }
-  return std::nullopt;
 }
 
 std::optional<double> SpecOf(const std::vector<SpecLimit>& spec, std::string_view output) {
@@ -561,70 +203,26 @@ std::optional<std::string> SpecDifference(const std::vector<SpecLimit>& file, co
 
 // The first identity field in which `now` differs from the file, or nothing.
 std::optional<std::string> IdentityDifference(const CampaignIdentity& file, const CampaignIdentity& now) {
-  const auto word = [](const char* field, const std::string& a, const std::string& b) -> std::optional<std::string> {
-    if (a == b) return std::nullopt;
-    return fmt::format("{} differs ('{}' in the file, '{}' now)", field, a, b);
-  };
-  const auto text = [](const char* field, const std::string& a, const std::string& b) -> std::optional<std::string> {
-    if (a == b) return std::nullopt;
-    return fmt::format("{} differs (first at line {})", field, FirstDifferingLine(a, b));
-  };
-  if (auto d = word("ringtol_version", file.ringtol_version, now.ringtol_version)) return d;
-  if (auto d = word("catalogue_version", file.catalogue_version, now.catalogue_version)) return d;
-  if (auto d = text("campaign_file", file.campaign_file, now.campaign_file)) return d;
-  if (auto d = text("base_scene", file.base_scene, now.base_scene)) return d;
-  if (auto d = word("design", file.design, now.design)) return d;
-  if (auto d = word("solver", file.solver, now.solver)) return d;
+  using Text = std::string CampaignIdentity::*;
+  for (const auto& [field, member, multiline] :
+       {std::tuple<const char*, Text, bool>{"ringtol_version", &CampaignIdentity::ringtol_version, false},
+        {"catalogue_version", &CampaignIdentity::catalogue_version, false},
+        {"campaign_file", &CampaignIdentity::campaign_file, true},
+        {"base_scene", &CampaignIdentity::base_scene, true},
+        {"design", &CampaignIdentity::design, false},
+        {"solver", &CampaignIdentity::solver, false}}) {
+    if (auto d = multiline ? TextDifference(field, file.*member, now.*member)
+                           : WordDifference(field, file.*member, now.*member)) {
+      return d;
+    }
+  }
   if (file.seed != now.seed) return fmt::format("seed differs ({} in the file, {} now)", file.seed, now.seed);
-  if (auto d = InputDifference(file.inputs, now.inputs)) return d;
+  if (auto d = InputDifference(file.inputs, now.inputs, "this campaign")) return d;
   return SpecDifference(file.spec, now.spec);
 }
 
 // ---------------------------------------------------------------------------------------
 // Opening
-
-PlistId FileAccess(const Where& where) {
-  PlistId fapl(Check(H5Pcreate(H5P_FILE_ACCESS), where, "creating", "a file access property list"));
-  CheckStatus(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_LATEST, H5F_LIBVER_LATEST), where, "configuring",
-              "file access");
-  // HDF5's flock() would stop SWMR readers while a writer holds it, and it cannot outlast
-  // the switch to SWMR mode; FileLock guards writers instead.
-  CheckStatus(H5Pset_file_locking(fapl.get(), false, true), where, "configuring", "file access");
-  CheckStatus(H5Pset_metadata_read_attempts(fapl.get(), kMetadataReadAttempts), where, "configuring", "file access");
-  return fapl;
-}
-
-// Sets one of HDF5's private file-access properties (those h5clear uses), if this HDF5 has it.
-bool SetHiddenFlag(const Where& where, const PlistId& fapl, const char* name) {
-  if (H5Pexist(fapl.get(), name) <= 0) return false;
-  hbool_t value = true;
-  CheckStatus(H5Pset(fapl.get(), name, &value), where, "setting file access property", name);
-  return true;
-}
-
-// Read-only, in SWMR-read mode so that a file being written, or left by a killed writer
-// (superblock flags still set, end of allocation stale), opens too. Throws InputError.
-FileId OpenForReading(const fs::path& path) {
-  const Where where{path.string(), true};
-  std::error_code error;
-  const fs::file_status status = fs::status(path, error);
-  if (!fs::exists(status)) throw InputError(where.file + ": does not exist");
-  if (fs::is_directory(status)) throw InputError(where.file + ": is a directory, not a results file");
-  const htri_t is_hdf5 = H5Fis_hdf5(where.file.c_str());
-  if (is_hdf5 < 0) Fail(where, "cannot be read");
-  if (is_hdf5 == 0) throw InputError(where.file + ": is not an HDF5 file or is truncated");
-
-  const PlistId fapl = FileAccess(where);
-  // Flags left by a writer killed before it entered SWMR mode would refuse even a reader.
-  SetHiddenFlag(where, fapl, "clear_status_flags");
-  hid_t id = H5Fopen(where.file.c_str(), H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, fapl.get());
-  if (id < 0) {
-    // Files from other writers (superblock before version 3) need a plain read-only open.
-    id = H5Fopen(where.file.c_str(), H5F_ACC_RDONLY, fapl.get());
-  }
-  if (id < 0) Fail(where, "is not an HDF5 file or is truncated");
-  return FileId(id);
-}
 
 // Opens every per-sample dataset and checks its shape against the attributes.
 // Outputs a file of an older schema lacks stay closed (ReadRows reads them as NaN).
@@ -813,30 +411,7 @@ void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identit
     GroupId(Check(H5Gcreate2(file, name, H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group", name));
   }
 
-  const GroupId inputs(Check(H5Gopen2(file, "inputs", H5P_DEFAULT), where, "opening group", "/inputs"));
-  const auto strings = [&](auto field) {
-    std::vector<std::string> values;
-    for (const sampling::SampledInput& input : identity.inputs) values.push_back(field(input));
-    return values;
-  };
-  using Input = sampling::SampledInput;
-  WriteStringColumn(where, inputs.get(), "name", strings([](const Input& in) { return in.name; }),
-                    options.checksums);
-  WriteStringColumn(where, inputs.get(), "quantity", strings([](const Input& in) { return in.quantity; }),
-                    options.checksums);
-  WriteStringColumn(where, inputs.get(), "component", strings([](const Input& in) { return in.component; }),
-                    options.checksums);
-  WriteStringColumn(where, inputs.get(), "source",
-                    strings([](const Input& in) { return std::string(sampling::ErrorSourceName(in.source)); }),
-                    options.checksums);
-  std::vector<std::int32_t> rollers;
-  std::vector<std::int32_t> orders;
-  for (const Input& input : identity.inputs) {
-    rollers.push_back(input.roller);
-    orders.push_back(input.order);
-  }
-  WriteIntColumn(where, inputs.get(), "roller", rollers, options.checksums);
-  WriteIntColumn(where, inputs.get(), "order", orders, options.checksums);
+  WriteInputDescriptions(where, file, identity.inputs, options.checksums);
 
   const TypeId status_type = StatusType(where);
   const TypeId message_type = FixedString(where, kMessageBytes);
@@ -867,33 +442,12 @@ std::string ExistsMessage(const std::string& file) {
   return file + ": already exists; pass --resume to continue that campaign, or remove the file to start a new one";
 }
 
-// Gives the finished file its name without ever replacing a file of that name: a hard link
-// fails when the name exists (rename would overwrite it).
-void Publish(const fs::path& temporary, const fs::path& path) {
-  if (::link(temporary.c_str(), path.c_str()) == 0) {
-    ::unlink(temporary.c_str());
-    return;
-  }
-  const int link_error = errno;
-  if (link_error == EEXIST) throw InputError(ExistsMessage(path.string()));
-  // File systems without hard links: rename after a last look.
-  std::error_code error;
-  if (fs::exists(fs::symlink_status(path, error))) throw InputError(ExistsMessage(path.string()));
-  fs::rename(temporary, path, error);
-  if (error) throw InputError(path.string() + ": cannot be created: " + error.message());
-}
-
 std::string_view TruncateUtf8(std::string_view text, std::size_t max_bytes) {
   if (text.size() <= max_bytes) return text;
   std::size_t end = max_bytes;
   // Never cut a multi-byte character in two: back up to its first byte.
   while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;
   return text.substr(0, end);
-}
-
-bool IsKnownStatus(std::int8_t value) {
-  const std::vector<SampleStatus>& all = AllSampleStatuses();
-  return std::any_of(all.begin(), all.end(), [&](SampleStatus s) { return static_cast<std::int8_t>(s) == value; });
 }
 
 // A sample range of consecutive indices.
@@ -945,15 +499,7 @@ std::optional<std::string> TryReadRows(const Where& where, const DatasetId& data
               "selecting rows of", path);
   const SpaceId memory_space(
       Check(H5Screate_simple(IsMatrix(column) ? 2 : 1, count, nullptr), where, "creating a dataspace for", path));
-  for (int attempt = 1;; ++attempt) {
-    if (H5Dread(dataset.get(), memory_type, memory_space.get(), file_space.get(), H5P_DEFAULT, data) >= 0) {
-      return std::nullopt;
-    }
-    if (attempt == kRawReadAttempts) break;
-    std::this_thread::sleep_for(kRawReadRetryDelay);
-  }
-  const std::string detail = Hdf5Detail();
-  return detail.empty() ? std::string("HDF5 cannot read it") : detail;
+  return TryRead(dataset.get(), memory_type, memory_space.get(), file_space.get(), data);
 }
 
 // As TryReadRows; a damaged chunk is an InputError naming the file, the dataset and the samples.
@@ -1018,11 +564,6 @@ std::vector<SampleRange> Merged(std::vector<SampleRange> ranges) {
     }
   }
   return merged;
-}
-
-bool HasChecksum(const Where& where, hid_t dataset, const std::string& path) {
-  const PlistId dcpl(Check(H5Dget_create_plist(dataset), where, "reading the creation properties of", path));
-  return H5Pget_filter_by_id2(dcpl.get(), H5Z_FILTER_FLETCHER32, nullptr, nullptr, nullptr, 0, nullptr, nullptr) >= 0;
 }
 
 hsize_t ColumnChunkRows(const Where& where, const DatasetId& dataset, std::size_t column) {
@@ -1138,9 +679,7 @@ ResultsCheck Scan(const Where& where, hid_t file, const Stored& stored, const Co
 
 // Gives every damaged chunk of `check` its fill values (the status chunk: pending) and marks
 // its samples pending, so that the run computes them again. A rewritten chunk is stored
-// with its filters skipped (its filter mask says so, and readers honour it): HDF5 can then
-// take it without reading the damaged one, and the next commit into it runs the filters
-// again. Chunks first, statuses after: a kill in between leaves finished statuses over
+// with its filters skipped (RewriteChunksWithFill). Chunks first, statuses after: a kill in between leaves finished statuses over
 // NaN design points, which the next resume finds damaged and rewrites again.
 void RepairDamage(const Where& where, hid_t file, const ResultsCheck& check) {
   std::vector<SampleRange> recompute;
@@ -1150,29 +689,18 @@ void RepairDamage(const Where& where, hid_t file, const ResultsCheck& check) {
                                     [&](const DatasetCheck& dataset) { return dataset.path == path; });
     if (found == check.datasets.end() || found->damaged.empty()) continue;
     const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening", path));
-    const PlistId dcpl(Check(H5Dget_create_plist(dataset.get()), where, "reading the layout of", path));
-    hsize_t chunk[2] = {0, 1};
-    const int rank = IsMatrix(c) ? 2 : 1;
-    if (H5Pget_chunk(dcpl.get(), rank, chunk) != rank) Fail(where, fmt::format("dataset {} is not chunked", path));
-    const TypeId type(Check(H5Dget_type(dataset.get()), where, "reading the type of", path));
-    const std::size_t element = H5Tget_size(type.get());
-    std::vector<unsigned char> fill(element);
-    CheckStatus(H5Pget_fill_value(dcpl.get(), type.get(), fill.data()), where, "reading the fill value of", path);
-    std::vector<unsigned char> bytes(chunk[0] * chunk[1] * element);
-    for (std::size_t at = 0; at < bytes.size(); at += element) std::memcpy(bytes.data() + at, fill.data(), element);
-    const int filters = H5Pget_nfilters(dcpl.get());
-    if (filters < 0 || filters >= 32) Fail(where, fmt::format("reading the filters of {} failed", path));
-    const std::uint32_t skip_all = (std::uint32_t{1} << filters) - 1;
+    const hsize_t rows = ColumnChunkRows(where, dataset, c);
+    std::vector<std::array<hsize_t, 2>> offsets;
     for (const SampleRange& range : found->damaged) {
-      for (auto first = static_cast<hsize_t>(range.begin); first < static_cast<hsize_t>(range.end); first += chunk[0]) {
-        const hsize_t offset[2] = {first, 0};
-        CheckStatus(H5Dwrite_chunk(dataset.get(), H5P_DEFAULT, skip_all, offset, bytes.size(), bytes.data()), where,
-                    "rewriting a damaged chunk of", path);
+      for (auto first = static_cast<hsize_t>(range.begin); first < static_cast<hsize_t>(range.end); first += rows) {
+        offsets.push_back({first, 0});
       }
+    }
+    RewriteChunksWithFill(where, dataset.get(), path, offsets);
+    for (const SampleRange& range : found->damaged) {
       std::cerr << fmt::format("ringtol: {}: dataset {} was damaged at samples {}; they are computed again\n",
                                where.file, path, FormatRanges({range}));
     }
-    CheckStatus(H5Dflush(dataset.get()), where, "flushing", path);
     if (c != kStatus) recompute.insert(recompute.end(), found->damaged.begin(), found->damaged.end());
   }
   if (recompute.empty()) return;
@@ -1189,43 +717,6 @@ void RepairDamage(const Where& where, hid_t file, const ResultsCheck& check) {
   const TypeId native(Check(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), where, "reading the type of", path));
   WriteRows(where, status, kStatus, native.get(), runs, rows, 1, pending.data());
 }
-
-// ---------------------------------------------------------------------------------------
-// A lock that keeps two writers off one file. HDF5's own flock() lock is released once a
-// writer enters SWMR mode (so that readers can open the file), and the superblock flags
-// that would refuse a second writer are cleared on resume after a kill; without this lock
-// a second run resumed by mistake would interleave its writes with the first. HDF5's lock
-// is switched off (FileAccess) in favour of an open file description lock, which also holds
-// between two stores of one process, never blocks readers, and dies with the process.
-class FileLock {
- public:
-  FileLock() = default;
-  ~FileLock() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  FileLock(FileLock&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
-  FileLock& operator=(FileLock&& other) noexcept {
-    std::swap(fd_, other.fd_);
-    return *this;
-  }
-
-  static FileLock Acquire(const fs::path& path, const std::string& name) {
-    FileLock lock;
-    lock.fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
-    if (lock.fd_ < 0) throw InputError(name + ": cannot be opened for writing: " + std::strerror(errno));
-    struct flock region {};
-    region.l_type = F_WRLCK;
-    region.l_whence = SEEK_SET;
-    if (::fcntl(lock.fd_, F_OFD_SETLK, &region) < 0 && (errno == EAGAIN || errno == EACCES)) {
-      throw InputError(name + ": is being written by another ringtol run; let it finish or stop it first");
-    }
-    // Other errors mean a file system without locks: go on unguarded, as HDF5 does there.
-    return lock;
-  }
-
- private:
-  int fd_ = -1;
-};
 
 }  // namespace
 
@@ -1288,17 +779,9 @@ CampaignStore CampaignStore::Create(const fs::path& path, const CampaignIdentity
   const QuietErrors quiet;
   CheckArguments(identity, samples, options);
   const std::string name = path.string();
-  std::error_code error;
-  if (fs::exists(fs::symlink_status(path, error))) throw InputError(ExistsMessage(name));
-  const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  if (!fs::is_directory(directory, error)) {
-    throw InputError(name + ": directory '" + directory.string() + "' does not exist");
-  }
   // Built under another name and renamed when complete, so that a kill while creating
   // never leaves a half-made file under the campaign's name.
-  fs::path temporary = path;
-  temporary += fmt::format(".{}.creating", ::getpid());
-  fs::remove(temporary, error);  // left by a killed run that had this process id
+  const fs::path temporary = PrepareCreate(path, ExistsMessage(name));
 
   auto file = std::make_unique<File>();
   file->path = path;
@@ -1306,16 +789,14 @@ CampaignStore CampaignStore::Create(const fs::path& path, const CampaignIdentity
   file->samples = samples;
   file->inputs = identity.inputs.size();
   try {
-    const Where opening{name, true};
-    const PlistId fapl = FileAccess(opening);
-    file->file = FileId(H5Fcreate(temporary.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl.get()));
-    if (file->file.get() < 0) Fail(opening, "cannot be created in '" + directory.string() + "'");
+    file->file = CreateExclusive(temporary, path);
     file->lock = FileLock::Acquire(temporary, name);
     WriteSchema(file->where, file->file.get(), identity, samples, options);
     file->StartWriting(DefaultChunkRows(options, samples, file->inputs), options);
-    Publish(temporary, path);
+    Publish(temporary, path, ExistsMessage(name));
   } catch (...) {
     file->Close();
+    std::error_code error;
     fs::remove(temporary, error);
     throw;
   }
@@ -1368,17 +849,7 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
   file->lock = std::move(lock);
   file->samples = samples;
   file->inputs = identity.inputs.size();
-  const PlistId fapl = FileAccess(opening);
-  // As h5clear does after a killed SWMR writer: forget its superblock flags, and accept an
-  // end-of-allocation mark that lags behind what it wrote...
-  if (!SetHiddenFlag(opening, fapl, "clear_status_flags")) {
-    throw InputError(name + ": this HDF5 library cannot reopen files; run 'h5clear -s --increment' on it first");
-  }
-  SetHiddenFlag(opening, fapl, "skip_eof_check");
-  file->file = FileId(H5Fopen(name.c_str(), H5F_ACC_RDWR, fapl.get()));
-  if (file->file.get() < 0) Fail(opening, "cannot be opened for writing");
-  // ...and move that mark to the end of the file, so that new objects never land on old ones.
-  CheckStatus(H5Fincrement_filesize(file->file.get(), 0), file->where, "updating", "the end-of-allocation mark");
+  file->file = OpenForWriting(path);
   RepairDamage(file->where, file->file.get(), damage);
 
   if (samples > stored.samples) {

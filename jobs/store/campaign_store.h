@@ -204,7 +204,8 @@ struct ResultsCheck {
 };
 
 // Reads every dataset of a results file chunk by chunk. InputError when the file cannot be
-// opened as a ringtol campaign (metadata damage included: HDF5 checksums its metadata).
+// opened as a ringtol campaign (metadata damage included: HDF5 checksums its metadata); an
+// allocation's results file is named as one (its resume scans it instead).
 ResultsCheck CheckResults(const std::filesystem::path& path);
 
 // "0 to 99, 250, 300 to 399": samples as a reader counts them, both ends included.

@@ -1,0 +1,1464 @@
+#include "jobs/store/allocation_store.h"
+
+#include <hdf5.h>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <tuple>
+#include <utility>
+
+#include "jobs/inputs/input_error.h"
+#include "jobs/store/hdf5_file.h"
+
+namespace ringtol::jobs {
+
+using namespace hdf5;  // NOLINT(google-build-using-namespace): the store's own HDF5 helpers
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kFormat = "ringtol allocation";
+constexpr const char* kCampaignFormat = "ringtol campaign";
+// The default chunk along N: whole stages, but never so small that the chunk index
+// outweighs the data, nor so large that a partial commit rewrites much.
+constexpr std::int64_t kLeastChunkSamples = 64;
+constexpr std::int64_t kMostChunkSamples = 1024;
+// Rows of a per-candidate dataset ([C] or [C, M]) in one chunk: a few pages of numbers.
+constexpr hsize_t kCandidateChunkRows = 4096;
+// Rows of /inputs/u in one chunk: about 256 KiB, as the campaign's.
+constexpr std::size_t kDesignChunkBytes = 256u << 10;
+// Hash slots of each [C, N] dataset's chunk cache: a prime (HDF5's advice), many times the
+// chunks a batch of candidates fills (8 candidates of 2,048 samples in chunks of at least
+// 64: at most 256), so that those chunks never evict each other.
+constexpr std::size_t kCacheSlots = 12421;
+constexpr std::array<EvaluationRole, 2> kRoles = {EvaluationRole::kScreen, EvaluationRole::kConfirm};
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string RoleName(EvaluationRole role) { return std::string(NameOf(kEvaluationRoleNames, role)); }
+std::size_t RoleIndex(EvaluationRole role) { return role == EvaluationRole::kScreen ? 0 : 1; }
+
+// ---------------------------------------------------------------------------------------
+// The [C, N] datasets of a role, statuses last: Commit writes them in this order.
+
+enum class Field { kOutput, kErrorBound, kSteps, kSolveTime, kStatus };
+
+struct ColumnSpec {
+  std::string name;  // under /samples/<role>/
+  Field field = Field::kOutput;
+  std::size_t output = 0;  // kOutput: index into the stored outputs
+};
+
+std::vector<ColumnSpec> RoleColumns(EvaluationRole role, const std::vector<std::string>& outputs) {
+  std::vector<ColumnSpec> columns;
+  for (std::size_t q = 0; q < outputs.size(); ++q) columns.push_back({outputs[q], Field::kOutput, q});
+  if (role == EvaluationRole::kScreen) columns.push_back({"d_trajectory_error_mm", Field::kErrorBound, 0});
+  columns.push_back({"steps", Field::kSteps, 0});
+  columns.push_back({"solve_time_s", Field::kSolveTime, 0});
+  columns.push_back({"status", Field::kStatus, 0});
+  return columns;
+}
+
+std::string ColumnPath(EvaluationRole role, const ColumnSpec& column) {
+  return "/samples/" + RoleName(role) + "/" + column.name;
+}
+
+// The outputs the samples keep: those the constraints name, each once, in their order.
+std::vector<std::string> StoredOutputs(const std::vector<analysis::Constraint>& constraints) {
+  std::vector<std::string> outputs;
+  for (const analysis::Constraint& constraint : constraints) {
+    if (std::find(outputs.begin(), outputs.end(), constraint.output) == outputs.end()) {
+      outputs.push_back(constraint.output);
+    }
+  }
+  return outputs;
+}
+
+std::size_t OutputIndex(std::string_view output) {
+  return static_cast<std::size_t>(std::find(kOutputNames.begin(), kOutputNames.end(), output) - kOutputNames.begin());
+}
+
+std::int64_t CandidateCount(const AllocationIdentity& identity) {
+  std::int64_t count = 1;
+  for (const auto& options : identity.options) {
+    if (options.empty()) return 0;
+    if (count > std::numeric_limits<std::int64_t>::max() / static_cast<std::int64_t>(options.size())) return -1;
+    count *= static_cast<std::int64_t>(options.size());
+  }
+  return count;
+}
+
+// Mixed radix, the last component fastest (analysis::AllocationSpace).
+std::vector<std::int32_t> CandidateOptions(const AllocationIdentity& identity, std::int64_t candidate) {
+  std::vector<std::int32_t> options(identity.options.size());
+  for (std::size_t k = options.size(); k-- > 0;) {
+    const auto radix = static_cast<std::int64_t>(identity.options[k].size());
+    options[k] = static_cast<std::int32_t>(candidate % radix);
+    candidate /= radix;
+  }
+  return options;
+}
+
+double CandidateCost(const AllocationIdentity& identity, const std::vector<std::int32_t>& options) {
+  double cost = 0.0;
+  for (std::size_t k = 0; k < options.size(); ++k) cost += identity.options[k][static_cast<std::size_t>(options[k])].cost;
+  return cost;
+}
+
+void CheckIdentity(const AllocationIdentity& identity, const AllocationStoreOptions& options) {
+  const auto fail = [](const std::string& what) { throw std::invalid_argument("AllocationStore: " + what); };
+  if (identity.samples < 1) fail(fmt::format("samples = {} must be >= 1", identity.samples));
+  if (identity.first_samples < 1 || identity.first_samples > identity.samples) {
+    fail(fmt::format("first_samples = {} is outside [1, {}]", identity.first_samples, identity.samples));
+  }
+  if (identity.inputs.empty()) fail("an allocation needs at least one sampled input");
+  if (identity.components.empty() || identity.components.size() != identity.options.size()) {
+    fail(fmt::format("{} components with {} option lists", identity.components.size(), identity.options.size()));
+  }
+  const std::int64_t candidates = CandidateCount(identity);
+  if (candidates < 1) fail("every component needs an option, and the candidates must be countable");
+  if (identity.constraints.empty()) fail("an allocation needs at least one constraint");
+  for (const analysis::Constraint& constraint : identity.constraints) {
+    if (OutputIndex(constraint.output) == kOutputCount) fail("constraint on unknown output '" + constraint.output + "'");
+  }
+  if (identity.reference && (*identity.reference < 0 || *identity.reference >= candidates)) {
+    fail(fmt::format("reference candidate {} is outside [0, {})", *identity.reference, candidates));
+  }
+  if (options.chunk_samples < 0) fail(fmt::format("chunk_samples = {} is negative", options.chunk_samples));
+}
+
+// ---------------------------------------------------------------------------------------
+// Types of the outcome's enumerations
+
+template <typename Enum, std::size_t N>
+TypeId EnumType(const Where& where, const NameTable<Enum, N>& names, const char* what) {
+  TypeId type(Check(H5Tenum_create(H5T_NATIVE_INT8), where, "creating", what));
+  for (const NamedValue<Enum>& entry : names) {
+    const auto value = static_cast<std::int8_t>(entry.value);
+    const std::string name(entry.name);
+    CheckStatus(H5Tenum_insert(type.get(), name.c_str(), &value), where, "naming a value of", what);
+  }
+  return type;
+}
+
+// settled_by: a role, or none (-1).
+TypeId SettledByType(const Where& where) {
+  TypeId type = EnumType(where, kEvaluationRoleNames, "the settled_by type");
+  const std::int8_t none = -1;
+  CheckStatus(H5Tenum_insert(type.get(), "none", &none), where, "naming a value of", "the settled_by type");
+  return type;
+}
+
+// ---------------------------------------------------------------------------------------
+// Arrays: every dataset but the descriptions' strings is one of these.
+
+struct Shape {
+  hsize_t rows = 0;
+  hsize_t columns = 0;  // 0: one-dimensional
+  int rank() const { return columns == 0 ? 1 : 2; }
+};
+
+struct ArraySpec {
+  std::string path;
+  hid_t file_type = H5T_IEEE_F64LE;
+  Shape shape;
+  hsize_t chunk_rows = 1;
+  hsize_t chunk_columns = 1;
+  bool extendable = false;  // one-dimensional, up to max_rows
+  hsize_t max_rows = 0;
+  const void* fill = nullptr;  // in file_type's native counterpart (fill_type)
+  hid_t fill_type = H5T_NATIVE_DOUBLE;
+};
+
+DatasetId CreateArray(const Where& where, hid_t file, const ArraySpec& spec, bool checksum) {
+  const hsize_t dims[2] = {spec.shape.rows, spec.shape.columns};
+  const hsize_t max_dims[2] = {spec.extendable ? spec.max_rows : spec.shape.rows, spec.shape.columns};
+  const SpaceId space(
+      Check(H5Screate_simple(spec.shape.rank(), dims, max_dims), where, "creating the dataspace of", spec.path));
+  const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+  const hsize_t chunk[2] = {std::max<hsize_t>(1, spec.chunk_rows), std::max<hsize_t>(1, spec.chunk_columns)};
+  CheckStatus(H5Pset_chunk(dcpl.get(), spec.shape.rank(), chunk), where, "chunking", spec.path);
+  if (checksum) AddChecksum(where, dcpl, spec.path);
+  if (spec.fill != nullptr) {
+    CheckStatus(H5Pset_fill_value(dcpl.get(), spec.fill_type, spec.fill), where, "setting the fill value of",
+                spec.path);
+  }
+  // Chunks are written when first filled, so a candidate never simulated takes no space.
+  CheckStatus(H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_INCR), where, "configuring", spec.path);
+  return DatasetId(Check(
+      H5Dcreate2(file, spec.path.c_str(), spec.file_type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
+      "creating dataset", spec.path));
+}
+
+// The memory type to move `memory_type` values through: an enumeration dataset's own
+// (native) type for int8 codes, since HDF5 converts no integer to an enumeration.
+TypeId EnumMemoryType(const Where& where, hid_t dataset, const std::string& path) {
+  const TypeId stored(Check(H5Dget_type(dataset), where, "reading the type of", path));
+  if (H5Tget_class(stored.get()) != H5T_ENUM) return TypeId();
+  return TypeId(Check(H5Tget_native_type(stored.get(), H5T_DIR_ASCEND), where, "reading the type of", path));
+}
+
+// Writes a whole dataset (resizing an extendable one to `rows` first) and flushes it.
+void WriteWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type, hsize_t rows,
+                const void* data) {
+  const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening", path));
+  SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
+  hsize_t dims[2] = {0, 0};
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+  if (rank == 1 && dims[0] != rows) {
+    dims[0] = rows;
+    CheckStatus(H5Dset_extent(dataset.get(), dims), where, "resizing", path);
+  }
+  const TypeId as_enum = EnumMemoryType(where, dataset.get(), path);
+  if (as_enum.get() >= 0) memory_type = as_enum.get();
+  if (rows > 0) {
+    CheckStatus(H5Dwrite(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), where, "writing", path);
+  }
+  CheckStatus(H5Dflush(dataset.get()), where, "flushing", path);
+}
+
+// A whole dataset: its values (row-major) and its rows. InputError (`where.input`) or
+// runtime_error when it does not read.
+template <typename T>
+std::vector<T> ReadWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type,
+                         hsize_t expected_columns = 0) {
+  const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
+  const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
+  hsize_t dims[2] = {0, 0};
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 1 || rank > 2) Fail(where, fmt::format("dataset {} has rank {}", path, rank));
+  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+  const hsize_t columns = rank == 2 ? dims[1] : 0;
+  if (columns != expected_columns) {
+    Fail(where, fmt::format("dataset {} has {} columns where {} are expected", path, columns, expected_columns));
+  }
+  std::vector<T> values(dims[0] * std::max<hsize_t>(1, columns));
+  const TypeId as_enum = EnumMemoryType(where, dataset.get(), path);
+  if (as_enum.get() >= 0) memory_type = as_enum.get();
+  if (!values.empty()) {
+    if (const auto problem = TryRead(dataset.get(), memory_type, H5S_ALL, H5S_ALL, values.data())) {
+      throw InputError(fmt::format("{}: dataset {} is damaged ({})", where.file, path, *problem));
+    }
+  }
+  return values;
+}
+
+// ---------------------------------------------------------------------------------------
+// Identity
+
+struct Stored {
+  AllocationIdentity identity;
+  int schema_version = 0;
+  std::int64_t candidates = 0;
+};
+
+template <typename T>
+T Require(const Where& where, std::optional<T> value, const char* name) {
+  if (!value) Fail(where, fmt::format("is not a complete ringtol allocation file: attribute {} is missing", name));
+  return *std::move(value);
+}
+
+void CheckFormat(const Where& where, hid_t file) {
+  const std::optional<std::string> format = FormatOf(where, file);
+  if (format == std::optional<std::string>(kFormat)) return;
+  if (format == std::optional<std::string>(kCampaignFormat)) {
+    throw InputError(where.file + ": is a ringtol campaign results file, not an allocation's");
+  }
+  throw InputError(where.file + ": is not a ringtol allocation file (its root has no attribute format = \"" + kFormat +
+                   "\")");
+}
+
+Stored ReadStored(const Where& where, hid_t file) {
+  CheckFormat(where, file);
+  Stored stored;
+  const auto integer = [&](const char* name) {
+    return Require(where, ReadNumberAttribute<std::int64_t>(where, file, name, H5T_INTEGER, H5T_NATIVE_INT64), name);
+  };
+  const std::int64_t schema = integer("schema_version");
+  if (schema > kAllocationSchemaVersion) {
+    throw InputError(fmt::format("{}: was written by a newer ringtol (schema {}); this ringtol reads schema {}",
+                                 where.file, schema, kAllocationSchemaVersion));
+  }
+  if (schema != kAllocationSchemaVersion) {
+    throw InputError(fmt::format("{}: has unknown schema version {}; this ringtol reads schema {}", where.file, schema,
+                                 kAllocationSchemaVersion));
+  }
+  stored.schema_version = static_cast<int>(schema);
+
+  AllocationIdentity& identity = stored.identity;
+  const auto text = [&](const char* name) { return Require(where, ReadStringAttribute(where, file, name), name); };
+  identity.ringtol_version = text("ringtol_version");
+  identity.catalogue_version = text("catalogue_version");
+  identity.allocation_path = text("allocation_path");
+  identity.allocation_file = text("allocation_file");
+  identity.base_scene = text("base_scene");
+  identity.design = text("design");
+  identity.solver = text("solver");
+  identity.screen = text("screen");
+  identity.search = text("search");
+  identity.seed =
+      Require(where, ReadNumberAttribute<std::uint64_t>(where, file, "seed", H5T_INTEGER, H5T_NATIVE_UINT64), "seed");
+  identity.samples = integer("samples");
+  identity.first_samples = integer("first_samples");
+  identity.confidence =
+      Require(where, ReadNumberAttribute<double>(where, file, "confidence", H5T_FLOAT, H5T_NATIVE_DOUBLE), "confidence");
+  stored.candidates = integer("candidates");
+  if (const std::int64_t reference = integer("reference"); reference >= 0) identity.reference = reference;
+  identity.inputs = ReadInputDescriptions(where, file);
+
+  identity.components = ReadStrings(where, file, "/components/name");
+  const std::vector<std::int32_t> component = ReadInts(where, file, "/options/component");
+  const std::vector<std::string> classes = ReadStrings(where, file, "/options/class");
+  const std::vector<std::string> modes = ReadStrings(where, file, "/options/mode");
+  const auto tolerances = ReadWhole<double>(where, file, "/options/tolerance", H5T_NATIVE_DOUBLE);
+  const auto costs = ReadWhole<double>(where, file, "/options/cost", H5T_NATIVE_DOUBLE);
+  const std::size_t o = component.size();
+  if (classes.size() != o || modes.size() != o || tolerances.size() != o || costs.size() != o) {
+    Fail(where, "the datasets in /options describe different numbers of options");
+  }
+  identity.options.resize(identity.components.size());
+  for (std::size_t i = 0; i < o; ++i) {
+    if (component[i] < 0 || static_cast<std::size_t>(component[i]) >= identity.components.size()) {
+      Fail(where, fmt::format("/options/component[{}] = {} is no component", i, component[i]));
+    }
+    identity.options[static_cast<std::size_t>(component[i])].push_back({classes[i], modes[i], tolerances[i], costs[i]});
+  }
+
+  const std::vector<std::string> outputs = ReadStrings(where, file, "/constraints/output");
+  const std::vector<std::string> kinds = ReadStrings(where, file, "/constraints/kind");
+  const auto levels = ReadWhole<double>(where, file, "/constraints/level", H5T_NATIVE_DOUBLE);
+  const auto uppers = ReadWhole<double>(where, file, "/constraints/upper", H5T_NATIVE_DOUBLE);
+  const std::size_t m = outputs.size();
+  if (kinds.size() != m || levels.size() != m || uppers.size() != m) {
+    Fail(where, "the datasets in /constraints describe different numbers of constraints");
+  }
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::optional<analysis::ConstraintKind> kind = ValueNamed(analysis::kConstraintKindNames, kinds[j]);
+    if (!kind) Fail(where, fmt::format("/constraints/kind[{}] = '{}' is unknown", j, kinds[j]));
+    identity.constraints.push_back({outputs[j], *kind, levels[j], uppers[j]});
+  }
+  try {
+    CheckIdentity(identity, {});
+  } catch (const std::invalid_argument& error) {
+    Fail(where, fmt::format("describes no valid allocation: {}", error.what()));
+  }
+  if (stored.candidates != CandidateCount(identity)) {
+    Fail(where, fmt::format("attribute candidates = {} where its options make {}", stored.candidates,
+                            CandidateCount(identity)));
+  }
+  return stored;
+}
+
+// The first identity field in which `now` differs from the file, or nothing.
+std::optional<std::string> IdentityDifference(const AllocationIdentity& file, const AllocationIdentity& now) {
+  using Text = std::string AllocationIdentity::*;
+  for (const auto& [field, member, multiline] :
+       {std::tuple<const char*, Text, bool>{"ringtol_version", &AllocationIdentity::ringtol_version, false},
+        {"catalogue_version", &AllocationIdentity::catalogue_version, false},
+        {"allocation_file", &AllocationIdentity::allocation_file, true},
+        {"base_scene", &AllocationIdentity::base_scene, true},
+        {"design", &AllocationIdentity::design, false},
+        {"solver", &AllocationIdentity::solver, false},
+        {"screen", &AllocationIdentity::screen, false},
+        {"search", &AllocationIdentity::search, false}}) {
+    if (auto d = multiline ? TextDifference(field, file.*member, now.*member)
+                           : WordDifference(field, file.*member, now.*member)) {
+      return d;
+    }
+  }
+  if (auto d = WordDifference("seed", file.seed, now.seed)) return d;
+  if (auto d = WordDifference("samples", file.samples, now.samples)) return d;
+  if (auto d = WordDifference("first_samples", file.first_samples, now.first_samples)) return d;
+  if (auto d = WordDifference("confidence", file.confidence, now.confidence)) return d;
+  if (auto d = InputDifference(file.inputs, now.inputs, "this allocation")) return d;
+  if (auto d = WordDifference("components", fmt::format("{}", fmt::join(file.components, ", ")),
+                               fmt::format("{}", fmt::join(now.components, ", ")))) {
+    return d;
+  }
+  for (std::size_t k = 0; k < file.options.size(); ++k) {
+    const auto describe = [](const std::vector<AllocationIdentity::Option>& options) {
+      std::vector<std::string> parts;
+      for (const auto& option : options) {
+        parts.push_back(fmt::format("{} {} {} {}", option.class_name, option.mode, option.tolerance, option.cost));
+      }
+      return fmt::format("{}", fmt::join(parts, "; "));
+    };
+    const std::string field = "options of " + file.components[k];
+    if (auto d = WordDifference(field, describe(file.options[k]), describe(now.options[k]))) return d;
+  }
+  const auto constraints = [](const std::vector<analysis::Constraint>& list) {
+    std::vector<std::string> parts;
+    for (const auto& c : list) {
+      parts.push_back(
+          fmt::format("{} {} {} <= {}", NameOf(analysis::kConstraintKindNames, c.kind), c.level, c.output, c.upper));
+    }
+    return fmt::format("{}", fmt::join(parts, "; "));
+  };
+  if (auto d = WordDifference("constraints", constraints(file.constraints), constraints(now.constraints))) return d;
+  return WordDifference("reference", file.reference.value_or(-1), now.reference.value_or(-1));
+}
+
+// ---------------------------------------------------------------------------------------
+// Creating
+
+std::string ExistsMessage(const std::string& file) {
+  return file + ": already exists; pass --resume to continue that allocation, or remove the file to start a new one";
+}
+
+hsize_t ChunkSamples(const AllocationStoreOptions& options, const AllocationIdentity& identity) {
+  const std::int64_t chunk = options.chunk_samples > 0
+                                 ? options.chunk_samples
+                                 : std::clamp(identity.first_samples, kLeastChunkSamples, kMostChunkSamples);
+  return static_cast<hsize_t>(std::min(chunk, identity.samples));
+}
+
+void CreateSampleColumns(const Where& where, hid_t file, EvaluationRole role, const std::vector<std::string>& outputs,
+                         hsize_t candidates, hsize_t samples, hsize_t chunk_samples, bool checksum) {
+  const std::int32_t zero = 0;
+  const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
+  const TypeId status_type = StatusType(where);
+  for (const ColumnSpec& column : RoleColumns(role, outputs)) {
+    ArraySpec spec{ColumnPath(role, column), H5T_IEEE_F64LE, {candidates, samples}, 1, chunk_samples};
+    spec.fill = &kNaN;
+    if (column.field == Field::kSteps) {
+      spec.file_type = H5T_STD_I32LE;
+      spec.fill = &zero;
+      spec.fill_type = H5T_NATIVE_INT32;
+    } else if (column.field == Field::kStatus) {
+      spec.file_type = status_type.get();
+      spec.fill = &pending;
+      spec.fill_type = status_type.get();
+    }
+    CreateArray(where, file, spec, checksum);
+  }
+}
+
+// The outcome's datasets, before any outcome: /outcome/... as an empty allocation.
+void CreateOutcome(const Where& where, hid_t file, hsize_t candidates, hsize_t constraints, bool checksum) {
+  const TypeId verdict = EnumType(where, analysis::kVerdictNames, "the verdict type");
+  const TypeId settlement = EnumType(where, analysis::kSettlementNames, "the settlement type");
+  const TypeId settled_by = SettledByType(where);
+  const hsize_t rows = std::min(candidates, kCandidateChunkRows);
+  const std::int8_t zero8 = 0;
+  const std::int8_t none = -1;
+  const std::int64_t zero = 0;
+  const std::int64_t minus_one = -1;
+  const auto row = [&](const char* name, hid_t type, const void* fill, hid_t fill_type) {
+    CreateArray(where, file, {std::string("/outcome/") + name, type, {candidates, 0}, rows, 1, false, 0, fill, fill_type},
+                checksum);
+  };
+  const auto matrix = [&](const char* name, hid_t type, const void* fill, hid_t fill_type) {
+    CreateArray(where, file,
+                {std::string("/outcome/") + name, type, {candidates, constraints}, rows, constraints, false, 0, fill,
+                 fill_type},
+                checksum);
+  };
+  const auto list = [&](const char* name, hid_t type, hsize_t most) {
+    CreateArray(where, file, {std::string("/outcome/") + name, type, {0, 0}, std::min<hsize_t>(most, kCandidateChunkRows),
+                              1, true, most, nullptr, H5T_NATIVE_INT64},
+                checksum);
+  };
+  row("verdict", verdict.get(), &zero8, verdict.get());
+  row("settlement", settlement.get(), &zero8, settlement.get());
+  row("settled_by", settled_by.get(), &none, settled_by.get());
+  row("samples", H5T_STD_I64LE, &zero, H5T_NATIVE_INT64);
+  row("implied_by", H5T_STD_I64LE, &minus_one, H5T_NATIVE_INT64);
+  matrix("estimate", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
+  matrix("lower", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
+  matrix("upper", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
+  matrix("constraint_verdict", verdict.get(), &zero8, verdict.get());
+  matrix("samples_to_decide", H5T_STD_I64LE, &zero, H5T_NATIVE_INT64);
+  row("yield", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
+  row("yield_lower", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
+  row("yield_upper", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
+  row("yield_trials", H5T_STD_I64LE, &zero, H5T_NATIVE_INT64);
+  list("alternatives", H5T_STD_I64LE, candidates);
+  list("undecided_cheaper", H5T_STD_I64LE, candidates);
+  list("front", H5T_STD_I64LE, candidates);
+  list("binding", H5T_STD_I32LE, constraints);
+
+  const GroupId outcome(Check(H5Gopen2(file, "/outcome", H5P_DEFAULT), where, "opening group", "/outcome"));
+  WriteAttribute(where, outcome.get(), "recommendation", H5T_STD_I64LE, H5T_NATIVE_INT64, &minus_one);
+  WriteAttribute(where, outcome.get(), "complete", H5T_STD_I8LE, H5T_NATIVE_INT8, &zero8);
+  for (const char* name : {"simulated", "settled_by_screen", "samples_screen", "samples_confirm"}) {
+    WriteAttribute(where, outcome.get(), name, H5T_STD_I64LE, H5T_NATIVE_INT64, &zero);
+  }
+  WriteAttribute(where, outcome.get(), "common_random_numbers_gain", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &kNaN);
+}
+
+void WriteSchema(const Where& where, hid_t file, const AllocationIdentity& identity,
+                 const std::vector<double>& design_points, const AllocationStoreOptions& options) {
+  const std::int64_t candidates = CandidateCount(identity);
+  WriteStringAttribute(where, file, "format", kFormat);
+  const std::int32_t schema = kAllocationSchemaVersion;
+  WriteAttribute(where, file, "schema_version", H5T_STD_I32LE, H5T_NATIVE_INT32, &schema);
+  WriteStringAttribute(where, file, "ringtol_version", identity.ringtol_version);
+  WriteStringAttribute(where, file, "catalogue_version", identity.catalogue_version);
+  WriteStringAttribute(where, file, "allocation_path", identity.allocation_path);
+  WriteStringAttribute(where, file, "allocation_file", identity.allocation_file);
+  WriteStringAttribute(where, file, "base_scene", identity.base_scene);
+  WriteStringAttribute(where, file, "design", identity.design);
+  WriteStringAttribute(where, file, "solver", identity.solver);
+  WriteStringAttribute(where, file, "screen", identity.screen);
+  WriteStringAttribute(where, file, "search", identity.search);
+  WriteAttribute(where, file, "seed", H5T_STD_U64LE, H5T_NATIVE_UINT64, &identity.seed);
+  WriteAttribute(where, file, "samples", H5T_STD_I64LE, H5T_NATIVE_INT64, &identity.samples);
+  WriteAttribute(where, file, "first_samples", H5T_STD_I64LE, H5T_NATIVE_INT64, &identity.first_samples);
+  WriteAttribute(where, file, "confidence", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &identity.confidence);
+  WriteAttribute(where, file, "candidates", H5T_STD_I64LE, H5T_NATIVE_INT64, &candidates);
+  const std::int64_t reference = identity.reference.value_or(-1);
+  WriteAttribute(where, file, "reference", H5T_STD_I64LE, H5T_NATIVE_INT64, &reference);
+
+  const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
+  for (const char* name :
+       {"inputs", "components", "options", "constraints", "candidates", "samples", "samples/screen", "samples/confirm",
+        "outcome"}) {
+    GroupId(Check(H5Gcreate2(file, name, H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group", name));
+  }
+  const bool checksum = options.checksums;
+  WriteInputDescriptions(where, file, identity.inputs, checksum);
+  const auto n = static_cast<hsize_t>(identity.samples);
+  const hsize_t d = identity.inputs.size();
+  const hsize_t design_rows = std::clamp<hsize_t>(kDesignChunkBytes / (d * sizeof(double)), 1, n);
+  CreateArray(where, file, {"/inputs/u", H5T_IEEE_F64LE, {n, d}, design_rows, d, false, 0, &kNaN, H5T_NATIVE_DOUBLE},
+              checksum);
+  WriteWhole(where, file, "/inputs/u", H5T_NATIVE_DOUBLE, n, design_points.data());
+
+  WriteStrings(where, file, "/components/name", identity.components, checksum);
+  std::vector<std::int32_t> component;
+  std::vector<std::string> classes;
+  std::vector<std::string> modes;
+  std::vector<double> tolerances;
+  std::vector<double> costs;
+  for (std::size_t k = 0; k < identity.options.size(); ++k) {
+    for (const AllocationIdentity::Option& option : identity.options[k]) {
+      component.push_back(static_cast<std::int32_t>(k));
+      classes.push_back(option.class_name);
+      modes.push_back(option.mode);
+      tolerances.push_back(option.tolerance);
+      costs.push_back(option.cost);
+    }
+  }
+  const auto numbers = [&](const std::string& path, const std::vector<double>& values) {
+    CreateArray(where, file, {path, H5T_IEEE_F64LE, {values.size(), 0}, std::max<hsize_t>(1, values.size())},
+                checksum);
+    WriteWhole(where, file, path, H5T_NATIVE_DOUBLE, values.size(), values.data());
+  };
+  WriteInts(where, file, "/options/component", component, checksum);
+  WriteStrings(where, file, "/options/class", classes, checksum);
+  WriteStrings(where, file, "/options/mode", modes, checksum);
+  numbers("/options/tolerance", tolerances);
+  numbers("/options/cost", costs);
+
+  std::vector<std::string> outputs;
+  std::vector<std::string> kinds;
+  std::vector<double> levels;
+  std::vector<double> uppers;
+  for (const analysis::Constraint& constraint : identity.constraints) {
+    outputs.push_back(constraint.output);
+    kinds.emplace_back(NameOf(analysis::kConstraintKindNames, constraint.kind));
+    levels.push_back(constraint.level);
+    uppers.push_back(constraint.upper);
+  }
+  WriteStrings(where, file, "/constraints/output", outputs, checksum);
+  WriteStrings(where, file, "/constraints/kind", kinds, checksum);
+  numbers("/constraints/level", levels);
+  numbers("/constraints/upper", uppers);
+
+  const auto c = static_cast<hsize_t>(candidates);
+  const hsize_t k = identity.components.size();
+  std::vector<std::int32_t> options_of(c * k);
+  std::vector<double> cost(c);
+  for (hsize_t i = 0; i < c; ++i) {
+    const std::vector<std::int32_t> options_i = CandidateOptions(identity, static_cast<std::int64_t>(i));
+    std::copy(options_i.begin(), options_i.end(), options_of.begin() + static_cast<std::ptrdiff_t>(i * k));
+    cost[i] = CandidateCost(identity, options_i);
+  }
+  const double reference_cost = cost[static_cast<std::size_t>(identity.reference.value_or(0))];
+  std::vector<double> relative(c);
+  for (hsize_t i = 0; i < c; ++i) relative[i] = reference_cost > 0.0 ? cost[i] / reference_cost : kNaN;
+  const hsize_t rows = std::min(c, kCandidateChunkRows);
+  CreateArray(where, file, {"/candidates/options", H5T_STD_I32LE, {c, k}, rows, k}, checksum);
+  WriteWhole(where, file, "/candidates/options", H5T_NATIVE_INT32, c, options_of.data());
+  CreateArray(where, file, {"/candidates/cost", H5T_IEEE_F64LE, {c, 0}, rows}, checksum);
+  WriteWhole(where, file, "/candidates/cost", H5T_NATIVE_DOUBLE, c, cost.data());
+  CreateArray(where, file, {"/candidates/relative_cost", H5T_IEEE_F64LE, {c, 0}, rows}, checksum);
+  WriteWhole(where, file, "/candidates/relative_cost", H5T_NATIVE_DOUBLE, c, relative.data());
+
+  const std::vector<std::string> stored = StoredOutputs(identity.constraints);
+  const hsize_t chunk = ChunkSamples(options, identity);
+  for (const EvaluationRole role : kRoles) CreateSampleColumns(where, file, role, stored, c, n, chunk, checksum);
+  CreateOutcome(where, file, c, identity.constraints.size(), checksum);
+}
+
+// ---------------------------------------------------------------------------------------
+// The samples of an open file
+
+struct Key {
+  std::int64_t candidate = 0;
+  std::int64_t index = 0;
+  friend auto operator<=>(const Key&, const Key&) = default;
+};
+
+// One buffered sample: what its row of each column gets.
+struct Buffered {
+  SampleStatus status = SampleStatus::kPending;
+  std::vector<double> outputs;  // per stored output
+  double error_bound = kNaN;    // [mm]
+  std::int32_t steps = 0;
+  double solve_time = 0.0;  // [s]
+};
+
+using Buffer = std::array<std::map<Key, Buffered>, 2>;  // per role
+
+struct Samples {
+  Where where;
+  std::int64_t candidates = 0;
+  std::int64_t samples = 0;
+  std::vector<std::string> outputs;  // stored
+  std::array<std::vector<ColumnSpec>, 2> specs;
+  std::array<std::vector<DatasetId>, 2> columns;
+  TypeId status_type;  // native
+
+  void Open(hid_t file, const AllocationIdentity& identity, hid_t access) {
+    candidates = CandidateCount(identity);
+    samples = identity.samples;
+    outputs = StoredOutputs(identity.constraints);
+    for (const EvaluationRole role : kRoles) {
+      const std::size_t r = RoleIndex(role);
+      specs[r] = RoleColumns(role, outputs);
+      columns[r].clear();
+      for (const ColumnSpec& spec : specs[r]) {
+        const std::string path = ColumnPath(role, spec);
+        DatasetId dataset(H5Dopen2(file, path.c_str(), access));
+        if (dataset.get() < 0) Fail(where, "is not a complete ringtol allocation file: cannot open dataset " + path);
+        const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
+        hsize_t dims[2] = {0, 0};
+        if (H5Sget_simple_extent_ndims(space.get()) != 2) Fail(where, fmt::format("dataset {} is not [C, N]", path));
+        H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+        if (dims[0] != static_cast<hsize_t>(candidates) || dims[1] != static_cast<hsize_t>(samples)) {
+          Fail(where, fmt::format("dataset {} is [{}, {}] where the file declares {} candidates and {} samples", path,
+                                  dims[0], dims[1], candidates, samples));
+        }
+        columns[r].push_back(std::move(dataset));
+      }
+    }
+    const TypeId type(Check(H5Dget_type(Status(EvaluationRole::kConfirm).get()), where, "reading the type of",
+                            "a status dataset"));
+    if (H5Tget_class(type.get()) != H5T_ENUM || H5Tget_size(type.get()) != 1) {
+      Fail(where, "its status datasets are not one-byte enumerations");
+    }
+    status_type = TypeId(Check(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), where, "reading", "the status type"));
+  }
+
+  void Close() {
+    for (auto& role : columns) role.clear();
+    status_type.reset();
+  }
+
+  const DatasetId& Status(EvaluationRole role) const { return columns[RoleIndex(role)].back(); }
+
+  std::size_t ColumnOf(EvaluationRole role, Field field, std::size_t output = 0) const {
+    const std::vector<ColumnSpec>& list = specs[RoleIndex(role)];
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (list[i].field == field && list[i].output == output) return i;
+    }
+    throw std::logic_error("AllocationStore: no such column");
+  }
+
+  std::size_t OutputColumn(std::string_view what, EvaluationRole role, std::string_view output) const {
+    const auto found = std::find(outputs.begin(), outputs.end(), output);
+    if (found == outputs.end()) {
+      throw std::invalid_argument(fmt::format("{}: output '{}' is not stored; stored: {}", what, output,
+                                              fmt::join(outputs, ", ")));
+    }
+    return ColumnOf(role, Field::kOutput, static_cast<std::size_t>(found - outputs.begin()));
+  }
+
+  void CheckRange(std::string_view what, std::int64_t candidate, std::int64_t begin, std::int64_t end) const {
+    if (candidate < 0 || candidate >= candidates) {
+      throw std::out_of_range(fmt::format("{}: candidate {} is outside [0, {})", what, candidate, candidates));
+    }
+    if (begin < 0 || end < begin || end > samples) {
+      throw std::out_of_range(fmt::format("{}: range [{}, {}) is outside [0, {})", what, begin, end, samples));
+    }
+  }
+
+  // Samples [begin, end) of one candidate's row of a column; InputError for a damaged chunk.
+  template <typename T>
+  std::vector<T> Row(EvaluationRole role, std::size_t column, hid_t memory_type, std::int64_t candidate,
+                     std::int64_t begin, std::int64_t end) const {
+    std::vector<T> values(static_cast<std::size_t>(end - begin));
+    if (values.empty()) return values;
+    const DatasetId& dataset = columns[RoleIndex(role)][column];
+    const std::string path = ColumnPath(role, specs[RoleIndex(role)][column]);
+    const SpaceId file_space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
+    const hsize_t start[2] = {static_cast<hsize_t>(candidate), static_cast<hsize_t>(begin)};
+    const hsize_t count[2] = {1, values.size()};
+    CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr), where,
+                "selecting samples of", path);
+    const SpaceId memory_space(Check(H5Screate_simple(1, &count[1], nullptr), where, "creating a dataspace for", path));
+    if (const auto problem = TryRead(dataset.get(), memory_type, memory_space.get(), file_space.get(), values.data())) {
+      throw InputError(fmt::format("{}: dataset {} is damaged: candidate {}, samples {} to {} cannot be read ({})",
+                                   where.file, path, candidate, begin, end - 1, *problem));
+    }
+    return values;
+  }
+
+  std::vector<SampleStatus> Statuses(EvaluationRole role, std::int64_t candidate, std::int64_t begin,
+                                     std::int64_t end) const {
+    const std::vector<std::int8_t> raw =
+        Row<std::int8_t>(role, specs[RoleIndex(role)].size() - 1, status_type.get(), candidate, begin, end);
+    std::vector<SampleStatus> statuses;
+    statuses.reserve(raw.size());
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+      if (!IsKnownStatus(raw[i])) {
+        throw InputError(fmt::format("{}: dataset /samples/{}/status is damaged: candidate {} sample {} has status {}, "
+                                     "which no ringtol writes",
+                                     where.file, RoleName(role), candidate, begin + static_cast<std::int64_t>(i),
+                                     raw[i]));
+      }
+      statuses.push_back(static_cast<SampleStatus>(raw[i]));
+    }
+    return statuses;
+  }
+};
+
+// The buffered samples of one candidate within [begin, end), laid over values read from the file.
+template <typename T, typename Get>
+void Overlay(const std::map<Key, Buffered>& buffer, std::int64_t candidate, std::int64_t begin, std::int64_t end,
+             std::vector<T>& values, Get get) {
+  for (auto it = buffer.lower_bound({candidate, begin}); it != buffer.end() && it->first < Key{candidate, end}; ++it) {
+    values[static_cast<std::size_t>(it->first.index - begin)] = get(it->second);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Damage: every allocated chunk of every [C, N] dataset read once.
+
+struct DamagedChunk {
+  EvaluationRole role = EvaluationRole::kScreen;
+  std::size_t column = 0;
+  std::array<hsize_t, 2> offset{};  // candidate, first sample
+  hsize_t samples = 0;              // in the chunk
+  std::string problem;
+};
+
+// `done` (per role, optional) counts the finished samples of the status chunks that read.
+std::vector<DamagedChunk> ScanSamples(const Samples& samples, std::array<std::int64_t, 2>* done = nullptr) {
+  std::vector<DamagedChunk> damaged;
+  for (const EvaluationRole role : kRoles) {
+    const std::size_t r = RoleIndex(role);
+    for (std::size_t column = 0; column < samples.columns[r].size(); ++column) {
+      const DatasetId& dataset = samples.columns[r][column];
+      const std::string path = ColumnPath(role, samples.specs[r][column]);
+      const PlistId dcpl(Check(H5Dget_create_plist(dataset.get()), samples.where, "reading the layout of", path));
+      hsize_t chunk[2] = {0, 0};
+      if (H5Pget_chunk(dcpl.get(), 2, chunk) != 2) Fail(samples.where, fmt::format("dataset {} is not chunked", path));
+      const SpaceId space(Check(H5Dget_space(dataset.get()), samples.where, "reading the shape of", path));
+      hsize_t allocated = 0;
+      CheckStatus(H5Dget_num_chunks(dataset.get(), space.get(), &allocated), samples.where, "counting the chunks of",
+                  path);
+      const TypeId type(Check(H5Dget_type(dataset.get()), samples.where, "reading the type of", path));
+      const TypeId native(Check(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), samples.where, "reading the type of",
+                                path));
+      const bool status = samples.specs[r][column].field == Field::kStatus;
+      std::vector<unsigned char> buffer(chunk[1] * H5Tget_size(native.get()));
+      for (hsize_t i = 0; i < allocated; ++i) {
+        std::array<hsize_t, 2> offset{};
+        unsigned mask = 0;
+        haddr_t address = 0;
+        hsize_t bytes = 0;
+        if (H5Dget_chunk_info(dataset.get(), space.get(), i, offset.data(), &mask, &address, &bytes) < 0) {
+          Fail(samples.where, fmt::format("reading the chunk index of {} failed", path));
+        }
+        const hsize_t count[2] = {1, std::min(chunk[1], static_cast<hsize_t>(samples.samples) - offset[1])};
+        const SpaceId selection(H5Scopy(space.get()));
+        CheckStatus(H5Sselect_hyperslab(selection.get(), H5S_SELECT_SET, offset.data(), nullptr, count, nullptr),
+                    samples.where, "selecting a chunk of", path);
+        const SpaceId memory(Check(H5Screate_simple(1, &count[1], nullptr), samples.where, "creating", "a dataspace"));
+        std::optional<std::string> problem =
+            TryRead(dataset.get(), native.get(), memory.get(), selection.get(), buffer.data());
+        if (!problem && status) {
+          const auto* raw = reinterpret_cast<const std::int8_t*>(buffer.data());
+          const auto* unknown = std::find_if(raw, raw + count[1], [](std::int8_t v) { return !IsKnownStatus(v); });
+          if (unknown != raw + count[1]) problem = fmt::format("status {}, which no ringtol writes", *unknown);
+          if (!problem && done != nullptr) {
+            const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
+            (*done)[r] += static_cast<std::int64_t>(count[1]) - std::count(raw, raw + count[1], pending);
+          }
+        }
+        if (problem) damaged.push_back({role, column, offset, count[1], *problem});
+      }
+    }
+  }
+  return damaged;
+}
+
+// Gives every damaged chunk its fill values and marks its samples pending, chunks first and
+// statuses after (as the campaign's RepairDamage, and for the same reason).
+void RepairSamples(hid_t file, const Samples& samples, const std::vector<DamagedChunk>& damaged) {
+  std::array<std::vector<std::array<hsize_t, 2>>, 2> pending;
+  for (const EvaluationRole role : kRoles) {
+    const std::size_t r = RoleIndex(role);
+    for (std::size_t column = 0; column < samples.columns[r].size(); ++column) {
+      std::vector<std::array<hsize_t, 2>> offsets;
+      for (const DamagedChunk& chunk : damaged) {
+        if (chunk.role == role && chunk.column == column) offsets.push_back(chunk.offset);
+      }
+      if (offsets.empty()) continue;
+      const std::string path = ColumnPath(role, samples.specs[r][column]);
+      const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), samples.where, "opening", path));
+      RewriteChunksWithFill(samples.where, dataset.get(), path, offsets);
+      for (const auto& offset : offsets) {
+        std::cerr << fmt::format("ringtol: {}: dataset {} was damaged at candidate {}, samples from {}; they are "
+                                 "computed again\n",
+                                 samples.where.file, path, offset[0], offset[1]);
+      }
+      if (column + 1 < samples.columns[r].size()) pending[r].insert(pending[r].end(), offsets.begin(), offsets.end());
+    }
+  }
+  for (const EvaluationRole role : kRoles) {
+    const std::size_t r = RoleIndex(role);
+    if (pending[r].empty()) continue;
+    const std::string path = ColumnPath(role, samples.specs[r].back());
+    const DatasetId status(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), samples.where, "opening", path));
+    const PlistId dcpl(Check(H5Dget_create_plist(status.get()), samples.where, "reading the layout of", path));
+    hsize_t chunk[2] = {0, 0};
+    H5Pget_chunk(dcpl.get(), 2, chunk);
+    const SpaceId space(Check(H5Dget_space(status.get()), samples.where, "reading the shape of", path));
+    const TypeId type = EnumMemoryType(samples.where, status.get(), path);
+    if (type.get() < 0) Fail(samples.where, fmt::format("dataset {} is not an enumeration", path));
+    const std::vector<std::int8_t> fill(chunk[1], static_cast<std::int8_t>(SampleStatus::kPending));
+    for (const auto& offset : pending[r]) {
+      const hsize_t count[2] = {1, std::min(chunk[1], static_cast<hsize_t>(samples.samples) - offset[1])};
+      CheckStatus(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, offset.data(), nullptr, count, nullptr),
+                  samples.where, "selecting samples of", path);
+      const SpaceId memory(Check(H5Screate_simple(1, &count[1], nullptr), samples.where, "creating", "a dataspace"));
+      CheckStatus(H5Dwrite(status.get(), type.get(), memory.get(), space.get(), H5P_DEFAULT, fill.data()),
+                  samples.where, "writing", path);
+    }
+    CheckStatus(H5Dflush(status.get()), samples.where, "flushing", path);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// The outcome
+
+void CheckOutcome(const AllocationOutcome& outcome, std::int64_t candidates, std::size_t constraints) {
+  if (static_cast<std::int64_t>(outcome.candidates.size()) != candidates) {
+    throw std::invalid_argument(fmt::format("AllocationStore::Commit: an outcome of {} candidates for {}",
+                                            outcome.candidates.size(), candidates));
+  }
+  for (std::size_t i = 0; i < outcome.candidates.size(); ++i) {
+    const std::size_t m = outcome.candidates[i].constraints.size();
+    if (m != 0 && m != constraints) {
+      throw std::invalid_argument(fmt::format("AllocationStore::Commit: candidate {} has {} constraint judgements for {}",
+                                              i, m, constraints));
+    }
+  }
+  const auto check_list = [&](const char* name, const std::vector<std::int64_t>& list) {
+    for (const std::int64_t c : list) {
+      if (c < 0 || c >= candidates) {
+        throw std::invalid_argument(fmt::format("AllocationStore::Commit: {} names candidate {}", name, c));
+      }
+    }
+  };
+  check_list("alternatives", outcome.alternatives);
+  check_list("undecided_cheaper", outcome.undecided_cheaper);
+  check_list("front", outcome.front);
+  if (outcome.recommendation) check_list("recommendation", {*outcome.recommendation});
+  if (outcome.binding.size() > constraints) {
+    throw std::invalid_argument("AllocationStore::Commit: more binding constraints than constraints");
+  }
+}
+
+void WriteOutcome(const Where& where, hid_t file, const AllocationOutcome& outcome, std::size_t constraints) {
+  const std::size_t c = outcome.candidates.size();
+  const std::size_t m = constraints;
+  std::vector<std::int8_t> verdict(c), settlement(c), settled_by(c), constraint_verdict(c * m, 0);
+  std::vector<std::int64_t> samples(c), implied_by(c), trials(c), to_decide(c * m, 0);
+  std::vector<double> yield(c), yield_lower(c), yield_upper(c), estimate(c * m, kNaN), lower(c * m, kNaN),
+      upper(c * m, kNaN);
+  for (std::size_t i = 0; i < c; ++i) {
+    const CandidateOutcome& candidate = outcome.candidates[i];
+    verdict[i] = static_cast<std::int8_t>(candidate.verdict);
+    settlement[i] = static_cast<std::int8_t>(candidate.settlement);
+    settled_by[i] = candidate.settled_by ? static_cast<std::int8_t>(*candidate.settled_by) : std::int8_t{-1};
+    samples[i] = candidate.samples;
+    implied_by[i] = candidate.implied_by;
+    const bool judged = candidate.yield.trials > 0;
+    yield[i] = judged ? candidate.yield.value : kNaN;
+    yield_lower[i] = judged ? candidate.yield.interval.lower : kNaN;
+    yield_upper[i] = judged ? candidate.yield.interval.upper : kNaN;
+    trials[i] = candidate.yield.trials;
+    for (std::size_t j = 0; j < candidate.constraints.size(); ++j) {
+      const analysis::ConstraintJudgement& judgement = candidate.constraints[j];
+      estimate[i * m + j] = judgement.estimate;
+      lower[i * m + j] = judgement.interval.lower;
+      upper[i * m + j] = judgement.interval.upper;
+      constraint_verdict[i * m + j] = static_cast<std::int8_t>(judgement.verdict);
+      to_decide[i * m + j] = judgement.samples_to_decide;
+    }
+  }
+  const std::vector<std::int32_t> binding(outcome.binding.begin(), outcome.binding.end());
+  const auto whole = [&](const char* name, hid_t type, std::size_t rows, const void* data) {
+    WriteWhole(where, file, std::string("/outcome/") + name, type, rows, data);
+  };
+  whole("verdict", H5T_NATIVE_INT8, c, verdict.data());
+  whole("settlement", H5T_NATIVE_INT8, c, settlement.data());
+  whole("settled_by", H5T_NATIVE_INT8, c, settled_by.data());
+  whole("samples", H5T_NATIVE_INT64, c, samples.data());
+  whole("implied_by", H5T_NATIVE_INT64, c, implied_by.data());
+  whole("estimate", H5T_NATIVE_DOUBLE, c, estimate.data());
+  whole("lower", H5T_NATIVE_DOUBLE, c, lower.data());
+  whole("upper", H5T_NATIVE_DOUBLE, c, upper.data());
+  whole("constraint_verdict", H5T_NATIVE_INT8, c, constraint_verdict.data());
+  whole("samples_to_decide", H5T_NATIVE_INT64, c, to_decide.data());
+  whole("yield", H5T_NATIVE_DOUBLE, c, yield.data());
+  whole("yield_lower", H5T_NATIVE_DOUBLE, c, yield_lower.data());
+  whole("yield_upper", H5T_NATIVE_DOUBLE, c, yield_upper.data());
+  whole("yield_trials", H5T_NATIVE_INT64, c, trials.data());
+  whole("alternatives", H5T_NATIVE_INT64, outcome.alternatives.size(), outcome.alternatives.data());
+  whole("undecided_cheaper", H5T_NATIVE_INT64, outcome.undecided_cheaper.size(), outcome.undecided_cheaper.data());
+  whole("front", H5T_NATIVE_INT64, outcome.front.size(), outcome.front.data());
+  whole("binding", H5T_NATIVE_INT32, binding.size(), binding.data());
+
+  const GroupId group(Check(H5Gopen2(file, "/outcome", H5P_DEFAULT), where, "opening group", "/outcome"));
+  const std::int64_t recommendation = outcome.recommendation.value_or(-1);
+  const std::int8_t complete = outcome.complete ? 1 : 0;
+  UpdateAttribute(where, group.get(), "recommendation", H5T_NATIVE_INT64, &recommendation);
+  UpdateAttribute(where, group.get(), "complete", H5T_NATIVE_INT8, &complete);
+  UpdateAttribute(where, group.get(), "simulated", H5T_NATIVE_INT64, &outcome.simulated);
+  UpdateAttribute(where, group.get(), "settled_by_screen", H5T_NATIVE_INT64, &outcome.settled_by_screen);
+  UpdateAttribute(where, group.get(), "samples_screen", H5T_NATIVE_INT64, &outcome.samples_screen);
+  UpdateAttribute(where, group.get(), "samples_confirm", H5T_NATIVE_INT64, &outcome.samples_confirm);
+  UpdateAttribute(where, group.get(), "common_random_numbers_gain", H5T_NATIVE_DOUBLE,
+                  &outcome.common_random_numbers_gain);
+}
+
+AllocationOutcome ReadOutcomeFrom(const Where& where, hid_t file, const AllocationIdentity& identity) {
+  const auto c = static_cast<std::size_t>(CandidateCount(identity));
+  const std::size_t m = identity.constraints.size();
+  const std::size_t k = identity.components.size();
+  const auto get = [&](const char* name, auto sample, hid_t type, hsize_t columns = 0) {
+    auto values = ReadWhole<decltype(sample)>(where, file, name, type, columns);
+    return values;
+  };
+  const auto options = get("/candidates/options", std::int32_t{}, H5T_NATIVE_INT32, k);
+  const auto cost = get("/candidates/cost", double{}, H5T_NATIVE_DOUBLE);
+  const auto relative = get("/candidates/relative_cost", double{}, H5T_NATIVE_DOUBLE);
+  const auto verdict = get("/outcome/verdict", std::int8_t{}, H5T_NATIVE_INT8);
+  const auto settlement = get("/outcome/settlement", std::int8_t{}, H5T_NATIVE_INT8);
+  const auto settled_by = get("/outcome/settled_by", std::int8_t{}, H5T_NATIVE_INT8);
+  const auto samples = get("/outcome/samples", std::int64_t{}, H5T_NATIVE_INT64);
+  const auto implied_by = get("/outcome/implied_by", std::int64_t{}, H5T_NATIVE_INT64);
+  const auto estimate = get("/outcome/estimate", double{}, H5T_NATIVE_DOUBLE, m);
+  const auto lower = get("/outcome/lower", double{}, H5T_NATIVE_DOUBLE, m);
+  const auto upper = get("/outcome/upper", double{}, H5T_NATIVE_DOUBLE, m);
+  const auto constraint_verdict = get("/outcome/constraint_verdict", std::int8_t{}, H5T_NATIVE_INT8, m);
+  const auto to_decide = get("/outcome/samples_to_decide", std::int64_t{}, H5T_NATIVE_INT64, m);
+  const auto yield = get("/outcome/yield", double{}, H5T_NATIVE_DOUBLE);
+  const auto yield_lower = get("/outcome/yield_lower", double{}, H5T_NATIVE_DOUBLE);
+  const auto yield_upper = get("/outcome/yield_upper", double{}, H5T_NATIVE_DOUBLE);
+  const auto trials = get("/outcome/yield_trials", std::int64_t{}, H5T_NATIVE_INT64);
+  for (const std::size_t size : {options.size() / std::max<std::size_t>(1, k), cost.size(), relative.size(),
+                                 verdict.size(), settlement.size(), settled_by.size(), samples.size(),
+                                 implied_by.size(), estimate.size() / std::max<std::size_t>(1, m), yield.size(),
+                                 trials.size()}) {
+    if (size != c) Fail(where, fmt::format("a dataset in /outcome or /candidates has {} rows for {} candidates", size, c));
+  }
+
+  AllocationOutcome outcome;
+  for (std::size_t i = 0; i < c; ++i) {
+    CandidateOutcome candidate;
+    candidate.options.assign(options.begin() + static_cast<std::ptrdiff_t>(i * k),
+                             options.begin() + static_cast<std::ptrdiff_t>((i + 1) * k));
+    candidate.cost = cost[i];
+    candidate.relative_cost = relative[i];
+    candidate.verdict = static_cast<analysis::Verdict>(verdict[i]);
+    candidate.settlement = static_cast<analysis::Settlement>(settlement[i]);
+    if (settled_by[i] >= 0) candidate.settled_by = static_cast<EvaluationRole>(settled_by[i]);
+    candidate.samples = samples[i];
+    candidate.implied_by = implied_by[i];
+    if (candidate.settlement == analysis::Settlement::kSimulated) {
+      for (std::size_t j = 0; j < m; ++j) {
+        analysis::ConstraintJudgement judgement;
+        judgement.verdict = static_cast<analysis::Verdict>(constraint_verdict[i * m + j]);
+        judgement.estimate = estimate[i * m + j];
+        judgement.interval = {lower[i * m + j], upper[i * m + j]};
+        judgement.samples = candidate.samples;
+        judgement.samples_to_decide = to_decide[i * m + j];
+        candidate.constraints.push_back(judgement);
+      }
+    }
+    candidate.yield.trials = trials[i];
+    candidate.yield.confidence = identity.confidence;
+    if (trials[i] > 0) {
+      candidate.yield.value = yield[i];
+      candidate.yield.successes = std::llround(yield[i] * static_cast<double>(trials[i]));
+      candidate.yield.interval = {yield_lower[i], yield_upper[i]};
+    }
+    outcome.candidates.push_back(std::move(candidate));
+  }
+  outcome.alternatives = get("/outcome/alternatives", std::int64_t{}, H5T_NATIVE_INT64);
+  outcome.undecided_cheaper = get("/outcome/undecided_cheaper", std::int64_t{}, H5T_NATIVE_INT64);
+  outcome.front = get("/outcome/front", std::int64_t{}, H5T_NATIVE_INT64);
+  const auto binding = get("/outcome/binding", std::int32_t{}, H5T_NATIVE_INT32);
+  outcome.binding.assign(binding.begin(), binding.end());
+
+  const GroupId group(Check(H5Gopen2(file, "/outcome", H5P_DEFAULT), where, "opening group", "/outcome"));
+  const auto integer = [&](const char* name) {
+    return Require(where, ReadNumberAttribute<std::int64_t>(where, group.get(), name, H5T_INTEGER, H5T_NATIVE_INT64),
+                   name);
+  };
+  if (const std::int64_t recommendation = integer("recommendation"); recommendation >= 0) {
+    outcome.recommendation = recommendation;
+  }
+  outcome.complete = integer("complete") != 0;
+  outcome.simulated = integer("simulated");
+  outcome.settled_by_screen = integer("settled_by_screen");
+  outcome.samples_screen = integer("samples_screen");
+  outcome.samples_confirm = integer("samples_confirm");
+  outcome.common_random_numbers_gain =
+      Require(where,
+              ReadNumberAttribute<double>(where, group.get(), "common_random_numbers_gain", H5T_FLOAT,
+                                          H5T_NATIVE_DOUBLE),
+              "common_random_numbers_gain");
+  return outcome;
+}
+
+// Rows [begin, end) of /inputs/u, row-major; InputError when they do not read.
+std::vector<double> ReadDesignRows(const Where& where, hid_t file, hsize_t inputs, std::int64_t begin,
+                                   std::int64_t end) {
+  std::vector<double> values(static_cast<std::size_t>(end - begin) * inputs);
+  if (values.empty()) return values;
+  const DatasetId dataset(Check(H5Dopen2(file, "/inputs/u", H5P_DEFAULT), where, "opening", "/inputs/u"));
+  const SpaceId file_space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", "/inputs/u"));
+  const hsize_t start[2] = {static_cast<hsize_t>(begin), 0};
+  const hsize_t count[2] = {static_cast<hsize_t>(end - begin), inputs};
+  CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr), where,
+              "selecting rows of", "/inputs/u");
+  const SpaceId memory(Check(H5Screate_simple(2, count, nullptr), where, "creating", "a dataspace"));
+  if (const auto problem = TryRead(dataset.get(), H5T_NATIVE_DOUBLE, memory.get(), file_space.get(), values.data())) {
+    throw InputError(fmt::format("{}: dataset /inputs/u is damaged: samples {} to {} cannot be read ({})", where.file,
+                                 begin, end - 1, *problem));
+  }
+  return values;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+
+struct AllocationStore::File {
+  fs::path path;
+  Where where;
+  FileLock lock;
+  FileId file;  // closed after the datasets (members are destroyed in reverse order)
+  AllocationIdentity identity;
+  Samples samples;
+  Buffer buffer;
+
+  // Everything is created by now: enter SWMR mode, then open the datasets (entering SWMR
+  // reopens open datasets with default access, losing the chunk cache).
+  void StartWriting(const AllocationStoreOptions& options) {
+    CheckStatus(H5Fstart_swmr_write(file.get()), where, "starting", "SWMR writing");
+    const PlistId access(Check(H5Pcreate(H5P_DATASET_ACCESS), where, "creating", "a dataset access property list"));
+    CheckStatus(H5Pset_chunk_cache(access.get(), kCacheSlots, options.chunk_cache_bytes, H5D_CHUNK_CACHE_W0_DEFAULT),
+                where, "configuring", "the chunk cache");
+    samples.where = where;
+    samples.Open(file.get(), identity, access.get());
+  }
+
+  bool Close() {
+    samples.Close();
+    return file.Close();
+  }
+};
+
+AllocationStore::AllocationStore(std::unique_ptr<File> file) : file_(std::move(file)) {}
+
+// Buffered samples are dropped, not committed: only Commit has the outcome that describes
+// them, and a file whose /outcome lags its samples would tell a reader less than the file
+// of the last commit does. Resume computes them again.
+AllocationStore::~AllocationStore() {
+  if (!file_) return;
+  const QuietErrors quiet;
+  if (!file_->Close()) {
+    std::cerr << "ringtol: " << file_->where.file << ": closing failed (HDF5: " << Hdf5Detail() << ")\n";
+  }
+  file_.reset();
+}
+
+AllocationStore::AllocationStore(AllocationStore&&) noexcept = default;
+
+AllocationStore& AllocationStore::operator=(AllocationStore&& other) noexcept {
+  if (this != &other) {
+    AllocationStore previous(std::move(file_));
+    file_ = std::move(other.file_);
+  }
+  return *this;
+}
+
+AllocationStore AllocationStore::Create(const fs::path& path, const AllocationIdentity& identity,
+                                        const std::vector<double>& design_points,
+                                        const AllocationStoreOptions& options) {
+  const QuietErrors quiet;
+  CheckIdentity(identity, options);
+  if (design_points.size() != static_cast<std::size_t>(identity.samples) * identity.inputs.size()) {
+    throw std::invalid_argument(fmt::format("AllocationStore: {} design point coordinates for {} samples of {} inputs",
+                                            design_points.size(), identity.samples, identity.inputs.size()));
+  }
+  const std::string name = path.string();
+  // Built under another name and renamed when complete, so that a kill while creating
+  // never leaves a half-made file under the allocation's name.
+  const fs::path temporary = PrepareCreate(path, ExistsMessage(name));
+  auto file = std::make_unique<File>();
+  file->path = path;
+  file->where = Where{name, false};
+  file->identity = identity;
+  try {
+    file->file = CreateExclusive(temporary, path);
+    file->lock = FileLock::Acquire(temporary, name);
+    WriteSchema(file->where, file->file.get(), identity, design_points, options);
+    file->StartWriting(options);
+    Publish(temporary, path, ExistsMessage(name));
+  } catch (...) {
+    file->Close();
+    std::error_code error;
+    fs::remove(temporary, error);
+    throw;
+  }
+  return AllocationStore(std::move(file));
+}
+
+AllocationStore AllocationStore::Resume(const fs::path& path, const AllocationIdentity& identity,
+                                        const AllocationStoreOptions& options) {
+  const QuietErrors quiet;
+  CheckIdentity(identity, options);
+  const std::string name = path.string();
+  const Where opening{name, true};
+  std::error_code error;
+  if (!fs::exists(path, error)) {
+    throw InputError(name + ": does not exist; run the allocation without --resume to start it");
+  }
+  if (!fs::is_regular_file(path, error)) throw InputError(name + ": is not a regular file");
+  FileLock lock = FileLock::Acquire(path, name);
+
+  // Everything is checked read-only first: a refused file is never modified.
+  std::vector<DamagedChunk> damaged;
+  {
+    const FileId reading = OpenForReading(path);
+    const Stored stored = ReadStored(opening, reading.get());
+    if (const std::optional<std::string> difference = IdentityDifference(stored.identity, identity)) {
+      throw InputError(name + ": was written by another allocation: " + *difference +
+                       "; resume it with the allocation that wrote it, or choose a new results file");
+    }
+    Samples samples;
+    samples.where = opening;
+    samples.Open(reading.get(), stored.identity, H5P_DEFAULT);
+    damaged = ScanSamples(samples);
+  }
+
+  auto file = std::make_unique<File>();
+  file->path = path;
+  file->where = Where{name, false};
+  file->lock = std::move(lock);
+  file->identity = identity;
+  file->file = OpenForWriting(path);
+  if (!damaged.empty()) {
+    Samples samples;
+    samples.where = file->where;
+    samples.Open(file->file.get(), identity, H5P_DEFAULT);
+    RepairSamples(file->file.get(), samples, damaged);
+  }
+  file->StartWriting(options);
+  return AllocationStore(std::move(file));
+}
+
+const fs::path& AllocationStore::path() const { return file_->path; }
+
+const AllocationIdentity& AllocationStore::identity() const { return file_->identity; }
+
+std::vector<bool> AllocationStore::Done(EvaluationRole role, std::int64_t candidate, std::int64_t begin,
+                                        std::int64_t end) const {
+  const std::vector<SampleStatus> statuses = ReadStatus(role, candidate, begin, end);
+  std::vector<bool> done(statuses.size());
+  for (std::size_t i = 0; i < statuses.size(); ++i) done[i] = statuses[i] != SampleStatus::kPending;
+  return done;
+}
+
+std::vector<SampleStatus> AllocationStore::ReadStatus(EvaluationRole role, std::int64_t candidate,
+                                                      std::int64_t begin, std::int64_t end) const {
+  const QuietErrors quiet;
+  file_->samples.CheckRange("AllocationStore::ReadStatus", candidate, begin, end);
+  std::vector<SampleStatus> statuses = file_->samples.Statuses(role, candidate, begin, end);
+  Overlay(file_->buffer[RoleIndex(role)], candidate, begin, end, statuses,
+          [](const Buffered& sample) { return sample.status; });
+  return statuses;
+}
+
+std::vector<double> AllocationStore::ReadOutput(EvaluationRole role, std::string_view output,
+                                                std::int64_t candidate, std::int64_t begin, std::int64_t end) const {
+  const QuietErrors quiet;
+  const Samples& s = file_->samples;
+  const std::size_t column = s.OutputColumn("AllocationStore::ReadOutput", role, output);
+  s.CheckRange("AllocationStore::ReadOutput", candidate, begin, end);
+  std::vector<double> values = s.Row<double>(role, column, H5T_NATIVE_DOUBLE, candidate, begin, end);
+  const std::size_t q = s.specs[RoleIndex(role)][column].output;
+  Overlay(file_->buffer[RoleIndex(role)], candidate, begin, end, values,
+          [q](const Buffered& sample) { return sample.outputs[q]; });
+  return values;
+}
+
+std::vector<double> AllocationStore::ReadErrorBound(std::int64_t candidate, std::int64_t begin,
+                                                    std::int64_t end) const {
+  const QuietErrors quiet;
+  const Samples& s = file_->samples;
+  s.CheckRange("AllocationStore::ReadErrorBound", candidate, begin, end);
+  const EvaluationRole role = EvaluationRole::kScreen;
+  std::vector<double> values =
+      s.Row<double>(role, s.ColumnOf(role, Field::kErrorBound), H5T_NATIVE_DOUBLE, candidate, begin, end);
+  Overlay(file_->buffer[RoleIndex(role)], candidate, begin, end, values,
+          [](const Buffered& sample) { return sample.error_bound; });
+  return values;
+}
+
+void AllocationStore::Add(EvaluationRole role, std::int64_t candidate, const SampleRecord& record) {
+  const Samples& s = file_->samples;
+  if (role != EvaluationRole::kScreen && role != EvaluationRole::kConfirm) {
+    throw std::invalid_argument("AllocationStore::Add: unknown role");
+  }
+  s.CheckRange("AllocationStore::Add", candidate, record.index, record.index + 1);
+  if (record.status == SampleStatus::kPending || !IsKnownStatus(static_cast<std::int8_t>(record.status))) {
+    throw std::invalid_argument(fmt::format("AllocationStore::Add: candidate {} sample {} has no final status",
+                                            candidate, record.index));
+  }
+  const bool ok = record.status == SampleStatus::kOk;
+  Buffered sample;
+  sample.status = record.status;
+  for (const std::string& output : s.outputs) sample.outputs.push_back(ok ? record.outputs[OutputIndex(output)] : kNaN);
+  sample.error_bound = ok ? record.d_trajectory_error : kNaN;
+  sample.steps = record.steps;
+  sample.solve_time = record.solve_time;
+  file_->buffer[RoleIndex(role)][Key{candidate, record.index}] = std::move(sample);
+}
+
+std::size_t AllocationStore::buffered() const { return file_->buffer[0].size() + file_->buffer[1].size(); }
+
+void AllocationStore::Commit(const AllocationOutcome& outcome) {
+  File& f = *file_;
+  CheckOutcome(outcome, f.samples.candidates, f.identity.constraints.size());
+  const QuietErrors quiet;
+  const Where& w = f.where;
+  // Per role: the selection of its buffered samples (runs of consecutive samples of one
+  // candidate) and each column's values in the buffer's (candidate, sample) order.
+  for (const bool statuses : {false, true}) {
+    for (const EvaluationRole role : kRoles) {
+      const std::size_t r = RoleIndex(role);
+      const std::map<Key, Buffered>& buffer = f.buffer[r];
+      if (buffer.empty()) continue;
+      const std::vector<ColumnSpec>& specs = f.samples.specs[r];
+      const auto m = static_cast<hsize_t>(buffer.size());
+      const SpaceId selection(Check(H5Dget_space(f.samples.Status(role).get()), w, "reading the shape of", "samples"));
+      CheckStatus(H5Sselect_none(selection.get()), w, "selecting", "samples");
+      for (auto it = buffer.begin(); it != buffer.end();) {
+        auto last = it;
+        hsize_t count = 1;
+        for (auto next = std::next(it); next != buffer.end() && next->first.candidate == it->first.candidate &&
+                                        next->first.index == last->first.index + 1;
+             ++next, ++count) {
+          last = next;
+        }
+        const hsize_t start[2] = {static_cast<hsize_t>(it->first.candidate), static_cast<hsize_t>(it->first.index)};
+        const hsize_t block[2] = {1, count};
+        CheckStatus(H5Sselect_hyperslab(selection.get(), H5S_SELECT_OR, start, nullptr, block, nullptr), w,
+                    "selecting", "samples");
+        it = std::next(last);
+      }
+      const SpaceId memory(Check(H5Screate_simple(1, &m, nullptr), w, "creating", "a dataspace"));
+      for (std::size_t column = 0; column < specs.size(); ++column) {
+        const ColumnSpec& spec = specs[column];
+        if ((spec.field == Field::kStatus) != statuses) continue;
+        std::vector<double> numbers;
+        std::vector<std::int32_t> steps;
+        std::vector<std::int8_t> codes;
+        const void* data = nullptr;
+        hid_t type = H5T_NATIVE_DOUBLE;
+        for (const auto& [key, sample] : buffer) {
+          switch (spec.field) {
+            case Field::kOutput:
+              numbers.push_back(sample.outputs[spec.output]);
+              break;
+            case Field::kErrorBound:
+              numbers.push_back(sample.error_bound);
+              break;
+            case Field::kSolveTime:
+              numbers.push_back(sample.solve_time);
+              break;
+            case Field::kSteps:
+              steps.push_back(sample.steps);
+              break;
+            case Field::kStatus:
+              codes.push_back(static_cast<std::int8_t>(sample.status));
+              break;
+          }
+        }
+        if (spec.field == Field::kSteps) {
+          data = steps.data();
+          type = H5T_NATIVE_INT32;
+        } else if (spec.field == Field::kStatus) {
+          data = codes.data();
+          type = f.samples.status_type.get();
+        } else {
+          data = numbers.data();
+        }
+        const std::string path = ColumnPath(role, spec);
+        const DatasetId& dataset = f.samples.columns[r][column];
+        CheckStatus(H5Dwrite(dataset.get(), type, memory.get(), selection.get(), H5P_DEFAULT, data), w, "writing",
+                    path);
+        CheckStatus(H5Dflush(dataset.get()), w, "flushing", path);
+      }
+    }
+  }
+  // After the statuses: an outcome on disk never describes samples that are not.
+  WriteOutcome(w, f.file.get(), outcome, f.identity.constraints.size());
+  CheckStatus(H5Fflush(f.file.get(), H5F_SCOPE_LOCAL), w, "flushing", "the file");
+  for (auto& role : f.buffer) role.clear();
+}
+
+// ---------------------------------------------------------------------------------------
+
+struct AllocationReader::File {
+  Where where;
+  FileId file;
+  AllocationIdentity identity;
+  Samples samples;
+};
+
+AllocationReader::AllocationReader(const fs::path& path) : file_(std::make_unique<File>()) {
+  const QuietErrors quiet;
+  try {
+    File& f = *file_;
+    f.where = Where{path.string(), true};
+    f.file = OpenForReading(path);
+    f.identity = ReadStored(f.where, f.file.get()).identity;
+    f.samples.where = f.where;
+    f.samples.Open(f.file.get(), f.identity, H5P_DEFAULT);
+    f.where.input = false;
+  } catch (...) {
+    file_.reset();  // while HDF5 is quiet
+    throw;
+  }
+}
+
+AllocationReader::~AllocationReader() {
+  if (!file_) return;
+  const QuietErrors quiet;
+  file_.reset();
+}
+
+AllocationReader::AllocationReader(AllocationReader&&) noexcept = default;
+
+const AllocationIdentity& AllocationReader::identity() const { return file_->identity; }
+
+AllocationOutcome AllocationReader::ReadOutcome() const {
+  const QuietErrors quiet;
+  return ReadOutcomeFrom(Where{file_->where.file, true}, file_->file.get(), file_->identity);
+}
+
+std::vector<SampleStatus> AllocationReader::ReadStatus(EvaluationRole role, std::int64_t candidate,
+                                                       std::int64_t begin, std::int64_t end) const {
+  const QuietErrors quiet;
+  file_->samples.CheckRange("AllocationReader::ReadStatus", candidate, begin, end);
+  return file_->samples.Statuses(role, candidate, begin, end);
+}
+
+std::vector<double> AllocationReader::ReadOutput(EvaluationRole role, std::string_view output,
+                                                 std::int64_t candidate, std::int64_t begin, std::int64_t end) const {
+  const QuietErrors quiet;
+  const Samples& s = file_->samples;
+  const std::size_t column = s.OutputColumn("AllocationReader::ReadOutput", role, output);
+  s.CheckRange("AllocationReader::ReadOutput", candidate, begin, end);
+  return s.Row<double>(role, column, H5T_NATIVE_DOUBLE, candidate, begin, end);
+}
+
+std::vector<double> AllocationReader::ReadDesignPoints(std::int64_t begin, std::int64_t end) const {
+  const QuietErrors quiet;
+  const File& f = *file_;
+  const std::int64_t n = f.identity.samples;
+  if (begin < 0 || end < begin || end > n) {
+    throw std::out_of_range(
+        fmt::format("AllocationReader::ReadDesignPoints: range [{}, {}) is outside [0, {})", begin, end, n));
+  }
+  return ReadDesignRows(f.where, f.file.get(), f.identity.inputs.size(), begin, end);
+}
+
+AllocationCheck CheckAllocationResults(const fs::path& path) {
+  const QuietErrors quiet;
+  const Where where{path.string(), true};
+  const FileId file = OpenForReading(path);
+  const Stored stored = ReadStored(where, file.get());
+  AllocationCheck check;
+  check.candidates = stored.candidates;
+  check.samples = stored.identity.samples;
+  H5Ovisit2(
+      file.get(), H5_INDEX_NAME, H5_ITER_INC,
+      [](hid_t, const char* name, const H5O_info_t* info, void* data) -> herr_t {
+        if (info->type == H5O_TYPE_DATASET) static_cast<std::vector<std::string>*>(data)->push_back(std::string("/") + name);
+        return 0;
+      },
+      &check.datasets, H5O_INFO_BASIC);
+  for (const std::string& dataset_path : check.datasets) {
+    const DatasetId dataset(Check(H5Dopen2(file.get(), dataset_path.c_str(), H5P_DEFAULT), where, "opening",
+                                  dataset_path));
+    if (!HasChecksum(where, dataset.get(), dataset_path)) check.unchecked.push_back(dataset_path);
+  }
+  Samples samples;
+  samples.where = where;
+  samples.Open(file.get(), stored.identity, H5P_DEFAULT);
+  std::array<std::int64_t, 2> done{};
+  for (const DamagedChunk& chunk : ScanSamples(samples, &done)) {
+    const auto first = static_cast<std::int64_t>(chunk.offset[1]);
+    check.damaged.push_back({ColumnPath(chunk.role, samples.specs[RoleIndex(chunk.role)][chunk.column]),
+                             static_cast<std::int64_t>(chunk.offset[0]),
+                             {first, first + static_cast<std::int64_t>(chunk.samples)}, chunk.problem});
+  }
+  check.done_screen = done[RoleIndex(EvaluationRole::kScreen)];
+  check.done_confirm = done[RoleIndex(EvaluationRole::kConfirm)];
+  try {
+    ReadDesignRows(where, file.get(), stored.identity.inputs.size(), 0, check.samples);
+  } catch (const InputError& error) {
+    check.damaged.push_back({"/inputs/u", -1, {0, check.samples}, error.what()});
+  }
+  try {
+    ReadOutcomeFrom(where, file.get(), stored.identity);
+  } catch (const InputError& error) {
+    check.outcome_problem = error.what();
+  }
+  return check;
+}
+
+ResultsKind ReadResultsKind(const fs::path& path) {
+  const QuietErrors quiet;
+  const Where where{path.string(), true};
+  const FileId file = OpenForReading(path);
+  const std::optional<std::string> format = FormatOf(where, file.get());
+  if (format == std::optional<std::string>(kCampaignFormat)) return ResultsKind::kCampaign;
+  if (format == std::optional<std::string>(kFormat)) return ResultsKind::kAllocation;
+  throw InputError(where.file + ": is not a ringtol results file (its root attribute format is neither \"" +
+                   kCampaignFormat + "\" nor \"" + kFormat + "\")");
+}
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,515 @@
+#include "jobs/store/hdf5_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+#include <system_error>
+#include <thread>
+
+#include "jobs/campaign/sample_record.h"
+#include "jobs/inputs/input_error.h"
+
+namespace ringtol::jobs::hdf5 {
+namespace {
+
+namespace fs = std::filesystem;
+
+// SWMR readers read checksummed metadata again while a writer may be rewriting it, sleeping
+// 1 ns, 2 ns, 4 ns, ... between attempts: HDF5's default of 100 attempts turns a damaged
+// file into a hang of centuries; 24 attempts wait about 17 ms in all before giving up.
+constexpr unsigned kMetadataReadAttempts = 24;
+constexpr std::chrono::milliseconds kRawReadRetryDelay{2};
+
+// HDF5 shuts itself down at exit. After an object header that failed its checksum it
+// cannot (the half-loaded object stays in its free lists) and prints "HDF5: infinite loop
+// closing library" below ringtol's own message. Every file is closed explicitly before
+// exit, so skipping that shutdown loses nothing. It must precede HDF5's first call, hence
+// a static initialiser.
+[[maybe_unused]] const herr_t kNoShutdownAtExit = H5dont_atexit();
+
+// Sets one of HDF5's private file-access properties (those h5clear uses), if this HDF5 has it.
+bool SetHiddenFlag(const Where& where, const PlistId& fapl, const char* name) {
+  if (H5Pexist(fapl.get(), name) <= 0) return false;
+  hbool_t value = true;
+  CheckStatus(H5Pset(fapl.get(), name, &value), where, "setting file access property", name);
+  return true;
+}
+
+// A description dataset [n]: one chunk, so that it can carry a checksum.
+PlistId DescriptionCreation(const Where& where, hsize_t count, const std::string& path, bool checksum) {
+  PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+  if (!checksum) return dcpl;
+  const hsize_t chunk[1] = {std::max<hsize_t>(1, count)};
+  CheckStatus(H5Pset_chunk(dcpl.get(), 1, chunk), where, "chunking", path);
+  AddChecksum(where, dcpl, path);
+  return dcpl;
+}
+
+// One dimension, its length, and the dataset's type.
+std::pair<hsize_t, TypeId> OpenDescription(const Where& where, hid_t file, const std::string& path,
+                                           DatasetId& dataset) {
+  dataset = DatasetId(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
+  const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
+  hsize_t dims[1] = {0};
+  if (H5Sget_simple_extent_ndims(space.get()) != 1) Fail(where, fmt::format("dataset {} is not one-dimensional", path));
+  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+  return {dims[0], TypeId(Check(H5Dget_type(dataset.get()), where, "reading the type of", path))};
+}
+
+}  // namespace
+
+QuietErrors::QuietErrors() {
+  H5Eget_auto2(H5E_DEFAULT, &function_, &data_);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+QuietErrors::~QuietErrors() { H5Eset_auto2(H5E_DEFAULT, function_, data_); }
+
+std::string Hdf5Detail() {
+  std::string detail;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_UPWARD,
+      [](unsigned n, const H5E_error2_t* error, void* data) -> herr_t {
+        if (n == 0 && error->desc != nullptr) *static_cast<std::string*>(data) = error->desc;
+        return 0;
+      },
+      &detail);
+  const std::string key = "error message = '";
+  if (const std::size_t at = detail.find(key); at != std::string::npos) {
+    const std::size_t begin = at + key.size();
+    return detail.substr(begin, detail.find('\'', begin) - begin);
+  }
+  return detail;
+}
+
+void Fail(const Where& where, const std::string& what) {
+  std::string message = where.file + ": " + what;
+  if (const std::string detail = Hdf5Detail(); !detail.empty()) message += " (HDF5: " + detail + ")";
+  if (where.input) throw InputError(message);
+  throw std::runtime_error(message);
+}
+
+hid_t Check(hid_t id, const Where& where, std::string_view action, std::string_view object) {
+  if (id < 0) Fail(where, fmt::format("{} {} failed", action, object));
+  return id;
+}
+
+void CheckStatus(herr_t status, const Where& where, std::string_view action, std::string_view object) {
+  if (status < 0) Fail(where, fmt::format("{} {} failed", action, object));
+}
+
+// ---------------------------------------------------------------------------------------
+
+TypeId VariableString(const Where& where) {
+  TypeId type(Check(H5Tcopy(H5T_C_S1), where, "creating", "a string type"));
+  CheckStatus(H5Tset_size(type.get(), H5T_VARIABLE), where, "sizing", "a string type");
+  CheckStatus(H5Tset_cset(type.get(), H5T_CSET_UTF8), where, "setting", "a string type's character set");
+  return type;
+}
+
+// Null-terminated, so that h5dump shows the text without its padding; h5py reads bytes
+// either way.
+TypeId FixedString(const Where& where, std::size_t bytes) {
+  TypeId type(Check(H5Tcopy(H5T_C_S1), where, "creating", "a string type"));
+  CheckStatus(H5Tset_size(type.get(), bytes), where, "sizing", "a string type");
+  CheckStatus(H5Tset_strpad(type.get(), H5T_STR_NULLTERM), where, "setting", "a string type's padding");
+  CheckStatus(H5Tset_cset(type.get(), H5T_CSET_UTF8), where, "setting", "a string type's character set");
+  return type;
+}
+
+TypeId StatusType(const Where& where) {
+  TypeId type(Check(H5Tenum_create(H5T_NATIVE_INT8), where, "creating", "the status type"));
+  for (const SampleStatus status : AllSampleStatuses()) {
+    const auto value = static_cast<std::int8_t>(status);
+    const std::string name(SampleStatusName(status));
+    CheckStatus(H5Tenum_insert(type.get(), name.c_str(), &value), where, "naming status", name);
+  }
+  return type;
+}
+
+bool IsKnownStatus(std::int8_t value) {
+  const std::vector<SampleStatus>& all = AllSampleStatuses();
+  return std::any_of(all.begin(), all.end(), [&](SampleStatus s) { return static_cast<std::int8_t>(s) == value; });
+}
+
+// ---------------------------------------------------------------------------------------
+
+void WriteAttribute(const Where& where, hid_t location, const char* name, hid_t file_type, hid_t memory_type,
+                    const void* value) {
+  SpaceId scalar(Check(H5Screate(H5S_SCALAR), where, "creating", "a scalar dataspace"));
+  AttributeId attribute(Check(H5Acreate2(location, name, file_type, scalar.get(), H5P_DEFAULT, H5P_DEFAULT), where,
+                              "creating attribute", name));
+  CheckStatus(H5Awrite(attribute.get(), memory_type, value), where, "writing attribute", name);
+}
+
+void WriteStringAttribute(const Where& where, hid_t location, const char* name, const std::string& value) {
+  const TypeId type = VariableString(where);
+  const char* text = value.c_str();
+  WriteAttribute(where, location, name, type.get(), type.get(), &text);
+}
+
+void UpdateAttribute(const Where& where, hid_t location, const char* name, hid_t memory_type, const void* value) {
+  const std::optional<AttributeId> attribute = OpenAttribute(where, location, name);
+  if (!attribute) Fail(where, fmt::format("attribute {} vanished", name));
+  CheckStatus(H5Awrite(attribute->get(), memory_type, value), where, "updating attribute", name);
+}
+
+std::optional<AttributeId> OpenAttribute(const Where& where, hid_t location, const char* name) {
+  const htri_t exists = H5Aexists(location, name);
+  if (exists < 0) Fail(where, fmt::format("looking up attribute {} failed", name));
+  if (exists == 0) return std::nullopt;
+  return AttributeId(Check(H5Aopen(location, name, H5P_DEFAULT), where, "opening attribute", name));
+}
+
+H5T_class_t AttributeClass(const Where& where, const AttributeId& attribute, const char* name) {
+  const TypeId type(Check(H5Aget_type(attribute.get()), where, "reading the type of attribute", name));
+  return H5Tget_class(type.get());
+}
+
+std::optional<std::string> ReadStringAttribute(const Where& where, hid_t location, const char* name) {
+  const std::optional<AttributeId> attribute = OpenAttribute(where, location, name);
+  if (!attribute) return std::nullopt;
+  const TypeId type(Check(H5Aget_type(attribute->get()), where, "reading the type of attribute", name));
+  if (H5Tget_class(type.get()) != H5T_STRING) Fail(where, fmt::format("attribute {} is not a string", name));
+  if (H5Tis_variable_str(type.get()) > 0) {
+    char* text = nullptr;
+    CheckStatus(H5Aread(attribute->get(), type.get(), &text), where, "reading attribute", name);
+    std::string value = text != nullptr ? text : "";
+    H5free_memory(text);
+    return value;
+  }
+  std::string value(H5Tget_size(type.get()), '\0');
+  CheckStatus(H5Aread(attribute->get(), type.get(), value.data()), where, "reading attribute", name);
+  value.resize(std::strlen(value.c_str()));
+  return value;
+}
+
+// ---------------------------------------------------------------------------------------
+
+PlistId ObjectCreation(const Where& where, hid_t plist_class) {
+  PlistId plist(Check(H5Pcreate(plist_class), where, "creating", "a property list"));
+  CheckStatus(H5Pset_obj_track_times(plist.get(), false), where, "configuring", "a property list");
+  return plist;
+}
+
+void AddChecksum(const Where& where, const PlistId& dcpl, const std::string& path) {
+  CheckStatus(H5Pset_fletcher32(dcpl.get()), where, "setting the Fletcher-32 checksum of", path);
+}
+
+bool HasChecksum(const Where& where, hid_t dataset, const std::string& path) {
+  const PlistId dcpl(Check(H5Dget_create_plist(dataset), where, "reading the creation properties of", path));
+  return H5Pget_filter_by_id2(dcpl.get(), H5Z_FILTER_FLETCHER32, nullptr, nullptr, nullptr, 0, nullptr, nullptr) >= 0;
+}
+
+void WriteStrings(const Where& where, hid_t file, const std::string& path, const std::vector<std::string>& values,
+                  bool checksum) {
+  std::size_t width = 1;  // the terminator
+  for (const std::string& value : values) width = std::max(width, value.size() + 1);
+  const TypeId type = FixedString(where, width);
+  std::string buffer(width * values.size(), '\0');
+  for (std::size_t i = 0; i < values.size(); ++i) values[i].copy(buffer.data() + i * width, width);
+  const hsize_t dims[1] = {values.size()};
+  const SpaceId space(Check(H5Screate_simple(1, dims, nullptr), where, "creating", "a dataspace"));
+  const PlistId dcpl = DescriptionCreation(where, dims[0], path, checksum);
+  const DatasetId dataset(
+      Check(H5Dcreate2(file, path.c_str(), type.get(), space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
+            "creating dataset", path));
+  if (values.empty()) return;
+  CheckStatus(H5Dwrite(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()), where,
+              "writing dataset", path);
+}
+
+void WriteInts(const Where& where, hid_t file, const std::string& path, const std::vector<std::int32_t>& values,
+               bool checksum) {
+  const hsize_t dims[1] = {values.size()};
+  const SpaceId space(Check(H5Screate_simple(1, dims, nullptr), where, "creating", "a dataspace"));
+  const PlistId dcpl = DescriptionCreation(where, dims[0], path, checksum);
+  const DatasetId dataset(
+      Check(H5Dcreate2(file, path.c_str(), H5T_STD_I32LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
+            "creating dataset", path));
+  if (values.empty()) return;
+  CheckStatus(H5Dwrite(dataset.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), where,
+              "writing dataset", path);
+}
+
+std::vector<std::string> ReadStrings(const Where& where, hid_t file, const std::string& path) {
+  DatasetId dataset;
+  const auto [count, type] = OpenDescription(where, file, path, dataset);
+  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) != 0) {
+    Fail(where, fmt::format("dataset {} does not hold fixed-length strings", path));
+  }
+  const std::size_t width = H5Tget_size(type.get());
+  std::string buffer(width * count, '\0');
+  if (count > 0) {
+    CheckStatus(H5Dread(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()), where, "reading",
+                path);
+  }
+  std::vector<std::string> values(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::string_view cell(buffer.data() + i * width, width);
+    values[i] = std::string(cell.substr(0, cell.find('\0')));
+  }
+  return values;
+}
+
+std::vector<std::int32_t> ReadInts(const Where& where, hid_t file, const std::string& path) {
+  DatasetId dataset;
+  const auto [count, type] = OpenDescription(where, file, path, dataset);
+  if (H5Tget_class(type.get()) != H5T_INTEGER) Fail(where, fmt::format("dataset {} does not hold integers", path));
+  std::vector<std::int32_t> values(count);
+  if (count > 0) {
+    CheckStatus(H5Dread(dataset.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), where,
+                "reading", path);
+  }
+  return values;
+}
+
+namespace {
+constexpr std::array<sampling::ErrorSource, 4> kErrorSources = {
+    sampling::ErrorSource::kRingShape, sampling::ErrorSource::kRollerShape, sampling::ErrorSource::kRollerPosition,
+    sampling::ErrorSource::kSpring};
+}  // namespace
+
+void WriteInputDescriptions(const Where& where, hid_t file, const std::vector<sampling::SampledInput>& inputs,
+                            bool checksum) {
+  const auto strings = [&](auto field) {
+    std::vector<std::string> values;
+    for (const sampling::SampledInput& input : inputs) values.push_back(field(input));
+    return values;
+  };
+  using Input = sampling::SampledInput;
+  WriteStrings(where, file, "/inputs/name", strings([](const Input& in) { return in.name; }),
+                    checksum);
+  WriteStrings(where, file, "/inputs/quantity", strings([](const Input& in) { return in.quantity; }),
+                    checksum);
+  WriteStrings(where, file, "/inputs/component", strings([](const Input& in) { return in.component; }),
+                    checksum);
+  WriteStrings(where, file, "/inputs/source",
+                    strings([](const Input& in) { return std::string(sampling::ErrorSourceName(in.source)); }),
+                    checksum);
+  std::vector<std::int32_t> rollers;
+  std::vector<std::int32_t> orders;
+  for (const Input& input : inputs) {
+    rollers.push_back(input.roller);
+    orders.push_back(input.order);
+  }
+  WriteInts(where, file, "/inputs/roller", rollers, checksum);
+  WriteInts(where, file, "/inputs/order", orders, checksum);
+
+}
+
+std::vector<sampling::SampledInput> ReadInputDescriptions(const Where& where, hid_t file) {
+  std::vector<sampling::SampledInput> inputs;
+  const std::vector<std::string> names = ReadStrings(where, file, "/inputs/name");
+  const std::vector<std::string> quantities = ReadStrings(where, file, "/inputs/quantity");
+  const std::vector<std::string> components = ReadStrings(where, file, "/inputs/component");
+  const std::vector<std::string> sources = ReadStrings(where, file, "/inputs/source");
+  const std::vector<std::int32_t> rollers = ReadInts(where, file, "/inputs/roller");
+  const std::vector<std::int32_t> orders = ReadInts(where, file, "/inputs/order");
+  const std::size_t d = names.size();
+  if (d == 0 || quantities.size() != d || components.size() != d || sources.size() != d || rollers.size() != d ||
+      orders.size() != d) {
+    Fail(where, "the datasets in /inputs describe different numbers of inputs");
+  }
+  for (std::size_t i = 0; i < d; ++i) {
+    sampling::SampledInput input;
+    input.name = names[i];
+    input.quantity = quantities[i];
+    input.component = components[i];
+    input.roller = rollers[i];
+    input.order = orders[i];
+    const auto* source = std::find_if(kErrorSources.begin(), kErrorSources.end(), [&](sampling::ErrorSource s) {
+      return sources[i] == sampling::ErrorSourceName(s);
+    });
+    if (source == kErrorSources.end()) Fail(where, fmt::format("/inputs/source[{}] = '{}' is unknown", i, sources[i]));
+    input.source = *source;
+    inputs.push_back(std::move(input));
+  }
+
+  return inputs;
+}
+
+std::optional<std::string> InputDifference(const std::vector<sampling::SampledInput>& file,
+                                           const std::vector<sampling::SampledInput>& now, std::string_view now_name) {
+  if (file.size() != now.size()) {
+    return fmt::format("inputs differ (the file has {} inputs, {} {})", file.size(), now_name, now.size());
+  }
+  for (std::size_t i = 0; i < file.size(); ++i) {
+    const sampling::SampledInput& a = file[i];
+    const sampling::SampledInput& b = now[i];
+    if (a.name != b.name || a.quantity != b.quantity || a.component != b.component || a.source != b.source ||
+        a.roller != b.roller || a.order != b.order) {
+      return fmt::format("inputs differ (input {}: '{}' in the file, '{}' now)", i, a.name, b.name);
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> TryRead(hid_t dataset, hid_t memory_type, hid_t memory_space, hid_t file_space,
+                                   void* data) {
+  for (int attempt = 1;; ++attempt) {
+    if (H5Dread(dataset, memory_type, memory_space, file_space, H5P_DEFAULT, data) >= 0) return std::nullopt;
+    if (attempt == kRawReadAttempts) break;
+    std::this_thread::sleep_for(kRawReadRetryDelay);
+  }
+  const std::string detail = Hdf5Detail();
+  return detail.empty() ? std::string("HDF5 cannot read it") : detail;
+}
+
+void RewriteChunksWithFill(const Where& where, hid_t dataset, const std::string& path,
+                           const std::vector<std::array<hsize_t, 2>>& offsets) {
+  const PlistId dcpl(Check(H5Dget_create_plist(dataset), where, "reading the layout of", path));
+  const SpaceId space(Check(H5Dget_space(dataset), where, "reading the shape of", path));
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  hsize_t chunk[2] = {1, 1};
+  if (rank < 1 || rank > 2 || H5Pget_chunk(dcpl.get(), rank, chunk) != rank) {
+    Fail(where, fmt::format("dataset {} is not chunked", path));
+  }
+  const TypeId type(Check(H5Dget_type(dataset), where, "reading the type of", path));
+  const std::size_t element = H5Tget_size(type.get());
+  std::vector<unsigned char> fill(element);
+  CheckStatus(H5Pget_fill_value(dcpl.get(), type.get(), fill.data()), where, "reading the fill value of", path);
+  std::vector<unsigned char> bytes(chunk[0] * chunk[1] * element);
+  for (std::size_t at = 0; at < bytes.size(); at += element) std::memcpy(bytes.data() + at, fill.data(), element);
+  const int filters = H5Pget_nfilters(dcpl.get());
+  if (filters < 0 || filters >= 32) Fail(where, fmt::format("reading the filters of {} failed", path));
+  const std::uint32_t skip_all = (std::uint32_t{1} << filters) - 1;
+  for (const std::array<hsize_t, 2>& offset : offsets) {
+    CheckStatus(H5Dwrite_chunk(dataset, H5P_DEFAULT, skip_all, offset.data(), bytes.size(), bytes.data()), where,
+                "rewriting a damaged chunk of", path);
+  }
+  CheckStatus(H5Dflush(dataset), where, "flushing", path);
+}
+
+// ---------------------------------------------------------------------------------------
+
+PlistId FileAccess(const Where& where) {
+  PlistId fapl(Check(H5Pcreate(H5P_FILE_ACCESS), where, "creating", "a file access property list"));
+  CheckStatus(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_LATEST, H5F_LIBVER_LATEST), where, "configuring",
+              "file access");
+  // HDF5's flock() would stop SWMR readers while a writer holds it, and it cannot outlast
+  // the switch to SWMR mode; FileLock guards writers instead.
+  CheckStatus(H5Pset_file_locking(fapl.get(), false, true), where, "configuring", "file access");
+  CheckStatus(H5Pset_metadata_read_attempts(fapl.get(), kMetadataReadAttempts), where, "configuring", "file access");
+  return fapl;
+}
+
+FileId OpenForReading(const fs::path& path) {
+  const Where where{path.string(), true};
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (!fs::exists(status)) throw InputError(where.file + ": does not exist");
+  if (fs::is_directory(status)) throw InputError(where.file + ": is a directory, not a results file");
+  const htri_t is_hdf5 = H5Fis_hdf5(where.file.c_str());
+  if (is_hdf5 < 0) Fail(where, "cannot be read");
+  if (is_hdf5 == 0) throw InputError(where.file + ": is not an HDF5 file or is truncated");
+
+  const PlistId fapl = FileAccess(where);
+  // Flags left by a writer killed before it entered SWMR mode would refuse even a reader.
+  SetHiddenFlag(where, fapl, "clear_status_flags");
+  hid_t id = H5Fopen(where.file.c_str(), H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, fapl.get());
+  if (id < 0) {
+    // Files from other writers (superblock before version 3) need a plain read-only open.
+    id = H5Fopen(where.file.c_str(), H5F_ACC_RDONLY, fapl.get());
+  }
+  if (id < 0) Fail(where, "is not an HDF5 file or is truncated");
+  return FileId(id);
+}
+
+FileId OpenForWriting(const fs::path& path) {
+  const std::string name = path.string();
+  const Where opening{name, true};
+  const PlistId fapl = FileAccess(opening);
+  // As h5clear does after a killed SWMR writer: forget its superblock flags, and accept an
+  // end-of-allocation mark that lags behind what it wrote...
+  if (!SetHiddenFlag(opening, fapl, "clear_status_flags")) {
+    throw InputError(name + ": this HDF5 library cannot reopen files; run 'h5clear -s --increment' on it first");
+  }
+  SetHiddenFlag(opening, fapl, "skip_eof_check");
+  FileId file(H5Fopen(name.c_str(), H5F_ACC_RDWR, fapl.get()));
+  if (file.get() < 0) Fail(opening, "cannot be opened for writing");
+  // ...and move that mark to the end of the file, so that new objects never land on old ones.
+  CheckStatus(H5Fincrement_filesize(file.get(), 0), Where{name, false}, "updating", "the end-of-allocation mark");
+  return file;
+}
+
+std::optional<std::string> FormatOf(const Where& where, hid_t file) {
+  try {
+    return ReadStringAttribute(where, file, "format");
+  } catch (const std::runtime_error&) {
+    return std::nullopt;
+  }
+}
+
+fs::path PrepareCreate(const fs::path& path, const std::string& exists_message) {
+  const std::string name = path.string();
+  std::error_code error;
+  if (fs::exists(fs::symlink_status(path, error))) throw InputError(exists_message);
+  const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  if (!fs::is_directory(directory, error)) {
+    throw InputError(name + ": directory '" + directory.string() + "' does not exist");
+  }
+  fs::path temporary = path;
+  temporary += fmt::format(".{}.creating", ::getpid());
+  fs::remove(temporary, error);  // left by a killed run that had this process id
+  return temporary;
+}
+
+FileId CreateExclusive(const fs::path& temporary, const fs::path& path) {
+  const Where opening{path.string(), true};
+  const PlistId fapl = FileAccess(opening);
+  FileId file(H5Fcreate(temporary.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl.get()));
+  const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  if (file.get() < 0) Fail(opening, "cannot be created in '" + directory.string() + "'");
+  return file;
+}
+
+// A hard link fails when the name exists (rename would overwrite it).
+void Publish(const fs::path& temporary, const fs::path& path, const std::string& exists_message) {
+  if (::link(temporary.c_str(), path.c_str()) == 0) {
+    ::unlink(temporary.c_str());
+    return;
+  }
+  const int link_error = errno;
+  if (link_error == EEXIST) throw InputError(exists_message);
+  // File systems without hard links: rename after a last look.
+  std::error_code error;
+  if (fs::exists(fs::symlink_status(path, error))) throw InputError(exists_message);
+  fs::rename(temporary, path, error);
+  if (error) throw InputError(path.string() + ": cannot be created: " + error.message());
+}
+
+FileLock::~FileLock() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+FileLock FileLock::Acquire(const fs::path& path, const std::string& name) {
+  FileLock lock;
+  lock.fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+  if (lock.fd_ < 0) throw InputError(name + ": cannot be opened for writing: " + std::strerror(errno));
+  struct flock region {};
+  region.l_type = F_WRLCK;
+  region.l_whence = SEEK_SET;
+  if (::fcntl(lock.fd_, F_OFD_SETLK, &region) < 0 && (errno == EAGAIN || errno == EACCES)) {
+    throw InputError(name + ": is being written by another ringtol run; let it finish or stop it first");
+  }
+  // Other errors mean a file system without locks: go on unguarded, as HDF5 does there.
+  return lock;
+}
+
+std::size_t FirstDifferingLine(const std::string& a, const std::string& b) {
+  const auto [at, unused] = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
+  return 1 + static_cast<std::size_t>(std::count(a.begin(), at, '\n'));
+}
+
+std::optional<std::string> TextDifference(std::string_view field, const std::string& file, const std::string& now) {
+  if (file == now) return std::nullopt;
+  return fmt::format("{} differs (first at line {})", field, FirstDifferingLine(file, now));
+}
+
+}  // namespace ringtol::jobs::hdf5

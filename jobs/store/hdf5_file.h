@@ -1,0 +1,242 @@
+// The HDF5 machinery the results files share (jobs/store/campaign_store.h,
+// jobs/store/allocation_store.h): owning handles, errors turned into exceptions that name
+// the file, attributes, checksummed datasets, the sample status enumeration, opening a file
+// a killed writer left, the writers' lock and publishing a new file under its name.
+// Private to jobs/store: the public headers never expose HDF5.
+//
+// Failure: every function throws through Fail, so an InputError (the user's file is wrong
+// or damaged) while a file is opened and validated (Where::input), a std::runtime_error
+// (the system failed: disk full) once it is open.
+#pragma once
+
+#include <hdf5.h>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "sampling/assembly_sampler.h"
+
+namespace ringtol::jobs::hdf5 {
+
+// A reader of a file being written may read a chunk while the writer rewrites it in place:
+// that torn read fails its checksum once and succeeds on the next attempt. Real damage
+// fails every attempt, which costs a damaged chunk these few milliseconds.
+inline constexpr int kRawReadAttempts = 3;
+
+// ---------------------------------------------------------------------------------------
+// Handles and errors
+
+template <herr_t (*Closer)(hid_t)>
+class Id {
+ public:
+  Id() = default;
+  explicit Id(hid_t id) : id_(id) {}
+  ~Id() { reset(); }
+  Id(Id&& other) noexcept : id_(std::exchange(other.id_, H5I_INVALID_HID)) {}
+  Id& operator=(Id&& other) noexcept {
+    if (this != &other) {
+      reset();
+      id_ = std::exchange(other.id_, H5I_INVALID_HID);
+    }
+    return *this;
+  }
+  Id(const Id&) = delete;
+  Id& operator=(const Id&) = delete;
+
+  hid_t get() const { return id_; }
+  // Closes now and reports whether HDF5 managed to (a file's close flushes).
+  bool Close() {
+    const hid_t id = std::exchange(id_, H5I_INVALID_HID);
+    return id < 0 || Closer(id) >= 0;
+  }
+  void reset() {
+    if (id_ >= 0) Closer(id_);
+    id_ = H5I_INVALID_HID;
+  }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+};
+
+using FileId = Id<H5Fclose>;
+using GroupId = Id<H5Gclose>;
+using DatasetId = Id<H5Dclose>;
+using AttributeId = Id<H5Aclose>;
+using SpaceId = Id<H5Sclose>;
+using TypeId = Id<H5Tclose>;
+using PlistId = Id<H5Pclose>;
+
+// HDF5 prints its error stack to stderr by default; ringtol turns failures into exceptions
+// instead. Restores the previous handler so that other HDF5 users in the process keep theirs.
+class QuietErrors {
+ public:
+  QuietErrors();
+  ~QuietErrors();
+  QuietErrors(const QuietErrors&) = delete;
+  QuietErrors& operator=(const QuietErrors&) = delete;
+
+ private:
+  H5E_auto2_t function_ = nullptr;
+  void* data_ = nullptr;
+};
+
+// The most specific message on HDF5's error stack; for system errors only the errno text,
+// since the full message also carries times, descriptors and buffer addresses.
+std::string Hdf5Detail();
+
+// Who is to blame for a failure: while a file is opened and validated, the user (a wrong
+// or damaged file: InputError); once it is open, the system (disk full: runtime_error).
+struct Where {
+  std::string file;
+  bool input = false;
+};
+
+[[noreturn]] void Fail(const Where& where, const std::string& what);
+hid_t Check(hid_t id, const Where& where, std::string_view action, std::string_view object);
+void CheckStatus(herr_t status, const Where& where, std::string_view action, std::string_view object);
+
+// ---------------------------------------------------------------------------------------
+// Types
+
+TypeId VariableString(const Where& where);
+// Fixed length, because variable-length data lives in the global heap, which SWMR readers
+// cannot follow safely while it grows. Null-terminated (`bytes` includes the terminator).
+TypeId FixedString(const Where& where, std::size_t bytes);
+// The one-byte enumeration of SampleStatus, by SampleStatusName.
+TypeId StatusType(const Where& where);
+// Whether `value` is a SampleStatus some ringtol writes.
+bool IsKnownStatus(std::int8_t value);
+
+// ---------------------------------------------------------------------------------------
+// Attributes
+
+void WriteAttribute(const Where& where, hid_t location, const char* name, hid_t file_type, hid_t memory_type,
+                    const void* value);
+// Variable-length, so that h5py reads it as str; written before SWMR starts.
+void WriteStringAttribute(const Where& where, hid_t location, const char* name, const std::string& value);
+// Overwrites an attribute that exists (allowed in SWMR mode, unlike creating one).
+void UpdateAttribute(const Where& where, hid_t location, const char* name, hid_t memory_type, const void* value);
+std::optional<AttributeId> OpenAttribute(const Where& where, hid_t location, const char* name);
+H5T_class_t AttributeClass(const Where& where, const AttributeId& attribute, const char* name);
+std::optional<std::string> ReadStringAttribute(const Where& where, hid_t location, const char* name);
+
+template <typename T>
+std::optional<T> ReadNumberAttribute(const Where& where, hid_t location, const char* name, H5T_class_t wanted,
+                                     hid_t memory_type) {
+  const std::optional<AttributeId> attribute = OpenAttribute(where, location, name);
+  if (!attribute) return std::nullopt;
+  if (AttributeClass(where, *attribute, name) != wanted) Fail(where, fmt::format("attribute {} is not a number", name));
+  T value{};
+  CheckStatus(H5Aread(attribute->get(), memory_type, &value), where, "reading attribute", name);
+  return value;
+}
+
+// ---------------------------------------------------------------------------------------
+// Datasets
+
+// Without time stamps, two runs of the same job write the same bytes.
+PlistId ObjectCreation(const Where& where, hid_t plist_class);
+// Appended last to a dataset's filters, so that it checks the bytes as stored: a damaged
+// chunk then fails to read instead of reading as other numbers.
+void AddChecksum(const Where& where, const PlistId& dcpl, const std::string& path);
+bool HasChecksum(const Where& where, hid_t dataset, const std::string& path);
+
+// One-dimensional description datasets [n], in one chunk so that they carry a checksum:
+// fixed-length strings (as wide as the longest), int32, int64, float64.
+void WriteStrings(const Where& where, hid_t file, const std::string& path, const std::vector<std::string>& values,
+                  bool checksum);
+void WriteInts(const Where& where, hid_t file, const std::string& path, const std::vector<std::int32_t>& values,
+               bool checksum);
+// Reads a whole one-dimensional dataset of fixed-length strings, or of integers as int32.
+std::vector<std::string> ReadStrings(const Where& where, hid_t file, const std::string& path);
+std::vector<std::int32_t> ReadInts(const Where& where, hid_t file, const std::string& path);
+
+// The design's coordinates as /inputs/name, quantity, component, source, roller, order
+// [d], in a group /inputs that exists; read back, InputError when they disagree in length
+// or name an unknown source.
+void WriteInputDescriptions(const Where& where, hid_t file, const std::vector<sampling::SampledInput>& inputs,
+                            bool checksum);
+std::vector<sampling::SampledInput> ReadInputDescriptions(const Where& where, hid_t file);
+// The first way two input lists differ ("inputs differ (...)"), `now` naming the job that
+// asks ("this campaign"), or nothing.
+std::optional<std::string> InputDifference(const std::vector<sampling::SampledInput>& file,
+                                           const std::vector<sampling::SampledInput>& now, std::string_view now_name);
+
+// Reads the selection, retrying kRawReadAttempts times; HDF5's reason when it does not read
+// (a damaged chunk: checksum, decompression or I/O).
+std::optional<std::string> TryRead(hid_t dataset, hid_t memory_type, hid_t memory_space, hid_t file_space, void* data);
+
+// Stores each chunk at `offsets` (its first element) as its fill values, with its filters
+// skipped (its filter mask says so, and readers honour it): HDF5 can then take it without
+// reading the damaged one, and the next write into it runs the filters again. Flushes.
+void RewriteChunksWithFill(const Where& where, hid_t dataset, const std::string& path,
+                           const std::vector<std::array<hsize_t, 2>>& offsets);
+
+// ---------------------------------------------------------------------------------------
+// Files
+
+// HDF5 1.10's latest format (SWMR), HDF5's own flock() off (FileLock guards writers).
+PlistId FileAccess(const Where& where);
+// Read-only, in SWMR-read mode so that a file being written, or left by a killed writer
+// (superblock flags still set, end of allocation stale), opens too. InputError for a
+// missing path, a directory, a file that is not HDF5 or truncated.
+FileId OpenForReading(const std::filesystem::path& path);
+// Read-write, as h5clear does after a killed SWMR writer: its superblock flags forgotten,
+// its end-of-allocation mark moved to the end of the file so that new objects never land
+// on old ones. InputError when the file cannot be opened.
+FileId OpenForWriting(const std::filesystem::path& path);
+// Its root attribute `format`, if it has one that reads as a string.
+std::optional<std::string> FormatOf(const Where& where, hid_t file);
+
+// The path a new results file is built under before Publish gives it its name, so that a
+// kill while creating never leaves a half-made file under that name. InputError
+// `exists_message` when the path exists, naming the directory when that does not exist.
+std::filesystem::path PrepareCreate(const std::filesystem::path& path, const std::string& exists_message);
+// A new file at `temporary` (the latest format, FileAccess), refusing one that exists;
+// InputError naming `path` when it cannot be created.
+FileId CreateExclusive(const std::filesystem::path& temporary, const std::filesystem::path& path);
+// Gives the finished file its name without ever replacing a file of that name.
+void Publish(const std::filesystem::path& temporary, const std::filesystem::path& path,
+             const std::string& exists_message);
+
+// A lock that keeps two writers off one file: HDF5's own lock is released once a writer
+// enters SWMR mode, and the flags that would refuse a second writer are cleared on resume
+// after a kill. An open file description lock: it also holds between two stores of one
+// process, never blocks readers, and dies with the process.
+class FileLock {
+ public:
+  FileLock() = default;
+  ~FileLock();
+  FileLock(FileLock&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+  FileLock& operator=(FileLock&& other) noexcept {
+    std::swap(fd_, other.fd_);
+    return *this;
+  }
+  // InputError when another run holds it.
+  static FileLock Acquire(const std::filesystem::path& path, const std::string& name);
+
+ private:
+  int fd_ = -1;
+};
+
+// The 1-based line at which two texts first differ, for identity messages.
+std::size_t FirstDifferingLine(const std::string& a, const std::string& b);
+
+// How a field of a results file's identity differs from the run's, for resume's refusal:
+// "seed differs ('7' in the file, '8' now)"; a text by its first differing line.
+template <typename T>
+std::optional<std::string> WordDifference(std::string_view field, const T& file, const T& now) {
+  if (file == now) return std::nullopt;
+  return fmt::format("{} differs ('{}' in the file, '{}' now)", field, file, now);
+}
+std::optional<std::string> TextDifference(std::string_view field, const std::string& file, const std::string& now);
+
+}  // namespace ringtol::jobs::hdf5
