@@ -140,12 +140,6 @@ std::string DrawnInputs(const sampling::AssemblyTolerances& t, AllocatedComponen
   return words.empty() ? "none" : words;
 }
 
-// A model's cost of one tolerance: analysis::CostModel's forms (analysis/allocation.h).
-double ModelCost(const analysis::CostModel& model, double tolerance) {
-  return model.form == analysis::CostForm::kReciprocalPower ? model.a + model.b / std::pow(tolerance, model.k)
-                                                            : model.a + model.b * std::exp(-model.k * tolerance);
-}
-
 struct ComponentInput {
   std::vector<Site> options;
   std::optional<Site> cost;
@@ -357,7 +351,7 @@ ComponentChoice ReadComponent(const TableReader& t, const ComponentInput& in, Al
     choice.cost_model = in.model.value_or(analysis::CostModel{});
     for (std::size_t i = 0; i < choice.options.size(); ++i) {
       AllocationOption& option = choice.options[i];
-      option.cost = ModelCost(*choice.cost_model, option.tolerance);
+      option.cost = choice.cost_model->Cost(option.tolerance);
       if (!(option.tolerance > 0.0) || !std::isfinite(option.cost))
         in.options[i].Fail("a cost model needs a characteristic tolerance > 0; this class's is " +
                                ShowDerived(option.tolerance) + " " + unit,
@@ -475,7 +469,7 @@ AllocationPlan ReadAllocationFile(const std::filesystem::path& file, const Store
   plan.first_samples = std::min<std::int64_t>(in.first_samples, sampling.samples);
 
   // The current design: the candidate whose options are the [tolerances.*] tables' classes.
-  std::int64_t current = 0;
+  std::vector<int> current;
   std::string missing;
   for (const ComponentChoice& choice : plan.components) {
     const auto [name, mode] = CurrentClass(sampling.tolerances, choice.component);
@@ -493,9 +487,9 @@ AllocationPlan ReadAllocationFile(const std::filesystem::path& file, const Store
                                    (mode == ToleranceMode::kProcess ? "process" : "inspected") +
                                    ") is not among allocation.components." + component + ".options";
     }
-    current = current * static_cast<std::int64_t>(choice.options.size()) + std::max<std::int64_t>(found, 0);
+    current.push_back(static_cast<int>(std::max<std::int64_t>(found, 0)));
   }
-  if (missing.empty()) plan.current = current;
+  if (missing.empty()) plan.current = plan.Space().Candidate(current);
   if (plan.reference == CostReference::kCurrent && !plan.current)
     allocation.Fail("reference",
                     std::string(allocation.Has("reference") ? "" : "the default, ") +
@@ -504,14 +498,21 @@ AllocationPlan ReadAllocationFile(const std::filesystem::path& file, const Store
   return plan;
 }
 
+analysis::AllocationSpace AllocationPlan::Space() const {
+  std::vector<std::vector<double>> costs;
+  for (const ComponentChoice& choice : components) {
+    std::vector<double>& component = costs.emplace_back();
+    for (const AllocationOption& option : choice.options) component.push_back(option.cost);
+  }
+  return analysis::AllocationSpace(std::move(costs));
+}
+
 sampling::AssemblyTolerances AllocationPlan::Tolerances(std::int64_t candidate) const {
   sampling::AssemblyTolerances tolerances = campaign.sampling.tolerances;
-  // Mixed radix, the last component fastest (analysis::AllocationSpace).
-  for (auto choice = components.rbegin(); choice != components.rend(); ++choice) {
-    const auto options = static_cast<std::int64_t>(choice->options.size());
-    const sampling::AssemblyTolerances& option = choice->options[static_cast<std::size_t>(candidate % options)].tolerances;
-    candidate /= options;
-    switch (choice->component) {
+  const std::vector<int> options = Space().Options(candidate);
+  for (std::size_t k = 0; k < components.size(); ++k) {
+    const sampling::AssemblyTolerances& option = components[k].options[static_cast<std::size_t>(options[k])].tolerances;
+    switch (components[k].component) {
       case AllocatedComponent::kRing: tolerances.ring = option.ring; break;
       case AllocatedComponent::kRollers: tolerances.roller_shapes = option.roller_shapes; break;
       case AllocatedComponent::kRollerPositions: tolerances.roller_positions = option.roller_positions; break;

@@ -143,18 +143,13 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   pool.stop = [&signals] { return signals->received(); };
 
   // Cheap checks first, so a wrong option fails before a second of calibration.
-  std::string error = rank == 0 ? Attempt([&] {
-    CheckPoolOptions(command.pool, command.progress_seconds);
-    CheckOutput(command.out, command.resume);
-  })
-                                : std::string();
-  if (error = Agree(world, error); !error.empty()) throw InputError(error);
+  CheckBeforeWork(world, command.pool, command.progress_seconds, command.out, command.resume);
 
   std::unique_ptr<Campaign> campaign;
-  error = Attempt([&] { campaign = std::make_unique<Campaign>(command.file, command.samples, command.seed); });
-  if (error = Agree(world, error); !error.empty()) throw InputError(error);
+  ThrowAgreed(world, Attempt([&] { campaign = std::make_unique<Campaign>(command.file, command.samples, command.seed); }));
 
   std::unique_ptr<CampaignStore> store;
+  std::string error;
   if (rank == 0) {
     error = Attempt([&] {
       store = std::make_unique<CampaignStore>(
@@ -162,7 +157,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
                          : CampaignStore::Create(command.out, campaign->identity(), campaign->samples()));
     });
   }
-  if (error = Agree(world, error); !error.empty()) throw InputError(error);
+  ThrowAgreed(world, error);
 
   std::function<void(const PoolProgress&)> report_progress;
   if (rank == 0 && !command.quiet) {

@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "jobs/cli/allocate_command.h"
 #include "jobs/cli/bench_command.h"
 #include "jobs/cli/campaign_command.h"
 #include "jobs/cli/classes_command.h"
@@ -22,7 +23,8 @@
 
 namespace {
 
-// `ringtol campaign` is the MPI command: it runs alone as a singleton or under mpirun.
+// `ringtol campaign`, `ringtol allocate` and `ringtol bench allocate` are the MPI commands:
+// they run alone as a singleton or under mpirun.
 template <typename Run>
 int RunMpiCommand(Run run) {
   int provided = 0;
@@ -209,6 +211,34 @@ CLI::App* AddCampaign(CLI::App& app, ringtol::jobs::CampaignCommand& campaign) {
   return sub;
 }
 
+CLI::App* AddAllocate(CLI::App& app, ringtol::jobs::AllocateCommand& allocate) {
+  CLI::App* sub = app.add_subcommand(
+      "allocate",
+      "Find the cheapest tolerance classes that meet a spec, with their cost-against-yield front, into an HDF5 "
+      "results file, alone or under mpirun");
+  AddInputFile(*sub, "file", allocate.file, "Allocation file (TOML)");
+  sub->add_option("--out", allocate.out, "Results file (HDF5); never overwritten")->required();
+  sub->add_flag("--resume", allocate.resume, "Continue --out after an interruption: compute only what it lacks");
+  sub->add_flag("--json", allocate.json, "Print the recommendation as one JSON object");
+  sub->add_flag("--quiet", allocate.quiet, "No progress on stderr");
+  sub->add_option("--progress-seconds", allocate.progress_seconds,
+                  "Seconds between progress lines when stderr is not a terminal")
+      ->capture_default_str();
+  AddPoolOptions(*sub, allocate.pool);
+  return sub;
+}
+
+CLI::App* AddBenchAllocate(CLI::App& bench, ringtol::jobs::AllocateCommand& allocate) {
+  CLI::App* sub = bench.add_subcommand(
+      "allocate",
+      "Run an allocation file into a temporary results file and print its cost: candidates and samples per second, "
+      "the share the screening rung settled; alone or under mpirun");
+  AddInputFile(*sub, "file", allocate.file, "Allocation file (TOML)");
+  sub->add_flag("--quiet", allocate.quiet, "No progress on stderr");
+  AddPoolOptions(*sub, allocate.pool);
+  return sub;
+}
+
 CLI::App* AddReport(CLI::App& app, ringtol::jobs::ReportCommand& report) {
   CLI::App* sub = app.add_subcommand(
       "report", "Turn a campaign's results file into a self-contained HTML report (and a JSON summary)");
@@ -264,6 +294,8 @@ int main(int argc, char** argv) {
   ringtol::jobs::BenchDynamicsCommand dynamics;
   ringtol::jobs::BenchLadderCommand ladder;
   ringtol::jobs::CampaignCommand campaign;
+  ringtol::jobs::AllocateCommand allocate;
+  ringtol::jobs::AllocateCommand bench_allocate;
   ringtol::jobs::ReportCommand report;
   ringtol::jobs::VerifyCommand verify;
 
@@ -277,7 +309,9 @@ int main(int argc, char** argv) {
   bench_app->require_subcommand(1);
   const CLI::App* dynamics_app = AddBenchDynamics(*bench_app, dynamics);
   const CLI::App* ladder_app = AddBenchLadder(*bench_app, ladder);
+  const CLI::App* bench_allocate_app = AddBenchAllocate(*bench_app, bench_allocate);
   const CLI::App* campaign_app = AddCampaign(app, campaign);
+  const CLI::App* allocate_app = AddAllocate(app, allocate);
   const CLI::App* report_app = AddReport(app, report);
   const CLI::App* verify_app = AddVerify(app, verify);
 
@@ -286,7 +320,13 @@ int main(int argc, char** argv) {
     campaign.arguments.assign(argv, argv + argc);
     return RunMpiCommand([&] { return ringtol::jobs::RunCampaign(campaign, std::cout, std::cerr); });
   }
-
+  if (*allocate_app) {
+    allocate.arguments.assign(argv, argv + argc);
+    return RunMpiCommand([&] { return ringtol::jobs::RunAllocate(allocate, std::cout, std::cerr); });
+  }
+  if (*bench_allocate_app) {
+    return RunMpiCommand([&] { return ringtol::jobs::RunBenchAllocate(bench_allocate, std::cout, std::cerr); });
+  }
   try {
     if (*simulate_app) return ringtol::jobs::RunSimulate(simulate, std::cout);
     if (*sweep_app) return ringtol::jobs::RunSweep(sweep, std::cout);

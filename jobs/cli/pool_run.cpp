@@ -31,6 +31,21 @@ std::string Agree(MPI_Comm communicator, const std::string& error) {
   return first == 0 ? message : fmt::format("rank {}: {}", first, message);
 }
 
+void ThrowAgreed(MPI_Comm communicator, const std::string& error) {
+  if (const std::string agreed = Agree(communicator, error); !agreed.empty()) throw InputError(agreed);
+}
+
+void CheckBeforeWork(MPI_Comm communicator, const PoolOptions& pool, double progress_seconds,
+                     const std::filesystem::path& out, bool resume) {
+  int rank = 0;
+  MPI_Comm_rank(communicator, &rank);
+  ThrowAgreed(communicator, rank == 0 ? Attempt([&] {
+    CheckPoolOptions(pool, progress_seconds);
+    CheckOutput(out, resume);
+  })
+                                      : std::string());
+}
+
 void CheckOutput(const std::filesystem::path& out, bool resume) {
   const std::string name = out.string();
   if (resume) {

@@ -29,6 +29,14 @@ std::string Attempt(F&& step) {
   }
 }
 
+// On every rank: throws `error` of the first rank that has one, as an InputError on every
+// rank (Agree); returns when no rank has one.
+void ThrowAgreed(MPI_Comm communicator, const std::string& error);
+// On every rank: rank 0's cheap checks (CheckPoolOptions, CheckOutput), before any
+// second of calibration; a failure is an InputError on every rank.
+void CheckBeforeWork(MPI_Comm communicator, const PoolOptions& pool, double progress_seconds,
+                     const std::filesystem::path& out, bool resume);
+
 // InputError unless `out` can be created (new: the path is free and its folder writable)
 // or continued (resume: the file exists).
 void CheckOutput(const std::filesystem::path& out, bool resume);

@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 
 #include "jobs/inputs/input_error.h"
+#include "jobs/report/allocation_report.h"
+#include "jobs/store/allocation_store.h"
 #include "jobs/report/report_html.h"
 #include "jobs/store/campaign_store.h"
 
@@ -44,6 +46,18 @@ analysis::SobolEstimator EstimatorNamed(const std::string& name) {
   throw InputError(fmt::format("--estimator {}: unknown; allowed: {}", name, NameList(analysis::kSobolEstimatorNames, "")));
 }
 
+// The page, and the JSON when asked for; says where they went.
+template <typename Json>
+int WriteReport(const ReportCommand& command, const std::string& html, Json json, std::ostream& out) {
+  WriteAtomically(command.out, html);
+  out << "Report: " << command.out.string() << "\n";
+  if (command.json) {
+    WriteAtomically(*command.json, json().dump(1) + "\n");
+    out << "Summary (JSON): " << command.json->string() << "\n";
+  }
+  return 0;
+}
+
 }  // namespace
 
 int RunReport(const ReportCommand& command, std::ostream& out) {
@@ -54,17 +68,25 @@ int RunReport(const ReportCommand& command, std::ostream& out) {
   // Every chunk is read once up front, not only those the report reads: a page built on a
   // damaged file must not exist, and the replays would otherwise catch a damaged design
   // point as a replay problem.
+  if (ReadResultsKind(command.results) == ResultsKind::kAllocation) {
+    if (const AllocationCheck check = CheckAllocationResults(command.results); !check.intact()) {
+      throw InputError(fmt::format("{}: damaged ({}); `ringtol verify {}` lists what, and `ringtol allocate "
+                                   "--resume` recomputes the samples of damaged chunks",
+                                   command.results.string(),
+                                   check.damaged.empty() ? check.outcome_problem : check.damaged.front().problem,
+                                   command.results.string()));
+    }
+    AllocationReportOptions allocation;
+    allocation.bootstrap_resamples = options.bootstrap_resamples;
+    allocation.screening_samples = options.screening_samples;
+    const AllocationReport report = ReadAllocationReport(command.results, allocation);
+    return WriteReport(command, AllocationReportHtml(report), [&] { return AllocationReportJson(report); }, out);
+  }
   if (const ResultsCheck check = CheckResults(command.results); !check.intact()) {
     throw InputError(DamageMessage(command.results, check));
   }
   const CampaignReport report = BuildReport(command.results, options);
-  WriteAtomically(command.out, ReportHtml(report));
-  out << "Report: " << command.out.string() << "\n";
-  if (command.json) {
-    WriteAtomically(*command.json, ReportJson(report).dump(1) + "\n");
-    out << "Summary (JSON): " << command.json->string() << "\n";
-  }
-  return 0;
+  return WriteReport(command, ReportHtml(report), [&] { return ReportJson(report); }, out);
 }
 
 }  // namespace ringtol::jobs

@@ -1,6 +1,7 @@
 // `ringtol report RESULTS.h5 --out report.html [--json summary.json]`: a campaign's results
 // file as one self-contained HTML page (jobs/report/report_html.h) and, on request, the same
-// numbers as JSON (jobs/report/campaign_report.h).
+// numbers as JSON (jobs/report/campaign_report.h); an allocation's results file likewise
+// (jobs/report/allocation_report.h), told apart by the file's own format attribute.
 //
 // Failure: InputError, before any statistic is computed, for a results file that does not
 // open or is damaged (any chunk that fails its checksum: CheckResults), a report path in a folder that does not exist, a report path that is the results

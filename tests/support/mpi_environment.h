@@ -6,6 +6,8 @@
 // tests).
 #pragma once
 
+#include <unistd.h>
+
 #include <string>
 
 namespace ringtol::testing {
@@ -14,5 +16,11 @@ inline const std::string kMpiEnvironment =
     "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 "
     "OMPI_MCA_pml=ob1 OMPI_MCA_btl=self,vader OMPI_MCA_btl_vader_single_copy_mechanism=none "
     "OMPI_MCA_hwloc_base_binding_policy=none ASAN_OPTIONS=detect_leaks=0 ";
+
+// The launcher's prefix for `ranks` processes on this machine, root or not.
+inline std::string Mpirun(int ranks) {
+  return std::string(MPIEXEC_EXECUTABLE) + " -n " + std::to_string(ranks) +
+         (geteuid() == 0 ? " --allow-run-as-root" : "") + " --oversubscribe ";
+}
 
 }  // namespace ringtol::testing

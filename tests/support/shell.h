@@ -3,6 +3,8 @@
 
 #include <sys/wait.h>
 
+#include <gmock/gmock.h>
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -22,6 +24,13 @@ struct ShellOutcome {
 // How a failed expectation shows a run: its exit code and what it said on stderr.
 inline void PrintTo(const ShellOutcome& run, std::ostream* out) {
   *out << "exit code " << run.exit_code << ", stderr \"" << run.err << "\"";
+}
+
+// A run that ended with exit code `code` and said `message` on stderr.
+inline ::testing::Matcher<const ShellOutcome&> ExitsWith(const ::testing::Matcher<int>& code,
+                                                         const ::testing::Matcher<const std::string&>& message) {
+  return ::testing::AllOf(::testing::Field("exit_code", &ShellOutcome::exit_code, code),
+                          ::testing::Field("err", &ShellOutcome::err, message));
 }
 
 // Runs `command` through /bin/sh with stderr captured in `err_file` (give each test its

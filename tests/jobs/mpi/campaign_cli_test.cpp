@@ -33,6 +33,7 @@ using ::testing::HasSubstr;
 using ::testing::Ne;
 
 using testing::kMpiEnvironment;
+using testing::Mpirun;
 
 const std::string kScene = (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/paper/scene.toml").string();
 
@@ -62,12 +63,7 @@ d_trajectory_mm = 0.2
 
 using Outcome = testing::ShellOutcome;  // exit code 128 + signal when killed
 
-// A run that ended with exit code `code` and said `message` on stderr.
-::testing::Matcher<const Outcome&> ExitsWith(const ::testing::Matcher<int>& code,
-                                             const ::testing::Matcher<const std::string&>& message) {
-  return AllOf(::testing::Field("exit_code", &Outcome::exit_code, code),
-               ::testing::Field("err", &Outcome::err, message));
-}
+using testing::ExitsWith;
 
 std::filesystem::path TestFolder() { return testing::TestFolderPath("campaign_cli_test"); }
 
@@ -77,11 +73,6 @@ std::filesystem::path Folder() { return testing::FreshTestFolder("campaign_cli_t
 std::filesystem::path Write(const std::filesystem::path& file, const std::string& text) {
   testing::WriteText(file, text);
   return file;
-}
-
-std::string Mpirun(int ranks) {
-  return std::string(MPIEXEC_EXECUTABLE) + " -n " + std::to_string(ranks) +
-         (geteuid() == 0 ? " --allow-run-as-root" : "") + " --oversubscribe ";
 }
 
 // Runs `prefix ringtol arguments` through the shell; `timeout` guards against a hang.

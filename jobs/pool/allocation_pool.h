@@ -1,0 +1,53 @@
+// A tolerance allocation on the campaign pool: rank 0 plays the search forward
+// (jobs/allocation/allocation.h, AllocationDriver) and every round's candidate samples are
+// computed by the pool (jobs/pool/campaign_pool.h) into the allocation's results file
+// (jobs/store/allocation_store.h), the same code alone or under `mpirun -n K`.
+//
+// Each round, rank 0 broadcasts its segments (role, candidate, samples); the pool numbers
+// their samples in segment order and hands them out as it hands out a campaign's, with
+// the same adaptive chunks, commits, clean stop and kill hooks (PoolOptions). Which
+// candidates a round holds is decided by the driver from the samples on disk alone, so the
+// outcome does not depend on the number of ranks, the chunks, or an interruption.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <functional>
+#include <map>
+
+#include "jobs/allocation/allocation.h"
+#include "jobs/pool/campaign_pool.h"
+#include "jobs/store/allocation_store.h"
+
+namespace ringtol::jobs {
+
+struct AllocationProgress {
+  std::int64_t round = 0;      // rounds played so far, this one included
+  std::int64_t simulated = 0;  // candidates settled by simulation so far
+  std::int64_t candidates = 0;
+  PoolProgress samples;        // within this round
+  std::int64_t computed = 0;   // samples computed by this run, all rounds
+  double elapsed = 0.0;        // [s] since the allocation started
+};
+
+struct AllocationRunReport {
+  std::int64_t rounds = 0;    // rounds this run computed samples in
+  std::int64_t computed = 0;  // samples computed by this run
+  std::map<SampleStatus, std::int64_t> status;
+  double wall_time = 0.0;     // [s]
+  double solver_time = 0.0;   // [s] sum of the samples' solve times, all ranks
+  int computing_ranks = 0;
+  int ranks = 0;
+  int stopped = 0;            // nonzero: stopped early at this request (PoolOptions::stop)
+  AllocationOutcome outcome;  // rank 0: as written last to the file
+};
+
+// Runs on every rank of `communicator`; `store` is rank 0's open results file (null on
+// the others). Commits the outcome with the samples, at the end and whenever the pool
+// commits. Throws std::runtime_error for an MPI or HDF5 failure after the start.
+AllocationRunReport RunAllocation(MPI_Comm communicator, const Allocation& allocation, AllocationStore* store,
+                                  const PoolOptions& options,
+                                  const std::function<void(const AllocationProgress&)>& progress);
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,205 @@
+#include "jobs/report/allocation_summary.h"
+
+#include <cmath>
+#include <string_view>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+namespace ringtol::jobs {
+namespace {
+
+// The unit of an output, from its name's suffix (kOutputNames carry it).
+std::string_view UnitOf(std::string_view output) {
+  const std::size_t underscore = output.rfind('_');
+  return underscore == std::string_view::npos ? std::string_view() : output.substr(underscore + 1);
+}
+
+std::string Percent(double fraction) { return fmt::format("{:.2f} %", 100 * fraction); }
+
+std::string Judgement(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& j, double confidence) {
+  if (constraint.kind == analysis::ConstraintKind::kQuantile) {
+    const std::string_view unit = UnitOf(constraint.output);
+    return fmt::format("{:.4g} {}, {:.0f} % interval [{:.4g}, {:.4g}] {}", j.estimate, unit, 100 * confidence,
+                       j.interval.lower, j.interval.upper, unit);
+  }
+  return fmt::format("{}, {:.0f} % interval [{}, {}]", Percent(j.estimate), 100 * confidence, Percent(j.interval.lower),
+                     Percent(j.interval.upper));
+}
+
+std::string MarginText(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& j) {
+  const double margin = Margin(constraint, j);
+  if (constraint.kind == analysis::ConstraintKind::kYield)
+    return fmt::format("{:.2f} points {} the least", 100 * std::abs(margin), margin >= 0 ? "above" : "below");
+  const std::string_view unit = UnitOf(constraint.output);
+  if (unit == "mm")
+    return fmt::format("{:.1f} um {} the limit", 1000 * std::abs(margin), margin >= 0 ? "within" : "beyond");
+  return fmt::format("{:.4g} {} {} the limit", std::abs(margin), unit, margin >= 0 ? "within" : "beyond");
+}
+
+std::string CostText(const AllocationIdentity& identity, const AllocationOutcome& outcome, const CandidateOutcome& c) {
+  std::string text = fmt::format("{:.4g}", c.cost);
+  if (identity.reference) {
+    const bool loosest = *identity.reference == 0;
+    text += fmt::format(": {:.2f} x the {}", c.relative_cost, loosest ? "loosest candidate" : "current design");
+    if (!loosest && !outcome.candidates.empty())
+      text += fmt::format(", {:.2f} x the loosest", c.cost / outcome.candidates.front().cost);
+  }
+  return text;
+}
+
+const char* kIndent = "                  ";
+
+}  // namespace
+
+std::string CandidateClasses(const AllocationIdentity& identity, const CandidateOutcome& candidate) {
+  std::string text;
+  for (std::size_t k = 0; k < identity.components.size() && k < candidate.options.size(); ++k) {
+    const AllocationIdentity::Option& option =
+        identity.options[k][static_cast<std::size_t>(candidate.options[k])];
+    text += fmt::format("{}{} {}", k == 0 ? "" : ", ", identity.components[k], option.class_name);
+    if (identity.components[k] == "rollers") text += fmt::format(" ({})", option.mode);
+  }
+  return text;
+}
+
+std::string ConstraintText(const analysis::Constraint& constraint) {
+  const std::string_view unit = UnitOf(constraint.output);
+  if (constraint.kind == analysis::ConstraintKind::kQuantile)
+    return fmt::format("{}: {:g} % quantile <= {:g} {}", constraint.output, 100 * constraint.level, constraint.upper,
+                       unit);
+  return fmt::format("{}: yield >= {:g} % within {:g} {}", constraint.output, 100 * constraint.level, constraint.upper,
+                     unit);
+}
+
+double Margin(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& judgement) {
+  return constraint.kind == analysis::ConstraintKind::kQuantile ? constraint.upper - judgement.interval.upper
+                                                                : judgement.interval.lower - constraint.level;
+}
+
+void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, const AllocationOutcome& outcome) {
+  const std::int64_t count = static_cast<std::int64_t>(outcome.candidates.size());
+  std::string shape;
+  for (std::size_t k = 0; k < identity.components.size(); ++k)
+    shape += fmt::format("{}{} {}", k == 0 ? "" : " x ", identity.components[k], identity.options[k].size());
+  fmt::print(out, "candidates        {}: {}; search {}\n", count, shape, identity.search);
+  fmt::print(out, "rungs             screen {} (first {} samples), confirm {} ({} to {} samples, doubling)\n",
+             identity.screen, identity.first_samples, identity.solver, identity.first_samples, identity.samples);
+  for (std::size_t j = 0; j < identity.constraints.size(); ++j)
+    fmt::print(out, "{}{}. {}\n", j == 0 ? "constraints       " : kIndent, j + 1, ConstraintText(identity.constraints[j]));
+  fmt::print(out, "{}judged at {:g} % confidence\n\n", kIndent, 100 * identity.confidence);
+
+  if (!outcome.complete) fmt::print(out, "(the search has not finished: what follows is what it knows so far)\n");
+  if (outcome.recommendation) {
+    const CandidateOutcome& r = outcome.candidates[static_cast<std::size_t>(*outcome.recommendation)];
+    fmt::print(out, "recommendation    candidate {}: {}\n", *outcome.recommendation, CandidateClasses(identity, r));
+    fmt::print(out, "cost              {}\n", CostText(identity, outcome, r));
+    for (std::size_t j = 0; j < r.constraints.size(); ++j) {
+      const analysis::Constraint& c = identity.constraints[j];
+      fmt::print(out, "{}{}. {} {}: {}\n", j == 0 ? "margins           " : kIndent, j + 1, c.output,
+                 Judgement(c, r.constraints[j], identity.confidence), MarginText(c, r.constraints[j]));
+    }
+    fmt::print(out, "samples           {} ({})\n", r.samples,
+               r.settled_by ? NameOf(kEvaluationRoleNames, *r.settled_by) : std::string_view("-"));
+    for (std::size_t k = 0; k < outcome.alternatives.size(); ++k) {
+      const CandidateOutcome& a = outcome.candidates[static_cast<std::size_t>(outcome.alternatives[k])];
+      fmt::print(out, "{}{}. candidate {}: {}; cost {}\n", k == 0 ? "alternatives      " : kIndent, k + 1,
+                 outcome.alternatives[k], CandidateClasses(identity, a), CostText(identity, outcome, a));
+    }
+  } else if (outcome.complete) {
+    fmt::print(out, "recommendation    none: no candidate is feasible\n");
+    for (std::size_t k = 0; k < outcome.binding.size(); ++k) {
+      const auto j = static_cast<std::size_t>(outcome.binding[k]);
+      const CandidateOutcome& t = outcome.candidates.back();
+      fmt::print(out, "{}{} binds: even the tightest candidate ({}) reaches {}\n", k == 0 ? "binding           " : kIndent,
+                 ConstraintText(identity.constraints[j]), CandidateClasses(identity, t),
+                 j < t.constraints.size() ? Judgement(identity.constraints[j], t.constraints[j], identity.confidence)
+                                          : std::string("-"));
+    }
+  }
+  if (outcome.undecided_cheaper.empty()) {
+    fmt::print(out, "undecided         none cheaper than the recommendation\n");
+  } else {
+    for (std::size_t k = 0; k < outcome.undecided_cheaper.size(); ++k) {
+      const std::int64_t index = outcome.undecided_cheaper[k];
+      const CandidateOutcome& u = outcome.candidates[static_cast<std::size_t>(index)];
+      std::int64_t needed = 0;
+      for (const analysis::ConstraintJudgement& j : u.constraints)
+        needed = (needed < 0 || j.samples_to_decide < 0) ? -1 : std::max(needed, j.samples_to_decide);
+      fmt::print(out, "{}candidate {}: {}; cost {}: undecided at {} samples, {}\n",
+                 k == 0 ? "undecided         " : kIndent, index, CandidateClasses(identity, u),
+                 CostText(identity, outcome, u), u.samples,
+                 needed < 0 ? std::string("no sample count decides it (its estimate sits on a limit)")
+                            : fmt::format("about {} samples would decide it", needed));
+    }
+  }
+  std::int64_t implied = 0;
+  std::int64_t costlier = 0;
+  for (const CandidateOutcome& c : outcome.candidates) {
+    implied += c.settlement == analysis::Settlement::kImplied ? 1 : 0;
+    costlier += c.settlement == analysis::Settlement::kCostlier ? 1 : 0;
+  }
+  fmt::print(out,
+             "search            simulated {} of {} candidates ({} settled by the screen), {} implied by monotonicity, "
+             "{} left as costlier; {} screen and {} confirm samples\n",
+             outcome.simulated, count, outcome.settled_by_screen, implied, costlier, outcome.samples_screen,
+             outcome.samples_confirm);
+  if (std::isfinite(outcome.common_random_numbers_gain)) {
+    fmt::print(out,
+               "common random     the difference between the recommendation and its nearest looser candidate is "
+               "{:.3g} x less variable than with independent draws\n",
+               outcome.common_random_numbers_gain);
+  }
+}
+
+nlohmann::json AllocationJson(const AllocationIdentity& identity, const AllocationOutcome& outcome) {
+  auto candidate_json = [&](std::int64_t index) {
+    const CandidateOutcome& c = outcome.candidates[static_cast<std::size_t>(index)];
+    nlohmann::json json = {{"candidate", index},
+                           {"classes", CandidateClasses(identity, c)},
+                           {"cost", c.cost},
+                           {"relative_cost", c.relative_cost},
+                           {"verdict", NameOf(analysis::kVerdictNames, c.verdict)},
+                           {"settlement", NameOf(analysis::kSettlementNames, c.settlement)},
+                           {"samples", c.samples}};
+    if (c.settled_by) json["settled_by"] = NameOf(kEvaluationRoleNames, *c.settled_by);
+    nlohmann::json constraints = nlohmann::json::array();
+    for (std::size_t j = 0; j < c.constraints.size(); ++j) {
+      const analysis::ConstraintJudgement& judgement = c.constraints[j];
+      constraints.push_back({{"constraint", ConstraintText(identity.constraints[j])},
+                             {"verdict", NameOf(analysis::kVerdictNames, judgement.verdict)},
+                             {"estimate", judgement.estimate},
+                             {"lower", judgement.interval.lower},
+                             {"upper", judgement.interval.upper},
+                             {"margin", Margin(identity.constraints[j], judgement)},
+                             {"samples_to_decide", judgement.samples_to_decide}});
+    }
+    json["constraints"] = constraints;
+    if (c.yield.trials > 0)
+      json["yield"] = {{"value", c.yield.value}, {"lower", c.yield.interval.lower}, {"upper", c.yield.interval.upper}};
+    return json;
+  };
+  nlohmann::json json;
+  json["candidates"] = outcome.candidates.size();
+  json["complete"] = outcome.complete;
+  json["search"] = identity.search;
+  json["simulated"] = outcome.simulated;
+  json["settled_by_screen"] = outcome.settled_by_screen;
+  json["samples_screen"] = outcome.samples_screen;
+  json["samples_confirm"] = outcome.samples_confirm;
+  if (std::isfinite(outcome.common_random_numbers_gain))
+    json["common_random_numbers_gain"] = outcome.common_random_numbers_gain;
+  json["recommendation"] = outcome.recommendation ? candidate_json(*outcome.recommendation) : nlohmann::json();
+  json["alternatives"] = nlohmann::json::array();
+  for (const std::int64_t a : outcome.alternatives) json["alternatives"].push_back(candidate_json(a));
+  json["undecided_cheaper"] = nlohmann::json::array();
+  for (const std::int64_t u : outcome.undecided_cheaper) json["undecided_cheaper"].push_back(candidate_json(u));
+  json["front"] = nlohmann::json::array();
+  for (const std::int64_t f : outcome.front) json["front"].push_back(candidate_json(f));
+  json["binding"] = nlohmann::json::array();
+  for (const int j : outcome.binding)
+    json["binding"].push_back(ConstraintText(identity.constraints[static_cast<std::size_t>(j)]));
+  return json;
+}
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,28 @@
+// What an allocation found, for the terminal and as JSON: the recommended classes, their
+// cost against the reference, their margin to every limit, the alternatives, what stays
+// undecided, and what the search cost. `ringtol allocate` prints it at the end of a run;
+// the report (jobs/report/allocation_report.h) draws the same numbers.
+#pragma once
+
+#include <ostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "jobs/allocation/allocation_outcome.h"
+
+namespace ringtol::jobs {
+
+// "ring IT7/2, rollers 5 (inspected), roller_positions IT8, springs pm10".
+std::string CandidateClasses(const AllocationIdentity& identity, const CandidateOutcome& candidate);
+// "d_trajectory_mm: 99 % quantile <= 0.05 mm" or "static_offset_mm: yield >= 99.73 % within 0.03 mm".
+std::string ConstraintText(const analysis::Constraint& constraint);
+// How far a judged constraint is from its limit, on the safe side > 0: the limit less the
+// interval's upper end (quantile, in the output's unit), or the interval's lower end less
+// the least yield (yield, as a fraction).
+double Margin(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& judgement);
+
+void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, const AllocationOutcome& outcome);
+nlohmann::json AllocationJson(const AllocationIdentity& identity, const AllocationOutcome& outcome);
+
+}  // namespace ringtol::jobs

@@ -1,0 +1,186 @@
+// `ringtol allocate` as users run it: alone and under mpirun, killed and resumed, given
+// bad input or a spec no candidate meets. Which candidates are simulated, and what each
+// is found to be, must not depend on the number of ranks, the chunks or interruptions.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "jobs/store/allocation_store.h"
+#include "tests/support/mpi_environment.h"
+#include "tests/support/shell.h"
+#include "tests/support/small_allocation.h"
+#include "tests/support/text_files.h"
+
+namespace ringtol::jobs {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+using ::testing::Ne;
+
+using testing::kMpiEnvironment;
+using testing::Mpirun;
+using Outcome = testing::ShellOutcome;
+
+// Six candidates; the ring's class decides the constraint (tests/support/small_allocation.h).
+const std::string kAllocation = testing::SmallAllocation();
+
+std::filesystem::path TestFolder() { return testing::TestFolderPath("allocate_cli_test"); }
+std::filesystem::path Folder() { return testing::FreshTestFolder("allocate_cli_test"); }
+
+std::filesystem::path Write(const std::filesystem::path& file, const std::string& text) {
+  testing::WriteText(file, text);
+  return file;
+}
+
+Outcome Allocate(const std::filesystem::path& file, const std::filesystem::path& out, const std::string& options = "",
+                 const std::string& prefix = "") {
+  std::filesystem::create_directories(TestFolder());
+  return testing::RunShell(kMpiEnvironment + "timeout 300 " + prefix + RINGTOL_EXECUTABLE + " allocate " +
+                               file.string() + " --out " + out.string() + " --quiet " + options,
+                           TestFolder() / "stderr.txt");
+}
+
+bool SameBits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+// Every candidate's outcome and every stored sample of two results files.
+void ExpectSameAllocation(const std::filesystem::path& a, const std::filesystem::path& b) {
+  const AllocationReader x(a);
+  const AllocationReader y(b);
+  const AllocationOutcome p = x.ReadOutcome();
+  const AllocationOutcome q = y.ReadOutcome();
+  ASSERT_TRUE(p.complete);
+  ASSERT_TRUE(q.complete);
+  EXPECT_EQ(p.recommendation, q.recommendation);
+  EXPECT_EQ(p.front, q.front);
+  EXPECT_EQ(p.simulated, q.simulated);
+  ASSERT_EQ(p.candidates.size(), q.candidates.size());
+  const std::int64_t n = x.identity().samples;
+  for (std::size_t c = 0; c < p.candidates.size(); ++c) {
+    EXPECT_EQ(p.candidates[c].verdict, q.candidates[c].verdict) << c;
+    EXPECT_EQ(p.candidates[c].samples, q.candidates[c].samples) << c;
+    EXPECT_EQ(p.candidates[c].settled_by, q.candidates[c].settled_by) << c;
+    for (const EvaluationRole role : {EvaluationRole::kScreen, EvaluationRole::kConfirm}) {
+      const auto index = static_cast<std::int64_t>(c);
+      EXPECT_EQ(x.ReadStatus(role, index, 0, n), y.ReadStatus(role, index, 0, n)) << c;
+      EXPECT_TRUE(SameBits(x.ReadOutput(role, "d_trajectory_mm", index, 0, n),
+                           y.ReadOutput(role, "d_trajectory_mm", index, 0, n)))
+          << c;
+    }
+  }
+}
+
+TEST(Allocate, AloneItRecommendsTheCheapestFeasibleCandidate) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "allocation.toml", kAllocation);
+  const Outcome run = Allocate(file, folder / "a.h5", "--json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(run.out);
+  EXPECT_EQ(summary["candidates"], 6);
+  EXPECT_TRUE(summary["complete"].get<bool>());
+  // Exhaustive: every candidate is simulated, so every one is judged by its own samples.
+  EXPECT_EQ(summary["simulated"], 6);
+  ASSERT_FALSE(summary["recommendation"].is_null()) << run.out;
+  const nlohmann::json& r = summary["recommendation"];
+  EXPECT_EQ(r["verdict"], "feasible");
+  EXPECT_LE(r["constraints"][0]["upper"].get<double>(), 0.1);
+  // No feasible candidate is cheaper.
+  const AllocationOutcome outcome = AllocationReader(folder / "a.h5").ReadOutcome();
+  for (const CandidateOutcome& c : outcome.candidates) {
+    if (c.verdict == analysis::Verdict::kFeasible) {
+      EXPECT_GE(c.cost, r["cost"].get<double>());
+    }
+  }
+
+  const Outcome text = Allocate(file, folder / "b.h5");
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_THAT(text.out, AllOf(HasSubstr("recommendation"), HasSubstr("margins"), HasSubstr("search")));
+}
+
+TEST(Allocate, ReportDrawsTheAllocationFromItsResultsFile) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "allocation.toml", kAllocation);
+  ASSERT_EQ(Allocate(file, folder / "a.h5").exit_code, 0);
+  const Outcome report = testing::RunShell(std::string(RINGTOL_EXECUTABLE) + " report " + (folder / "a.h5").string() +
+                                               " --out " + (folder / "a.html").string() + " --json " +
+                                               (folder / "a.json").string(),
+                                           TestFolder() / "stderr.txt");
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(folder / "a.json"));
+  const AllocationOutcome outcome = AllocationReader(folder / "a.h5").ReadOutcome();
+  ASSERT_TRUE(outcome.recommendation);
+  EXPECT_EQ(json["format"], "ringtol allocation report");
+  EXPECT_THAT(testing::ReadText(folder / "a.html"),
+              AllOf(HasSubstr("Recommended (candidate " + std::to_string(*outcome.recommendation) + ")"),
+                    HasSubstr("Pareto")));
+}
+
+TEST(AllocateUnderMpirun, OneAndTwoRanksAndAKilledThenResumedRunFindTheSame) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "allocation.toml", kAllocation);
+  const Outcome alone = Allocate(file, folder / "alone.h5");
+  ASSERT_EQ(alone.exit_code, 0) << alone.err;
+  const Outcome two = Allocate(file, folder / "two.h5", "--chunk 3", Mpirun(2));
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  ExpectSameAllocation(folder / "alone.h5", folder / "two.h5");
+
+  const Outcome killed = Allocate(file, folder / "killed.h5", "--chunk 2 --commit-seconds 0 --test-kill-after 10");
+  constexpr int kKilledBySigkill = 128 + SIGKILL;
+  ASSERT_EQ(killed.exit_code, kKilledBySigkill) << killed.err;
+  const Outcome resumed = Allocate(file, folder / "killed.h5", "--resume --json");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  ExpectSameAllocation(folder / "alone.h5", folder / "killed.h5");
+}
+
+TEST(AllocateUnderMpirun, BranchAndBoundFindsWhatExhaustiveSearchFinds) {
+  const std::filesystem::path folder = Folder();
+  const auto exhaustive = Write(folder / "exhaustive.toml", kAllocation);
+  const auto pruned = Write(folder / "pruned.toml", testing::ReplaceOnce(kAllocation, "search = \"exhaustive\"",
+                                                                         "search = \"branch_and_bound\""));
+  const Outcome e = Allocate(exhaustive, folder / "e.h5", "--json");
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const Outcome p = Allocate(pruned, folder / "p.h5", "--json", Mpirun(2));
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  const nlohmann::json x = nlohmann::json::parse(e.out);
+  const nlohmann::json y = nlohmann::json::parse(p.out);
+  EXPECT_EQ(x["recommendation"]["candidate"], y["recommendation"]["candidate"]);
+  EXPECT_LE(y["simulated"].get<int>(), x["simulated"].get<int>());
+}
+
+TEST(Allocate, ASpecNoCandidateMeetsSaysSoAndNamesTheBindingConstraint) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "tight.toml", testing::ReplaceOnce(kAllocation, "upper_mm = 0.1", "upper_mm = 0.001"));
+  const Outcome run = Allocate(file, folder / "a.h5");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_THAT(run.out, AllOf(HasSubstr("no candidate is feasible"), HasSubstr("d_trajectory_mm"), HasSubstr("binds")));
+}
+
+TEST(AllocateUnderMpirun, BadInputStopsEveryRankWithOneClearMessageBeforeAnySample) {
+  const std::filesystem::path folder = Folder();
+  const auto unknown_class = Write(
+      folder / "class.toml", testing::ReplaceOnce(kAllocation, "options = [\"Normal\", \"5\"]", "options = [\"Normal\", \"P9\"]"));
+  EXPECT_THAT(Allocate(unknown_class, folder / "r.h5", "", Mpirun(2)),
+              testing::ExitsWith(Ne(0), AllOf(HasSubstr("class.toml"), HasSubstr("P9"))));
+  EXPECT_FALSE(std::filesystem::exists(folder / "r.h5"));
+  const auto no_output = Write(folder / "output.toml",
+                               testing::ReplaceOnce(kAllocation, "output = \"d_trajectory_mm\"", "output = \"wobble_mm\""));
+  EXPECT_THAT(Allocate(no_output, folder / "r.h5"),
+              testing::ExitsWith(Ne(0), AllOf(HasSubstr("output.toml"), HasSubstr("wobble_mm"), HasSubstr("d_trajectory_mm"))));
+  const auto file = Write(folder / "allocation.toml", kAllocation);
+  ASSERT_EQ(Allocate(file, folder / "done.h5").exit_code, 0);
+  EXPECT_THAT(Allocate(file, folder / "done.h5"), testing::ExitsWith(Ne(0), HasSubstr("--resume")));
+}
+
+}  // namespace
+}  // namespace ringtol::jobs
