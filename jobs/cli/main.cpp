@@ -235,6 +235,9 @@ CLI::App* AddBenchAllocate(CLI::App& bench, ringtol::jobs::AllocateCommand& allo
       "the share the screening rung settled; alone or under mpirun");
   AddInputFile(*sub, "file", allocate.file, "Allocation file (TOML)");
   sub->add_flag("--quiet", allocate.quiet, "No progress on stderr");
+  sub->add_option("--progress-seconds", allocate.progress_seconds,
+                  "Seconds between progress lines when stderr is not a terminal")
+      ->capture_default_str();
   AddPoolOptions(*sub, allocate.pool);
   return sub;
 }
