@@ -3,17 +3,21 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string_view>
 
 #include <fmt/format.h>
 
-#include "jobs/inputs/input_error.h"
 #include "jobs/inputs/scene_writer.h"
 
 namespace ringtol::jobs {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// The screening rung's refusal of a path beyond its range: unknown, unlike a failure of
+// the assembly itself, which every rung reports alike (solvers/validity.h).
+constexpr SampleStatus kRefused = static_cast<SampleStatus>(solvers::Status::kBeyondLinearRange);
 // The one output a rung bounds its own error of (SampleRecord::d_trajectory_error).
 constexpr std::string_view kBoundedOutput = "d_trajectory_mm";
 
@@ -93,11 +97,9 @@ const Campaign& Allocation::CandidateCampaign(std::int64_t candidate, Evaluation
   }
   name += ")";
   auto campaign = std::make_unique<Campaign>(std::move(plan), name, calibrations_);
+  // ReadAllocationFile refuses options that would draw other inputs.
   if (!identity_.inputs.empty() && !SameInputs(campaign->identity().inputs, identity_.inputs)) {
-    throw InputError(fmt::format("{}: draws other sampler inputs than the loosest candidate, so the candidates "
-                                 "cannot share common random numbers; give every option the same spectrum orders "
-                                 "and non-zero tolerances",
-                                 name));
+    throw std::logic_error(name + ": draws other sampler inputs than the loosest candidate");
   }
   std::lock_guard lock(mutex_);
   const auto [at, inserted] = campaigns_.emplace(key, std::move(campaign));
@@ -121,8 +123,8 @@ AllocationEvaluator::AllocationEvaluator(const Allocation& allocation) : allocat
 AllocationEvaluator::~AllocationEvaluator() = default;
 
 SampleRecord AllocationEvaluator::Evaluate(EvaluationRole role, std::int64_t candidate, std::int64_t sample) {
-  // A search visits candidates a batch at a time and never returns to a settled one, so
-  // the evaluators of earlier batches only hold memory.
+  // An evaluator lives for one round, whose candidates are one batch; the bound only
+  // matters for batches larger than this, where it trades rebuilding for memory.
   constexpr std::size_t kKeptEvaluators = 64;
   const auto key = std::make_pair(candidate, role);
   auto found = evaluators_.find(key);
@@ -216,6 +218,12 @@ struct AllocationDriver::State {
         for (std::size_t i = 0; i < v.size(); ++i) {
           lower[i] = v[i] - bound[i];
           upper[i] = v[i] + bound[i];
+          // A path the linear rung refuses says nothing of the exact one: anywhere, not
+          // beyond the limit as a failed assembly would be.
+          if (status[i] == kRefused) {
+            lower[i] = -kInfinity;
+            upper[i] = kInfinity;
+          }
         }
       }
       judgements.push_back(analysis::JudgeConstraint(constraint, v, lower, upper, plan.confidence));
@@ -226,7 +234,7 @@ struct AllocationDriver::State {
 
     const bool decided = verdict == analysis::Verdict::kFeasible || verdict == analysis::Verdict::kInfeasible;
     if (decided || (!screen && n >= allocation->samples())) {
-      Settle(p, decided ? verdict : analysis::Verdict::kUndecided, std::move(judgements), values, n);
+      Settle(p, decided ? verdict : analysis::Verdict::kUndecided, std::move(judgements), values, status, n);
       return;
     }
     if (screen) {
@@ -240,7 +248,8 @@ struct AllocationDriver::State {
   }
 
   void Settle(Progress& p, analysis::Verdict verdict, std::vector<analysis::ConstraintJudgement> judgements,
-              const std::map<std::string, std::vector<double>>& values, std::int64_t n) {
+              const std::map<std::string, std::vector<double>>& values, const std::vector<SampleStatus>& status,
+              std::int64_t n) {
     p.settled = true;
     search.Report(p.candidate, verdict);
     CandidateOutcome& outcome = outcomes[static_cast<std::size_t>(p.candidate)];
@@ -248,15 +257,18 @@ struct AllocationDriver::State {
     outcome.samples = n;
     outcome.constraints = std::move(judgements);
     std::int64_t within = 0;
+    std::int64_t trials = 0;
     for (std::int64_t i = 0; i < n; ++i) {
+      if (status[static_cast<std::size_t>(i)] == kRefused) continue;  // unknown, not outside
       bool all = true;
       for (const analysis::Constraint& constraint : allocation->plan().constraints) {
         const double v = values.at(constraint.output)[static_cast<std::size_t>(i)];
         all = all && v <= constraint.upper;  // NaN (failed) is outside
       }
       within += all ? 1 : 0;
+      ++trials;
     }
-    outcome.yield = analysis::EstimateProportion(within, n, allocation->plan().confidence);
+    if (trials > 0) outcome.yield = analysis::EstimateProportion(within, trials, allocation->plan().confidence);
   }
 };
 
@@ -264,6 +276,7 @@ AllocationDriver::AllocationDriver(const Allocation& allocation) : state_(std::m
 AllocationDriver::~AllocationDriver() = default;
 
 bool AllocationDriver::done() const { return state_->done; }
+std::int64_t AllocationDriver::simulated() const { return state_->search.simulated(); }
 std::int64_t AllocationDriver::rounds() const { return state_->rounds; }
 
 std::vector<RoundSegment> AllocationDriver::Advance(const StoredSamples& samples) {
@@ -362,12 +375,16 @@ AllocationOutcome AllocationDriver::Outcome(const StoredSamples& samples) const 
   if (s.done && !outcome.recommendation && s.search.settlement(tightest) == analysis::Settlement::kSimulated) {
     const CandidateOutcome& t = outcome.candidates[static_cast<std::size_t>(tightest)];
     for (std::size_t j = 0; j < t.constraints.size(); ++j) {
-      if (t.constraints[j].verdict != analysis::Verdict::kFeasible) outcome.binding.push_back(static_cast<int>(j));
+      const analysis::Verdict v = t.constraints[j].verdict;
+      if (v == analysis::Verdict::kInfeasible || v == analysis::Verdict::kUndecided)
+        outcome.binding.push_back(static_cast<int>(j));
     }
   }
 
-  // Common random numbers at work: the recommendation against its cheapest neighbour one
-  // option looser, on the samples both have in one role.
+  // Common random numbers at work: the recommendation against its nearest looser
+  // neighbour (one option looser in one component; of those simulated, the costliest, so
+  // the closest in cost), on the first constraint's output over the samples both have in
+  // one role (the confirming rung's where both have two or more).
   outcome.common_random_numbers_gain = kNaN;
   if (outcome.recommendation && !allocation.plan().constraints.empty()) {
     const std::int64_t r = *outcome.recommendation;

@@ -23,7 +23,6 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -117,12 +116,14 @@ class AllocationDriver {
   ~AllocationDriver();
 
   // Plays the search forward over the stored samples, as far as they reach, and returns
-  // what the next round must simulate: its segments, each holding only samples not yet on
-  // record (possibly fewer than a whole stage, after an interruption). Empty when the
-  // search is over. Call it again once those samples are stored.
+  // what the next round must simulate: one segment per unsettled candidate of the batch,
+  // its current stage whole (after an interruption some of its samples may be on record
+  // already: the pool skips those). Empty when the search is over. Call it again once
+  // those samples are stored.
   std::vector<RoundSegment> Advance(const StoredSamples& samples);
 
   bool done() const;
+  std::int64_t simulated() const;  // candidates settled by simulation so far
   // What is known so far (complete once done()).
   AllocationOutcome Outcome(const StoredSamples& samples) const;
   std::int64_t rounds() const;  // rounds played so far

@@ -454,6 +454,15 @@ AllocationPlan ReadAllocationFile(const std::filesystem::path& file, const Store
 
   plan.constraints = in.constraints;
   plan.screen = in.screen;
+  // The linear rung's bound on its own error is validated against the quasistatic rung
+  // (the exact model without inertia); against any other [solver] it proves nothing.
+  if (plan.screen && plan.campaign.solver.rung != solvers::Rung::kQuasistatic) {
+    allocation.Fail("screen",
+                    "screens for [solver] name = \"" +
+                        std::string(NameOf(solvers::kRungNames, plan.campaign.solver.rung)) +
+                        "\", but its error bound is known only against the quasistatic rung",
+                    "\"none\", or [solver] name = \"quasistatic\"");
+  }
   plan.max_exhaustive = in.max_exhaustive;
   plan.search.batch = in.batch;
   plan.confidence = in.confidence;
@@ -461,6 +470,19 @@ AllocationPlan ReadAllocationFile(const std::filesystem::path& file, const Store
   const std::int64_t candidates = CandidateCount(plan.components);
   plan.search.kind = in.search.value_or(candidates <= plan.max_exhaustive ? analysis::SearchKind::kExhaustive
                                                                          : analysis::SearchKind::kBranchAndBound);
+
+  // A stage is a prefix of the design, and its samples must be independent draws for the
+  // intervals: a prefix of a Latin hypercube is no Latin hypercube, and a Saltelli design's
+  // rows re-use each other's coordinates.
+  if (const sampling::DesignKind kind = sampling.design.kind;
+      kind == sampling::DesignKind::kLatinHypercube || kind == sampling::DesignKind::kSaltelli) {
+    const toml::node* design = document.at_path("design.kind").node();
+    FailAt(design != nullptr ? Where(source, design->source()) : source,
+           "design.kind = \"" + std::string(sampling::DesignName(kind)) + "\"",
+           "an allocation simulates each candidate in stages that are prefixes of the design, which must be "
+           "independent draws",
+           "\"sobol\" (one net: every stage a net) or \"monte_carlo\"");
+  }
 
   // An absent first_samples never exceeds a small design: the whole design is then one stage.
   if (allocation.Has("first_samples") && in.first_samples > sampling.samples)

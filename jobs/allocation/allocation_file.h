@@ -3,7 +3,8 @@
 // an [allocation] table saying what may change, what it costs and what must hold.
 // examples/allocation/default.toml is the reference; docs/allocation.md the manual.
 //
-//   [design]                        as a campaign's: samples is the most any candidate gets
+//   [design]                        as a campaign's, kind "sobol" or "monte_carlo" (stages are
+//                                   prefixes of it); samples is the most any candidate gets
 //   [solver]                        as a campaign's: the accurate rung, which confirms
 //   [allocation]
 //     screen = "linear"             "linear" or "none": the cheap rung that may settle a

@@ -65,8 +65,9 @@ nlohmann::json RunJson(const AllocationRunReport& run) {
 }
 
 // Checks, builds and runs the allocation into `command.out`; rank 0 gets the run's report.
-// Returns the exit code of a stop (0 when it ran to the end).
-int Execute(const AllocateCommand& command, std::ostream& progress, AllocationRunReport& run) {
+// Returns the exit code of a stop (0 when it ran to the end), after printing how to resume
+// when `resumable`.
+int Execute(const AllocateCommand& command, std::ostream& progress, AllocationRunReport& run, bool resumable) {
   const MPI_Comm world = MPI_COMM_WORLD;
   int rank = 0;
   int ranks = 1;
@@ -102,6 +103,10 @@ int Execute(const AllocateCommand& command, std::ostream& progress, AllocationRu
   if (rank != 0) return stopped != 0 ? StopSignals::ExitCode(stopped) : 0;
   store.reset();
   if (report_progress && terminal) fmt::print(progress, "\n");
+  if (stopped != 0 && !resumable) {
+    fmt::print(progress, "ringtol: stopped by {}\n", StopSignals::Name(stopped));
+    return StopSignals::ExitCode(stopped);
+  }
   if (stopped != 0) {
     std::vector<std::string> words = command.arguments;
     if (words.empty()) words = {"ringtol", "allocate", command.file.string(), "--out", command.out.string()};
@@ -124,7 +129,7 @@ int Rank() {
 
 int RunAllocate(const AllocateCommand& command, std::ostream& out, std::ostream& progress) {
   AllocationRunReport run;
-  if (const int stopped = Execute(command, progress, run); stopped != 0 || Rank() != 0) return stopped;
+  if (const int stopped = Execute(command, progress, run, true); stopped != 0 || Rank() != 0) return stopped;
   const AllocationReader results(command.out);
   const AllocationOutcome outcome = results.ReadOutcome();
   if (command.json) {
@@ -148,7 +153,7 @@ int RunBenchAllocate(const AllocateCommand& command, std::ostream& out, std::ost
   // Rank 0 alone writes the file; the name only needs to be free there.
   bench.out = std::filesystem::temp_directory_path() / fmt::format("ringtol-bench-allocate-{}.h5", getpid());
   AllocationRunReport run;
-  const int stopped = Execute(bench, progress, run);
+  const int stopped = Execute(bench, progress, run, false);
   if (Rank() != 0) return stopped;
   const AllocationIdentity identity = AllocationReader(bench.out).identity();
   const AllocationOutcome outcome = AllocationReader(bench.out).ReadOutcome();

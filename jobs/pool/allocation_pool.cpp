@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "jobs/inputs/input_error.h"
+
 namespace ringtol::jobs {
 namespace {
 
@@ -134,9 +136,31 @@ std::vector<RoundSegment> Broadcast(MPI_Comm communicator, std::vector<RoundSegm
 
 }  // namespace
 
+namespace {
+
+AllocationRunReport Run(MPI_Comm communicator, const Allocation& allocation, AllocationStore* store,
+                        const PoolOptions& options, const std::function<void(const AllocationProgress&)>& progress);
+
+}  // namespace
+
 AllocationRunReport RunAllocation(MPI_Comm communicator, const Allocation& allocation, AllocationStore* store,
                                   const PoolOptions& options,
                                   const std::function<void(const AllocationProgress&)>& progress) {
+  // Once the ranks work together, any failure is one that must stop them all (the caller
+  // aborts on std::runtime_error): an InputError here (a damaged chunk read back, a
+  // candidate's sampler refused on one rank) would otherwise end one rank and leave the
+  // others waiting for it.
+  try {
+    return Run(communicator, allocation, store, options, progress);
+  } catch (const InputError& e) {
+    throw std::runtime_error(e.what());
+  }
+}
+
+namespace {
+
+AllocationRunReport Run(MPI_Comm communicator, const Allocation& allocation, AllocationStore* store,
+                        const PoolOptions& options, const std::function<void(const AllocationProgress&)>& progress) {
   int rank = 0;
   Check(MPI_Comm_rank(communicator, &rank), "MPI_Comm_rank");
   if (rank == 0 && store == nullptr) throw std::logic_error("RunAllocation: rank 0 needs the results file");
@@ -148,14 +172,17 @@ AllocationRunReport RunAllocation(MPI_Comm communicator, const Allocation& alloc
     driver.emplace(allocation);
     samples.emplace(*store);
   }
-  // The outcome is rewritten at most every commit_seconds between rounds (it scans every
-  // candidate), and always at the end.
+  // The outcome is recomputed at most every commit_seconds between rounds (it scans every
+  // candidate) and always at the end; the pool's commits within a round write it as last
+  // recomputed.
   Clock::time_point outcome_written = start;
   bool first = true;
   for (;;) {
     std::vector<RoundSegment> segments;
     if (rank == 0) {
-      if (report.stopped == 0) segments = driver->Advance(*samples);
+      // Played forward after a stop too, so the outcome holds every stage on disk.
+      segments = driver->Advance(*samples);
+      if (report.stopped != 0) segments.clear();
       const bool last = segments.empty();
       if (first || last ||
           std::chrono::duration<double>(Clock::now() - outcome_written).count() >= options.commit_seconds) {
@@ -174,7 +201,7 @@ AllocationRunReport RunAllocation(MPI_Comm communicator, const Allocation& alloc
     std::function<void(const PoolProgress&)> round_progress;
     if (rank == 0 && progress) {
       round_progress = [&](const PoolProgress& p) {
-        progress({driver->rounds() + 1, report.outcome.simulated, allocation.space().size(), p,
+        progress({driver->rounds() + 1, driver->simulated(), allocation.space().size(), p,
                   report.computed + p.this_run, std::chrono::duration<double>(Clock::now() - start).count()});
       };
     }
@@ -191,5 +218,7 @@ AllocationRunReport RunAllocation(MPI_Comm communicator, const Allocation& alloc
   report.wall_time = std::chrono::duration<double>(Clock::now() - start).count();
   return report;
 }
+
+}  // namespace
 
 }  // namespace ringtol::jobs

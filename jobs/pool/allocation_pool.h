@@ -45,7 +45,9 @@ struct AllocationRunReport {
 
 // Runs on every rank of `communicator`; `store` is rank 0's open results file (null on
 // the others). Commits the outcome with the samples, at the end and whenever the pool
-// commits. Throws std::runtime_error for an MPI or HDF5 failure after the start.
+// commits. Throws std::runtime_error for any failure after the start (MPI, HDF5, a damaged
+// chunk read back), which the caller must treat as fatal to every rank (MPI_Abort).
+// PoolOptions' kill hooks count within one round: a round is one run of the pool.
 AllocationRunReport RunAllocation(MPI_Comm communicator, const Allocation& allocation, AllocationStore* store,
                                   const PoolOptions& options,
                                   const std::function<void(const AllocationProgress&)>& progress);

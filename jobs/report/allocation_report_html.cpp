@@ -35,6 +35,8 @@ std::string ConstraintText(const analysis::Constraint& c) {
 
 // A judged quantity in the constraint's terms: a quantile in the output's unit, a yield in %.
 std::string Estimate(const analysis::Constraint& c, const analysis::ConstraintJudgement& j) {
+  // The screening rung bounds its error in D_trajectory only: it leaves other outputs unjudged.
+  if (j.verdict == analysis::Verdict::kUnknown) return "not judged";
   if (c.kind == analysis::ConstraintKind::kYield) return Percent(j.estimate) + " " + PercentInterval(j.interval);
   return Num(j.estimate) + " " + Interval(j.interval);
 }

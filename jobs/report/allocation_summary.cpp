@@ -18,6 +18,7 @@ std::string_view UnitOf(std::string_view output) {
 std::string Percent(double fraction) { return fmt::format("{:.2f} %", 100 * fraction); }
 
 std::string Judgement(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& j, double confidence) {
+  if (j.verdict == analysis::Verdict::kUnknown) return "not judged (the screen bounds only d_trajectory_mm)";
   if (constraint.kind == analysis::ConstraintKind::kQuantile) {
     const std::string_view unit = UnitOf(constraint.output);
     return fmt::format("{:.4g} {}, {:.0f} % interval [{:.4g}, {:.4g}] {}", j.estimate, unit, 100 * confidence,
@@ -42,7 +43,7 @@ std::string CostText(const AllocationIdentity& identity, const AllocationOutcome
   if (identity.reference) {
     const bool loosest = *identity.reference == 0;
     text += fmt::format(": {:.2f} x the {}", c.relative_cost, loosest ? "loosest candidate" : "current design");
-    if (!loosest && !outcome.candidates.empty())
+    if (!loosest && !outcome.candidates.empty() && outcome.candidates.front().cost > 0)
       text += fmt::format(", {:.2f} x the loosest", c.cost / outcome.candidates.front().cost);
   }
   return text;
@@ -83,8 +84,12 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
   for (std::size_t k = 0; k < identity.components.size(); ++k)
     shape += fmt::format("{}{} {}", k == 0 ? "" : " x ", identity.components[k], identity.options[k].size());
   fmt::print(out, "candidates        {}: {}; search {}\n", count, shape, identity.search);
-  fmt::print(out, "rungs             screen {} (first {} samples), confirm {} ({} to {} samples, doubling)\n",
-             identity.screen, identity.first_samples, identity.solver, identity.first_samples, identity.samples);
+  if (identity.screen != "none")
+    fmt::print(out, "rungs             screen {} (first {} samples), confirm {} ({} to {} samples, doubling)\n",
+               identity.screen, identity.first_samples, identity.solver, identity.first_samples, identity.samples);
+  else
+    fmt::print(out, "rungs             {} ({} to {} samples, doubling)\n", identity.solver, identity.first_samples,
+               identity.samples);
   for (std::size_t j = 0; j < identity.constraints.size(); ++j)
     fmt::print(out, "{}{}. {}\n", j == 0 ? "constraints       " : kIndent, j + 1, ConstraintText(identity.constraints[j]));
   fmt::print(out, "{}judged at {:g} % confidence\n\n", kIndent, 100 * identity.confidence);
@@ -107,7 +112,12 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
                  outcome.alternatives[k], CandidateClasses(identity, a), CostText(identity, outcome, a));
     }
   } else if (outcome.complete) {
-    fmt::print(out, "recommendation    none: no candidate is feasible\n");
+    if (outcome.undecided_cheaper.empty()) {
+      fmt::print(out, "recommendation    none: no candidate is feasible\n");
+    } else {
+      fmt::print(out, "recommendation    none proven feasible: {} candidate{} stayed undecided (below)\n",
+                 outcome.undecided_cheaper.size(), outcome.undecided_cheaper.size() == 1 ? "" : "s");
+    }
     for (std::size_t k = 0; k < outcome.binding.size(); ++k) {
       const auto j = static_cast<std::size_t>(outcome.binding[k]);
       const CandidateOutcome& t = outcome.candidates.back();
@@ -118,7 +128,7 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
     }
   }
   if (outcome.undecided_cheaper.empty()) {
-    fmt::print(out, "undecided         none cheaper than the recommendation\n");
+    fmt::print(out, "undecided         {}\n", outcome.recommendation ? "none cheaper than the recommendation" : "none");
   } else {
     for (std::size_t k = 0; k < outcome.undecided_cheaper.size(); ++k) {
       const std::int64_t index = outcome.undecided_cheaper[k];
@@ -129,7 +139,8 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
       fmt::print(out, "{}candidate {}: {}; cost {}: undecided at {} samples, {}\n",
                  k == 0 ? "undecided         " : kIndent, index, CandidateClasses(identity, u),
                  CostText(identity, outcome, u), u.samples,
-                 needed < 0 ? std::string("no sample count decides it (its estimate sits on a limit)")
+                 needed < 0 ? std::string("no sample count decides it (its estimate sits on a limit, or failed "
+                                          "samples lie beyond the quantile)")
                             : fmt::format("about {} samples would decide it", needed));
     }
   }
@@ -146,8 +157,9 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
              outcome.samples_confirm);
   if (std::isfinite(outcome.common_random_numbers_gain)) {
     fmt::print(out,
-               "common random     the difference between the recommendation and its nearest looser candidate is "
-               "{:.3g} x less variable than with independent draws\n",
+               "common random     the difference of mean {} between the recommendation and its nearest looser "
+               "candidate is {:.3g} x less variable than with independent draws\n",
+               identity.constraints.empty() ? std::string("output") : identity.constraints.front().output,
                outcome.common_random_numbers_gain);
   }
 }

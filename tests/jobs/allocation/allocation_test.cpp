@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+#include <limits>
 #include <map>
 #include <string>
 #include <tuple>
@@ -70,7 +72,8 @@ class MemorySamples final : public StoredSamples {
 // Plays the driver to its end; `budget` >= 0 stops after that many samples (an
 // interruption), leaving the rest of the round undone. Samples of a round are simulated
 // last first, the opposite of the pool's order.
-void Play(const Allocation& allocation, MemorySamples& samples, AllocationDriver& driver, std::int64_t budget = -1) {
+void Play(const Allocation& allocation, MemorySamples& samples, AllocationDriver& driver, std::int64_t budget = -1,
+          const std::function<void(EvaluationRole, SampleRecord&)>& alter = {}) {
   AllocationEvaluator evaluator(allocation);
   std::int64_t spent = 0;
   for (;;) {
@@ -80,7 +83,9 @@ void Play(const Allocation& allocation, MemorySamples& samples, AllocationDriver
       for (std::int64_t i = s->end - 1; i >= s->begin; --i) {
         if (samples.AllDone(s->role, s->candidate, i, i + 1)) continue;
         if (budget >= 0 && spent == budget) return;
-        samples.Add(s->role, s->candidate, evaluator.Evaluate(s->role, s->candidate, i));
+        SampleRecord record = evaluator.Evaluate(s->role, s->candidate, i);
+        if (alter) alter(s->role, record);
+        samples.Add(s->role, s->candidate, record);
         ++spent;
       }
     }
@@ -179,6 +184,30 @@ TEST(AllocationDriver, TheScreenSettlesOnlyWhatItsErrorBoundDecides) {
       EXPECT_GT(j.interval.lower, 0.1) << c;
     }
   }
+}
+
+TEST(AllocationDriver, PathsTheScreenRefusesSettleNothingAndGoToTheAccurateRung) {
+  const Allocation allocation(AllocationFile());
+  MemorySamples samples;
+  AllocationDriver driver(allocation);
+  // Every screened path beyond the linear rung's range: it knows nothing of any candidate.
+  Play(allocation, samples, driver, -1, [](EvaluationRole role, SampleRecord& record) {
+    if (role != EvaluationRole::kScreen) return;
+    record.status = static_cast<SampleStatus>(solvers::Status::kBeyondLinearRange);
+    record.outputs.fill(std::numeric_limits<double>::quiet_NaN());
+    record.d_trajectory_error = std::numeric_limits<double>::quiet_NaN();
+  });
+  const AllocationOutcome outcome = driver.Outcome(samples);
+  EXPECT_EQ(outcome.settled_by_screen, 0);
+  for (std::size_t c = 0; c < outcome.candidates.size(); ++c) {
+    if (outcome.candidates[c].settlement != analysis::Settlement::kSimulated) continue;
+    EXPECT_EQ(outcome.candidates[c].settled_by, EvaluationRole::kConfirm) << c;
+  }
+  // The same answer as when the screen works: the accurate rung decided every candidate.
+  MemorySamples reference_samples;
+  AllocationDriver reference(allocation);
+  Play(allocation, reference_samples, reference);
+  EXPECT_EQ(outcome.recommendation, reference.Outcome(reference_samples).recommendation);
 }
 
 }  // namespace

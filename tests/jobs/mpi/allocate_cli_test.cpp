@@ -7,14 +7,17 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "jobs/store/allocation_store.h"
+#include "tests/support/background_run.h"
 #include "tests/support/mpi_environment.h"
 #include "tests/support/shell.h"
 #include "tests/support/small_allocation.h"
@@ -156,6 +159,60 @@ TEST(AllocateUnderMpirun, BranchAndBoundFindsWhatExhaustiveSearchFinds) {
   const nlohmann::json y = nlohmann::json::parse(p.out);
   EXPECT_EQ(x["recommendation"]["candidate"], y["recommendation"]["candidate"]);
   EXPECT_LE(y["simulated"].get<int>(), x["simulated"].get<int>());
+}
+
+// Samples of every candidate and role on disk.
+std::int64_t SamplesDone(const std::filesystem::path& file) {
+  const AllocationReader results(file);
+  const std::int64_t candidates = static_cast<std::int64_t>(results.ReadOutcome().candidates.size());
+  std::int64_t done = 0;
+  for (std::int64_t c = 0; c < candidates; ++c) {
+    for (const EvaluationRole role : {EvaluationRole::kScreen, EvaluationRole::kConfirm}) {
+      for (const SampleStatus s : results.ReadStatus(role, c, 0, results.identity().samples))
+        done += s != SampleStatus::kPending ? 1 : 0;
+    }
+  }
+  return done;
+}
+
+TEST(Allocate, SigtermKeepsEveryFinishedSampleAndResumeEndsAsAnUninterruptedRun) {
+  const std::filesystem::path folder = Folder();
+  // Four times the samples and ten times the steps of kAllocation's, so that the run lasts
+  // long enough to be stopped in its middle.
+  const auto file = Write(folder / "allocation.toml",
+                          testing::ReplaceOnce(testing::SmallAllocation({"monte_carlo", 256, 64, "exhaustive", "process"}),
+                                               "path_tolerance_um = 2.0", "path_tolerance_um = 0.2"));
+  ASSERT_EQ(Allocate(file, folder / "whole.h5").exit_code, 0);
+  const std::filesystem::path out = folder / "stopped.h5";
+  const testing::Running run =
+      testing::Start(kMpiEnvironment + "exec " + RINGTOL_EXECUTABLE + " allocate " + file.string() + " --out " +
+                         out.string() + " --quiet --commit-seconds 0.05",
+                     TestFolder(), "stopped");
+  // Stopped as soon as samples reach the file, mid-run.
+  ASSERT_TRUE(testing::WaitFor([&] {
+    try {
+      return std::filesystem::exists(out) && SamplesDone(out) > 0;
+    } catch (const std::exception&) {
+      return false;  // caught between the file's creation and its first commit
+    }
+  }));
+  kill(run.pid, SIGTERM);
+  const testing::Ended ended = testing::Wait(run);
+  ASSERT_FALSE(ended.killed) << ended.err;
+  ASSERT_EQ(ended.code, 128 + SIGTERM) << ended.err;
+  // "every sample this run finished (N) is on disk in FILE; continue with:\n  COMMAND"
+  const std::string head = "every sample this run finished (";
+  const std::size_t at = ended.err.find(head);
+  ASSERT_NE(at, std::string::npos) << ended.err;
+  const std::int64_t finished = std::stoll(ended.err.substr(at + head.size()));
+  EXPECT_EQ(SamplesDone(out), finished) << "a sample it finished is missing from the file";
+  const std::size_t line = ended.err.find("continue with:\n  ", at);
+  ASSERT_NE(line, std::string::npos) << ended.err;
+  const std::string resume = ended.err.substr(line + 17, ended.err.find('\n', line + 17) - line - 17);
+  EXPECT_THAT(resume, AllOf(HasSubstr(out.string()), HasSubstr("--resume")));
+  const testing::Ended last = testing::Wait(testing::Start(kMpiEnvironment + "exec " + resume, TestFolder(), "last"));
+  ASSERT_EQ(last.code, 0) << last.err;
+  ExpectSameAllocation(folder / "whole.h5", out);
 }
 
 TEST(Allocate, ASpecNoCandidateMeetsSaysSoAndNamesTheBindingConstraint) {

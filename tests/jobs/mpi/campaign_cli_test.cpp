@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "jobs/store/campaign_store.h"
+#include "tests/support/background_run.h"
 #include "tests/support/mpi_environment.h"
 #include "tests/support/shell.h"
 #include "tests/support/text_files.h"
@@ -309,49 +310,14 @@ std::int64_t Done(const std::filesystem::path& file) {
   }
 }
 
-// A run started in the background, so that a test can signal it while it works.
-struct Running {
-  pid_t pid = -1;  // ringtol's own, or mpirun's when started under it
-  std::filesystem::path out;
-  std::filesystem::path err;
-};
+using testing::Ended;
+using testing::Running;
+using testing::Wait;
+using testing::WaitFor;
 
-// How a background run ended: by itself with an exit code, or killed by a signal.
-struct Ended {
-  bool killed = false;
-  int code = -1;  // exit code, or the signal that killed it
-  std::string out;
-  std::string err;
-};
-
-// `command` (a full command line, e.g. one a stopped run printed) in the background.
+// `command` in the background, its output in the test's folder.
 Running Start(const std::string& command, const std::string& name) {
-  Running run{-1, TestFolder() / (name + ".out"), TestFolder() / (name + ".err")};
-  const std::string line = kMpiEnvironment + "exec " + command + " >" + run.out.string() + " 2>" + run.err.string();
-  run.pid = fork();
-  if (run.pid == 0) {
-    execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return run;
-}
-
-Ended Wait(const Running& run) {
-  int status = 0;
-  waitpid(run.pid, &status, 0);
-  return {WIFSIGNALED(status), WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status),
-          testing::ReadText(run.out), testing::ReadText(run.err)};
-}
-
-// Polls until `ready` or two minutes have passed; false on the latter.
-template <typename Ready>
-bool WaitFor(Ready ready) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
-  while (!ready()) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return true;
+  return testing::Start(kMpiEnvironment + "exec " + command, TestFolder(), name);
 }
 
 // What a run stopped by a signal said on stderr.
