@@ -53,6 +53,7 @@ class Packer {
     bytes_.insert(bytes_.end(), p, p + sizeof(T));
   }
   void Put(const std::vector<double>& values) {
+    if (values.empty()) return;
     const auto* p = reinterpret_cast<const char*>(values.data());
     bytes_.insert(bytes_.end(), p, p + values.size() * sizeof(double));
   }
@@ -79,6 +80,9 @@ class Unpacker {
     return value;
   }
   std::vector<double> GetDoubles(std::size_t count) {
+    // An allocation's records carry no design points: memcpy may not be given the null
+    // data() of an empty vector, even for no bytes.
+    if (count == 0) return {};
     std::vector<double> values(count);
     std::memcpy(values.data(), Take(count * sizeof(double)), count * sizeof(double));
     return values;
