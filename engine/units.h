@@ -12,6 +12,7 @@ inline constexpr double kMetresPerMillimetre = 1e-3;  // mm -> m (and mm/s -> m/
 inline constexpr double kMetresPerMicrometre = 1e-6;  // um -> m
 inline constexpr double kMillimetresPerMetre = 1e3;   // m -> mm
 inline constexpr double kMicrometresPerMetre = 1e6;   // m -> um
+inline constexpr double kMicrometresPerMillimetre = 1e3;  // mm -> um (output files in mm, errors in um)
 inline constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;  // deg -> rad
 inline constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;  // rad -> deg
 

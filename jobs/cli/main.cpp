@@ -174,6 +174,21 @@ CLI::App* AddBenchLadder(CLI::App& bench, ringtol::jobs::BenchLadderCommand& lad
   return sub;
 }
 
+CLI::App* AddBenchCampaign(CLI::App& bench, ringtol::jobs::BenchCampaignCommand& command) {
+  CLI::App* sub = bench.add_subcommand(
+      "campaign", "Samples per second against the largest per-sample error of each solver mode on a campaign's samples");
+  AddInputFile(*sub, "file", command.file, "Campaign file (TOML)");
+  sub->add_option("--samples", command.samples, "Override design.samples")->check(CLI::PositiveNumber);
+  sub->add_option("--threads", command.threads, "Computing threads (default 0: one per core)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  sub->add_flag("!--no-report", command.report, "Do not time `ringtol report` on the campaign mode's results");
+  sub->add_option("--results", command.results, "Keep the campaign mode's results in this new HDF5 file");
+  sub->add_option("--csv", command.csv, "Write one row per mode to this CSV file");
+  sub->add_option("--svg", command.svg, "Write the speed-against-accuracy chart to this SVG file");
+  return sub;
+}
+
 // The pool's options, as campaign and allocate take them.
 void AddPoolOptions(CLI::App& app, ringtol::jobs::PoolOptions& pool) {
   app.add_option("--chunk", pool.chunk_samples, "Samples per chunk handed to a rank (default 0: adaptive)")
@@ -296,6 +311,7 @@ int main(int argc, char** argv) {
   bool classes_toml = false;
   ringtol::jobs::BenchDynamicsCommand dynamics;
   ringtol::jobs::BenchLadderCommand ladder;
+  ringtol::jobs::BenchCampaignCommand bench_campaign;
   ringtol::jobs::CampaignCommand campaign;
   ringtol::jobs::AllocateCommand allocate;
   ringtol::jobs::AllocateCommand bench_allocate;
@@ -313,6 +329,7 @@ int main(int argc, char** argv) {
   const CLI::App* dynamics_app = AddBenchDynamics(*bench_app, dynamics);
   const CLI::App* ladder_app = AddBenchLadder(*bench_app, ladder);
   const CLI::App* bench_allocate_app = AddBenchAllocate(*bench_app, bench_allocate);
+  const CLI::App* bench_campaign_app = AddBenchCampaign(*bench_app, bench_campaign);
   const CLI::App* campaign_app = AddCampaign(app, campaign);
   const CLI::App* allocate_app = AddAllocate(app, allocate);
   const CLI::App* report_app = AddReport(app, report);
@@ -338,6 +355,7 @@ int main(int argc, char** argv) {
     if (*classes_app) return ringtol::jobs::RunClasses(classes_toml, std::cout);
     if (*dynamics_app) return ringtol::jobs::RunBenchDynamics(dynamics, std::cout);
     if (*ladder_app) return ringtol::jobs::RunBenchLadder(ladder, std::cout, std::cerr);
+    if (*bench_campaign_app) return ringtol::jobs::RunBenchCampaign(bench_campaign, std::cout, std::cerr);
     if (*report_app) return ringtol::jobs::RunReport(report, std::cout);
     if (*verify_app) return ringtol::jobs::RunVerify(verify, std::cout);
   } catch (const ringtol::jobs::InputError& e) {
