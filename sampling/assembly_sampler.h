@@ -166,7 +166,7 @@ struct AssemblySamplerOptions {
   CalibrationOptions calibration;
   // How an inspected part's form is judged against its tolerance. false: bounds first
   // (FormWithin: the amplitudes, then a coarse grid), the exact measure only where they
-  // straddle the tolerance, about 1 part in 30. true: MeasureForm on every part. The
+  // straddle the tolerance. true: MeasureForm on every part. The
   // accepted parts, and so every assembly and redraw count, are the same either way; true
   // is the reference the fast path is tested against.
   bool exact_form_inspection = false;

@@ -39,12 +39,9 @@ struct FormTerms {
   // eps. 16 eps (points + 2 top + terms + 1) covers all of these at least twice over, and
   // the few eps of each bound's own arithmetic.
   double round_off = 0.0;
+  std::array<double, 4> sums{};  // sum n^k |a| for k = 0..3 [m]
 
-  double Sum(int power) const {  // sum n^power |a| [m]
-    double sum = 0.0;
-    for (const Term& t : terms) sum += std::pow(static_cast<double>(t.order), power) * t.amplitude;
-    return sum;
-  }
+  double Sum(int power) const { return sums[static_cast<std::size_t>(power)]; }
 };
 
 FormTerms TermsOf(FormMeasure measure, std::span<const engine::Harmonic> harmonics) {
@@ -56,6 +53,13 @@ FormTerms TermsOf(FormMeasure measure, std::span<const engine::Harmonic> harmoni
     if (measure == FormMeasure::kTwoPointVariation && h.order % 2 == 0)
       p.terms.push_back({h.order, 2.0 * h.amplitude, h.phase});
     if (!p.terms.empty()) p.top = std::max(p.top, p.terms.back().order);
+  }
+  for (const Term& t : p.terms) {
+    double weight = t.amplitude;
+    for (double& sum : p.sums) {
+      sum += weight;
+      weight *= t.order;
+    }
   }
   p.points = std::max(64, 8 * p.top);
   p.round_off = 16.0 * kEps * (p.points + 2.0 * p.top + static_cast<double>(p.terms.size()) + 1.0);
