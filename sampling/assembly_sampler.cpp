@@ -59,6 +59,7 @@ struct AssemblySampler::Component {
   double mean = 0.0;                // normal draws: centre of the interval
   double lower = 0.0, upper = 0.0;  // size: accepted interval [m]
   SpectrumShape shape;              // form only
+  std::vector<double> relative_scales;  // form only: RelativeScales(shape)
 };
 
 // The construction's steps, one per kind of tolerance: each validates its tolerance and
@@ -203,6 +204,7 @@ class AssemblySampler::Builder {
                               : CalibrateSpectrum(c.shape, measure, c.tolerance, p, options.calibration);
     }
     c.sigma = scale.calibration.scale;
+    c.relative_scales = RelativeScales(c.shape);
     scales.push_back(std::move(scale));
     calibrated_shapes_.push_back(c.shape);
   }
@@ -366,10 +368,12 @@ SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const dou
             a[k] = w[2 * k];
             v[k] = w[2 * k + 1];
           }
-          harmonics = DrawHarmonics(c.shape, c.sigma, a, v);
+          harmonics = DrawHarmonics(c.shape, c.relative_scales, c.sigma, a, v);
           const FormMeasure measure =
               c.kind == Component::Kind::kRingForm ? FormMeasure::kRoundness : FormMeasure::kTwoPointVariation;
-          if (c.inspected) inside = MeasureForm(measure, harmonics) <= c.tolerance;
+          if (c.inspected)
+            inside = options_.exact_form_inspection ? MeasureForm(measure, harmonics) <= c.tolerance
+                                                    : FormWithin(measure, harmonics, c.tolerance);
           break;
         }
         case Component::Kind::kRollerEccentricity:

@@ -164,6 +164,12 @@ struct AssemblySamplerOptions {
   // 0.1), 200 attempts all failing has probability below 1e-23.
   int max_attempts = 200;
   CalibrationOptions calibration;
+  // How an inspected part's form is judged against its tolerance. false: bounds first
+  // (FormWithin: the amplitudes, then a coarse grid), the exact measure only where they
+  // straddle the tolerance. true: MeasureForm on every part. The
+  // accepted parts, and so every assembly and redraw count, are the same either way; true
+  // is the reference the fast path is tested against.
+  bool exact_form_inspection = false;
   // Shared calibrations (may be null: every sampler calibrates its own).
   std::shared_ptr<CalibrationCache> calibrations;
 };

@@ -20,6 +20,13 @@
 // Both are computed exactly: a grid of 8 points per wavelength of the highest order finds
 // every basin that may hold an extreme (grid values within max|r''| h^2 / 8 of the best),
 // Newton on r' = 0 polishes each.
+//
+// Most draws are far from their tolerance, so deciding "measure <= limit" or finding a
+// calibration's quantile rarely needs that exact value: bounds on it settle most draws
+// (BoundForm, FormWithin, the calibration's selection), and only draws whose bounds
+// straddle the limit or the quantile are measured exactly. The bounds hold for the value
+// MeasureForm computes in floating point, not only for the true peak-to-valley, so every
+// decision and every calibrated scale is the exact measure's, bit for bit.
 #pragma once
 
 #include <cstdint>
@@ -54,10 +61,43 @@ struct SpectrumShape {
 // (phase draws), each of size order_count(), at scale c [m].
 std::vector<engine::Harmonic> DrawHarmonics(const SpectrumShape& shape, double scale, std::span<const double> u,
                                             std::span<const double> v);
+// The same draw with s_n given, relative_scales = RelativeScales(shape): the same bits without
+// a pow per order, for callers that draw one shape many times.
+std::vector<engine::Harmonic> DrawHarmonics(const SpectrumShape& shape, std::span<const double> relative_scales,
+                                            double scale, std::span<const double> u, std::span<const double> v);
+std::vector<double> RelativeScales(const SpectrumShape& shape);  // s_n for n = min..max [-]
 
 // The measure of a profile whose deviations from its mean radius are `harmonics` [m].
 // kRoundness ignores orders <= 1 (the LS circle absorbs them).
 double MeasureForm(FormMeasure measure, std::span<const engine::Harmonic> harmonics);
+
+// lower <= MeasureForm(measure, harmonics) <= upper [m], for the value MeasureForm
+// computes, round-off included (each bound carries a margin of 16 eps (grid points +
+// 2 top + terms + 1) times the amplitudes it sums, at least twice any evaluation's error).
+struct FormBounds {
+  double lower = 0.0;
+  double upper = 0.0;
+};
+
+enum class FormBoundLevel {
+  // From the amplitudes a_t alone, O(orders): upper 2 sum|a_t| (|r| <= sum|a_t|); lower
+  // (pi/2) max|a_t| less the dense grid's curvature margin (an order's coefficient is the
+  // profile's projection on a cosine: |a_n| <= (1/pi) (PV/2) int|cos| = 2 PV / pi).
+  kAmplitudes,
+  // From r, r' and r'' on every fourth point of MeasureForm's grid (2 points per wavelength
+  // of the highest order, at least 16), about a quarter of the exact measure's work: lower
+  // the coarse grid's range (those points are grid points of the exact measure, whose
+  // range it never undercuts); upper the range of r + r' t + r'' t^2 / 2 over each point's
+  // half-spacing |t| <= h/2 plus the Taylor remainder sum n^3 |a_n| (h/2)^3 / 6.
+  kCoarseGrid,
+};
+
+FormBounds BoundForm(FormMeasure measure, std::span<const engine::Harmonic> harmonics, FormBoundLevel level);
+
+// MeasureForm(measure, harmonics) <= limit, the same decision for every profile, with the
+// exact measure taken only where the amplitude and coarse-grid bounds straddle the limit
+// (and, inside it, its dense grid's range already above the limit skips the polish).
+bool FormWithin(FormMeasure measure, std::span<const engine::Harmonic> harmonics, double limit);
 
 struct CalibrationOptions {
   // Monte Carlo draws at unit scale. At least this many, and more when p is close to 1:
@@ -66,6 +106,13 @@ struct CalibrationOptions {
   int max_draws = 1 << 20;
   // Fixed, so that a class means the same scale in every campaign and on every machine.
   std::uint64_t seed = 0x5eed'ca1b;
+  // The quantile and its interval are order statistics of the draws' measures: by default
+  // they are selected by bounds (FormBoundLevel), measuring exactly only the draws whose
+  // bounds reach the ranks' window (453 of 16,384 for the default ring class, 690 for the
+  // default rollers' VDsp, at Cp 1). true measures every draw exactly and
+  // sorts them all: the same calibration bit for bit, several times slower; kept as the
+  // reference the selection is tested against.
+  bool exact_every_draw = false;
 };
 
 struct SpectrumCalibration {

@@ -1,14 +1,18 @@
 // One revolution at 720 steps of the article's assembly with 8 ring harmonics and
 // 3 rollers, per rung and contact law, beside the cost of the enclosing circle; and the
-// dynamic rung's settle + revolution per setting.
+// dynamic rung's settle + revolution per setting; and the default campaign's sampler.
 // Run: build/tests/ringtol_benchmarks --benchmark_repetitions=10 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <vector>
 
 #include "engine/enclosing_circle.h"
+#include "sampling/assembly_sampler.h"
+#include "sampling/design.h"
 #include "solvers/dynamic.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
@@ -106,6 +110,52 @@ void EnclosingCircle(benchmark::State& state) {
   }
 }
 BENCHMARK(EnclosingCircle)->Unit(benchmark::kMicrosecond);
+
+// The default campaign's sampler (examples/campaigns/default.toml: waterjet ring 0.20 mm as
+// made, orders 2..50; Normal rollers at D 6-18 mm inspected, Kea 15 um, VDsp 10 um, mean
+// diameter 0/-8 um; IT7 positions, zone 70 um; springs +-10 %), Realise per sample and the
+// construction with its two calibrations, judging forms by bounds (the default) or by the
+// exact measure on every part and every calibration draw (the reference path).
+sampling::AssemblySampler DefaultCampaignSampler(bool exact) {
+  sampling::AssemblyTolerances t;
+  t.ring = sampling::RingFormTolerance{"waterjet", 200e-6, {}, {}};
+  const sampling::Capability inspected{sampling::ToleranceMode::kInspected, 1.0};
+  const engine::Scene scene = testing::PaperScene();
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    t.roller_shapes.push_back(sampling::RollerShapeTolerance{"Normal", 15e-6, 10e-6, -8e-6, 0.0, {2, 8, 1.0, {}},
+                                                             inspected});
+    t.roller_positions.push_back(sampling::PositionTolerance{"IT7", 70e-6, {}});
+    t.springs.push_back(scene.rollers[i].mount == engine::RollerMount::kSpring
+                            ? std::optional(sampling::SpringTolerance{"pm10", 0.1, 0.1, {}})
+                            : std::nullopt);
+  }
+  sampling::AssemblySamplerOptions options;
+  options.exact_form_inspection = exact;
+  options.calibration.exact_every_draw = exact;
+  return sampling::AssemblySampler(scene, t, options);
+}
+
+void SamplerRealise(benchmark::State& state, bool exact) {
+  const sampling::AssemblySampler sampler = DefaultCampaignSampler(exact);
+  sampling::DesignOptions options;
+  options.kind = sampling::DesignKind::kSobol;
+  sampling::Design design(sampler.dimension(), options);
+  std::int64_t index = 0, redraws = 0;
+  for (auto _ : state) {
+    const sampling::SampledAssembly a = sampler.Sample(design, index++ % 2048);
+    redraws += a.redraws;
+    benchmark::DoNotOptimize(a.scene.ring.inner.radius());
+  }
+  state.counters["redraws_per_sample"] = static_cast<double>(redraws) / static_cast<double>(index);
+}
+BENCHMARK_CAPTURE(SamplerRealise, bounded, false)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(SamplerRealise, exact, true)->Unit(benchmark::kMicrosecond);
+
+void SamplerConstruction(benchmark::State& state, bool exact) {
+  for (auto _ : state) benchmark::DoNotOptimize(DefaultCampaignSampler(exact).dimension());
+}
+BENCHMARK_CAPTURE(SamplerConstruction, bounded, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(SamplerConstruction, exact, true)->Unit(benchmark::kMillisecond);
 
 // The dynamic rung at its speed target: the article's scene with an order-2
 // ring error (0.14 mm at 45 deg), the article's law (settle 0.5 s, then 270 deg/s), and

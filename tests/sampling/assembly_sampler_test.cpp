@@ -146,6 +146,44 @@ TEST(AssemblySampler, InspectedPartsAllMeetTheirTolerances) {
   EXPECT_GT(redraws, 0);
 }
 
+TEST(AssemblySampler, BoundedInspectionDrawsTheAssembliesOfTheExactMeasure) {
+  // The catalogue's loosest and tightest classes, every part inspected: ring ISO2768-L (RONt
+  // 0.5 mm) and IT5/2 at 250-315 mm (11.5 um), rollers Normal and 2 at D 6-18 mm (Kea 15 and
+  // 1.5 um, VDsp 10 and 2.5 um, mean diameter -8 and -2.5 um), with their default spectra. At
+  // Cp 0.3 a third of the rings and rollers are redrawn, at Cp 1 a few: judged by bounds or by
+  // the exact measure, the same parts must pass, so every assembly, value and redraw count is
+  // the same bits.
+  struct Classes {
+    double ring, kea, vdsp, mean_lower;
+  };
+  int redraws = 0;
+  for (const Classes& c : {Classes{500 * kUm, 15 * kUm, 10 * kUm, -8 * kUm},
+                           Classes{11.5 * kUm, 1.5 * kUm, 2.5 * kUm, -2.5 * kUm}}) {
+    for (const double cp : {0.3, 1.0}) {
+      const Capability inspected{ToleranceMode::kInspected, cp};
+      AssemblyTolerances t;
+      t.ring = RingFormTolerance{"", c.ring, {}, inspected};
+      t.roller_shapes.assign(
+          3, RollerShapeTolerance{"", c.kea, c.vdsp, c.mean_lower, 0.0, {2, 8, 1.0, {}}, inspected});
+      AssemblySamplerOptions exact = Fast();
+      exact.exact_form_inspection = true;
+      const AssemblySampler bounded_sampler(testing::PaperScene(), t, Fast());
+      const AssemblySampler exact_sampler(testing::PaperScene(), t, exact);
+      Design design(bounded_sampler.dimension(), {});
+      for (int i = 0; i < 300; ++i) {
+        const SampledAssembly a = bounded_sampler.Sample(design, i);
+        const SampledAssembly b = exact_sampler.Sample(design, i);
+        ASSERT_EQ(a.redraws, b.redraws) << i;
+        ASSERT_EQ(a.u, b.u) << i;
+        ASSERT_EQ(a.values, b.values) << i;
+        ASSERT_EQ(a.scene, b.scene) << i;
+        redraws += a.redraws;
+      }
+    }
+  }
+  EXPECT_GT(redraws, 300);  // the limits were crossed often, not only in principle
+}
+
 TEST(AssemblySampler, ProcessPartsMeetTheirToleranceAtTheStatedCoverage) {
   // Positions are exact Rayleigh draws: P(2|offset| <= zone) = erf(3 Cp / sqrt 2). With
   // Cp = 0.5 that is 86.6 %; binomial z-test over 3 x 4000 offsets at significance 1e-3.
