@@ -996,13 +996,14 @@ bool SameStorage(const Where& where, hid_t from, hid_t to, const std::string& pa
   const PlistId b(Check(H5Dget_create_plist(to), where, "reading the layout of", path));
   const int filters = H5Pget_nfilters(a.get());
   if (filters < 0 || filters != H5Pget_nfilters(b.get())) return false;
-  for (int k = 0; k < filters; ++k) {
+  const auto filter = [](const PlistId& dcpl, int k) {
     unsigned flags = 0;
-    std::size_t elements = 0;
-    if (H5Pget_filter2(a.get(), static_cast<unsigned>(k), &flags, &elements, nullptr, 0, nullptr, nullptr) !=
-        H5Pget_filter2(b.get(), static_cast<unsigned>(k), &flags, &elements, nullptr, 0, nullptr, nullptr)) {
-      return false;
-    }
+    std::size_t values = 0;  // asks for none of its parameters: HDF5 then needs no array
+    return H5Pget_filter2(dcpl.get(), static_cast<unsigned>(k), &flags, &values, nullptr, 0, nullptr, nullptr);
+  };
+  for (int k = 0; k < filters; ++k) {
+    const H5Z_filter_t id = filter(a, k);
+    if (id < 0 || id != filter(b, k)) return false;
   }
   hsize_t x[2] = {0, 0};
   hsize_t y[2] = {0, 0};
