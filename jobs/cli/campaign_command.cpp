@@ -61,8 +61,11 @@ void PrintShards(std::ostream& out, const PoolReport& run, const CampaignStore::
              static_cast<double>(joined.bytes) / 1e6, join_time);
 }
 
-nlohmann::json RunJson(const PoolReport& run, const CampaignStore::Absorbed& joined, double join_time) {
+nlohmann::json RunJson(const PoolReport& run, const CampaignStore::Absorbed& joined, double join_time,
+                       double join_cpu_time) {
   return {{"computed", run.computed},
+          {"coordinator_cpu_time_s", run.coordinator_cpu_time},
+          {"shard_join_cpu_time_s", join_cpu_time},
           {"coordinator_messages", run.coordinator_messages},
           {"coordinator_bytes", run.coordinator_bytes},
           {"shard_samples_joined", joined.samples},
@@ -214,6 +217,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   if (rank != 0) return signals->received() != 0 ? StopSignals::ExitCode(signals->received()) : 0;
   CampaignStore::Absorbed joined;
   const auto join_start = std::chrono::steady_clock::now();
+  const double join_cpu_start = ThreadCpuSeconds();
   for (const std::filesystem::path& path : FindShards(command.out)) {
     const CampaignStore::Absorbed one = store->Absorb(path);
     joined.samples += one.samples;
@@ -221,6 +225,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
     joined.bytes += one.bytes;
   }
   const double join_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - join_start).count();
+  const double join_cpu_time = ThreadCpuSeconds() - join_cpu_start;
   store.reset();  // closes the file: the summary reads what is on disk
   if (stopped != 0) {
     const std::int64_t on_disk = SamplesOnDisk(command.out);
@@ -239,7 +244,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
       Summarise(results, [&campaign = *campaign](std::int64_t index) { return campaign.IndependentDraw(index); });
   if (command.json) {
     nlohmann::json json = SummaryJson(summary);
-    json["run"] = RunJson(run, joined, join_time);
+    json["run"] = RunJson(run, joined, join_time, join_cpu_time);
     out << json.dump(2) << "\n";
   } else {
     fmt::print(out, "campaign          {}\n", command.file.string());

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <csignal>
+#include <ctime>
 #include <cstring>
 #include <exception>
 #include <memory>
@@ -378,13 +379,20 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
       if (!index) break;
       chunk.push_back(*index);
     }
-    // Up to the end of the stored chunk it reached, when it spans one: a chunk the end of
-    // the run shrinks below that does not wait for it.
+    // Up to the end of the stored chunk it reached, when that takes at most kAlignGrowth
+    // times its size (a chunk of slow samples is not stretched far past chunk_seconds) and
+    // stays within its share of what remains (the end of the run does not wait for it).
     const std::int64_t align = options.align_samples;
-    if (options.chunk_samples <= 0 && align > 0 && static_cast<std::int64_t>(chunk.size()) >= align) {
-      for (std::optional<std::int64_t> next = cursor.Peek();
-           report.stopped == 0 && next && *next / align == chunk.back() / align; next = cursor.Peek()) {
-        chunk.push_back(*cursor.Next());
+    if (options.chunk_samples <= 0 && align > 0 && !chunk.empty()) {
+      constexpr std::int64_t kAlignGrowth = 4;
+      const std::int64_t block_end = (chunk.back() / align + 1) * align;
+      const std::int64_t most = std::max(size, unassigned / (2 * report.computing_ranks));
+      if (block_end - chunk.back() - 1 <= kAlignGrowth * size) {
+        for (std::optional<std::int64_t> next = cursor.Peek();
+             report.stopped == 0 && next && *next < block_end && static_cast<std::int64_t>(chunk.size()) < most;
+             next = cursor.Peek()) {
+          chunk.push_back(*cursor.Next());
+        }
       }
     }
     unassigned -= static_cast<std::int64_t>(chunk.size());
@@ -431,6 +439,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
   tell();
   for (;;) {
     const Clock::time_point round = Clock::now();
+    const double round_cpu = ThreadCpuSeconds();
     bool arrived = false;
     stop(StopRequest(options));
     for (;;) {
@@ -488,6 +497,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
     }
     if (arrived) {
       report.coordinator_time += Seconds(Clock::now() - round);
+      report.coordinator_cpu_time += ThreadCpuSeconds() - round_cpu;
       tell();
     } else {
       std::this_thread::sleep_for(kIdlePoll);
@@ -495,14 +505,22 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
   }
   locals.clear();
   const Clock::time_point last = Clock::now();
+  const double last_cpu = ThreadCpuSeconds();
   commit();
   report.coordinator_time += Seconds(Clock::now() - last);
+  report.coordinator_cpu_time += ThreadCpuSeconds() - last_cpu;
   report.wall_time = Seconds(Clock::now() - start);
   tell();
   return report;
 }
 
 }  // namespace
+
+double ThreadCpuSeconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
 
 PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* results, const PoolOptions& options,
                    const std::function<void(const PoolProgress&)>& progress) {

@@ -48,9 +48,10 @@ namespace ringtol::jobs {
 
 struct PoolOptions {
   std::int64_t chunk_samples = 0;  // > 0: samples per chunk, fixed; 0: adaptive
-  // > 0: an adaptive chunk of at least this many samples ends where a block of this many
-  // (the results file's chunk rows) ends, so that each stored chunk is written by one rank
-  // and shards join by copying whole chunks; 0: chunks end anywhere.
+  // > 0: an adaptive chunk is extended to the end of the block of this many samples (the
+  // results file's chunk rows) it reached, when that at most quintuples it and stays within
+  // its share of what remains, so that each stored chunk is written by one rank and shards
+  // join by copying whole chunks; 0: chunks end anywhere.
   std::int64_t align_samples = 0;
   double chunk_seconds = 0.5;      // [s] > 0: adaptive chunks' target wall time
   double commit_seconds = 2.0;     // [s] > 0: results reach the file at least this often
@@ -97,6 +98,9 @@ struct PoolReport {
   // shards about 2 per chunk and 17 bytes per sample; without, every record's bytes.
   std::int64_t coordinator_messages = 0;
   std::int64_t coordinator_bytes = 0;
+  // [s] the CPU time of coordinator_time: what handling costs, without the waits for a core
+  // that an oversubscribed or busy machine adds to it.
+  double coordinator_cpu_time = 0.0;
   int computing_ranks = 0;                      // worker ranks plus rank 0's computing threads
   int ranks = 0;
   // Nonzero: the pool stopped early at this request (PoolOptions::stop of rank 0, or of
@@ -139,6 +143,9 @@ class PoolResults {
 // what `results` throws, after the start.
 PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* results, const PoolOptions& options,
                    const std::function<void(const PoolProgress&)>& progress);
+
+// [s] CPU time of the calling thread (CLOCK_THREAD_CPUTIME_ID).
+double ThreadCpuSeconds();
 
 // A campaign's pending samples into its results file (`store`: rank 0's; on a worker rank
 // its shard, or null).
