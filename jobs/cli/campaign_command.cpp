@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -47,8 +48,30 @@ void PrintRun(std::ostream& out, const PoolReport& run) {
   }
 }
 
-nlohmann::json RunJson(const PoolReport& run) {
+// What the shards cost rank 0: the messages it exchanged with worker ranks, and joining
+// the shards into the results file.
+void PrintShards(std::ostream& out, const PoolReport& run, const CampaignStore::Absorbed& joined, double join_time) {
+  if (run.ranks < 2 || run.computed == 0) return;
+  const auto per_sample = [&](double x) { return x / static_cast<double>(run.computed); };
+  fmt::print(out,
+             "coordinator       {:.3f} messages ({:.0f} bytes) per sample with the workers; joining their shards: "
+             "{} samples ({} in whole chunks, {:.1f} MB) in {:.2f} s\n",
+             per_sample(static_cast<double>(run.coordinator_messages)),
+             per_sample(static_cast<double>(run.coordinator_bytes)), joined.samples, joined.chunk_samples,
+             static_cast<double>(joined.bytes) / 1e6, join_time);
+}
+
+nlohmann::json RunJson(const PoolReport& run, const CampaignStore::Absorbed& joined, double join_time,
+                       double join_cpu_time) {
   return {{"computed", run.computed},
+          {"coordinator_cpu_time_s", run.coordinator_cpu_time},
+          {"shard_join_cpu_time_s", join_cpu_time},
+          {"coordinator_messages", run.coordinator_messages},
+          {"coordinator_bytes", run.coordinator_bytes},
+          {"shard_samples_joined", joined.samples},
+          {"shard_chunk_samples_joined", joined.chunk_samples},
+          {"shard_bytes_joined", joined.bytes},
+          {"shard_join_time_s", join_time},
           {"already_done", run.already_done},
           {"wall_time_s", run.wall_time},
           {"samples_per_s", SamplesPerSecond(run)},
@@ -152,9 +175,33 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   std::string error;
   if (rank == 0) {
     error = Attempt([&] {
+      const std::vector<std::filesystem::path> shards = FindShards(command.out);
+      if (!command.resume && !shards.empty()) {
+        throw InputError(fmt::format("{}: shards of an earlier run of it exist ({}); pass --resume to continue that "
+                                     "run, or remove them to start a new one",
+                                     command.out.string(), shards.front().string()));
+      }
       store = std::make_unique<CampaignStore>(
           command.resume ? CampaignStore::Resume(command.out, campaign->identity(), campaign->samples())
                          : CampaignStore::Create(command.out, campaign->identity(), campaign->samples()));
+      // What a run killed before joining its shards left in them.
+      for (const std::filesystem::path& shard : shards) store->Absorb(shard);
+    });
+  }
+  ThrowAgreed(world, error);
+
+  // Worker ranks file what they compute in shards of their own, chunked as the results
+  // file is, so that rank 0 joins them by copying whole chunks.
+  std::int64_t chunk_rows = rank == 0 ? store->chunk_rows() : 0;
+  MPI_Bcast(&chunk_rows, 1, MPI_INT64_T, 0, world);
+  pool.align_samples = chunk_rows;
+  std::unique_ptr<CampaignStore> shard;
+  if (rank != 0) {
+    error = Attempt([&] {
+      CampaignStoreOptions options;
+      options.chunk_samples = chunk_rows;
+      shard = std::make_unique<CampaignStore>(
+          CampaignStore::Create(ShardPath(command.out, rank), campaign->identity(), campaign->samples(), options));
     });
   }
   ThrowAgreed(world, error);
@@ -163,9 +210,22 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   if (rank == 0 && !command.quiet) {
     report_progress = ProgressPrinter(progress, isatty(STDERR_FILENO) == 1, command.progress_seconds);
   }
-  const PoolReport run = RunPool(world, *campaign, store.get(), pool, report_progress);
+  const PoolReport run = RunPool(world, *campaign, rank == 0 ? store.get() : shard.get(), pool, report_progress);
+  shard.reset();  // committed and closed before rank 0 joins it
+  MPI_Barrier(world);
   const int stopped = run.stopped != 0 ? run.stopped : signals->received();
   if (rank != 0) return signals->received() != 0 ? StopSignals::ExitCode(signals->received()) : 0;
+  CampaignStore::Absorbed joined;
+  const auto join_start = std::chrono::steady_clock::now();
+  const double join_cpu_start = ThreadCpuSeconds();
+  for (const std::filesystem::path& path : FindShards(command.out)) {
+    const CampaignStore::Absorbed one = store->Absorb(path);
+    joined.samples += one.samples;
+    joined.chunk_samples += one.chunk_samples;
+    joined.bytes += one.bytes;
+  }
+  const double join_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - join_start).count();
+  const double join_cpu_time = ThreadCpuSeconds() - join_cpu_start;
   store.reset();  // closes the file: the summary reads what is on disk
   if (stopped != 0) {
     const std::int64_t on_disk = SamplesOnDisk(command.out);
@@ -184,7 +244,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
       Summarise(results, [&campaign = *campaign](std::int64_t index) { return campaign.IndependentDraw(index); });
   if (command.json) {
     nlohmann::json json = SummaryJson(summary);
-    json["run"] = RunJson(run);
+    json["run"] = RunJson(run, joined, join_time, join_cpu_time);
     out << json.dump(2) << "\n";
   } else {
     fmt::print(out, "campaign          {}\n", command.file.string());
@@ -193,6 +253,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
                campaign->identity().seed, campaign->identity().inputs.size(), campaign->identity().solver);
     PrintSummary(out, summary);
     PrintRun(out, run);
+    PrintShards(out, run, joined, join_time);
   }
   return 0;
 }

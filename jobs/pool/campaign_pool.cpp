@@ -6,6 +6,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <csignal>
+#include <ctime>
 #include <cstring>
 #include <exception>
 #include <memory>
@@ -26,6 +27,9 @@ constexpr int kTagWork = 2;     // rank 0 -> worker: int64 sample indices; empty
 // worker -> rank 0: the stop request's int32 value, then the packed records finished
 // before the worker saw it; also its last request
 constexpr int kTagStopping = 3;
+// The first byte of a results message: what follows.
+constexpr char kRecords = 0;    // packed records, for rank 0 to file
+constexpr char kSummaries = 1;  // summaries of records the worker filed in its shard
 constexpr std::int64_t kPendingBlock = std::int64_t{1} << 16;  // indices read from the file at a time
 // Rank 0's main thread sleeps this long when nothing arrived, instead of spinning on a
 // core a worker could use; it is far below any chunk's duration.
@@ -116,6 +120,21 @@ void Pack(const SampleRecord& r, Packer& out) {
   out.Put(r.message);
 }
 
+// What rank 0 counts of a record that a worker filed in its shard.
+void PackSummary(const SampleRecord& r, Packer& out) {
+  out.Put(r.index);
+  out.Put(r.status);
+  out.Put(r.solve_time);
+}
+
+SampleRecord UnpackSummary(Unpacker& in) {
+  SampleRecord r;
+  r.index = in.Get<std::int64_t>();
+  r.status = in.Get<SampleStatus>();
+  r.solve_time = in.Get<double>();
+  return r;
+}
+
 SampleRecord Unpack(Unpacker& in, std::size_t dimension) {
   SampleRecord r;
   r.index = in.Get<std::int64_t>();
@@ -162,7 +181,7 @@ class CampaignResults final : public PoolResults {
 // 0 while the pool goes on; the stop request's value once there is one.
 int StopRequest(const PoolOptions& options) { return options.stop ? options.stop() : 0; }
 
-void RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, const PoolOptions& options) {
+void RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolResults* shard, const PoolOptions& options) {
   const PoolWork::Evaluator evaluate = work.MakeEvaluator();
   Packer results;  // empty: the first request
   int tag = kTagResults;
@@ -178,6 +197,7 @@ void RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, const Pool
     Check(MPI_Recv(chunk.data(), count, MPI_INT64_T, 0, kTagWork, communicator, MPI_STATUS_IGNORE), "MPI_Recv");
     if (chunk.empty()) return;
     results.Clear();
+    results.Put(shard != nullptr ? kSummaries : kRecords);
     for (const std::int64_t index : chunk) {
       if (const int stop = StopRequest(options); stop != 0) {
         // Rebuilt with the request in front of the records finished so far; the rest of
@@ -189,9 +209,17 @@ void RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, const Pool
         tag = kTagStopping;
         break;
       }
-      Pack(evaluate(index), results);
+      SampleRecord record = evaluate(index);
+      if (shard == nullptr) {
+        Pack(record, results);
+      } else {
+        PackSummary(record, results);
+        shard->Add(std::move(record));
+      }
     }
     if (first && rank == options.kill_rank) std::raise(SIGKILL);
+    // On disk before rank 0 counts them: a kill after this loses none of them.
+    if (shard != nullptr) shard->Commit();
   }
 }
 
@@ -199,7 +227,7 @@ void RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, const Pool
 class PendingCursor {
  public:
   explicit PendingCursor(const PoolResults& store) : store_(store) {}
-  std::optional<std::int64_t> Next() {
+  std::optional<std::int64_t> Peek() {
     while (at_ == block_.size()) {
       if (begin_ >= store_.items()) return std::nullopt;
       const std::int64_t end = std::min(store_.items(), begin_ + kPendingBlock);
@@ -207,7 +235,12 @@ class PendingCursor {
       at_ = 0;
       begin_ = end;
     }
-    return block_[at_++];
+    return block_[at_];
+  }
+  std::optional<std::int64_t> Next() {
+    const std::optional<std::int64_t> index = Peek();
+    if (index) ++at_;
+    return index;
   }
 
  private:
@@ -346,6 +379,22 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
       if (!index) break;
       chunk.push_back(*index);
     }
+    // Up to the end of the stored chunk it reached, when that takes at most kAlignGrowth
+    // times its size (a chunk of slow samples is not stretched far past chunk_seconds) and
+    // stays within its share of what remains (the end of the run does not wait for it).
+    const std::int64_t align = options.align_samples;
+    if (options.chunk_samples <= 0 && align > 0 && !chunk.empty()) {
+      constexpr std::int64_t kAlignGrowth = 4;
+      const std::int64_t block_end = (chunk.back() / align + 1) * align;
+      const std::int64_t most = std::max(size, unassigned / (2 * report.computing_ranks));
+      if (block_end - chunk.back() - 1 <= kAlignGrowth * size) {
+        for (std::optional<std::int64_t> next = cursor.Peek();
+             report.stopped == 0 && next && *next < block_end && static_cast<std::int64_t>(chunk.size()) < most;
+             next = cursor.Peek()) {
+          chunk.push_back(*cursor.Next());
+        }
+      }
+    }
     unassigned -= static_cast<std::int64_t>(chunk.size());
     return chunk;
   };
@@ -362,13 +411,14 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
     if (options.kill_after_committed >= 0 && committed >= options.kill_after_committed) std::raise(SIGKILL);
   };
   std::int64_t failed = 0;
-  auto absorb = [&](SampleRecord record) {
+  // `filed`: in a worker's shard already, so only counted here.
+  auto absorb = [&](SampleRecord record, bool filed) {
     ++report.computed;
     report.solver_time += record.solve_time;
     mean_time += (record.solve_time - mean_time) / static_cast<double>(report.computed);
     ++report.status[record.status];
     if (record.status != SampleStatus::kOk) ++failed;
-    store.Add(std::move(record));
+    if (!filed) store.Add(std::move(record));
   };
   auto tell = [&] {
     if (progress) progress({report.already_done + report.computed, store.items(), report.computed, failed,
@@ -389,6 +439,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
   tell();
   for (;;) {
     const Clock::time_point round = Clock::now();
+    const double round_cpu = ThreadCpuSeconds();
     bool arrived = false;
     stop(StopRequest(options));
     for (;;) {
@@ -410,13 +461,18 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
                      communicator),
             "MPI_Send");
       if (chunk.empty()) --active_workers;
-      while (!in.done()) absorb(Unpack(in, dimension));
+      report.coordinator_messages += 2;
+      report.coordinator_bytes += bytes + static_cast<std::int64_t>(chunk.size() * sizeof(std::int64_t));
+      if (!in.done()) {
+        const bool filed = in.Get<char>() == kSummaries;
+        while (!in.done()) absorb(filed ? UnpackSummary(in) : Unpack(in, dimension), filed);
+      }
       arrived = true;
     }
     bool locals_finished = true;
     for (const std::unique_ptr<LocalWorker>& local : locals) {
       for (SampleRecord& record : local->Collect()) {
-        absorb(std::move(record));
+        absorb(std::move(record), false);
         arrived = true;
       }
       if (local->WantsWork()) {
@@ -431,7 +487,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
     }
     if (active_workers == 0 && locals_finished) {
       for (const std::unique_ptr<LocalWorker>& local : locals) {
-        for (SampleRecord& record : local->Collect()) absorb(std::move(record));
+        for (SampleRecord& record : local->Collect()) absorb(std::move(record), false);
       }
       break;
     }
@@ -441,6 +497,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
     }
     if (arrived) {
       report.coordinator_time += Seconds(Clock::now() - round);
+      report.coordinator_cpu_time += ThreadCpuSeconds() - round_cpu;
       tell();
     } else {
       std::this_thread::sleep_for(kIdlePoll);
@@ -448,14 +505,22 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
   }
   locals.clear();
   const Clock::time_point last = Clock::now();
+  const double last_cpu = ThreadCpuSeconds();
   commit();
   report.coordinator_time += Seconds(Clock::now() - last);
+  report.coordinator_cpu_time += ThreadCpuSeconds() - last_cpu;
   report.wall_time = Seconds(Clock::now() - start);
   tell();
   return report;
 }
 
 }  // namespace
+
+double ThreadCpuSeconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
 
 PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* results, const PoolOptions& options,
                    const std::function<void(const PoolProgress&)>& progress) {
@@ -464,7 +529,7 @@ PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* res
   Check(MPI_Comm_rank(communicator, &rank), "MPI_Comm_rank");
   Check(MPI_Comm_size(communicator, &ranks), "MPI_Comm_size");
   if (rank != 0) {
-    RunWorker(communicator, rank, work, options);
+    RunWorker(communicator, rank, work, results, options);
     return {};
   }
   if (results == nullptr) throw std::logic_error("RunPool: rank 0 needs the results file");

@@ -4,7 +4,11 @@
 //
 // Protocol: every worker asks rank 0 for work and gets a chunk of sample indices; it
 // sends back the chunk's records (jobs/campaign/sample_record.h, packed), which is also its next
-// request; an empty chunk tells it to stop. Rank 0 hands out pending indices in
+// request; an empty chunk tells it to stop. A worker given a shard (a results file of its
+// own, jobs/store/campaign_store.h) files its records there instead, commits them at the end
+// of each chunk, and sends only their summaries (index, status, solve time: 17 bytes a
+// sample), so that results never travel through rank 0 and what rank 0 does per sample is
+// bookkeeping: two small messages per chunk. Rank 0 hands out pending indices in
 // ascending order, taken from the file a block at a time, so nothing it holds grows with
 // the campaign: the records between two commits, one block of pending indices, and one
 // outstanding chunk per worker. With `coordinator_computes` threads of rank 0 compute too,
@@ -44,6 +48,11 @@ namespace ringtol::jobs {
 
 struct PoolOptions {
   std::int64_t chunk_samples = 0;  // > 0: samples per chunk, fixed; 0: adaptive
+  // > 0: an adaptive chunk is extended to the end of the block of this many samples (the
+  // results file's chunk rows) it reached, when that at most quintuples it and stays within
+  // its share of what remains, so that each stored chunk is written by one rank and shards
+  // join by copying whole chunks; 0: chunks end anywhere.
+  std::int64_t align_samples = 0;
   double chunk_seconds = 0.5;      // [s] > 0: adaptive chunks' target wall time
   double commit_seconds = 2.0;     // [s] > 0: results reach the file at least this often
   // Whether rank 0 computes beside coordinating: -1 chooses (yes below 16 ranks, where
@@ -85,6 +94,13 @@ struct PoolReport {
   // and writing. Per sample, the coordinator's cost, which bounds how many ranks it can
   // feed (README, "Campaigns at scale").
   double coordinator_time = 0.0;
+  // Messages rank 0 exchanged with worker ranks (received and sent) and their bytes: with
+  // shards about 2 per chunk and 17 bytes per sample; without, every record's bytes.
+  std::int64_t coordinator_messages = 0;
+  std::int64_t coordinator_bytes = 0;
+  // [s] the CPU time of coordinator_time: what handling costs, without the waits for a core
+  // that an oversubscribed or busy machine adds to it.
+  double coordinator_cpu_time = 0.0;
   int computing_ranks = 0;                      // worker ranks plus rank 0's computing threads
   int ranks = 0;
   // Nonzero: the pool stopped early at this request (PoolOptions::stop of rank 0, or of
@@ -120,15 +136,19 @@ class PoolResults {
   virtual void Commit() = 0;
 };
 
-// Runs on every rank of `communicator`; `results` is rank 0's (null on the others).
+// Runs on every rank of `communicator`; `results` is rank 0's file, and on a worker rank
+// its shard (its records stay on it) or null (its records travel to rank 0).
 // `progress` (rank 0 only, may be empty) is called as results arrive. Returns the report
 // on rank 0 (a default one elsewhere). Throws std::runtime_error for an MPI failure, and
 // what `results` throws, after the start.
 PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* results, const PoolOptions& options,
                    const std::function<void(const PoolProgress&)>& progress);
 
-// A campaign's pending samples into its results file (`store`: rank 0's, null on the
-// others).
+// [s] CPU time of the calling thread (CLOCK_THREAD_CPUTIME_ID).
+double ThreadCpuSeconds();
+
+// A campaign's pending samples into its results file (`store`: rank 0's; on a worker rank
+// its shard, or null).
 PoolReport RunPool(MPI_Comm communicator, const Campaign& campaign, CampaignStore* store, const PoolOptions& options,
                    const std::function<void(const PoolProgress&)>& progress);
 

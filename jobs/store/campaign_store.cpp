@@ -729,11 +729,13 @@ struct CampaignStore::File {
   TypeId status_type;
   std::int64_t samples = 0;
   std::size_t inputs = 0;
+  hsize_t chunk_rows = 0;
+  CampaignIdentity identity;  // what a shard must match
   std::vector<SampleRecord> buffer;
 
   // Everything is created (or extended) by now: enter SWMR mode, then open the datasets
   // (entering SWMR reopens open datasets with default access, losing the chunk cache).
-  void StartWriting(hsize_t chunk_rows, const CampaignStoreOptions& options) {
+  void StartWriting(const CampaignStoreOptions& options) {
     CheckStatus(H5Fstart_swmr_write(file.get()), where, "starting", "SWMR writing");
     const PlistId matrix_access = MatrixAccess(where, options.chunk_cache_bytes, samples, chunk_rows, inputs);
     columns = OpenColumns(where, file.get(), samples, inputs, kCampaignSchemaVersion, matrix_access.get());
@@ -788,11 +790,13 @@ CampaignStore CampaignStore::Create(const fs::path& path, const CampaignIdentity
   file->where = Where{name, false};
   file->samples = samples;
   file->inputs = identity.inputs.size();
+  file->identity = identity;
+  file->chunk_rows = DefaultChunkRows(options, samples, file->inputs);
   try {
     file->file = CreateExclusive(temporary, path);
     file->lock = FileLock::Acquire(temporary, name);
     WriteSchema(file->where, file->file.get(), identity, samples, options);
-    file->StartWriting(DefaultChunkRows(options, samples, file->inputs), options);
+    file->StartWriting(options);
     Publish(temporary, path, ExistsMessage(name));
   } catch (...) {
     file->Close();
@@ -849,6 +853,8 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
   file->lock = std::move(lock);
   file->samples = samples;
   file->inputs = identity.inputs.size();
+  file->identity = identity;
+  file->chunk_rows = chunk_rows;
   file->file = OpenForWriting(path);
   RepairDamage(file->where, file->file.get(), damage);
 
@@ -869,7 +875,7 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
     if (!attribute) Fail(file->where, "attribute samples vanished");
     CheckStatus(H5Awrite(attribute->get(), H5T_NATIVE_INT64, &samples), file->where, "updating attribute", "samples");
   }
-  file->StartWriting(chunk_rows, options);
+  file->StartWriting(options);
   return CampaignStore(std::move(file));
 }
 
@@ -977,6 +983,157 @@ void CampaignStore::Commit() {
   // Last, after everything else is flushed: a status on disk vouches for its sample.
   WriteRows(w, f.columns[kStatus], kStatus, f.status_type.get(), runs, m, 1, statuses.data());
   f.buffer.clear();
+}
+
+std::int64_t CampaignStore::chunk_rows() const { return static_cast<std::int64_t>(file_->chunk_rows); }
+
+namespace {
+
+// Whether chunks of `from` can be stored in `to` as they are: the same filters in the same
+// order (so the same filter mask means the same thing) and the same chunk shape.
+bool SameStorage(const Where& where, hid_t from, hid_t to, const std::string& path) {
+  const PlistId a(Check(H5Dget_create_plist(from), where, "reading the layout of", path));
+  const PlistId b(Check(H5Dget_create_plist(to), where, "reading the layout of", path));
+  const int filters = H5Pget_nfilters(a.get());
+  if (filters < 0 || filters != H5Pget_nfilters(b.get())) return false;
+  const auto filter = [](const PlistId& dcpl, int k) {
+    unsigned flags = 0;
+    std::size_t values = 0;  // asks for none of its parameters: HDF5 then needs no array
+    return H5Pget_filter2(dcpl.get(), static_cast<unsigned>(k), &flags, &values, nullptr, 0, nullptr, nullptr);
+  };
+  for (int k = 0; k < filters; ++k) {
+    const H5Z_filter_t id = filter(a, k);
+    if (id < 0 || id != filter(b, k)) return false;
+  }
+  hsize_t x[2] = {0, 0};
+  hsize_t y[2] = {0, 0};
+  return H5Pget_chunk(a.get(), 2, x) == H5Pget_chunk(b.get(), 2, y) && x[0] == y[0] && x[1] == y[1];
+}
+
+// Copies one stored chunk, filtered bytes and filter mask as they are.
+std::int64_t CopyChunk(const Where& where, hid_t from, hid_t to, const std::string& path, const hsize_t* offset,
+                       std::vector<unsigned char>& buffer) {
+  hsize_t bytes = 0;
+  CheckStatus(H5Dget_chunk_storage_size(from, offset, &bytes), where, "sizing a chunk of", path);
+  buffer.resize(static_cast<std::size_t>(bytes));
+  std::uint32_t mask = 0;
+  CheckStatus(H5Dread_chunk(from, H5P_DEFAULT, offset, &mask, buffer.data()), where, "reading a chunk of", path);
+  CheckStatus(H5Dwrite_chunk(to, H5P_DEFAULT, mask, offset, buffer.size(), buffer.data()), where, "writing a chunk of",
+              path);
+  return static_cast<std::int64_t>(bytes);
+}
+
+}  // namespace
+
+CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
+  const QuietErrors quiet;
+  Commit();
+  File& f = *file_;
+  const Where opening{shard_path.string(), true};
+  Absorbed absorbed;
+  std::vector<std::int64_t> one_by_one;
+  {
+    const FileId shard = OpenForReading(shard_path);
+    const Stored stored = ReadStored(opening, shard.get());
+    if (stored.schema_version != kCampaignSchemaVersion) {
+      throw InputError(fmt::format("{}: is a shard of schema {}, not {}", opening.file, stored.schema_version,
+                                   kCampaignSchemaVersion));
+    }
+    if (const std::optional<std::string> difference = IdentityDifference(stored.identity, f.identity)) {
+      throw InputError(opening.file + ": is a shard of another campaign than " + f.where.file + ": " + *difference +
+                       "; remove it, or resume with the campaign that wrote it");
+    }
+    if (stored.samples > f.samples) {
+      throw InputError(fmt::format("{}: is a shard of {} samples, more than the {} of {}", opening.file,
+                                   stored.samples, f.samples, f.where.file));
+    }
+    const Columns from = OpenColumns(opening, shard.get(), stored.samples, f.inputs, stored.schema_version, H5P_DEFAULT);
+    const hsize_t rows = ChunkRows(opening, from[kU]);
+    bool as_stored = rows == f.chunk_rows && stored.samples == f.samples;
+    for (std::size_t c = 0; c < kColumnCount && as_stored; ++c) {
+      as_stored = SameStorage(opening, from[c].get(), f.columns[c].get(), ColumnPath(c));
+    }
+    const Where reading{opening.file, false};
+    const auto samples = static_cast<hsize_t>(stored.samples);
+    const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
+    std::vector<hsize_t> whole;  // first samples of the chunks copied as stored
+    std::vector<std::int8_t> theirs(rows);
+    std::vector<std::int8_t> ours(rows);
+    for (hsize_t first = 0; first < samples; first += rows) {
+      const hsize_t count = std::min(rows, samples - first);
+      // A status chunk that does not read vouches for nothing: its samples stay pending.
+      if (TryReadRows(reading, from[kStatus], kStatus, f.status_type.get(), first, count, 1, theirs.data())) continue;
+      ReadRows(f.where, f.columns[kStatus], kStatus, f.status_type.get(), first, count, 1, ours.data());
+      std::int64_t wanted = 0;
+      bool ours_empty = true;
+      for (hsize_t i = 0; i < count; ++i) {
+        ours_empty = ours_empty && ours[i] == pending;
+        if (theirs[i] != pending && ours[i] == pending && IsKnownStatus(theirs[i])) ++wanted;
+      }
+      if (wanted == 0) continue;
+      absorbed.samples += wanted;
+      if (as_stored && ours_empty) {
+        whole.push_back(first);
+        absorbed.chunk_samples += wanted;
+        continue;
+      }
+      for (hsize_t i = 0; i < count; ++i) {
+        if (theirs[i] != pending && ours[i] == pending && IsKnownStatus(theirs[i])) {
+          one_by_one.push_back(static_cast<std::int64_t>(first + i));
+        }
+      }
+    }
+    // Every column before the statuses, flushed, so that a status copied vouches for its sample.
+    std::vector<unsigned char> buffer;
+    const auto copy = [&](std::size_t column) {
+      const std::string path = ColumnPath(column);
+      for (const hsize_t first : whole) {
+        const hsize_t offset[2] = {first, 0};
+        absorbed.bytes += CopyChunk(reading, from[column].get(), f.columns[column].get(), path, offset, buffer);
+      }
+      CheckStatus(H5Dflush(f.columns[column].get()), f.where, "flushing", path);
+    };
+    if (!whole.empty()) {
+      for (std::size_t column = 0; column < kColumnCount; ++column) {
+        if (column != kStatus) copy(column);
+      }
+      copy(kStatus);
+    }
+  }
+  if (!one_by_one.empty()) {
+    const CampaignReader shard(shard_path);
+    for (const std::int64_t index : one_by_one) Add(shard.ReadSample(index));
+    Commit();
+  }
+  std::error_code error;
+  fs::remove(shard_path, error);
+  if (error) Fail(f.where, fmt::format("cannot remove shard {}: {}", shard_path.string(), error.message()));
+  return absorbed;
+}
+
+fs::path ShardPath(const fs::path& results, int rank) {
+  fs::path shard = results;
+  shard += fmt::format(".shard-{}", rank);
+  return shard;
+}
+
+std::vector<fs::path> FindShards(const fs::path& results) {
+  const fs::path directory = results.has_parent_path() ? results.parent_path() : fs::path(".");
+  const std::string prefix = results.filename().string() + ".shard-";
+  std::vector<std::pair<int, fs::path>> found;
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(directory, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    const std::string rank = name.substr(prefix.size());
+    constexpr std::size_t kMaxDigits = 9;  // fits an int
+    if (rank.empty() || rank.size() > kMaxDigits || !std::all_of(rank.begin(), rank.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
+    found.emplace_back(std::stoi(rank), entry.path());
+  }
+  std::sort(found.begin(), found.end());
+  std::vector<fs::path> shards;
+  for (auto& [rank, path] : found) shards.push_back(std::move(path));
+  return shards;
 }
 
 // ---------------------------------------------------------------------------------------

@@ -119,11 +119,39 @@ class CampaignStore {
   // Writes and flushes every buffered sample, statuses last (see the header comment).
   void Commit();
 
+  // Samples per HDF5 chunk of every per-sample dataset. A shard made with this many
+  // (CampaignStoreOptions::chunk_samples) has chunks that Absorb copies as they are stored.
+  std::int64_t chunk_rows() const;
+
+  // Copies into this file every finished sample of the shard at `shard` (a results file of
+  // the same campaign, no larger) that this file has pending, flushes, and removes the
+  // shard. A chunk of samples this file has none of is copied as stored (its filtered
+  // bytes, checksum included: no decompression, no re-filtering), when the shard's chunks,
+  // filters and sample count match this file's; other samples are read and written one by
+  // one. Statuses last, so a kill at any moment loses nothing: the shard stays until
+  // everything is flushed, and absorbing it again copies only what is still pending here.
+  // A chunk of the shard whose statuses do not read is left out (its samples stay pending
+  // and are computed again). InputError when the shard is of another campaign or larger.
+  struct Absorbed {
+    std::int64_t samples = 0;         // finished samples copied
+    std::int64_t chunk_samples = 0;   // of which in chunks copied as stored
+    std::int64_t bytes = 0;           // stored bytes of those chunks
+  };
+  Absorbed Absorb(const std::filesystem::path& shard);
+
  private:
   struct File;
   explicit CampaignStore(std::unique_ptr<File> file);
   std::unique_ptr<File> file_;
 };
+
+// Shards: under mpirun each worker rank writes the samples it computes into a shard of its
+// own, a results file of the same campaign (same schema, same chunks) beside the main one,
+// so that results never travel through rank 0; rank 0 absorbs the shards into the main
+// file when the run ends or stops, and when a run killed before that resumes.
+// ShardPath: "<results>.shard-<rank>". FindShards: those that exist, by rank.
+std::filesystem::path ShardPath(const std::filesystem::path& results, int rank);
+std::vector<std::filesystem::path> FindShards(const std::filesystem::path& results);
 
 // Read-only access for summaries, reports, replays and tests. Opens a file a killed run
 // left behind as well as a finished one.

@@ -141,8 +141,16 @@ TEST(CampaignUnderMpirun, OneTwoAndThreeRanksAndAnyChunkSizeWriteIdenticalResult
   ASSERT_EQ(two.exit_code, 0) << two.err;
   const Outcome three = Campaign(file, folder / "three.h5", "--chunk 7", Mpirun(3));
   ASSERT_EQ(three.exit_code, 0) << three.err;
-  const Outcome dedicated = Campaign(file, folder / "dedicated.h5", "--coordinator-computes 0", Mpirun(3));
+  const Outcome dedicated = Campaign(file, folder / "dedicated.h5", "--coordinator-computes 0 --json", Mpirun(3));
   ASSERT_EQ(dedicated.exit_code, 0) << dedicated.err;
+  // The workers filed every sample in their shards, joined at the end; rank 0 received per
+  // sample at most its summary (index 8, status 1, solve time 8 bytes), its index handed
+  // out (8) and a message's kind byte (1, were every chunk one sample).
+  constexpr double kMaxCoordinatorBytesPerSample = 8 + 1 + 8 + 8 + 1;
+  const nlohmann::json run = nlohmann::json::parse(dedicated.out)["run"];
+  EXPECT_LE(run["coordinator_bytes"].get<double>() / 48, kMaxCoordinatorBytesPerSample);
+  EXPECT_EQ(run["shard_samples_joined"], 48);
+  for (const char* name : {"two.h5", "three.h5", "dedicated.h5"}) EXPECT_TRUE(FindShards(folder / name).empty());
   ExpectSameResults(folder / "alone.h5", folder / "two.h5");
   ExpectSameResults(folder / "alone.h5", folder / "three.h5");
   ExpectSameResults(folder / "alone.h5", folder / "dedicated.h5");
@@ -185,6 +193,42 @@ TEST(CampaignUnderMpirun, AfterAWorkerIsKilledUnderMpirunResumeCompletesTheSameF
   const Outcome resumed = Campaign(file, folder / "killed.h5", "--resume", Mpirun(2));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   ExpectSameResults(folder / "whole.h5", folder / "killed.h5");
+}
+
+// Finished samples of a results file and of the shards its worker ranks left beside it.
+std::int64_t DoneWithShards(const std::filesystem::path& out) {
+  const auto done = [](const std::filesystem::path& file) {
+    return CampaignReader(file).samples() - Pending(file);
+  };
+  std::int64_t total = done(out);
+  for (const std::filesystem::path& shard : FindShards(out)) total += done(shard);
+  return total;
+}
+
+TEST(CampaignUnderMpirun, AfterTheCoordinatorIsKilledResumeJoinsTheShardsAndComputesOnlyWhatIsMissing) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  const std::filesystem::path out = folder / "killed.h5";
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  const Outcome killed = Campaign(file, out, "--chunk 3 --commit-seconds 0 --test-kill-after 10", Mpirun(2));
+  EXPECT_NE(killed.exit_code, 0);
+  const std::int64_t done = DoneWithShards(out);
+  EXPECT_GE(done, 10);
+  EXPECT_LT(done, 48);
+  const Outcome resumed = Campaign(file, out, "--resume --json", Mpirun(2));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(nlohmann::json::parse(resumed.out)["run"]["computed"], 48 - done);
+  EXPECT_TRUE(FindShards(out).empty());
+  ExpectSameResults(folder / "whole.h5", out);
+}
+
+TEST(Campaign, ANewRunRefusesToStartOverShardsOfAnEarlierOne) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  testing::WriteText(ShardPath(folder / "results.h5", 1), "left by a killed run");
+  EXPECT_THAT(Campaign(file, folder / "results.h5"),
+              ExitsWith(Ne(0), AllOf(HasSubstr("results.h5.shard-1"), HasSubstr("--resume"))));
+  EXPECT_FALSE(std::filesystem::exists(folder / "results.h5"));
 }
 
 TEST(Campaign, ResumeWithMoreSamplesGrowsTheFileAsIfRunWhole) {

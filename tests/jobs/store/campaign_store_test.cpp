@@ -300,6 +300,107 @@ TEST(CampaignStore, ReportsSamplesPendingUntilTheirCommit) {
   EXPECT_THROW(store.Pending(2, 7), std::out_of_range);
 }
 
+// Shards: the main file and two shards of a 40-sample campaign in chunks of 8. Block 0 and
+// half of block 2 are the main file's; the rest of block 2 and blocks 1 and 3 one shard's,
+// block 4 the other's, which also holds a different record of sample 0.
+constexpr std::int64_t kShardedSamples = 40;
+constexpr std::int64_t kShardChunk = 8;
+
+CampaignStoreOptions ShardChunks() {
+  CampaignStoreOptions options;
+  options.chunk_samples = kShardChunk;
+  return options;
+}
+
+void WriteRange(CampaignStore& store, std::int64_t begin, std::int64_t end) {
+  for (std::int64_t index = begin; index < end; ++index) store.Add(DeterministicRecord(index));
+  store.Commit();
+}
+
+// The main file, still open, and its two shards, closed.
+CampaignStore ShardedCampaign(const fs::path& path) {
+  CampaignStore main = CampaignStore::Create(path, TestIdentity(), kShardedSamples, ShardChunks());
+  WriteRange(main, 0, 8);
+  WriteRange(main, 16, 20);
+  {
+    CampaignStore shard = CampaignStore::Create(ShardPath(path, 1), TestIdentity(), kShardedSamples, ShardChunks());
+    WriteRange(shard, 8, 16);
+    WriteRange(shard, 20, 32);
+  }
+  {
+    CampaignStore shard = CampaignStore::Create(ShardPath(path, 2), TestIdentity(), kShardedSamples, ShardChunks());
+    WriteRange(shard, 32, 40);
+    SampleRecord other = DeterministicRecord(1);
+    other.index = 0;
+    shard.Add(other);
+  }
+  return main;
+}
+
+TEST(CampaignStore, AbsorbingShardsStoresEverySampleAsIfWrittenDirectly) {
+  const fs::path path = TestFolder() / "results.h5";
+  {
+    CampaignStore main = ShardedCampaign(path);
+    EXPECT_EQ(main.chunk_rows(), kShardChunk);
+    ASSERT_EQ(FindShards(path), (std::vector<fs::path>{ShardPath(path, 1), ShardPath(path, 2)}));
+    const CampaignStore::Absorbed first = main.Absorb(ShardPath(path, 1));
+    EXPECT_EQ(first.samples, 20);        // blocks 1 and 3 whole, half of block 2 one by one
+    EXPECT_EQ(first.chunk_samples, 16);  // blocks 1 and 3
+    EXPECT_GT(first.bytes, 0);
+    const CampaignStore::Absorbed second = main.Absorb(ShardPath(path, 2));
+    EXPECT_EQ(second.samples, 8);  // block 4; sample 0 is the main file's already
+    EXPECT_EQ(second.chunk_samples, 8);
+    EXPECT_TRUE(FindShards(path).empty());
+    EXPECT_TRUE(main.Pending(0, kShardedSamples).empty());
+  }
+  const CampaignReader reader(path);
+  for (std::int64_t index = 0; index < kShardedSamples; ++index) {
+    ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+  }
+  const ResultsCheck check = CheckResults(path);
+  EXPECT_TRUE(check.intact());
+  EXPECT_TRUE(check.checksummed());
+  EXPECT_EQ(check.done, kShardedSamples);
+}
+
+TEST(CampaignStore, AbsorbingAShardAgainAfterAKillBeforeItsRemovalCopiesNothingTwice) {
+  const fs::path folder = TestFolder();
+  const fs::path path = folder / "results.h5";
+  const fs::path kept = folder / "kept_shard.h5";
+  {
+    CampaignStore main = ShardedCampaign(path);
+    fs::copy_file(ShardPath(path, 1), kept, fs::copy_options::overwrite_existing);
+    main.Absorb(ShardPath(path, 1));
+    fs::rename(kept, ShardPath(path, 1));  // as if killed after copying, before removing it
+    const CampaignStore::Absorbed again = main.Absorb(ShardPath(path, 1));
+    EXPECT_EQ(again.samples, 0);
+  }
+  const CampaignReader reader(path);
+  for (std::int64_t index = 0; index < 32; ++index) ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+}
+
+TEST(CampaignStore, AbsorbRefusesAShardOfAnotherCampaignAndLeavesIt) {
+  const fs::path path = TestFolder() / "results.h5";
+  CampaignStore main = CampaignStore::Create(path, TestIdentity(), kShardedSamples, ShardChunks());
+  CampaignIdentity other = TestIdentity();
+  other.seed += 1;
+  { CampaignStore::Create(ShardPath(path, 1), other, kShardedSamples, ShardChunks()); }
+  EXPECT_THAT(InputErrorOf([&] { main.Absorb(ShardPath(path, 1)); }),
+              AllOf(HasSubstr(ShardPath(path, 1).string()), HasSubstr("another campaign"), HasSubstr("seed")));
+  EXPECT_TRUE(fs::exists(ShardPath(path, 1)));
+}
+
+TEST(FindShards, ListsTheShardsOfOneResultsFileInRankOrder) {
+  const fs::path folder = TestFolder();
+  const fs::path path = folder / "results.h5";
+  for (const char* name : {"results.h5.shard-10", "results.h5.shard-2", "results.h5.shard-x", "results.h5.shard-",
+                           "other.h5.shard-1"}) {
+    std::ofstream(folder / name) << "";
+  }
+  EXPECT_EQ(FindShards(path), (std::vector<fs::path>{ShardPath(path, 2), ShardPath(path, 10)}));
+  EXPECT_EQ(ShardPath(path, 3), folder / "results.h5.shard-3");
+}
+
 TEST(CampaignStore, KeepsTheLastOfTwoRecordsForOneSample) {
   const fs::path path = TestFolder() / "results.h5";
   SampleRecord retried = DeterministicRecord(1);

@@ -1,0 +1,107 @@
+#!/usr/bin/python3
+"""The results writer's costs on 1 to 3 ranks, measured, and a model of 100 and 1,000 ranks
+built from them.
+
+    tests/benchmarks/writer_model.py build/ringtol [--samples N] [--campaign FILE]
+                                     [--fs-bandwidth GB/s ...] [--sample-us T ...]
+
+Runs the campaign alone (one computing thread), under `mpirun -n 2` (rank 0 computes and
+coordinates) and under `mpirun -n 3 --coordinator-computes 0` (rank 0 only coordinates, as
+it does from 16 ranks on; on a 2-core machine 3 ranks oversubscribe the cores, which the
+MPI environment below allows). From ringtol's JSON summaries it reads, per sample: the
+coordinator's messages and bytes, its handling time, the time rank 0 spends writing, the
+stored bytes and the time of joining the workers' shards into the results file.
+
+The model (rank 0 coordinates only; R - 1 workers each compute and write their shard):
+    a worker's time per sample        t + w           t: sample, w: writing its shard
+    throughput [samples/s]            X = min((R - 1) / (t + w), 1 / c, F / B)
+        c = 2 h / n: rank 0's handling per sample, h its CPU time per message (measured),
+        n = max(block, chunk_seconds / t) samples per chunk; F: the file system's
+        aggregate bandwidth, B: stored bytes per sample
+    joining the shards at the end     j = 2 B / F1 per sample (read and write by one
+        process at bandwidth F1, measured here as the join's own rate)
+    efficiency                        E = t / (R (1 / X + j))
+and the same without the join (j = 0), as a results file assembled from the shards
+without copying (HDF5 virtual datasets) would give.
+"""
+import argparse
+import json
+import os
+import subprocess
+import tempfile
+
+MPI_ENVIRONMENT = {
+    "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+    "OMPI_MCA_rmaps_base_oversubscribe": "1", "OMPI_MCA_pml": "ob1", "OMPI_MCA_btl": "self,vader",
+    "OMPI_MCA_btl_vader_single_copy_mechanism": "none",
+}
+
+
+def run(ringtol, campaign, samples, ranks, folder, extra=()):
+    out = os.path.join(folder, f"r{ranks}.h5")
+    command = [ringtol, "campaign", campaign, "--out", out, "--samples", str(samples), "--json", "--quiet",
+               "--threads", "1", *extra]
+    if ranks > 1:
+        command = ["mpirun", "-n", str(ranks)] + (["--allow-run-as-root"] if os.geteuid() == 0 else []) + command
+    result = subprocess.run(command, check=True, capture_output=True, text=True, env={**os.environ, **MPI_ENVIRONMENT})
+    os.remove(out)
+    return json.loads(result.stdout)["run"]
+
+
+CHUNK_SECONDS = 0.5  # PoolOptions::chunk_seconds
+BLOCK = 208  # samples per stored chunk of the default campaign (256 KiB of /inputs/u, 157 inputs)
+
+
+def efficiency(ranks, t, w, per_message, stored_bytes, fs_bandwidth, join_per_sample):
+    c = 2 * per_message / max(BLOCK, CHUNK_SECONDS / t)
+    throughput = min((ranks - 1) / (t + w), 1 / c, fs_bandwidth / stored_bytes)
+    return t / (ranks * (1 / throughput + join_per_sample))
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("ringtol")
+    parser.add_argument("--campaign", default=os.path.join(os.path.dirname(__file__), "../../examples/campaigns/default.toml"))
+    parser.add_argument("--samples", type=int, default=2048)
+    parser.add_argument("--fs-bandwidth", type=float, nargs="+", default=[1.0, 10.0, 100.0], help="GB/s, aggregate")
+    parser.add_argument("--sample-us", type=float, nargs="+", default=[], help="model these sample times too")
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as folder:
+        runs = {1: run(args.ringtol, args.campaign, args.samples, 1, folder),
+                2: run(args.ringtol, args.campaign, args.samples, 2, folder),
+                3: run(args.ringtol, args.campaign, args.samples, 3, folder, ["--coordinator-computes", "0"])}
+    print(f"{args.samples} samples of {os.path.basename(args.campaign)}; 3 ranks oversubscribe a 2-core machine")
+    print(f"{'ranks':>5} {'wall s':>7} {'join s':>7} {'samples/s':>10} {'msgs/sample':>12} {'bytes/sample':>13} "
+          f"{'rank 0 us/sample':>17} {'of it CPU':>10} {'writing us/sample':>18}")
+    for ranks, r in runs.items():
+        n = r["computed"]
+        wall = r["wall_time_s"] + r.get("shard_join_time_s", 0.0)
+        print(f"{ranks:>5} {r['wall_time_s']:>7.2f} {r.get('shard_join_time_s', 0.0):>7.3f} {n / wall:>10.1f} "
+              f"{r.get('coordinator_messages', 0) / n:>12.4f} {r.get('coordinator_bytes', 0) / n:>13.1f} "
+              f"{1e6 * r['coordinator_time_s'] / n:>17.2f} {1e6 * r['coordinator_cpu_time_s'] / n:>10.2f} "
+              f"{1e6 * r['commit_time_s'] / n:>18.2f}")
+    one, two, three = runs[1], runs[2], runs[3]
+    rate = lambda r: r["computed"] / (r["wall_time_s"] + r.get("shard_join_time_s", 0.0))
+    print(f"2-rank efficiency against 1 rank (join included): {100 * rate(two) / (2 * rate(one)):.1f} %")
+
+    # CPU times, not wall times: on a busy machine the wall times mostly measure waits for a core.
+    t = one["solver_time_s"] / one["computed"]
+    w = one["coordinator_cpu_time_s"] / one["computed"]  # rank 0 alone: collecting and writing every sample
+    per_message = three["coordinator_cpu_time_s"] / three["coordinator_messages"]  # rank 0 coordinating only
+    joined = max(1, three["shard_samples_joined"])
+    join_per_sample = three["shard_join_cpu_time_s"] / joined
+    stored_bytes = three.get("shard_bytes_joined", 0) / max(1, three.get("shard_chunk_samples_joined", 0)) or 2e3
+    join_bandwidth = 2 * stored_bytes / join_per_sample
+    print(f"\nmodel inputs: t = {1e6 * t:.0f} us, w = {1e6 * w:.2f} us, h = {1e6 * per_message:.1f} us a message, B = {stored_bytes:.0f} "
+          f"bytes, join {1e6 * join_per_sample:.2f} us a sample (F1 = {join_bandwidth / 1e9:.2f} GB/s)")
+    print(f"{'sample us':>9} {'F GB/s':>7} {'E(100)':>7} {'E(1000)':>8} {'E(100) no join':>15} {'E(1000) no join':>16}")
+    for sample in [t] + [us * 1e-6 for us in args.sample_us]:
+        for bandwidth in args.fs_bandwidth:
+            row = [efficiency(r, sample, w, per_message, stored_bytes, bandwidth * 1e9, j)
+                   for j in (join_per_sample, 0.0) for r in (100, 1000)]
+            print(f"{1e6 * sample:>9.0f} {bandwidth:>7.0f} {100 * row[0]:>6.1f}% {100 * row[1]:>7.1f}% "
+                  f"{100 * row[2]:>14.1f}% {100 * row[3]:>15.1f}%")
+
+
+if __name__ == "__main__":
+    main()
