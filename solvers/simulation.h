@@ -18,9 +18,29 @@ namespace ringtol::solvers {
 // the largest `steps` a file or the command line may ask for.
 inline constexpr int kMaxSteps = 2000000;
 
+// Which of the revolution's angles are evaluated at full cost. kDense: every one, the
+// reference. kRefined: every `refine_stride`-th and the last, then only the stretches
+// between them that a first-order bound on how far the path, the sensor signal and the
+// contact forces can stray between two evaluated angles (LinearSolver::ChordStraying)
+// cannot prove to lie inside the enclosing circle, within the signal's and each force's
+// extremes and inside the model's domain; what is left unevaluated provably changes
+// none of D_trajectory, runout, the force range and the status, so they equal the
+// dense grid's up to the solver's tolerance. The swing is read from the evaluated
+// angles only (no certificate: its counter-moves are the ripple the stride skips).
+// Linear and quasistatic rungs; the dynamic rung, a filtered swing rule and bores a
+// roller could bridge (a two-point search) stay dense.
+enum class AngleMode { kDense, kRefined };
+inline constexpr NameTable<AngleMode, 2> kAngleModeNames = {
+    {{AngleMode::kDense, "dense"}, {AngleMode::kRefined, "refined"}}};
+
 struct SimulationOptions {
   // Angles per revolution, 0..kMaxSteps; 0 chooses them from the scene (ChooseSteps).
   int steps = 0;
+  AngleMode angles = AngleMode::kDense;
+  // kRefined: evaluate every this many of the `steps` angles first, >= 2. Eight keeps the
+  // ring's harmonics (<= 50 per revolution) resolved on the coarse grid at campaign
+  // resolutions, so only the roller lobes' ripple decides what is refined.
+  int refine_stride = 8;
   // Automatic resolution: samples per period of the fastest undulation in the path [-].
   // The sampled enclosing circle misses a smooth path by at most |c''| dpsi^2 / 8, so 32
   // samples keep that below 0.5 % of the fastest term's amplitude.
