@@ -20,15 +20,18 @@ inline constexpr int kMaxSteps = 2000000;
 
 // Which of the revolution's angles are evaluated at full cost. kDense: every one, the
 // reference. kRefined: every `refine_stride`-th and the last, then only the stretches
-// between them that a first-order bound on how far the path, the sensor signal and the
-// contact forces can stray between two evaluated angles (LinearSolver::ChordStraying)
-// cannot prove to lie inside the enclosing circle, within the signal's and each force's
-// extremes and inside the model's domain; what is left unevaluated provably changes
-// none of D_trajectory, runout, the force range and the status, so they equal the
-// dense grid's up to the solver's tolerance. The swing is read from the evaluated
-// angles only (no certificate: its counter-moves are the ripple the stride skips).
-// Linear and quasistatic rungs; the dynamic rung, a filtered swing rule and bores a
-// roller could bridge (a two-point search) stay dense.
+// between them where the first-order path in closed form (the linear rung's, which
+// carries the rollers' fast lobes) plus the exact path's rest interpolated between the
+// stretch's ends, within a bound on that second-order rest, could lie outside the
+// enclosing circle or beyond the sensor signal's extremes, or where a contact force or a
+// spring travel is within twice its first-order chord bound (LinearSolver::ChordStraying)
+// of failing. What is left unevaluated then changes none of D_trajectory, runout and the
+// status: they equal the dense grid's to the solver's tolerance (docs/model.md). Not
+// certified: the swing (its counter-moves are the ripple the stride skips) and the
+// force range, both read at the evaluated angles. result.trajectory and result.sensor
+// hold those angles only. Linear and quasistatic rungs; the dynamic rung, a filtered
+// swing rule and bores a roller could bridge (a two-point search) stay dense, and a
+// sample that fails anywhere is rerun dense, which states the failure.
 enum class AngleMode { kDense, kRefined };
 inline constexpr NameTable<AngleMode, 2> kAngleModeNames = {
     {{AngleMode::kDense, "dense"}, {AngleMode::kRefined, "refined"}}};
