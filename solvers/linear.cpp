@@ -536,6 +536,37 @@ Equilibrium LinearSolver::SolveStatic(const Scene& scene) const {
   return e;
 }
 
+ChordStraying LinearSolver::ChordStrayingAt(const Scene& scene, double dpsi) const {
+  ChordStraying bounds;
+  const Linearisation lin = Linearise(scene, Nominal(scene));
+  const NominalResponse& nominal = *lin.nominal;
+  if (nominal.equilibrium.status != Status::kOk || !lin.cosine.allFinite() || !lin.sine.allFinite()) return bounds;
+  bounds.usable = true;
+  const auto zs = static_cast<std::size_t>(nominal.rollers);
+  bounds.travel.assign(zs, 0.0);
+  bounds.contact_force.assign(zs, 0.0);
+  const auto straying = [dpsi](double rate) { return std::min(2.0, rate * rate * dpsi * dpsi / 8.0); };
+  const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
+  for (Eigen::Index p = 0; p < static_cast<Eigen::Index>(lin.rates.size()); ++p) {
+    const double s = straying(lin.rates[static_cast<std::size_t>(p)]);
+    const auto amplitude = [&](Eigen::Index row) { return std::hypot(lin.cosine(row, p), lin.sine(row, p)); };
+    bounds.centre += s * std::hypot(amplitude(0), amplitude(1));
+    bounds.signal += s * std::hypot(ray.x() * lin.cosine(0, p) + ray.y() * lin.cosine(1, p),
+                                    ray.x() * lin.sine(0, p) + ray.y() * lin.sine(1, p));
+    for (std::size_t i = 0; i < zs; ++i) {
+      const int travel_row = nominal.travel_row[i];
+      if (travel_row >= 0) bounds.travel[i] += s * amplitude(travel_row);
+      bounds.contact_force[i] += s * amplitude(nominal.first_force_row + static_cast<Eigen::Index>(i));
+    }
+  }
+  // The bore's own form passes the sensor's ray at rate n.
+  const engine::PolarProfile& ring = scene.ring.inner;
+  for (int n = 1; n <= ring.max_order(); ++n) {
+    bounds.signal += straying(n) * std::hypot(ring.cos_coefficient(n), ring.sin_coefficient(n));
+  }
+  return bounds;
+}
+
 Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
   Trajectory trajectory;
   const Linearisation lin = Linearise(scene, Nominal(scene));

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "solvers/nominal_cache.h"
 #include "solvers/quasistatic.h"
@@ -35,6 +36,19 @@ struct LinearOptions {
 
 struct NominalResponse;
 
+// First-order bounds on how far a revolution's outputs stray from the chord through their
+// values at two angles dpsi apart: each error term moves an output as a sinusoid of
+// amplitude a (its row of the linearisation) at rate w per revolution, which strays from
+// its chord by at most min(2, w^2 dpsi^2 / 8) a; the bounds are the sums over the terms.
+// Exact bounds for the linear rung's own path; for the exact model, first order.
+struct ChordStraying {
+  bool usable = false;                // false when the error-free assembly cannot be linearised
+  double centre = 0.0;                // [m] the ring centre's distance from its chord
+  double signal = 0.0;                // [m] the sensor reading's: the centre along the ray plus the bore's form
+  std::vector<double> travel;         // [m] per roller (0 for fixed)
+  std::vector<double> contact_force;  // [N] per roller
+};
+
 // Thread-safe. Keeps the linearisation of the last error-free assembly it saw (a static
 // solve and a factorisation, about a third of a revolution's cost) and reuses it while
 // the scene without its errors stays the same, as it does for every sample of a campaign.
@@ -44,6 +58,8 @@ class LinearSolver final : public Solver {
   std::string_view name() const override { return "linear"; }
   Equilibrium SolveStatic(const engine::Scene& scene) const override;
   Trajectory SolveRevolution(const engine::Scene& scene, int steps) const override;
+  // dpsi [rad] > 0.
+  ChordStraying ChordStrayingAt(const engine::Scene& scene, double dpsi) const;
 
  private:
   std::shared_ptr<const NominalResponse> Nominal(const engine::Scene& scene) const;

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <span>
+#include <type_traits>
 
 #include <Eigen/LU>
 #include <Eigen/QR>
@@ -297,19 +299,20 @@ class RollerSpins {
   std::vector<Eigen::Vector2d> increment_;
 };
 
-// The revolution from the static equilibrium x0 and its contacts, with the unknowns in
-// storage of N (fixed-size for the common systems, Eigen::Dynamic for the rest).
+// Solves the angles `indices` (increasing, after `from`) of a revolution of `steps`,
+// continued from the converged state x0 and its contacts at angle `from`, with the
+// unknowns in storage of N (fixed-size for the common systems, Eigen::Dynamic for the
+// rest). Appends each solved angle to the trajectory, and its state to `saved` when
+// given; stops at the first failure with the trajectory's status saying why. The
+// predictor extrapolates equally spaced angles: it restarts from the last state where the
+// spacing changes.
 template <int N>
-void Revolve(const QuasistaticOptions& options, const EquilibriumSystem& system, int steps, const Eigen::VectorXd& x0,
-             std::vector<TrackedContact>& contacts, Trajectory& trajectory) {
+void Continue(const QuasistaticOptions& options, const EquilibriumSystem& system, int steps, int from,
+              std::span<const int> indices, const Eigen::VectorXd& x0, std::vector<TrackedContact>& contacts,
+              Trajectory& trajectory, std::vector<SparseRevolution::State>* saved) {
   using Vector = Eigen::Matrix<double, N, 1>;
   const Scene& scene = system.scene();
   const auto z = static_cast<std::size_t>(system.rollers());
-  const auto n = static_cast<std::size_t>(steps) + 1;
-  trajectory.psi.reserve(n);
-  trajectory.centre.reserve(n);
-  trajectory.travel.reserve(n * z);
-  trajectory.contact_force.reserve(n * z);
   const ValidityCheck check(scene, {options.two_point_tolerance});
   Configuration scratch;
   const Eigen::VectorXd dynamic_tolerance = system.Tolerances(options.position_tolerance, options.force_tolerance);
@@ -323,58 +326,71 @@ void Revolve(const QuasistaticOptions& options, const EquilibriumSystem& system,
   RollerSpins spins(scene, steps);
   const bool lobed = std::any_of(scene.rollers.begin(), scene.rollers.end(),
                                  [](const engine::Roller& r) { return !r.outline.is_circle(); });
-  SetForces(system, x, contacts);
-  for (int k = 0; k <= steps; ++k) {
+  {
+    // The angle continued from, as the trigonometric recurrences would have passed it.
+    double cos_psi = 1.0;
+    double sin_psi = 0.0;
+    psi_trig.Evaluate(2.0 * std::numbers::pi * from / steps, cos_psi, sin_psi);
+    if (lobed) spins.At(from);
+  }
+  predictor.Push(x, contacts);
+  int spacing = 0;
+  int last = from;
+  for (const int k : indices) {
+    if (k - last != spacing) {
+      if (spacing != 0) {
+        predictor = Predictor();
+        predictor.Push(x, contacts);
+      }
+      spacing = k - last;
+    }
+    last = k;
     RingTurn turn;
     turn.psi = 2.0 * std::numbers::pi * k / steps;
     psi_trig.Evaluate(turn.psi, turn.cos_psi, turn.sin_psi);
     if (lobed) turn.spin = spins.At(k);
     const double psi = turn.psi;
-    if (k > 0) {
-      previous = x;
-      predictor.Predict(x, contacts);
-      predicted = x;
-      int iterations = 0;
-      bool converged =
-          ContinuationNewton<N>(system, turn, x, contacts, tolerance, options.max_iterations, model, iterations);
-      trajectory.total_iterations += iterations;
-      if (!converged) {
-        // The robust path: a full contact search at every iteration, with line search.
-        Eigen::VectorXd restart = predicted;
-        for (TrackedContact& c : contacts) c.valid = false;
-        const NewtonOutcome outcome =
-            Newton(system, psi, restart, contacts, dynamic_tolerance, options.max_iterations, false);
-        trajectory.total_iterations += outcome.iterations;
-        converged = outcome.converged;
-        x = restart;
-        if (converged) SetForces(system, x, contacts);
-      }
-      if (!converged) {
-        trajectory.status = Status::kNotConverged;
-        trajectory.message = "Newton iteration did not converge at psi = " + Degrees(psi);
-        std::string reason;
-        contacts.clear();
-        const int lost = system.UpdateContacts(psi, previous, contacts);
-        if (lost < 0) {
-          SetForces(system, previous, contacts);
-          if (Classify(system, check, psi, previous, contacts, scratch, reason) ==
-              Status::kLiftOff) {
-            trajectory.status = Status::kLiftOff;
-            trajectory.message = reason;
-          }
-        } else if (BridgesTheBore(system, check, lost, psi, trajectory.message)) {
-          trajectory.status = Status::kTwoPointContact;
+    previous = x;
+    predictor.Predict(x, contacts);
+    predicted = x;
+    int iterations = 0;
+    bool converged =
+        ContinuationNewton<N>(system, turn, x, contacts, tolerance, options.max_iterations, model, iterations);
+    trajectory.total_iterations += iterations;
+    if (!converged) {
+      // The robust path: a full contact search at every iteration, with line search.
+      Eigen::VectorXd restart = predicted;
+      for (TrackedContact& c : contacts) c.valid = false;
+      const NewtonOutcome outcome =
+          Newton(system, psi, restart, contacts, dynamic_tolerance, options.max_iterations, false);
+      trajectory.total_iterations += outcome.iterations;
+      converged = outcome.converged;
+      x = restart;
+      if (converged) SetForces(system, x, contacts);
+    }
+    if (!converged) {
+      trajectory.status = Status::kNotConverged;
+      trajectory.message = "Newton iteration did not converge at psi = " + Degrees(psi);
+      std::string reason;
+      contacts.clear();
+      const int lost = system.UpdateContacts(psi, previous, contacts);
+      if (lost < 0) {
+        SetForces(system, previous, contacts);
+        if (Classify(system, check, psi, previous, contacts, scratch, reason) == Status::kLiftOff) {
+          trajectory.status = Status::kLiftOff;
+          trajectory.message = reason;
         }
-        trajectory.failure_angle = psi;
-        return;
+      } else if (BridgesTheBore(system, check, lost, psi, trajectory.message)) {
+        trajectory.status = Status::kTwoPointContact;
       }
-      const Status status =
-          Classify(system, check, psi, x, contacts, scratch, trajectory.message);
-      if (status != Status::kOk) {
-        trajectory.status = status;
-        trajectory.failure_angle = psi;
-        return;
-      }
+      trajectory.failure_angle = psi;
+      return;
+    }
+    const Status status = Classify(system, check, psi, x, contacts, scratch, trajectory.message);
+    if (status != Status::kOk) {
+      trajectory.status = status;
+      trajectory.failure_angle = psi;
+      return;
     }
     predictor.Push(x, contacts);
     trajectory.psi.push_back(psi);
@@ -384,6 +400,36 @@ void Revolve(const QuasistaticOptions& options, const EquilibriumSystem& system,
       trajectory.travel.push_back(s >= 0 ? x[s] : 0.0);
       trajectory.contact_force.push_back(contacts[i].force);
     }
+    if (saved != nullptr) saved->push_back({Eigen::VectorXd(x), contacts});
+  }
+}
+
+// Calls f with std::integral_constant<int, N>, N the storage Continue takes for a system
+// of `size` unknowns.
+template <typename F>
+void WithStorage(int size, F&& f) {
+  switch (size) {
+    case 2: f(std::integral_constant<int, 2>{}); break;
+    case 3: f(std::integral_constant<int, 3>{}); break;
+    case 4: f(std::integral_constant<int, 4>{}); break;
+    case 5: f(std::integral_constant<int, 5>{}); break;
+    case 6: f(std::integral_constant<int, 6>{}); break;
+    case 7: f(std::integral_constant<int, 7>{}); break;
+    case 8: f(std::integral_constant<int, 8>{}); break;
+    default: f(std::integral_constant<int, Eigen::Dynamic>{}); break;
+  }
+}
+
+// Records angle 0, the static equilibrium x and its contacts, at the start of a trajectory.
+void RecordStart(const EquilibriumSystem& system, const Eigen::VectorXd& x, std::vector<TrackedContact>& contacts,
+                 Trajectory& trajectory) {
+  SetForces(system, x, contacts);
+  trajectory.psi.push_back(0.0);
+  trajectory.centre.push_back(x.head<2>());
+  for (int i = 0; i < system.rollers(); ++i) {
+    const int s = system.travel_index(i);
+    trajectory.travel.push_back(s >= 0 ? x[s] : 0.0);
+    trajectory.contact_force.push_back(contacts[static_cast<std::size_t>(i)].force);
   }
 }
 
@@ -551,30 +597,72 @@ Equilibrium QuasistaticSolver::SolveStatic(const Scene& scene) const {
   return SolveStaticFromNominal(system, x, contacts);
 }
 
+bool QuasistaticSolver::StartRevolution(const EquilibriumSystem& system, Eigen::VectorXd& x,
+                                        std::vector<TrackedContact>& contacts, Trajectory& trajectory) const {
+  trajectory.initial = SolveStaticFromNominal(system, x, contacts);
+  if (trajectory.initial.status != Status::kOk) {
+    trajectory.status = trajectory.initial.status;
+    trajectory.message = trajectory.initial.message;
+    return false;
+  }
+  RecordStart(system, x, contacts, trajectory);
+  return true;
+}
+
 Trajectory QuasistaticSolver::SolveRevolution(const Scene& scene, int steps) const {
   Trajectory trajectory;
   const EquilibriumSystem system(scene);
   Eigen::VectorXd x;
   std::vector<TrackedContact> contacts;
-  trajectory.initial = SolveStaticFromNominal(system, x, contacts);
-  if (trajectory.initial.status != Status::kOk) {
-    trajectory.status = trajectory.initial.status;
-    trajectory.message = trajectory.initial.message;
-    return trajectory;
-  }
-  // Fixed-size storage for the systems scenes have (2 + springs unknowns under the
-  // penalty law, 2 + springs + rollers under rigid contact).
-  switch (system.size()) {
-    case 2: Revolve<2>(options_, system, steps, x, contacts, trajectory); break;
-    case 3: Revolve<3>(options_, system, steps, x, contacts, trajectory); break;
-    case 4: Revolve<4>(options_, system, steps, x, contacts, trajectory); break;
-    case 5: Revolve<5>(options_, system, steps, x, contacts, trajectory); break;
-    case 6: Revolve<6>(options_, system, steps, x, contacts, trajectory); break;
-    case 7: Revolve<7>(options_, system, steps, x, contacts, trajectory); break;
-    case 8: Revolve<8>(options_, system, steps, x, contacts, trajectory); break;
-    default: Revolve<Eigen::Dynamic>(options_, system, steps, x, contacts, trajectory); break;
-  }
+  const auto n = static_cast<std::size_t>(steps) + 1;
+  const auto z = static_cast<std::size_t>(system.rollers());
+  trajectory.psi.reserve(n);
+  trajectory.centre.reserve(n);
+  trajectory.travel.reserve(n * z);
+  trajectory.contact_force.reserve(n * z);
+  if (!StartRevolution(system, x, contacts, trajectory)) return trajectory;
+  std::vector<int> indices(static_cast<std::size_t>(steps));
+  for (int k = 1; k <= steps; ++k) indices[static_cast<std::size_t>(k - 1)] = k;
+  WithStorage(system.size(), [&](auto storage) {
+    Continue<decltype(storage)::value>(options_, system, steps, 0, indices, x, contacts, trajectory, nullptr);
+  });
   return trajectory;
+}
+
+SparseRevolution::SparseRevolution(const QuasistaticOptions& options, const engine::Scene& scene, int steps)
+    : options_(options), system_(scene), steps_(steps) {}
+
+std::unique_ptr<SparseRevolution> QuasistaticSolver::SolveSparse(const Scene& scene, int steps, int stride) const {
+  auto sparse = std::unique_ptr<SparseRevolution>(new SparseRevolution(options_, scene, steps));
+  const EquilibriumSystem& system = sparse->system_;
+  Trajectory& coarse = sparse->coarse_;
+  Eigen::VectorXd x;
+  std::vector<TrackedContact> contacts;
+  if (!StartRevolution(system, x, contacts, coarse)) return sparse;
+  sparse->indices_.push_back(0);
+  sparse->states_.push_back({x, contacts});
+  std::vector<int> indices;
+  for (int k = stride; k < steps; k += stride) indices.push_back(k);
+  indices.push_back(steps);
+  sparse->indices_.insert(sparse->indices_.end(), indices.begin(), indices.end());
+  WithStorage(system.size(), [&](auto storage) {
+    Continue<decltype(storage)::value>(options_, system, steps, 0, indices, x, contacts, coarse, &sparse->states_);
+  });
+  return sparse;
+}
+
+Trajectory SparseRevolution::SolveSegment(int j) const {
+  Trajectory segment;
+  const int from = indices_[static_cast<std::size_t>(j)];
+  const int to = indices_[static_cast<std::size_t>(j) + 1];
+  std::vector<int> indices;
+  for (int k = from + 1; k < to; ++k) indices.push_back(k);
+  const State& start = states_[static_cast<std::size_t>(j)];
+  std::vector<TrackedContact> contacts = start.contacts;
+  WithStorage(system_.size(), [&](auto storage) {
+    Continue<decltype(storage)::value>(options_, system_, steps_, from, indices, start.x, contacts, segment, nullptr);
+  });
+  return segment;
 }
 
 }  // namespace ringtol::solvers

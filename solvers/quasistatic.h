@@ -40,6 +40,42 @@ struct QuasistaticOptions {
 };
 
 struct NominalStatics;
+class QuasistaticSolver;
+
+// A revolution of `steps` angles solved first at every stride-th angle and at the last
+// (the coarse samples, coarse().psi), the angles between two coarse samples then solved
+// on demand, continued from the earlier one's converged state. The quasistatic
+// equilibrium at an angle does not depend on the path that led to it, so every angle
+// agrees with the dense revolution's to the Newton tolerance. Keeps a reference to the
+// scene, which must outlive it; one thread at a time.
+class SparseRevolution {
+ public:
+  // A converged state: the unknowns and the contacts found there.
+  struct State {
+    Eigen::VectorXd x;
+    std::vector<TrackedContact> contacts;
+  };
+
+  // The coarse samples, with the status of their run: when it is not kOk, the angles
+  // solved before the failure.
+  const Trajectory& coarse() const { return coarse_; }
+  // The dense index (psi = 2 pi k / steps) of every coarse sample, 0 and steps included.
+  const std::vector<int>& coarse_indices() const { return indices_; }
+  // The angles strictly between coarse samples j and j + 1 (j + 1 < coarse samples solved),
+  // in order, with a status like SolveRevolution's; `initial` is left empty.
+  Trajectory SolveSegment(int j) const;
+
+ private:
+  friend class QuasistaticSolver;
+  SparseRevolution(const QuasistaticOptions& options, const engine::Scene& scene, int steps);
+
+  QuasistaticOptions options_;
+  EquilibriumSystem system_;
+  int steps_ = 0;
+  Trajectory coarse_;
+  std::vector<int> indices_;
+  std::vector<State> states_;
+};
 
 // Thread-safe. Keeps the static equilibrium of the last error-free assembly it saw: a
 // scene's own static solve starts from it (a few joint Newton iterations, where the
@@ -52,6 +88,10 @@ class QuasistaticSolver final : public Solver {
   std::string_view name() const override { return "quasistatic"; }
   Equilibrium SolveStatic(const engine::Scene& scene) const override;
   Trajectory SolveRevolution(const engine::Scene& scene, int steps) const override;
+  // The revolution of `steps` angles at every `stride`-th one (2 <= stride) and the last,
+  // the rest on demand (SparseRevolution).
+  std::unique_ptr<SparseRevolution> SolveSparse(const engine::Scene& scene, int steps, int stride) const;
+  const QuasistaticOptions& options() const { return options_; }
 
   // Static equilibrium plus the contacts found there (the linear solver linearises at
   // it), searched from scratch.
@@ -64,6 +104,10 @@ class QuasistaticSolver final : public Solver {
   Equilibrium SolveStaticFromNominal(const EquilibriumSystem& system, Eigen::VectorXd& x,
                                      std::vector<TrackedContact>& contacts) const;
   std::shared_ptr<const NominalStatics> Nominal(engine::Scene perfect) const;
+  // The static equilibrium as a revolution's angle 0, recorded in `trajectory`; false
+  // (with the trajectory's status saying why) when there is none.
+  bool StartRevolution(const EquilibriumSystem& system, Eigen::VectorXd& x, std::vector<TrackedContact>& contacts,
+                       Trajectory& trajectory) const;
 
   QuasistaticOptions options_;
   NominalCache<NominalStatics> nominal_;

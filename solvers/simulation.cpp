@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <span>
 
 #include <Eigen/Eigenvalues>
 
@@ -152,6 +154,306 @@ void Measure(const engine::Scene& scene, const Trajectory& path, const Eigen::Ve
   }
 }
 
+// The refined mode's allowance for what the first-order chord bounds leave out: the exact
+// model's second-order terms, whose sum the linear rung keeps below a hundredth of the
+// path's reach (LinearOptions::max_relative_error) and which stray no more than the
+// first-order terms they are products of (the sensor's reading is second order in both
+// rungs). Doubling the bound covers them with that margin.
+constexpr double kSecondOrderAllowance = 2.0;
+
+// The revolution as the refined mode (AngleMode::kRefined) holds it: every dense angle's
+// outputs, filled where evaluated. Segment j runs from coarse sample j to j + 1.
+class RefinedRevolution {
+ public:
+  RefinedRevolution(const engine::Scene& scene, int steps) : scene_(scene), steps_(steps), z_(scene.rollers.size()) {
+    const auto n = static_cast<std::size_t>(steps) + 1;
+    known_.assign(n, 0);
+    read_.assign(n, 0);
+    centre_.resize(n);
+    travel_.resize(n * z_);
+    force_.resize(n * z_);
+    signal_.resize(n);
+    theta_.resize(n);
+  }
+
+  // Takes the outputs of a trajectory whose samples sit at these dense indices.
+  void Take(const Trajectory& trajectory, std::span<const int> indices) {
+    for (std::size_t s = 0; s < indices.size() && s < trajectory.psi.size(); ++s) {
+      const auto k = static_cast<std::size_t>(indices[s]);
+      known_[k] = 1;
+      centre_[k] = trajectory.centre[s];
+      std::copy_n(trajectory.travel.begin() + static_cast<std::ptrdiff_t>(s * z_), z_, travel_.begin() + static_cast<std::ptrdiff_t>(k * z_));
+      std::copy_n(trajectory.contact_force.begin() + static_cast<std::ptrdiff_t>(s * z_), z_, force_.begin() + static_cast<std::ptrdiff_t>(k * z_));
+    }
+  }
+
+  // Reads the sensor at dense angles first .. last (solved), in order, each reading warm
+  // started from the one before (or from the nearest read angle before first).
+  void Read(int first, int last) {
+    int previous = first;
+    while (previous >= 0 && !read_[static_cast<std::size_t>(previous)]) --previous;
+    double theta = scene_.sensor_angle;
+    if (previous >= 0) theta = theta_[static_cast<std::size_t>(previous)] - Psi(first) + Psi(previous);
+    for (int k = first; k <= last; ++k) {
+      const auto at = static_cast<std::size_t>(k);
+      if (read_[at]) {
+        theta = theta_[at] - (Psi(k + 1) - Psi(k));
+        continue;
+      }
+      const engine::SensorReading reading =
+          engine::ReadSensor(scene_.ring.inner, {centre_[at], Psi(k)}, scene_.sensor_angle, theta, &track_);
+      read_[at] = 1;
+      signal_[at] = reading.distance;
+      theta_[at] = reading.ring_theta;
+      theta = reading.ring_theta - (Psi(k + 1) - Psi(k));
+    }
+  }
+
+  double Psi(int k) const { return 2.0 * std::numbers::pi * static_cast<double>(k) / steps_; }
+  bool known(int k) const { return known_[static_cast<std::size_t>(k)] != 0; }
+  bool read(int k) const { return read_[static_cast<std::size_t>(k)] != 0; }
+  const Eigen::Vector2d& centre(int k) const { return centre_[static_cast<std::size_t>(k)]; }
+  double travel(int k, std::size_t i) const { return travel_[static_cast<std::size_t>(k) * z_ + i]; }
+  double force(int k, std::size_t i) const { return force_[static_cast<std::size_t>(k) * z_ + i]; }
+  double signal(int k) const { return signal_[static_cast<std::size_t>(k)]; }
+  int steps() const { return steps_; }
+
+ private:
+  const engine::Scene& scene_;
+  int steps_;
+  std::size_t z_;
+  std::vector<char> known_, read_;
+  std::vector<Eigen::Vector2d> centre_;
+  std::vector<double> travel_, force_, signal_, theta_;
+  engine::SensorTrack track_;
+};
+
+// The linearisation whose chord bounds certify the refined mode, kept across calls: a
+// campaign's scenes share one error-free assembly.
+const LinearSolver& CertifyingLinearisation() {
+  static const LinearSolver solver;
+  return solver;
+}
+
+// AngleMode::kRefined (simulation.h): nullopt where the mode does not apply or the
+// coarse revolution fails, for the dense mode to decide (and state the failure where it
+// arises).
+std::optional<SimulationResult> SimulateRefined(const engine::Scene& scene, const Solver& solver,
+                                                const SimulationOptions& options, int steps) {
+  const auto* quasistatic = dynamic_cast<const QuasistaticSolver*>(&solver);
+  const auto* linear = dynamic_cast<const LinearSolver*>(&solver);
+  const int stride = options.refine_stride;
+  if ((quasistatic == nullptr && linear == nullptr) || scene.sensor_swing.cutoff_upr > 0.0 || stride < 2 ||
+      steps < 4 * stride) {
+    return std::nullopt;
+  }
+  const ValidityCheck validity(scene);
+  const int rollers = static_cast<int>(scene.rollers.size());
+  const auto z = static_cast<std::size_t>(rollers);
+  // Penetrating contacts have gaps <= 0, so a roller that needs no two-point search at a
+  // zero gap needs none anywhere; one that might is checked at every angle, densely.
+  for (int i = 0; i < rollers; ++i) {
+    if (quasistatic != nullptr && validity.NeedsTwoPointSearch(i, 0.0)) return std::nullopt;
+  }
+  const double dpsi_coarse = 2.0 * std::numbers::pi * stride / steps;
+  const ChordStraying straying = CertifyingLinearisation().ChordStrayingAt(scene, dpsi_coarse);
+  if (!straying.usable) return std::nullopt;
+
+  SimulationResult result;
+  result.steps = steps;
+  RefinedRevolution revolution(scene, steps);
+  std::vector<int> coarse;
+  for (int k = 0; k < steps; k += stride) coarse.push_back(k);
+  coarse.push_back(steps);
+  const std::size_t segments = coarse.size() - 1;
+  std::vector<char> evaluated(segments, 0);  // the segment's inner angles solved and read
+  Trajectory head;                            // the initial equilibrium and the run's totals
+  // The first-order path at every dense angle, in closed form (the linear rung's own
+  // path): it carries the fast part, the rollers' lobes, exactly to first order, so what
+  // the exact path adds to it between two evaluated angles is only its second-order rest.
+  Trajectory first_order = (linear != nullptr ? *linear : CertifyingLinearisation()).SolveRevolution(scene, steps);
+  if (linear != nullptr) {
+    validity.Check(first_order);
+    if (first_order.status != Status::kOk) {
+      result.status = first_order.status;
+      result.message = first_order.message;
+      result.trajectory = std::move(first_order);
+      return result;
+    }
+    std::vector<int> all(static_cast<std::size_t>(steps) + 1);
+    for (int k = 0; k <= steps; ++k) all[static_cast<std::size_t>(k)] = k;
+    revolution.Take(first_order, all);
+    head.initial = first_order.initial;
+    head.error_estimate = first_order.error_estimate;
+  } else if (first_order.status != Status::kOk && first_order.status != Status::kBeyondLinearRange) {
+    return std::nullopt;
+  }
+  std::unique_ptr<SparseRevolution> sparse;
+  // How far the exact path's rest, q - first-order path, strays from its chord between
+  // two evaluated angles [m]: the rest is the second-order terms, which the linear rung's
+  // estimate encloses in a circle of diameter error_estimate, doubled for what the
+  // estimate leaves out, plus the two ends' Newton tolerance.
+  double rest_bound = 0.0;
+  if (quasistatic != nullptr) {
+    rest_bound = kSecondOrderAllowance * first_order.error_estimate + 2.0 * quasistatic->options().position_tolerance;
+    sparse = quasistatic->SolveSparse(scene, steps, stride);
+    Trajectory first = sparse->coarse();
+    validity.Check(first);
+    if (first.status != Status::kOk) return std::nullopt;
+    revolution.Take(first, coarse);
+    head.initial = first.initial;
+    head.total_iterations = first.total_iterations;
+  }
+  // The sensor reads e_s . c + rho(aim - psi - c_t / R) + c_t^2 / (2 R) to second order
+  // (rho the bore's form, c_t the centre across the ray): what it adds to e_s . c is the
+  // bore's form, slow (order <= its harmonics), plus a rest of at most
+  // max|rho'| |c_t| / R + c_t^2 / (2 R), which strays by at most twice that.
+  const engine::PolarProfile& bore = scene.ring.inner;
+  double form_straying = 0.0;
+  double steepest = 0.0;
+  for (int n = 1; n <= bore.max_order(); ++n) {
+    const double amplitude = std::hypot(bore.cos_coefficient(n), bore.sin_coefficient(n));
+    form_straying += amplitude * std::min(2.0, n * n * dpsi_coarse * dpsi_coarse / 8.0);
+    steepest += n * amplitude;
+  }
+  double across = 0.0;
+  for (const Eigen::Vector2d& c : first_order.centre) across = std::max(across, c.norm());
+  across += rest_bound;
+  const double signal_bound = kSecondOrderAllowance * form_straying +
+                              2.0 * (steepest * across + across * across / 2.0) / bore.radius() + rest_bound;
+  const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
+  for (const int k : coarse) revolution.Read(k, k);
+  const auto evaluate = [&](std::size_t j) {
+    const int first = coarse[j] + 1;
+    const int last = coarse[j + 1] - 1;
+    evaluated[j] = 1;
+    if (first > last) return true;
+    if (sparse != nullptr) {
+      const Trajectory segment = sparse->SolveSegment(static_cast<int>(j));
+      head.total_iterations += segment.total_iterations;
+      if (segment.status != Status::kOk) return false;
+      std::vector<int> indices(static_cast<std::size_t>(last - first + 1));
+      for (int k = first; k <= last; ++k) indices[static_cast<std::size_t>(k - first)] = k;
+      revolution.Take(segment, indices);
+    }
+    revolution.Read(first, last);
+    return true;
+  };
+
+  // The domain: a dense angle of an unevaluated segment lies within the chord bounds of
+  // the chord between its ends, so a force that stays above zero by more than its bound
+  // and a travel that stays inside its limit by more than its bound at both ends cannot
+  // fail the validity check between them. The linear rung's path is dense and checked.
+  if (sparse != nullptr) {
+    for (std::size_t j = 0; j < segments; ++j) {
+      const int a = coarse[j];
+      const int b = coarse[j + 1];
+      bool certain = true;
+      for (std::size_t i = 0; i < z && certain; ++i) {
+        const double force_bound = kSecondOrderAllowance * straying.contact_force[i];
+        const double travel_bound = kSecondOrderAllowance * straying.travel[i];
+        certain = std::min(revolution.force(a, i), revolution.force(b, i)) > force_bound;
+        if (scene.rollers[i].mount != engine::RollerMount::kFixed) {
+          certain = certain && std::max(std::abs(revolution.travel(a, i)), std::abs(revolution.travel(b, i))) +
+                                       travel_bound <= scene.rollers[i].spring.travel_limit;
+        }
+      }
+      if (!certain && !evaluate(j)) return std::nullopt;
+    }
+  }
+
+  // The extremes: a segment can hold a dense angle beyond the current enclosing circle or
+  // the signal's extremes only if its estimate there lies within the bound of them. Each
+  // pass evaluates those segments; the extremes only grow, so it ends when none is left.
+  // The force range is read at the evaluated angles: the dense grid's lies within
+  // kSecondOrderAllowance times ChordStraying::contact_force of it (the forces vary by
+  // little more than that bound, so certifying them would evaluate every angle).
+  std::vector<Eigen::Vector2d> points;
+  engine::Circle circle;
+  std::vector<RollerForceRange> forces(z);
+  double signal_max = 0.0;
+  double signal_min = 0.0;
+  for (bool changed = true; changed;) {
+    points.clear();
+    signal_max = -std::numeric_limits<double>::infinity();
+    signal_min = std::numeric_limits<double>::infinity();
+    forces.assign(z, {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()});
+    for (int k = 0; k <= steps; ++k) {
+      if (!revolution.known(k)) continue;
+      points.push_back(revolution.centre(k));
+      for (std::size_t i = 0; i < z; ++i) {
+        forces[i].min = std::min(forces[i].min, revolution.force(k, i));
+        forces[i].max = std::max(forces[i].max, revolution.force(k, i));
+      }
+      if (!revolution.read(k)) continue;
+      signal_max = std::max(signal_max, revolution.signal(k));
+      signal_min = std::min(signal_min, revolution.signal(k));
+    }
+    circle = engine::MinimumEnclosingCircle(points);
+    std::vector<std::size_t> wanted;
+    for (std::size_t j = 0; j < segments; ++j) {
+      if (evaluated[j]) continue;
+      const int a = coarse[j];
+      const int b = coarse[j + 1];
+      // Each dense angle between the ends: the first-order path there plus the rest
+      // interpolated between the ends', within rest_bound of the exact point; the
+      // signal likewise, its rest being what the sensor adds to the first-order centre.
+      const Eigen::Vector2d rest_a = revolution.centre(a) - first_order.centre[static_cast<std::size_t>(a)];
+      const Eigen::Vector2d rest_b = revolution.centre(b) - first_order.centre[static_cast<std::size_t>(b)];
+      const double signal_rest_a = revolution.signal(a) - ray.dot(first_order.centre[static_cast<std::size_t>(a)]);
+      const double signal_rest_b = revolution.signal(b) - ray.dot(first_order.centre[static_cast<std::size_t>(b)]);
+      bool open = false;
+      for (int k = a + 1; k < b && !open; ++k) {
+        const double t = static_cast<double>(k - a) / (b - a);
+        const Eigen::Vector2d& near = first_order.centre[static_cast<std::size_t>(k)];
+        const double reading = ray.dot(near) + (1.0 - t) * signal_rest_a + t * signal_rest_b;
+        open = reading + signal_bound > signal_max || reading - signal_bound < signal_min;
+        if (sparse != nullptr) {
+          const Eigen::Vector2d point = near + (1.0 - t) * rest_a + t * rest_b;
+          open = open || (point - circle.centre).norm() > circle.radius - rest_bound;
+        }
+      }
+      if (open) wanted.push_back(j);
+    }
+    changed = !wanted.empty();
+    for (const std::size_t j : wanted) {
+      if (!evaluate(j)) return std::nullopt;
+    }
+  }
+
+  const Equilibrium nominal = solver.SolveStatic(engine::WithoutErrors(scene));
+  if (nominal.status != Status::kOk) {
+    result.status = nominal.status;
+    result.message = "the error-free assembly has no valid static equilibrium: " + nominal.message;
+    return result;
+  }
+  result.enclosing_circle = circle;
+  result.d_trajectory = 2.0 * circle.radius;
+  result.dist_init = (head.initial.centre - circle.centre).norm();
+  result.static_offset = (head.initial.centre - nominal.centre).norm();
+  result.contact_force = forces;
+  result.min_contact_force = std::numeric_limits<double>::infinity();
+  for (const RollerForceRange& range : forces) result.min_contact_force = std::min(result.min_contact_force, range.min);
+  // The trajectory and the signal at the angles evaluated at full cost, in order.
+  Trajectory& kept = result.trajectory;
+  kept.initial = head.initial;
+  kept.total_iterations = head.total_iterations;
+  kept.error_estimate = head.error_estimate;
+  for (int k = 0; k <= steps; ++k) {
+    if (!revolution.read(k)) continue;
+    kept.psi.push_back(revolution.Psi(k));
+    kept.centre.push_back(revolution.centre(k));
+    for (std::size_t i = 0; i < z; ++i) {
+      kept.travel.push_back(revolution.travel(k, i));
+      kept.contact_force.push_back(revolution.force(k, i));
+    }
+    result.sensor.push_back(revolution.signal(k));
+  }
+  result.runout = signal_max - signal_min;
+  result.swing = engine::Swing(result.sensor, scene.sensor_swing.resolution);
+  return result;
+}
+
 }  // namespace
 
 SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options) {
@@ -159,6 +461,11 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
   result.steps = ChooseSteps(scene, options);
   result.status = CheckSceneGeometry(scene, result.message);
   if (result.status != Status::kOk) return result;
+  if (options.angles == AngleMode::kRefined) {
+    if (std::optional<SimulationResult> refined = SimulateRefined(scene, solver, options, result.steps)) {
+      return std::move(*refined);
+    }
+  }
   result.trajectory = solver.SolveRevolution(scene, result.steps);
   // One verdict for every rung: a rung's own checks may miss what another's catch.
   const ValidityCheck validity(scene);

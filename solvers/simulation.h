@@ -18,9 +18,32 @@ namespace ringtol::solvers {
 // the largest `steps` a file or the command line may ask for.
 inline constexpr int kMaxSteps = 2000000;
 
+// Which of the revolution's angles are evaluated at full cost. kDense: every one, the
+// reference. kRefined: every `refine_stride`-th and the last, then only the stretches
+// between them where the first-order path in closed form (the linear rung's, which
+// carries the rollers' fast lobes) plus the exact path's rest interpolated between the
+// stretch's ends, within a bound on that second-order rest, could lie outside the
+// enclosing circle or beyond the sensor signal's extremes, or where a contact force or a
+// spring travel is within twice its first-order chord bound (LinearSolver::ChordStraying)
+// of failing. What is left unevaluated then changes none of D_trajectory, runout and the
+// status: they equal the dense grid's to the solver's tolerance (docs/model.md). Not
+// certified: the swing (its counter-moves are the ripple the stride skips) and the
+// force range, both read at the evaluated angles. result.trajectory and result.sensor
+// hold those angles only. Linear and quasistatic rungs; the dynamic rung, a filtered
+// swing rule and bores a roller could bridge (a two-point search) stay dense, and a
+// sample that fails anywhere is rerun dense, which states the failure.
+enum class AngleMode { kDense, kRefined };
+inline constexpr NameTable<AngleMode, 2> kAngleModeNames = {
+    {{AngleMode::kDense, "dense"}, {AngleMode::kRefined, "refined"}}};
+
 struct SimulationOptions {
   // Angles per revolution, 0..kMaxSteps; 0 chooses them from the scene (ChooseSteps).
   int steps = 0;
+  AngleMode angles = AngleMode::kDense;
+  // kRefined: evaluate every this many of the `steps` angles first, >= 2. Eight keeps the
+  // ring's harmonics (<= 50 per revolution) resolved on the coarse grid at campaign
+  // resolutions, so only the roller lobes' ripple decides what is refined.
+  int refine_stride = 8;
   // Automatic resolution: samples per period of the fastest undulation in the path [-].
   // The sampled enclosing circle misses a smooth path by at most |c''| dpsi^2 / 8, so 32
   // samples keep that below 0.5 % of the fastest term's amplitude.

@@ -25,6 +25,7 @@ solvers::SolverSettings ReadSolverTable(const TableReader& table) {
     double path_tolerance = kCampaignPathTolerance;
     double relative_tolerance = solvers::SolverSettings{}.relative_tolerance;
     solvers::DynamicStart start = solvers::SolverSettings{}.dynamic_start;
+    solvers::AngleMode angles = CampaignSolverDefaults().simulation.angles;
   };
   SolverInput solver;
   const std::vector<Field<SolverInput>> solver_fields{
@@ -35,12 +36,14 @@ solvers::SolverSettings ReadSolverTable(const TableReader& table) {
       Number("relative_tolerance", Presence::kOptional, kSameUnit, Range{0, true, 1, true},
              &SolverInput::relative_tolerance),
       Choice("start", Presence::kOptional, solvers::kDynamicStartNames, &SolverInput::start),
+      Choice("angles", Presence::kOptional, solvers::kAngleModeNames, &SolverInput::angles),
   };
   table.Read(solver_fields, solver);
   solvers::SolverSettings settings = CampaignSolverDefaults();
   settings.rung = solver.rung;
   settings.simulation.steps = solver.steps;
   settings.simulation.path_tolerance = solver.path_tolerance;
+  settings.simulation.angles = solver.angles;
   settings.relative_tolerance = solver.relative_tolerance;
   settings.dynamic_start = solver.start;
   return settings;

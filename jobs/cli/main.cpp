@@ -84,6 +84,16 @@ void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings,
       ->default_str(std::string(NameOf(ringtol::solvers::kRungNames, settings.rung)));
   app.add_option("--steps", settings.simulation.steps, steps_help)
       ->check(CLI::Range(1, ringtol::solvers::kMaxSteps));
+  std::vector<std::string> angle_modes;
+  for (const auto& [mode, name] : ringtol::solvers::kAngleModeNames) angle_modes.emplace_back(name);
+  app.add_option_function<std::string>(
+         "--angles",
+         [&settings](const std::string& name) {
+           settings.simulation.angles = *ValueNamed(ringtol::solvers::kAngleModeNames, name);
+         },
+         "Angles evaluated at full cost: every one, or a coarse grid refined where the metrics could change")
+      ->check(CLI::IsMember(angle_modes))
+      ->default_str(std::string(NameOf(ringtol::solvers::kAngleModeNames, settings.simulation.angles)));
   app.add_option("--relative-tolerance", settings.relative_tolerance, "Dynamic solver: integrator tolerance, > 0 and < 1")
       ->capture_default_str();
   std::vector<std::string> starts;
