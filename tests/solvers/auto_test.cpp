@@ -101,7 +101,9 @@ TEST(AutoRung, GivesTheQuasistaticStatusWhereverTheLinearRungFails) {
     const solvers::SimulationResult chosen = Revolve(c.scene, automatic);
     const solvers::SimulationResult exact = Revolve(c.scene, solvers::QuasistaticSolver());
     EXPECT_EQ(solvers::StatusName(chosen.status), solvers::StatusName(exact.status)) << c.name << ": " << chosen.message;
-    if (c.linear_fails) EXPECT_EQ(chosen.trajectory.rung, Rung::kQuasistatic) << c.name;
+    if (c.linear_fails) {
+      EXPECT_EQ(chosen.trajectory.rung, Rung::kQuasistatic) << c.name;
+    }
   }
 }
 

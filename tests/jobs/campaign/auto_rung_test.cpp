@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "jobs/campaign/campaign.h"
@@ -126,9 +127,10 @@ Tally CheckClasses(const Classes& classes) {
   return tally;
 }
 
-// At the article's 270 deg/s the ring's inertial force stays far below the contact forces
-// for every class, so no sample needs the dynamic rung; and both rungs of the time-free
-// model take part, so both branches are checked.
+// At the article's 270 deg/s the ring's inertial force stays below the contact forces for
+// every class, so no sample needs the dynamic rung; and both rungs of the time-free model
+// take part, so both branches are checked: the loosest class's rings (0.5 mm) put every
+// linear estimate above the budget, the tightest settle on the linear rung.
 TEST(AutoRung, StatusesAreTheExactModelsAndErrorsStayWithinTheRecordedEstimate) {
   for (const Classes& classes : kExtremes) {
     const Tally tally = CheckClasses(classes);
@@ -136,7 +138,7 @@ TEST(AutoRung, StatusesAreTheExactModelsAndErrorsStayWithinTheRecordedEstimate) 
     const auto quasistatic = tally.settled[static_cast<std::size_t>(solvers::Rung::kQuasistatic)];
     const auto dynamic = tally.settled[static_cast<std::size_t>(solvers::Rung::kDynamic)];
     EXPECT_EQ(dynamic, 0) << classes.name;
-    EXPECT_GT(linear, 0) << classes.name;
+    EXPECT_GT(std::string_view(classes.name) == "tightest" ? linear : quasistatic, 0) << classes.name;
     RecordProperty(std::string(classes.name) + "_linear", std::to_string(linear));
     RecordProperty(std::string(classes.name) + "_quasistatic", std::to_string(quasistatic));
     RecordProperty(std::string(classes.name) + "_largest_error_over_estimate", std::to_string(tally.largest_ratio));

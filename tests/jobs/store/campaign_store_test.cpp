@@ -656,7 +656,7 @@ const std::vector<std::string> kDamagedDatasets = {"/inputs/u", "/inputs/values"
 TEST(CampaignStore, EveryDatasetEndsItsFiltersWithTheFletcher32Checksum) {
   const fs::path path = WriteFinished(TestFolder() / "results.h5");
   const ResultsCheck check = CheckResults(path);
-  EXPECT_EQ(check.datasets.size(), 6 + 7 + kOutputCount);  // descriptions, per-sample columns, outputs
+  EXPECT_EQ(check.datasets.size(), 6 + 9 + kOutputCount);  // descriptions, per-sample columns (rung and error bound among them), outputs
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   for (const DatasetCheck& dataset : check.datasets) {
     SCOPED_TRACE(dataset.path);
