@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "engine/sensor.h"
+#include "solvers/auto.h"
 #include "solvers/dynamic.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
@@ -17,22 +18,39 @@
 
 namespace ringtol::solvers {
 
+namespace {
+
+QuasistaticOptions QuasistaticFor(const SolverSettings& settings) {
+  QuasistaticOptions options;
+  if (settings.simulation.path_tolerance > 0.0) {
+    options.position_tolerance = kAngleShareOfPathTolerance * settings.simulation.path_tolerance;
+  }
+  return options;
+}
+
+DynamicOptions DynamicFor(const SolverSettings& settings) {
+  DynamicOptions options;
+  options.relative_tolerance = settings.relative_tolerance;
+  options.start = settings.dynamic_start;
+  return options;
+}
+
+}  // namespace
+
 std::unique_ptr<Solver> MakeSolver(const SolverSettings& settings) {
   switch (settings.rung) {
     case Rung::kLinear:
       return std::make_unique<LinearSolver>();
-    case Rung::kQuasistatic: {
-      QuasistaticOptions options;
-      if (settings.simulation.path_tolerance > 0.0) {
-        options.position_tolerance = kAngleShareOfPathTolerance * settings.simulation.path_tolerance;
-      }
-      return std::make_unique<QuasistaticSolver>(options);
-    }
-    case Rung::kDynamic: {
-      DynamicOptions options;
-      options.relative_tolerance = settings.relative_tolerance;
-      options.start = settings.dynamic_start;
-      return std::make_unique<DynamicSolver>(options);
+    case Rung::kQuasistatic:
+      return std::make_unique<QuasistaticSolver>(QuasistaticFor(settings));
+    case Rung::kDynamic:
+      return std::make_unique<DynamicSolver>(DynamicFor(settings));
+    case Rung::kAuto: {
+      AutoOptions options;
+      options.budget = kAutoShareOfPathTolerance * settings.simulation.path_tolerance;
+      options.quasistatic = QuasistaticFor(settings);
+      options.dynamic = DynamicFor(settings);
+      return std::make_unique<AutoSolver>(options);
     }
   }
   return std::make_unique<QuasistaticSolver>();
@@ -66,7 +84,13 @@ int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options) {
 
 double SamplingErrorBounds::Largest() const { return std::max({d_trajectory, runout, 0.5 * swing}); }
 
-SamplingErrorBounds SamplingErrorBoundsAt(const engine::Scene& scene, int steps) {
+namespace {
+
+// Calls term(path_gain, sensor_gain, amplitude, rate) for each error harmonic's term of the
+// first-order path (SamplingErrorBoundsAt states the gains); false, calling nothing, when
+// fewer than two fixed rollers support the centre (every gain infinite).
+template <typename Term>
+bool ForEachPathTerm(const engine::Scene& scene, Term term) {
   const int rollers = static_cast<int>(scene.rollers.size());
   Eigen::Matrix2d normal_products = Eigen::Matrix2d::Zero();
   int fixed = 0;
@@ -77,11 +101,24 @@ SamplingErrorBounds SamplingErrorBoundsAt(const engine::Scene& scene, int steps)
     ++fixed;
   }
   const double sigma_min_squared = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(normal_products).eigenvalues()(0);
-  if (fixed < 2 || !(sigma_min_squared > 0.0)) {
-    constexpr double kInfinite = std::numeric_limits<double>::infinity();
-    return {kInfinite, kInfinite, kInfinite, kInfinite};
-  }
+  if (fixed < 2 || !(sigma_min_squared > 0.0)) return false;
   const double gain = 1.0 / std::sqrt(sigma_min_squared);
+  const double ring_gain = gain * std::sqrt(static_cast<double>(fixed));
+  for (const engine::Harmonic& h : scene.ring.inner.harmonics()) {
+    term(ring_gain, ring_gain + 1.0, h.amplitude, static_cast<double>(h.order));
+  }
+  for (int i = 0; i < rollers; ++i) {
+    const double spin = engine::SpinRatio(scene, i);
+    for (const engine::Harmonic& h : scene.rollers[static_cast<std::size_t>(i)].outline.harmonics()) {
+      term(gain, gain, h.amplitude, static_cast<double>(h.order) * spin);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+SamplingErrorBounds SamplingErrorBoundsAt(const engine::Scene& scene, int steps) {
   const double dpsi = 2.0 * std::numbers::pi / static_cast<double>(steps);
   const auto straying = [dpsi](double rate) { return std::min(2.0, rate * rate * dpsi * dpsi / 8.0); };
   const bool filtered = scene.sensor_swing.cutoff_upr > 0.0;
@@ -91,23 +128,24 @@ SamplingErrorBounds SamplingErrorBoundsAt(const engine::Scene& scene, int steps)
   double path = 0.0;
   double signal = 0.0;
   double filtered_signal = 0.0;
-  const double ring_gain = gain * std::sqrt(static_cast<double>(fixed));
-  for (const engine::Harmonic& h : scene.ring.inner.harmonics()) {
-    const double rate = static_cast<double>(h.order);
-    path += ring_gain * h.amplitude * straying(rate);
-    signal += (ring_gain + 1.0) * h.amplitude * straying(rate);
-    filtered_signal += (ring_gain + 1.0) * h.amplitude * filtered_straying(rate);
-  }
-  for (int i = 0; i < rollers; ++i) {
-    const double spin = engine::SpinRatio(scene, i);
-    for (const engine::Harmonic& h : scene.rollers[static_cast<std::size_t>(i)].outline.harmonics()) {
-      const double rate = static_cast<double>(h.order) * spin;
-      path += gain * h.amplitude * straying(rate);
-      signal += gain * h.amplitude * straying(rate);
-      filtered_signal += gain * h.amplitude * filtered_straying(rate);
-    }
+  const bool supported = ForEachPathTerm(scene, [&](double path_gain, double sensor_gain, double amplitude, double rate) {
+    path += path_gain * amplitude * straying(rate);
+    signal += sensor_gain * amplitude * straying(rate);
+    filtered_signal += sensor_gain * amplitude * filtered_straying(rate);
+  });
+  if (!supported) {
+    constexpr double kInfinite = std::numeric_limits<double>::infinity();
+    return {kInfinite, kInfinite, kInfinite, kInfinite};
   }
   return {path, 2.0 * path, 2.0 * signal, 4.0 * filtered_signal};
+}
+
+double SumOverPathTerms(const engine::Scene& scene, const std::function<double(double rate)>& weight) {
+  double bound = 0.0;
+  const bool supported = ForEachPathTerm(scene, [&](double path_gain, double, double amplitude, double rate) {
+    bound += path_gain * amplitude * weight(rate);
+  });
+  return supported ? bound : std::numeric_limits<double>::infinity();
 }
 
 double SamplingErrorBound(const engine::Scene& scene, int steps) { return SamplingErrorBoundsAt(scene, steps).Largest(); }
@@ -467,6 +505,7 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
     }
   }
   result.trajectory = solver.SolveRevolution(scene, result.steps);
+  if (!result.trajectory.rung) result.trajectory.rung = ValueNamed(kRungNames, solver.name());
   // One verdict for every rung: a rung's own checks may miss what another's catch.
   const ValidityCheck validity(scene);
   validity.Check(result.trajectory);

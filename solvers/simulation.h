@@ -3,6 +3,7 @@
 // sensor's runout and swing and the contact-force range.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -62,6 +63,8 @@ struct SimulationOptions {
 // line (--solver, --steps, --relative-tolerance, --dynamic-start) and the report's replays state it; one
 // factory makes the solver from it, so the rules below hold wherever a solver is made.
 struct SolverSettings {
+  // A single run's default; campaigns and allocations default to Rung::kAuto, whose
+  // budget for the linear rung's error is kAutoShareOfPathTolerance of path_tolerance.
   Rung rung = Rung::kQuasistatic;
   // Angles per revolution and the sampling budget. With a budget (path_tolerance > 0) the
   // quasistatic rung converges each angle to kAngleShareOfPathTolerance of it instead of
@@ -77,6 +80,10 @@ struct SolverSettings {
 // quasistatic_equilibrium"): what a results file records as its solver.
 std::string SolverDescription(const SolverSettings& settings);
 inline constexpr double kAngleShareOfPathTolerance = 0.01;
+// The auto rung's budget for the linear rung's estimated second-order error, as a share of
+// path_tolerance [-]: the sampling bound may use the whole budget, so the model's error is
+// held to half of it, and the total to 1.5 path_tolerance.
+inline constexpr double kAutoShareOfPathTolerance = 0.5;
 
 // Never fails: every Rung has a solver.
 std::unique_ptr<Solver> MakeSolver(const SolverSettings& settings);
@@ -122,6 +129,11 @@ SamplingErrorBounds SamplingErrorBoundsAt(const engine::Scene& scene, int steps)
 
 // SamplingErrorBoundsAt(scene, steps).Largest(): the step rule's measure.
 double SamplingErrorBound(const engine::Scene& scene, int steps);
+
+// The sum over the first-order path's terms (gains as above) of gain A weight(w), w the
+// term's rate per revolution: with weight(w) = w^k a bound on |d^k c / d psi^k| [m/rad^k].
+// Infinite with fewer than two fixed rollers.
+double SumOverPathTerms(const engine::Scene& scene, const std::function<double(double rate)>& weight);
 
 struct RollerForceRange {
   double min = 0.0;  // [N]

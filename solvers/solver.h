@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -52,6 +53,16 @@ static_assert([] {
 }(), "kStatusNames lists every Status in the order of its number");
 constexpr std::string_view StatusName(Status status) { return NameOf(kStatusNames, status); }
 
+// The rungs of the ladder, cheapest first, and `auto`, which picks one of them per scene
+// (solvers/auto.h); their names are what files and the command line say (`solver.name`,
+// `--solver`), and results files store a path's rung by its number (0..2; auto is never a
+// path's rung). SolverSettings (solvers/simulation.h) picks one and MakeSolver makes it.
+enum class Rung { kLinear, kQuasistatic, kDynamic, kAuto };
+inline constexpr NameTable<Rung, 4> kRungNames = {{{Rung::kLinear, "linear"},
+                                                   {Rung::kQuasistatic, "quasistatic"},
+                                                   {Rung::kDynamic, "dynamic"},
+                                                   {Rung::kAuto, "auto"}}};
+
 // engine::CheckGeometry as a solver status (kOk when the scene can be simulated), with
 // its reason in `message`.
 Status CheckSceneGeometry(const engine::Scene& scene, std::string& message);
@@ -83,6 +94,9 @@ struct Trajectory {
   // (the linear rung: its neglected second-order terms, LinearOptions); 0 for the rungs
   // that solve the exact model, whose error is their tolerance.
   double error_estimate = 0.0;
+  // The rung that computed the path: set by a solver that chooses one (auto), else by
+  // Simulate from the solver's name; empty for a solver outside the ladder.
+  std::optional<Rung> rung;
   // A later revolution of the same run, for a solver that simulates time (dynamic): the
   // steady state after the start transient, with `initial` still the state at rotation
   // start; its own status says whether it is usable (the law may stop before it). Null for
@@ -103,12 +117,5 @@ class Solver {
   // holds the angles solved so far and the status says why it stopped.
   virtual Trajectory SolveRevolution(const engine::Scene& scene, int steps) const = 0;
 };
-
-// The rungs of the ladder, cheapest first; their names are what files and the command
-// line say (`solver.name`, `--solver`). SolverSettings (solvers/simulation.h) picks one
-// and MakeSolver makes it.
-enum class Rung { kLinear, kQuasistatic, kDynamic };
-inline constexpr NameTable<Rung, 3> kRungNames = {
-    {{Rung::kLinear, "linear"}, {Rung::kQuasistatic, "quasistatic"}, {Rung::kDynamic, "dynamic"}}};
 
 }  // namespace ringtol::solvers

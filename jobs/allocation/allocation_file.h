@@ -5,7 +5,8 @@
 //
 //   [design]                        as a campaign's, kind "sobol" or "monte_carlo" (stages are
 //                                   prefixes of it); samples is the most any candidate gets
-//   [solver]                        as a campaign's: the accurate rung, which confirms
+//   [solver]                        as a campaign's (default auto): the rung that confirms;
+//                                   a screen needs auto or quasistatic
 //   [allocation]
 //     screen = "linear"             "linear" or "none": the cheap rung that may settle a
 //                                   candidate where its error bound allows (docs/allocation.md)

@@ -109,6 +109,9 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
       solvers::SimulationResult result = solvers::Simulate(assembly->scene, *solver_, campaign_->simulation());
       if (faults_.after_simulate) faults_.after_simulate(index, result);
       record.steps = result.steps;
+      if (result.trajectory.rung && *result.trajectory.rung != solvers::Rung::kAuto) {
+        record.rung = static_cast<std::int8_t>(*result.trajectory.rung);
+      }
       record.status = FromSolverStatus(result.status);
       record.message = result.message;
       // A time-simulating rung's steady revolution is an output too: when it failed (a

@@ -20,7 +20,7 @@ struct SpecInput {
 
 solvers::SolverSettings ReadSolverTable(const TableReader& table) {
   struct SolverInput {
-    solvers::Rung rung = solvers::Rung::kQuasistatic;
+    solvers::Rung rung = CampaignSolverDefaults().rung;
     int steps = 0;
     double path_tolerance = kCampaignPathTolerance;
     double relative_tolerance = solvers::SolverSettings{}.relative_tolerance;

@@ -3,7 +3,9 @@
 // examples/campaigns/default.toml is the reference.
 //
 //   [solver]                       optional
-//     name = "quasistatic"         "linear", "quasistatic" or "dynamic"
+//     name = "auto"                "auto", "linear", "quasistatic" or "dynamic": auto picks
+//                                  per sample the cheapest whose error fits half the
+//                                  path_tolerance (solvers/auto.h)
 //     steps = 0                    0..solvers::kMaxSteps: angles per revolution; 0 = automatic
 //     path_tolerance_um = 1.0      >= 0: budget of the automatic resolution for the sampling
 //                                  error of D_trajectory (solvers/simulation.h,
@@ -37,11 +39,13 @@
 
 namespace ringtol::jobs {
 
-// A campaign's defaults differ from a single run's in one field: a sampling budget of
-// 1 um (path_tolerance_um), where `ringtol simulate` resolves every undulation.
+// A campaign's defaults differ from a single run's in two fields: the auto rung, and a
+// sampling budget of 1 um (path_tolerance_um), where `ringtol simulate` runs the
+// quasistatic rung and resolves every undulation.
 inline constexpr double kCampaignPathTolerance = 1e-6;  // [m]
 inline solvers::SolverSettings CampaignSolverDefaults() {
   solvers::SolverSettings settings;
+  settings.rung = solvers::Rung::kAuto;
   settings.simulation.path_tolerance = kCampaignPathTolerance;
   return settings;
 }

@@ -50,6 +50,8 @@ inline constexpr std::array<const char*, 9> kOutputNames = {
     "d_trajectory_steady_mm"};
 inline constexpr std::size_t kOutputCount = kOutputNames.size();
 
+inline constexpr std::int8_t kNoRung = -1;
+
 struct SampleRecord {
   std::int64_t index = 0;
   SampleStatus status = SampleStatus::kPending;
@@ -63,6 +65,9 @@ struct SampleRecord {
   // (solvers::Trajectory::error_estimate: the linear rung's neglected second-order terms,
   // 0 for the rungs that solve the exact model); NaN when status != kOk.
   double d_trajectory_error = 0.0;
+  // The rung whose path the outputs are (solvers::Rung's number: 0 linear, 1 quasistatic,
+  // 2 dynamic; the auto rung picks one per sample); kNoRung when no rung ran.
+  std::int8_t rung = kNoRung;
   double solve_time = 0.0;               // [s] wall time of realise + simulate
 };
 

@@ -79,7 +79,8 @@ void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings,
   app.add_option_function<std::string>(
          "--solver",
          [&settings](const std::string& name) { settings.rung = *ValueNamed(ringtol::solvers::kRungNames, name); },
-         "Solver, a rung of the ladder")
+         "Solver, a rung of the ladder, or auto: the cheapest whose error estimate fits half the path tolerance "
+         "(solvers/auto.h)")
       ->check(CLI::IsMember(names))
       ->default_str(std::string(NameOf(ringtol::solvers::kRungNames, settings.rung)));
   app.add_option("--steps", settings.simulation.steps, steps_help)

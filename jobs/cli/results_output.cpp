@@ -113,7 +113,8 @@ nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationR
   nlohmann::json j;
   if (!case_name.empty()) j["case"] = case_name;
   j["solver"] = std::string(NameOf(solvers::kRungNames, solver.rung));
-  const bool dynamic = solver.rung == solvers::Rung::kDynamic;
+  if (result.trajectory.rung) j["rung"] = std::string(NameOf(solvers::kRungNames, *result.trajectory.rung));
+  const bool dynamic = solver.rung == solvers::Rung::kDynamic || result.trajectory.rung == solvers::Rung::kDynamic;
   if (dynamic) j["dynamic_start"] = std::string(NameOf(solvers::kDynamicStartNames, solver.dynamic_start));
   PutMetrics(j, scene, result);
   const auto [first_diameter, steady_diameter] = FirstAndSteady(result, dynamic);
@@ -131,10 +132,12 @@ nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationR
 
 void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::SimulationResult& result,
                  const solvers::SolverSettings& solver, double solve_seconds) {
-  fmt::print(out, "solver            {} ({} steps, {:.3f} ms)\n", solvers::SolverDescription(solver), result.steps,
-             solve_seconds * 1e3);
+  const bool chose = solver.rung == solvers::Rung::kAuto && result.trajectory.rung;
+  fmt::print(out, "solver            {}{} ({} steps, {:.3f} ms)\n", solvers::SolverDescription(solver),
+             chose ? fmt::format(": {}", NameOf(solvers::kRungNames, *result.trajectory.rung)) : std::string(),
+             result.steps, solve_seconds * 1e3);
   if (!PrintStatusAndDistances(out, "status", "", result)) return;
-  if (solver.rung == solvers::Rung::kDynamic) {
+  if (solver.rung == solvers::Rung::kDynamic || result.trajectory.rung == solvers::Rung::kDynamic) {
     const auto [first, steady] = FirstAndSteady(result, true);
     fmt::print(out, "revolutions       D_trajectory first {} mm, steady {} mm\n", Cell(first, 4), Cell(steady, 4));
   }

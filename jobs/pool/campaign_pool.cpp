@@ -114,6 +114,7 @@ void Pack(const SampleRecord& r, Packer& out) {
   out.Put(r.steps);
   out.Put(r.outputs);
   out.Put(r.d_trajectory_error);
+  out.Put(r.rung);
   out.Put(r.solve_time);
   out.Put(r.u);
   out.Put(r.values);
@@ -143,6 +144,7 @@ SampleRecord Unpack(Unpacker& in, std::size_t dimension) {
   r.steps = in.Get<std::int32_t>();
   r.outputs = in.Get<std::array<double, kOutputCount>>();
   r.d_trajectory_error = in.Get<double>();
+  r.rung = in.Get<std::int8_t>();
   r.solve_time = in.Get<double>();
   r.u = in.GetDoubles(dimension);
   r.values = in.GetDoubles(dimension);

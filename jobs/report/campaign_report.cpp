@@ -461,6 +461,7 @@ double ReplayTolerance(const solvers::SolverSettings& settings) {
     case solvers::Rung::kDynamic:
       return kRuns * kDynamicPositionPerRelative * settings.relative_tolerance;
     case solvers::Rung::kQuasistatic:
+    case solvers::Rung::kAuto:  // its exact-model samples are quasistatic ones; its linear ones replay exactly
       if (settings.simulation.path_tolerance > 0.0) {
         return kRuns * solvers::kAngleShareOfPathTolerance * settings.simulation.path_tolerance;
       }

@@ -45,6 +45,9 @@ struct CampaignSummary {
   std::optional<analysis::ProportionEstimate> in_spec;     // over done samples; none without a spec
   std::optional<analysis::ProportionEstimate> in_spec_ok;  // over ok samples
   double confidence = 0.95;
+  // Samples each rung settled (solvers::Rung numbers 0..2: linear, quasistatic, dynamic),
+  // among the used, done samples a rung ran on; empty for files of schema < 3.
+  std::vector<std::int64_t> settled_by;
   // What an older results file's columns are, in its schema's terms; empty for the current.
   std::string schema_note;
 };

@@ -51,6 +51,8 @@ enum Column : std::size_t {
   kSteps,
   kMessage,
   kSolveTime,
+  kRung,
+  kErrorBound,
   kFirstOutput,
   kStatus = kFirstOutput + kOutputCount,
   kColumnCount
@@ -72,6 +74,10 @@ std::string ColumnPath(std::size_t column) {
       return "/outputs/message";
     case kSolveTime:
       return "/timing/solve_time_s";
+    case kRung:
+      return "/outputs/rung";
+    case kErrorBound:
+      return "/outputs/d_trajectory_error_mm";
     case kStatus:
       return "/outputs/status";
     default:
@@ -89,9 +95,11 @@ constexpr const char* kSwingDefinition =
 
 // Where a file of `schema` keeps column `column`; empty when it has no such dataset. Schema
 // 1 named the ill-posed "peak to nearest valley" runout_mm and the max - min that runout_mm
-// is now runout_total_mm; it had no swing.
+// is now runout_total_mm; it had no swing. Schemas 1 and 2 had no rung and error bound.
+constexpr int kFirstSchemaWithRungs = 3;
 std::string StoredColumnPath(std::size_t column, int schema) {
-  if (schema >= kCampaignSchemaVersion || column < kFirstOutput || column >= kStatus) return ColumnPath(column);
+  if ((column == kRung || column == kErrorBound) && schema < kFirstSchemaWithRungs) return {};
+  if (schema >= 2 || column < kFirstOutput || column >= kStatus) return ColumnPath(column);
   const std::string_view output = kOutputNames[column - kFirstOutput];
   if (output == "runout_mm") return "/outputs/runout_total_mm";
   constexpr std::array<std::string_view, 5> kSchema1Outputs = {
@@ -347,7 +355,8 @@ void CreateColumn(const Where& where, hid_t file, std::size_t column, hsize_t sa
   // are random bits below the exponent) and, in SWMR mode, every rewrite of a compressed
   // chunk that grows leaves its old copy behind (HDF5 does not free it); stored
   // uncompressed they are rewritten in place.
-  const bool small_column = column == kRedraws || column == kSteps || column == kMessage || column == kStatus;
+  const bool small_column =
+      column == kRedraws || column == kSteps || column == kRung || column == kMessage || column == kStatus;
   if (small_column) deflate_level = std::max(deflate_level, kSmallColumnDeflateLevel);
   if (deflate_level > 0) {
     CheckStatus(H5Pset_shuffle(dcpl.get()), where, "setting the shuffle filter of", path);
@@ -359,6 +368,7 @@ void CreateColumn(const Where& where, hid_t file, std::size_t column, hsize_t sa
   const float nan_float = std::numeric_limits<float>::quiet_NaN();
   const std::int32_t zero = 0;
   const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
+  const std::int8_t no_rung = kNoRung;
   hid_t file_type = H5T_IEEE_F64LE;
   herr_t filled = 0;
   switch (column) {
@@ -374,6 +384,10 @@ void CreateColumn(const Where& where, hid_t file, std::size_t column, hsize_t sa
       file_type = H5T_STD_I32LE;
       filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT32, &zero);
       break;
+    case kRung:
+      file_type = H5T_STD_I8LE;
+      filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT8, &no_rung);
+      break;
     case kMessage:
       file_type = message_type;  // the default fill, all zero bytes, is the empty string
       break;
@@ -381,7 +395,7 @@ void CreateColumn(const Where& where, hid_t file, std::size_t column, hsize_t sa
       file_type = status_type;
       filled = H5Pset_fill_value(dcpl.get(), status_type, &pending);
       break;
-    default:  // outputs and solve times
+    default:  // outputs, error bounds and solve times
       filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_DOUBLE, &nan);
       break;
   }
@@ -486,9 +500,15 @@ std::string VerifyHint(const std::string& file) {
 std::optional<std::string> TryReadRows(const Where& where, const DatasetId& dataset, std::size_t column,
                                        hid_t memory_type, hsize_t first, hsize_t rows, hsize_t width, void* data) {
   if (rows == 0) return std::nullopt;
-  // An output an older schema lacks stays closed and reads as NaN (StoredColumnPath).
-  if (dataset.get() < 0 && column >= kFirstOutput && column < kStatus && memory_type == H5T_NATIVE_DOUBLE) {
+  // An output an older schema lacks stays closed and reads as NaN, its rung as kNoRung
+  // (StoredColumnPath).
+  if (dataset.get() < 0 && (column == kErrorBound || (column >= kFirstOutput && column < kStatus)) &&
+      memory_type == H5T_NATIVE_DOUBLE) {
     std::fill_n(static_cast<double*>(data), rows * width, std::numeric_limits<double>::quiet_NaN());
+    return std::nullopt;
+  }
+  if (dataset.get() < 0 && column == kRung) {
+    std::fill_n(static_cast<std::int8_t*>(data), rows * width, kNoRung);
     return std::nullopt;
   }
   const std::string path = ColumnPath(column);
@@ -951,6 +971,8 @@ void CampaignStore::Commit() {
   std::vector<std::int32_t> steps(m);
   std::vector<char> messages(m * kMessageBytes, '\0');
   std::vector<double> solve_times(m);
+  std::vector<std::int8_t> rungs(m);
+  std::vector<double> error_bounds(m);
   std::vector<std::vector<double>> outputs(kOutputCount, std::vector<double>(m));
   std::vector<std::int8_t> statuses(m);
   for (std::size_t i = 0; i < m; ++i) {
@@ -963,6 +985,8 @@ void CampaignStore::Commit() {
     TruncateUtf8(record.message, kMessageChars).copy(messages.data() + i * kMessageBytes, kMessageChars);
     solve_times[i] = record.solve_time;
     const bool ok = record.status == SampleStatus::kOk;
+    rungs[i] = record.rung;
+    error_bounds[i] = ok ? record.d_trajectory_error : std::numeric_limits<double>::quiet_NaN();
     for (std::size_t k = 0; k < kOutputCount; ++k) {
       outputs[k][i] = ok ? record.outputs[k] : std::numeric_limits<double>::quiet_NaN();
     }
@@ -977,6 +1001,8 @@ void CampaignStore::Commit() {
   WriteRows(w, f.columns[kSteps], kSteps, H5T_NATIVE_INT32, runs, m, 1, steps.data());
   WriteRows(w, f.columns[kMessage], kMessage, message_type.get(), runs, m, 1, messages.data());
   WriteRows(w, f.columns[kSolveTime], kSolveTime, H5T_NATIVE_DOUBLE, runs, m, 1, solve_times.data());
+  WriteRows(w, f.columns[kRung], kRung, H5T_NATIVE_INT8, runs, m, 1, rungs.data());
+  WriteRows(w, f.columns[kErrorBound], kErrorBound, H5T_NATIVE_DOUBLE, runs, m, 1, error_bounds.data());
   for (std::size_t k = 0; k < kOutputCount; ++k) {
     WriteRows(w, f.columns[kFirstOutput + k], kFirstOutput + k, H5T_NATIVE_DOUBLE, runs, m, 1, outputs[k].data());
   }
@@ -1269,6 +1295,10 @@ std::vector<std::int32_t> CampaignReader::ReadRedraws(std::int64_t begin, std::i
   return file_->Rows<std::int32_t>("CampaignReader::ReadRedraws", kRedraws, H5T_NATIVE_INT32, begin, count, 1);
 }
 
+std::vector<std::int8_t> CampaignReader::ReadRungs(std::int64_t begin, std::int64_t count) const {
+  return file_->Rows<std::int8_t>("CampaignReader::ReadRungs", kRung, H5T_NATIVE_INT8, begin, count, 1);
+}
+
 SampleRecord CampaignReader::ReadSample(std::int64_t index) const {
   const QuietErrors quiet;
   file_->CheckRows("CampaignReader::ReadSample", index, 1);
@@ -1290,6 +1320,8 @@ SampleRecord CampaignReader::ReadSample(std::int64_t index) const {
   ReadRows(f.where, f.columns[kMessage], kMessage, message_type.get(), row, 1, 1, message.data());
   record.message = message.data();
   ReadRows(f.where, f.columns[kSolveTime], kSolveTime, H5T_NATIVE_DOUBLE, row, 1, 1, &record.solve_time);
+  ReadRows(f.where, f.columns[kRung], kRung, H5T_NATIVE_INT8, row, 1, 1, &record.rung);
+  ReadRows(f.where, f.columns[kErrorBound], kErrorBound, H5T_NATIVE_DOUBLE, row, 1, 1, &record.d_trajectory_error);
   for (std::size_t k = 0; k < kOutputCount; ++k) {
     ReadRows(f.where, f.columns[kFirstOutput + k], kFirstOutput + k, H5T_NATIVE_DOUBLE, row, 1, 1, &record.outputs[k]);
     if (f.columns[kFirstOutput + k].get() >= 0) f.CheckFinite(kFirstOutput + k, index, 1, 1, &record.outputs[k], &record.status);

@@ -3,8 +3,8 @@
 // against a kill at any moment. docs/results.md documents the schema for
 // readers; this header is the contract for writers.
 //
-// Schema version 2 (N = samples, d = sampler inputs; every 2-D dataset is [N, d]):
-//   /                          attributes: format = "ringtol campaign", schema_version = 2,
+// Schema version 3 (N = samples, d = sampler inputs; every 2-D dataset is [N, d]):
+//   /                          attributes: format = "ringtol campaign", schema_version = 3,
 //                              ringtol_version, catalogue_version, seed (uint64), samples
 //                              (int64, N), design, solver, campaign_path, campaign_file (the
 //                              campaign file's text), base_scene (the base scene as a scene
@@ -22,6 +22,10 @@
 //                              swing_mm carry a `definition` string, swing_mm also the
 //                              resolution_um and cutoff_upr it was read with
 //   /outputs/steps             int32 [N]
+//   /outputs/rung              int8 [N]        solvers::Rung number of the path the outputs are
+//                              (0 linear, 1 quasistatic, 2 dynamic); -1 when no rung ran
+//   /outputs/d_trajectory_error_mm  float64 [N]  that rung's own bound on its error in
+//                              d_trajectory_mm (SampleRecord::d_trajectory_error); NaN unless ok
 //   /outputs/status            int8 enum [N]   SampleStatusName names; fill value "pending"
 //   /outputs/message           fixed 256-byte strings [N]: why a sample failed (truncated)
 //   /timing/solve_time_s       float64 [N]     wall time of each sample: the one dataset
@@ -69,11 +73,13 @@
 
 namespace ringtol::jobs {
 
-inline constexpr int kCampaignSchemaVersion = 2;
+inline constexpr int kCampaignSchemaVersion = 3;
 // The oldest schema CampaignReader still reads. Schema 1 (ringtol 0.3) kept the max - min
 // of the sensor signal as runout_total_mm and an ill-posed "peak to nearest valley" as
 // runout_mm: its runout_mm is read from runout_total_mm, and it has no swing_mm (HasOutput
-// says so; ReadOutput gives NaN). Resume refuses files of older schemas.
+// says so; ReadOutput gives NaN). Schema 2 (ringtol 0.4) has no /outputs/rung and
+// /outputs/d_trajectory_error_mm: they read as -1 and NaN. Resume refuses files of older
+// schemas.
 inline constexpr int kOldestReadableSchema = 1;
 
 struct CampaignStoreOptions {
@@ -192,6 +198,8 @@ class CampaignReader {
   // Row-major [count, d]: the drawn values of every input (stored as float32), as read.
   std::vector<double> ReadValues(std::int64_t begin, std::int64_t count) const;
   std::vector<std::int32_t> ReadRedraws(std::int64_t begin, std::int64_t count) const;
+  // /outputs/rung: kNoRung for samples no rung ran and in files of schema < 3.
+  std::vector<std::int8_t> ReadRungs(std::int64_t begin, std::int64_t count) const;
   // Everything stored about one sample (solve_time included).
   SampleRecord ReadSample(std::int64_t index) const;
 

@@ -95,6 +95,7 @@ const char* RungColour(solvers::Rung rung) {
     case Rung::kLinear: return "#1b9e77";
     case Rung::kQuasistatic: return "#d95f02";
     case Rung::kDynamic: return "#7570b3";
+    case Rung::kAuto: return "#e7298a";
   }
   return "#7570b3";
 }

@@ -85,6 +85,15 @@ TEST(CampaignFile, ReadsSolverAndSpecBesideTheSamplingTables) {
   EXPECT_EQ(plan.sampling.samples, 16);
 }
 
+TEST(CampaignFile, TheSolverDefaultsToTheAutoRungAtAOneMicrometreBudget) {
+  const TempFile file(testing::ReplaceOnce(kSmallCampaign, "name = \"quasistatic\"\n", ""));
+  const CampaignPlan plan = ReadCampaignFile(file.path());
+  EXPECT_EQ(plan.solver.rung, solvers::Rung::kAuto);
+  constexpr double kDefaultPathTolerance = 1e-6;  // [m] the documented default, 1 um
+  EXPECT_EQ(plan.solver.simulation.path_tolerance, kDefaultPathTolerance);
+  EXPECT_EQ(plan.solver.rung, CampaignSolverDefaults().rung);
+}
+
 TEST(CampaignFile, BadKeysNameTheKeyTheValueAndWhatIsAllowed) {
   using testing::ReplaceOnce;
   EXPECT_THAT(CampaignErrorOf(ReplaceOnce(kSmallCampaign, "name = \"quasistatic\"", "name = \"explicit\"")),

@@ -83,6 +83,8 @@ SampleRecord DeterministicRecord(std::int64_t index) {
   }
   record.redraws = static_cast<std::int32_t>(index % 3);
   record.steps = 360 + static_cast<std::int32_t>(index % 7);
+  record.rung = static_cast<std::int8_t>(index % 3);
+  record.d_trajectory_error = x * 1e-7;
   record.solve_time = 1e-3 * std::sqrt(x + 1.0);
   if (index % 11 == 5) {
     record.status = FromSolverStatus(solvers::Status::kNotConverged);
@@ -114,7 +116,10 @@ std::vector<std::uint64_t> Bits(const std::array<double, kOutputCount>& values) 
 SampleRecord AsStored(SampleRecord written) {
   for (double& value : written.values) value = static_cast<double>(static_cast<float>(value));
   if (written.message.size() > kStoredMessageChars) written.message.resize(kStoredMessageChars);
-  if (written.status != SampleStatus::kOk) written.outputs.fill(std::numeric_limits<double>::quiet_NaN());
+  if (written.status != SampleStatus::kOk) {
+    written.outputs.fill(std::numeric_limits<double>::quiet_NaN());
+    written.d_trajectory_error = std::numeric_limits<double>::quiet_NaN();
+  }
   return written;
 }
 
@@ -130,6 +135,8 @@ void ExpectStored(const SampleRecord& actual, const SampleRecord& written) {
   EXPECT_EQ(actual.redraws, expected.redraws);
   EXPECT_EQ(actual.steps, expected.steps);
   EXPECT_EQ(Bits(actual.outputs), Bits(expected.outputs));
+  EXPECT_EQ(actual.rung, expected.rung);
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.d_trajectory_error), std::bit_cast<std::uint64_t>(expected.d_trajectory_error));
   EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.solve_time), std::bit_cast<std::uint64_t>(expected.solve_time));
 }
 
@@ -139,6 +146,7 @@ void ExpectPendingRow(const SampleRecord& actual) {
   EXPECT_TRUE(std::all_of(actual.u.begin(), actual.u.end(), [](double v) { return std::isnan(v); }));
   EXPECT_TRUE(std::all_of(actual.outputs.begin(), actual.outputs.end(), [](double v) { return std::isnan(v); }));
   EXPECT_EQ(actual.steps, 0);
+  EXPECT_EQ(actual.rung, kNoRung);
   EXPECT_EQ(actual.message, "");
 }
 
@@ -603,6 +611,13 @@ TEST(CampaignReader, RefusesAFileOfANewerSchema) {
   EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), 2); }), HasSubstr(expected));
 }
 
+// Makes an open file claim an older schema, as the tests of older files need.
+void SetSchemaVersion(hid_t file, int schema) {
+  const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);
+  H5Awrite(attribute, H5T_NATIVE_INT, &schema);
+  H5Aclose(attribute);
+}
+
 // A schema-1 file as ringtol 0.3 wrote it, made from a current one: its max - min sat in
 // runout_total_mm, its runout_mm held the ill-posed peak to nearest valley, and it had no
 // swing and no per-revolution diameters.
@@ -620,10 +635,7 @@ TEST(CampaignReader, ReadsASchemaOneFileWithItsColumnsForWhatTheyAre) {
     ASSERT_GE(H5Lmove(file, "/outputs/swing_mm", file, "/outputs/runout_mm", H5P_DEFAULT, H5P_DEFAULT), 0);
     ASSERT_GE(H5Ldelete(file, "/outputs/d_trajectory_first_mm", H5P_DEFAULT), 0);
     ASSERT_GE(H5Ldelete(file, "/outputs/d_trajectory_steady_mm", H5P_DEFAULT), 0);
-    const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);
-    const int schema = 1;
-    H5Awrite(attribute, H5T_NATIVE_INT, &schema);
-    H5Aclose(attribute);
+    SetSchemaVersion(file, 1);
     H5Fclose(file);
   }
   const auto column = [](const char* name) {
@@ -651,6 +663,35 @@ TEST(CampaignReader, ReadsASchemaOneFileWithItsColumnsForWhatTheyAre) {
   EXPECT_TRUE(CheckResults(path).intact());
   EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), kSamples); }),
               HasSubstr("written by an older ringtol (schema 1); it can be reported but not resumed"));
+}
+
+// A schema-2 file (ringtol 0.4) had no rung and no error bound: they read as kNoRung and NaN.
+TEST(CampaignReader, ReadsASchemaTwoFileWithoutRungsAsNoRungRan) {
+  constexpr std::int64_t kSamples = 6;
+  const fs::path path = TestFolder() / "results.h5";
+  {
+    CampaignStore store = CampaignStore::Create(path, TestIdentity(), kSamples);
+    for (std::int64_t i = 0; i < kSamples; ++i) store.Add(DeterministicRecord(i));
+  }
+  {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    ASSERT_GE(H5Ldelete(file, "/outputs/rung", H5P_DEFAULT), 0);
+    ASSERT_GE(H5Ldelete(file, "/outputs/d_trajectory_error_mm", H5P_DEFAULT), 0);
+    SetSchemaVersion(file, 2);
+    H5Fclose(file);
+  }
+  const CampaignReader reader(path);
+  EXPECT_EQ(reader.schema_version(), 2);
+  const std::vector<std::int8_t> rungs = reader.ReadRungs(0, kSamples);
+  EXPECT_TRUE(std::all_of(rungs.begin(), rungs.end(), [](std::int8_t rung) { return rung == kNoRung; }));
+  for (std::int64_t i = 0; i < kSamples; ++i) {
+    const SampleRecord read = reader.ReadSample(i);
+    EXPECT_EQ(read.rung, kNoRung) << "sample " << i;
+    EXPECT_TRUE(std::isnan(read.d_trajectory_error)) << "sample " << i;
+    EXPECT_EQ(Bits(read.outputs), Bits(AsStored(DeterministicRecord(i)).outputs)) << "sample " << i;
+  }
+  EXPECT_TRUE(CheckResults(path).intact());
 }
 
 // ---------------------------------------------------------------------------------------
@@ -716,7 +757,7 @@ const std::vector<std::string> kDamagedDatasets = {"/inputs/u", "/inputs/values"
 TEST(CampaignStore, EveryDatasetEndsItsFiltersWithTheFletcher32Checksum) {
   const fs::path path = WriteFinished(TestFolder() / "results.h5");
   const ResultsCheck check = CheckResults(path);
-  EXPECT_EQ(check.datasets.size(), 6 + 7 + kOutputCount);  // descriptions, per-sample columns, outputs
+  EXPECT_EQ(check.datasets.size(), 6 + 9 + kOutputCount);  // descriptions, per-sample columns (rung and error bound among them), outputs
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   for (const DatasetCheck& dataset : check.datasets) {
     SCOPED_TRACE(dataset.path);
