@@ -216,6 +216,13 @@ OutputReport DescribeOutput(std::string name, std::optional<double> upper_spec_l
 OutputSensitivity ScreenOutput(const std::string& output, std::span<const double> y_used,
                                std::span<const double> x_used, int d,
                                const std::vector<sampling::SampledInput>& inputs, const ReportOptions& options);
+// ScreenOutput of several outputs of the same samples (ys_used[o] is output outputs[o]), in
+// one analysis::ScreenInputs call that shares the work the inputs alone decide.
+std::vector<OutputSensitivity> ScreenOutputs(std::span<const std::string> outputs,
+                                             std::span<const std::span<const double>> ys_used,
+                                             std::span<const double> x_used, int d,
+                                             const std::vector<sampling::SampledInput>& inputs,
+                                             const ReportOptions& options);
 
 // JSON as ReportJson writes it: a non-finite number as null, an interval as [lower,
 // upper], estimates with their intervals, one output's distribution ("outputs" entries,
