@@ -333,9 +333,14 @@ constexpr double kFlatColumn = 1e-14;
 constexpr std::size_t kMaxScreeningSamples = std::size_t{1} << 24;
 
 // Lanes (the full sample and the bootstrap resamples) per pass of the given-data kernel:
-// one sample's counts (256 bytes) and the running class sums of every output (8 bytes x
-// outputs per lane) stay in the first-level cache.
-constexpr std::size_t kLaneBatch = 64;
+// the default 201 in one pass, so that each sample's counts are fetched once per input; the
+// running class sums (8 bytes x outputs per lane) stay in the first-level cache.
+constexpr std::size_t kLaneBatch = 256;
+
+// The kernel visits samples in each input's order, at random in memory: it asks for the
+// counts and outputs of the sample this many places ahead while it adds up the current one.
+constexpr std::size_t kPrefetchAhead = 8;
+constexpr std::size_t kCacheLine = 64;
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define RINGTOL_LANE_KERNEL __attribute__((target_clones("avx2", "default")))
@@ -572,7 +577,14 @@ RINGTOL_LANE_KERNEL void GivenDataFirstOrders(const GivenDataLanes& data, std::s
     }
   };
 
-  for (const std::size_t i : order) {
+  for (std::size_t place = 0; place < order.size(); ++place) {
+    if (place + kPrefetchAhead < order.size()) {
+      const std::size_t ahead = order[place + kPrefetchAhead];
+      const auto* row = reinterpret_cast<const char*>(data.counts.data() + ahead * lanes + first);
+      for (std::size_t byte = 0; byte < width * sizeof(float); byte += kCacheLine) __builtin_prefetch(row + byte);
+      __builtin_prefetch(data.y.data() + ahead * outputs);
+    }
+    const std::size_t i = order[place];
     const float* const count = data.counts.data() + i * lanes + first;
     const double* const y = data.y.data() + i * outputs;
     int spills = 0;

@@ -908,7 +908,7 @@ TEST(ScreenInputs, GivenDataFirstOrderAndItsBootstrapAreTheEstimatorAsFirstWritt
       outputs[2][i] = x[1] * x[2] - x[0];
     }
     ScreeningOptions options;
-    options.bootstrap_resamples = 100;  // two lane batches and a part
+    options.bootstrap_resamples = 300;  // 301 lanes: two passes of the kernel
     options.independent_samples = c.independent;
     const std::vector<std::span<const double>> ys(outputs.begin(), outputs.end());
     const std::vector<Screening> fast = ScreenInputs(s.x, 4, ys, options);
