@@ -166,12 +166,13 @@ struct Screening {
 // max(3, classes + 1), more than 2^24 of them, zero output variance, and options out of
 // range.
 //
-// Cost: the given-data estimate walks each input's sorted order once per 64 lanes (the
-// full sample and the resamples), adding count x y for every output at once: about
-// n d (B + 1) (outputs + 2) multiply-adds, spread over `threads`. Memory, besides x: the
-// copies the regressions need (4 n d doubles), the sorted orders (n d indices), the
-// resamples' counts (4 n (B + 1) bytes) and the outputs (n doubles each): for n = 16,384,
-// d = 157 and B = 200 about 130 MB, whatever the size of the file the samples came from.
+// Cost: the given-data estimate walks each input's sorted order once for up to 256 lanes
+// (the full sample and the B resamples), adding count x y for every output at once: about
+// n d (B + 1) (outputs + 2) multiply-adds, spread over `threads`. Memory, besides x: at
+// most about 7 n d doubles (the inputs, their ranks, the sorted orders, and both
+// regressions' standardised copies and decompositions, which run side by side) and
+// 8 n (B + 1) bytes of resample counts (briefly twice): for n = 16,384, d = 157 and
+// B = 200 about 170 MB, whatever the size of the file the samples came from.
 //
 // Against the estimator as first written (one input, one resample, one copy of a sample at
 // a time) the class sums add count x y instead of y count times, and the mean and SST of a
