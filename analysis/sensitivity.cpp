@@ -2,15 +2,19 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
 #include <boost/math/distributions/normal.hpp>
 #include <boost/random/mersenne_twister.hpp>
 #include <boost/random/uniform_int_distribution.hpp>
 #include <cmath>
 #include <cstddef>
+#include <exception>
 #include <limits>
+#include <mutex>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -289,10 +293,10 @@ std::int64_t RowsForSobolPrecision(const SobolIndices& indices, double target_co
 // ---------------------------------------------------------------------------------------
 // Screening.
 
-std::vector<double> AverageRanks(std::span<const double> values) {
-  std::vector<std::size_t> order(values.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return values[i] < values[j]; });
+namespace {
+
+// Average ranks of `values` given the positions in increasing order (a stable sort's).
+std::vector<double> AverageRanksInOrder(std::span<const double> values, std::span<const std::size_t> order) {
   std::vector<double> ranks(values.size());
   for (std::size_t start = 0; start < order.size();) {
     std::size_t end = start + 1;
@@ -305,23 +309,95 @@ std::vector<double> AverageRanks(std::span<const double> values) {
   return ranks;
 }
 
+std::vector<std::size_t> IncreasingOrder(std::span<const double> values) {
+  std::vector<std::size_t> order(values.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return values[i] < values[j]; });
+  return order;
+}
+
+}  // namespace
+
+std::vector<double> AverageRanks(std::span<const double> values) {
+  return AverageRanksInOrder(values, IncreasingOrder(values));
+}
+
 namespace {
 
 // Centring a constant column leaves rounding noise of a few eps times its magnitude; a
 // spread below 50 eps of the magnitude is that noise, not an input that varies.
 constexpr double kFlatColumn = 1e-14;
 
+// Bootstrap multiplicities are kept as float: exact integers up to 2^24, half the bytes of
+// a double, and the count of a sample never exceeds the samples.
+constexpr std::size_t kMaxScreeningSamples = std::size_t{1} << 24;
+
+// Lanes (the full sample and the bootstrap resamples) per pass of the given-data kernel:
+// the default 201 in one pass, so that each sample's counts are fetched once per input; the
+// running class sums (8 bytes x outputs per lane) stay in the first-level cache.
+constexpr std::size_t kLaneBatch = 256;
+
+// The kernel visits samples in each input's order, at random in memory: it asks for the
+// counts and outputs of the sample this many places ahead while it adds up the current one.
+constexpr std::size_t kPrefetchAhead = 8;
+constexpr std::size_t kCacheLine = 64;
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define RINGTOL_LANE_KERNEL __attribute__((target_clones("avx2", "default")))
+#else
+#define RINGTOL_LANE_KERNEL
+#endif
+
+// Calls body(item, worker) once for every item in [0, items), on `workers` threads (the
+// calling one among them), each taking the next item in turn; worker < workers names the
+// thread's scratch. Every caller makes an item's result a function of the item alone, so
+// nothing depends on the number of threads or on which thread ran what. The first
+// exception a body throws is rethrown once every thread has stopped.
+template <typename Body>
+void ParallelFor(std::size_t items, std::size_t workers, Body&& body) {
+  if (workers <= 1 || items <= 1) {
+    for (std::size_t item = 0; item < items; ++item) body(item, std::size_t{0});
+    return;
+  }
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  const auto work = [&](std::size_t worker) {
+    try {
+      for (std::size_t item; (item = next.fetch_add(1)) < items;) body(item, worker);
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+      next = items;
+    }
+  };
+  {
+    std::vector<std::jthread> pool;
+    pool.reserve(workers - 1);
+    for (std::size_t worker = 1; worker < workers; ++worker) pool.emplace_back(work, worker);
+    work(0);
+  }
+  if (failure) std::rethrow_exception(failure);
+}
+
+std::size_t Workers(int threads, std::size_t items) {
+  const std::size_t wanted =
+      threads > 0 ? static_cast<std::size_t>(threads) : std::max(1u, std::thread::hardware_concurrency());
+  return std::max<std::size_t>(1, std::min(wanted, items));
+}
+
 struct RegressionFit {
   std::vector<double> coefficients;  // standardised
   double r2 = kNaN;
 };
 
-// Least squares of the standardised y on the standardised columns of x (n x d, column
-// major). Centring every column and y is the intercept; scaling makes the coefficients
-// standardised. A column of zero spread becomes a zero column, whose coefficient is set to
-// 0; the complete orthogonal decomposition gives the minimum-norm solution, which shares an
-// effect evenly among collinear columns instead of failing on them.
-RegressionFit StandardisedRegression(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
+// Least squares of each standardised column of y on the standardised columns of x (n x d,
+// column major), from one decomposition of x. Centring every column and y is the
+// intercept; scaling makes the coefficients standardised. A column of zero spread becomes
+// a zero column, whose coefficient is set to 0; the complete orthogonal decomposition gives
+// the minimum-norm solution, which shares an effect evenly among collinear columns instead
+// of failing on them.
+std::vector<RegressionFit> StandardisedRegressions(const Eigen::MatrixXd& x, const Eigen::MatrixXd& y) {
   const auto n = static_cast<double>(x.rows());
   Eigen::MatrixXd z = x.rowwise() - x.colwise().mean();
   std::vector<bool> constant(static_cast<std::size_t>(x.cols()));
@@ -335,22 +411,126 @@ RegressionFit StandardisedRegression(const Eigen::MatrixXd& x, const Eigen::Vect
       z.col(k) /= spread;
     }
   }
-  Eigen::VectorXd zy = y.array() - y.mean();
-  zy /= std::sqrt(zy.squaredNorm() / n);
-  const Eigen::VectorXd beta = z.completeOrthogonalDecomposition().solve(zy);
-  RegressionFit fit;
-  fit.coefficients.resize(static_cast<std::size_t>(x.cols()));
-  for (Eigen::Index k = 0; k < z.cols(); ++k) {
-    fit.coefficients[static_cast<std::size_t>(k)] = constant[static_cast<std::size_t>(k)] ? 0.0 : beta(k);
+  Eigen::MatrixXd zy = y.rowwise() - y.colwise().mean();
+  for (Eigen::Index o = 0; o < zy.cols(); ++o) zy.col(o) /= std::sqrt(zy.col(o).squaredNorm() / n);
+  const Eigen::MatrixXd beta = z.completeOrthogonalDecomposition().solve(zy);
+  std::vector<RegressionFit> fits(static_cast<std::size_t>(y.cols()));
+  for (Eigen::Index o = 0; o < zy.cols(); ++o) {
+    RegressionFit& fit = fits[static_cast<std::size_t>(o)];
+    fit.coefficients.resize(static_cast<std::size_t>(x.cols()));
+    for (Eigen::Index k = 0; k < z.cols(); ++k) {
+      fit.coefficients[static_cast<std::size_t>(k)] = constant[static_cast<std::size_t>(k)] ? 0.0 : beta(k, o);
+    }
+    fit.r2 = 1.0 - (zy.col(o) - z * beta.col(o)).squaredNorm() / zy.col(o).squaredNorm();
   }
-  fit.r2 = 1.0 - (zy - z * beta).squaredNorm() / zy.squaredNorm();
-  return fit;
+  return fits;
 }
 
-// Given-data first order of one input from the samples in increasing order of that input,
-// each repeated `count` times (1 for the full sample, the bootstrap multiplicity otherwise).
-// Class of sorted position p (0-based, of total n): floor(p M / n), so counts differ by at
-// most one.
+// What the given-data estimate works on: the used samples' outputs and, per lane, a
+// multiplicity of every sample. Lane 0 is the full sample (every count 1); the others are
+// bootstrap resamples, n draws with replacement each.
+struct GivenDataLanes {
+  std::size_t n = 0, outputs = 0, lanes = 0;
+  std::vector<double> y;       // [n][outputs]
+  std::vector<float> counts;   // [n][lanes]
+  std::vector<double> mean;    // [outputs][lanes]: sum over samples of count y, over n
+  std::vector<double> sst;     // [outputs][lanes]: sum over samples of count (y - mean)^2
+  // Per output: the lanes that are its estimates, lane 0 and then one per resample.
+  std::vector<std::vector<std::size_t>> lanes_of;
+};
+
+// The lanes for `resamples` bootstrap resamples of every output, drawn as one generator
+// stream: n picks per resample, as ScreenInputs has always drawn them. A resample whose
+// drawn outputs do not vary (sst not > 0) leaves the estimate undefined and is drawn again
+// for that output; since every output sees the same stream, a lane serves every output
+// for which it is defined, and the outputs share all lanes unless one of them needs a
+// redraw.
+GivenDataLanes DrawLanes(std::vector<double> y, std::size_t n, std::size_t outputs, std::size_t resamples,
+                         std::uint64_t seed, const std::string& who) {
+  GivenDataLanes data;
+  data.n = n;
+  data.outputs = outputs;
+  data.y = std::move(y);
+  std::vector<std::vector<float>> columns;
+  std::vector<std::vector<double>> means(outputs), ssts(outputs);
+  std::vector<double> mean(outputs), sst(outputs);
+  const auto moments = [&](const std::vector<float>& count) {
+    std::fill(mean.begin(), mean.end(), 0.0);
+    std::fill(sst.begin(), sst.end(), 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t o = 0; o < outputs; ++o) mean[o] += static_cast<double>(count[i]) * data.y[i * outputs + o];
+    }
+    for (double& m : mean) m /= static_cast<double>(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t o = 0; o < outputs; ++o) {
+        const double deviation = data.y[i * outputs + o] - mean[o];
+        sst[o] += static_cast<double>(count[i]) * deviation * deviation;
+      }
+    }
+  };
+  const auto keep = [&](std::vector<float> count) {
+    columns.push_back(std::move(count));
+    for (std::size_t o = 0; o < outputs; ++o) {
+      means[o].push_back(mean[o]);
+      ssts[o].push_back(sst[o]);
+    }
+  };
+  std::vector<float> count(n, 1.0F);
+  moments(count);
+  keep(count);
+  data.lanes_of.assign(outputs, std::vector<std::size_t>{0});
+
+  boost::random::mt19937_64 engine(seed);
+  boost::random::uniform_int_distribution<std::size_t> pick(0, n - 1);
+  std::vector<int> misses(outputs, 0);
+  const auto short_of = [&] {
+    return std::any_of(data.lanes_of.begin(), data.lanes_of.end(),
+                       [&](const std::vector<std::size_t>& lanes) { return lanes.size() < resamples + 1; });
+  };
+  while (resamples > 0 && short_of()) {
+    std::fill(count.begin(), count.end(), 0.0F);
+    for (std::size_t i = 0; i < n; ++i) count[pick(engine)] += 1.0F;
+    moments(count);
+    bool kept = false;
+    for (std::size_t o = 0; o < outputs; ++o) {
+      if (data.lanes_of[o].size() == resamples + 1) continue;
+      if (sst[o] > 0.0) {
+        data.lanes_of[o].push_back(columns.size());
+        misses[o] = 0;
+        kept = true;
+      } else if (++misses[o] == kMaxRedraws) {
+        throw std::invalid_argument(who + ": " + std::to_string(kMaxRedraws) +
+                                    " bootstrap resamples in a row had a constant output; it barely varies");
+      }
+    }
+    if (kept) keep(count);
+  }
+
+  data.lanes = columns.size();
+  data.counts.resize(n * data.lanes);
+  for (std::size_t l = 0; l < data.lanes; ++l) {
+    for (std::size_t i = 0; i < n; ++i) data.counts[i * data.lanes + l] = columns[l][i];
+  }
+  data.mean.reserve(outputs * data.lanes);
+  data.sst.reserve(outputs * data.lanes);
+  for (std::size_t o = 0; o < outputs; ++o) {
+    data.mean.insert(data.mean.end(), means[o].begin(), means[o].end());
+    data.sst.insert(data.sst.end(), ssts[o].begin(), ssts[o].end());
+  }
+  return data;
+}
+
+struct KernelScratch {
+  std::vector<double> position, next, take, rest, sum, ssb;
+  std::vector<std::size_t> cls;
+};
+
+// Given-data first order of one input, for every output in lanes [first, first + width),
+// into estimate[o * lanes + lane]: the samples in increasing order of the input (`order`),
+// each repeated as often as the lane counts it, are cut into classes by position, position
+// p (0-based, of n) in class floor(p M / n), so that class c holds positions starts[c] to
+// starts[c + 1] - 1, starts[c] = ceil(c n / M): counts differ by at most one, and they do
+// not depend on the lane. A sample whose copies straddle a class boundary is split there.
 //
 // Bias correction: the between-class sum of squares SSB = sum_m n_m (ybar_m - ybar)^2 takes
 // up, besides the signal, the noise of the class means: within-class variance
@@ -360,62 +540,110 @@ RegressionFit StandardisedRegression(const Eigen::MatrixXd& x, const Eigen::Vect
 // Left uncorrected, an unused input would show k ~ 1/sqrt(n), a few percent; subtracting k
 // alone would shrink a real effect by the factor 1 - k. What remains is the variation of
 // E[Y | X] inside a class, which shrinks like 1/M^2 for a smooth dependence.
-double GivenDataFirstOrder(std::span<const std::size_t> order, std::span<const std::size_t> count,
-                           std::span<const double> y, int classes, bool correct, std::vector<double>& class_sum,
-                           std::vector<double>& class_count) {
-  std::fill(class_sum.begin(), class_sum.end(), 0.0);
-  std::fill(class_count.begin(), class_count.end(), 0.0);
-  std::size_t n = 0;
-  for (const std::size_t i : order) n += count[i];
-  const auto m = static_cast<std::size_t>(classes);
-  double total = 0.0;
-  std::size_t p = 0;
-  for (const std::size_t i : order) {
-    for (std::size_t c = 0; c < count[i]; ++c, ++p) {
-      const std::size_t cls = p * m / n;
-      class_sum[cls] += y[i];
-      class_count[cls] += 1.0;
+//
+// One walk over the order serves every lane and output of the batch: per sample, the
+// lanes' counts are split into what fits the current class (take) and what spills into the
+// next (rest, rare: M boundaries in n samples), and the class sums of all outputs grow by
+// take x y, a loop over lanes without a branch or a division. On x86-64 it is built for the baseline and
+// for AVX2 (chosen at run time): the loops over lanes only add and multiply lane by lane,
+// without fused multiply-adds (AVX2 alone does not enable them), so both give the same bits.
+RINGTOL_LANE_KERNEL void GivenDataFirstOrders(const GivenDataLanes& data, std::span<const std::size_t> order,
+                          std::span<const double> starts, std::size_t first, std::size_t width, bool correct,
+                          KernelScratch& scratch, double* estimate) {
+  const std::size_t outputs = data.outputs;
+  const std::size_t lanes = data.lanes;
+  scratch.position.assign(width, 0.0);
+  scratch.next.assign(width, starts[1]);
+  scratch.take.assign(width, 0.0);
+  scratch.rest.assign(width, 0.0);
+  scratch.sum.assign(outputs * width, 0.0);
+  scratch.ssb.assign(outputs * width, 0.0);
+  scratch.cls.assign(width, 0);
+  double* const position = scratch.position.data();
+  double* const next = scratch.next.data();
+  double* const take = scratch.take.data();
+  double* const rest = scratch.rest.data();
+  double* const sum = scratch.sum.data();
+  double* const ssb = scratch.ssb.data();
+  const double* const mean = data.mean.data() + first;
+
+  // Class cls[l] of lane l is complete: its mean's deviation enters SSB.
+  const auto close_class = [&](std::size_t l) {
+    const std::size_t c = scratch.cls[l];
+    const double members = starts[c + 1] - starts[c];
+    for (std::size_t o = 0; o < outputs; ++o) {
+      const double deviation = sum[o * width + l] / members - mean[o * lanes + l];
+      ssb[o * width + l] += members * deviation * deviation;
     }
-    total += static_cast<double>(count[i]) * y[i];
-  }
-  const double nd = static_cast<double>(n);
-  const double mean = total / nd;
-  double sst = 0.0;
-  for (const std::size_t i : order) sst += static_cast<double>(count[i]) * (y[i] - mean) * (y[i] - mean);
-  if (!(sst > 0.0)) return kNaN;
-  double ssb = 0.0;
-  for (std::size_t c = 0; c < m; ++c) {
-    if (class_count[c] > 0.0) {
-      const double d = class_sum[c] / class_count[c] - mean;
-      ssb += class_count[c] * d * d;
+  };
+
+  for (std::size_t place = 0; place < order.size(); ++place) {
+    if (place + kPrefetchAhead < order.size()) {
+      const std::size_t ahead = order[place + kPrefetchAhead];
+      const auto* row = reinterpret_cast<const char*>(data.counts.data() + ahead * lanes + first);
+      for (std::size_t byte = 0; byte < width * sizeof(float); byte += kCacheLine) __builtin_prefetch(row + byte);
+      __builtin_prefetch(data.y.data() + ahead * outputs);
+    }
+    const std::size_t i = order[place];
+    const float* const count = data.counts.data() + i * lanes + first;
+    const double* const y = data.y.data() + i * outputs;
+    int spills = 0;
+    for (std::size_t l = 0; l < width; ++l) {
+      const double copies = count[l];
+      const double room = next[l] - position[l];
+      const double fits = copies < room ? copies : room;
+      take[l] = fits;
+      rest[l] = copies - fits;
+      position[l] += copies;
+      spills |= static_cast<int>(copies > room);
+    }
+    for (std::size_t o = 0; o < outputs; ++o) {
+      const double value = y[o];
+      double* const class_sum = sum + o * width;
+      for (std::size_t l = 0; l < width; ++l) class_sum[l] += take[l] * value;
+    }
+    if (spills == 0) continue;
+    for (std::size_t l = 0; l < width; ++l) {
+      if (!(rest[l] > 0.0)) continue;
+      double left = rest[l];
+      std::size_t c = scratch.cls[l];
+      while (left > 0.0) {
+        close_class(l);
+        scratch.cls[l] = ++c;
+        const double fits = std::min(left, starts[c + 1] - starts[c]);
+        for (std::size_t o = 0; o < outputs; ++o) sum[o * width + l] = fits * y[o];
+        left -= fits;
+      }
+      next[l] = starts[c + 1];
     }
   }
-  if (!correct) return ssb / sst;
-  const double k = (static_cast<double>(classes) - 1.0) / (nd - 1.0);
-  return (ssb / sst - k) / (1.0 - k);
+
+  const std::size_t classes = starts.size() - 1;
+  const double k = (static_cast<double>(classes) - 1.0) / (static_cast<double>(data.n) - 1.0);
+  for (std::size_t l = 0; l < width; ++l) close_class(l);
+  for (std::size_t o = 0; o < outputs; ++o) {
+    for (std::size_t l = 0; l < width; ++l) {
+      const double sst = data.sst[o * lanes + first + l];
+      double value = kNaN;
+      if (sst > 0.0) {
+        const double eta2 = ssb[o * width + l] / sst;
+        value = correct ? (eta2 - k) / (1.0 - k) : eta2;
+      }
+      estimate[o * lanes + first + l] = value;
+    }
+  }
 }
 
-}  // namespace
-
-Screening ScreenInputs(std::span<const double> x, int d, std::span<const double> y, const ScreeningOptions& options) {
-  const std::string who = "ScreenInputs";
-  if (d < 1) throw std::invalid_argument(who + ": d = " + std::to_string(d) + " inputs; allowed >= 1");
-  const auto dims = static_cast<std::size_t>(d);
-  if (x.size() != y.size() * dims) {
-    throw std::invalid_argument(who + ": " + std::to_string(x.size()) + " input values for " +
-                                std::to_string(y.size()) + " outputs and d = " + std::to_string(d) +
-                                "; expected n d = " + std::to_string(y.size() * dims));
-  }
-  if (options.classes < 0 || options.classes == 1) {
-    throw std::invalid_argument(who + ": classes = " + std::to_string(options.classes) +
-                                ": allowed 0 (automatic) or >= 2");
-  }
-  CheckBootstrapOptions(options.bootstrap_resamples, options.confidence, who.c_str());
-
+// ScreenInputs of the outputs `which` of ys, whose non-finite outputs fall on the same
+// samples.
+void ScreenGroup(std::span<const double> x, std::size_t dims, std::span<const std::span<const double>> ys,
+                 std::span<const std::size_t> which, const ScreeningOptions& options, const std::string& who,
+                 std::vector<Screening>& results) {
+  const std::span<const double> first_y = ys[which.front()];
   std::vector<std::size_t> used;
-  used.reserve(y.size());
-  for (std::size_t i = 0; i < y.size(); ++i) {
-    if (!std::isfinite(y[i])) continue;
+  used.reserve(first_y.size());
+  for (std::size_t i = 0; i < first_y.size(); ++i) {
+    if (!std::isfinite(first_y[i])) continue;
     for (std::size_t k = 0; k < dims; ++k) {
       if (!std::isfinite(x[i * dims + k])) {
         throw std::invalid_argument(who + ": input " + std::to_string(k) + " of sample " + std::to_string(i) +
@@ -429,95 +657,163 @@ Screening ScreenInputs(std::span<const double> x, int d, std::span<const double>
                                           : std::clamp(static_cast<int>(std::floor(std::sqrt(static_cast<double>(n)))),
                                                        kMinClasses, kMaxClasses);
   if (n < 3 || n <= static_cast<std::size_t>(classes)) {
-    throw std::invalid_argument(who + ": " + std::to_string(n) + " usable samples of " + std::to_string(y.size()) +
+    throw std::invalid_argument(who + ": " + std::to_string(n) + " usable samples of " + std::to_string(first_y.size()) +
                                 " (non-finite outputs are excluded) for " + std::to_string(classes) +
                                 " classes; need at least max(3, classes + 1)");
   }
+  if (n > kMaxScreeningSamples) {
+    throw std::invalid_argument(who + ": " + std::to_string(n) + " usable samples; at most " +
+                                std::to_string(kMaxScreeningSamples) + " can be screened");
+  }
 
-  Screening result;
-  result.classes = classes;
-  result.samples = static_cast<std::int64_t>(n);
-  result.samples_excluded = static_cast<std::int64_t>(y.size() - n);
-  result.inputs.resize(dims);
-
+  const std::size_t outputs = which.size();
   const auto rows = static_cast<Eigen::Index>(n);
-  Eigen::MatrixXd xs(rows, d);
-  Eigen::VectorXd ys(rows);
+  Eigen::MatrixXd xs(rows, static_cast<Eigen::Index>(dims));
+  Eigen::MatrixXd ys_used(rows, static_cast<Eigen::Index>(outputs));
   for (std::size_t r = 0; r < n; ++r) {
-    ys(static_cast<Eigen::Index>(r)) = y[used[r]];
     for (std::size_t k = 0; k < dims; ++k)
       xs(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k)) = x[used[r] * dims + k];
+    for (std::size_t o = 0; o < outputs; ++o)
+      ys_used(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(o)) = ys[which[o]][used[r]];
   }
-  const double y_mean = ys.mean();
-  if (!((ys.array() - y_mean).square().sum() > 0.0)) {
-    throw std::invalid_argument(who + ": the output does not vary over the " + std::to_string(n) +
-                                " usable samples; its sensitivities are undefined");
+  for (std::size_t o = 0; o < outputs; ++o) {
+    const auto column = ys_used.col(static_cast<Eigen::Index>(o));
+    if (!((column.array() - column.mean()).square().sum() > 0.0)) {
+      throw std::invalid_argument(who + ": the output does not vary over the " + std::to_string(n) +
+                                  " usable samples; its sensitivities are undefined");
+    }
   }
+  for (std::size_t o = 0; o < outputs; ++o) {
+    Screening& result = results[which[o]];
+    result.classes = classes;
+    result.samples = static_cast<std::int64_t>(n);
+    result.samples_excluded = static_cast<std::int64_t>(first_y.size() - n);
+    result.inputs.resize(dims);
+  }
+
+  // Every input's increasing order, once: the ranks and every lane of the given-data
+  // estimate walk it.
+  std::vector<std::vector<std::size_t>> orders(dims);
+  ParallelFor(dims, Workers(options.threads, dims), [&](std::size_t k, std::size_t) {
+    orders[k] = IncreasingOrder(std::span<const double>(xs.col(static_cast<Eigen::Index>(k)).data(), n));
+  });
 
   // One residual degree of freedom at least: with n <= d + 1 the fit is exact whatever
-  // the model, and the coefficients are not identifiable.
+  // the model, and the coefficients are not identifiable. The value and the rank
+  // regressions decompose their inputs once for every output, side by side.
   if (n >= dims + 2) {
-    const RegressionFit values = StandardisedRegression(xs, ys);
-    Eigen::MatrixXd xr(rows, d);
-    for (Eigen::Index k = 0; k < xs.cols(); ++k) {
-      const std::vector<double> r = AverageRanks(std::span<const double>(xs.col(k).data(), n));
-      xr.col(k) = Eigen::Map<const Eigen::VectorXd>(r.data(), rows);
+    Eigen::MatrixXd xr(rows, static_cast<Eigen::Index>(dims));
+    Eigen::MatrixXd yr(rows, static_cast<Eigen::Index>(outputs));
+    ParallelFor(dims + outputs, Workers(options.threads, dims + outputs), [&](std::size_t item, std::size_t) {
+      const bool input = item < dims;
+      const auto column = static_cast<Eigen::Index>(input ? item : item - dims);
+      const std::span<const double> values(input ? xs.col(column).data() : ys_used.col(column).data(), n);
+      const std::vector<double> r =
+          input ? AverageRanksInOrder(values, orders[item]) : AverageRanksInOrder(values, IncreasingOrder(values));
+      (input ? xr.col(column) : yr.col(column)) = Eigen::Map<const Eigen::VectorXd>(r.data(), rows);
+    });
+    std::vector<RegressionFit> fits[2];
+    ParallelFor(2, Workers(options.threads, 2), [&](std::size_t item, std::size_t) {
+      fits[item] = item == 0 ? StandardisedRegressions(xs, ys_used) : StandardisedRegressions(xr, yr);
+    });
+    for (std::size_t o = 0; o < outputs; ++o) {
+      Screening& result = results[which[o]];
+      for (std::size_t k = 0; k < dims; ++k) {
+        result.inputs[k].src = fits[0][o].coefficients[k];
+        result.inputs[k].srrc = fits[1][o].coefficients[k];
+      }
+      result.r2 = fits[0][o].r2;
+      result.rank_r2 = fits[1][o].r2;
     }
-    const std::vector<double> y_ranks = AverageRanks(std::span<const double>(ys.data(), n));
-    const RegressionFit ranks = StandardisedRegression(xr, Eigen::Map<const Eigen::VectorXd>(y_ranks.data(), rows));
+  }
+
+  // Given-data first order: estimates[(k outputs + o) lanes + lane] for input k, from work
+  // items of one input and one batch of lanes.
+  std::vector<double> y_rows(n * outputs);
+  for (std::size_t r = 0; r < n; ++r) {
+    for (std::size_t o = 0; o < outputs; ++o)
+      y_rows[r * outputs + o] = ys_used(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(o));
+  }
+  const GivenDataLanes data = DrawLanes(std::move(y_rows), n, outputs,
+                                        static_cast<std::size_t>(options.bootstrap_resamples), options.bootstrap_seed, who);
+  const auto m = static_cast<std::size_t>(classes);
+  std::vector<double> starts(m + 1);
+  for (std::size_t c = 0; c <= m; ++c) starts[c] = static_cast<double>((c * n + m - 1) / m);
+  const std::size_t batches = (data.lanes + kLaneBatch - 1) / kLaneBatch;
+  std::vector<double> estimates(dims * outputs * data.lanes);
+  const std::size_t workers = Workers(options.threads, dims * batches);
+  std::vector<KernelScratch> scratch(workers);
+  ParallelFor(dims * batches, workers, [&](std::size_t item, std::size_t worker) {
+    const std::size_t k = item / batches;
+    const std::size_t first = (item % batches) * kLaneBatch;
+    GivenDataFirstOrders(data, orders[k], starts, first, std::min(kLaneBatch, data.lanes - first),
+                         options.independent_samples, scratch[worker], estimates.data() + k * outputs * data.lanes);
+  });
+
+  for (std::size_t o = 0; o < outputs; ++o) {
+    Screening& result = results[which[o]];
+    const std::vector<std::size_t>& lanes = data.lanes_of[o];
     for (std::size_t k = 0; k < dims; ++k) {
-      result.inputs[k].src = values.coefficients[k];
-      result.inputs[k].srrc = ranks.coefficients[k];
+      const double* estimate = estimates.data() + (k * outputs + o) * data.lanes;
+      result.inputs[k].first_order.value = estimate[0];
+      if (lanes.size() < 2) continue;
+      std::vector<double> boot(lanes.size() - 1);
+      for (std::size_t b = 1; b < lanes.size(); ++b) boot[b - 1] = estimate[lanes[b]];
+      SummariseBootstrap(std::move(boot), options.confidence, result.inputs[k].first_order);
     }
-    result.r2 = values.r2;
-    result.rank_r2 = ranks.r2;
+  }
+}
+
+}  // namespace
+
+std::vector<Screening> ScreenInputs(std::span<const double> x, int d, std::span<const std::span<const double>> ys,
+                                    const ScreeningOptions& options) {
+  const std::string who = "ScreenInputs";
+  if (d < 1) throw std::invalid_argument(who + ": d = " + std::to_string(d) + " inputs; allowed >= 1");
+  const auto dims = static_cast<std::size_t>(d);
+  for (const std::span<const double> y : ys) {
+    if (x.size() != y.size() * dims) {
+      throw std::invalid_argument(who + ": " + std::to_string(x.size()) + " input values for " +
+                                  std::to_string(y.size()) + " outputs and d = " + std::to_string(d) +
+                                  "; expected n d = " + std::to_string(y.size() * dims));
+    }
+  }
+  if (options.classes < 0 || options.classes == 1) {
+    throw std::invalid_argument(who + ": classes = " + std::to_string(options.classes) +
+                                ": allowed 0 (automatic) or >= 2");
+  }
+  CheckBootstrapOptions(options.bootstrap_resamples, options.confidence, who.c_str());
+  if (options.threads < 0) {
+    throw std::invalid_argument(who + ": threads = " + std::to_string(options.threads) +
+                                ": allowed 0 (one per core) or >= 1");
   }
 
-  // Given-data first order: each input's sorted order once; a bootstrap resample is then a
-  // multiplicity per sample, walked in that order (no re-sorting).
-  const std::span<const double> yv(ys.data(), n);
-  std::vector<std::vector<std::size_t>> orders(dims, std::vector<std::size_t>(n));
-  for (std::size_t k = 0; k < dims; ++k) {
-    std::iota(orders[k].begin(), orders[k].end(), std::size_t{0});
-    const double* column = xs.col(static_cast<Eigen::Index>(k)).data();
-    std::stable_sort(orders[k].begin(), orders[k].end(),
-                     [&](std::size_t i, std::size_t j) { return column[i] < column[j]; });
-  }
-  std::vector<double> class_sum(static_cast<std::size_t>(classes)), class_count(static_cast<std::size_t>(classes));
-  std::vector<std::size_t> count(n, 1);
-  for (std::size_t k = 0; k < dims; ++k) {
-    result.inputs[k].first_order.value =
-        GivenDataFirstOrder(orders[k], count, yv, classes, options.independent_samples, class_sum, class_count);
-  }
-  if (options.bootstrap_resamples == 0) return result;
-
-  const auto resamples = static_cast<std::size_t>(options.bootstrap_resamples);
-  std::vector<std::vector<double>> boot(dims, std::vector<double>(resamples));
-  boost::random::mt19937_64 engine(options.bootstrap_seed);
-  boost::random::uniform_int_distribution<std::size_t> pick(0, n - 1);
-  std::vector<double> estimates(dims);
-  for (std::size_t b = 0; b < resamples; ++b) {
-    for (int attempt = 0;; ++attempt) {
-      if (attempt == kMaxRedraws) {
-        throw std::invalid_argument(who + ": " + std::to_string(kMaxRedraws) +
-                                    " bootstrap resamples in a row had a constant output; it barely varies");
-      }
-      std::fill(count.begin(), count.end(), std::size_t{0});
-      for (std::size_t i = 0; i < n; ++i) ++count[pick(engine)];
-      bool defined = true;
-      for (std::size_t k = 0; k < dims && defined; ++k) {
-        estimates[k] =
-            GivenDataFirstOrder(orders[k], count, yv, classes, options.independent_samples, class_sum, class_count);
-        defined = !std::isnan(estimates[k]);
-      }
-      if (defined) break;
+  // Outputs that failed on the same samples use the same samples: they share the work.
+  std::vector<Screening> results(ys.size());
+  std::vector<bool> screened(ys.size(), false);
+  const auto same_samples = [](std::span<const double> a, std::span<const double> b) {
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (std::isfinite(a[i]) != std::isfinite(b[i])) return false;
     }
-    for (std::size_t k = 0; k < dims; ++k) boot[k][b] = estimates[k];
+    return true;
+  };
+  for (std::size_t o = 0; o < ys.size(); ++o) {
+    if (screened[o]) continue;
+    std::vector<std::size_t> which;
+    for (std::size_t p = o; p < ys.size(); ++p) {
+      if (!screened[p] && same_samples(ys[o], ys[p])) {
+        which.push_back(p);
+        screened[p] = true;
+      }
+    }
+    ScreenGroup(x, dims, ys, which, options, who, results);
   }
-  for (std::size_t k = 0; k < dims; ++k) {
-    SummariseBootstrap(std::move(boot[k]), options.confidence, result.inputs[k].first_order);
-  }
-  return result;
+  return results;
+}
+
+Screening ScreenInputs(std::span<const double> x, int d, std::span<const double> y, const ScreeningOptions& options) {
+  const std::span<const double> one[] = {y};
+  return ScreenInputs(x, d, one, options).front();
 }
 
 }  // namespace ringtol::analysis

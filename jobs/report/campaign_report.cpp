@@ -193,37 +193,51 @@ OutputSensitivity SobolSensitivity(const std::string& output, const std::vector<
 
 }  // namespace
 
-OutputSensitivity ScreenOutput(const std::string& output, std::span<const double> y_used,
-                               std::span<const double> x_used, int d,
-                               const std::vector<sampling::SampledInput>& inputs, const ReportOptions& options) {
-  OutputSensitivity out;
-  out.output = output;
-  out.method = "screening";
-  out.estimator = "SRC, SRRC and a given-data first-order estimate";
+std::vector<OutputSensitivity> ScreenOutputs(std::span<const std::string> outputs,
+                                             std::span<const std::span<const double>> ys_used,
+                                             std::span<const double> x_used, int d,
+                                             const std::vector<sampling::SampledInput>& inputs,
+                                             const ReportOptions& options) {
   analysis::ScreeningOptions screening;
   screening.bootstrap_resamples = std::max(0, options.bootstrap_resamples / 5);
   screening.confidence = options.confidence;
-  const analysis::Screening result = analysis::ScreenInputs(x_used, d, y_used, screening);
-  out.rows = result.samples;
-  out.rows_excluded = result.samples_excluded;
-  if (std::isfinite(result.r2)) out.r2 = result.r2;
-  if (std::isfinite(result.rank_r2)) out.rank_r2 = result.rank_r2;
-  std::vector<SensitivityEntry> finest(static_cast<std::size_t>(d));
-  std::vector<std::vector<int>> members(static_cast<std::size_t>(d));
-  for (std::size_t k = 0; k < finest.size(); ++k) {
-    finest[k].name = inputs[k].name;
-    finest[k].first_order = result.inputs[k].first_order;
-    finest[k].src = std::isfinite(result.inputs[k].src) ? result.inputs[k].src : 0.0;
-    finest[k].srrc = std::isfinite(result.inputs[k].srrc) ? result.inputs[k].srrc : 0.0;
-    finest[k].ranking = finest[k].first_order.value;
-    members[k] = {static_cast<int>(k)};
-    Describe(finest[k], inputs, members[k]);
+  const std::vector<analysis::Screening> results = analysis::ScreenInputs(x_used, d, ys_used, screening);
+  std::vector<OutputSensitivity> screened;
+  for (std::size_t o = 0; o < results.size(); ++o) {
+    const analysis::Screening& result = results[o];
+    OutputSensitivity& out = screened.emplace_back();
+    out.output = outputs[o];
+    out.method = "screening";
+    out.estimator = "SRC, SRRC and a given-data first-order estimate";
+    out.rows = result.samples;
+    out.rows_excluded = result.samples_excluded;
+    if (std::isfinite(result.r2)) out.r2 = result.r2;
+    if (std::isfinite(result.rank_r2)) out.rank_r2 = result.rank_r2;
+    std::vector<SensitivityEntry> finest(static_cast<std::size_t>(d));
+    std::vector<std::vector<int>> members(static_cast<std::size_t>(d));
+    for (std::size_t k = 0; k < finest.size(); ++k) {
+      finest[k].name = inputs[k].name;
+      finest[k].first_order = result.inputs[k].first_order;
+      finest[k].src = std::isfinite(result.inputs[k].src) ? result.inputs[k].src : 0.0;
+      finest[k].srrc = std::isfinite(result.inputs[k].srrc) ? result.inputs[k].srrc : 0.0;
+      finest[k].ranking = finest[k].first_order.value;
+      members[k] = {static_cast<int>(k)};
+      Describe(finest[k], inputs, members[k]);
+    }
+    SensitivityLevel input_level{"input", Aggregation::kExact, finest};
+    SortLargestFirst(input_level.entries);
+    out.levels.push_back(std::move(input_level));
+    AddAggregates(out, finest, members, inputs);
   }
-  SensitivityLevel input_level{"input", Aggregation::kExact, finest};
-  SortLargestFirst(input_level.entries);
-  out.levels.push_back(std::move(input_level));
-  AddAggregates(out, finest, members, inputs);
-  return out;
+  return screened;
+}
+
+OutputSensitivity ScreenOutput(const std::string& output, std::span<const double> y_used,
+                               std::span<const double> x_used, int d,
+                               const std::vector<sampling::SampledInput>& inputs, const ReportOptions& options) {
+  const std::string names[] = {output};
+  const std::span<const double> ys[] = {y_used};
+  return std::move(ScreenOutputs(names, ys, x_used, d, inputs, options).front());
 }
 
 namespace {
@@ -409,6 +423,8 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
       saltelli ? campaign.sampling().sampler.Groups(campaign.plan().sampling.grouping) : sampling::InputGroups{};
   report.samples_per_draw = saltelli ? design.samples_per_row() / 2.0 : 1.0;
   std::vector<double> trajectory_mm;  // kept from the loop for picking the samples to replay
+  std::vector<std::string> screened_names;  // outputs to screen, and their values on the screened samples
+  std::vector<std::vector<double>> y_screens;
   for (const char* name : kOutputNames) {
     if (!reader.HasOutput(name) || !ShowsOutput(report.identity, name)) continue;
     std::vector<double> all = ReadInBlocks<double>(
@@ -422,16 +438,22 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
     if (out.distribution && out.distribution->standard_deviation > 0.0) {
       if (saltelli) {
         report.sensitivities.push_back(SobolSensitivity(name, all, status, design, groups, inputs, options));
-      } else {
-        std::vector<double> y_screen;
+      } else if (screened.size() >= 2) {
+        screened_names.emplace_back(name);
+        std::vector<double>& y_screen = y_screens.emplace_back();
         y_screen.reserve(screened.size());
         for (const std::int64_t i : screened) y_screen.push_back(all[static_cast<std::size_t>(i)]);
-        if (screened.size() >= 2)
-          report.sensitivities.push_back(ScreenOutput(name, y_screen, x_screen, d, inputs, options));
       }
     }
     report.outputs.push_back(std::move(out));
     if (std::string_view(name) == "d_trajectory_mm") trajectory_mm = std::move(all);
+  }
+  // Every output's screening at once: they share the inputs' sorting, decompositions and
+  // bootstrap draws.
+  if (!screened_names.empty()) {
+    const std::vector<std::span<const double>> ys(y_screens.begin(), y_screens.end());
+    for (OutputSensitivity& screening : ScreenOutputs(screened_names, ys, x_screen, d, inputs, options))
+      report.sensitivities.push_back(std::move(screening));
   }
 
   if (!options.replay) {

@@ -24,6 +24,9 @@
 #include <utility>
 #include <vector>
 
+#include <boost/random/mersenne_twister.hpp>
+#include <boost/random/uniform_int_distribution.hpp>
+
 #include "analysis/order_statistics.h"
 #include "sampling/design.h"
 #include "tests/support/shell.h"
@@ -780,6 +783,200 @@ TEST(ScreenInputs, BadInputIsRefusedWithTheReason) {
   bad_x[7] = kNaN;
   EXPECT_THAT([&] { ScreenInputs(bad_x, 2, s.y); },
               ThrowsMessage<std::invalid_argument>(HasSubstr("input 1 of sample 3 is not finite")));
+}
+
+// ---------------------------------------------------------------------------------------
+// The given-data estimator as first written: one input, one bootstrap resample and one copy
+// of a sample at a time, the class of sorted position p found as floor(p M / n). It is the
+// reference the shared, threaded estimator is held to.
+
+double ReferenceFirstOrder(std::span<const std::size_t> order, std::span<const std::size_t> count,
+                           std::span<const double> y, int classes, bool correct) {
+  std::vector<double> class_sum(static_cast<std::size_t>(classes)), class_count(static_cast<std::size_t>(classes));
+  std::size_t n = 0;
+  for (const std::size_t i : order) n += count[i];
+  const auto m = static_cast<std::size_t>(classes);
+  double total = 0.0;
+  std::size_t p = 0;
+  for (const std::size_t i : order) {
+    for (std::size_t c = 0; c < count[i]; ++c, ++p) {
+      const std::size_t cls = p * m / n;
+      class_sum[cls] += y[i];
+      class_count[cls] += 1.0;
+    }
+    total += static_cast<double>(count[i]) * y[i];
+  }
+  const double nd = static_cast<double>(n);
+  const double mean = total / nd;
+  double sst = 0.0;
+  for (const std::size_t i : order) sst += static_cast<double>(count[i]) * (y[i] - mean) * (y[i] - mean);
+  if (!(sst > 0.0)) return kNaN;
+  double ssb = 0.0;
+  for (std::size_t c = 0; c < m; ++c) {
+    if (class_count[c] > 0.0) {
+      const double d = class_sum[c] / class_count[c] - mean;
+      ssb += class_count[c] * d * d;
+    }
+  }
+  if (!correct) return ssb / sst;
+  const double k = (static_cast<double>(classes) - 1.0) / (nd - 1.0);
+  return (ssb / sst - k) / (1.0 - k);
+}
+
+// Every input's given-data index of finite outputs y, with conf (z times the n - 1
+// standard deviation of the resamples' estimates) and the percentile interval.
+std::vector<SobolIndex> ReferenceGivenData(std::span<const double> x, std::size_t d, std::span<const double> y,
+                                           int classes, const ScreeningOptions& options) {
+  const std::size_t n = y.size();
+  std::vector<std::vector<std::size_t>> orders(d, std::vector<std::size_t>(n));
+  for (std::size_t k = 0; k < d; ++k) {
+    std::iota(orders[k].begin(), orders[k].end(), std::size_t{0});
+    std::stable_sort(orders[k].begin(), orders[k].end(),
+                     [&](std::size_t i, std::size_t j) { return x[i * d + k] < x[j * d + k]; });
+  }
+  std::vector<SobolIndex> indices(d);
+  std::vector<std::size_t> count(n, 1);
+  for (std::size_t k = 0; k < d; ++k)
+    indices[k].value = ReferenceFirstOrder(orders[k], count, y, classes, options.independent_samples);
+  if (options.bootstrap_resamples == 0) return indices;
+  std::vector<std::vector<double>> boot(d);
+  boost::random::mt19937_64 engine(options.bootstrap_seed);
+  boost::random::uniform_int_distribution<std::size_t> pick(0, n - 1);
+  std::vector<double> estimates(d);
+  for (int b = 0; b < options.bootstrap_resamples; ++b) {
+    for (bool defined = false; !defined;) {
+      std::fill(count.begin(), count.end(), std::size_t{0});
+      for (std::size_t i = 0; i < n; ++i) ++count[pick(engine)];
+      defined = true;
+      for (std::size_t k = 0; k < d && defined; ++k) {
+        estimates[k] = ReferenceFirstOrder(orders[k], count, y, classes, options.independent_samples);
+        defined = !std::isnan(estimates[k]);
+      }
+    }
+    for (std::size_t k = 0; k < d; ++k) boot[k].push_back(estimates[k]);
+  }
+  const double z = testing::TwoSidedNormalQuantile(1.0 - options.confidence);
+  for (std::size_t k = 0; k < d; ++k) {
+    std::sort(boot[k].begin(), boot[k].end());
+    const double count_b = static_cast<double>(boot[k].size());
+    const double mean = std::accumulate(boot[k].begin(), boot[k].end(), 0.0) / count_b;
+    double squares = 0.0;
+    for (const double e : boot[k]) squares += (e - mean) * (e - mean);
+    indices[k].conf = z * std::sqrt(squares / (count_b - 1.0));
+    indices[k].interval = {EstimateQuantile(boot[k], 0.5 * (1.0 - options.confidence)).value,
+                           EstimateQuantile(boot[k], 0.5 * (1.0 + options.confidence)).value};
+  }
+  return indices;
+}
+
+// Each estimate is a ratio of sums of at most n = 2,000 terms; summing count x y where the
+// reference adds y count times, and the mean and SST in sample order instead of in each
+// input's, moves every sum by a few n eps = 4e-13 of its size at most, and the correction
+// by 1 / (1 - k) <= 2 amplifies that; indices are of order 1, so 1e-12 absolute is also
+// 1e-12 relative to their scale. The normal quantile z of conf differs from the
+// reference's by its own rounding, below 1e-15.
+constexpr double kRounding = 1e-12;
+
+::testing::AssertionResult SameIndex(const SobolIndex& fast, const SobolIndex& reference) {
+  const auto near = [](double a, double b) { return (std::isnan(a) && std::isnan(b)) || std::abs(a - b) <= kRounding; };
+  if (near(fast.value, reference.value) && near(fast.conf, reference.conf) &&
+      near(fast.interval.lower, reference.interval.lower) && near(fast.interval.upper, reference.interval.upper)) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << std::setprecision(17) << "fast " << fast.value << " +- " << fast.conf << " ["
+                                       << fast.interval.lower << ", " << fast.interval.upper << "], reference "
+                                       << reference.value << " +- " << reference.conf << " ["
+                                       << reference.interval.lower << ", " << reference.interval.upper << "]";
+}
+
+TEST(ScreenInputs, GivenDataFirstOrderAndItsBootstrapAreTheEstimatorAsFirstWrittenToRounding) {
+  // Three outputs of four inputs (x3 unused, x2 tied in steps of 1/8, so stable sorting
+  // matters), large classes (n = 2,000, M = 44) and small ones (n = 60, M = 7, where a
+  // resample's copies of one sample often straddle a class boundary), corrected and not.
+  struct Case {
+    std::int64_t samples;
+    bool independent;
+  };
+  for (const Case c : {Case{2000, true}, Case{60, true}, Case{60, false}}) {
+    Sample s = DrawSample(c.samples, {{0.0, 1.0}, {-1.0, 1.0}, {0.0, 1.0}, {0.0, 1.0}}, 17,
+                          [](std::span<const double> x) { return x[0] + x[1] * x[1]; });
+    for (std::size_t i = 0; i < s.y.size(); ++i) s.x[i * 4 + 2] = std::floor(s.x[i * 4 + 2] * 8.0) / 8.0;
+    std::vector<std::vector<double>> outputs = {s.y, s.y, s.y};
+    for (std::size_t i = 0; i < s.y.size(); ++i) {
+      const double* x = &s.x[i * 4];
+      outputs[1][i] = 1e3 + std::sin(6.0 * x[2]) + 0.1 * x[0];  // far from zero: the sums cancel
+      outputs[2][i] = x[1] * x[2] - x[0];
+    }
+    ScreeningOptions options;
+    options.bootstrap_resamples = 300;  // 301 lanes: two passes of the kernel
+    options.independent_samples = c.independent;
+    const std::vector<std::span<const double>> ys(outputs.begin(), outputs.end());
+    const std::vector<Screening> fast = ScreenInputs(s.x, 4, ys, options);
+    for (std::size_t o = 0; o < outputs.size(); ++o) {
+      const std::vector<SobolIndex> reference = ReferenceGivenData(s.x, 4, outputs[o], fast[o].classes, options);
+      for (std::size_t k = 0; k < 4; ++k) {
+        EXPECT_TRUE(SameIndex(fast[o].inputs[k].first_order, reference[k]))
+            << c.samples << " samples, output " << o << ", input " << k;
+      }
+    }
+  }
+}
+
+TEST(ScreenInputs, ARedrawForOneOutputLeavesTheOthersTheirOwnResamples) {
+  // Four samples: the first output is constant over any resample of samples 0 to 2 alone
+  // (27 of 256 draws), the second only over resamples of a single sample (4 of 256), so
+  // their resamples part ways; each must be what the reference draws for it alone.
+  const std::vector<double> x = {0.1, 0.7, 0.4, 0.9};
+  const std::vector<std::vector<double>> outputs = {{1.0, 1.0, 1.0, 2.0}, {1.0, 2.0, 3.0, 5.0}};
+  ScreeningOptions options;
+  options.bootstrap_resamples = 50;
+  const std::vector<std::span<const double>> ys(outputs.begin(), outputs.end());
+  const std::vector<Screening> together = ScreenInputs(x, 1, ys, options);
+  for (std::size_t o = 0; o < outputs.size(); ++o) {
+    const std::vector<SobolIndex> reference = ReferenceGivenData(x, 1, outputs[o], together[o].classes, options);
+    EXPECT_TRUE(SameIndex(together[o].inputs[0].first_order, reference[0])) << "output " << o;
+  }
+}
+
+TEST(ScreenInputs, AnyThreadCountGivesTheSameBitsAndSeveralOutputsAtOnceTheSameNumbersAsOneAtATime) {
+  Sample s = DrawSample(700, {{0.0, 1.0}, {0.0, 1.0}, {0.0, 1.0}}, 23,
+                        [](std::span<const double> x) { return x[0] * x[1] + x[2]; });
+  std::vector<std::vector<double>> outputs = {s.y, s.y, s.y};
+  for (std::size_t i = 0; i < s.y.size(); ++i) {
+    outputs[1][i] = std::exp(s.x[i * 3]) - s.x[i * 3 + 2];
+    if (i % 29 == 5) outputs[2][i] = kNaN;  // fails elsewhere: screened on its own samples
+  }
+  const std::vector<std::span<const double>> ys(outputs.begin(), outputs.end());
+  ScreeningOptions one_thread;
+  one_thread.threads = 1;
+  ScreeningOptions three_threads;
+  three_threads.threads = 3;
+  const std::vector<Screening> serial = ScreenInputs(s.x, 3, ys, one_thread);
+  const std::vector<Screening> threaded = ScreenInputs(s.x, 3, ys, three_threads);
+  EXPECT_EQ(serial[2].samples_excluded, 24);  // i = 5, 34, ..., 672
+  // The regressions of several outputs solve one matrix right-hand side, whose Householder
+  // steps round otherwise than a vector's: equal to kRounding (standardised coefficients
+  // are of order 1). The given-data lanes of an output do not see the others: equal bits.
+  const auto same = [](double a, double b, bool exact) { return exact ? a == b : std::abs(a - b) <= kRounding; };
+  for (std::size_t o = 0; o < outputs.size(); ++o) {
+    const Screening alone = ScreenInputs(s.x, 3, outputs[o], three_threads);
+    for (const Screening* other : {&threaded[o], &alone}) {
+      const bool exact = other == &threaded[o];
+      EXPECT_EQ(other->samples, serial[o].samples);
+      EXPECT_TRUE(same(other->r2, serial[o].r2, exact)) << o;
+      EXPECT_TRUE(same(other->rank_r2, serial[o].rank_r2, exact)) << o;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const InputScreening& a = serial[o].inputs[k];
+        const InputScreening& b = other->inputs[k];
+        EXPECT_TRUE(same(a.src, b.src, exact)) << o << " " << k;
+        EXPECT_TRUE(same(a.srrc, b.srrc, exact)) << o << " " << k;
+        EXPECT_EQ(a.first_order.value, b.first_order.value) << o << " " << k;
+        EXPECT_EQ(a.first_order.conf, b.first_order.conf) << o << " " << k;
+        EXPECT_EQ(a.first_order.interval.lower, b.first_order.interval.lower) << o << " " << k;
+        EXPECT_EQ(a.first_order.interval.upper, b.first_order.interval.upper) << o << " " << k;
+      }
+    }
+  }
 }
 
 }  // namespace
