@@ -8,7 +8,7 @@ import numpy as np
 
 with h5py.File(sys.argv[1], "r") as f:
     assert f.attrs["format"] == "ringtol campaign", f.attrs["format"]
-    assert int(f.attrs["schema_version"]) == 2
+    assert int(f.attrs["schema_version"]) == 3
     for key in ("ringtol_version", "catalogue_version", "campaign_file", "base_scene", "design", "solver"):
         assert isinstance(f.attrs[key], str) and f.attrs[key], key
     n = int(f.attrs["samples"])
@@ -31,4 +31,8 @@ with h5py.File(sys.argv[1], "r") as f:
     assert abs(swing.attrs["resolution_um"] - 0.1) < 1e-12 and swing.attrs["cutoff_upr"] == 0.0
     runout = f["outputs/runout_mm"][:]
     assert np.all(swing[:][ok] <= runout[ok]), "a swing never exceeds max - min"
+    rung = f["outputs/rung"][:]
+    error = f["outputs/d_trajectory_error_mm"][:]
+    assert rung.dtype == np.int8 and np.all((rung[ok] >= 0) & (rung[ok] <= 2)), "the rung a sample settled on"
+    assert np.all(error[ok] >= 0.0) and np.all(np.isnan(error[~ok]))
     print(f"{int(ok.sum())} samples ok of {n}, {d} inputs")
