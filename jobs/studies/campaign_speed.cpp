@@ -113,10 +113,15 @@ std::string Micrometres(double value) { return std::isnan(value) ? "-" : fmt::fo
 std::vector<CampaignMode> DefaultCampaignModes(const solvers::SolverSettings& campaign) {
   std::vector<CampaignMode> modes;
   modes.push_back({"campaign", campaign});
-  for (const solvers::Rung rung : {solvers::Rung::kLinear, solvers::Rung::kQuasistatic}) {
-    solvers::SolverSettings settings = campaign;
-    settings.rung = rung;
-    modes.push_back({std::string(NameOf(solvers::kRungNames, rung)), settings});
+  for (const solvers::AngleMode angles : {solvers::AngleMode::kDense, solvers::AngleMode::kRefined}) {
+    for (const solvers::Rung rung : {solvers::Rung::kLinear, solvers::Rung::kQuasistatic, solvers::Rung::kAuto}) {
+      solvers::SolverSettings settings = campaign;
+      settings.rung = rung;
+      settings.simulation.angles = angles;
+      std::string name(NameOf(solvers::kRungNames, rung));
+      if (angles != solvers::AngleMode::kDense) name += std::string(", ") + std::string(NameOf(solvers::kAngleModeNames, angles));
+      modes.push_back({std::move(name), settings});
+    }
   }
   return modes;
 }
@@ -126,6 +131,7 @@ solvers::SolverSettings FullResolutionReference(const solvers::SolverSettings& c
   reference.rung = solvers::Rung::kQuasistatic;
   reference.simulation.path_tolerance = 0.0;
   reference.simulation.steps = 0;
+  reference.simulation.angles = solvers::AngleMode::kDense;
   return reference;
 }
 

@@ -28,13 +28,14 @@ struct CampaignMode {
   solvers::SolverSettings solver;  // the [solver] settings this mode runs with
 };
 
-// The modes a campaign's settings admit, cheapest idea first: "campaign" (the file's own
-// [solver] settings: what `ringtol campaign` runs), then each time-free rung with the
-// file's sampling budget.
+// "campaign" (the file's own [solver] settings: what `ringtol campaign` runs), then the
+// linear, quasistatic and auto rungs at the file's sampling budget, on the dense grid and
+// then on refined angles (SimulationOptions::angles); "quasistatic" (dense) is the unit of
+// the speed ratios.
 std::vector<CampaignMode> DefaultCampaignModes(const solvers::SolverSettings& campaign);
 
 // The reference settings of the comparison: `campaign` with the quasistatic rung, the
-// exact step rule (no path_tolerance) and no step count forced.
+// exact step rule (no path_tolerance), no step count forced, every angle (dense).
 solvers::SolverSettings FullResolutionReference(const solvers::SolverSettings& campaign);
 
 struct CampaignSpeedOptions {
