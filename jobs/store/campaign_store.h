@@ -1,6 +1,7 @@
 // The results file of a campaign: one HDF5 file (Debian's serial libhdf5, C API) written
-// by the coordinating rank as results arrive, readable by h5py and h5dump, and safe
-// against a kill at any moment. docs/results.md documents the schema for
+// by the coordinating rank as results arrive, or under mpirun by each worker into a shard
+// of the same schema that the coordinating rank joins into it (Absorb, below), readable
+// by h5py and h5dump, and safe against a kill at any moment. docs/results.md documents the schema for
 // readers; this header is the contract for writers.
 //
 // Schema version 3 (N = samples, d = sampler inputs; every 2-D dataset is [N, d]):

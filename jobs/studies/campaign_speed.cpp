@@ -214,7 +214,8 @@ void WriteCampaignSpeedCsv(std::ostream& out, const CampaignSpeedResult& result)
 
 void WriteCampaignSpeedSvg(std::ostream& out, const CampaignSpeedResult& result) {
   constexpr double kErrorFloor = 1e-3;  // [um] where errors below are drawn
-  double rate_min = std::numeric_limits<double>::infinity(), rate_max = 0.0, error_max = 1.0;
+  // The error axis reaches 10 um at least, so that the 1 um line lies inside the plot.
+  double rate_min = std::numeric_limits<double>::infinity(), rate_max = 0.0, error_max = 10.0;
   const auto drawn = [&](double error) { return std::max(std::isnan(error) ? kErrorFloor : error, kErrorFloor); };
   for (const CampaignModeRow& row : result.rows) {
     rate_min = std::min(rate_min, row.samples_per_second);
