@@ -475,10 +475,15 @@ TEST(Campaign, SigtermOrSigintAtAnyMomentKeepsEveryFinishedSampleAndResumeEndsAs
 
 // mpirun passes a signal on to the ranks one odls_base_sigkill_timeout (1 s) later, so each
 // run computes about a second's worth past the moment (500 samples on two loaded cores,
-// 1,500 on idle ones): the campaign is long enough for two such seconds and more, and
-// stopped twice.
+// 1,500 on idle ones; under the sanitizers about a tenth of that): the campaign is long
+// enough for two such seconds and more, and stopped twice.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr std::int64_t kSamplesPastTwoForwardedSignals = 1500;
+#else
+constexpr std::int64_t kSamplesPastTwoForwardedSignals = 6000;
+#endif
 TEST(CampaignUnderMpirun, SigtermOrSigintToMpirunKeepsEveryFinishedSampleAndResumeEndsAsAnUninterruptedRun) {
-  StopThenFinish(Mpirun(2), 6000, {{SIGTERM, 0.0, "start"}, {SIGINT, 0.01, "middle"}});
+  StopThenFinish(Mpirun(2), kSamplesPastTwoForwardedSignals, {{SIGTERM, 0.0, "start"}, {SIGINT, 0.01, "middle"}});
 }
 
 TEST(Campaign, ASecondSignalDuringTheStopEndsTheRunAtOnceAndResumeStillCompletesTheFile) {
