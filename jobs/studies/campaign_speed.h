@@ -28,10 +28,11 @@ struct CampaignMode {
   solvers::SolverSettings solver;  // the [solver] settings this mode runs with
 };
 
-// "campaign" (the file's own [solver] settings: what `ringtol campaign` runs), then the
+// The file's own [solver] settings first (what `ringtol campaign` runs), then the other
 // linear, quasistatic and auto rungs at the file's sampling budget, on the dense grid and
-// then on refined angles (SimulationOptions::angles); "quasistatic" (dense) is the unit of
-// the speed ratios.
+// then on refined angles (SimulationOptions::angles). The first mode takes the name of the
+// rung and angles it runs ("auto" for the default campaign), or "campaign" for a rung not
+// listed (dynamic); "quasistatic" (dense) is the unit of the speed ratios.
 std::vector<CampaignMode> DefaultCampaignModes(const solvers::SolverSettings& campaign);
 
 // The reference settings of the comparison: `campaign` with the quasistatic rung, the

@@ -101,6 +101,21 @@ TEST(CampaignSpeed, TableCsvAndChartNameEveryMode) {
   EXPECT_THAT(svg.str(), HasSubstr("<svg"));
 }
 
+TEST(CampaignSpeed, TheCampaignsOwnModeRunsOnceUnderItsNameAndFirst) {
+  // The default campaign runs auto on the dense grid: that mode leads, and no other mode
+  // repeats it; a dynamic campaign is not among the listed modes and leads as "campaign".
+  std::vector<std::string> names;
+  for (const CampaignMode& mode : DefaultCampaignModes(SmallCampaign().plan().solver)) names.push_back(mode.name);
+  EXPECT_THAT(names, ::testing::ElementsAre("auto", "linear", "quasistatic", "linear, refined", "quasistatic, refined",
+                                            "auto, refined"));
+  solvers::SolverSettings dynamic = SmallCampaign().plan().solver;
+  dynamic.rung = solvers::Rung::kDynamic;
+  const std::vector<CampaignMode> modes = DefaultCampaignModes(dynamic);
+  ASSERT_EQ(modes.size(), 7u);
+  EXPECT_EQ(modes.front().name, "campaign");
+  EXPECT_EQ(modes.front().solver.rung, solvers::Rung::kDynamic);
+}
+
 TEST(CampaignSpeed, NegativeThreadsAreRefusedBeforeAnySample) {
   CampaignSpeedOptions options;
   options.threads = -1;
