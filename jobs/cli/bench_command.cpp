@@ -22,8 +22,7 @@
 namespace ringtol::jobs {
 int RunBenchDynamics(const BenchDynamicsCommand& command, std::ostream& out) {
   const engine::Scene scene = ReadScene(command.scene);
-  std::ofstream svg;
-  if (!command.svg.empty()) svg = OpenOutput(command.svg, "--svg");
+  std::ofstream svg = OpenOptionalOutput(command.svg, "--svg");
   DynamicStudyOptions options;
   if (!command.orders.empty()) options.orders = command.orders;
   if (!command.rates_deg_per_s.empty()) {
@@ -38,10 +37,8 @@ int RunBenchDynamics(const BenchDynamicsCommand& command, std::ostream& out) {
 
 int RunBenchLadder(const BenchLadderCommand& command, std::ostream& out, std::ostream& progress) {
   const engine::Scene scene = ReadScene(command.scene);
-  std::ofstream csv;
-  if (!command.csv.empty()) csv = OpenOutput(command.csv, "--csv");
-  std::ofstream svg;
-  if (!command.svg.empty()) svg = OpenOutput(command.svg, "--svg");
+  std::ofstream csv = OpenOptionalOutput(command.csv, "--csv");
+  std::ofstream svg = OpenOptionalOutput(command.svg, "--svg");
   LadderOptions options;
   options.cases = command.cases;
   options.repeats = command.repeats;
@@ -83,10 +80,8 @@ int RunBenchCampaign(const BenchCampaignCommand& command, std::ostream& out, std
     throw InputError(fmt::format("--results {}: the file exists; a results file is never overwritten",
                                  command.results.string()));
   }
-  std::ofstream csv;
-  if (!command.csv.empty()) csv = OpenOutput(command.csv, "--csv");
-  std::ofstream svg;
-  if (!command.svg.empty()) svg = OpenOutput(command.svg, "--svg");
+  std::ofstream csv = OpenOptionalOutput(command.csv, "--csv");
+  std::ofstream svg = OpenOptionalOutput(command.svg, "--svg");
   CampaignSpeedOptions options;
   options.threads = command.threads;
   CampaignSpeedResult result = RunCampaignSpeed(campaign.plan(), options, &progress);

@@ -241,4 +241,8 @@ std::ofstream OpenOutput(const std::filesystem::path& file, const char* option) 
   return out;
 }
 
+std::ofstream OpenOptionalOutput(const std::filesystem::path& file, const char* option) {
+  return file.empty() ? std::ofstream() : OpenOutput(file, option);
+}
+
 }  // namespace ringtol::jobs

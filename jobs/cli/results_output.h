@@ -37,8 +37,10 @@ void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::S
                  const solvers::SolverSettings& solver, double solve_seconds);
 
 // An output file opened up front, so that a bad path fails before any work is done.
-// Throws InputError naming `option` and the file.
+// Throws InputError naming `option` and the file. The optional form leaves the stream
+// closed when `file` is empty (the option was not given).
 std::ofstream OpenOutput(const std::filesystem::path& file, const char* option);
+std::ofstream OpenOptionalOutput(const std::filesystem::path& file, const char* option);
 
 // Aligned table, one row per sweep case; D_first and D_steady columns when a row is dynamic.
 void PrintSweepTable(std::ostream& out, const std::vector<nlohmann::json>& rows);

@@ -29,8 +29,7 @@ int RunSample(const SampleCommand& command, std::ostream& out) {
       throw InputError(command.scene.string() + ": cannot be written: folder " + folder.string() + " does not exist");
   }
   Sampling sampling = MakeSampling(plan, source);
-  std::ofstream csv;
-  if (!command.csv.empty()) csv = OpenOutput(command.csv, "--csv");
+  std::ofstream csv = OpenOptionalOutput(command.csv, "--csv");
 
   fmt::print(out, "sampling file     {}\n", source);
   fmt::print(out, "base scene        {}\n", plan.scene_file.string());

@@ -54,10 +54,8 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out) {
       throw InputError("--history-interval-ms " + std::to_string(command.history_interval_ms) + ": allowed: > 0");
     }
   }
-  std::ofstream trajectory;
-  if (!command.trajectory_csv.empty()) trajectory = OpenOutput(command.trajectory_csv, "--trajectory");
-  std::ofstream history_file;
-  if (!command.history_csv.empty()) history_file = OpenOutput(command.history_csv, "--history");
+  std::ofstream trajectory = OpenOptionalOutput(command.trajectory_csv, "--trajectory");
+  std::ofstream history_file = OpenOptionalOutput(command.history_csv, "--history");
   const Timed run = SimulateTimed(scene, *solver, command.solver.simulation);
   nlohmann::json json = ResultJson(scene, run.result, command.solver, run.seconds);
   if (!command.json) PrintResult(out, scene, run.result, command.solver, run.seconds);
@@ -80,8 +78,7 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out) {
 int RunSweep(const SweepCommand& command, std::ostream& out) {
   const Sweep sweep = ReadSweep(command.sweep);
   const auto solver = CheckedSolver(command.solver);
-  std::ofstream csv;
-  if (!command.csv.empty()) csv = OpenOutput(command.csv, "--csv");
+  std::ofstream csv = OpenOptionalOutput(command.csv, "--csv");
   std::vector<nlohmann::json> rows;
   for (const SweepCase& c : sweep.cases) {
     const Timed run = SimulateTimed(c.scene, *solver, command.solver.simulation);
