@@ -201,6 +201,13 @@ CLI::App* AddBenchCampaign(CLI::App& bench, ringtol::jobs::BenchCampaignCommand&
   return sub;
 }
 
+// Progress lines on stderr, as the pool's commands take them.
+void AddProgressOptions(CLI::App& app, bool& quiet, double& progress_seconds) {
+  app.add_flag("--quiet", quiet, "No progress on stderr");
+  app.add_option("--progress-seconds", progress_seconds, "Seconds between progress lines when stderr is not a terminal")
+      ->capture_default_str();
+}
+
 // The pool's options, as campaign and allocate take them.
 void AddPoolOptions(CLI::App& app, ringtol::jobs::PoolOptions& pool) {
   app.add_option("--chunk", pool.chunk_samples, "Samples per chunk handed to a rank (default 0: adaptive)")
@@ -230,10 +237,7 @@ CLI::App* AddCampaign(CLI::App& app, ringtol::jobs::CampaignCommand& campaign) {
   sub->add_flag("--resume", campaign.resume,
                 "Continue --out after an interruption, or grow it to --samples: compute only what it lacks");
   sub->add_flag("--json", campaign.json, "Print the summary as one JSON object");
-  sub->add_flag("--quiet", campaign.quiet, "No progress on stderr");
-  sub->add_option("--progress-seconds", campaign.progress_seconds,
-                  "Seconds between progress lines when stderr is not a terminal")
-      ->capture_default_str();
+  AddProgressOptions(*sub, campaign.quiet, campaign.progress_seconds);
   AddPoolOptions(*sub, campaign.pool);
   return sub;
 }
@@ -247,10 +251,7 @@ CLI::App* AddAllocate(CLI::App& app, ringtol::jobs::AllocateCommand& allocate) {
   sub->add_option("--out", allocate.out, "Results file (HDF5); never overwritten")->required();
   sub->add_flag("--resume", allocate.resume, "Continue --out after an interruption: compute only what it lacks");
   sub->add_flag("--json", allocate.json, "Print the recommendation as one JSON object");
-  sub->add_flag("--quiet", allocate.quiet, "No progress on stderr");
-  sub->add_option("--progress-seconds", allocate.progress_seconds,
-                  "Seconds between progress lines when stderr is not a terminal")
-      ->capture_default_str();
+  AddProgressOptions(*sub, allocate.quiet, allocate.progress_seconds);
   AddPoolOptions(*sub, allocate.pool);
   return sub;
 }
@@ -261,10 +262,7 @@ CLI::App* AddBenchAllocate(CLI::App& bench, ringtol::jobs::AllocateCommand& allo
       "Run an allocation file into a temporary results file and print its cost: candidates and samples per second, "
       "the share the screening rung settled; alone or under mpirun");
   AddInputFile(*sub, "file", allocate.file, "Allocation file (TOML)");
-  sub->add_flag("--quiet", allocate.quiet, "No progress on stderr");
-  sub->add_option("--progress-seconds", allocate.progress_seconds,
-                  "Seconds between progress lines when stderr is not a terminal")
-      ->capture_default_str();
+  AddProgressOptions(*sub, allocate.quiet, allocate.progress_seconds);
   AddPoolOptions(*sub, allocate.pool);
   return sub;
 }
