@@ -21,8 +21,15 @@ The model (rank 0 coordinates only; R - 1 workers each compute and write their s
     joining the shards at the end     j = 2 B / F1 per sample (read and write by one
         process at bandwidth F1, measured here as the join's own rate)
     efficiency                        E = t / (R (1 / X + j))
-and the same without the join (j = 0), as a results file assembled from the shards
-without copying (HDF5 virtual datasets) would give.
+and two ways of not joining at the end:
+    overlapped   rank 0 copies each chunk a worker commits while the others compute, so
+                 that only the last chunks are copied at the end: its CPU per sample is then
+                 c + j, and X = min((R - 1) / (t + w), 1 / (c + j), F / B), E = t X / R
+                 (the copy of the last chunk of each worker, about R chunks, is left out);
+    no copy      a results file assembled from the shards without copying (HDF5 virtual
+                 datasets), j = 0. HDF5 1.10's virtual datasets do not yet make this real
+                 with the pool's interleaved chunks: what they cost is measured by
+                 tests/benchmarks/virtual_dataset_costs.cpp (docs/results.md, "Shards").
 """
 import argparse
 import json
@@ -52,8 +59,12 @@ CHUNK_SECONDS = 0.5  # PoolOptions::chunk_seconds
 BLOCK = 208  # samples per stored chunk of the default campaign (256 KiB of /inputs/u, 157 inputs)
 
 
-def efficiency(ranks, t, w, per_message, stored_bytes, fs_bandwidth, join_per_sample):
+def efficiency(ranks, t, w, per_message, stored_bytes, fs_bandwidth, join_per_sample, overlapped=False):
+    """join_per_sample: rank 0's copy of a worker sample, at the end or (overlapped) while the workers compute."""
     c = 2 * per_message / max(BLOCK, CHUNK_SECONDS / t)
+    if overlapped:
+        throughput = min((ranks - 1) / (t + w), 1 / (c + join_per_sample), fs_bandwidth / stored_bytes)
+        return t / (ranks / throughput)
     throughput = min((ranks - 1) / (t + w), 1 / c, fs_bandwidth / stored_bytes)
     return t / (ranks * (1 / throughput + join_per_sample))
 
@@ -94,13 +105,15 @@ def main():
     join_bandwidth = 2 * stored_bytes / join_per_sample
     print(f"\nmodel inputs: t = {1e6 * t:.0f} us, w = {1e6 * w:.2f} us, h = {1e6 * per_message:.1f} us a message, B = {stored_bytes:.0f} "
           f"bytes, join {1e6 * join_per_sample:.2f} us a sample (F1 = {join_bandwidth / 1e9:.2f} GB/s)")
-    print(f"{'sample us':>9} {'F GB/s':>7} {'E(100)':>7} {'E(1000)':>8} {'E(100) no join':>15} {'E(1000) no join':>16}")
+    print(f"{'sample us':>9} {'F GB/s':>7} {'E(100)':>7} {'E(1000)':>8} {'E(100) overlapped':>18} "
+          f"{'E(1000) overlapped':>19} {'E(100) no copy':>15} {'E(1000) no copy':>16}")
     for sample in [t] + [us * 1e-6 for us in args.sample_us]:
         for bandwidth in args.fs_bandwidth:
-            row = [efficiency(r, sample, w, per_message, stored_bytes, bandwidth * 1e9, j)
-                   for j in (join_per_sample, 0.0) for r in (100, 1000)]
+            row = [efficiency(r, sample, w, per_message, stored_bytes, bandwidth * 1e9, j, overlapped)
+                   for j, overlapped in ((join_per_sample, False), (join_per_sample, True), (0.0, False))
+                   for r in (100, 1000)]
             print(f"{1e6 * sample:>9.0f} {bandwidth:>7.0f} {100 * row[0]:>6.1f}% {100 * row[1]:>7.1f}% "
-                  f"{100 * row[2]:>14.1f}% {100 * row[3]:>15.1f}%")
+                  f"{100 * row[2]:>17.1f}% {100 * row[3]:>18.1f}% {100 * row[4]:>14.1f}% {100 * row[5]:>15.1f}%")
 
 
 if __name__ == "__main__":
