@@ -1,6 +1,7 @@
 #include "engine/profile.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <limits>
@@ -28,12 +29,17 @@ struct PolarProfile::SampleTable {
 
   RadiusDerivatives At(double theta) const {
     const double u = theta * per_step;
-    const double cell = std::floor(u);
-    const double t = u - cell;
-    long j = static_cast<long>(cell) % count;
-    if (j < 0) j += count;
-    const Node& a = nodes[static_cast<std::size_t>(j)];
-    const Node& b = nodes[static_cast<std::size_t>(j) + 1];
+    // floor(u) without libm's call (baseline x86-64 has no rounding instruction): the
+    // truncated integer, one less where truncation rounded a negative u up; exact, as
+    // floor is, for |u| < 2^63.
+    long cell = static_cast<long>(u);
+    if (static_cast<double>(cell) > u) --cell;
+    const double t = u - static_cast<double>(cell);
+    // count is a power of two (SampleCount): the mask is the cell's remainder in
+    // [0, count) for either sign (two's complement), without the integer division of %.
+    const auto j = static_cast<std::size_t>(cell & static_cast<long>(count - 1));
+    const Node& a = nodes[j];
+    const Node& b = nodes[j + 1];
     // The quintic with these values, slopes and curvatures at t = 0 and 1, as a
     // polynomial in t.
     const double rise = b.r - a.r;
@@ -67,6 +73,29 @@ int SampleCount(const std::vector<double>& a, const std::vector<double>& b, doub
   int count = 64;
   while (count < wanted && count < kMaxCount) count *= 2;
   return count;
+}
+
+// cos and sin of the scan angles k step, k = 0 .. samples - 1, as std::cos(k * step) gives
+// them, for a summed profile of highest order `order` (< kSampledOrders): kept per thread
+// and order for the next such profile (a campaign's rollers share theirs), whose scan
+// would otherwise spend most of its time in libm.
+struct ScanAngles {
+  std::vector<double> cos;
+  std::vector<double> sin;
+};
+
+const ScanAngles& ScanAnglesOf(int order, int samples, double step) {
+  thread_local std::array<ScanAngles, PolarProfile::kSampledOrders> kept;
+  ScanAngles& angles = kept[static_cast<std::size_t>(order)];
+  if (angles.cos.size() != static_cast<std::size_t>(samples)) {
+    angles.cos.resize(static_cast<std::size_t>(samples));
+    angles.sin.resize(static_cast<std::size_t>(samples));
+    for (int k = 0; k < samples; ++k) {
+      angles.cos[static_cast<std::size_t>(k)] = std::cos(k * step);
+      angles.sin[static_cast<std::size_t>(k)] = std::sin(k * step);
+    }
+  }
+  return angles;
 }
 
 }  // namespace
@@ -116,8 +145,10 @@ PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Har
     thread_local Eigen::FFT<double> fft(Eigen::default_fft_impl<double>(),
                                         static_cast<Eigen::FFT<double>::Flag>(Eigen::FFT<double>::Unscaled |
                                                                               Eigen::FFT<double>::HalfSpectrum));
-    std::vector<std::complex<double>> spectrum(static_cast<std::size_t>(count / 2 + 1));
-    std::vector<double> samples[3];
+    // Buffers kept per thread with the plan: fresh ones cost page faults at every profile.
+    thread_local std::vector<std::complex<double>> spectrum;
+    thread_local std::vector<double> samples[3];
+    spectrum.resize(static_cast<std::size_t>(count / 2 + 1));
     for (int derivative = 0; derivative < 3; ++derivative) {
       std::fill(spectrum.begin(), spectrum.end(), std::complex<double>(0.0));
       for (std::size_t n = 1; n < cos_coefficients_.size(); ++n) {
@@ -133,7 +164,7 @@ PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Har
     }
     table->nodes.resize(static_cast<std::size_t>(count) + 1);
     for (std::size_t j = 0; j <= static_cast<std::size_t>(count); ++j) {
-      const std::size_t k = j % static_cast<std::size_t>(count);
+      const std::size_t k = j < static_cast<std::size_t>(count) ? j : 0;
       table->nodes[j] = {radius_ + mean_deviation_ + samples[0][k], samples[1][k], samples[2][k]};
     }
     samples_.table = std::move(table);
@@ -356,8 +387,26 @@ void PolarProfile::FindExtremes() {
   const int samples = 64 * max_order();
   const double step = 2.0 * std::numbers::pi / samples;
   // The scan only ranks samples: a sampled profile interpolates for it. The refinement
-  // below sums, so the extremes are exact to round-off either way.
-  auto at = [this](double theta) { return sampled() ? samples_.table->At(theta) : Evaluate(theta); };
+  // below sums, so the extremes are exact to round-off either way. A summed profile takes
+  // its samples four at a time (EvaluateFourAt, the same bits as one at a time), at angles
+  // whose cosines and sines every profile of its order shares.
+  thread_local std::vector<RadiusDerivatives> scan;
+  scan.resize(static_cast<std::size_t>(samples));
+  if (sampled()) {
+    for (int k = 0; k < samples; ++k) scan[static_cast<std::size_t>(k)] = samples_.table->At(k * step);
+  } else {
+    const ScanAngles& angles = ScanAnglesOf(max_order(), samples, step);
+    // samples = 64 max_order: whole groups of four.
+    for (std::size_t k = 0; k < scan.size(); k += 4) {
+      double cos_theta[4];
+      double sin_theta[4];
+      RadiusDerivatives four[4];
+      std::copy_n(angles.cos.begin() + static_cast<std::ptrdiff_t>(k), 4, cos_theta);
+      std::copy_n(angles.sin.begin() + static_cast<std::ptrdiff_t>(k), 4, sin_theta);
+      EvaluateFourAt(cos_theta, sin_theta, four);
+      std::copy_n(four, 4, scan.begin() + static_cast<std::ptrdiff_t>(k));
+    }
+  }
   // One pass finds the best sample of all four quantities; each is then refined.
   struct Extreme {
     double sign;  // +1 to find a minimum, -1 a maximum
@@ -367,7 +416,7 @@ void PolarProfile::FindExtremes() {
   };
   Extreme extremes[4] = {{1.0, true}, {-1.0, true}, {1.0, false}, {-1.0, false}};
   for (int k = 0; k < samples; ++k) {
-    const RadiusDerivatives d = at(k * step);
+    const RadiusDerivatives& d = scan[static_cast<std::size_t>(k)];
     const double kappa = Curvature(d);
     for (Extreme& e : extremes) {
       const double value = e.sign * (e.curvature ? kappa : d.r);

@@ -16,6 +16,8 @@
 #include <utility>
 #include <vector>
 
+#include <boost/math/tools/minima.hpp>
+
 #include "engine/profile.h"
 
 namespace ringtol::engine {
@@ -832,6 +834,52 @@ TEST(PolarProfileConvexity, RadiusExtremesMatchDenseSampling) {
   ExpectRadiusExtremesMatchDenseSampling<kOvalLarge>();
   ExpectRadiusExtremesMatchDenseSampling<kOrderForty>();
   ExpectRadiusExtremesMatchDenseSampling<kDented>();
+}
+
+// The extremes' scan (64 samples per undulation of the highest order, the best sample of
+// each quantity refined by Brent's method between its neighbours) takes a summed
+// profile's samples four at a time, at cosines and sines kept per thread and order, and a
+// sampled profile's from its table. That is the arithmetic of evaluating every scan angle
+// alone, so the extremes must be, bit for bit, those of the scan written out here one
+// angle at a time; profiles of several highest orders are made in turn, so kept angles
+// of one order must never serve another.
+std::array<double, 4> ExtremesScannedOneAngleAtATime(const PolarProfile& profile) {
+  const int samples = 64 * profile.max_order();
+  const double step = 2.0 * kPi / samples;
+  const auto value = [&](const RadiusDerivatives& d, int quantity) {
+    const double sign = quantity % 2 == 0 ? 1.0 : -1.0;  // min, max, min, max
+    return sign * (quantity < 2 ? Curvature(d) : d.r);
+  };
+  std::array<double, 4> extremes{};
+  for (int quantity = 0; quantity < 4; ++quantity) {
+    int best = 0;
+    double best_value = 0.0;
+    for (int k = 0; k < samples; ++k) {
+      const double theta = k * step;
+      const double v = value(profile.EvaluateAt(theta, std::cos(theta), std::sin(theta)), quantity);
+      if (k == 0 || v < best_value) {
+        best_value = v;
+        best = k;
+      }
+    }
+    const auto refined = boost::math::tools::brent_find_minima(
+        [&](double t) { return value(profile.Evaluate(t), quantity); }, (best - 1) * step, (best + 1) * step,
+        std::numeric_limits<double>::digits);
+    extremes[static_cast<std::size_t>(quantity)] = (quantity % 2 == 0 ? 1.0 : -1.0) * std::min(best_value, refined.second);
+  }
+  return extremes;
+}
+
+TEST(PolarProfileConvexity, ExtremesAreThoseOfTheScanOneAngleAtATime) {
+  for (const Spec& spec : {kFiveNearLimit, kRingLike, kOvalLarge, kMixed, kDented, kFiveNearLimit, kOrderForty}) {
+    const PolarProfile profile = Make(spec);
+    SCOPED_TRACE(::testing::Message() << "max order " << profile.max_order() << (profile.sampled() ? ", sampled" : ""));
+    const std::array<double, 4> expected = ExtremesScannedOneAngleAtATime(profile);
+    EXPECT_EQ(profile.MinCurvature(), expected[0]);
+    EXPECT_EQ(profile.MaxCurvature(), expected[1]);
+    EXPECT_EQ(profile.MinRadius(), expected[2]);
+    EXPECT_EQ(profile.MaxRadius(), expected[3]);
+  }
 }
 
 }  // namespace
