@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -141,7 +142,9 @@ TEST(LinearSolver, SummedPathEqualsTheTermByTermSumOfItsPhasors) {
         ASSERT_LE(error, kRelativeRoundOff * scale) << steps << " steps, row " << row.o << ", angle " << k;
       }
     }
-    RecordProperty("worst_relative_error_" + std::to_string(steps), std::to_string(worst));
+    std::ostringstream worst_text;
+    worst_text << std::scientific << worst;
+    RecordProperty("worst_relative_error_" + std::to_string(steps), worst_text.str());
   }
 }
 
