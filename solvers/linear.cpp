@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <initializer_list>
 #include <memory>
 #include <numbers>
+#include <numeric>
 
 #include <Eigen/LU>
 
 #include "engine/enclosing_circle.h"
+#include "solvers/path_kernels.h"
 #include "solvers/validity.h"
 
 namespace ringtol::solvers {
@@ -30,6 +33,12 @@ struct Linearisation {
   Eigen::MatrixXd cosine;            // outputs x terms
   Eigen::MatrixXd sine;              // outputs x terms
   std::vector<double> rates;         // [rad of phase per rad of ring angle]
+  // The same terms as changes of the contacts' gap functions, the only way they reach the
+  // outputs: series i < Z the gap value at contact i [m], Z + i the bore's slope there and
+  // 2Z + i the roller's [m/rad] (the slope rows above). A term of roller i weighs on two
+  // series instead of on every output row, which is what makes EvaluatePath cheap.
+  Eigen::MatrixXd series_cosine;     // 3Z x terms
+  Eigen::MatrixXd series_sine;       // 3Z x terms
 };
 
 }  // namespace
@@ -48,6 +57,9 @@ struct NominalResponse {
   // Response of the outputs to each contact's gap value (columns 0..Z-1) and gap slope
   // (Z..2Z-1).
   Eigen::MatrixXd response;
+  // The same applied to Linearisation's series: [value, bore slope, roller slope] columns
+  // (response's slope columns twice, as both slopes move a contact alike).
+  Eigen::MatrixXd series_response;
   // What the second-order error estimate needs of each contact (ErrorEstimate).
   double ring_radius = 0.0;                 // [m] the bore's
   std::vector<double> roller_radius;        // [m]
@@ -123,6 +135,8 @@ std::shared_ptr<const NominalResponse> ComputeNominal(engine::Scene perfect, con
     }
     nominal->roller_radius.push_back(scene.rollers[static_cast<std::size_t>(i)].outline.radius());
   }
+  nominal->series_response.resize(outputs, 3 * z);
+  nominal->series_response << response, response.rightCols(z);
   return nominal;
 }
 
@@ -145,18 +159,26 @@ Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalRespons
   const Eigen::Index rows = nominal.first_slope_row + 2 * z;
   lin.cosine.setZero(rows, terms);
   lin.sine.setZero(rows, terms);
+  lin.series_cosine.setZero(3 * z, terms);
+  lin.series_sine.setZero(3 * z, terms);
   lin.rates.reserve(static_cast<std::size_t>(terms));
 
   // Every error term as a change of each contact's gap function near its nominal
   // direction phi_i: a bore harmonic a e^{i n theta} adds Re[a e^{i n (phi - psi)}] to
   // g_i(phi), with slope Re[i n a e^{i n (phi - psi)}]; a roller harmonic subtracts.
-  auto add_gap_and_slope = [&](Eigen::Index p, int i, Complex value, double order, Eigen::Index slope_row) {
+  // slope_series: Z + i for the bore's, 2Z + i for the roller's (Linearisation).
+  auto add_gap_and_slope = [&](Eigen::Index p, int i, Complex value, double order, Eigen::Index slope_series) {
     const Complex slope = Complex(0.0, order) * value;
     const Eigen::Index outputs = response.rows();
+    const Eigen::Index slope_row = nominal.first_slope_row + slope_series - z;
     lin.cosine.col(p).head(outputs) += value.real() * response.col(i) + slope.real() * response.col(z + i);
     lin.sine.col(p).head(outputs) += value.imag() * response.col(i) + slope.imag() * response.col(z + i);
     lin.cosine(slope_row, p) += slope.real();
     lin.sine(slope_row, p) += slope.imag();
+    lin.series_cosine(i, p) += value.real();
+    lin.series_sine(i, p) += value.imag();
+    lin.series_cosine(slope_series, p) += slope.real();
+    lin.series_sine(slope_series, p) += slope.imag();
   };
   Eigen::Index p = 0;
   // e^{i n phi_i} as powers of the nominal normal (cos phi_i, sin phi_i): no libm per order.
@@ -170,7 +192,7 @@ Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalRespons
     const Complex a(ring.cos_coefficient(n), ring.sin_coefficient(n));
     if (a == Complex(0.0)) continue;
     for (int i = 0; i < z; ++i) {
-      add_gap_and_slope(p, i, a * normal_power[static_cast<std::size_t>(i)], n, nominal.first_slope_row + i);
+      add_gap_and_slope(p, i, a * normal_power[static_cast<std::size_t>(i)], n, z + i);
     }
     lin.rates.push_back(n);
     ++p;
@@ -186,7 +208,7 @@ Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalRespons
     for (int m = 1; m <= outline.max_order(); ++m) {
       const Complex a(outline.cos_coefficient(m), outline.sin_coefficient(m));
       if (a == Complex(0.0)) continue;
-      add_gap_and_slope(p, i, -a * std::polar(1.0, m * (c.normal_angle - body0)), m, nominal.first_slope_row + z + i);
+      add_gap_and_slope(p, i, -a * std::polar(1.0, m * (c.normal_angle - body0)), m, 2 * z + i);
       lin.rates.push_back(m * engine::SpinRatio(scene, i));
       ++p;
     }
@@ -203,10 +225,7 @@ struct PathRows {
   std::vector<std::ptrdiff_t> stride;
 };
 
-// Angles handled together: independent sums that proceed at the adder's throughput rather
-// than its latency (four SSE registers).
-constexpr int kLanes = 8;
-using Lanes = Eigen::Array<double, kLanes, 1>;
+constexpr int kLanes = static_cast<int>(path_kernels::kLanes);
 
 // cos(rate psi_k) and sin(rate psi_k) of a set of terms for consecutive angles
 // psi_k = 2 pi k / steps, kLanes at a time: each term's phasor at the first angle of a
@@ -218,7 +237,8 @@ class PhasorRun {
  public:
   static constexpr int kAnchor = 512;  // a multiple of kLanes
 
-  PhasorRun(std::vector<double> rates, int steps) : rates_(std::move(rates)), steps_(steps) {
+  PhasorRun(std::vector<double> rates, int steps, const path_kernels::Kernels& kernels)
+      : rates_(std::move(rates)), steps_(steps), kernels_(kernels) {
     const double dpsi = 2.0 * std::numbers::pi / steps;
     const std::size_t t = rates_.size();
     lane_cos_.resize(t * kLanes);
@@ -241,28 +261,24 @@ class PhasorRun {
     sin_.resize(t);
   }
 
-  // Fills cos_table[p * count + j] and sin_table[...] for angles k = first + j, j < count;
-  // first and count are multiples of kLanes.
-  void Fill(int first, int count, std::vector<double>& cos_table, std::vector<double>& sin_table) {
+  // Fills the table for angles k = first + j, j < count (both multiples of kLanes): term
+  // p's cosines at table[2 p count + j], its sines at table[(2 p + 1) count + j].
+  void Fill(int first, int count, std::vector<double>& table) {
     const std::size_t t = rates_.size();
     const auto c = static_cast<std::size_t>(count);
-    cos_table.resize(t * c);
-    sin_table.resize(t * c);
+    table.resize(2 * t * c);
+    const path_kernels::Phasors phasors{t,
+                                        lane_cos_.data(),
+                                        lane_sin_.data(),
+                                        group_cos_.data(),
+                                        group_sin_.data(),
+                                        cos_.data(),
+                                        sin_.data()};
     for (int j = 0; j < count; j += kLanes) {
       const int k = first + j;
       if (k % kAnchor == 0 || k != next_) Anchor(k);
       next_ = k + kLanes;
-      for (std::size_t p = 0; p < t; ++p) {
-        const double cos_k = cos_[p];
-        const double sin_k = sin_[p];
-        const Eigen::Map<const Lanes> lane_cos(lane_cos_.data() + p * kLanes);
-        const Eigen::Map<const Lanes> lane_sin(lane_sin_.data() + p * kLanes);
-        const std::size_t at = p * c + static_cast<std::size_t>(j);
-        Eigen::Map<Lanes>(cos_table.data() + at) = cos_k * lane_cos - sin_k * lane_sin;
-        Eigen::Map<Lanes>(sin_table.data() + at) = sin_k * lane_cos + cos_k * lane_sin;
-        cos_[p] = cos_k * group_cos_[p] - sin_k * group_sin_[p];
-        sin_[p] = sin_k * group_cos_[p] + cos_k * group_sin_[p];
-      }
+      kernels_.turn_phasors(phasors, table.data() + j, 2 * c, c);
     }
   }
 
@@ -287,37 +303,44 @@ class PhasorRun {
 
   std::vector<double> rates_;
   int steps_;
+  const path_kernels::Kernels& kernels_;
   int next_ = -1;  // the angle the phasors stand at
   std::vector<double> lane_cos_, lane_sin_;    // turns by 0 .. kLanes - 1 increments, per term
   std::vector<double> group_cos_, group_sin_;  // turn by kLanes increments, per term
   std::vector<double> cos_, sin_;              // phasors at angle next_
 };
 
-// A group of terms summed together: their rates, and their weights output-major with the
-// terms contiguous (weights[o * size() + q]).
+// Weights of a set of rows over a set of terms, row-major with the terms contiguous, and
+// per row the range of terms [first, last) outside which its weights are zero: a contact's
+// series see only the bore's and that one roller's terms.
 struct TermGroup {
-  std::vector<double> rates;
+  std::size_t terms = 0;
   std::vector<double> weights;
-  // Per output, the range of terms [first, last) outside which its weights are zero: a
-  // contact's slope rows see only the bore's or only one roller's terms.
   std::vector<std::size_t> first, last;
-  std::size_t size() const { return rates.size(); }
+  path_kernels::WeightedRows View() const {
+    return {first.size(), terms, weights.data(), first.data(), last.data()};
+  }
 };
 
-TermGroup MakeGroup(const Eigen::MatrixXd& matrix, const std::vector<Eigen::Index>& columns,
-                    const std::vector<double>& all_rates) {
+// The rows of `matrices` (of equal shape) over the given columns, interleaved: term
+// q * matrices.size() + m is column q of matrix m, so that a table with each term's cosine
+// and sine rows in turn meets cosine and sine weights in one pass.
+TermGroup MakeGroup(std::initializer_list<const Eigen::MatrixXd*> matrices, const std::vector<Eigen::Index>& columns) {
   TermGroup group;
-  group.rates.reserve(columns.size());
-  group.weights.reserve(columns.size() * static_cast<std::size_t>(matrix.rows()));
-  for (Eigen::Index p : columns) group.rates.push_back(all_rates[static_cast<std::size_t>(p)]);
-  for (Eigen::Index o = 0; o < matrix.rows(); ++o) {
-    std::size_t first = columns.size(), last = 0;
-    for (std::size_t q = 0; q < columns.size(); ++q) {
-      const double weight = matrix(o, columns[q]);
-      group.weights.push_back(weight);
-      if (weight != 0.0) {
-        first = std::min(first, q);
-        last = q + 1;
+  const Eigen::Index rows = (*matrices.begin())->rows();
+  group.terms = columns.size() * matrices.size();
+  group.weights.reserve(group.terms * static_cast<std::size_t>(rows));
+  for (Eigen::Index o = 0; o < rows; ++o) {
+    std::size_t first = group.terms, last = 0, q = 0;
+    for (Eigen::Index column : columns) {
+      for (const Eigen::MatrixXd* matrix : matrices) {
+        const double weight = (*matrix)(o, column);
+        group.weights.push_back(weight);
+        if (weight != 0.0) {
+          first = std::min(first, q);
+          last = q + 1;
+        }
+        ++q;
       }
     }
     group.first.push_back(std::min(first, last));
@@ -326,40 +349,37 @@ TermGroup MakeGroup(const Eigen::MatrixXd& matrix, const std::vector<Eigen::Inde
   return group;
 }
 
-// The sum over the group's terms q of weight(o, q) * table[q * count + j + l], for the
-// kLanes angles l of a lane group. The pairs of lanes are spelt out: left to itself the
-// compiler vectorises across the terms instead, and shuffles every product.
-Lanes SumGroup(const TermGroup& group, std::size_t o, const double* table, std::size_t count, std::size_t j) {
-  using Pair = Eigen::Array2d;
-  const std::size_t terms = group.size();
-  const double* weight = group.weights.data() + o * terms;
-  const double* values = table + group.first[o] * count + j;
-  Pair a = Pair::Zero(), b = Pair::Zero(), c = Pair::Zero(), d = Pair::Zero();
-  for (std::size_t q = group.first[o]; q < group.last[o]; ++q, values += count) {
-    const double w = weight[q];
-    a += w * Eigen::Map<const Pair>(values);
-    b += w * Eigen::Map<const Pair>(values + 2);
-    c += w * Eigen::Map<const Pair>(values + 4);
-    d += w * Eigen::Map<const Pair>(values + 6);
-  }
-  Lanes sum;
-  sum.segment<2>(0) = a;
-  sum.segment<2>(2) = b;
-  sum.segment<2>(4) = c;
-  sum.segment<2>(6) = d;
-  return sum;
+std::vector<double> RatesOf(const std::vector<Eigen::Index>& columns, const std::vector<double>& rates) {
+  std::vector<double> chosen;
+  chosen.reserve(columns.size());
+  for (Eigen::Index p : columns) chosen.push_back(rates[static_cast<std::size_t>(p)]);
+  return chosen;
 }
 
-// The path at psi_k = 2 pi k / steps, k = 0 .. steps. A term of integer rate w takes the
-// same values at psi and 2 pi - psi up to the sign of its sine, and at psi + pi up to
-// (-1)^w: with steps divisible by four, the sums of the even and the odd rates' cosines
-// and sines over the first quarter turn give the whole revolution, four angles from each
-// (a real FFT's first two stages, which for a few harmonics beats the whole transform).
-// Other rates (a roller's lobes pass R / r_b times per turn, rarely an integer) are
-// summed at every angle.
-void EvaluatePath(const Linearisation& lin, int steps, PathRows& path) {
+// The path at psi_k = 2 pi k / steps, k = 0 .. steps, in three passes.
+//  1. The 3Z gap series (Linearisation) of the terms of integer rate: such a term takes
+//     the same values at psi and 2 pi - psi up to the sign of its sine, and at psi + pi up
+//     to (-1)^w; with steps divisible by four, the sums of the even and the odd rates'
+//     cosines and sines over the first quarter turn give the whole revolution, four
+//     angles from each (a real FFT's first two stages, which for a few harmonics beats
+//     the whole transform).
+//  2. The series of the other terms (a roller's lobes pass R / r_b times per turn, rarely
+//     an integer), summed at every angle: a roller's term adds to two series only.
+//  3. The outputs from the series, offset + series_response x series; the slope rows are
+//     series themselves.
+// Summing series rather than output rows costs 2 x terms + 3Z x rows products an angle
+// instead of rows x terms. The inner loops are path_kernels', whose builds agree bit for
+// bit; the rest is the same code whichever runs.
+void EvaluatePath(const Linearisation& lin, int steps, const path_kernels::Kernels& kernels, PathRows& path) {
   constexpr int kBlock = 64;  // angles per pass, a multiple of kLanes: the tables stay in L1
-  const auto outputs = static_cast<std::size_t>(lin.offset.size());
+  const NominalResponse& nominal = *lin.nominal;
+  const auto zs = static_cast<std::size_t>(nominal.rollers);
+  const std::size_t series_count = 3 * zs;
+  // Each series' angles, padded to whole lane groups: passes 2 and 3 run over them.
+  const std::size_t padded = (static_cast<std::size_t>(steps) + kLanes) / kLanes * kLanes;
+  // Per thread, as SolveRevolution's slopes: 72 bytes an angle for three rollers.
+  thread_local std::vector<double> series, table, sums;
+  series.resize(series_count * padded);
   // A quarter turn of at least one lane group, so that every lane's four angles lie in
   // the revolution.
   const bool fold = steps % 4 == 0 && steps / 4 >= kLanes;
@@ -373,81 +393,99 @@ void EvaluatePath(const Linearisation& lin, int steps, PathRows& path) {
       direct_columns.push_back(column);
     }
   }
-  std::vector<double> cos_table, sin_table;
 
-  if (fold) {
-    const TermGroup cos_even = MakeGroup(lin.cosine, even_columns, lin.rates);
-    const TermGroup cos_odd = MakeGroup(lin.cosine, odd_columns, lin.rates);
-    const TermGroup sin_even = MakeGroup(lin.sine, even_columns, lin.rates);
-    const TermGroup sin_odd = MakeGroup(lin.sine, odd_columns, lin.rates);
+  const bool folded = fold && !(even_columns.empty() && odd_columns.empty());
+  if (!folded) {
+    std::fill(series.begin(), series.end(), 0.0);
+  } else {
+    // The fold sets every angle of every series; only the padding lanes need a value.
+    for (std::size_t s = 0; s < series_count; ++s) {
+      std::fill(series.begin() + static_cast<std::ptrdiff_t>(s * padded + static_cast<std::size_t>(steps) + 1),
+                series.begin() + static_cast<std::ptrdiff_t>((s + 1) * padded), 0.0);
+    }
+    const TermGroup cos_even = MakeGroup({&lin.series_cosine}, even_columns);
+    const TermGroup cos_odd = MakeGroup({&lin.series_cosine}, odd_columns);
+    const TermGroup sin_even = MakeGroup({&lin.series_sine}, even_columns);
+    const TermGroup sin_odd = MakeGroup({&lin.series_sine}, odd_columns);
     const int quarter = steps / 4;
     const int half = steps / 2;
-    std::vector<double> rates = cos_even.rates;
-    rates.insert(rates.end(), cos_odd.rates.begin(), cos_odd.rates.end());
-    PhasorRun run(rates, steps);
-    const std::size_t even = cos_even.size();
+    std::vector<double> rates = RatesOf(even_columns, lin.rates);
+    const std::vector<double> odd_rates = RatesOf(odd_columns, lin.rates);
+    rates.insert(rates.end(), odd_rates.begin(), odd_rates.end());
+    PhasorRun run(std::move(rates), steps, kernels);
+    const std::size_t even = even_columns.size();
     for (int first = 0; first <= quarter; first += kBlock) {
       const int count = std::min(kBlock, quarter + 1 - first);
       const auto c = static_cast<std::size_t>((count + kLanes - 1) / kLanes * kLanes);
-      run.Fill(first, static_cast<int>(c), cos_table, sin_table);
-      for (std::size_t o = 0; o < outputs; ++o) {
-        const double offset = lin.offset[static_cast<Eigen::Index>(o)];
-        double* row = path.row[o];
-        const std::ptrdiff_t stride = path.stride[o];
-        for (std::size_t j = 0; j < c; j += kLanes) {
-          const Lanes cos_even_sum = SumGroup(cos_even, o, cos_table.data(), c, j);
-          const Lanes cos_odd_sum = SumGroup(cos_odd, o, cos_table.data() + even * c, c, j);
-          const Lanes sin_even_sum = SumGroup(sin_even, o, sin_table.data(), c, j);
-          const Lanes sin_odd_sum = SumGroup(sin_odd, o, sin_table.data() + even * c, c, j);
-          const Lanes cos_at_psi = offset + cos_even_sum + cos_odd_sum;
-          const Lanes cos_at_psi_plus_pi = offset + cos_even_sum - cos_odd_sum;
-          const Lanes sin_at_psi = sin_even_sum + sin_odd_sum;
-          const Lanes sin_at_psi_plus_pi = sin_even_sum - sin_odd_sum;
-          // Angles k .. k + lanes - 1 and their mirrors, which run backwards.
+      run.Fill(first, static_cast<int>(c), table);
+      sums.resize(4 * series_count * c);
+      double* cos_even_sum = sums.data();
+      double* cos_odd_sum = cos_even_sum + series_count * c;
+      double* sin_even_sum = cos_odd_sum + series_count * c;
+      double* sin_odd_sum = sin_even_sum + series_count * c;
+      const double* odd_table = table.data() + even * 2 * c;
+      kernels.sum_rows(cos_even.View(), table.data(), 2 * c, c, cos_even_sum, c);
+      kernels.sum_rows(cos_odd.View(), odd_table, 2 * c, c, cos_odd_sum, c);
+      kernels.sum_rows(sin_even.View(), table.data() + c, 2 * c, c, sin_even_sum, c);
+      kernels.sum_rows(sin_odd.View(), odd_table + c, 2 * c, c, sin_odd_sum, c);
+      for (std::size_t s = 0; s < series_count; ++s) {
+        double* row = series.data() + s * padded;
+        for (std::size_t j = 0; j < static_cast<std::size_t>(count); ++j) {
+          const std::size_t at = s * c + j;
+          const double cos_at_psi = cos_even_sum[at] + cos_odd_sum[at];
+          const double cos_at_psi_plus_pi = cos_even_sum[at] - cos_odd_sum[at];
+          const double sin_at_psi = sin_even_sum[at] + sin_odd_sum[at];
+          const double sin_at_psi_plus_pi = sin_even_sum[at] - sin_odd_sum[at];
           const int k = first + static_cast<int>(j);
-          const int lanes = std::min(kLanes, quarter + 1 - k);
-          const Lanes at_psi = cos_at_psi + sin_at_psi;
-          const Lanes at_minus_psi = cos_at_psi - sin_at_psi;
-          const Lanes at_psi_plus_pi = cos_at_psi_plus_pi + sin_at_psi_plus_pi;
-          const Lanes at_pi_minus_psi = cos_at_psi_plus_pi - sin_at_psi_plus_pi;
-          double* forward = row + k * stride;
-          double* backward = row + (steps - k) * stride;
-          double* forward_half = row + (half + k) * stride;
-          double* backward_half = row + (half - k) * stride;
-          for (int l = 0; l < lanes; ++l) {
-            const std::ptrdiff_t step = l * stride;
-            forward[step] = at_psi[l];
-            backward[-step] = at_minus_psi[l];
-            forward_half[step] = at_psi_plus_pi[l];
-            backward_half[-step] = at_pi_minus_psi[l];
-          }
+          row[k] = cos_at_psi + sin_at_psi;
+          row[steps - k] = cos_at_psi - sin_at_psi;
+          row[half + k] = cos_at_psi_plus_pi + sin_at_psi_plus_pi;
+          row[half - k] = cos_at_psi_plus_pi - sin_at_psi_plus_pi;
         }
       }
     }
-  } else {
-    for (std::size_t o = 0; o < outputs; ++o) {
-      for (int k = 0; k <= steps; ++k) path.row[o][k * path.stride[o]] = lin.offset[static_cast<Eigen::Index>(o)];
+  }
+
+  if (!direct_columns.empty()) {
+    const TermGroup direct = MakeGroup({&lin.series_cosine, &lin.series_sine}, direct_columns);
+    PhasorRun run(RatesOf(direct_columns, lin.rates), steps, kernels);
+    for (int first = 0; first <= steps; first += kBlock) {
+      const int count = std::min(kBlock, steps + 1 - first);
+      const auto c = static_cast<std::size_t>((count + kLanes - 1) / kLanes * kLanes);
+      run.Fill(first, static_cast<int>(c), table);
+      sums.resize(series_count * c);
+      // The table's rows are each term's cosines and sines in turn, as direct's terms.
+      kernels.sum_rows(direct.View(), table.data(), c, c, sums.data(), c);
+      for (std::size_t s = 0; s < series_count; ++s) {
+        double* row = series.data() + s * padded + first;
+        const double* sum = sums.data() + s * c;
+        for (std::size_t j = 0; j < c; ++j) row[j] += sum[j];
+      }
     }
   }
 
-  if (direct_columns.empty()) return;
-  const TermGroup cos_direct = MakeGroup(lin.cosine, direct_columns, lin.rates);
-  const TermGroup sin_direct = MakeGroup(lin.sine, direct_columns, lin.rates);
-  PhasorRun run(cos_direct.rates, steps);
+  const auto outputs = static_cast<std::size_t>(nominal.response.rows());
+  std::vector<Eigen::Index> every_series(series_count);
+  std::iota(every_series.begin(), every_series.end(), Eigen::Index{0});
+  const TermGroup response = MakeGroup({&nominal.series_response}, every_series);
   for (int first = 0; first <= steps; first += kBlock) {
     const int count = std::min(kBlock, steps + 1 - first);
     const auto c = static_cast<std::size_t>((count + kLanes - 1) / kLanes * kLanes);
-    run.Fill(first, static_cast<int>(c), cos_table, sin_table);
+    sums.resize(outputs * c);
+    kernels.sum_rows(response.View(), series.data() + first, padded, c, sums.data(), c);
     for (std::size_t o = 0; o < outputs; ++o) {
-      double* row = path.row[o];
+      const double offset = lin.offset[static_cast<Eigen::Index>(o)];
+      double* at = path.row[o] + first * path.stride[o];
       const std::ptrdiff_t stride = path.stride[o];
-      for (std::size_t j = 0; j < c; j += kLanes) {
-        const int k = first + static_cast<int>(j);
-        const int lanes = std::min(kLanes, steps + 1 - k);
-        const Lanes sum = SumGroup(cos_direct, o, cos_table.data(), c, j) + SumGroup(sin_direct, o, sin_table.data(), c, j);
-        double* at = row + k * stride;
-        for (int l = 0; l < lanes; ++l) at[l * stride] += sum[l];
-      }
+      const double* sum = sums.data() + o * c;
+      for (int j = 0; j < count; ++j) at[j * stride] = offset + sum[j];
+    }
+    for (std::size_t s = zs; s < series_count; ++s) {
+      const std::size_t o = static_cast<std::size_t>(nominal.first_slope_row) + s - zs;
+      double* at = path.row[o] + first * path.stride[o];
+      const std::ptrdiff_t stride = path.stride[o];
+      const double* slope = series.data() + s * padded + first;
+      for (int j = 0; j < count; ++j) at[j * stride] = slope[j];
     }
   }
 }
@@ -567,6 +605,21 @@ ChordStraying LinearSolver::ChordStrayingAt(const Scene& scene, double dpsi) con
   return bounds;
 }
 
+PhasorSum LinearSolver::Phasors(const Scene& scene) const {
+  PhasorSum sum;
+  Linearisation lin = Linearise(scene, Nominal(scene));
+  const NominalResponse& nominal = *lin.nominal;
+  if (nominal.equilibrium.status != Status::kOk) return sum;
+  sum.usable = true;
+  sum.offset = std::move(lin.offset);
+  sum.cosine = std::move(lin.cosine);
+  sum.sine = std::move(lin.sine);
+  sum.rates = std::move(lin.rates);
+  sum.travel_row = nominal.travel_row;
+  sum.first_force_row = nominal.first_force_row;
+  return sum;
+}
+
 Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
   Trajectory trajectory;
   const Linearisation lin = Linearise(scene, Nominal(scene));
@@ -611,7 +664,7 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
     path.row[static_cast<std::size_t>(nominal.first_slope_row) + j] = slopes.data() + j;
     path.stride[static_cast<std::size_t>(nominal.first_slope_row) + j] = 2 * z;
   }
-  EvaluatePath(lin, steps, path);
+  EvaluatePath(lin, steps, path_kernels::KernelsFor(options_.kernels), path);
   trajectory.initial.centre = trajectory.centre.front();
   trajectory.initial.travel.assign(trajectory.travel.begin(), trajectory.travel.begin() + z);
   trajectory.initial.contact_force.assign(trajectory.contact_force.begin(), trajectory.contact_force.begin() + z);

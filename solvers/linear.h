@@ -13,7 +13,10 @@
 #include <memory>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "solvers/nominal_cache.h"
+#include "solvers/path_kernels.h"
 #include "solvers/quasistatic.h"
 #include "solvers/solver.h"
 
@@ -32,6 +35,26 @@ struct LinearOptions {
   // refused over errors far below any tolerance studied (1 nm).
   double max_relative_error = 0.01;
   double min_error_limit = 1e-9;
+  // The build of the path sums' inner loops (solvers/path_kernels.h). Every build gives
+  // the same bits, so this changes speed only; it is not read from any file and exists so
+  // that tests can run both builds.
+  path_kernels::Isa kernels = path_kernels::Isa::kBest;
+};
+
+// The first-order path in closed form: output o at ring angle psi [rad] is
+//   offset[o] + sum_p cosine(o, p) cos(rates[p] psi) + sine(o, p) sin(rates[p] psi),
+// rows: centre x, y [m]; travel [m] of each spring roller (travel_row[i], -1 for a fixed
+// roller); contact force [N] of roller i (first_force_row + i); then 2Z gap slopes [m/rad]
+// (the bore's at contact i, then the roller's). SolveRevolution sums it in another order
+// (solvers/linear.cpp EvaluatePath); this form is the reference it is tested against.
+struct PhasorSum {
+  bool usable = false;         // false when the error-free assembly cannot be linearised
+  Eigen::VectorXd offset;
+  Eigen::MatrixXd cosine;      // outputs x terms
+  Eigen::MatrixXd sine;        // outputs x terms
+  std::vector<double> rates;   // [rad of phase per rad of ring angle]
+  std::vector<int> travel_row;
+  int first_force_row = 0;
 };
 
 struct NominalResponse;
@@ -60,6 +83,7 @@ class LinearSolver final : public Solver {
   Trajectory SolveRevolution(const engine::Scene& scene, int steps) const override;
   // dpsi [rad] > 0.
   ChordStraying ChordStrayingAt(const engine::Scene& scene, double dpsi) const;
+  PhasorSum Phasors(const engine::Scene& scene) const;
 
  private:
   std::shared_ptr<const NominalResponse> Nominal(const engine::Scene& scene) const;

@@ -1,7 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "solvers/linear.h"
 #include "tests/support/paper_scene.h"
@@ -76,6 +81,70 @@ TEST(LinearSolver, EveryWayOfSummingThePathGivesTheSameAngles) {
         }
       }
     }
+  }
+}
+
+// The path is summed through the contacts' gap series (each roller term reaches two series,
+// not every output row), from phasor recurrences, folded over a quarter turn where the step
+// count allows. Whatever the route, every angle must be the closed form of
+// LinearSolver::Phasors summed term by term with libm in long double.
+TEST(LinearSolver, SummedPathEqualsTheTermByTermSumOfItsPhasors) {
+  // Relative to a row's scale |offset| + sum_p (|cosine| + |sine|): the phasor recurrence
+  // is exact to ~1e-13 of a term (restarted from libm every 512 angles), and summing
+  // ~100 terms in another order adds ~100 x 2^-53 ~ 1e-14; ten times the sum.
+  constexpr double kRelativeRoundOff = 1e-12;
+  const engine::Scene scene = testing::CampaignLikeScene();
+  const solvers::LinearSolver solver;
+  const solvers::PhasorSum phasors = solver.Phasors(scene);
+  ASSERT_TRUE(phasors.usable);
+  const std::size_t z = scene.rollers.size();
+  const auto terms = static_cast<std::size_t>(phasors.rates.size());
+  // The rows the trajectory returns, with where each lands in it.
+  struct Row {
+    Eigen::Index o;
+    double (*at)(const solvers::Trajectory&, std::size_t k, std::size_t i);
+    std::size_t i;
+  };
+  std::vector<Row> rows = {{0, [](const solvers::Trajectory& t, std::size_t k, std::size_t) { return t.centre[k].x(); }, 0},
+                           {1, [](const solvers::Trajectory& t, std::size_t k, std::size_t) { return t.centre[k].y(); }, 0}};
+  for (std::size_t i = 0; i < z; ++i) {
+    const auto force = [](const solvers::Trajectory& t, std::size_t k, std::size_t r) {
+      return t.contact_force[k * t.initial.contact_force.size() + r];
+    };
+    const auto travel = [](const solvers::Trajectory& t, std::size_t k, std::size_t r) {
+      return t.travel[k * t.initial.travel.size() + r];
+    };
+    rows.push_back({phasors.first_force_row + static_cast<Eigen::Index>(i), force, i});
+    if (phasors.travel_row[i] >= 0) rows.push_back({phasors.travel_row[i], travel, i});
+  }
+  ASSERT_EQ(rows.size(), static_cast<std::size_t>(2 + z + 1));  // one spring roller
+  for (const int steps : {3200, 3202}) {  // folded, and every angle summed
+    const solvers::Trajectory path = solver.SolveRevolution(scene, steps);
+    ASSERT_EQ(path.status, solvers::Status::kOk) << path.message;
+    std::vector<long double> cosines(terms), sines(terms);
+    double worst = 0.0;  // the largest error relative to its row's scale
+    for (std::size_t k = 0; k <= static_cast<std::size_t>(steps); ++k) {
+      const long double psi = 2.0L * std::numbers::pi_v<long double> * static_cast<long double>(k) / steps;
+      for (std::size_t p = 0; p < terms; ++p) {
+        cosines[p] = std::cos(static_cast<long double>(phasors.rates[p]) * psi);
+        sines[p] = std::sin(static_cast<long double>(phasors.rates[p]) * psi);
+      }
+      for (const Row& row : rows) {
+        long double reference = phasors.offset[row.o];
+        double scale = std::abs(phasors.offset[row.o]);
+        for (std::size_t p = 0; p < terms; ++p) {
+          const auto q = static_cast<Eigen::Index>(p);
+          reference += phasors.cosine(row.o, q) * cosines[p] + phasors.sine(row.o, q) * sines[p];
+          scale += std::abs(phasors.cosine(row.o, q)) + std::abs(phasors.sine(row.o, q));
+        }
+        const double error = std::abs(static_cast<double>(row.at(path, k, row.i) - reference));
+        worst = std::max(worst, error / scale);
+        ASSERT_LE(error, kRelativeRoundOff * scale) << steps << " steps, row " << row.o << ", angle " << k;
+      }
+    }
+    std::ostringstream worst_text;
+    worst_text << std::scientific << worst;
+    RecordProperty("worst_relative_error_" + std::to_string(steps), worst_text.str());
   }
 }
 
