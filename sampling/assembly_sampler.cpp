@@ -197,6 +197,11 @@ class AssemblySampler::Builder {
           calibrated_shapes_[k] == c.shape)
         scale.calibration = done.calibration;
     }
+    for (const ComponentScale& known : sampler_.options_.known_scales) {
+      if (scale.calibration.draws == 0 && known.component == component && known.measure == measure &&
+          known.tolerance == c.tolerance && known.coverage == p)
+        scale.calibration = known.calibration;
+    }
     if (scale.calibration.draws == 0) {
       const AssemblySamplerOptions& options = sampler_.options_;
       scale.calibration = options.calibrations

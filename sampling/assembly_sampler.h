@@ -172,6 +172,13 @@ struct AssemblySamplerOptions {
   bool exact_form_inspection = false;
   // Shared calibrations (may be null: every sampler calibrates its own).
   std::shared_ptr<CalibrationCache> calibrations;
+  // Calibrations made before, as scales() gave them (read back from a results file): a
+  // form spectrum whose component, measure, tolerance and coverage all equal one of these
+  // takes its calibration instead of calibrating, so that a replay draws with the very
+  // scales the run drew with, at no cost; any other calibrates. The shape and the
+  // calibration options are not compared: a results file's samples were drawn with its
+  // stored scales whatever this build would calibrate.
+  std::vector<ComponentScale> known_scales;
 };
 
 class AssemblySampler {

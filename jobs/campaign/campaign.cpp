@@ -37,7 +37,7 @@ Campaign::Campaign(const std::filesystem::path& file, std::optional<std::int64_t
     : Campaign(ReadWithOverrides(file, samples, seed), file.string(), nullptr) {}
 
 Campaign::Campaign(const CampaignIdentity& stored, std::int64_t samples)
-    : Campaign(ReadStored(stored, samples), stored.campaign_path + " (as stored)", nullptr) {
+    : Campaign(ReadStored(stored, samples), stored.campaign_path + " (as stored)", nullptr, stored.calibrations) {
   const auto same = [](const sampling::SampledInput& a, const sampling::SampledInput& b) {
     return a.name == b.name && a.quantity == b.quantity && a.component == b.component && a.source == b.source &&
            a.roller == b.roller && a.order == b.order;
@@ -52,8 +52,10 @@ Campaign::Campaign(const CampaignIdentity& stored, std::int64_t samples)
 }
 
 Campaign::Campaign(CampaignPlan plan, const std::string& source_name,
-                   std::shared_ptr<sampling::CalibrationCache> calibrations)
-    : plan_(std::move(plan)), sampling_(MakeSampling(plan_.sampling, source_name, std::move(calibrations))) {
+                   std::shared_ptr<sampling::CalibrationCache> calibrations,
+                   std::vector<sampling::ComponentScale> known_scales)
+    : plan_(std::move(plan)),
+      sampling_(MakeSampling(plan_.sampling, source_name, std::move(calibrations), std::move(known_scales))) {
   const std::filesystem::path& file = plan_.file;
 
   identity_.ringtol_version = RINGTOL_VERSION;
@@ -67,6 +69,7 @@ Campaign::Campaign(CampaignPlan plan, const std::string& source_name,
   identity_.seed = plan_.sampling.seed;
   identity_.inputs = sampling_.sampler.inputs();
   identity_.spec = plan_.spec;
+  identity_.calibrations = sampling_.sampler.scales();
 }
 
 bool Campaign::IndependentDraw(std::int64_t index) const {

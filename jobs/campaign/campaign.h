@@ -23,15 +23,18 @@ class Campaign {
   Campaign(const std::filesystem::path& file, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed);
   // The campaign a results file holds, rebuilt from the campaign file's text and base scene
   // stored in it (the files on disk may have moved or changed), at its sample count and
-  // seed: replays its samples. Throws InputError when the stored text no longer reads
-  // (another ringtol version) or makes other inputs than the file lists.
+  // seed: replays its samples. Draws with the stored calibrations where the file has them
+  // (CampaignIdentity::calibrations), so only files written before they were stored
+  // calibrate. Throws InputError when the stored text no longer reads (another ringtol
+  // version) or makes other inputs than the file lists.
   Campaign(const CampaignIdentity& stored, std::int64_t samples);
   // A campaign of a plan built in memory (a tolerance allocation's candidate: the current
   // design with other classes); `source_name` names it in messages, `calibrations` (may be
-  // null) shares spectrum calibrations with other campaigns. Throws InputError as
-  // MakeSampling does.
+  // null) shares spectrum calibrations with other campaigns, `known_scales` are
+  // calibrations made before (MakeSampling). Throws InputError as MakeSampling does.
   Campaign(CampaignPlan plan, const std::string& source_name,
-           std::shared_ptr<sampling::CalibrationCache> calibrations);
+           std::shared_ptr<sampling::CalibrationCache> calibrations,
+           std::vector<sampling::ComponentScale> known_scales = {});
 
   const CampaignPlan& plan() const { return plan_; }
   const Sampling& sampling() const { return sampling_; }

@@ -33,6 +33,11 @@ struct CampaignIdentity {
   // How the sensor's swing was read: the base scene's [sensor] table, so already compared
   // through base_scene; the results file states it beside /outputs/swing_mm.
   engine::SwingRule swing;
+  // What the sampler's calibration of the form spectra came to (AssemblySampler::scales()):
+  // not compared, since it follows from the fields above, but stored, so that a campaign
+  // rebuilt from its results file draws with the same scales without calibrating again.
+  // Empty in files written before it was stored (they calibrate).
+  std::vector<sampling::ComponentScale> calibrations;
 };
 
 // Whether a summary or report shows `output` for this campaign: the first and steady

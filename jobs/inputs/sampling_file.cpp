@@ -447,7 +447,8 @@ void OverridePlan(SamplingPlan& plan, std::optional<std::int64_t> samples, std::
 }
 
 Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name,
-                      std::shared_ptr<sampling::CalibrationCache> calibrations) {
+                      std::shared_ptr<sampling::CalibrationCache> calibrations,
+                      std::vector<sampling::ComponentScale> known_scales) {
   auto check_count = [&](const sampling::Design& design) {
     const std::string problem = design.CheckSampleCount(plan.samples);
     if (!problem.empty())
@@ -467,6 +468,7 @@ Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name,
     sampling::AssemblySamplerOptions options;
     options.seed = plan.seed;
     options.calibrations = std::move(calibrations);
+    options.known_scales = std::move(known_scales);
     sampler.emplace(plan.scene, plan.tolerances, options);
   } catch (const std::invalid_argument& e) {
     throw InputError(source_name + ": [tolerances]: " + e.what());

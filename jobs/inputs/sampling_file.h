@@ -47,6 +47,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "engine/scene.h"
 #include "sampling/assembly_sampler.h"
@@ -103,8 +104,10 @@ struct Sampling {
   sampling::Design design;
 };
 // `calibrations` (may be null) shares spectrum calibrations with other samplers
-// (sampling::CalibrationCache).
+// (sampling::CalibrationCache); `known_scales` are calibrations made before
+// (sampling::AssemblySamplerOptions::known_scales).
 Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name,
-                      std::shared_ptr<sampling::CalibrationCache> calibrations = nullptr);
+                      std::shared_ptr<sampling::CalibrationCache> calibrations = nullptr,
+                      std::vector<sampling::ComponentScale> known_scales = {});
 
 }  // namespace ringtol::jobs

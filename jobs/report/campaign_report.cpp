@@ -367,9 +367,11 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   const std::vector<std::int32_t> redraws = ReadInBlocks<std::int32_t>(
       report.samples, [&](std::int64_t begin, std::int64_t count) { return reader.ReadRedraws(begin, count); });
   std::vector<std::int64_t> used_ok;  // independent ok samples, in design order
+  std::vector<bool> used(status.size());
   for (std::int64_t i = 0; i < report.samples; ++i) {
     const auto s = static_cast<std::size_t>(i);
-    if (!campaign.IndependentDraw(i)) continue;
+    used[s] = campaign.IndependentDraw(i);
+    if (!used[s]) continue;
     ++report.used;
     if (redraws[s] > 0) ++report.redrawn;
     if (status[s] == SampleStatus::kPending) {
@@ -388,6 +390,8 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
       report.failed.push_back({i, std::string(SampleStatusName(status[s])), record.message});
     }
   }
+
+  report.settled_by = CountRungs(reader, status, used);
 
   report.primary_output = "d_trajectory_mm";
   for (const char* name : kOutputNames) {
@@ -666,6 +670,7 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   for (const FailedSample& f : report.failed)
     failed.push_back({{"index", f.index}, {"status", f.status}, {"message", f.message}});
   j["failed_samples"] = std::move(failed);
+  if (RungsRan(report.settled_by) > 0) j["rungs"] = RungsJson(report.settled_by);
   j["primary_output"] = report.primary_output;
   nlohmann::json outputs = nlohmann::json::object();
   for (const OutputReport& out : report.outputs) outputs[out.name] = OutputJson(out, report.samples_per_draw);

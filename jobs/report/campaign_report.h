@@ -169,6 +169,9 @@ struct CampaignReport {
   double samples_per_draw = 1.0;
   std::map<std::string, std::int64_t> failures;  // status name -> count, among used
   std::vector<FailedSample> failed;              // the first few, with their messages
+  // Used, done samples each rung settled (CampaignSummary::settled_by); empty for files of
+  // schema < 3.
+  std::vector<std::int64_t> settled_by;
   std::vector<OutputReport> outputs;             // kOutputNames order
   std::string primary_output;                    // the spec'd output, else d_trajectory_mm
   std::vector<OutputSensitivity> sensitivities;  // one per output

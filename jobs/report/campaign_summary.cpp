@@ -19,17 +19,53 @@ nlohmann::json Bound(double value) {
 // The rungs a path can come from: every one but auto, which picks among them.
 constexpr int kLadderRungs = static_cast<int>(solvers::Rung::kAuto);
 
-std::int64_t Sum(const std::vector<std::int64_t>& counts) {
-  std::int64_t sum = 0;
-  for (const std::int64_t count : counts) sum += count;
-  return sum;
-}
-
 std::string RungName(std::size_t rung) { return std::string(NameOf(solvers::kRungNames, static_cast<solvers::Rung>(rung))); }
 
 std::string ShowBound(double value) { return std::isfinite(value) ? fmt::format("{:.5g}", value) : "unbounded"; }
 
 }  // namespace
+
+std::vector<std::int64_t> CountRungs(const CampaignReader& results, const std::vector<SampleStatus>& status,
+                                     const std::vector<bool>& used) {
+  if (results.schema_version() < kCampaignSchemaVersion) return {};
+  const std::vector<std::int8_t> rungs = ReadInBlocks<std::int8_t>(
+      results.samples(), [&](std::int64_t begin, std::int64_t count) { return results.ReadRungs(begin, count); });
+  std::vector<std::int64_t> settled_by(kLadderRungs, 0);
+  for (std::size_t i = 0; i < rungs.size(); ++i) {
+    if (used[i] && status[i] != SampleStatus::kPending && rungs[i] >= 0 && rungs[i] < kLadderRungs) {
+      ++settled_by[static_cast<std::size_t>(rungs[i])];
+    }
+  }
+  return settled_by;
+}
+
+std::int64_t RungsRan(const std::vector<std::int64_t>& settled_by) {
+  std::int64_t sum = 0;
+  for (const std::int64_t count : settled_by) sum += count;
+  return sum;
+}
+
+std::string RungShares(const std::vector<std::int64_t>& settled_by) {
+  const std::int64_t ran = RungsRan(settled_by);
+  std::string list;
+  if (ran == 0) return list;
+  for (std::size_t r = 0; r < settled_by.size(); ++r) {
+    list += fmt::format("{}{} {:.1f} %", list.empty() ? "" : ", ", RungName(r),
+                        100.0 * static_cast<double>(settled_by[r]) / static_cast<double>(ran));
+  }
+  return list;
+}
+
+nlohmann::json RungsJson(const std::vector<std::int64_t>& settled_by) {
+  const std::int64_t ran = RungsRan(settled_by);
+  if (ran == 0) return nullptr;
+  nlohmann::json rungs = nlohmann::json::object();
+  for (std::size_t r = 0; r < settled_by.size(); ++r) {
+    rungs[RungName(r)] = {{"samples", settled_by[r]},
+                          {"share", static_cast<double>(settled_by[r]) / static_cast<double>(ran)}};
+  }
+  return rungs;
+}
 
 std::string SchemaNote(const CampaignReader& results) {
   if (results.schema_version() >= 2) return {};
@@ -61,16 +97,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
   }
 
   summary.schema_note = SchemaNote(results);
-  if (results.schema_version() >= kCampaignSchemaVersion) {
-    const std::vector<std::int8_t> rungs = ReadInBlocks<std::int8_t>(
-        summary.samples, [&](std::int64_t begin, std::int64_t count) { return results.ReadRungs(begin, count); });
-    summary.settled_by.assign(kLadderRungs, 0);
-    for (std::size_t i = 0; i < rungs.size(); ++i) {
-      if (used[i] && status[i] != SampleStatus::kPending && rungs[i] >= 0 && rungs[i] < kLadderRungs) {
-        ++summary.settled_by[static_cast<std::size_t>(rungs[i])];
-      }
-    }
-  }
+  summary.settled_by = CountRungs(results, status, used);
 
   std::vector<bool> within(status.size(), true);
   bool any_spec = false;
@@ -132,13 +159,8 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
     for (const auto& [reason, count] : s.failures) list += fmt::format("{}{} {}", list.empty() ? "" : ", ", count, reason);
     fmt::print(out, "failures          {} (excluded from the distributions)\n", list);
   }
-  if (const std::int64_t ran = Sum(s.settled_by); ran > 0) {
-    std::string list;
-    for (std::size_t r = 0; r < s.settled_by.size(); ++r) {
-      list += fmt::format("{}{} {:.1f} %", list.empty() ? "" : ", ", RungName(r),
-                          100.0 * static_cast<double>(s.settled_by[r]) / static_cast<double>(ran));
-    }
-    fmt::print(out, "rungs             {} (of the {} samples a rung ran on)\n", list, ran);
+  if (const std::int64_t ran = RungsRan(s.settled_by); ran > 0) {
+    fmt::print(out, "rungs             {} (of the {} samples a rung ran on)\n", RungShares(s.settled_by), ran);
   }
   const int level = static_cast<int>(std::lround(100.0 * s.confidence));
   fmt::print(out, "\n{:<20} {:>10} {:>10}", "output", "mean", "std");
@@ -173,14 +195,7 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
   j["failures"] = s.failures;
   j["confidence"] = s.confidence;
   if (!s.schema_note.empty()) j["schema_note"] = s.schema_note;
-  if (const std::int64_t ran = Sum(s.settled_by); ran > 0) {
-    nlohmann::json rungs = nlohmann::json::object();
-    for (std::size_t r = 0; r < s.settled_by.size(); ++r) {
-      rungs[RungName(r)] = {{"samples", s.settled_by[r]},
-                            {"share", static_cast<double>(s.settled_by[r]) / static_cast<double>(ran)}};
-    }
-    j["rungs"] = rungs;
-  }
+  if (RungsRan(s.settled_by) > 0) j["rungs"] = RungsJson(s.settled_by);
   nlohmann::json outputs = nlohmann::json::object();
   for (const OutputSummary& o : s.outputs) {
     nlohmann::json x;

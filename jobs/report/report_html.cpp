@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "engine/units.h"
+#include "jobs/report/campaign_summary.h"
 #include "jobs/report/html_parts.h"
 #include "jobs/report/svg_chart.h"
 
@@ -304,6 +305,10 @@ void AnswerSection(std::string& html, const CampaignReport& report, const Output
   }
   html += fmt::format("<p>{} of {} samples used are ok; {} failed; {} pending.</p>\n", report.ok, report.used,
                       report.done - report.ok, report.pending);
+  if (const std::int64_t ran = RungsRan(report.settled_by); ran > 0) {
+    html += fmt::format("<p>Rungs: {} (of the {} samples a rung ran on).</p>\n",
+                        EscapeXml(RungShares(report.settled_by)), ran);
+  }
   html += "</div>\n";
 }
 

@@ -117,6 +117,80 @@ T Require(const Where& where, std::optional<T> value, const char* name) {
 }
 
 // ---------------------------------------------------------------------------------------
+// Calibrations: /calibration/<k>, one group of attributes per calibrated form spectrum, in
+// metres (the sampler's own unit), so that they read back to the bits the run drew with.
+
+constexpr const char* kCalibrationGroup = "/calibration";
+constexpr std::array<sampling::FormMeasure, 2> kFormMeasures = {sampling::FormMeasure::kRoundness,
+                                                                sampling::FormMeasure::kTwoPointVariation};
+
+// The numbers of one stored calibration, listed once for the writer and the reader.
+using CalibrationField = double& (*)(sampling::ComponentScale&);
+constexpr std::array<std::pair<const char*, CalibrationField>, 6> kCalibrationNumbers = {{
+    {"tolerance_m", [](sampling::ComponentScale& s) -> double& { return s.tolerance; }},
+    {"coverage", [](sampling::ComponentScale& s) -> double& { return s.coverage; }},
+    {"scale_m", [](sampling::ComponentScale& s) -> double& { return s.calibration.scale; }},
+    {"unit_quantile", [](sampling::ComponentScale& s) -> double& { return s.calibration.unit_quantile; }},
+    {"unit_quantile_low", [](sampling::ComponentScale& s) -> double& { return s.calibration.unit_quantile_low; }},
+    {"unit_quantile_high", [](sampling::ComponentScale& s) -> double& { return s.calibration.unit_quantile_high; }},
+}};
+
+void WriteCalibrations(const Where& where, hid_t file, const std::vector<sampling::ComponentScale>& scales,
+                       const PlistId& gcpl) {
+  if (scales.empty()) return;
+  GroupId(Check(H5Gcreate2(file, kCalibrationGroup, H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group",
+                kCalibrationGroup));
+  for (std::size_t k = 0; k < scales.size(); ++k) {
+    const std::string path = fmt::format("{}/{}", kCalibrationGroup, k);
+    const GroupId group(
+        Check(H5Gcreate2(file, path.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group", path));
+    sampling::ComponentScale scale = scales[k];
+    WriteStringAttribute(where, group.get(), "component", scale.component);
+    WriteStringAttribute(where, group.get(), "measure", sampling::FormMeasureName(scale.measure));
+    for (const auto& [name, field] : kCalibrationNumbers) {
+      WriteAttribute(where, group.get(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &field(scale));
+    }
+    const std::int32_t draws = scale.calibration.draws;
+    WriteAttribute(where, group.get(), "draws", H5T_STD_I32LE, H5T_NATIVE_INT32, &draws);
+  }
+}
+
+// The stored calibrations; none when the file has none (written before they were stored)
+// or when any of them does not read or is no calibration: a campaign rebuilt from the file
+// then calibrates, as it always did.
+std::vector<sampling::ComponentScale> ReadCalibrations(const Where& where, hid_t file) {
+  if (H5Lexists(file, kCalibrationGroup, H5P_DEFAULT) <= 0) return {};
+  std::vector<sampling::ComponentScale> scales;
+  try {
+    for (std::size_t k = 0;; ++k) {
+      const std::string path = fmt::format("{}/{}", kCalibrationGroup, k);
+      if (H5Lexists(file, path.c_str(), H5P_DEFAULT) <= 0) break;
+      const GroupId group(Check(H5Gopen2(file, path.c_str(), H5P_DEFAULT), where, "opening group", path));
+      sampling::ComponentScale& scale = scales.emplace_back();
+      scale.component = Require(where, ReadStringAttribute(where, group.get(), "component"), "component");
+      const std::string measure = Require(where, ReadStringAttribute(where, group.get(), "measure"), "measure");
+      const auto* known = std::find_if(kFormMeasures.begin(), kFormMeasures.end(), [&](sampling::FormMeasure m) {
+        return measure == sampling::FormMeasureName(m);
+      });
+      if (known == kFormMeasures.end()) return {};
+      scale.measure = *known;
+      for (const auto& [name, field] : kCalibrationNumbers) {
+        field(scale) = Require(
+            where, ReadNumberAttribute<double>(where, group.get(), name, H5T_FLOAT, H5T_NATIVE_DOUBLE), name);
+      }
+      scale.calibration.draws = Require(
+          where, ReadNumberAttribute<std::int32_t>(where, group.get(), "draws", H5T_INTEGER, H5T_NATIVE_INT32),
+          "draws");
+      if (!(std::isfinite(scale.calibration.scale) && scale.calibration.scale > 0.0 && scale.calibration.draws > 0))
+        return {};
+    }
+  } catch (const std::exception&) {
+    return {};
+  }
+  return scales;
+}
+
+// ---------------------------------------------------------------------------------------
 // Identity
 
 // What Resume and CampaignReader find in a file before trusting it.
@@ -166,6 +240,7 @@ Stored ReadStored(const Where& where, hid_t file) {
   if (stored.samples < 1) Fail(where, fmt::format("attribute samples = {} is not positive", stored.samples));
 
   identity.inputs = ReadInputDescriptions(where, file);
+  identity.calibrations = ReadCalibrations(where, file);
 
   for (std::size_t k = 0; k < kOutputCount; ++k) {
     const std::string path = StoredColumnPath(kFirstOutput + k, stored.schema_version);
@@ -426,6 +501,7 @@ void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identit
   }
 
   WriteInputDescriptions(where, file, identity.inputs, options.checksums);
+  WriteCalibrations(where, file, identity.calibrations, gcpl);
 
   const TypeId status_type = StatusType(where);
   const TypeId message_type = FixedString(where, kMessageBytes);

@@ -31,6 +31,14 @@
 //   /outputs/message           fixed 256-byte strings [N]: why a sample failed (truncated)
 //   /timing/solve_time_s       float64 [N]     wall time of each sample: the one dataset
 //                              that differs between two runs of the same campaign
+//   /calibration/<k>           groups, k = 0, 1, ...: what the sampler's calibration of each form
+//                              spectrum came to (CampaignIdentity::calibrations), as attributes:
+//                              component, measure (sampling::FormMeasureName), tolerance_m,
+//                              coverage, scale_m, unit_quantile, unit_quantile_low,
+//                              unit_quantile_high (float64, metres: the bits the run drew with),
+//                              draws (int32). Optional: files before it, or campaigns without form
+//                              tolerances, have none, and readers that ignore it lose nothing
+//                              but the time to calibrate again, so the schema stays 3.
 // Every per-sample dataset is chunked along samples and extendable (maximum size
 // unlimited), so a campaign can grow with --samples. Every dataset ends its filter pipeline
 // with HDF5's Fletcher-32 checksum, so that a chunk damaged on disk fails to read instead

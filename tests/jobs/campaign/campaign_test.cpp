@@ -1,5 +1,6 @@
-// Campaign files, the evaluation of one sample, and the summary, in process (the pool and
-// the command line are tested through the executable in tests/jobs/mpi/).
+// Campaign files, the evaluation of one sample, the summary, and a campaign rebuilt from
+// its results file with the calibrations stored there, in process (the pool and the
+// command line are tested through the executable in tests/jobs/mpi/).
 #include "jobs/campaign/campaign.h"
 
 #include <gmock/gmock.h>
@@ -11,9 +12,11 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "jobs/report/campaign_summary.h"
 #include "jobs/inputs/input_error.h"
+#include "jobs/store/campaign_store.h"
 #include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
@@ -212,6 +215,122 @@ TEST(CampaignSummary, CountsFailuresApartAndTreatsThemAsOutOfSpec) {
   const nlohmann::json json = SummaryJson(summary);
   EXPECT_EQ(json["failures"]["exception"], failed);
   EXPECT_EQ(json["outputs"]["d_trajectory_mm"]["upper_spec_limit"], 0.25);
+}
+
+// Both kinds of calibrated spectrum (the ring's RONt, the rollers' VDsp, one class for the
+// three rollers) and inspection, so that redraws depend on the scales too.
+const std::string kCalibratedCampaign = kSceneLine + R"(seed = 5
+[design]
+kind = "sobol"
+samples = 32
+[tolerances.ring]
+class = "waterjet"
+mode = "inspected"
+[tolerances.rollers]
+class = "Normal"
+mode = "inspected"
+[tolerances.roller_positions]
+class = "IT7"
+[solver]
+name = "linear"
+)";
+
+bool SameCalibration(const sampling::ComponentScale& a, const sampling::ComponentScale& b) {
+  return a.component == b.component && a.measure == b.measure && SameBits(a.tolerance, b.tolerance) &&
+         SameBits(a.coverage, b.coverage) && SameBits(a.calibration.scale, b.calibration.scale) &&
+         SameBits(a.calibration.unit_quantile, b.calibration.unit_quantile) &&
+         SameBits(a.calibration.unit_quantile_low, b.calibration.unit_quantile_low) &&
+         SameBits(a.calibration.unit_quantile_high, b.calibration.unit_quantile_high) &&
+         a.calibration.draws == b.calibration.draws;
+}
+
+void ExpectSameProfile(const engine::PolarProfile& a, const engine::PolarProfile& b) {
+  EXPECT_TRUE(SameBits(a.mean_deviation(), b.mean_deviation()));
+  ASSERT_EQ(a.harmonics().size(), b.harmonics().size());
+  for (std::size_t k = 0; k < a.harmonics().size(); ++k) {
+    EXPECT_EQ(a.harmonics()[k].order, b.harmonics()[k].order);
+    EXPECT_TRUE(SameBits(a.harmonics()[k].amplitude, b.harmonics()[k].amplitude)) << k;
+    EXPECT_TRUE(SameBits(a.harmonics()[k].phase, b.harmonics()[k].phase)) << k;
+  }
+}
+
+// The identity a results file of `campaign` at `results` reads back with.
+CampaignIdentity StoredIdentity(const Campaign& campaign, const std::filesystem::path& results) {
+  CampaignStore::Create(results, campaign.identity(), campaign.samples());
+  return CampaignReader(results).identity();
+}
+
+TEST(StoredCalibration, TheResultsFileKeepsEveryCalibrationBitForBit) {
+  const TempFile file(kCalibratedCampaign);
+  const TempFile results("", ".h5");
+  const Campaign campaign(file.path(), std::nullopt, std::nullopt);
+  const std::vector<sampling::ComponentScale>& made = campaign.sampling().sampler.scales();
+  ASSERT_EQ(made.size(), 4u);  // the ring, and the three rollers' one class
+  const CampaignIdentity stored = StoredIdentity(campaign, results.path());
+  ASSERT_EQ(stored.calibrations.size(), made.size());
+  for (std::size_t k = 0; k < made.size(); ++k) EXPECT_TRUE(SameCalibration(stored.calibrations[k], made[k])) << k;
+}
+
+TEST(StoredCalibration, ACampaignBuiltFromStoredScalesRealisesTheSameAssembliesAsOneThatCalibrates) {
+  const TempFile file(kCalibratedCampaign);
+  const TempFile results("", ".h5");
+  const Campaign fresh(file.path(), std::nullopt, std::nullopt);
+  const CampaignIdentity stored = StoredIdentity(fresh, results.path());
+  CampaignIdentity older = stored;  // as a file written before calibrations were stored
+  older.calibrations.clear();
+  const Campaign from_scales(stored, fresh.samples());
+  const Campaign calibrating(older, fresh.samples());
+  const std::vector<sampling::ComponentScale>& scales = calibrating.sampling().sampler.scales();
+  ASSERT_EQ(from_scales.sampling().sampler.scales().size(), scales.size());
+  for (std::size_t k = 0; k < scales.size(); ++k)
+    EXPECT_TRUE(SameCalibration(from_scales.sampling().sampler.scales()[k], scales[k])) << k;
+
+  const sampling::Design& made = calibrating.sampling().design;
+  sampling::Design design(made.dimension(), made.options());
+  std::vector<double> u(static_cast<std::size_t>(design.dimension()));
+  int redraws = 0;
+  for (std::int64_t index = 0; index < fresh.samples(); ++index) {
+    SCOPED_TRACE(index);
+    design.Point(index, u);
+    const sampling::SampledAssembly a = from_scales.sampling().sampler.Realise(index, u);
+    const sampling::SampledAssembly b = calibrating.sampling().sampler.Realise(index, u);
+    EXPECT_EQ(a.redraws, b.redraws);
+    ASSERT_EQ(a.values.size(), b.values.size());
+    for (std::size_t k = 0; k < a.values.size(); ++k) EXPECT_TRUE(SameBits(a.values[k], b.values[k])) << k;
+    ExpectSameProfile(a.scene.ring.inner, b.scene.ring.inner);
+    ASSERT_EQ(a.scene.rollers.size(), b.scene.rollers.size());
+    for (std::size_t r = 0; r < a.scene.rollers.size(); ++r) {
+      ExpectSameProfile(a.scene.rollers[r].outline, b.scene.rollers[r].outline);
+      EXPECT_TRUE(SameBits(a.scene.rollers[r].radial_offset, b.scene.rollers[r].radial_offset));
+      EXPECT_TRUE(SameBits(a.scene.rollers[r].tangential_offset, b.scene.rollers[r].tangential_offset));
+    }
+    redraws += a.redraws;
+  }
+  EXPECT_GT(redraws, 0);  // inspection judged parts against the scales, not only the draws
+}
+
+TEST(StoredCalibration, AStoredScaleIsDrawnWithAsStoredWithoutCalibratingAgain) {
+  const TempFile file(kCalibratedCampaign);
+  const TempFile results("", ".h5");
+  const Campaign fresh(file.path(), std::nullopt, std::nullopt);
+  CampaignIdentity stored = StoredIdentity(fresh, results.path());
+  ASSERT_EQ(stored.calibrations.front().component, "ring");
+  // Twice the scale: no calibration gives it, so the sampler must have taken it as stored.
+  stored.calibrations.front().calibration.scale *= 2.0;
+  const Campaign doubled(stored, fresh.samples());
+  EXPECT_TRUE(SameBits(doubled.sampling().sampler.scales().front().calibration.scale,
+                       2.0 * fresh.sampling().sampler.scales().front().calibration.scale));
+}
+
+TEST(StoredCalibration, AStoredCalibrationOfAnotherToleranceIsIgnoredAndTheClassCalibrated) {
+  const TempFile file(kCalibratedCampaign);
+  const TempFile results("", ".h5");
+  const Campaign fresh(file.path(), std::nullopt, std::nullopt);
+  CampaignIdentity stored = StoredIdentity(fresh, results.path());
+  stored.calibrations.front().tolerance *= 2.0;
+  stored.calibrations.front().calibration.scale *= 2.0;
+  const Campaign rebuilt(stored, fresh.samples());
+  EXPECT_TRUE(SameCalibration(rebuilt.sampling().sampler.scales().front(), fresh.sampling().sampler.scales().front()));
 }
 
 }  // namespace

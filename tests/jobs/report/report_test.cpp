@@ -58,16 +58,21 @@ class ReportTest : public ::testing::Test {
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  // Runs the campaign in process; samples whose index is a multiple of 7 throw.
-  std::filesystem::path RunWithFailures() {
+  // Runs the campaign in process; samples whose index is a multiple of 7 throw. Without
+  // `store_calibrations` the file is as one written before they were stored.
+  std::filesystem::path RunWithFailures(const std::string& name = "results.h5", bool store_calibrations = true) {
+    ok_d_.clear();
+    ok_records_.clear();
     const Campaign campaign(dir_ / "campaign.toml", std::nullopt, std::nullopt);
     EvaluatorFaults faults;
     faults.before_simulate = [](std::int64_t index) {
       if (index % 7 == 0) throw std::runtime_error("injected fault in sample " + std::to_string(index));
     };
     SampleEvaluator evaluator(campaign, faults);
-    const std::filesystem::path results = dir_ / "results.h5";
-    CampaignStore store = CampaignStore::Create(results, campaign.identity(), campaign.samples());
+    const std::filesystem::path results = dir_ / name;
+    CampaignIdentity identity = campaign.identity();
+    if (!store_calibrations) identity.calibrations.clear();
+    CampaignStore store = CampaignStore::Create(results, identity, campaign.samples());
     for (std::int64_t i = 0; i < campaign.samples(); ++i) {
       SampleRecord record = evaluator.Evaluate(i);
       if (record.status == SampleStatus::kOk) {
@@ -216,6 +221,46 @@ TEST_F(ReportTest, OrbitsOfTheWorstAndTheMedianSampleReplayTheirStoredOutputsAft
   const nlohmann::json json = ReportJson(report);
   EXPECT_EQ(json["trajectories"][0]["index"], worst->index);
   EXPECT_EQ(json["trajectories"][0]["reproduced"], true);
+}
+
+TEST_F(ReportTest, AFileWrittenBeforeCalibrationsWereStoredReplaysTheSameOrbits) {
+  const std::filesystem::path older = RunWithFailures("older.h5", false);
+  const std::filesystem::path newer = RunWithFailures("newer.h5", true);
+  ASSERT_TRUE(CampaignReader(older).identity().calibrations.empty());
+  ASSERT_FALSE(CampaignReader(newer).identity().calibrations.empty());
+  ReportOptions options;
+  options.bootstrap_resamples = 0;
+  const CampaignReport calibrated = BuildReport(older, options);
+  const CampaignReport stored = BuildReport(newer, options);
+  ASSERT_EQ(calibrated.trajectories.size(), 2u);
+  ASSERT_EQ(stored.trajectories.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_TRUE(calibrated.trajectories[k].reproduced) << k;
+    EXPECT_TRUE(stored.trajectories[k].reproduced) << k;
+    EXPECT_EQ(calibrated.trajectories[k].index, stored.trajectories[k].index);
+    // The same draws and the same solver on one machine: the same bits.
+    EXPECT_EQ(calibrated.trajectories[k].d_trajectory_mm, stored.trajectories[k].d_trajectory_mm) << k;
+    EXPECT_EQ(calibrated.trajectories[k].x_um, stored.trajectories[k].x_um) << k;
+  }
+}
+
+TEST_F(ReportTest, TheAnswerStatesTheShareOfSamplesEachRungSettled) {
+  const std::filesystem::path results = RunWithFailures();
+  ReportOptions options;
+  options.bootstrap_resamples = 0;
+  options.replay = false;
+  CampaignReport report = BuildReport(results, options);
+  // The campaign runs the quasistatic rung; the 6 samples that threw ran none.
+  EXPECT_THAT(report.settled_by, ElementsAre(0, 34, 0));
+  EXPECT_THAT(ReportHtml(report),
+              HasSubstr("<p>Rungs: linear 0.0 %, quasistatic 100.0 %, dynamic 0.0 % (of the 34 samples a rung ran "
+                        "on).</p>"));
+  const nlohmann::json json = ReportJson(report);
+  EXPECT_EQ(json["rungs"]["quasistatic"]["samples"], 34);
+  EXPECT_EQ(json["rungs"]["quasistatic"]["share"], 1.0);
+  report.settled_by.clear();  // a file of schema < 3 records no rung
+  EXPECT_THAT(ReportHtml(report), Not(HasSubstr("Rungs:")));
+  EXPECT_FALSE(ReportJson(report).contains("rungs"));
 }
 
 TEST_F(ReportTest, ASampleThatNoLongerReplaysIsReportedInsteadOfDrawn) {
