@@ -32,27 +32,35 @@ AutoSolver::AutoSolver(AutoOptions options)
 Equilibrium AutoSolver::SolveStatic(const engine::Scene& scene) const { return quasistatic_.SolveStatic(scene); }
 
 std::string_view AutoSolver::LinearVerdict(const engine::Scene& scene, const Trajectory& path) const {
-  const double error = path.error_estimate;
+  LinearMargins margins;
+  margins.error_estimate = path.error_estimate;
+  margins.smallest_force = SmallestForce(path);
+  for (const double force : path.contact_force) margins.largest_force = std::max(margins.largest_force, force);
+  for (const Eigen::Vector2d& centre : path.centre) {
+    margins.reach = std::max(margins.reach, (centre - path.centre.front()).norm());
+  }
+  const std::size_t rollers = scene.rollers.size();
+  margins.largest_travel.assign(rollers, 0.0);
+  for (std::size_t k = 0; k < path.travel.size(); ++k) {
+    margins.largest_travel[k % rollers] = std::max(margins.largest_travel[k % rollers], std::abs(path.travel[k]));
+  }
+  return LinearVerdict(scene, margins);
+}
+
+std::string_view AutoSolver::LinearVerdict(const engine::Scene& scene, const LinearMargins& margins) const {
+  const double error = margins.error_estimate;
   if (!(error <= options_.budget)) return "its error estimate exceeds the budget";
-  double largest_force = 0.0;
-  for (const double force : path.contact_force) largest_force = std::max(largest_force, force);
   double force_error = 0.0;
   if (scene.contact.model == engine::ContactLaw::Model::kPenalty) {
-    force_error = kMarginFactor * error * ContactStiffness(scene, largest_force);
+    force_error = kMarginFactor * error * ContactStiffness(scene, margins.largest_force);
   } else {
-    double reach = 0.0;
-    for (const Eigen::Vector2d& centre : path.centre) reach = std::max(reach, (centre - path.centre.front()).norm());
-    force_error = error > 0.0 ? kMarginFactor * error / reach * largest_force : 0.0;
+    force_error = error > 0.0 ? kMarginFactor * error / margins.reach * margins.largest_force : 0.0;
   }
-  if (!(SmallestForce(path) > force_error)) return "a contact force lies within its error estimate of zero";
+  if (!(margins.smallest_force > force_error)) return "a contact force lies within its error estimate of zero";
   const std::size_t rollers = scene.rollers.size();
   for (std::size_t i = 0; i < rollers; ++i) {
     if (scene.rollers[i].mount != engine::RollerMount::kSpring) continue;
-    double largest_travel = 0.0;
-    for (std::size_t k = i; k < path.travel.size(); k += rollers) {
-      largest_travel = std::max(largest_travel, std::abs(path.travel[k]));
-    }
-    if (!(scene.rollers[i].spring.travel_limit - largest_travel > kMarginFactor * error)) {
+    if (!(scene.rollers[i].spring.travel_limit - margins.largest_travel[i] > kMarginFactor * error)) {
       return "a spring roller's travel lies within its error estimate of its limit";
     }
   }
@@ -91,6 +99,10 @@ Trajectory AutoSolver::SolveRevolution(const engine::Scene& scene, int steps) co
     linear.rung = Rung::kLinear;
     return linear;
   }
+  return SolveExact(scene, steps);
+}
+
+Trajectory AutoSolver::SolveExact(const engine::Scene& scene, int steps) const {
   Trajectory quasistatic = quasistatic_.SolveRevolution(scene, steps);
   quasistatic.rung = Rung::kQuasistatic;
   if (quasistatic.status != Status::kOk) return quasistatic;

@@ -45,6 +45,7 @@
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
 #include "solvers/solver.h"
+#include "solvers/spectral.h"
 
 namespace ringtol::solvers {
 
@@ -79,6 +80,13 @@ class AutoSolver final : public Solver {
   // Why the linear path does not settle the scene (empty when it does); `path` must have
   // passed the validity check. For tests and the docs' numbers.
   std::string_view LinearVerdict(const engine::Scene& scene, const Trajectory& path) const;
+  // The same verdict from the path's margins (the spectral evaluation's, whose travel is
+  // an upper bound: a path it leaves in doubt does not settle).
+  std::string_view LinearVerdict(const engine::Scene& scene, const LinearMargins& margins) const;
+  // Steps 2 and 3 alone: the exact rungs, for a scene the linear path did not settle.
+  Trajectory SolveExact(const engine::Scene& scene, int steps) const;
+  const LinearSolver& linear() const { return linear_; }
+  const AutoOptions& options() const { return options_; }
   // [N] the inertial force step 2 weighs, with contact_stiffness [N/m] k_c (infinite for
   // rigid contact).
   static double InertiaForceBound(const engine::Scene& scene, double contact_stiffness);

@@ -7,6 +7,7 @@
 #include <memory>
 #include <numbers>
 #include <numeric>
+#include <span>
 
 #include <Eigen/LU>
 
@@ -19,6 +20,8 @@ namespace {
 
 using engine::Scene;
 using Complex = std::complex<double>;
+
+}  // namespace
 
 // Outputs y = [centre (2); travel per spring roller; contact force per roller (Z)]: the
 // travel rows are x's (fixed rollers do not travel, and carry no rows to evaluate). Below
@@ -40,8 +43,6 @@ struct Linearisation {
   Eigen::MatrixXd series_cosine;     // 3Z x terms
   Eigen::MatrixXd series_sine;       // 3Z x terms
 };
-
-}  // namespace
 
 // The error-free assembly's response: everything of the linearisation that does not
 // depend on the errors, and the costly part (a static solve and a factorisation).
@@ -356,6 +357,11 @@ std::vector<double> RatesOf(const std::vector<Eigen::Index>& columns, const std:
   return chosen;
 }
 
+constexpr int kBlock = 64;  // angles per pass, a multiple of kLanes: the tables stay in L1
+
+// Each series' angles k = 0 .. steps, padded to whole lane groups.
+std::size_t PaddedAngles(int steps) { return (static_cast<std::size_t>(steps) + kLanes) / kLanes * kLanes; }
+
 // The path at psi_k = 2 pi k / steps, k = 0 .. steps, in three passes.
 //  1. The 3Z gap series (Linearisation) of the terms of integer rate: such a term takes
 //     the same values at psi and 2 pi - psi up to the sign of its sine, and at psi + pi up
@@ -370,22 +376,20 @@ std::vector<double> RatesOf(const std::vector<Eigen::Index>& columns, const std:
 // Summing series rather than output rows costs 2 x terms + 3Z x rows products an angle
 // instead of rows x terms. The inner loops are path_kernels', whose builds agree bit for
 // bit; the rest is the same code whichever runs.
-void EvaluatePath(const Linearisation& lin, int steps, const path_kernels::Kernels& kernels, PathRows& path) {
-  constexpr int kBlock = 64;  // angles per pass, a multiple of kLanes: the tables stay in L1
-  const NominalResponse& nominal = *lin.nominal;
-  const auto zs = static_cast<std::size_t>(nominal.rollers);
-  const std::size_t series_count = 3 * zs;
-  // Each series' angles, padded to whole lane groups: passes 2 and 3 run over them.
-  const std::size_t padded = (static_cast<std::size_t>(steps) + kLanes) / kLanes * kLanes;
-  // Per thread, as SolveRevolution's slopes: 72 bytes an angle for three rollers.
-  thread_local std::vector<double> series, table, sums;
+// Passes 1 and 2 of EvaluatePath for any series (rows of cosine and sine, series x terms
+// at `rates`): series s at angle k lands in series[s * PaddedAngles(steps) + k].
+void SumSeries(const Eigen::MatrixXd& series_cosine, const Eigen::MatrixXd& series_sine, const std::vector<double>& rates,
+               int steps, const path_kernels::Kernels& kernels, std::vector<double>& series) {
+  const auto series_count = static_cast<std::size_t>(series_cosine.rows());
+  const std::size_t padded = PaddedAngles(steps);
+  thread_local std::vector<double> table, sums;
   series.resize(series_count * padded);
   // A quarter turn of at least one lane group, so that every lane's four angles lie in
   // the revolution.
   const bool fold = steps % 4 == 0 && steps / 4 >= kLanes;
   std::vector<Eigen::Index> even_columns, odd_columns, direct_columns;
-  for (std::size_t p = 0; p < lin.rates.size(); ++p) {
-    const double rate = lin.rates[p];
+  for (std::size_t p = 0; p < rates.size(); ++p) {
+    const double rate = rates[p];
     const auto column = static_cast<Eigen::Index>(p);
     if (fold && std::floor(rate) == rate && std::abs(rate) < 1e9) {
       (std::fmod(std::abs(rate), 2.0) == 1.0 ? odd_columns : even_columns).push_back(column);
@@ -403,16 +407,16 @@ void EvaluatePath(const Linearisation& lin, int steps, const path_kernels::Kerne
       std::fill(series.begin() + static_cast<std::ptrdiff_t>(s * padded + static_cast<std::size_t>(steps) + 1),
                 series.begin() + static_cast<std::ptrdiff_t>((s + 1) * padded), 0.0);
     }
-    const TermGroup cos_even = MakeGroup({&lin.series_cosine}, even_columns);
-    const TermGroup cos_odd = MakeGroup({&lin.series_cosine}, odd_columns);
-    const TermGroup sin_even = MakeGroup({&lin.series_sine}, even_columns);
-    const TermGroup sin_odd = MakeGroup({&lin.series_sine}, odd_columns);
+    const TermGroup cos_even = MakeGroup({&series_cosine}, even_columns);
+    const TermGroup cos_odd = MakeGroup({&series_cosine}, odd_columns);
+    const TermGroup sin_even = MakeGroup({&series_sine}, even_columns);
+    const TermGroup sin_odd = MakeGroup({&series_sine}, odd_columns);
     const int quarter = steps / 4;
     const int half = steps / 2;
-    std::vector<double> rates = RatesOf(even_columns, lin.rates);
-    const std::vector<double> odd_rates = RatesOf(odd_columns, lin.rates);
-    rates.insert(rates.end(), odd_rates.begin(), odd_rates.end());
-    PhasorRun run(std::move(rates), steps, kernels);
+    std::vector<double> folded_rates = RatesOf(even_columns, rates);
+    const std::vector<double> odd_rates = RatesOf(odd_columns, rates);
+    folded_rates.insert(folded_rates.end(), odd_rates.begin(), odd_rates.end());
+    PhasorRun run(std::move(folded_rates), steps, kernels);
     const std::size_t even = even_columns.size();
     for (int first = 0; first <= quarter; first += kBlock) {
       const int count = std::min(kBlock, quarter + 1 - first);
@@ -447,8 +451,8 @@ void EvaluatePath(const Linearisation& lin, int steps, const path_kernels::Kerne
   }
 
   if (!direct_columns.empty()) {
-    const TermGroup direct = MakeGroup({&lin.series_cosine, &lin.series_sine}, direct_columns);
-    PhasorRun run(RatesOf(direct_columns, lin.rates), steps, kernels);
+    const TermGroup direct = MakeGroup({&series_cosine, &series_sine}, direct_columns);
+    PhasorRun run(RatesOf(direct_columns, rates), steps, kernels);
     for (int first = 0; first <= steps; first += kBlock) {
       const int count = std::min(kBlock, steps + 1 - first);
       const auto c = static_cast<std::size_t>((count + kLanes - 1) / kLanes * kLanes);
@@ -463,6 +467,16 @@ void EvaluatePath(const Linearisation& lin, int steps, const path_kernels::Kerne
       }
     }
   }
+}
+
+void EvaluatePath(const Linearisation& lin, int steps, const path_kernels::Kernels& kernels, PathRows& path) {
+  const NominalResponse& nominal = *lin.nominal;
+  const auto zs = static_cast<std::size_t>(nominal.rollers);
+  const std::size_t series_count = 3 * zs;
+  const std::size_t padded = PaddedAngles(steps);
+  // Per thread, as SolveRevolution's slopes: 72 bytes an angle for three rollers.
+  thread_local std::vector<double> series, sums;
+  SumSeries(lin.series_cosine, lin.series_sine, lin.rates, steps, kernels, series);
 
   const auto outputs = static_cast<std::size_t>(nominal.response.rows());
   std::vector<Eigen::Index> every_series(series_count);
@@ -490,6 +504,65 @@ void EvaluatePath(const Linearisation& lin, int steps, const path_kernels::Kerne
   }
 }
 
+// Where the scene's contacts sit against the error-free assembly's: what the second-order
+// terms need beyond the NominalResponse.
+struct SecondOrderFrame {
+  Eigen::Vector2d centre0;             // [m] the error-free equilibrium's centre
+  std::vector<Eigen::Vector2d> shift;  // [m] per roller: its centre's displacement
+  std::vector<Eigen::Vector2d> axis;   // [-] per roller: its spring's axis
+  std::vector<double> travel0;         // [m] per roller: the error-free travel (0 fixed)
+};
+
+SecondOrderFrame FrameOf(const Scene& scene, const NominalResponse& nominal) {
+  const auto zs = static_cast<std::size_t>(nominal.rollers);
+  SecondOrderFrame frame;
+  frame.centre0 = nominal.y0.head<2>();
+  frame.shift.resize(zs);
+  frame.axis.resize(zs);
+  frame.travel0.assign(zs, 0.0);
+  for (std::size_t i = 0; i < zs; ++i) {
+    const int index = static_cast<int>(i);
+    frame.shift[i] = engine::RollerCentre(scene, index) - engine::RollerCentre(nominal.perfect, index);
+    frame.axis[i] = engine::SpringAxis(scene, index);
+    if (nominal.travel_row[i] >= 0) frame.travel0[i] = nominal.y0[nominal.travel_row[i]];
+  }
+  return frame;
+}
+
+// The centre error dc of the second-order terms (below) at one angle, from that angle's
+// first-order centre, travels and forces (one per roller) and the 2Z gap slopes (the
+// bore's at each contact, then the roller's).
+Eigen::Vector2d CentreError(const NominalResponse& nominal, const SecondOrderFrame& frame, const Eigen::Vector2d& centre,
+                            const double* travel, const double* force, const double* slope, double* factors = nullptr) {
+  const auto zs = static_cast<std::size_t>(nominal.rollers);
+  const Eigen::Vector2d moved = centre - frame.centre0;
+  Eigen::Vector2d error = Eigen::Vector2d::Zero();
+  for (std::size_t i = 0; i < zs; ++i) {
+    const engine::Contact& c = nominal.contacts[i];
+    const double a = slope[i];
+    const double b = slope[zs + i];
+    Eigen::Vector2d relative = moved - frame.shift[i];
+    if (nominal.travel_row[i] >= 0) relative -= (travel[i] - frame.travel0[i]) * frame.axis[i];
+    const double turn = a + b + relative.dot(c.tangent);
+    double gamma = a * a / (2.0 * nominal.ring_radius) - b * b / (2.0 * nominal.roller_radius[i]) -
+                   turn * turn / (2.0 * c.gap_curvature);
+    double d = 0.0;
+    if (nominal.penetration[i] > 0.0) {
+      d = (force[i] - nominal.y0[nominal.first_force_row + static_cast<int>(i)]) / nominal.force_stiffness[i];
+      gamma -= (nominal.exponent - 1.0) * d * d / (2.0 * nominal.penetration[i]);
+    }
+    if (factors != nullptr) {
+      double* f = factors + i * LinearPath::Samples::kFactors;
+      f[0] = a;
+      f[1] = b;
+      f[2] = turn;
+      f[3] = d;
+    }
+    error += gamma * nominal.response.block<2, 1>(0, static_cast<Eigen::Index>(i));
+  }
+  return error;
+}
+
 // The neglected second-order terms, as changes gamma_i of each contact's gap that the
 // first-order response carries to the centre (docs/model.md §3):
 //  - a profile's support function is h = r + dr + dr'^2 / (2 r) to second order (the
@@ -500,47 +573,52 @@ void EvaluatePath(const Linearisation& lin, int steps, const path_kernels::Kerne
 //  - the penalty law's curvature: F(delta + d) = F + F' d + F'' d^2 / 2, an extra force
 //    that acts as a gap change of -(e - 1) d^2 / (2 delta), d = dF_i / F' the linearised
 //    change of penetration.
-// Their centre error dc(psi) = sum_i (dc / dg_i) gamma_i(psi) moves D_trajectory by at
-// most twice the radius of the circle enclosing dc over the revolution (a common shift
-// leaves D as it is): that is the estimate. Third-order terms (the gap's curvature
-// changing with the profiles, the force balance's n_i turning by dphi^2 / 2) are left out.
+// Their centre error dc(psi) = sum_i (dc / dg_i) gamma_i(psi) (CentreError) moves
+// D_trajectory by at most twice the radius of the circle enclosing dc over the revolution
+// (a common shift leaves D as it is): that is the estimate. Third-order terms (the gap's
+// curvature changing with the profiles, the force balance's n_i turning by dphi^2 / 2)
+// are left out.
 double ErrorEstimate(const Scene& scene, const NominalResponse& nominal, const Trajectory& trajectory,
                      const std::vector<double>& slopes) {
-  const int z = nominal.rollers;
-  const auto zs = static_cast<std::size_t>(z);
-  const Eigen::Vector2d centre0 = nominal.y0.head<2>();
-  std::vector<Eigen::Vector2d> shift(zs), axis(zs);
-  std::vector<double> travel0(zs, 0.0);
-  for (std::size_t i = 0; i < zs; ++i) {
-    const int index = static_cast<int>(i);
-    shift[i] = engine::RollerCentre(scene, index) - engine::RollerCentre(nominal.perfect, index);
-    axis[i] = engine::SpringAxis(scene, index);
-    if (nominal.travel_row[i] >= 0) travel0[i] = nominal.y0[nominal.travel_row[i]];
-  }
-  const double ring_radius = nominal.ring_radius;
+  const auto zs = static_cast<std::size_t>(nominal.rollers);
+  const SecondOrderFrame frame = FrameOf(scene, nominal);
   thread_local std::vector<Eigen::Vector2d> error;  // per thread, as the slopes
-  error.assign(trajectory.centre.size(), Eigen::Vector2d::Zero());
+  error.resize(trajectory.centre.size());
   for (std::size_t k = 0; k < trajectory.centre.size(); ++k) {
-    const Eigen::Vector2d moved = trajectory.centre[k] - centre0;
-    const double* slope = slopes.data() + k * 2 * zs;
-    for (std::size_t i = 0; i < zs; ++i) {
-      const engine::Contact& c = nominal.contacts[i];
-      const double a = slope[i];
-      const double b = slope[zs + i];
-      Eigen::Vector2d relative = moved - shift[i];
-      if (nominal.travel_row[i] >= 0) relative -= (trajectory.travel[k * zs + i] - travel0[i]) * axis[i];
-      const double turn = a + b + relative.dot(c.tangent);
-      double gamma = a * a / (2.0 * ring_radius) - b * b / (2.0 * nominal.roller_radius[i]) -
-                     turn * turn / (2.0 * c.gap_curvature);
-      if (nominal.penetration[i] > 0.0) {
-        const double d = (trajectory.contact_force[k * zs + i] - nominal.y0[nominal.first_force_row + static_cast<int>(i)]) /
-                         nominal.force_stiffness[i];
-        gamma -= (nominal.exponent - 1.0) * d * d / (2.0 * nominal.penetration[i]);
-      }
-      error[k] += gamma * nominal.response.block<2, 1>(0, static_cast<Eigen::Index>(i));
-    }
+    error[k] = CentreError(nominal, frame, trajectory.centre[k], trajectory.travel.data() + k * zs,
+                           trajectory.contact_force.data() + k * zs, slopes.data() + k * 2 * zs);
   }
   return 2.0 * engine::MinimumEnclosingCircle(error).radius;
+}
+
+
+// The phase a term of `rate` [rad per rad of ring angle] has turned through after k of
+// `steps` increments, as its cosine and sine: an integer rate's reduced exactly to one
+// turn first, so libm sees an angle below 2 pi (as PhasorRun's anchors).
+Complex PhaseAt(double rate, long long k, int steps) {
+  const double turns = std::floor(rate) == rate && std::abs(rate) < 1e9
+                           ? std::fmod(rate * static_cast<double>(k), static_cast<double>(steps)) / steps
+                           : rate * static_cast<double>(k) / steps;
+  return std::polar(1.0, 2.0 * std::numbers::pi * turns);
+}
+
+// Rows 2p and 2p + 1 of `table` (row stride `stride`): the cosine and sine of term p's
+// phasor at `count` angles of a run, from `now` (left at the angle after the run) turned
+// by `turn` per angle. The terms advance side by side, which vectorises.
+void TurnRun(std::vector<double>& now_cos, std::vector<double>& now_sin, const std::vector<double>& turn_cos,
+             const std::vector<double>& turn_sin, int count, double* table, std::size_t stride) {
+  const std::size_t terms = now_cos.size();
+  for (int j = 0; j < count; ++j) {
+    for (std::size_t p = 0; p < terms; ++p) {
+      table[2 * p * stride + static_cast<std::size_t>(j)] = now_cos[p];
+      table[(2 * p + 1) * stride + static_cast<std::size_t>(j)] = now_sin[p];
+    }
+    for (std::size_t p = 0; p < terms; ++p) {
+      const double c = now_cos[p] * turn_cos[p] - now_sin[p] * turn_sin[p];
+      now_sin[p] = now_sin[p] * turn_cos[p] + now_cos[p] * turn_sin[p];
+      now_cos[p] = c;
+    }
+  }
 }
 
 // The outputs of one angle as an Equilibrium.
@@ -618,6 +696,310 @@ PhasorSum LinearSolver::Phasors(const Scene& scene) const {
   sum.travel_row = nominal.travel_row;
   sum.first_force_row = nominal.first_force_row;
   return sum;
+}
+
+// What LinearPath reads beyond the Linearisation: the sensor's two extra series, the sums'
+// weights, the phasors kept at the coarse angles and the work buffers.
+struct LinearPath::Parts {
+  SecondOrderFrame frame;
+  Eigen::Vector2d ray;             // [-] the sensor's direction e_s
+  Eigen::Vector2d across;          // [-] e_s turned a quarter turn: c_t = across . c
+  double bore_radius = 0.0;        // [m] R, nominal
+  double bore_reach = 0.0;         // [m] R + the bore's mean deviation
+  // The gap series (Linearisation::series_*) and below them the bore's form at the sensor,
+  // its slope and its curvature there [m, m/rad, m/rad^2]: rows 3Z, 3Z + 1 and 3Z + 2.
+  Eigen::MatrixXd series_cosine, series_sine;
+  TermGroup group;                 // their weights, each term's cosine and sine in turn
+  std::vector<double> dense_cos, dense_sin;  // per term: the turn by one angle
+  std::vector<double> coarse_table;          // TurnRun's rows at the coarse angles
+  std::size_t coarse_stride = 0;             // the coarse table's row stride
+  std::vector<double> now_cos, now_sin, turn_cos, turn_sin, table, sums, slope;
+  Eigen::VectorXd values, y;
+  path_kernels::Isa kernels = path_kernels::Isa::kBest;
+
+  // Appends the outputs of the table's first `count` lanes (row stride `stride`), which
+  // hold the angles `index`.
+  void Append(const Linearisation& lin, const double* table_data, std::size_t stride, std::span<const int> index,
+              Samples& samples) {
+    const NominalResponse& nominal = *lin.nominal;
+    const auto zs = static_cast<std::size_t>(nominal.rollers);
+    const auto series_count = static_cast<std::size_t>(series_cosine.rows());
+    sums.resize(series_count * stride);
+    path_kernels::KernelsFor(kernels).sum_rows(group.View(), table_data, stride, stride, sums.data(), stride);
+    const Eigen::Index outputs = nominal.response.rows();
+    values.resize(static_cast<Eigen::Index>(3 * zs));
+    slope.resize(2 * zs);
+    for (std::size_t j = 0; j < index.size(); ++j) {
+      for (std::size_t s = 0; s < 3 * zs; ++s) values[static_cast<Eigen::Index>(s)] = sums[s * stride + j];
+      y.noalias() = nominal.series_response * values;
+      y += lin.offset.head(outputs);
+      const Eigen::Vector2d centre = y.head<2>();
+      samples.index.push_back(index[j]);
+      samples.centre.push_back(centre);
+      const std::size_t at = samples.travel.size();
+      for (std::size_t i = 0; i < zs; ++i) {
+        const int row = nominal.travel_row[i];
+        samples.travel.push_back(row >= 0 ? y[row] : 0.0);
+        samples.contact_force.push_back(y[nominal.first_force_row + static_cast<Eigen::Index>(i)]);
+      }
+      for (std::size_t s = 0; s < 2 * zs; ++s) slope[s] = sums[(zs + s) * stride + j];
+      samples.factors.resize(samples.factors.size() + Samples::kFactors * zs);
+      samples.centre_error.push_back(CentreError(nominal, frame, centre, samples.travel.data() + at,
+                                                 samples.contact_force.data() + at, slope.data(),
+                                                 samples.factors.data() + at * Samples::kFactors));
+      const double form = sums[3 * zs * stride + j];
+      const double form_slope = sums[(3 * zs + 1) * stride + j];
+      // The ray meets the bore where the body angle is theta_s - psi - c_t / r, r the bore's
+      // radius there, and the point lies c_t^2 / (2 r) short of r there.
+      const double c_t = across.dot(centre);
+      const double reach = bore_reach + form;
+      const double turn = c_t / reach;
+      const double form_curvature = sums[(3 * zs + 2) * stride + j];
+      samples.signal.push_back(ray.dot(centre) + reach - form_slope * turn + 0.5 * form_curvature * turn * turn -
+                               c_t * turn / 2.0);
+    }
+  }
+};
+
+void LinearPath::Samples::clear() {
+  index.clear();
+  centre.clear();
+  travel.clear();
+  contact_force.clear();
+  centre_error.clear();
+  factors.clear();
+  signal.clear();
+}
+
+double LinearPath::Straying::CentreErrorBetween(const Samples& samples, std::size_t a, std::size_t b) const {
+  const std::size_t n = factor.size();
+  const double* at_a = samples.factors.data() + a * n;
+  const double* at_b = samples.factors.data() + b * n;
+  double bound = 0.0;
+  for (std::size_t q = 0; q < n; ++q) {
+    const double change = at_b[q] - at_a[q];
+    const double s = factor[q];
+    bound += factor_weight[q] * (change * change / 4.0 + 2.0 * std::max(std::abs(at_a[q]), std::abs(at_b[q])) * s + s * s);
+  }
+  return bound;
+}
+
+LinearPath::LinearPath() = default;
+LinearPath::LinearPath(LinearPath&&) noexcept = default;
+LinearPath& LinearPath::operator=(LinearPath&&) noexcept = default;
+LinearPath::~LinearPath() = default;
+
+int LinearPath::rollers() const { return lin_ == nullptr ? 0 : lin_->nominal->rollers; }
+
+void LinearPath::EvaluateCoarse(int stride, Samples& samples) {
+  Parts& parts = *parts_;
+  stride_ = stride;
+  coarse_.clear();
+  for (int k = 0; k <= steps_; k += stride) coarse_.push_back(k);
+  if (coarse_.back() != steps_) coarse_.push_back(steps_);
+  const std::size_t terms = lin_->rates.size();
+  const std::size_t count = coarse_.size();
+  parts.coarse_stride = (count + kLanes - 1) / kLanes * kLanes;
+  // TurnRun fills every lane it is given; the padding lanes, which the sums read too, are
+  // zeroed.
+  parts.coarse_table.resize(2 * terms * parts.coarse_stride);
+  for (std::size_t q = 0; q < 2 * terms; ++q) {
+    std::fill_n(parts.coarse_table.begin() + static_cast<std::ptrdiff_t>(q * parts.coarse_stride + count),
+                parts.coarse_stride - count, 0.0);
+  }
+  parts.now_cos.assign(terms, 1.0);
+  parts.now_sin.assign(terms, 0.0);
+  parts.turn_cos.resize(terms);
+  parts.turn_sin.resize(terms);
+  // The turn by `stride` angles as a power of the turn by one (a few products, each within
+  // an ulp): over the ~400 coarse angles of a revolution the phasors stay within ~1e-13 of
+  // libm's, far below what any metric resolves.
+  for (std::size_t p = 0; p < terms; ++p) {
+    Complex turn(1.0, 0.0);
+    Complex power(parts.dense_cos[p], parts.dense_sin[p]);
+    for (int e = stride; e > 0; e >>= 1) {
+      if (e & 1) turn *= power;
+      power *= power;
+    }
+    parts.turn_cos[p] = turn.real();
+    parts.turn_sin[p] = turn.imag();
+  }
+  // The uniform run k = 0, stride, ...; the revolution's end, when off that run, from libm.
+  const int uniform = static_cast<int>(count) - (steps_ % stride == 0 ? 0 : 1);
+  TurnRun(parts.now_cos, parts.now_sin, parts.turn_cos, parts.turn_sin, uniform, parts.coarse_table.data(),
+          parts.coarse_stride);
+  if (uniform < static_cast<int>(count)) {
+    for (std::size_t p = 0; p < terms; ++p) {
+      const Complex end = PhaseAt(lin_->rates[p], steps_, steps_);
+      parts.coarse_table[2 * p * parts.coarse_stride + count - 1] = end.real();
+      parts.coarse_table[(2 * p + 1) * parts.coarse_stride + count - 1] = end.imag();
+    }
+  }
+  parts.Append(*lin_, parts.coarse_table.data(), parts.coarse_stride, coarse_, samples);
+}
+
+void LinearPath::Refine(int j, Samples& samples) {
+  Parts& parts = *parts_;
+  const int first = coarse_[static_cast<std::size_t>(j)] + 1;
+  const int count = coarse_[static_cast<std::size_t>(j) + 1] - first;
+  if (count <= 0) return;
+  const std::size_t terms = lin_->rates.size();
+  // The phasors one angle past coarse angle j: its kept phasors turned once.
+  for (std::size_t p = 0; p < terms; ++p) {
+    const double c = parts.coarse_table[2 * p * parts.coarse_stride + static_cast<std::size_t>(j)];
+    const double s = parts.coarse_table[(2 * p + 1) * parts.coarse_stride + static_cast<std::size_t>(j)];
+    parts.now_cos[p] = c * parts.dense_cos[p] - s * parts.dense_sin[p];
+    parts.now_sin[p] = s * parts.dense_cos[p] + c * parts.dense_sin[p];
+  }
+  const std::size_t stride = (static_cast<std::size_t>(count) + kLanes - 1) / kLanes * kLanes;
+  parts.table.resize(2 * terms * stride);
+  for (std::size_t q = 0; q < 2 * terms; ++q) {
+    std::fill_n(parts.table.begin() + static_cast<std::ptrdiff_t>(q * stride) + count, stride - static_cast<std::size_t>(count), 0.0);
+  }
+  TurnRun(parts.now_cos, parts.now_sin, parts.dense_cos, parts.dense_sin, count, parts.table.data(), stride);
+  std::vector<int> index(static_cast<std::size_t>(count));
+  std::iota(index.begin(), index.end(), first);
+  parts.Append(*lin_, parts.table.data(), stride, index, samples);
+}
+
+void LinearPath::FirstOrderSignal(std::vector<double>& signal) const {
+  const Parts& parts = *parts_;
+  const auto zs = static_cast<std::size_t>(lin_->nominal->rollers);
+  // One series: e_s . (the centre's terms) + the form at the sensor.
+  const Eigen::MatrixXd cosine = parts.ray.transpose() * lin_->cosine.topRows<2>() + parts.series_cosine.row(static_cast<Eigen::Index>(3 * zs));
+  const Eigen::MatrixXd sine = parts.ray.transpose() * lin_->sine.topRows<2>() + parts.series_sine.row(static_cast<Eigen::Index>(3 * zs));
+  SumSeries(cosine, sine, lin_->rates, steps_, path_kernels::KernelsFor(parts.kernels), signal);
+  signal.resize(static_cast<std::size_t>(steps_) + 1);
+  const double offset = parts.ray.dot(lin_->offset.head<2>()) + parts.bore_reach;
+  for (double& value : signal) value += offset;
+}
+
+LinearPath::Straying LinearPath::StrayingAt(double dpsi) const {
+  const Parts& parts = *parts_;
+  const Linearisation& lin = *lin_;
+  const NominalResponse& nominal = *lin.nominal;
+  const auto zs = static_cast<std::size_t>(nominal.rollers);
+  constexpr std::size_t kFactors = Samples::kFactors;
+  const std::size_t terms = lin.rates.size();
+  Straying bounds;
+  bounds.travel.assign(zs, 0.0);
+  bounds.contact_force.assign(zs, 0.0);
+  bounds.factor.assign(kFactors * zs, 0.0);
+  bounds.factor_weight.assign(kFactors * zs, 0.0);
+  const auto straying = [dpsi](double rate) { return std::min(2.0, rate * rate * dpsi * dpsi / 8.0); };
+  // sqrt, not hypot: amplitudes of micrometres and newtons neither overflow nor underflow
+  // when squared, and hypot's care costs more than the rest of the bounds.
+  const auto norm = [](double x, double y) { return std::sqrt(x * x + y * y); };
+  const auto amplitude = [&](const Eigen::MatrixXd& cosine, const Eigen::MatrixXd& sine, Eigen::Index row, Eigen::Index p) {
+    return norm(cosine(row, p), sine(row, p));
+  };
+  // The sensor's rest -r' t + r'' t^2 / 2 - c_t t / 2 (t = c_t / r) strays by at most
+  // twice its size, which the sums of its factors' amplitudes bound (r >= R / 2 for any
+  // bore that can be simulated).
+  double form_slope = 0.0;
+  double form_curvature = 0.0;
+  const auto form_curvature_row = static_cast<Eigen::Index>(3 * zs + 2);
+  double across = std::abs(parts.across.dot(lin.offset.head<2>()));
+  const auto form_slope_row = static_cast<Eigen::Index>(3 * zs + 1);
+  for (std::size_t q = 0; q < terms; ++q) {
+    const auto p = static_cast<Eigen::Index>(q);
+    const double s = straying(lin.rates[q]);
+    bounds.centre += s * norm(amplitude(lin.cosine, lin.sine, 0, p), amplitude(lin.cosine, lin.sine, 1, p));
+    form_slope += amplitude(parts.series_cosine, parts.series_sine, form_slope_row, p);
+    form_curvature += amplitude(parts.series_cosine, parts.series_sine, form_curvature_row, p);
+    across += norm(parts.across.dot(lin.cosine.col(p).head<2>()), parts.across.dot(lin.sine.col(p).head<2>()));
+    for (std::size_t i = 0; i < zs; ++i) {
+      const engine::Contact& c = nominal.contacts[i];
+      const int travel_row = nominal.travel_row[i];
+      const Eigen::Index force_row = nominal.first_force_row + static_cast<Eigen::Index>(i);
+      if (travel_row >= 0) bounds.travel[i] += s * amplitude(lin.cosine, lin.sine, travel_row, p);
+      const double force = amplitude(lin.cosine, lin.sine, force_row, p);
+      bounds.contact_force[i] += s * force;
+      // The factors as CentreError forms them from the outputs and the slope series.
+      const auto bore_row = static_cast<Eigen::Index>(zs + i);
+      const auto roller_row = static_cast<Eigen::Index>(2 * zs + i);
+      const double along = travel_row >= 0 ? parts.frame.axis[i].dot(c.tangent) : 0.0;
+      const auto turn = [&](const Eigen::MatrixXd& outputs, const Eigen::MatrixXd& series) {
+        return series(bore_row, p) + series(roller_row, p) + c.tangent.dot(outputs.col(p).head<2>()) -
+               (travel_row >= 0 ? along * outputs(travel_row, p) : 0.0);
+      };
+      double* f = bounds.factor.data() + i * kFactors;
+      f[0] += s * amplitude(lin.series_cosine, lin.series_sine, bore_row, p);
+      f[1] += s * amplitude(lin.series_cosine, lin.series_sine, roller_row, p);
+      f[2] += s * norm(turn(lin.cosine, lin.series_cosine), turn(lin.sine, lin.series_sine));
+      if (nominal.penetration[i] > 0.0) f[3] += s * force / nominal.force_stiffness[i];
+    }
+  }
+  for (std::size_t i = 0; i < zs; ++i) {
+    const double gain = nominal.response.block<2, 1>(0, static_cast<Eigen::Index>(i)).norm();
+    double* w = bounds.factor_weight.data() + i * kFactors;
+    w[0] = gain / (2.0 * nominal.ring_radius);
+    w[1] = gain / (2.0 * nominal.roller_radius[i]);
+    w[2] = gain / (2.0 * std::abs(nominal.contacts[i].gap_curvature));
+    w[3] = nominal.penetration[i] > 0.0 ? gain * (nominal.exponent - 1.0) / (2.0 * nominal.penetration[i]) : 0.0;
+  }
+  const double turn = across / (0.5 * parts.bore_radius);
+  bounds.signal_rest = 2.0 * (form_slope * turn + form_curvature * turn * turn / 2.0 + across * turn / 2.0);
+  return bounds;
+}
+
+LinearPath LinearSolver::Path(const Scene& scene, int steps) const {
+  LinearPath path;
+  path.steps_ = steps;
+  auto lin = std::make_unique<Linearisation>(Linearise(scene, Nominal(scene)));
+  const NominalResponse& nominal = *lin->nominal;
+  if (nominal.equilibrium.status != Status::kOk) {
+    path.status_ = nominal.equilibrium.status;
+    path.message_ = "the error-free assembly cannot be linearised: " + nominal.equilibrium.message;
+    return path;
+  }
+  if (!lin->offset.allFinite() || !lin->cosine.allFinite() || !lin->sine.allFinite()) {
+    path.status_ = Status::kNonFinite;
+    path.message_ = "the linearised path is not finite (an error amplitude or the contact law overflows)";
+    return path;
+  }
+  auto parts = std::make_unique<LinearPath::Parts>();
+  parts->frame = FrameOf(scene, nominal);
+  parts->kernels = options_.kernels;
+  parts->ray = engine::Direction(scene.sensor_angle);
+  parts->across = {-parts->ray.y(), parts->ray.x()};
+  const engine::PolarProfile& bore = scene.ring.inner;
+  parts->bore_radius = bore.radius();
+  parts->bore_reach = bore.radius() + bore.mean_deviation();
+  const int z = nominal.rollers;
+  const Eigen::Index terms = static_cast<Eigen::Index>(lin->rates.size());
+  parts->series_cosine.setZero(3 * z + 3, terms);
+  parts->series_sine.setZero(3 * z + 3, terms);
+  parts->series_cosine.topRows(3 * z) = lin->series_cosine;
+  parts->series_sine.topRows(3 * z) = lin->series_sine;
+  // The bore's harmonics are the first terms, in order (Linearise): a e^{i n theta} read
+  // at theta_s - psi is Re[(a e^{i n theta_s}) e^{-i n psi}], its slope Re[i n (...)].
+  Eigen::Index p = 0;
+  for (int n = 1; n <= bore.max_order(); ++n) {
+    const Complex a(bore.cos_coefficient(n), bore.sin_coefficient(n));
+    if (a == Complex(0.0)) continue;
+    const Complex at_sensor = a * std::polar(1.0, n * scene.sensor_angle);
+    const Complex slope = Complex(0.0, n) * at_sensor;
+    const Complex curvature = Complex(0.0, n) * slope;
+    parts->series_cosine(3 * z, p) = at_sensor.real();
+    parts->series_sine(3 * z, p) = at_sensor.imag();
+    parts->series_cosine(3 * z + 1, p) = slope.real();
+    parts->series_sine(3 * z + 1, p) = slope.imag();
+    parts->series_cosine(3 * z + 2, p) = curvature.real();
+    parts->series_sine(3 * z + 2, p) = curvature.imag();
+    ++p;
+  }
+  std::vector<Eigen::Index> columns(static_cast<std::size_t>(terms));
+  std::iota(columns.begin(), columns.end(), Eigen::Index{0});
+  parts->group = MakeGroup({&parts->series_cosine, &parts->series_sine}, columns);
+  for (const double rate : lin->rates) {
+    const Complex turn = PhaseAt(rate, 1, steps);
+    parts->dense_cos.push_back(turn.real());
+    parts->dense_sin.push_back(turn.imag());
+  }
+  path.lin_ = std::move(lin);
+  path.parts_ = std::move(parts);
+  return path;
 }
 
 Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {

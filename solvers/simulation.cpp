@@ -14,6 +14,7 @@
 #include "solvers/dynamic.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
+#include "solvers/spectral.h"
 #include "solvers/validity.h"
 
 namespace ringtol::solvers {
@@ -492,6 +493,34 @@ std::optional<SimulationResult> SimulateRefined(const engine::Scene& scene, cons
   return result;
 }
 
+// AngleMode::kSpectral for the linear rung and auto's first step: the spectral result when
+// it settles the scene, else the trajectory auto's exact rungs give (to be measured
+// densely), else nullopt for the dense evaluation to decide.
+struct SpectralOutcome {
+  std::optional<SimulationResult> settled;
+  std::optional<Trajectory> escalated;
+};
+
+SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options,
+                                     int steps) {
+  SpectralOutcome outcome;
+  const auto* linear = dynamic_cast<const LinearSolver*>(&solver);
+  const auto* automatic = dynamic_cast<const AutoSolver*>(&solver);
+  if (linear == nullptr && automatic == nullptr) return outcome;
+  std::optional<SpectralResult> spectral =
+      linear != nullptr
+          ? SimulateSpectral(scene, *linear, steps, options.refine_stride, std::numeric_limits<double>::infinity())
+          : SimulateSpectral(scene, automatic->linear(), steps, options.refine_stride, automatic->options().budget);
+  if (!spectral) return outcome;
+  if (automatic != nullptr &&
+      (spectral->result.status != Status::kOk || !automatic->LinearVerdict(scene, spectral->margins).empty())) {
+    outcome.escalated = automatic->SolveExact(scene, steps);
+    return outcome;
+  }
+  outcome.settled = std::move(spectral->result);
+  return outcome;
+}
+
 }  // namespace
 
 SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options) {
@@ -504,7 +533,24 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
       return std::move(*refined);
     }
   }
-  result.trajectory = solver.SolveRevolution(scene, result.steps);
+  std::optional<Trajectory> escalated;
+  if (options.angles == AngleMode::kSpectral) {
+    SpectralOutcome outcome = SimulateSpectralRung(scene, solver, options, result.steps);
+    if (outcome.settled) {
+      SimulationResult& settled = *outcome.settled;
+      if (settled.status != Status::kOk) return std::move(settled);
+      const Equilibrium nominal = solver.SolveStatic(engine::WithoutErrors(scene));
+      if (nominal.status != Status::kOk) {
+        result.status = nominal.status;
+        result.message = "the error-free assembly has no valid static equilibrium: " + nominal.message;
+        return result;
+      }
+      settled.static_offset = (settled.trajectory.initial.centre - nominal.centre).norm();
+      return std::move(settled);
+    }
+    escalated = std::move(outcome.escalated);
+  }
+  result.trajectory = escalated ? std::move(*escalated) : solver.SolveRevolution(scene, result.steps);
   if (!result.trajectory.rung) result.trajectory.rung = ValueNamed(kRungNames, solver.name());
   // One verdict for every rung: a rung's own checks may miss what another's catch.
   const ValidityCheck validity(scene);

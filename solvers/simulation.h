@@ -33,9 +33,15 @@ inline constexpr int kMaxSteps = 2000000;
 // hold those angles only. Linear and quasistatic rungs; the dynamic rung, a filtered
 // swing rule and bores a roller could bridge (a two-point search) stay dense, and a
 // sample that fails anywhere is rerun dense, which states the failure.
-enum class AngleMode { kDense, kRefined };
-inline constexpr NameTable<AngleMode, 2> kAngleModeNames = {
-    {{AngleMode::kDense, "dense"}, {AngleMode::kRefined, "refined"}}};
+// kSpectral: the linear rung (alone, or as auto's first step) read from its phasors at a
+// coarse grid of every `refine_stride`-th angle and the stretches a chord bound cannot
+// settle (solvers/spectral.h): D_trajectory, Dist_init, the force range, the error
+// estimate and the status equal the dense grid's to round-off; the sensor is read in
+// closed form, to second order, and the runout and swing from its whole signal. The
+// exact rungs, and scenes the bounds do not cover, run dense.
+enum class AngleMode { kDense, kRefined, kSpectral };
+inline constexpr NameTable<AngleMode, 3> kAngleModeNames = {
+    {{AngleMode::kDense, "dense"}, {AngleMode::kRefined, "refined"}, {AngleMode::kSpectral, "spectral"}}};
 
 struct SimulationOptions {
   // Angles per revolution, 0..kMaxSteps; 0 chooses them from the scene (ChooseSteps).

@@ -12,10 +12,11 @@
 //                                  SamplingErrorBound); 0 resolves every undulation.
 //                                  The quasistatic solver then converges each angle to
 //                                  1 % of it (solvers::SolverSettings), else to 1 pm
-//     angles = "dense"             or "refined": evaluate every angle, or every eighth and
-//                                  only the stretches that can move D_trajectory, runout
-//                                  or the status (solvers::AngleMode; linear and
-//                                  quasistatic rungs, the others stay dense)
+//     angles = "dense"             "refined" or "spectral": evaluate every angle, or every
+//                                  eighth and only the stretches that can move D_trajectory,
+//                                  runout or the status (refined: linear and quasistatic
+//                                  rungs; spectral: the linear rung, alone or as auto's
+//                                  first step, read from its phasors; solvers::AngleMode)
 //     relative_tolerance = 1e-6    > 0 and < 1: the dynamic solver's integration tolerance
 //     start = "quasistatic_equilibrium"  or "article_settle": where the dynamic solver
 //                                  starts (solvers::DynamicStart); the other rungs ignore it

@@ -93,7 +93,8 @@ void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings,
          [&settings](const std::string& name) {
            settings.simulation.angles = *ValueNamed(ringtol::solvers::kAngleModeNames, name);
          },
-         "Angles evaluated at full cost: every one, or a coarse grid refined where the metrics could change")
+         "Angles evaluated at full cost: every one (dense), a coarse grid refined where the metrics could change "
+         "(refined), or the linear rung read from its phasors there (spectral; solvers/spectral.h)")
       ->check(CLI::IsMember(angle_modes))
       ->default_str(std::string(NameOf(ringtol::solvers::kAngleModeNames, settings.simulation.angles)));
   app.add_option("--relative-tolerance", settings.relative_tolerance, "Dynamic solver: integrator tolerance, > 0 and < 1")

@@ -113,8 +113,11 @@ std::string Micrometres(double value) { return std::isnan(value) ? "-" : fmt::fo
 std::vector<CampaignMode> DefaultCampaignModes(const solvers::SolverSettings& campaign) {
   std::vector<CampaignMode> modes;
   modes.push_back({"campaign", campaign});
-  for (const solvers::AngleMode angles : {solvers::AngleMode::kDense, solvers::AngleMode::kRefined}) {
+  for (const solvers::AngleMode angles :
+       {solvers::AngleMode::kDense, solvers::AngleMode::kRefined, solvers::AngleMode::kSpectral}) {
     for (const solvers::Rung rung : {solvers::Rung::kLinear, solvers::Rung::kQuasistatic, solvers::Rung::kAuto}) {
+      // The spectral mode reads the linear rung only: its quasistatic row would be the dense one.
+      if (angles == solvers::AngleMode::kSpectral && rung == solvers::Rung::kQuasistatic) continue;
       std::string name(NameOf(solvers::kRungNames, rung));
       if (angles != solvers::AngleMode::kDense) name += std::string(", ") + std::string(NameOf(solvers::kAngleModeNames, angles));
       // The campaign's own mode is timed once, first, under the name of the mode it is.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <numbers>
+#include <random>
 #include <utility>
 #include <vector>
 
@@ -68,6 +69,46 @@ inline engine::Scene CampaignLikeScene() {
     roller.outline = engine::PolarProfile(roller.outline.radius(), -1.5e-6, std::move(lobes));
     roller.radial_offset = 3e-6 * (static_cast<double>(i) - 1.0);
     roller.tangential_offset = 2e-6;
+  }
+  return scene;
+}
+
+// A draw shaped like the default campaign's (CampaignLikeScene), its phases and amplitudes
+// scattered: the ring's form up to 3x, the rollers' lobes up to `lobe_scale` times, the
+// roller positions within +-3 um.
+inline engine::Scene RandomCampaignLikeScene(std::mt19937_64& random, double lobe_scale) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  engine::Scene scene = PaperScene(engine::ContactLaw::Model::kPenalty);
+  std::vector<engine::Harmonic> ring = {{2, 60e-6 * 3.0 * unit(random), 6.3 * unit(random)}};
+  for (int n = 3; n <= 50; ++n) ring.push_back({n, 10e-6 / n * 3.0 * unit(random), 6.3 * unit(random)});
+  SetRing(scene, std::move(ring));
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    engine::Roller& roller = scene.rollers[i];
+    std::vector<engine::Harmonic> lobes;
+    for (int k = 1; k <= 8; ++k) lobes.push_back({k, lobe_scale * unit(random) * 2e-6 / k, 6.3 * unit(random)});
+    roller.outline = engine::PolarProfile(roller.outline.radius(), -1.5e-6, std::move(lobes));
+    roller.radial_offset = 6e-6 * (unit(random) - 0.5);
+    roller.tangential_offset = 6e-6 * (unit(random) - 0.5);
+  }
+  return scene;
+}
+
+// RandomCampaignLikeScene with a weak spring and a large third-order ring lobe: the
+// assembly lifts off for some draws, at angles a coarse grid need not contain.
+inline engine::Scene LiftingCampaignLikeScene(std::mt19937_64& random, int draw) {
+  engine::Scene scene = RandomCampaignLikeScene(random, 1.0);
+  scene.rollers[0].spring.preload = 0.2;
+  SetRing(scene, {{3, 150e-6, 0.3 * draw}, {40, 4e-6, 0.1 * draw}});
+  return scene;
+}
+
+// Roller lobes fast enough that the path's and the sensor signal's extremes fall between
+// every eighth angle of the step rule's grid.
+inline engine::Scene FastLobeScene() {
+  engine::Scene scene = PaperScene(engine::ContactLaw::Model::kPenalty);
+  SetRing(scene, {{2, 20e-6, 0.0}});
+  for (engine::Roller& roller : scene.rollers) {
+    roller.outline = engine::PolarProfile(roller.outline.radius(), 0.0, {{7, 3e-6, 0.4}});
   }
   return scene;
 }

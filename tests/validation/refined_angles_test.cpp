@@ -48,25 +48,6 @@ solvers::SimulationOptions Options(solvers::AngleMode angles, int steps = 0) {
   return options;
 }
 
-// A draw shaped like the default campaign's (tests/support/paper_scene.h), its phases and
-// amplitudes scattered: the ring's form up to 3x, the rollers' lobes up to `lobe_scale`.
-engine::Scene RandomScene(std::mt19937_64& random, double lobe_scale) {
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
-  std::vector<engine::Harmonic> ring = {{2, 60e-6 * 3.0 * unit(random), 6.3 * unit(random)}};
-  for (int n = 3; n <= 50; ++n) ring.push_back({n, 10e-6 / n * 3.0 * unit(random), 6.3 * unit(random)});
-  testing::SetRing(scene, std::move(ring));
-  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
-    engine::Roller& roller = scene.rollers[i];
-    std::vector<engine::Harmonic> lobes;
-    for (int k = 1; k <= 8; ++k) lobes.push_back({k, lobe_scale * unit(random) * 2e-6 / k, 6.3 * unit(random)});
-    roller.outline = engine::PolarProfile(roller.outline.radius(), -1.5e-6, std::move(lobes));
-    roller.radial_offset = 6e-6 * (unit(random) - 0.5);
-    roller.tangential_offset = 6e-6 * (unit(random) - 0.5);
-  }
-  return scene;
-}
-
 // The contact-force agreement at the quasistatic tolerance: a penetration error of the
 // Newton tolerance moves a penalty force F = k delta^e by e F / delta times it.
 double ForceAgreement(const engine::Scene& scene, const solvers::SimulationResult& dense) {
@@ -126,7 +107,7 @@ void ExpectSameAnswerOnDraws(const solvers::Solver& solver, std::uint64_t seed, 
   std::mt19937_64 random(seed);
   int failures = 0;
   for (int draw = 0; draw < draws; ++draw) {
-    ExpectSameAnswer(RandomScene(random, 1.0 + 4.0 * (draw % 3)), solver, agreement, draw, failures);
+    ExpectSameAnswer(testing::RandomCampaignLikeScene(random, 1.0 + 4.0 * (draw % 3)), solver, agreement, draw, failures);
   }
   EXPECT_LT(failures, draws / 2);
 }
@@ -147,9 +128,7 @@ TEST(RefinedAngles, StatusesAreTheDenseGridsWhereTheAssemblyLiftsOff) {
   const solvers::LinearSolver linear;
   int lifted = 0;
   for (int draw = 0; draw < 24; ++draw) {
-    engine::Scene scene = RandomScene(random, 1.0);
-    scene.rollers[0].spring.preload = 0.2;
-    testing::SetRing(scene, {{3, 150e-6, 0.3 * draw}, {40, 4e-6, 0.1 * draw}});
+    const engine::Scene scene = testing::LiftingCampaignLikeScene(random, draw);
     for (const solvers::Solver* solver : {static_cast<const solvers::Solver*>(&quasistatic),
                                           static_cast<const solvers::Solver*>(&linear)}) {
       const solvers::SimulationResult dense = solvers::Simulate(scene, *solver, Options(solvers::AngleMode::kDense));
@@ -167,11 +146,7 @@ TEST(RefinedAngles, StatusesAreTheDenseGridsWhereTheAssemblyLiftsOff) {
 // the refinement must still find the dense grid's extremes, exactly (the linear rung's
 // points are the same numbers in both modes).
 TEST(RefinedAngles, ExtremesBetweenCoarseAnglesAreFound) {
-  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
-  testing::SetRing(scene, {{2, 20e-6, 0.0}});
-  for (engine::Roller& roller : scene.rollers) {
-    roller.outline = engine::PolarProfile(roller.outline.radius(), 0.0, {{7, 3e-6, 0.4}});
-  }
+  const engine::Scene scene = testing::FastLobeScene();
   const solvers::LinearSolver linear;
   const solvers::QuasistaticSolver quasistatic(CampaignOptions());
   for (const auto& [solver, agreement] : {std::pair<const solvers::Solver*, double>{&linear, kLinearAgreement},

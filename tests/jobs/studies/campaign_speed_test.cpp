@@ -107,11 +107,11 @@ TEST(CampaignSpeed, TheCampaignsOwnModeRunsOnceUnderItsNameAndFirst) {
   std::vector<std::string> names;
   for (const CampaignMode& mode : DefaultCampaignModes(SmallCampaign().plan().solver)) names.push_back(mode.name);
   EXPECT_THAT(names, ::testing::ElementsAre("auto", "linear", "quasistatic", "linear, refined", "quasistatic, refined",
-                                            "auto, refined"));
+                                            "auto, refined", "linear, spectral", "auto, spectral"));
   solvers::SolverSettings dynamic = SmallCampaign().plan().solver;
   dynamic.rung = solvers::Rung::kDynamic;
   const std::vector<CampaignMode> modes = DefaultCampaignModes(dynamic);
-  ASSERT_EQ(modes.size(), 7u);
+  ASSERT_EQ(modes.size(), 9u);
   EXPECT_EQ(modes.front().name, "campaign");
   EXPECT_EQ(modes.front().solver.rung, solvers::Rung::kDynamic);
 }

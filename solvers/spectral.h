@@ -1,0 +1,56 @@
+// The linear rung read from its phasors (AngleMode::kSpectral, solvers/simulation.h): its
+// path is a sum of rotating phasors (solvers/linear.h LinearPath), so it is evaluated on a
+// coarse grid of every stride-th angle, and then only on the stretches between two coarse
+// angles where a chord bound (each term strays from its chord by at most
+// min(2, w^2 dpsi^2 / 8) of its amplitude) leaves open whether a dense angle there lies
+// outside the enclosing circle or beyond the contact forces' extremes, or whether a force
+// could reach zero or a travel its limit there. What is left unevaluated changes none of
+// these, so D_trajectory, Dist_init, the smallest and the largest contact force and the
+// status equal the dense evaluation's to round-off (each roller's own force range is read
+// at the evaluated angles, within its chord bound). The sensor is read in closed form
+// (LinearPath::Samples::signal) instead of by a Newton solve per angle; runout and swing
+// take the signal's first-order part at every angle (one vectorised series,
+// LinearPath::FirstOrderSignal) plus its second-order rest interpolated between the
+// evaluated angles, within LinearPath::Straying::signal_rest of the dense reading.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "engine/scene.h"
+#include "solvers/linear.h"
+#include "solvers/simulation.h"
+
+namespace ringtol::solvers {
+
+// What the auto rung weighs to let the linear path settle a scene (AutoSolver::
+// LinearVerdict), as the spectral evaluation knows it.
+struct LinearMargins {
+  double error_estimate = 0.0;        // [m] Trajectory::error_estimate
+  double smallest_force = 0.0;        // [N] over every contact and angle
+  double largest_force = 0.0;         // [N]
+  double reach = 0.0;                 // [m] the path's largest distance from its start
+  std::vector<double> largest_travel; // [m] per roller, an upper bound on |travel| (0 fixed)
+};
+
+struct SpectralResult {
+  SimulationResult result;  // all but static_offset, which needs the caller's solver
+  LinearMargins margins;
+  int evaluated = 0;        // angles evaluated at full cost, coarse and refined
+};
+
+// nullopt where the evaluation does not apply (a roller the bore might touch twice, which
+// needs a contact search at every angle; fewer than four coarse stretches; a path that
+// cannot be linearised) or where any evaluated angle fails the validity check: the dense
+// evaluation then runs and states the failure where it arises. steps >= 1, stride >= 2.
+// The linear rung's own range limit (LinearOptions) applies as in SolveRevolution.
+//
+// The error estimate (Trajectory::error_estimate) is the dense path's where it exceeds the
+// range limit or error_budget [m] (auto's budget; +infinity for the linear rung alone),
+// which then decide on the same number as the dense evaluation; below both, it is an
+// upper bound on the dense path's, from the evaluated angles and each stretch's chord
+// bound, and settles the same scenes.
+std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
+                                               int stride, double error_budget);
+
+}  // namespace ringtol::solvers

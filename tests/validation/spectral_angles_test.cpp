@@ -1,0 +1,197 @@
+// The spectral angle mode (solvers::AngleMode::kSpectral) against the dense reference on
+// the same grid. The linear rung's outputs at an angle are the same phasors summed in
+// another order, and what the mode leaves unevaluated is certified not to change
+// D_trajectory, Dist_init, the force range, the error estimate or the status: those must
+// agree to round-off. The sensor is read in closed form to second order instead of by
+// the exact ray intersection, and its second-order rest interpolated between evaluated
+// angles: runout and swing agree within that rest's chord bound plus the expansion's
+// third order.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <random>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+#include "engine/sensor.h"
+#include "solvers/auto.h"
+#include "solvers/linear.h"
+#include "solvers/simulation.h"
+#include "solvers/spectral.h"
+#include "tests/support/paper_scene.h"
+
+namespace ringtol {
+namespace {
+
+// Campaign resolution: a sampling budget of 1 um (jobs/campaign/campaign_file.h).
+constexpr double kPathTolerance = 1e-6;  // [m]
+// The same closed form summed in another order: ~1e3 ulp of a 0.3 m coordinate.
+constexpr double kRoundOff = 1e-12;  // [m]
+// The sensor's closed form drops r''' t^3 / 6 (t = c_t / r, the centre across the ray over
+// the bore's radius) and smaller terms: with |r'''| <= 0.05 m/rad^3 (a 5 um order-11 lobe
+// gives 7e-3) and c_t <= 500 um on a 0.15 m bore, 3e-10 m.
+constexpr double kSensorRest = 3e-10;  // [m]
+// A force of ~100 N to the same relative round-off.
+constexpr double kForceRoundOff = 1e-9;  // [N]
+
+solvers::SimulationOptions Options(solvers::AngleMode angles) {
+  solvers::SimulationOptions options;
+  options.path_tolerance = kPathTolerance;
+  options.angles = angles;
+  return options;
+}
+
+// How far the spectral signal may be from the exact reading of the same path.
+double SensorAgreement(const engine::Scene& scene, const solvers::LinearSolver& linear, int steps) {
+  const solvers::LinearPath path = linear.Path(scene, steps);
+  return path.StrayingAt(2.0 * std::numbers::pi * Options({}).refine_stride / steps).signal_rest + kSensorRest;
+}
+
+void ExpectSameAnswer(const engine::Scene& scene, const solvers::LinearSolver& linear, int draw, int& failures) {
+  const solvers::SimulationResult dense = solvers::Simulate(scene, linear, Options(solvers::AngleMode::kDense));
+  const solvers::SimulationResult spectral = solvers::Simulate(scene, linear, Options(solvers::AngleMode::kSpectral));
+  ASSERT_EQ(spectral.status, dense.status) << "draw " << draw << ": " << spectral.message << " / " << dense.message;
+  EXPECT_EQ(spectral.steps, dense.steps) << draw;
+  EXPECT_EQ(spectral.message, dense.message) << draw;
+  if (dense.status != solvers::Status::kOk) {
+    ++failures;
+    return;
+  }
+  EXPECT_NEAR(spectral.d_trajectory, dense.d_trajectory, kRoundOff) << draw;
+  EXPECT_NEAR(spectral.dist_init, dense.dist_init, kRoundOff) << draw;
+  EXPECT_NEAR(spectral.static_offset, dense.static_offset, kRoundOff) << draw;
+  // The estimate is the dense one, or an upper bound of it below the range limit.
+  EXPECT_GE(spectral.trajectory.error_estimate, dense.trajectory.error_estimate - kRoundOff) << draw;
+  // The smallest and the largest force are certified; each roller's own range is read at
+  // the evaluated angles, within its chord bound of the dense one.
+  EXPECT_NEAR(spectral.min_contact_force, dense.min_contact_force, kForceRoundOff) << draw;
+  const auto largest = [](const solvers::SimulationResult& result) {
+    double force = 0.0;
+    for (const solvers::RollerForceRange& range : result.contact_force) force = std::max(force, range.max);
+    return force;
+  };
+  EXPECT_NEAR(largest(spectral), largest(dense), kForceRoundOff) << draw;
+  const solvers::LinearPath path = linear.Path(scene, dense.steps);
+  const solvers::LinearPath::Straying straying =
+      path.StrayingAt(2.0 * std::numbers::pi * Options({}).refine_stride / dense.steps);
+  for (std::size_t i = 0; i < dense.contact_force.size(); ++i) {
+    EXPECT_NEAR(spectral.contact_force[i].min, dense.contact_force[i].min, straying.contact_force[i] + kForceRoundOff)
+        << draw << " roller " << i;
+    EXPECT_NEAR(spectral.contact_force[i].max, dense.contact_force[i].max, straying.contact_force[i] + kForceRoundOff)
+        << draw << " roller " << i;
+  }
+  const double sensor = SensorAgreement(scene, linear, dense.steps);
+  EXPECT_NEAR(spectral.runout, dense.runout, 2.0 * sensor) << draw;
+  // A rise and a counter-move each move by at most twice the signal's error.
+  EXPECT_NEAR(spectral.swing, dense.swing, 4.0 * sensor) << draw;
+  // The closed-form readings at the evaluated angles against the exact ones there.
+  for (std::size_t s = 0; s < spectral.trajectory.psi.size(); ++s) {
+    const auto k = static_cast<std::size_t>(std::lround(spectral.trajectory.psi[s] * dense.steps / (2.0 * std::numbers::pi)));
+    ASSERT_LT(k, dense.sensor.size());
+    EXPECT_NEAR(spectral.sensor[s], dense.sensor[k], sensor) << draw << " angle " << k;
+    EXPECT_NEAR((spectral.trajectory.centre[s] - dense.trajectory.centre[k]).norm(), 0.0, kRoundOff) << draw;
+  }
+}
+
+TEST(SpectralAngles, LinearRungMatchesTheDenseGridOnRandomCampaignDraws) {
+  std::mt19937_64 random(21);
+  const solvers::LinearSolver linear;
+  int failures = 0;
+  constexpr int kDraws = 48;
+  for (int draw = 0; draw < kDraws; ++draw) ExpectSameAnswer(testing::RandomCampaignLikeScene(random, 1.0 + 4.0 * (draw % 3)), linear, draw, failures);
+  EXPECT_LT(failures, kDraws / 2);
+}
+
+// auto in both modes: the same rung and, where the linear rung settles, its numbers; where
+// it does not, the same exact rung runs densely in both.
+TEST(SpectralAngles, AutoSettlesTheSameScenesOnTheSameRung) {
+  std::mt19937_64 random(5);
+  solvers::SolverSettings settings;
+  settings.rung = solvers::Rung::kAuto;
+  settings.simulation.path_tolerance = kPathTolerance;
+  const std::unique_ptr<solvers::Solver> solver = solvers::MakeSolver(settings);
+  int linear = 0, exact = 0;
+  for (int draw = 0; draw < 24; ++draw) {
+    const engine::Scene scene = testing::RandomCampaignLikeScene(random, 1.0 + 4.0 * (draw % 3));
+    const solvers::SimulationResult dense = solvers::Simulate(scene, *solver, Options(solvers::AngleMode::kDense));
+    const solvers::SimulationResult spectral = solvers::Simulate(scene, *solver, Options(solvers::AngleMode::kSpectral));
+    ASSERT_EQ(spectral.status, dense.status) << draw << ": " << spectral.message;
+    ASSERT_TRUE(dense.trajectory.rung && spectral.trajectory.rung) << draw;
+    EXPECT_EQ(*spectral.trajectory.rung, *dense.trajectory.rung) << draw;
+    if (dense.status != solvers::Status::kOk) continue;
+    (*dense.trajectory.rung == solvers::Rung::kLinear ? linear : exact) += 1;
+    EXPECT_NEAR(spectral.d_trajectory, dense.d_trajectory, kRoundOff) << draw;
+    EXPECT_NEAR(spectral.static_offset, dense.static_offset, kRoundOff) << draw;
+    EXPECT_NEAR(spectral.runout, dense.runout, 2.0 * SensorAgreement(scene, solvers::LinearSolver(), dense.steps)) << draw;
+  }
+  EXPECT_GT(linear, 0) << "no draw settled on the linear rung: the test shows nothing";
+  EXPECT_GT(exact, 0) << "no draw went to the exact rungs: the test shows nothing";
+}
+
+// Large spring-roller lobes and a weak spring: the assembly lifts off for some draws, at
+// angles the coarse grid need not contain; the statuses and messages are the dense grid's.
+TEST(SpectralAngles, StatusesAreTheDenseGridsWhereTheAssemblyLiftsOff) {
+  std::mt19937_64 random(3);
+  const solvers::LinearSolver linear;
+  int lifted = 0;
+  for (int draw = 0; draw < 24; ++draw) {
+    const engine::Scene scene = testing::LiftingCampaignLikeScene(random, draw);
+    const solvers::SimulationResult dense = solvers::Simulate(scene, linear, Options(solvers::AngleMode::kDense));
+    const solvers::SimulationResult spectral = solvers::Simulate(scene, linear, Options(solvers::AngleMode::kSpectral));
+    ASSERT_EQ(spectral.status, dense.status) << draw << ": " << spectral.message;
+    EXPECT_EQ(spectral.message, dense.message) << draw;
+    lifted += dense.status == solvers::Status::kLiftOff;
+  }
+  EXPECT_GT(lifted, 0) << "no draw lifted off: the test shows nothing";
+}
+
+// Lobes fast enough that the path's extremes fall between coarse angles; the refinement
+// must still find the dense grid's, exactly.
+TEST(SpectralAngles, ExtremesBetweenCoarseAnglesAreFound) {
+  const engine::Scene scene = testing::FastLobeScene();
+  const solvers::LinearSolver linear;
+  const solvers::SimulationResult dense = solvers::Simulate(scene, linear, Options(solvers::AngleMode::kDense));
+  const solvers::SimulationResult spectral = solvers::Simulate(scene, linear, Options(solvers::AngleMode::kSpectral));
+  ASSERT_EQ(dense.status, solvers::Status::kOk) << dense.message;
+  ASSERT_EQ(spectral.status, solvers::Status::kOk) << spectral.message;
+  const int stride = Options({}).refine_stride;
+  const std::vector<Eigen::Vector2d>& path = dense.trajectory.centre;
+  const auto from_centre = [&](const Eigen::Vector2d& c) { return (c - dense.enclosing_circle.centre).norm(); };
+  const auto farthest = std::ranges::max_element(path, {}, from_centre) - path.begin();
+  EXPECT_NE(farthest % stride, 0) << "the scene does not test what it claims";
+  EXPECT_NEAR(spectral.d_trajectory, dense.d_trajectory, kRoundOff);
+  EXPECT_NEAR(spectral.runout, dense.runout, 2.0 * SensorAgreement(scene, linear, dense.steps));
+}
+
+// The closed-form reading against the exact ray intersection on a path with a large
+// centre excursion across the ray, where the second-order terms matter.
+TEST(SpectralAngles, ClosedFormSensorReadingIsTheExactOneToSecondOrder) {
+  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
+  testing::SetRing(scene, {{2, 100e-6, 0.3}, {5, 20e-6, 1.0}, {11, 5e-6, 2.0}});
+  scene.sensor_angle = 0.7;
+  const solvers::LinearSolver linear;
+  solvers::LinearPath path = linear.Path(scene, 720);
+  ASSERT_EQ(path.status(), solvers::Status::kOk) << path.message();
+  solvers::LinearPath::Samples samples;
+  path.EvaluateCoarse(8, samples);
+  double theta = scene.sensor_angle;
+  double worst = 0.0;
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    const double psi = 2.0 * std::numbers::pi * samples.index[s] / 720.0;
+    const engine::SensorReading exact =
+        engine::ReadSensor(scene.ring.inner, {samples.centre[s], psi}, scene.sensor_angle, theta);
+    theta = exact.ring_theta;
+    worst = std::max(worst, std::abs(samples.signal[s] - exact.distance));
+  }
+  EXPECT_LT(worst, kSensorRest);
+  std::ostringstream worst_text;
+  worst_text << std::scientific << worst;
+  RecordProperty("worst_reading_error_m", worst_text.str());
+}
+
+}  // namespace
+}  // namespace ringtol
