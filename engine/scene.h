@@ -139,6 +139,16 @@ int FixedRollerCount(const Scene& scene);
 // static offset, so the contact compliance of a perfect assembly is not counted as error.
 Scene WithoutErrors(const Scene& scene);
 
+// WithoutErrors(a) == WithoutErrors(b), found without building either: a solver's nominal
+// cache asks it of every sample, where building the error-free scene and comparing it
+// whole costs more than the lookup saves. Error-free profiles are circles, equal when
+// their radii are.
+bool SameWithoutErrors(const Scene& a, const Scene& b);
+
+// !(WithoutErrors(scene) == scene), found without building it: whether any shape or
+// position error is present.
+bool HasErrors(const Scene& scene);
+
 // Fastest undulation rate the centre path can contain [cycles per ring revolution]:
 // ring orders pass at their order, roller orders at order * R / r_b.
 double FastestHarmonicRate(const Scene& scene);

@@ -638,7 +638,7 @@ void FillEquilibrium(const Linearisation& lin, const Eigen::VectorXd& y, Equilib
 }  // namespace
 
 std::shared_ptr<const NominalResponse> LinearSolver::Nominal(const Scene& scene) const {
-  return nominal_.Get(engine::WithoutErrors(scene),
+  return nominal_.Get(scene,
                       [this](engine::Scene perfect) { return ComputeNominal(std::move(perfect), options_.nominal); });
 }
 

@@ -17,15 +17,20 @@ namespace ringtol::solvers {
 template <typename Value>
 class NominalCache {
  public:
-  // The kept entry when its key is `perfect`, else compute(std::move(perfect)), which is
-  // then kept.
+  // The kept entry when its key is engine::WithoutErrors(scene), else
+  // compute(engine::WithoutErrors(scene)), which is then kept. A hit builds no scene: the
+  // key is compared field by field with what `scene` keeps of itself without errors
+  // (engine::SameWithoutErrors), every sample of a campaign, outside the lock (an entry
+  // is never modified once kept).
   template <typename Compute>
-  std::shared_ptr<const Value> Get(engine::Scene perfect, Compute&& compute) const {
+  std::shared_ptr<const Value> Get(const engine::Scene& scene, Compute&& compute) const {
+    std::shared_ptr<const Value> kept;
     {
       const std::lock_guard<std::mutex> lock(mutex_);
-      if (kept_ != nullptr && kept_->perfect == perfect) return kept_;
+      kept = kept_;
     }
-    std::shared_ptr<const Value> value = std::forward<Compute>(compute)(std::move(perfect));
+    if (kept != nullptr && engine::SameWithoutErrors(kept->perfect, scene)) return kept;
+    std::shared_ptr<const Value> value = std::forward<Compute>(compute)(engine::WithoutErrors(scene));
     const std::lock_guard<std::mutex> lock(mutex_);
     kept_ = value;
     return value;

@@ -534,10 +534,10 @@ struct NominalStatics {
   std::vector<TrackedContact> contacts;
 };
 
-std::shared_ptr<const NominalStatics> QuasistaticSolver::Nominal(engine::Scene perfect) const {
-  return nominal_.Get(std::move(perfect), [this](engine::Scene key) {
+std::shared_ptr<const NominalStatics> QuasistaticSolver::Nominal(const Scene& scene) const {
+  return nominal_.Get(scene, [this](engine::Scene perfect) {
     auto nominal = std::make_shared<NominalStatics>();
-    nominal->perfect = std::move(key);
+    nominal->perfect = std::move(perfect);
     const EquilibriumSystem system(nominal->perfect);
     nominal->equilibrium = SolveStatic(system, nominal->x, nominal->contacts);
     return std::shared_ptr<const NominalStatics>(std::move(nominal));
@@ -547,13 +547,12 @@ std::shared_ptr<const NominalStatics> QuasistaticSolver::Nominal(engine::Scene p
 Equilibrium QuasistaticSolver::SolveStaticFromNominal(const EquilibriumSystem& system, Eigen::VectorXd& x,
                                                       std::vector<TrackedContact>& contacts) const {
   const Scene& scene = system.scene();
-  engine::Scene perfect = engine::WithoutErrors(scene);
-  const bool has_errors = !(perfect == scene);
+  const bool has_errors = engine::HasErrors(scene);
   Equilibrium refused;
   refused.status = CheckSceneGeometry(scene, refused.message);
   if (refused.status != Status::kOk) return refused;
   if (has_errors && !(system.rigid() && engine::FixedRollerCount(scene) > 2)) {
-    const std::shared_ptr<const NominalStatics> nominal = Nominal(std::move(perfect));
+    const std::shared_ptr<const NominalStatics> nominal = Nominal(scene);
     if (nominal->equilibrium.status == Status::kOk && nominal->x.size() == system.size()) {
       x = nominal->x;
       contacts = nominal->contacts;
@@ -582,7 +581,7 @@ Equilibrium QuasistaticSolver::SolveStaticFromNominal(const EquilibriumSystem& s
       }
     }
   } else if (!has_errors) {
-    const std::shared_ptr<const NominalStatics> nominal = Nominal(std::move(perfect));
+    const std::shared_ptr<const NominalStatics> nominal = Nominal(scene);
     x = nominal->x;
     contacts = nominal->contacts;
     return nominal->equilibrium;

@@ -103,7 +103,8 @@ class QuasistaticSolver final : public Solver {
   // when the scene has errors and that settles, else searched from scratch.
   Equilibrium SolveStaticFromNominal(const EquilibriumSystem& system, Eigen::VectorXd& x,
                                      std::vector<TrackedContact>& contacts) const;
-  std::shared_ptr<const NominalStatics> Nominal(engine::Scene perfect) const;
+  // The error-free assembly of `scene`, cached.
+  std::shared_ptr<const NominalStatics> Nominal(const engine::Scene& scene) const;
   // The static equilibrium as a revolution's angle 0, recorded in `trajectory`; false
   // (with the trajectory's status saying why) when there is none.
   bool StartRevolution(const EquilibriumSystem& system, Eigen::VectorXd& x, std::vector<TrackedContact>& contacts,

@@ -24,10 +24,26 @@
 
 namespace {
 
+// Open MPI's defaults for a process started without a launcher, where it is the only rank:
+// no daemon (Open MPI's singleton otherwise forks and execs an orted to support spawning
+// ranks, which ringtol never does), and no transport to other processes (the PSM2 one's
+// library alone sleeps about 0.2 s when loaded). Together they cost about half the wall
+// time of a 16-sample campaign (docs/dependencies.md §4). The user's own settings of these
+// variables win.
+void PrepareSingletonMpi() {
+  for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
+    if (std::getenv(launched) != nullptr) return;
+  }
+  setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+  setenv("OMPI_MCA_pml", "ob1", 0);
+  setenv("OMPI_MCA_btl", "self", 0);
+}
+
 // `ringtol campaign`, `ringtol allocate` and `ringtol bench allocate` are the MPI commands:
 // they run alone as a singleton or under mpirun.
 template <typename Run>
 int RunMpiCommand(Run run) {
+  PrepareSingletonMpi();
   int provided = 0;
   if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
     std::cerr << "ringtol: error: MPI could not start (MPI_Init_thread failed); under mpirun as root, pass "

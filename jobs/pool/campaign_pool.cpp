@@ -31,9 +31,19 @@ constexpr int kTagStopping = 3;
 constexpr char kRecords = 0;    // packed records, for rank 0 to file
 constexpr char kSummaries = 1;  // summaries of records the worker filed in its shard
 constexpr std::int64_t kPendingBlock = std::int64_t{1} << 16;  // indices read from the file at a time
-// Rank 0's main thread sleeps this long when nothing arrived, instead of spinning on a
-// core a worker could use; it is far below any chunk's duration.
-constexpr auto kIdlePoll = std::chrono::microseconds(200);
+// While worker ranks compute, rank 0's main thread looks for their messages this often.
+// Open MPI has no blocking wait that sleeps: MPI_Probe, MPI_Recv and MPI_Waitany spin on
+// a core until the message comes (measured: 0.43 s of CPU in a 1 s MPI_Probe on a loaded
+// machine, all of one in a quiet one), so a short sleep between MPI_Iprobes costs a
+// computing thread less; and it is far below any chunk's duration, which the worker
+// waiting for its reply idles.
+constexpr auto kMessagePoll = std::chrono::microseconds(200);
+// Otherwise rank 0's main thread sleeps until one of its computing threads finishes a
+// chunk, a commit is due, or this long has passed: it then collects what the threads
+// finished (progress) and looks at the stop request. A signal's handler can only set a
+// flag, so this bounds how late rank 0 sees it when no thread of its own computes (they
+// look between samples, finish their chunk and wake it).
+constexpr auto kWakeAtLeastEvery = std::chrono::milliseconds(50);
 
 using Clock = std::chrono::steady_clock;
 
@@ -252,11 +262,41 @@ class PendingCursor {
   std::size_t at_ = 0;
 };
 
-// Rank 0's own computing thread, fed a chunk at a time like a remote worker.
+// What rank 0's computing threads ring when its main thread has work to do; the main
+// thread sleeps on it.
+class Doorbell {
+ public:
+  void Ring() {
+    {
+      std::lock_guard lock(mutex_);
+      ++rings_;
+    }
+    wake_.notify_one();
+  }
+  // Rings so far: the argument of a later WaitAfter.
+  std::uint64_t rings() {
+    std::lock_guard lock(mutex_);
+    return rings_;
+  }
+  // Returns at the first ring after `seen` rings, or at `deadline`.
+  void WaitAfter(std::uint64_t seen, Clock::time_point deadline) {
+    std::unique_lock lock(mutex_);
+    wake_.wait_until(lock, deadline, [&] { return rings_ != seen; });
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::uint64_t rings_ = 0;
+};
+
+// Rank 0's own computing thread, fed a chunk at a time like a remote worker. It rings
+// `doorbell` when it wants work, has stopped or failed, and, when `eager`, at every
+// finished sample.
 class LocalWorker {
  public:
-  LocalWorker(const PoolWork& work, const PoolOptions& options)
-      : thread_([this, &work, &options] { Run(work, options); }) {}
+  LocalWorker(const PoolWork& work, const PoolOptions& options, Doorbell& doorbell, bool eager)
+      : doorbell_(doorbell), eager_(eager), thread_([this, &work, &options] { Run(work, options); }) {}
   ~LocalWorker() {
     Stop();
     thread_.join();
@@ -315,19 +355,31 @@ class LocalWorker {
         for (const std::int64_t index : chunk) {
           if (abandon_ || StopRequest(options) != 0) break;
           SampleRecord record = evaluate(index);
-          std::lock_guard lock(mutex_);
-          finished_.push_back(std::move(record));
+          {
+            std::lock_guard lock(mutex_);
+            finished_.push_back(std::move(record));
+          }
+          if (eager_) doorbell_.Ring();
         }
-        std::lock_guard lock(mutex_);
-        busy_ = false;
+        {
+          std::lock_guard lock(mutex_);
+          busy_ = false;
+        }
+        doorbell_.Ring();
       }
     } catch (...) {
-      std::lock_guard lock(mutex_);
-      error_ = std::current_exception();
-      busy_ = has_work_ = false;
-      stop_ = true;
+      {
+        std::lock_guard lock(mutex_);
+        error_ = std::current_exception();
+        busy_ = has_work_ = false;
+        stop_ = true;
+      }
+      doorbell_.Ring();
     }
   }
+
+  Doorbell& doorbell_;
+  const bool eager_;
 
   std::mutex mutex_;
   std::condition_variable wake_;
@@ -427,8 +479,12 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
                             Seconds(Clock::now() - start)});
   };
 
+  // With commits due more often than rank 0 would otherwise wake, every finished sample
+  // wakes it.
+  const bool eager = options.commit_seconds < std::chrono::duration<double>(kWakeAtLeastEvery).count();
+  Doorbell doorbell;
   std::vector<std::unique_ptr<LocalWorker>> locals;
-  for (int t = 0; t < threads; ++t) locals.push_back(std::make_unique<LocalWorker>(work, options));
+  for (int t = 0; t < threads; ++t) locals.push_back(std::make_unique<LocalWorker>(work, options, doorbell, eager));
   // From the first stop request on, no more work is handed out (next_chunk is empty).
   auto stop = [&](int request) {
     if (request == 0 || report.stopped != 0) return;
@@ -440,11 +496,12 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
   std::vector<char> message;
   tell();
   for (;;) {
+    const std::uint64_t rung = doorbell.rings();
     const Clock::time_point round = Clock::now();
     const double round_cpu = ThreadCpuSeconds();
     bool arrived = false;
     stop(StopRequest(options));
-    for (;;) {
+    while (active_workers > 0) {
       int flag = 0;
       MPI_Status status;
       Check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, communicator, &flag, &status), "MPI_Iprobe");
@@ -502,7 +559,13 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
       report.coordinator_cpu_time += ThreadCpuSeconds() - round_cpu;
       tell();
     } else {
-      std::this_thread::sleep_for(kIdlePoll);
+      Clock::time_point wake = Clock::now() + (active_workers > 0 ? Clock::duration(kMessagePoll)
+                                                                   : Clock::duration(kWakeAtLeastEvery));
+      if (store.buffered() > 0 && options.commit_seconds < Seconds(wake - last_commit)) {
+        wake = last_commit + std::chrono::duration_cast<Clock::duration>(
+                                 std::chrono::duration<double>(options.commit_seconds));
+      }
+      doorbell.WaitAfter(rung, wake);
     }
   }
   locals.clear();

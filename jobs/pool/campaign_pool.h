@@ -24,6 +24,13 @@
 // Results do not depend on the number of ranks, the chunk sizes or the order samples
 // finish in: a sample is a pure function of (campaign, index) and lands at its index.
 //
+// Waiting: rank 0's main thread sleeps on a condition variable that its computing threads
+// signal when they finish a chunk (or stop, or fail), with a deadline at the next due
+// commit and at most 50 ms away; at each wake it collects what they finished (progress)
+// and looks at the stop request. While worker ranks compute it also looks for their
+// messages every 200 us: Open MPI's blocking receives and probes do not sleep but spin
+// on a core, which would take it from a computing thread.
+//
 // Stopping early (PoolOptions::stop, e.g. on SIGTERM through jobs/pool/stop_signals.h):
 // every computing thread polls it between samples. A worker that sees it sends what it
 // has finished of its chunk, flagged as a stop, and abandons the rest; the coordinator,
@@ -54,7 +61,9 @@ struct PoolOptions {
   // join by copying whole chunks; 0: chunks end anywhere.
   std::int64_t align_samples = 0;
   double chunk_seconds = 0.5;      // [s] > 0: adaptive chunks' target wall time
-  double commit_seconds = 2.0;     // [s] > 0: results reach the file at least this often
+  // [s] >= 0: results reach the file at least this often (about 50 ms later when samples
+  // finish in the middle of a chunk; below 50 ms, every finished sample wakes rank 0)
+  double commit_seconds = 2.0;
   // Whether rank 0 computes beside coordinating: -1 chooses (yes below 16 ranks, where
   // its share of the work outweighs the added latency of its replies), 0 no, 1 yes.
   // With one rank it always computes.

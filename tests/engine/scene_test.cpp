@@ -1,0 +1,88 @@
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+#include "tests/support/paper_scene.h"
+
+namespace ringtol {
+namespace {
+
+// One change to a scene, and whether it changes only the scene's errors.
+struct Change {
+  std::string name;
+  bool error;
+  std::function<void(engine::Scene&)> apply;
+};
+
+// A change to every field of Scene, Ring and Roller (engine/scene.h), applied to a scene
+// that has errors already.
+std::vector<Change> EveryField() {
+  const std::vector<engine::Harmonic> lobes = {{3, 1e-6, 0.2}};
+  return {
+      {"ring form", true, [lobes](engine::Scene& s) { testing::SetRing(s, lobes); }},
+      {"ring form of zero amplitude", true, [](engine::Scene& s) { testing::SetRing(s, {{4, 0.0, 0.0}}); }},
+      {"ring bore", false, [](engine::Scene& s) { s.ring.inner = engine::PolarProfile(0.303, 0.0, {}); }},
+      {"ring outer radius", false, [](engine::Scene& s) { s.ring.outer_radius += 1e-3; }},
+      {"ring thickness", false, [](engine::Scene& s) { s.ring.thickness += 1e-3; }},
+      {"ring mass", false, [](engine::Scene& s) { s.ring.mass += 0.1; }},
+      {"ring spin inertia", false, [](engine::Scene& s) { s.ring.spin_inertia += 0.01; }},
+      {"roller name", false, [](engine::Scene& s) { s.rollers[1].name = "other"; }},
+      {"roller angle", false, [](engine::Scene& s) { s.rollers[1].angle += 1e-3; }},
+      {"roller centre radius", false, [](engine::Scene& s) { s.rollers[1].centre_radius += 1e-6; }},
+      {"roller radial offset", true, [](engine::Scene& s) { s.rollers[1].radial_offset += 1e-6; }},
+      {"roller tangential offset", true, [](engine::Scene& s) { s.rollers[1].tangential_offset += 1e-6; }},
+      {"roller form", true,
+       [lobes](engine::Scene& s) { s.rollers[1].outline = engine::PolarProfile(0.005, 0.0, lobes); }},
+      {"roller mean diameter", true,
+       [](engine::Scene& s) { s.rollers[1].outline = engine::PolarProfile(0.005, -2e-6, {}); }},
+      {"roller radius", false, [](engine::Scene& s) { s.rollers[1].outline = engine::PolarProfile(0.006, 0.0, {}); }},
+      {"roller phase reference", false,
+       [](engine::Scene& s) { s.rollers[1].phase_reference = engine::ShapePhaseReference::kGlobal; }},
+      {"roller spin phase", false, [](engine::Scene& s) { s.rollers[1].spin_phase += 0.1; }},
+      {"roller mount", false, [](engine::Scene& s) { s.rollers[1].mount = engine::RollerMount::kSpring; }},
+      {"roller spring", false, [](engine::Scene& s) { s.rollers[0].spring.stiffness *= 1.1; }},
+      {"roller mass", false, [](engine::Scene& s) { s.rollers[1].mass *= 1.1; }},
+      {"roller spin inertia", false, [](engine::Scene& s) { s.rollers[1].spin_inertia *= 1.1; }},
+      {"roller count", false, [](engine::Scene& s) { s.rollers.pop_back(); }},
+      {"roller positions", true, [lobes](engine::Scene& s) { testing::SetRollerPositions(s, lobes); }},
+      {"roller positions' radius", false,
+       [](engine::Scene& s) { s.roller_positions = engine::PolarProfile(2.0, 0.0, {}); }},
+      {"contact law", false, [](engine::Scene& s) { s.contact.stiffness *= 1.1; }},
+      {"friction", false, [](engine::Scene& s) { s.friction.static_coefficient += 0.01; }},
+      {"sensor angle", false, [](engine::Scene& s) { s.sensor_angle += 0.1; }},
+      {"sensor swing", false, [](engine::Scene& s) { s.sensor_swing.cutoff_upr = 50.0; }},
+      {"motion", false, [](engine::Scene& s) { s.motion = engine::TestBenchLaw(); }},
+      {"dynamics", false, [](engine::Scene& s) { s.dynamics.friction = false; }},
+  };
+}
+
+TEST(SameWithoutErrors, AgreesWithComparingTheScenesWithoutErrorsForAChangeToEveryField) {
+  const engine::Scene base = testing::CampaignLikeScene();
+  for (const Change& change : EveryField()) {
+    engine::Scene changed = base;
+    change.apply(changed);
+    const bool reference = engine::WithoutErrors(base) == engine::WithoutErrors(changed);
+    EXPECT_EQ(reference, change.error) << change.name;
+    EXPECT_EQ(engine::SameWithoutErrors(base, changed), reference) << change.name;
+    EXPECT_EQ(engine::SameWithoutErrors(changed, base), reference) << change.name;
+    EXPECT_EQ(engine::SameWithoutErrors(engine::WithoutErrors(base), changed), reference) << change.name;
+  }
+}
+
+TEST(HasErrors, AgreesWithComparingTheSceneWithItselfWithoutErrors) {
+  const engine::Scene perfect = testing::PaperScene();
+  EXPECT_FALSE(engine::HasErrors(perfect));
+  EXPECT_TRUE(engine::HasErrors(testing::CampaignLikeScene()));
+  for (const Change& change : EveryField()) {
+    engine::Scene changed = perfect;
+    change.apply(changed);
+    EXPECT_EQ(engine::HasErrors(changed), !(engine::WithoutErrors(changed) == changed)) << change.name;
+    EXPECT_EQ(engine::HasErrors(changed), change.error) << change.name;
+  }
+}
+
+}  // namespace
+}  // namespace ringtol
