@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 
 #include <Eigen/Core>
@@ -100,6 +102,17 @@ const ScanAngles& ScanAnglesOf(int order, int samples, double step) {
 
 }  // namespace
 
+// What a profile that is not a circle builds on demand: each part once, published by an
+// atomic pointer whose acquire load is all that later readers pay.
+struct PolarProfile::Derived {
+  std::once_flag table_once;
+  std::atomic<const SampleTable*> table{nullptr};
+  SampleTable table_storage;
+  std::once_flag extremes_once;
+  std::atomic<const OutlineExtremes*> extremes{nullptr};
+  OutlineExtremes extremes_storage;
+};
+
 PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Harmonic> harmonics)
     : radius_(radius), mean_deviation_(mean_deviation), harmonics_(std::move(harmonics)) {
   if (!(radius > 0.0) || !std::isfinite(radius)) {
@@ -118,6 +131,9 @@ PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Har
     cos_coefficients_[n] += h.amplitude * std::cos(h.phase);
     sin_coefficients_[n] += h.amplitude * std::sin(h.phase);
   }
+  double moments[4] = {0.0, 0.0, 0.0, 0.0};
+  double sixth = 0.0;
+  terms_.reserve(static_cast<std::size_t>(max_order));
   for (std::size_t n = 1; n < cos_coefficients_.size(); ++n) {
     const double a = cos_coefficients_[n];
     const double b = sin_coefficients_[n];
@@ -131,14 +147,87 @@ PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Har
     support_bound_.series +=
         (order * order * order * order * order / 24.0 + 5.0 * order * order * order / 12.0 + 5.0 * order / 24.0) *
         amplitude;
+    moments[0] += amplitude;
+    moments[1] += order * amplitude;
+    moments[2] += order * order * amplitude;
+    moments[3] += order * order * order * amplitude;
+    sixth += (order * order * order) * (order * order * order) * amplitude;
   }
   support_bound_.even += radius_ + mean_deviation_;
-  if (this->max_order() >= kSampledOrders) {
-    auto table = std::make_shared<SampleTable>();
-    table->count = SampleCount(cos_coefficients_, sin_coefficients_, kSampleTolerance);
-    const int count = table->count;
+  if (sampled()) sample_count_ = SampleCount(cos_coefficients_, sin_coefficients_, kSampleTolerance);
+  BoundExtremes(moments, sixth);
+  if (!is_circle()) derived_.state = std::make_shared<Derived>();
+}
+
+void PolarProfile::BoundExtremes(const double (&moments)[4], double sixth) {
+  const double rho = radius_ + mean_deviation_;
+  if (is_circle()) {
+    // FindExtremes' answer for a circle, exactly.
+    bounds_.min_radius = bounds_.max_radius = rho;
+    bounds_.min_curvature = bounds_.max_curvature = 1.0 / rho;
+    return;
+  }
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  const double orders = max_order();
+  // How far an evaluated r, r', r'' [m, m/rad, m/rad^2] may be from the true one. Summed:
+  // the angle-addition recurrence drifts by a few roundings per order and the sum rounds
+  // once per term, each relative to its running size (rho for r): 16 max_order eps times
+  // the moment. Interpolated from the table (sampled profiles; the scan reads it): the
+  // quintic Hermite error h^6 f6 / 46080 for r and, by Rolle, the derivatives' error
+  // vanishing at 5 and 4 points of the cell, h^5 f6 / 1920 and h^4 f6 / 96, f6 <= sum n^6
+  // C_n; the nodes' round-off (radius added once, the FFT's log2 count stages, each a few
+  // roundings of the spectrum's size <= sum C_n since n h < 1) times what the interpolant
+  // makes of it, 64, 240 and 720 (its coefficients' absolute sums, in units of h^k); and the
+  // cell position's rounding, 2 pi eps of angle, times the next moment.
+  double error[3];
+  for (int k = 0; k < 3; ++k) error[k] = 16.0 * orders * kEps * (moments[k] + (k == 0 ? std::abs(rho) : 0.0));
+  if (sample_count_ > 0) {
+    const double h = 2.0 * std::numbers::pi / sample_count_;
+    const double node = kEps * (std::abs(rho) + moments[0]) + 8.0 * (std::log2(sample_count_) + 4.0) * kEps * moments[0];
+    const double h4 = h * h * h * h;
+    const double interpolation[3] = {h4 * h * h * sixth / 46080.0, h4 * h * sixth / 1920.0, h4 * sixth / 96.0};
+    const double propagation[3] = {64.0 * node, 240.0 * node / h, 720.0 * node / (h * h)};
+    for (int k = 0; k < 3; ++k) error[k] += interpolation[k] + propagation[k] + 16.0 * kEps * moments[k + 1];
+  }
+  const double r_lo = rho - moments[0] - error[0];
+  const double r_hi = rho + moments[0] + error[0];
+  const double slope = moments[1] + error[1];      // >= |r'|
+  const double bend = moments[2] + error[2];       // >= |r''|
+  // r - r'' = rho + sum (n^2 + 1) C_n cos(...) lies in [rho - spread, rho + spread]; the
+  // curvature's numerator r (r - r'') + 2 r'^2 then lies in [r_lo m, r_hi M + 2 r'^2], its
+  // denominator (r^2 + r'^2)^(3/2) in [r_lo^3, (r_hi^2 + r'^2)^(3/2)], and Curvature's own
+  // round-off is a few eps of the numerator's terms.
+  const double spread = moments[0] + moments[2] + error[0] + error[2];
+  const double m = rho - spread;
+  const double rounding = 8.0 * kEps * (r_hi * r_hi + 2.0 * slope * slope + r_hi * bend);
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  // A final 64 eps, outward, for the roundings of the bounds themselves and of the
+  // curvature's denominator and division.
+  constexpr double kOutward = 64.0 * kEps;
+  bounds_.min_radius = r_lo - kOutward * std::abs(r_lo);
+  bounds_.max_radius = r_hi + kOutward * std::abs(r_hi);
+  bounds_.min_curvature = -kInfinity;
+  bounds_.max_curvature = kInfinity;
+  if (r_lo > 0.0) {
+    const double high = (r_hi * (rho + spread) + 2.0 * slope * slope + rounding) / (r_lo * r_lo * r_lo);
+    bounds_.max_curvature = high + kOutward * std::abs(high);
+    if (m > 0.0) {
+      const double q = r_hi * r_hi + slope * slope;
+      const double low = (r_lo * m - rounding) / (q * std::sqrt(q));
+      bounds_.min_curvature = low - kOutward * std::abs(low);
+    }
+  }
+}
+
+const PolarProfile::SampleTable& PolarProfile::Table() const {
+  Derived& derived = *derived_.state;
+  if (const SampleTable* table = derived.table.load(std::memory_order_acquire)) return *table;
+  std::call_once(derived.table_once, [&] {
+    SampleTable& table = derived.table_storage;
+    table.count = sample_count_;
+    const int count = table.count;
     const double step = 2.0 * std::numbers::pi / count;
-    table->per_step = 1.0 / step;
+    table.per_step = 1.0 / step;
     // r = Re sum_n c_n e^{i n theta} with c_n = a_n + i b_n: the half spectrum c_n / 2 of
     // an unscaled inverse real FFT; r' and r'' multiply c_n by i n and -n^2. One FFT
     // plan per size and thread, kept for the next profile.
@@ -162,14 +251,26 @@ PolarProfile::PolarProfile(double radius, double mean_deviation, std::vector<Har
       samples[derivative].resize(static_cast<std::size_t>(count));
       fft.inv(samples[derivative].data(), spectrum.data(), count);
     }
-    table->nodes.resize(static_cast<std::size_t>(count) + 1);
+    table.nodes.resize(static_cast<std::size_t>(count) + 1);
     for (std::size_t j = 0; j <= static_cast<std::size_t>(count); ++j) {
       const std::size_t k = j < static_cast<std::size_t>(count) ? j : 0;
-      table->nodes[j] = {radius_ + mean_deviation_ + samples[0][k], samples[1][k], samples[2][k]};
+      table.nodes[j] = {radius_ + mean_deviation_ + samples[0][k], samples[1][k], samples[2][k]};
     }
-    samples_.table = std::move(table);
-  }
-  FindExtremes();
+    derived.table.store(&table, std::memory_order_release);
+  });
+  return derived.table_storage;
+}
+
+const OutlineExtremes& PolarProfile::Extremes() const {
+  // A circle's bounds are its extremes; a default-made profile's are zeros, as they were.
+  if (!derived_.state) return bounds_;
+  Derived& derived = *derived_.state;
+  if (const OutlineExtremes* extremes = derived.extremes.load(std::memory_order_acquire)) return *extremes;
+  std::call_once(derived.extremes_once, [&] {
+    derived.extremes_storage = FindExtremes();
+    derived.extremes.store(&derived.extremes_storage, std::memory_order_release);
+  });
+  return derived.extremes_storage;
 }
 
 double PolarProfile::cos_coefficient(int n) const {
@@ -186,7 +287,7 @@ RadiusDerivatives PolarProfile::Evaluate(double theta) const {
 
 RadiusDerivatives PolarProfile::EvaluateAt(double theta, double cos_theta, double sin_theta) const {
   if (!sampled()) return EvaluateAt(cos_theta, sin_theta);
-  RadiusDerivatives d = samples_.table->At(theta);
+  RadiusDerivatives d = Table().At(theta);
   d.cos_theta = cos_theta;
   d.sin_theta = sin_theta;
   return d;
@@ -378,12 +479,8 @@ SupportPoint PolarProfile::SupportTowardNearlyRound(double cos_phi, double sin_p
   return {delta, r * c, r * s, q * std::sqrt(q) / (q + dr * dr - r * ddr), 1};
 }
 
-void PolarProfile::FindExtremes() {
-  if (is_circle()) {
-    min_radius_ = max_radius_ = radius_ + mean_deviation_;
-    min_curvature_ = max_curvature_ = 1.0 / min_radius_;
-    return;
-  }
+// For a profile that is not a circle (a circle's are its bounds_).
+OutlineExtremes PolarProfile::FindExtremes() const {
   const int samples = 64 * max_order();
   const double step = 2.0 * std::numbers::pi / samples;
   // The scan only ranks samples: a sampled profile interpolates for it. The refinement
@@ -393,7 +490,8 @@ void PolarProfile::FindExtremes() {
   thread_local std::vector<RadiusDerivatives> scan;
   scan.resize(static_cast<std::size_t>(samples));
   if (sampled()) {
-    for (int k = 0; k < samples; ++k) scan[static_cast<std::size_t>(k)] = samples_.table->At(k * step);
+    const SampleTable& table = Table();
+    for (int k = 0; k < samples; ++k) scan[static_cast<std::size_t>(k)] = table.At(k * step);
   } else {
     const ScanAngles& angles = ScanAnglesOf(max_order(), samples, step);
     // samples = 64 max_order: whole groups of four.
@@ -437,10 +535,7 @@ void PolarProfile::FindExtremes() {
                                                                std::numeric_limits<double>::digits);
     e.value = e.sign * std::min(e.value, refined.second);
   }
-  min_curvature_ = extremes[0].value;
-  max_curvature_ = extremes[1].value;
-  min_radius_ = extremes[2].value;
-  max_radius_ = extremes[3].value;
+  return {extremes[0].value, extremes[1].value, extremes[2].value, extremes[3].value};
 }
 
 }  // namespace ringtol::engine

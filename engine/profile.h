@@ -7,6 +7,18 @@
 // reach in that direction (the support function h), and how curved is it there. For a
 // convex outline the normal angle nu(theta) = theta - atan2(r', r) increases
 // monotonically, which makes that inverse well posed and bracketed.
+//
+// Cost and sharing. Construction keeps the harmonics' coefficients and O(orders) bounds on
+// the outline's extremes, about what drawing the harmonics costs. What costs more is built
+// on first demand: the sampled table (three inverse FFTs, kSampledOrders and up) on the
+// first EvaluateAt(theta, cos, sin), and the exact extremes (a scan and Brent refinement)
+// on the first MinCurvature() .. MaxRadius() or a convexity question the bounds leave
+// open. A PolarProfile never changes once made: every const member may be called from any
+// number of threads at once, on one object or on its copies. The state built on demand is
+// built once (std::call_once), by the first thread that asks while the others wait, and
+// is shared by every copy of the profile, made before or after it was built; assigning a
+// new profile gives fresh state. Results do not depend on which accessor came first, on
+// which thread built the state, or on whether it was built at all.
 #pragma once
 
 #include <cmath>
@@ -38,6 +50,15 @@ struct SupportPoint {
   double dh = 0.0;                // [m/rad] dh/dphi: the touching point's coordinate along the tangent
   double curvature_radius = 0.0;  // [m] radius of curvature at the touching point; h'' = this - h
   int evaluations = 0;            // [-] outline evaluations the search took (0 for a circle)
+};
+
+// The outline's extremes over the whole revolution, or bounds on them.
+struct OutlineExtremes {
+  double min_curvature = 0.0;  // [1/m] smallest signed curvature
+  double max_curvature = 0.0;  // [1/m] largest signed curvature
+  double min_radius = 0.0;     // [m] smallest r(theta)
+  double max_radius = 0.0;     // [m] largest r(theta)
+  bool operator==(const OutlineExtremes&) const = default;
 };
 
 class PolarProfile {
@@ -97,24 +118,39 @@ class PolarProfile {
   // h^6 / 46080 * sum_n n^6 C_n for a grid step h. r' and r'' come from the same
   // interpolant, exact to O(h^5) and O(h^4) (a few pm/rad and um/rad^2 for a 50-order
   // waterjet ring), which only the Newton steps' rate feels. An evaluation then costs
-  // about as much as three harmonics summed, whatever the order.
+  // about as much as three harmonics summed, whatever the order. The table is built on the
+  // first evaluation that reads it (see the top of this file).
   static constexpr int kSampledOrders = 16;
   static constexpr double kSampleTolerance = 1e-15;  // [m]
-  bool sampled() const { return samples_.table != nullptr; }
+  bool sampled() const { return max_order() >= kSampledOrders; }
 
-  // Extremes over the whole outline, found once at construction by dense sampling (64
-  // points per undulation of the highest order) refined by golden-section search: every
-  // simulation asks for them (convexity, fit, the two-point certificate).
-  double MinCurvature() const { return min_curvature_; }  // [1/m] smallest signed curvature
-  double MaxCurvature() const { return max_curvature_; }  // [1/m] largest signed curvature
-  bool IsConvex() const { return MinCurvature() > 0.0; }
-  double MinRadius() const { return min_radius_; }  // [m] smallest r(theta)
-  double MaxRadius() const { return max_radius_; }  // [m] largest r(theta)
+  // Extremes over the whole outline, found on first demand by dense sampling (64 points
+  // per undulation of the highest order) refined by Brent's method, then kept: what
+  // convexity, fit and the two-point certificate ask when the bounds below cannot answer.
+  double MinCurvature() const { return Extremes().min_curvature; }  // [1/m] smallest signed curvature
+  double MaxCurvature() const { return Extremes().max_curvature; }  // [1/m] largest signed curvature
+  double MinRadius() const { return Extremes().min_radius; }        // [m] smallest r(theta)
+  double MaxRadius() const { return Extremes().max_radius; }        // [m] largest r(theta)
+  // MinCurvature() > 0, from the bounds when they settle it.
+  bool IsConvex() const { return bounds_.min_curvature > 0.0 || MinCurvature() > 0.0; }
+
+  // Bounds on the extremes above from the amplitudes alone (sums of n^k C_n), made at
+  // construction in O(orders): min_curvature <= MinCurvature(), max_curvature >=
+  // MaxCurvature(), min_radius <= MinRadius(), max_radius >= MaxRadius(), for the values
+  // those accessors return, round-off and the table's interpolation error included, so a
+  // decision the bounds settle is the exact value's decision, bit for bit. Exact for a
+  // circle; -inf or +inf where the amplitudes say nothing (min_curvature when
+  // R + mean - sum (n^2 + 1) C_n <= 0). For a nearly round part they are loose by about
+  // (sum n^2 C_n) / R, relatively: enough to settle a campaign's fit and Blaschke tests.
+  const OutlineExtremes& ExtremesBounds() const { return bounds_; }
 
   bool operator==(const PolarProfile&) const = default;
 
  private:
-  void FindExtremes();
+  const OutlineExtremes& Extremes() const;
+  OutlineExtremes FindExtremes() const;
+  // moments[k] = sum_n n^k C_n for k = 0..3, sixth = sum_n n^6 C_n [m]
+  void BoundExtremes(const double (&moments)[4], double sixth);
 
   double radius_ = 0.0;
   double mean_deviation_ = 0.0;
@@ -147,18 +183,19 @@ class PolarProfile {
     bool operator==(const SupportBound&) const = default;
   };
   SupportBound support_bound_;
-  // The samples: derived from the harmonics, shared between copies, and left out of
-  // comparisons (profiles with equal harmonics have equal samples).
+  OutlineExtremes bounds_;  // the extremes themselves for a circle
+  int sample_count_ = 0;    // [-] the table's samples per revolution (a power of two), 0 unsampled
+  // The table and the exact extremes, built on demand (Table(), Extremes()) for a profile
+  // that is not a circle: derived from the harmonics, shared between copies, and left out
+  // of comparisons (profiles with equal harmonics have equal derived state).
   struct SampleTable;
-  struct SharedSamples {
-    std::shared_ptr<const SampleTable> table;
-    bool operator==(const SharedSamples&) const { return true; }
+  struct Derived;
+  const SampleTable& Table() const;
+  struct SharedDerived {
+    std::shared_ptr<Derived> state;
+    bool operator==(const SharedDerived&) const { return true; }
   };
-  SharedSamples samples_;
-  double min_curvature_ = 0.0;
-  double max_curvature_ = 0.0;
-  double min_radius_ = 0.0;
-  double max_radius_ = 0.0;
+  SharedDerived derived_;
 };
 
 // cos and sin of |delta| <= NearbyAngle::kReach [rad] from their Taylor series, exact to

@@ -112,12 +112,18 @@ std::string Millimetres(double metres) {
 }  // namespace
 
 GeometryCheck CheckGeometry(const Scene& scene) {
-  // Fit first: a roller that does not fit is an input error, whatever else is wrong.
-  const double bore = scene.ring.inner.MinRadius();
+  // Fit first: a roller that does not fit is an input error, whatever else is wrong. The
+  // profiles' bounds on their extremes settle a roller that fits with room to spare (the
+  // sums below only grow with reach and shrink with bore, rounding included); the exact
+  // extremes decide the rest.
+  const double bore_bound = scene.ring.inner.ExtremesBounds().min_radius;
   for (int i = 0; i < static_cast<int>(scene.rollers.size()); ++i) {
     const Roller& roller = scene.rollers[static_cast<std::size_t>(i)];
-    const double reach = roller.outline.MaxRadius();
     const double centre = RollerCentre(scene, i).norm();
+    const double reach_bound = roller.outline.ExtremesBounds().max_radius;
+    if (reach_bound < bore_bound && centre + reach_bound - bore_bound <= roller.outline.radius()) continue;
+    const double bore = scene.ring.inner.MinRadius();
+    const double reach = roller.outline.MaxRadius();
     const double interference = centre + reach - bore;
     if (reach >= bore || interference > roller.outline.radius()) {
       return {GeometryIssue::kRollerDoesNotFit, i,
@@ -126,17 +132,16 @@ GeometryCheck CheckGeometry(const Scene& scene) {
                   " (overlap may not exceed the roller's radius " + Millimetres(roller.outline.radius()) + ")"};
     }
   }
-  const double ring_min_curvature = scene.ring.inner.MinCurvature();
-  if (!(ring_min_curvature > 0.0)) {
+  if (!scene.ring.inner.IsConvex()) {
     return {GeometryIssue::kRingNotConvex, -1,
             "the ring's inner profile is not convex (its curvature reaches " +
-                std::to_string(ring_min_curvature) +
+                std::to_string(scene.ring.inner.MinCurvature()) +
                 " 1/m): an inward bump makes contact ambiguous; reduce the amplitude of high orders "
                 "(a single harmonic is convex while C_n < R / (n^2 + 1))"};
   }
   for (int i = 0; i < static_cast<int>(scene.rollers.size()); ++i) {
     const Roller& roller = scene.rollers[static_cast<std::size_t>(i)];
-    if (!(roller.outline.MinCurvature() > 0.0)) {
+    if (!roller.outline.IsConvex()) {
       return {GeometryIssue::kRollerNotConvex, i,
               "roller " + roller.name + "'s outline is not convex: reduce its high-order amplitudes"};
     }

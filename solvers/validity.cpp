@@ -1,6 +1,7 @@
 #include "solvers/validity.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "engine/units.h"
@@ -22,8 +23,22 @@ std::string Degrees(double radians) {
 }
 
 ValidityCheck::ValidityCheck(const engine::Scene& scene, ValidityOptions options)
-    : scene_(scene), options_(options), ring_min_radius_(1.0 / scene.ring.inner.MaxCurvature()) {
-  for (const engine::Roller& roller : scene.rollers) roller_max_radius_.push_back(1.0 / roller.outline.MinCurvature());
+    : scene_(scene),
+      options_(options),
+      ring_min_radius_bound_(1.0 / scene.ring.inner.ExtremesBounds().max_curvature) {
+  // 1 / x is monotone under rounding, so bounds on the curvatures give bounds on what
+  // RingMinRadius and RollerMaxRadius compute.
+  for (const engine::Roller& roller : scene.rollers) {
+    const double least_curvature = roller.outline.ExtremesBounds().min_curvature;
+    roller_max_radius_bound_.push_back(least_curvature > 0.0 ? 1.0 / least_curvature
+                                                             : std::numeric_limits<double>::infinity());
+  }
+}
+
+double ValidityCheck::RingMinRadius() const { return 1.0 / scene_.ring.inner.MaxCurvature(); }
+
+double ValidityCheck::RollerMaxRadius(int i) const {
+  return 1.0 / scene_.rollers[static_cast<std::size_t>(i)].outline.MinCurvature();
 }
 
 Status ValidityCheck::Check(double psi, const Eigen::Vector2d& centre, std::span<const double> travel,
@@ -47,8 +62,8 @@ Status ValidityCheck::Check(double psi, const Eigen::Vector2d& centre, std::span
     }
     // Single-point contact is certain while the roller is flatter nowhere than the bore
     // is curved (a penetrating contact's gap < 0 only tightens this).
-    if (roller_max_radius_[i] < ring_min_radius_) continue;
     const int index = static_cast<int>(i);
+    if (roller_max_radius_bound_[i] < ring_min_radius_bound_ || RollerMaxRadius(index) < RingMinRadius()) continue;
     const engine::BodyPose ring_pose{centre, psi};
     Eigen::Vector2d roller_centre = engine::RollerCentre(scene_, index);
     if (spring) roller_centre += travel[i] * engine::SpringAxis(scene_, index);

@@ -58,16 +58,23 @@ class ValidityCheck {
 
   // Whether condition 3 needs roller i's contact searched at a contact of this gap [m]:
   // where Blaschke's theorem cannot certify a single point (largest roller curvature
-  // radius + gap >= smallest bore curvature radius).
+  // radius + gap >= smallest bore curvature radius). The profiles' bounds on their
+  // curvature settle most scenes; the exact extremes, built then, decide the rest.
   bool NeedsTwoPointSearch(int i, double gap) const {
-    return roller_max_radius_[static_cast<std::size_t>(i)] + gap >= ring_min_radius_;
+    if (roller_max_radius_bound_[static_cast<std::size_t>(i)] + gap < ring_min_radius_bound_) return false;
+    return RollerMaxRadius(i) + gap >= RingMinRadius();
   }
 
  private:
+  double RingMinRadius() const;        // [m] smallest curvature radius of the bore
+  double RollerMaxRadius(int i) const;  // [m] largest curvature radius of roller i
+
   const engine::Scene& scene_;
   ValidityOptions options_;
-  double ring_min_radius_ = 0.0;            // [m] smallest curvature radius of the bore
-  std::vector<double> roller_max_radius_;   // [m] largest curvature radius per roller
+  // Bounds from engine::PolarProfile::ExtremesBounds(): <= RingMinRadius() and >=
+  // RollerMaxRadius(i) (+inf where the roller's bound says nothing) [m].
+  double ring_min_radius_bound_ = 0.0;
+  std::vector<double> roller_max_radius_bound_;
 };
 
 // Lengths and angles as messages state them: "12.34 um", "45 deg".

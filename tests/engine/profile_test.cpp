@@ -7,12 +7,15 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <numbers>
 #include <random>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -880,6 +883,186 @@ TEST(PolarProfileConvexity, ExtremesAreThoseOfTheScanOneAngleAtATime) {
     EXPECT_EQ(profile.MinRadius(), expected[2]);
     EXPECT_EQ(profile.MaxRadius(), expected[3]);
   }
+}
+
+// ---------------------------------------------------------------------------------------
+// State built on demand: the sampled table and the exact extremes
+
+// A random profile of the kinds a campaign draws and beyond: a radius from a roller's to a
+// ring's, 1 to 60 orders with amplitudes falling as n^-a, a mean deviation. Half are
+// nearly round (sum (n^2 + 1) C_n log-uniform in 1e-6 R .. R), half reach past the
+// single-order convexity limit sum (n^2 + 1) C_n < R (0.5 R .. 1.8 R, so some are not
+// convex); sum C_n <= 0.9 R keeps r > 0.
+PolarProfile RandomProfile(std::mt19937_64& rng) {
+  const double radius = std::exp(Uniform(rng, std::log(2e-3), std::log(0.6)));  // [m]
+  const int orders = 1 + static_cast<int>(Uniform(rng, 0.0, 60.0));
+  const int first = 1 + static_cast<int>(Uniform(rng, 0.0, 3.0));
+  const double exponent = Uniform(rng, 0.5, 2.5);
+  const double spread = Uniform(rng, 0.0, 1.0) < 0.5 ? std::exp(Uniform(rng, std::log(1e-6), 0.0))
+                                                     : Uniform(rng, 0.5, 1.8);  // [-] of R
+  double weight = 0.0;  // sum (n^2 + 1) n^-a
+  for (int n = first; n < first + orders; ++n) weight += (n * n + 1.0) * std::pow(n, -exponent);
+  const double scale = radius * spread / weight;  // [m]
+  std::vector<Harmonic> harmonics;
+  for (int n = first; n < first + orders; ++n) {
+    harmonics.push_back({n, scale * std::pow(n, -exponent) * Uniform(rng, 0.5, 1.0), Uniform(rng, -kPi, kPi)});
+  }
+  return PolarProfile(radius, Uniform(rng, -1e-3, 1e-3) * radius, std::move(harmonics));
+}
+
+PolarProfile Remade(const PolarProfile& p) { return PolarProfile(p.radius(), p.mean_deviation(), p.harmonics()); }
+
+// Every answer a profile gives, as bits, in a fixed order: evaluations (the table's among
+// them) before the extremes.
+std::vector<double> Answers(const PolarProfile& p) {
+  std::vector<double> out{p.radius(), p.mean_deviation(), static_cast<double>(p.max_order()),
+                          static_cast<double>(p.is_circle()), static_cast<double>(p.sampled())};
+  for (int n = -1; n <= p.max_order() + 1; ++n) {
+    out.push_back(p.cos_coefficient(n));
+    out.push_back(p.sin_coefficient(n));
+  }
+  const auto push = [&out](const RadiusDerivatives& d) { out.insert(out.end(), {d.r, d.dr, d.ddr, d.cos_theta, d.sin_theta}); };
+  double cos_theta[4];
+  double sin_theta[4];
+  for (int k = 0; k < 4; ++k) {
+    const double theta = -7.0 + 3.7 * k;
+    cos_theta[k] = std::cos(theta);
+    sin_theta[k] = std::sin(theta);
+    push(p.Evaluate(theta));
+    push(p.EvaluateAt(cos_theta[k], sin_theta[k]));
+    push(p.EvaluateAt(theta, cos_theta[k], sin_theta[k]));
+  }
+  RadiusDerivatives four[4];
+  p.EvaluateFourAt(cos_theta, sin_theta, four);
+  for (const RadiusDerivatives& d : four) push(d);
+  const OutlineExtremes& bounds = p.ExtremesBounds();
+  out.insert(out.end(), {bounds.min_curvature, bounds.max_curvature, bounds.min_radius, bounds.max_radius});
+  out.push_back(static_cast<double>(p.IsConvex()));
+  if (p.IsConvex()) {
+    for (const double phi : {0.3, 2.0, -1.1}) {
+      for (const SupportPoint& s : {p.Support(phi, phi + 0.1), p.SupportToward(std::cos(phi), std::sin(phi), 0.05),
+                                    p.SupportTowardNearlyRound(std::cos(phi), std::sin(phi), 1e-12)}) {
+        out.insert(out.end(), {s.theta, s.h, s.dh, s.curvature_radius, static_cast<double>(s.evaluations)});
+      }
+    }
+  }
+  out.insert(out.end(), {p.MinCurvature(), p.MaxCurvature(), p.MinRadius(), p.MaxRadius()});
+  return out;
+}
+
+// What each first question builds: the extremes alone (and, sampled, the table under
+// them), the table alone, nothing but a convexity the bounds may settle, or nothing.
+enum class FirstQuestion { kNone, kExtremes, kTable, kConvexity, kCount };
+
+void Ask(const PolarProfile& p, FirstQuestion question) {
+  switch (question) {
+    case FirstQuestion::kExtremes: static_cast<void>(p.MaxRadius()); break;
+    case FirstQuestion::kTable: static_cast<void>(p.EvaluateAt(0.1, std::cos(0.1), std::sin(0.1))); break;
+    case FirstQuestion::kConvexity: static_cast<void>(p.IsConvex()); break;
+    case FirstQuestion::kNone:
+    case FirstQuestion::kCount: break;
+  }
+}
+
+// The bits compared with EXPECT_EQ on the doubles' representations, NaN included.
+void ExpectSameBits(const std::vector<double>& a, const std::vector<double>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(a[k]), std::bit_cast<std::uint64_t>(b[k])) << "answer " << k;
+  }
+}
+
+TEST(PolarProfileOnDemand, AnswersAreTheSameBitsWhicheverQuestionBuildsItsState) {
+  std::mt19937_64 rng(20261126);
+  std::vector<PolarProfile> profiles = {PolarProfile(kR, 1e-5, {}), Make(kMixed), Make(kRingLike), Make(kDented),
+                                        Make(kOrderForty)};
+  for (int k = 0; k < 40; ++k) profiles.push_back(RandomProfile(rng));
+  for (const PolarProfile& original : profiles) {
+    SCOPED_TRACE(::testing::Message() << "max order " << original.max_order() << (original.sampled() ? ", sampled" : ""));
+    const std::vector<double> reference = Answers(Remade(original));
+    for (int q = 0; q < static_cast<int>(FirstQuestion::kCount); ++q) {
+      const PolarProfile fresh = Remade(original);
+      const PolarProfile copied_before = fresh;
+      Ask(fresh, static_cast<FirstQuestion>(q));
+      const PolarProfile copied_after = fresh;
+      EXPECT_TRUE(fresh == original);
+      ExpectSameBits(Answers(fresh), reference);
+      ExpectSameBits(Answers(copied_before), reference);
+      ExpectSameBits(Answers(copied_after), reference);
+    }
+  }
+}
+
+// Four threads ask one fresh profile (and one copy each) at once, each starting with a
+// different question; their answers must be the bits one thread alone gets. (Built with
+// RINGTOL_SANITIZE this also exercises the publication under ASan; ThreadSanitizer would
+// check the ordering itself.)
+TEST(PolarProfileOnDemand, StateBuiltFromSeveralThreadsAtOnceIsTheSameAsFromOne) {
+  std::mt19937_64 rng(20261127);
+  std::vector<PolarProfile> profiles = {Make(kRingLike), Make(kOrderForty), Make(kMixed)};
+  for (int k = 0; k < 6; ++k) profiles.push_back(RandomProfile(rng));
+  constexpr int kThreads = 4;
+  for (const PolarProfile& original : profiles) {
+    const std::vector<double> reference = Answers(Remade(original));
+    for (int round = 0; round < 5; ++round) {
+      const PolarProfile shared = Remade(original);
+      std::atomic<int> ready{0};
+      std::vector<std::vector<double>> answers(kThreads);
+      std::vector<std::thread> threads;
+      for (int t = 0; t < kThreads; ++t) {
+        threads.emplace_back([&, t] {
+          const PolarProfile& mine = shared;
+          const PolarProfile copy = shared;
+          ready.fetch_add(1);
+          while (ready.load() < kThreads) std::this_thread::yield();
+          Ask(t % 2 == 0 ? mine : copy, static_cast<FirstQuestion>((t + round) % static_cast<int>(FirstQuestion::kCount)));
+          answers[static_cast<std::size_t>(t)] = Answers(t % 2 == 0 ? mine : copy);
+        });
+      }
+      for (std::thread& thread : threads) thread.join();
+      for (const std::vector<double>& a : answers) ExpectSameBits(a, reference);
+    }
+  }
+}
+
+// The bounds hold for what the exact accessors return (the tables' interpolation and
+// every rounding included), so IsConvex is MinCurvature() > 0 whichever answers it; and
+// they settle a nearly round part: rho - sum (n^2 + 1) C_n > 1 % of rho leaves a positive
+// curvature bound (the bound's own margins are round-off and the table's error, far below).
+TEST(PolarProfileBounds, HoldForTheExactExtremesOfRandomProfiles) {
+  std::mt19937_64 rng(20261128);
+  int convex = 0;
+  int settled = 0;
+  for (int k = 0; k < 400; ++k) {
+    const PolarProfile p = RandomProfile(rng);
+    SCOPED_TRACE(::testing::Message() << "profile " << k << ", max order " << p.max_order());
+    const OutlineExtremes& bounds = p.ExtremesBounds();
+    EXPECT_LE(bounds.min_radius, p.MinRadius());
+    EXPECT_GE(bounds.max_radius, p.MaxRadius());
+    EXPECT_LE(bounds.min_curvature, p.MinCurvature());
+    EXPECT_GE(bounds.max_curvature, p.MaxCurvature());
+    EXPECT_EQ(p.IsConvex(), p.MinCurvature() > 0.0);
+    double spread = 0.0;  // sum (n^2 + 1) C_n [m]
+    for (const Harmonic& h : p.harmonics()) spread += (h.order * h.order + 1.0) * h.amplitude;
+    const double rho = p.radius() + p.mean_deviation();
+    if (spread < 0.99 * rho) {
+      EXPECT_GT(bounds.min_curvature, 0.0);
+      ++settled;
+    }
+    convex += p.IsConvex() ? 1 : 0;
+  }
+  // The draws span both sides of the convexity limit, and half are nearly round.
+  EXPECT_GT(convex, 100);
+  EXPECT_LT(convex, 400);
+  EXPECT_GT(settled, 150);
+}
+
+TEST(PolarProfileBounds, AreTheExtremesThemselvesForACircle) {
+  const PolarProfile circle(kR, -2e-5, {{3, 0.0, 1.0}});
+  const OutlineExtremes exact{circle.MinCurvature(), circle.MaxCurvature(), circle.MinRadius(), circle.MaxRadius()};
+  EXPECT_EQ(circle.ExtremesBounds(), exact);
+  EXPECT_EQ(exact.min_radius, kR - 2e-5);
+  EXPECT_EQ(exact.max_curvature, 1.0 / (kR - 2e-5));
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // says which status it gives instead and why.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -151,6 +152,31 @@ TEST(ValidityCheck, FlagsAContactThatCarriesNoForce) {
   equilibrium.contact_force = {10.0, 0.0, 10.0};
   solvers::ValidityCheck(scene).Check(equilibrium);
   EXPECT_EQ(equilibrium.status, Status::kLiftOff) << equilibrium.message;
+}
+
+// The two-point search's Blaschke test reads the profiles' bounds first and their exact
+// curvature radii only where the bounds cannot decide: its verdict must be the exact
+// radii's at every gap, from far inside the certificate to either side of its threshold
+// (where only the exact radii can decide) and for rollers from round to bore-flat lobes.
+TEST(ValidityCheck, TwoPointSearchIsNeededExactlyWhereTheExactCurvatureRadiiSay) {
+  const std::vector<std::vector<engine::Harmonic>> shapes = {
+      {}, {{3, 2e-6, 0.4}, {5, 1e-6, 1.0}}, {{2, 0.03 * 5e-3, 0.2}}, {{4, 0.055 * 5e-3, -0.3}, {6, 1e-5, 0.7}}};
+  for (const std::vector<engine::Harmonic>& shape : shapes) {
+    engine::Scene scene = testing::CampaignLikeScene();
+    testing::SetRollerShapes(scene, shape);
+    const solvers::ValidityCheck check(scene);
+    for (int i = 0; i < static_cast<int>(scene.rollers.size()); ++i) {
+      const engine::PolarProfile& roller = scene.rollers[static_cast<std::size_t>(i)].outline;
+      const double roller_radius = 1.0 / roller.MinCurvature();
+      const double ring_radius = 1.0 / scene.ring.inner.MaxCurvature();
+      const double threshold = ring_radius - roller_radius;  // [m] the gap where the verdict turns
+      for (const double gap : {-1e-3, -1e-6, 0.0, threshold, std::nextafter(threshold, -1.0),
+                               std::nextafter(threshold, 1.0), 2.0 * threshold}) {
+        EXPECT_EQ(check.NeedsTwoPointSearch(i, gap), roller_radius + gap >= ring_radius)
+            << "roller " << i << " of shape " << shape.size() << " gap " << gap;
+      }
+    }
+  }
 }
 
 }  // namespace
