@@ -11,6 +11,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -45,7 +46,9 @@ struct LinearOptions {
 //   offset[o] + sum_p cosine(o, p) cos(rates[p] psi) + sine(o, p) sin(rates[p] psi),
 // rows: centre x, y [m]; travel [m] of each spring roller (travel_row[i], -1 for a fixed
 // roller); contact force [N] of roller i (first_force_row + i); then 2Z gap slopes [m/rad]
-// (the bore's at contact i, then the roller's). SolveRevolution sums it in another order
+// (the bore's at contact i, then the roller's) and 2Z gap curvatures [m/rad^2] (likewise),
+// which only the second order reads (SecondOrderTerms). These are the first-order path;
+// SolveRevolution adds the second order. SolveRevolution sums it in another order
 // (solvers/linear.cpp EvaluatePath); this form is the reference it is tested against.
 struct PhasorSum {
   bool usable = false;         // false when the error-free assembly cannot be linearised
@@ -58,6 +61,53 @@ struct PhasorSum {
 };
 
 struct NominalResponse;
+
+// One angle of the first-order path, in PhasorSum's rows: what the second-order
+// correction reads. travel and contact_force hold Z values (travel 0 for a fixed roller),
+// slopes and curvatures 2Z each (the bore's part at contact i, then the roller's).
+struct FirstOrderAngle {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // [m]
+  std::span<const double> travel;                    // [m]
+  std::span<const double> contact_force;             // [N]
+  std::span<const double> slopes;                    // [m/rad]
+  std::span<const double> curvatures;                // [m/rad^2]
+};
+
+// What the second-order terms add to one angle's first-order outputs, and a bound on what
+// the corrected outputs still miss of the exact quasistatic model there.
+struct SecondOrderAngle {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // [m] to add to the centre
+  std::vector<double> travel;                        // [m] per roller, to add (0 for fixed)
+  std::vector<double> contact_force;                 // [N] per roller, to add
+  // [m] >= 0 (infinite where the bound's premises fail): |exact centre - corrected centre|
+  // at this angle is at most this (docs/model.md §7, "The linear rung's error estimate").
+  double remainder = 0.0;
+};
+
+// The second-order correction of one scene, angle by angle (solvers/linear.cpp
+// SecondOrderTerms::At). Cheap to copy; thread-safe; holds the linearisation it came from.
+class SecondOrderTerms {
+ public:
+  bool usable() const { return nominal_ != nullptr; }
+  // `first` one angle of this scene's first-order path (LinearSolver::Phasors summed there,
+  // or SolveRevolution's path before correction); `out` is resized to the scene's rollers
+  // (allocates only the first time: reuse it across angles). Requires usable().
+  void At(const FirstOrderAngle& first, SecondOrderAngle& out) const;
+  // [m] Trajectory::error_estimate from the largest remainder [m] over the angles and the
+  // path's reach [m] (largest distance of the centre from its start): twice the remainder
+  // (every point moves by at most it, so the enclosing circle's radius and the sensor's
+  // max and min each by at most it), times the sensor's gain to centre motion.
+  double EstimateFrom(double largest_remainder, double reach) const;
+
+ private:
+  friend class LinearSolver;
+  struct Contact;  // per contact constants
+  std::shared_ptr<const NominalResponse> nominal_;
+  std::shared_ptr<const std::vector<Contact>> contacts_;
+  double ring_value_ = 0.0;      // [m] |dr0| + sum |C_n| of the bore: bounds |dr|
+  double ring_jerk_ = 0.0;       // [m] sum n^3 |C_n|: bounds |dr'''|
+  double ring_slope_sum_ = 0.0;  // [m] sum n |C_n|: bounds |dr'|
+};
 
 // First-order bounds on how far a revolution's outputs stray from the chord through their
 // values at two angles dpsi apart: each error term moves an output as a sinusoid of
@@ -84,9 +134,13 @@ class LinearSolver final : public Solver {
   // dpsi [rad] > 0.
   ChordStraying ChordStrayingAt(const engine::Scene& scene, double dpsi) const;
   PhasorSum Phasors(const engine::Scene& scene) const;
+  // The per-angle second-order correction that SolveRevolution applies at every angle,
+  // for a caller that sums the first-order path (Phasors) at angles of its own.
+  SecondOrderTerms SecondOrder(const engine::Scene& scene) const;
 
  private:
   std::shared_ptr<const NominalResponse> Nominal(const engine::Scene& scene) const;
+  static SecondOrderTerms SecondOrderOf(const engine::Scene& scene, std::shared_ptr<const NominalResponse> nominal);
 
   LinearOptions options_;
   NominalCache<NominalResponse> nominal_;
