@@ -63,7 +63,7 @@ struct NominalResponse {
   // The same applied to Linearisation's series: [value, bore slope, roller slope] columns
   // (response's slope columns twice, as both slopes move a contact alike).
   Eigen::MatrixXd series_response;
-  // What the second-order error estimate needs of each contact (ErrorEstimate).
+  // What the second-order terms need of each contact (SecondOrderTerms).
   double ring_radius = 0.0;                 // [m] the bore's
   std::vector<double> roller_radius;        // [m]
   std::vector<double> penetration;          // [m] delta at the equilibrium (penalty law; 0 rigid)
@@ -983,7 +983,7 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
   const double limit = std::max(options_.max_relative_error * reach, options_.min_error_limit);
   if (!(trajectory.error_estimate <= limit)) {
     trajectory.status = Status::kBeyondLinearRange;
-    trajectory.message = "the first-order path's second-order error, estimated at " +
+    trajectory.message = "the second-order path's remaining error, bounded at " +
                          Micrometres(trajectory.error_estimate) + " of D_trajectory, exceeds its limit of " +
                          Micrometres(limit) + ": use the quasistatic rung";
   }

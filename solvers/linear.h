@@ -1,13 +1,13 @@
-// The first rung: first-order kinematics. The force balance of solvers/equilibrium.h is
-// linearised once about the static equilibrium of the error-free assembly; every error
+// The first rung: kinematics to second order. The force balance of solvers/equilibrium.h
+// is linearised once about the static equilibrium of the error-free assembly; every error
 // source then enters as an additive change of a contact's gap,
 //   dg_i(psi) = dr_ring(phi_i - psi) - dr_roller_i(phi_i - gamma_i(psi)) - dp_i . n_i,
 // and the centre, travels and forces respond as y(psi) = y0 + Y dg(psi). Each error term
-// is a rotating phasor, so the path is a sum of phasors evaluated in closed form at every
-// angle: exact to first order in amplitude / radius, with a second-order error, which the
-// rung estimates from the same phasors (the profiles' slopes, the centre's motion across
-// each contact normal, the penalty law's curvature; solvers/linear.cpp ErrorEstimate)
-// and returns as Trajectory::error_estimate; beyond LinearOptions' limit it refuses.
+// is a rotating phasor, so this first-order path is a sum of phasors evaluated in closed
+// form at every angle. From the same phasors (the gap's slopes and curvatures at each
+// contact) the rung adds the second-order terms at every angle (SecondOrderTerms), and
+// bounds what that path still misses, of third order, as Trajectory::error_estimate;
+// beyond LinearOptions' limit it refuses.
 #pragma once
 
 #include <memory>
@@ -26,11 +26,12 @@ namespace ringtol::solvers {
 struct LinearOptions {
   // Options of the quasistatic solve of the error-free assembly that is linearised.
   QuasistaticOptions nominal;
-  // The path is refused (Status::kBeyondLinearRange) when its estimated second-order
-  // error in D_trajectory (Trajectory::error_estimate) exceeds
+  // The path is refused (Status::kBeyondLinearRange) when the bound on its error in
+  // D_trajectory (Trajectory::error_estimate, infinite where the expansion's premises
+  // fail) exceeds
   //   max(max_relative_error * reach, min_error_limit),
   // reach [m] the path's largest distance from its start (between D_trajectory / 2 and
-  // D_trajectory). The error grows as amplitude^2 while the path grows as amplitude, so a
+  // D_trajectory). The error grows as amplitude^3 while the path grows as amplitude, so a
   // relative limit is a limit on amplitude / size: 1 % [-] in (0, 1]. The absolute floor
   // [m] >= 0 keeps a nearly still path, whose relative error is meaningless, from being
   // refused over errors far below any tolerance studied (1 nm).
