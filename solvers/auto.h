@@ -3,13 +3,16 @@
 //
 //  1. The linear rung runs first, never refusing (its own range limit is lifted: this rung
 //     decides). Its path settles the scene when it is valid (solvers/validity.h) and
-//       e = Trajectory::error_estimate (the second-order bound on D_trajectory, which
-//           bounds the runout's error too: a centre error dc moves the sensor's reading
-//           by its component along the ray, so max - min by at most 2 |dc| - the same
-//           enclosing-circle measure) <= budget,
+//       e = Trajectory::error_estimate (twice the bound on every angle's centre error
+//           that the linear rung's second-order path leaves, solvers/linear.h
+//           SecondOrderTerms; it bounds D_trajectory's error and the runout's too: a
+//           centre error dc moves the sensor's reading by its component along the ray, so
+//           max - min by at most 2 |dc|) <= budget,
 //       no contact's force is within kMarginFactor e k_c of zero (k_c [N/m] the largest
 //           local contact stiffness e_law k delta^(e_law - 1) over the path, the penalty
-//           law; for rigid contact the force's second-order share e / reach of its
+//           law; a penetration's error is the centre's along n plus the contact's own gap
+//           remainder, which the bound counts times its gain to the centre, 1.14 for the
+//           article's layout; for rigid contact the force's share e / reach of its
 //           largest value stands in), and
 //       no spring roller's travel is within kMarginFactor e of its limit,
 //     since a path whose status the neglected terms could change must not settle: every
@@ -86,7 +89,6 @@ class AutoSolver final : public Solver {
   // Steps 2 and 3 alone: the exact rungs, for a scene the linear path did not settle.
   Trajectory SolveExact(const engine::Scene& scene, int steps) const;
   const LinearSolver& linear() const { return linear_; }
-  const AutoOptions& options() const { return options_; }
   // [N] the inertial force step 2 weighs, with contact_stiffness [N/m] k_c (infinite for
   // rigid contact).
   static double InertiaForceBound(const engine::Scene& scene, double contact_stiffness);

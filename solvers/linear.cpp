@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <initializer_list>
 #include <memory>
 #include <numbers>
@@ -25,9 +26,10 @@ using Complex = std::complex<double>;
 
 // Outputs y = [centre (2); travel per spring roller; contact force per roller (Z)]: the
 // travel rows are x's (fixed rollers do not travel, and carry no rows to evaluate). Below
-// them, 2Z rows that only the error estimate reads: the slope d(dg_i)/dphi that the
+// them, 4Z rows that only the second-order terms read: the slope d(dg_i)/dphi that the
 // bore's harmonics (rows first_slope_row + i) and the roller's own (+ Z + i) give contact
-// i's gap function at its nominal normal.
+// i's gap function at its nominal normal, then its curvature d2(dg_i)/dphi2 from each
+// (+ 2Z + i, + 3Z + i).
 // Every error term p adds cosine_p cos(rate_p psi) + sine_p sin(rate_p psi), the real
 // part of v_p e^{-i rate_p psi} with v_p = cosine_p + i sine_p.
 struct Linearisation {
@@ -38,10 +40,11 @@ struct Linearisation {
   std::vector<double> rates;         // [rad of phase per rad of ring angle]
   // The same terms as changes of the contacts' gap functions, the only way they reach the
   // outputs: series i < Z the gap value at contact i [m], Z + i the bore's slope there and
-  // 2Z + i the roller's [m/rad] (the slope rows above). A term of roller i weighs on two
-  // series instead of on every output row, which is what makes EvaluatePath cheap.
-  Eigen::MatrixXd series_cosine;     // 3Z x terms
-  Eigen::MatrixXd series_sine;       // 3Z x terms
+  // 2Z + i the roller's [m/rad] (the slope rows above), 3Z + i and 4Z + i their curvatures
+  // [m/rad^2]. A term of roller i weighs on three series instead of on every output row,
+  // which is what makes EvaluatePath cheap.
+  Eigen::MatrixXd series_cosine;     // 5Z x terms
+  Eigen::MatrixXd series_sine;       // 5Z x terms
 };
 
 // The error-free assembly's response: everything of the linearisation that does not
@@ -61,12 +64,18 @@ struct NominalResponse {
   // The same applied to Linearisation's series: [value, bore slope, roller slope] columns
   // (response's slope columns twice, as both slopes move a contact alike).
   Eigen::MatrixXd series_response;
-  // What the second-order error estimate needs of each contact (ErrorEstimate).
+  // What the second-order terms need of each contact (SecondOrderTerms).
   double ring_radius = 0.0;                 // [m] the bore's
   std::vector<double> roller_radius;        // [m]
   std::vector<double> penetration;          // [m] delta at the equilibrium (penalty law; 0 rigid)
   std::vector<double> force_stiffness;      // [N/m] dF/d delta there (penalty law; 0 rigid)
   double exponent = 1.0;                    // [-] of the penalty law
+  // What the second-order remainder bound needs: how far the centre moves [m/N] per unit
+  // of extra contact force at contact i along its normal and along its tangent (the force
+  // balance's neglected terms act as such forces, with their reaction on a spring roller).
+  std::vector<double> normal_force_gain;
+  std::vector<double> tangent_force_gain;
+  Eigen::MatrixXd force_response;           // outputs x 2Z: to a unit force along n_i, then t_i
 };
 
 namespace {
@@ -136,8 +145,41 @@ std::shared_ptr<const NominalResponse> ComputeNominal(engine::Scene perfect, con
     }
     nominal->roller_radius.push_back(scene.rollers[static_cast<std::size_t>(i)].outline.radius());
   }
-  nominal->series_response.resize(outputs, 3 * z);
-  nominal->series_response << response, response.rightCols(z);
+  // An extra force f at contact i pushes the ring by f and its spring roller back by it;
+  // the outputs' response to it along the normal (columns 0..Z-1) and the tangent
+  // (Z..2Z-1). A penalty contact's force row is its law's, k delta^e, at the moved gap.
+  Eigen::MatrixXd extra = Eigen::MatrixXd::Zero(system.size(), 2 * z);
+  for (int i = 0; i < z; ++i) {
+    const engine::Contact& c = nominal->contacts[static_cast<std::size_t>(i)];
+    const int s = system.travel_index(i);
+    extra.block<2, 1>(0, i) = c.normal;
+    extra.block<2, 1>(0, z + i) = c.tangent;
+    if (s >= 0) {
+      extra(s, i) = -c.normal.dot(engine::SpringAxis(scene, i));
+      extra(s, z + i) = -c.tangent.dot(engine::SpringAxis(scene, i));
+    }
+  }
+  const Eigen::MatrixXd moved = -lu.solve(extra);
+  nominal->force_response = Eigen::MatrixXd::Zero(outputs, 2 * z);
+  nominal->force_response.topRows<2>() = moved.topRows<2>();
+  for (int i = 0; i < z; ++i) {
+    const engine::Contact& c = nominal->contacts[static_cast<std::size_t>(i)];
+    const int s = system.travel_index(i);
+    if (s >= 0) nominal->force_response.row(s) = moved.row(s);
+    const int f = nominal->first_force_row + i;
+    if (system.rigid()) {
+      nominal->force_response.row(f) = moved.row(system.force_index(i));
+    } else {
+      Eigen::RowVectorXd gap_gradient = Eigen::RowVectorXd::Zero(system.size());
+      gap_gradient.head<2>() = c.normal.transpose();
+      if (s >= 0) gap_gradient[s] = -engine::SpringAxis(scene, i).dot(c.normal);
+      nominal->force_response.row(f) = -nominal->force_stiffness[static_cast<std::size_t>(i)] * gap_gradient * moved;
+    }
+    nominal->normal_force_gain.push_back(nominal->force_response.block<2, 1>(0, i).norm());
+    nominal->tangent_force_gain.push_back(nominal->force_response.block<2, 1>(0, z + i).norm());
+  }
+  nominal->series_response.resize(outputs, 5 * z);
+  nominal->series_response << response, response.rightCols(z), Eigen::MatrixXd::Zero(outputs, 2 * z);
   return nominal;
 }
 
@@ -157,25 +199,32 @@ Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalRespons
       terms += roller.outline.cos_coefficient(m) != 0.0 || roller.outline.sin_coefficient(m) != 0.0;
     }
   }
-  const Eigen::Index rows = nominal.first_slope_row + 2 * z;
+  const Eigen::Index rows = nominal.first_slope_row + 4 * z;
   lin.cosine.setZero(rows, terms);
   lin.sine.setZero(rows, terms);
-  lin.series_cosine.setZero(3 * z, terms);
-  lin.series_sine.setZero(3 * z, terms);
+  lin.series_cosine.setZero(5 * z, terms);
+  lin.series_sine.setZero(5 * z, terms);
   lin.rates.reserve(static_cast<std::size_t>(terms));
 
   // Every error term as a change of each contact's gap function near its nominal
   // direction phi_i: a bore harmonic a e^{i n theta} adds Re[a e^{i n (phi - psi)}] to
-  // g_i(phi), with slope Re[i n a e^{i n (phi - psi)}]; a roller harmonic subtracts.
-  // slope_series: Z + i for the bore's, 2Z + i for the roller's (Linearisation).
+  // g_i(phi), with slope Re[i n a e^{i n (phi - psi)}] and curvature -n^2 times the value;
+  // a roller harmonic subtracts. slope_series: Z + i for the bore's, 2Z + i for the
+  // roller's; their curvatures' 2Z further (Linearisation).
   auto add_gap_and_slope = [&](Eigen::Index p, int i, Complex value, double order, Eigen::Index slope_series) {
     const Complex slope = Complex(0.0, order) * value;
+    const Complex curvature = -order * order * value;
+    const Eigen::Index curvature_series = slope_series + 2 * z;
     const Eigen::Index outputs = response.rows();
     const Eigen::Index slope_row = nominal.first_slope_row + slope_series - z;
     lin.cosine.col(p).head(outputs) += value.real() * response.col(i) + slope.real() * response.col(z + i);
     lin.sine.col(p).head(outputs) += value.imag() * response.col(i) + slope.imag() * response.col(z + i);
     lin.cosine(slope_row, p) += slope.real();
     lin.sine(slope_row, p) += slope.imag();
+    lin.cosine(slope_row + 2 * z, p) += curvature.real();
+    lin.sine(slope_row + 2 * z, p) += curvature.imag();
+    lin.series_cosine(curvature_series, p) += curvature.real();
+    lin.series_sine(curvature_series, p) += curvature.imag();
     lin.series_cosine(i, p) += value.real();
     lin.series_sine(i, p) += value.imag();
     lin.series_cosine(slope_series, p) += slope.real();
@@ -363,7 +412,7 @@ constexpr int kBlock = 64;  // angles per pass, a multiple of kLanes: the tables
 std::size_t PaddedAngles(int steps) { return (static_cast<std::size_t>(steps) + kLanes) / kLanes * kLanes; }
 
 // The path at psi_k = 2 pi k / steps, k = 0 .. steps, in three passes.
-//  1. The 3Z gap series (Linearisation) of the terms of integer rate: such a term takes
+//  1. The 5Z gap series (Linearisation) of the terms of integer rate: such a term takes
 //     the same values at psi and 2 pi - psi up to the sign of its sine, and at psi + pi up
 //     to (-1)^w; with steps divisible by four, the sums of the even and the odd rates'
 //     cosines and sines over the first quarter turn give the whole revolution, four
@@ -373,7 +422,7 @@ std::size_t PaddedAngles(int steps) { return (static_cast<std::size_t>(steps) + 
 //     an integer), summed at every angle: a roller's term adds to two series only.
 //  3. The outputs from the series, offset + series_response x series; the slope rows are
 //     series themselves.
-// Summing series rather than output rows costs 2 x terms + 3Z x rows products an angle
+// Summing series rather than output rows costs 3 x terms + 3Z x rows products an angle
 // instead of rows x terms. The inner loops are path_kernels', whose builds agree bit for
 // bit; the rest is the same code whichever runs.
 // Passes 1 and 2 of EvaluatePath for any series (rows of cosine and sine, series x terms
@@ -472,9 +521,9 @@ void SumSeries(const Eigen::MatrixXd& series_cosine, const Eigen::MatrixXd& seri
 void EvaluatePath(const Linearisation& lin, int steps, const path_kernels::Kernels& kernels, PathRows& path) {
   const NominalResponse& nominal = *lin.nominal;
   const auto zs = static_cast<std::size_t>(nominal.rollers);
-  const std::size_t series_count = 3 * zs;
+  const std::size_t series_count = 5 * zs;
   const std::size_t padded = PaddedAngles(steps);
-  // Per thread, as SolveRevolution's slopes: 72 bytes an angle for three rollers.
+  // Per thread, as SolveRevolution's slopes: 120 bytes an angle for three rollers.
   thread_local std::vector<double> series, sums;
   SumSeries(lin.series_cosine, lin.series_sine, lin.rates, steps, kernels, series);
 
@@ -503,94 +552,6 @@ void EvaluatePath(const Linearisation& lin, int steps, const path_kernels::Kerne
     }
   }
 }
-
-// Where the scene's contacts sit against the error-free assembly's: what the second-order
-// terms need beyond the NominalResponse.
-struct SecondOrderFrame {
-  Eigen::Vector2d centre0;             // [m] the error-free equilibrium's centre
-  std::vector<Eigen::Vector2d> shift;  // [m] per roller: its centre's displacement
-  std::vector<Eigen::Vector2d> axis;   // [-] per roller: its spring's axis
-  std::vector<double> travel0;         // [m] per roller: the error-free travel (0 fixed)
-};
-
-SecondOrderFrame FrameOf(const Scene& scene, const NominalResponse& nominal) {
-  const auto zs = static_cast<std::size_t>(nominal.rollers);
-  SecondOrderFrame frame;
-  frame.centre0 = nominal.y0.head<2>();
-  frame.shift.resize(zs);
-  frame.axis.resize(zs);
-  frame.travel0.assign(zs, 0.0);
-  for (std::size_t i = 0; i < zs; ++i) {
-    const int index = static_cast<int>(i);
-    frame.shift[i] = engine::RollerCentre(scene, index) - engine::RollerCentre(nominal.perfect, index);
-    frame.axis[i] = engine::SpringAxis(scene, index);
-    if (nominal.travel_row[i] >= 0) frame.travel0[i] = nominal.y0[nominal.travel_row[i]];
-  }
-  return frame;
-}
-
-// The centre error dc of the second-order terms (below) at one angle, from that angle's
-// first-order centre, travels and forces (one per roller) and the 2Z gap slopes (the
-// bore's at each contact, then the roller's).
-Eigen::Vector2d CentreError(const NominalResponse& nominal, const SecondOrderFrame& frame, const Eigen::Vector2d& centre,
-                            const double* travel, const double* force, const double* slope, double* factors = nullptr) {
-  const auto zs = static_cast<std::size_t>(nominal.rollers);
-  const Eigen::Vector2d moved = centre - frame.centre0;
-  Eigen::Vector2d error = Eigen::Vector2d::Zero();
-  for (std::size_t i = 0; i < zs; ++i) {
-    const engine::Contact& c = nominal.contacts[i];
-    const double a = slope[i];
-    const double b = slope[zs + i];
-    Eigen::Vector2d relative = moved - frame.shift[i];
-    if (nominal.travel_row[i] >= 0) relative -= (travel[i] - frame.travel0[i]) * frame.axis[i];
-    const double turn = a + b + relative.dot(c.tangent);
-    double gamma = a * a / (2.0 * nominal.ring_radius) - b * b / (2.0 * nominal.roller_radius[i]) -
-                   turn * turn / (2.0 * c.gap_curvature);
-    double d = 0.0;
-    if (nominal.penetration[i] > 0.0) {
-      d = (force[i] - nominal.y0[nominal.first_force_row + static_cast<int>(i)]) / nominal.force_stiffness[i];
-      gamma -= (nominal.exponent - 1.0) * d * d / (2.0 * nominal.penetration[i]);
-    }
-    if (factors != nullptr) {
-      double* f = factors + i * LinearPath::Samples::kFactors;
-      f[0] = a;
-      f[1] = b;
-      f[2] = turn;
-      f[3] = d;
-    }
-    error += gamma * nominal.response.block<2, 1>(0, static_cast<Eigen::Index>(i));
-  }
-  return error;
-}
-
-// The neglected second-order terms, as changes gamma_i of each contact's gap that the
-// first-order response carries to the centre (docs/model.md §3):
-//  - a profile's support function is h = r + dr + dr'^2 / (2 r) to second order (the
-//    touching point slides along the surface by dr' / r): +a_i^2 / (2 R) from the bore,
-//    -b_i^2 / (2 r_i) from the roller, a_i and b_i their slopes at the nominal normal;
-//  - the normal turns by -g'_i / g''_i, which lowers the gap by g'_i^2 / (2 g''_i), with
-//    g'_i = a_i + b_i + (dc - dc_roller_i) . t_i the gap function's slope there;
-//  - the penalty law's curvature: F(delta + d) = F + F' d + F'' d^2 / 2, an extra force
-//    that acts as a gap change of -(e - 1) d^2 / (2 delta), d = dF_i / F' the linearised
-//    change of penetration.
-// Their centre error dc(psi) = sum_i (dc / dg_i) gamma_i(psi) (CentreError) moves
-// D_trajectory by at most twice the radius of the circle enclosing dc over the revolution
-// (a common shift leaves D as it is): that is the estimate. Third-order terms (the gap's
-// curvature changing with the profiles, the force balance's n_i turning by dphi^2 / 2)
-// are left out.
-double ErrorEstimate(const Scene& scene, const NominalResponse& nominal, const Trajectory& trajectory,
-                     const std::vector<double>& slopes) {
-  const auto zs = static_cast<std::size_t>(nominal.rollers);
-  const SecondOrderFrame frame = FrameOf(scene, nominal);
-  thread_local std::vector<Eigen::Vector2d> error;  // per thread, as the slopes
-  error.resize(trajectory.centre.size());
-  for (std::size_t k = 0; k < trajectory.centre.size(); ++k) {
-    error[k] = CentreError(nominal, frame, trajectory.centre[k], trajectory.travel.data() + k * zs,
-                           trajectory.contact_force.data() + k * zs, slopes.data() + k * 2 * zs);
-  }
-  return 2.0 * engine::MinimumEnclosingCircle(error).radius;
-}
-
 
 // The phase a term of `rate` [rad per rad of ring angle] has turned through after k of
 // `steps` increments, as its cosine and sine: an integer rate's reduced exactly to one
@@ -637,6 +598,277 @@ void FillEquilibrium(const Linearisation& lin, const Eigen::VectorXd& y, Equilib
 
 }  // namespace
 
+// The second-order correction (docs/model.md §7, "The linear rung's second order"). The
+// first-order path drops, per contact i, changes gamma_i of its gap that the first-order
+// response carries to every output like any other gap change:
+//  - a profile's support function is h = r + dr + dr'^2 / (2 (r + dr - dr'')) to second
+//    order (the touching point slides along the surface by dr' / (r + dr - dr'')): from
+//    the bore +a_i^2 / (2 (R - q_i)), from the roller -b_i^2 / (2 (r_i + p_i)), a_i, b_i
+//    the slopes and q_i, p_i the curvatures their harmonics give the gap at the nominal
+//    normal (dr, second order there, is left to the bound);
+//  - the normal turns by -g'_i / g''_i, which lowers the gap by g'_i^2 / (2 g''_i), with
+//    g'_i = a_i + b_i + (dc - dc_roller_i) . t_i + the support terms' slopes
+//    (a_i q_i / (R - q_i) - b_i p_i / (r_i + p_i)) and g''_i the nominal one plus q_i + p_i
+//    minus (dc - dc_roller_i) . n_i (two circles' g'' is minus their relative centre along n);
+//  - the penalty law's curvature: F(delta + d) = F + F' d + F'' d^2 / 2, an extra force
+//    that acts as a gap change of -(e - 1) d^2 / (2 delta), d = dF_i / F' the linearised
+//    change of penetration (so the force rows come out right to second order too);
+// and, in the force balance, each contact force turning with its normal: along n_i it
+// loses F phi^2 / 2, along t_i it has F phi instead of the linear F0 phi_linear (phi the
+// normal's turn with the terms above, phi_linear the one the response followed), extra
+// forces whose response the nominal solve gives too. Keeping the curvatures and slopes that
+// are known at the angle (they are products of first-order terms) leaves a remainder of
+// third order in what is not known there; At bounds it term by term below.
+struct SecondOrderTerms::Contact {
+  Eigen::Vector2d shift = Eigen::Vector2d::Zero();   // [m] the roller centre's position error
+  Eigen::Vector2d axis = Eigen::Vector2d::Zero();    // its spring axis
+  double travel0 = 0.0;          // [m] nominal travel (spring rollers)
+  double force0 = 0.0;           // [N] nominal contact force
+  double gap_gain = 0.0;         // [-] |centre response to a unit gap change|
+  double roller_value = 0.0;      // [m] |dr0| + sum |c_m| of the roller: bounds |dr|
+  double roller_jerk = 0.0;       // [m] sum m^3 |c_m|: bounds dr'''
+};
+
+void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) const {
+  const NominalResponse& nominal = *nominal_;
+  const std::vector<Contact>& contacts = *contacts_;
+  const int z = nominal.rollers;
+  const auto zs = static_cast<std::size_t>(z);
+  const double infinite = std::numeric_limits<double>::infinity();
+  out.travel.assign(zs, 0.0);
+  out.contact_force.assign(zs, 0.0);
+  out.centre.setZero();
+  bool bounded = true;
+  // Per contact: gamma, the turn g'_i with its known second-order slopes, the gap's
+  // curvature, the penetration change d_i, and the first-order turn.
+  thread_local std::vector<double> scratch;
+  scratch.resize(5 * zs);
+  double* gamma = scratch.data();
+  double* slope = gamma + zs;
+  double* curvature = slope + zs;
+  double* penetration_change = curvature + zs;
+  double* linear_slope = penetration_change + zs;
+  const Eigen::Vector2d moved = first.centre - nominal.y0.head<2>();
+  const double ring_radius = nominal.ring_radius;
+  for (std::size_t i = 0; i < zs; ++i) {
+    const engine::Contact& c = nominal.contacts[i];
+    const Contact& k = contacts[i];
+    const double a = first.slopes[i];
+    const double b = first.slopes[zs + i];
+    const double q = first.curvatures[i];
+    const double p = first.curvatures[zs + i];
+    Eigen::Vector2d relative = moved - k.shift;
+    if (nominal.travel_row[i] >= 0) relative -= (first.travel[i] - k.travel0) * k.axis;
+    const double ring_reach = ring_radius - q;  // r + dr - dr'' of the bore, dr left out
+    const double roller_reach = nominal.roller_radius[i] + p;
+    linear_slope[i] = a + b + relative.dot(c.tangent);
+    curvature[i] = c.gap_curvature + q + p - relative.dot(c.normal);
+    if (!(ring_reach > 0.0 && roller_reach > 0.0 && curvature[i] > 0.0)) {
+      bounded = false;  // beyond any expansion: the first-order curvatures stand in
+      slope[i] = linear_slope[i];
+      curvature[i] = c.gap_curvature;
+      gamma[i] = a * a / (2.0 * ring_radius) - b * b / (2.0 * nominal.roller_radius[i]);
+    } else {
+      slope[i] = linear_slope[i] + a * q / ring_reach - b * p / roller_reach;
+      gamma[i] = a * a / (2.0 * ring_reach) - b * b / (2.0 * roller_reach);
+    }
+    gamma[i] -= slope[i] * slope[i] / (2.0 * curvature[i]);
+    penetration_change[i] = 0.0;
+    if (nominal.penetration[i] > 0.0) {
+      penetration_change[i] = (first.contact_force[i] - k.force0) / nominal.force_stiffness[i];
+      gamma[i] -= (nominal.exponent - 1.0) * penetration_change[i] * penetration_change[i] / (2.0 * nominal.penetration[i]);
+    }
+  }
+  const auto add = [&](double weight, Eigen::Index column, const Eigen::MatrixXd& response) {
+    out.centre += weight * response.block<2, 1>(0, column);
+    for (std::size_t j = 0; j < zs; ++j) {
+      const int travel_row = nominal.travel_row[j];
+      if (travel_row >= 0) out.travel[j] += weight * response(travel_row, column);
+      out.contact_force[j] += weight * response(nominal.first_force_row + static_cast<Eigen::Index>(j), column);
+    }
+  };
+  for (std::size_t i = 0; i < zs; ++i) add(gamma[i], static_cast<Eigen::Index>(i), nominal.response);
+  // The turn the correction itself gives each normal, which the response followed.
+  thread_local std::vector<double> feedback;
+  feedback.resize(zs);
+  for (std::size_t i = 0; i < zs; ++i) {
+    Eigen::Vector2d moved_correction = out.centre;
+    if (nominal.travel_row[i] >= 0) moved_correction -= out.travel[i] * contacts[i].axis;
+    feedback[i] = moved_correction.dot(nominal.contacts[i].tangent);
+  }
+  double correction = 0.0;  // the correction's size at the centre, each term by its gain
+  for (std::size_t i = 0; i < zs; ++i) {
+    const engine::Contact& c = nominal.contacts[i];
+    const Contact& k = contacts[i];
+    const double force = first.contact_force[i];
+    const double turn = -(slope[i] + feedback[i]) / curvature[i];
+    const double linear_turn = -(linear_slope[i] + feedback[i]) / c.gap_curvature;
+    const double normal_force = -force * turn * turn / 2.0;
+    const double tangent_force = force * turn - k.force0 * linear_turn;
+    add(normal_force, static_cast<Eigen::Index>(i), nominal.force_response);
+    add(tangent_force, static_cast<Eigen::Index>(zs + i), nominal.force_response);
+    correction += k.gap_gain * std::abs(gamma[i]) + nominal.normal_force_gain[i] * std::abs(normal_force) +
+                  nominal.tangent_force_gain[i] * std::abs(tangent_force);
+  }
+  if (!bounded) {
+    out.remainder = infinite;
+    return;
+  }
+
+  // The remainder, per contact as a gap change [m] (times its gain to the centre) and as
+  // extra contact forces [N] along the normal and the tangent (times theirs). With, of the
+  // bore and of roller i, U >= |dr| (|dr0| + sum |C_n|) and J >= |dr'''| (sum n^3 |C_n|),
+  // and A = R - q - U (r_i + p - U) <= r + dr - dr'':
+  //  1. the support functions: dr left out of r + dr - dr'' changes the quadratic term by
+  //     at most a^2 U / (2 A (R - q)); the cubic term (dr''' - 3 dr') t^3 / 6 at the slide
+  //     t <= |a| / A takes at most twice its value at t (the maximum moves by less than t).
+  //     Their slopes are known up to |a q| U / (A (R - q)) + (J + 3 |a|) t^2 / 2, their
+  //     curvatures ((dr''^2 + dr' dr''') / A, left out) up to (q^2 + |a| J) / A;
+  //  2. the turn: the gap function's minimum is g - g'^2 / (2 g'') + g''' phi^3 / 6 + ...;
+  //     its slope is known up to s = |dturn_i| (the correction's own turn: the turn term
+  //     was evaluated at the first-order configuration) + the slopes' share of 1, its
+  //     curvature up to K' = the curvatures' share of 1, and |g'''| <= J_ring + J_i + |g'|
+  //     (two circles' g''' is -g'); with g^ = |g'_i| + s and phi^ = g^ / (g'' - K') (a
+  //     bound of the normal's exact turn) the term errs by at most
+  //       g^^2 / (2 (g'' - K')) - g'_i^2 / (2 g'') + 2 (J_ring + J_i + g^) phi^^3 / 6;
+  //  3. the penalty law: its curvature term at the corrected penetration change d^ =
+  //     |d| + |dd| instead of d, and its cubic term F''' d^3 / 6, F''' at the worst point
+  //     of [delta - d^, delta + d^];
+  //  4. the forces' turn: the force's second-order change dF times phi^, and the force
+  //     times the turn's error phi^ - |turn| along t_i, and (phi^^2 - turn^2) / 2 along
+  //     n_i, plus the sine's and cosine's next terms phi^3 / 6 and phi^4 / 24;
+  //  5. the responses were taken at the error-free assembly: over the path the entries
+  //     that carry a gap change to the centre (n n^T k_c of each contact) move by at most
+  //     2 phi^ + (e - 1) d^ / (delta - d^) relative (F t t^T / g'' by |dF| / (g'' k_c) of
+  //     k_c), and so does their product with the correction.
+  // Each term is bounded by its magnitude and carried to the centre by the norm of its
+  // response, so their sum bounds |exact - corrected| up to terms of fourth order and
+  // products of the bounds (docs/model.md §7).
+  double remainder = 0.0;
+  double drift = 0.0;  // the largest relative change of the response's entries
+  for (std::size_t i = 0; i < zs; ++i) {
+    const engine::Contact& c = nominal.contacts[i];
+    const Contact& k = contacts[i];
+    const double a = std::abs(first.slopes[i]);
+    const double b = std::abs(first.slopes[zs + i]);
+    const double q = std::abs(first.curvatures[i]);
+    const double p = std::abs(first.curvatures[zs + i]);
+    const double r = nominal.roller_radius[i];
+    const double ring_reach = ring_radius - first.curvatures[i];
+    const double roller_reach = r + first.curvatures[zs + i];
+    const double ring_allowance = ring_reach - ring_value_;
+    const double roller_allowance = roller_reach - k.roller_value;
+    if (!(ring_allowance > 0.0 && roller_allowance > 0.0)) {
+      out.remainder = infinite;
+      return;
+    }
+    // 1. The support functions.
+    const double ring_slide = a / ring_allowance;
+    const double roller_slide = b / roller_allowance;
+    const double ring_cubic = ring_jerk_ + 3.0 * a;
+    const double roller_cubic = k.roller_jerk + 3.0 * b;
+    const double support = a * a * ring_value_ / (2.0 * ring_allowance * ring_reach) +
+                           ring_cubic * ring_slide * ring_slide * ring_slide / 3.0 +
+                           b * b * k.roller_value / (2.0 * roller_allowance * roller_reach) +
+                           roller_cubic * roller_slide * roller_slide * roller_slide / 3.0;
+    const double support_slope = a * q * ring_value_ / (ring_allowance * ring_reach) +
+                                 ring_cubic * ring_slide * ring_slide / 2.0 +
+                                 b * p * k.roller_value / (roller_allowance * roller_reach) +
+                                 roller_cubic * roller_slide * roller_slide / 2.0;
+    const double support_curvature = (q * q + a * ring_jerk_) / ring_allowance + (p * p + b * k.roller_jerk) / roller_allowance;
+    // 2. The turn.
+    const double curvature_allowance = curvature[i] - support_curvature;
+    if (!(curvature_allowance > 0.0)) {
+      out.remainder = infinite;
+      return;
+    }
+    const double g1 = std::abs(slope[i]);
+    const double bound_slope = g1 + std::abs(feedback[i]) + support_slope;
+    const double phi = bound_slope / curvature_allowance;
+    const double turning = bound_slope * bound_slope / (2.0 * curvature_allowance) - g1 * g1 / (2.0 * curvature[i]) +
+                           (ring_jerk_ + k.roller_jerk + bound_slope) * phi * phi * phi / 3.0;
+    // 3. The penalty law.
+    double law = 0.0;
+    double law_drift = 0.0;
+    if (nominal.penetration[i] > 0.0) {
+      const double e = nominal.exponent;
+      const double delta = nominal.penetration[i];
+      const double d = std::abs(penetration_change[i]);
+      const double reach = d + std::abs(out.contact_force[i] / nominal.force_stiffness[i]);
+      const double lowest = delta - reach;
+      if (!(lowest > 0.0)) {
+        out.remainder = infinite;
+        return;
+      }
+      const double third = (e - 1.0) * std::abs(e - 2.0) *
+                           std::max(std::pow(lowest, e - 3.0), std::pow(delta + reach, e - 3.0)) /
+                           std::pow(delta, e - 1.0);
+      law = (e - 1.0) * (reach * reach - d * d) / (2.0 * delta) + third * reach * reach * reach / 6.0;
+      law_drift = (e - 1.0) * reach / lowest;
+    }
+    // 4. The forces' turn.
+    const double force = std::abs(first.contact_force[i]) + std::abs(out.contact_force[i]);
+    const double turn = std::abs(slope[i] + feedback[i]) / curvature[i];
+    const double phi2 = phi * phi;
+    const double normal_force = std::abs(out.contact_force[i]) * phi2 / 2.0 + force * ((phi2 - turn * turn) / 2.0 + phi2 * phi2 / 24.0);
+    const double tangent_force = std::abs(out.contact_force[i]) * phi + force * (phi - turn + phi2 * phi / 6.0);
+    remainder += k.gap_gain * (support + turning + law) + nominal.normal_force_gain[i] * normal_force +
+                 nominal.tangent_force_gain[i] * tangent_force;
+    // 5. The response's drift.
+    const double force_change = std::abs(first.contact_force[i] - k.force0) + std::abs(out.contact_force[i]);
+    const double geometric = nominal.force_stiffness[i] > 0.0
+                                 ? force_change / (c.gap_curvature * nominal.force_stiffness[i])
+                                 : 0.0;
+    drift = std::max(drift, 2.0 * phi + law_drift + geometric);
+  }
+  out.remainder = remainder + drift * correction;
+}
+
+double SecondOrderTerms::EstimateFrom(double largest_remainder, double farthest) const {
+  // The sensor reads the centre along its ray, plus its tangential offset c_t times the
+  // bore's slope over R and c_t^2 / (2 R) (docs/model.md §5): a centre error moves the
+  // reading by at most (1 + (|c| + max |dr'|) / R) times itself.
+  const double sensor_gain = 1.0 + (farthest + ring_slope_sum_) / nominal_->ring_radius;
+  return 2.0 * sensor_gain * largest_remainder;
+}
+
+SecondOrderTerms LinearSolver::SecondOrderOf(const Scene& scene, std::shared_ptr<const NominalResponse> nominal) {
+  SecondOrderTerms terms;
+  if (nominal == nullptr || nominal->equilibrium.status != Status::kOk) return terms;
+  const auto zs = static_cast<std::size_t>(nominal->rollers);
+  auto contacts = std::make_shared<std::vector<SecondOrderTerms::Contact>>(zs);
+  // |dr| <= |dr0| + sum |C_n|, |dr'| <= sum n |C_n|, |dr'''| <= sum n^3 |C_n|.
+  const auto moments = [](const engine::PolarProfile& profile, double& value, double& jerk, double& slope) {
+    value = std::abs(profile.mean_deviation());
+    jerk = 0.0;
+    slope = 0.0;
+    for (int n = 1; n <= profile.max_order(); ++n) {
+      const double amplitude = std::hypot(profile.cos_coefficient(n), profile.sin_coefficient(n));
+      const double order = n;
+      value += amplitude;
+      jerk += order * order * order * amplitude;
+      slope += order * amplitude;
+    }
+  };
+  double unused = 0.0;
+  moments(scene.ring.inner, terms.ring_value_, terms.ring_jerk_, terms.ring_slope_sum_);
+  for (std::size_t i = 0; i < zs; ++i) {
+    const int index = static_cast<int>(i);
+    SecondOrderTerms::Contact& k = (*contacts)[i];
+    k.shift = engine::RollerCentre(scene, index) - engine::RollerCentre(nominal->perfect, index);
+    k.axis = engine::SpringAxis(scene, index);
+    if (nominal->travel_row[i] >= 0) k.travel0 = nominal->y0[nominal->travel_row[i]];
+    k.force0 = nominal->y0[nominal->first_force_row + index];
+    k.gap_gain = nominal->response.block<2, 1>(0, index).norm();
+    moments(scene.rollers[i].outline, k.roller_value, k.roller_jerk, unused);
+  }
+  terms.nominal_ = std::move(nominal);
+  terms.contacts_ = std::move(contacts);
+  return terms;
+}
+
+SecondOrderTerms LinearSolver::SecondOrder(const Scene& scene) const { return SecondOrderOf(scene, Nominal(scene)); }
+
 std::shared_ptr<const NominalResponse> LinearSolver::Nominal(const Scene& scene) const {
   return nominal_.Get(scene,
                       [this](engine::Scene perfect) { return ComputeNominal(std::move(perfect), options_.nominal); });
@@ -647,7 +879,21 @@ Equilibrium LinearSolver::SolveStatic(const Scene& scene) const {
   if (lin.nominal->equilibrium.status != Status::kOk) return lin.nominal->equilibrium;
   // At psi = 0 every cosine is 1 and every sine 0.
   Equilibrium e;
-  FillEquilibrium(lin, lin.offset + lin.cosine.rowwise().sum(), e);
+  const Eigen::VectorXd y = lin.offset + lin.cosine.rowwise().sum();
+  FillEquilibrium(lin, y, e);
+  const NominalResponse& nominal = *lin.nominal;
+  const auto zs = static_cast<std::size_t>(nominal.rollers);
+  SecondOrderAngle correction;
+  SecondOrderOf(scene, lin.nominal)
+      .At({e.centre, e.travel, e.contact_force,
+           std::span<const double>(y.data() + nominal.first_slope_row, 2 * zs),
+           std::span<const double>(y.data() + nominal.first_slope_row + 2 * nominal.rollers, 2 * zs)},
+          correction);
+  e.centre += correction.centre;
+  for (std::size_t i = 0; i < zs; ++i) {
+    e.travel[i] += correction.travel[i];
+    e.contact_force[i] += correction.contact_force[i];
+  }
   ValidityCheck(scene).Check(e);
   return e;
 }
@@ -701,20 +947,22 @@ PhasorSum LinearSolver::Phasors(const Scene& scene) const {
 // What LinearPath reads beyond the Linearisation: the sensor's two extra series, the sums'
 // weights, the phasors kept at the coarse angles and the work buffers.
 struct LinearPath::Parts {
-  SecondOrderFrame frame;
+  SecondOrderTerms second;
   Eigen::Vector2d ray;             // [-] the sensor's direction e_s
   Eigen::Vector2d across;          // [-] e_s turned a quarter turn: c_t = across . c
   double bore_radius = 0.0;        // [m] R, nominal
   double bore_reach = 0.0;         // [m] R + the bore's mean deviation
-  // The gap series (Linearisation::series_*) and below them the bore's form at the sensor,
-  // its slope and its curvature there [m, m/rad, m/rad^2]: rows 3Z, 3Z + 1 and 3Z + 2.
+  // The gap series (Linearisation::series_*: values, slopes, curvatures) and below them the
+  // bore's form at the sensor, its slope and its curvature there [m, m/rad, m/rad^2]: rows
+  // 5Z, 5Z + 1 and 5Z + 2.
   Eigen::MatrixXd series_cosine, series_sine;
   TermGroup group;                 // their weights, each term's cosine and sine in turn
   std::vector<double> dense_cos, dense_sin;  // per term: the turn by one angle
   std::vector<double> coarse_table;          // TurnRun's rows at the coarse angles
   std::size_t coarse_stride = 0;             // the coarse table's row stride
-  std::vector<double> now_cos, now_sin, turn_cos, turn_sin, table, sums, slope;
+  std::vector<double> now_cos, now_sin, turn_cos, turn_sin, table, sums, derivatives;
   Eigen::VectorXd values, y;
+  SecondOrderAngle correction;
   path_kernels::Isa kernels = path_kernels::Isa::kBest;
 
   // Appends the outputs of the table's first `count` lanes (row stride `stride`), which
@@ -727,34 +975,42 @@ struct LinearPath::Parts {
     sums.resize(series_count * stride);
     path_kernels::KernelsFor(kernels).sum_rows(group.View(), table_data, stride, stride, sums.data(), stride);
     const Eigen::Index outputs = nominal.response.rows();
-    values.resize(static_cast<Eigen::Index>(3 * zs));
-    slope.resize(2 * zs);
+    const std::size_t gap_series = 5 * zs;
+    values.resize(static_cast<Eigen::Index>(gap_series));
+    derivatives.resize(4 * zs);
     for (std::size_t j = 0; j < index.size(); ++j) {
-      for (std::size_t s = 0; s < 3 * zs; ++s) values[static_cast<Eigen::Index>(s)] = sums[s * stride + j];
+      for (std::size_t s = 0; s < gap_series; ++s) values[static_cast<Eigen::Index>(s)] = sums[s * stride + j];
       y.noalias() = nominal.series_response * values;
       y += lin.offset.head(outputs);
-      const Eigen::Vector2d centre = y.head<2>();
-      samples.index.push_back(index[j]);
-      samples.centre.push_back(centre);
+      // The first-order outputs, then the second order SolveRevolution adds at every angle.
       const std::size_t at = samples.travel.size();
       for (std::size_t i = 0; i < zs; ++i) {
         const int row = nominal.travel_row[i];
         samples.travel.push_back(row >= 0 ? y[row] : 0.0);
         samples.contact_force.push_back(y[nominal.first_force_row + static_cast<Eigen::Index>(i)]);
       }
-      for (std::size_t s = 0; s < 2 * zs; ++s) slope[s] = sums[(zs + s) * stride + j];
-      samples.factors.resize(samples.factors.size() + Samples::kFactors * zs);
-      samples.centre_error.push_back(CentreError(nominal, frame, centre, samples.travel.data() + at,
-                                                 samples.contact_force.data() + at, slope.data(),
-                                                 samples.factors.data() + at * Samples::kFactors));
-      const double form = sums[3 * zs * stride + j];
-      const double form_slope = sums[(3 * zs + 1) * stride + j];
+      for (std::size_t s = 0; s < 4 * zs; ++s) derivatives[s] = sums[(zs + s) * stride + j];
+      const std::span<double> travel(samples.travel.data() + at, zs);
+      const std::span<double> force(samples.contact_force.data() + at, zs);
+      second.At({y.head<2>(), travel, force, std::span<const double>(derivatives.data(), 2 * zs),
+                 std::span<const double>(derivatives.data() + 2 * zs, 2 * zs)},
+                correction);
+      const Eigen::Vector2d centre = y.head<2>() + correction.centre;
+      for (std::size_t i = 0; i < zs; ++i) {
+        travel[i] += correction.travel[i];
+        force[i] += correction.contact_force[i];
+      }
+      samples.index.push_back(index[j]);
+      samples.centre.push_back(centre);
+      samples.remainder.push_back(correction.remainder);
+      const double form = sums[gap_series * stride + j];
+      const double form_slope = sums[(gap_series + 1) * stride + j];
+      const double form_curvature = sums[(gap_series + 2) * stride + j];
       // The ray meets the bore where the body angle is theta_s - psi - c_t / r, r the bore's
       // radius there, and the point lies c_t^2 / (2 r) short of r there.
       const double c_t = across.dot(centre);
       const double reach = bore_reach + form;
       const double turn = c_t / reach;
-      const double form_curvature = sums[(3 * zs + 2) * stride + j];
       samples.signal.push_back(ray.dot(centre) + reach - form_slope * turn + 0.5 * form_curvature * turn * turn -
                                c_t * turn / 2.0);
     }
@@ -766,22 +1022,8 @@ void LinearPath::Samples::clear() {
   centre.clear();
   travel.clear();
   contact_force.clear();
-  centre_error.clear();
-  factors.clear();
+  remainder.clear();
   signal.clear();
-}
-
-double LinearPath::Straying::CentreErrorBetween(const Samples& samples, std::size_t a, std::size_t b) const {
-  const std::size_t n = factor.size();
-  const double* at_a = samples.factors.data() + a * n;
-  const double* at_b = samples.factors.data() + b * n;
-  double bound = 0.0;
-  for (std::size_t q = 0; q < n; ++q) {
-    const double change = at_b[q] - at_a[q];
-    const double s = factor[q];
-    bound += factor_weight[q] * (change * change / 4.0 + 2.0 * std::max(std::abs(at_a[q]), std::abs(at_b[q])) * s + s * s);
-  }
-  return bound;
 }
 
 LinearPath::LinearPath() = default;
@@ -862,12 +1104,16 @@ void LinearPath::Refine(int j, Samples& samples) {
   parts.Append(*lin_, parts.table.data(), stride, index, samples);
 }
 
+double LinearPath::EstimateFrom(double largest_remainder, double farthest) const {
+  return parts_->second.EstimateFrom(largest_remainder, farthest);
+}
+
 void LinearPath::FirstOrderSignal(std::vector<double>& signal) const {
   const Parts& parts = *parts_;
   const auto zs = static_cast<std::size_t>(lin_->nominal->rollers);
   // One series: e_s . (the centre's terms) + the form at the sensor.
-  const Eigen::MatrixXd cosine = parts.ray.transpose() * lin_->cosine.topRows<2>() + parts.series_cosine.row(static_cast<Eigen::Index>(3 * zs));
-  const Eigen::MatrixXd sine = parts.ray.transpose() * lin_->sine.topRows<2>() + parts.series_sine.row(static_cast<Eigen::Index>(3 * zs));
+  const Eigen::MatrixXd cosine = parts.ray.transpose() * lin_->cosine.topRows<2>() + parts.series_cosine.row(static_cast<Eigen::Index>(5 * zs));
+  const Eigen::MatrixXd sine = parts.ray.transpose() * lin_->sine.topRows<2>() + parts.series_sine.row(static_cast<Eigen::Index>(5 * zs));
   SumSeries(cosine, sine, lin_->rates, steps_, path_kernels::KernelsFor(parts.kernels), signal);
   signal.resize(static_cast<std::size_t>(steps_) + 1);
   const double offset = parts.ray.dot(lin_->offset.head<2>()) + parts.bore_reach;
@@ -879,13 +1125,10 @@ LinearPath::Straying LinearPath::StrayingAt(double dpsi) const {
   const Linearisation& lin = *lin_;
   const NominalResponse& nominal = *lin.nominal;
   const auto zs = static_cast<std::size_t>(nominal.rollers);
-  constexpr std::size_t kFactors = Samples::kFactors;
   const std::size_t terms = lin.rates.size();
   Straying bounds;
   bounds.travel.assign(zs, 0.0);
   bounds.contact_force.assign(zs, 0.0);
-  bounds.factor.assign(kFactors * zs, 0.0);
-  bounds.factor_weight.assign(kFactors * zs, 0.0);
   const auto straying = [dpsi](double rate) { return std::min(2.0, rate * rate * dpsi * dpsi / 8.0); };
   // sqrt, not hypot: amplitudes of micrometres and newtons neither overflow nor underflow
   // when squared, and hypot's care costs more than the rest of the bounds.
@@ -898,9 +1141,9 @@ LinearPath::Straying LinearPath::StrayingAt(double dpsi) const {
   // bore that can be simulated).
   double form_slope = 0.0;
   double form_curvature = 0.0;
-  const auto form_curvature_row = static_cast<Eigen::Index>(3 * zs + 2);
   double across = std::abs(parts.across.dot(lin.offset.head<2>()));
-  const auto form_slope_row = static_cast<Eigen::Index>(3 * zs + 1);
+  const auto form_slope_row = static_cast<Eigen::Index>(5 * zs + 1);
+  const auto form_curvature_row = static_cast<Eigen::Index>(5 * zs + 2);
   for (std::size_t q = 0; q < terms; ++q) {
     const auto p = static_cast<Eigen::Index>(q);
     const double s = straying(lin.rates[q]);
@@ -909,34 +1152,10 @@ LinearPath::Straying LinearPath::StrayingAt(double dpsi) const {
     form_curvature += amplitude(parts.series_cosine, parts.series_sine, form_curvature_row, p);
     across += norm(parts.across.dot(lin.cosine.col(p).head<2>()), parts.across.dot(lin.sine.col(p).head<2>()));
     for (std::size_t i = 0; i < zs; ++i) {
-      const engine::Contact& c = nominal.contacts[i];
       const int travel_row = nominal.travel_row[i];
-      const Eigen::Index force_row = nominal.first_force_row + static_cast<Eigen::Index>(i);
       if (travel_row >= 0) bounds.travel[i] += s * amplitude(lin.cosine, lin.sine, travel_row, p);
-      const double force = amplitude(lin.cosine, lin.sine, force_row, p);
-      bounds.contact_force[i] += s * force;
-      // The factors as CentreError forms them from the outputs and the slope series.
-      const auto bore_row = static_cast<Eigen::Index>(zs + i);
-      const auto roller_row = static_cast<Eigen::Index>(2 * zs + i);
-      const double along = travel_row >= 0 ? parts.frame.axis[i].dot(c.tangent) : 0.0;
-      const auto turn = [&](const Eigen::MatrixXd& outputs, const Eigen::MatrixXd& series) {
-        return series(bore_row, p) + series(roller_row, p) + c.tangent.dot(outputs.col(p).head<2>()) -
-               (travel_row >= 0 ? along * outputs(travel_row, p) : 0.0);
-      };
-      double* f = bounds.factor.data() + i * kFactors;
-      f[0] += s * amplitude(lin.series_cosine, lin.series_sine, bore_row, p);
-      f[1] += s * amplitude(lin.series_cosine, lin.series_sine, roller_row, p);
-      f[2] += s * norm(turn(lin.cosine, lin.series_cosine), turn(lin.sine, lin.series_sine));
-      if (nominal.penetration[i] > 0.0) f[3] += s * force / nominal.force_stiffness[i];
+      bounds.contact_force[i] += s * amplitude(lin.cosine, lin.sine, nominal.first_force_row + static_cast<Eigen::Index>(i), p);
     }
-  }
-  for (std::size_t i = 0; i < zs; ++i) {
-    const double gain = nominal.response.block<2, 1>(0, static_cast<Eigen::Index>(i)).norm();
-    double* w = bounds.factor_weight.data() + i * kFactors;
-    w[0] = gain / (2.0 * nominal.ring_radius);
-    w[1] = gain / (2.0 * nominal.roller_radius[i]);
-    w[2] = gain / (2.0 * std::abs(nominal.contacts[i].gap_curvature));
-    w[3] = nominal.penetration[i] > 0.0 ? gain * (nominal.exponent - 1.0) / (2.0 * nominal.penetration[i]) : 0.0;
   }
   const double turn = across / (0.5 * parts.bore_radius);
   bounds.signal_rest = 2.0 * (form_slope * turn + form_curvature * turn * turn / 2.0 + across * turn / 2.0);
@@ -959,7 +1178,7 @@ LinearPath LinearSolver::Path(const Scene& scene, int steps) const {
     return path;
   }
   auto parts = std::make_unique<LinearPath::Parts>();
-  parts->frame = FrameOf(scene, nominal);
+  parts->second = SecondOrderOf(scene, lin->nominal);
   parts->kernels = options_.kernels;
   parts->ray = engine::Direction(scene.sensor_angle);
   parts->across = {-parts->ray.y(), parts->ray.x()};
@@ -968,10 +1187,10 @@ LinearPath LinearSolver::Path(const Scene& scene, int steps) const {
   parts->bore_reach = bore.radius() + bore.mean_deviation();
   const int z = nominal.rollers;
   const Eigen::Index terms = static_cast<Eigen::Index>(lin->rates.size());
-  parts->series_cosine.setZero(3 * z + 3, terms);
-  parts->series_sine.setZero(3 * z + 3, terms);
-  parts->series_cosine.topRows(3 * z) = lin->series_cosine;
-  parts->series_sine.topRows(3 * z) = lin->series_sine;
+  parts->series_cosine.setZero(5 * z + 3, terms);
+  parts->series_sine.setZero(5 * z + 3, terms);
+  parts->series_cosine.topRows(5 * z) = lin->series_cosine;
+  parts->series_sine.topRows(5 * z) = lin->series_sine;
   // The bore's harmonics are the first terms, in order (Linearise): a e^{i n theta} read
   // at theta_s - psi is Re[(a e^{i n theta_s}) e^{-i n psi}], its slope Re[i n (...)].
   Eigen::Index p = 0;
@@ -981,12 +1200,12 @@ LinearPath LinearSolver::Path(const Scene& scene, int steps) const {
     const Complex at_sensor = a * std::polar(1.0, n * scene.sensor_angle);
     const Complex slope = Complex(0.0, n) * at_sensor;
     const Complex curvature = Complex(0.0, n) * slope;
-    parts->series_cosine(3 * z, p) = at_sensor.real();
-    parts->series_sine(3 * z, p) = at_sensor.imag();
-    parts->series_cosine(3 * z + 1, p) = slope.real();
-    parts->series_sine(3 * z + 1, p) = slope.imag();
-    parts->series_cosine(3 * z + 2, p) = curvature.real();
-    parts->series_sine(3 * z + 2, p) = curvature.imag();
+    parts->series_cosine(5 * z, p) = at_sensor.real();
+    parts->series_sine(5 * z, p) = at_sensor.imag();
+    parts->series_cosine(5 * z + 1, p) = slope.real();
+    parts->series_sine(5 * z + 1, p) = slope.imag();
+    parts->series_cosine(5 * z + 2, p) = curvature.real();
+    parts->series_sine(5 * z + 2, p) = curvature.imag();
     ++p;
   }
   std::vector<Eigen::Index> columns(static_cast<std::size_t>(terms));
@@ -1032,21 +1251,42 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
   path.row[0] = trajectory.centre.front().data();
   path.row[1] = path.row[0] + 1;
   path.stride[0] = path.stride[1] = 2;
-  // The gap slopes, psi-major: slopes[k * 2Z + j] for slope row first_slope_row + j. Kept
-  // per thread: a fresh buffer (48 bytes an angle) lies above malloc's mmap threshold at
+  // The gap slopes and curvatures, psi-major: slopes[k * 4Z + j] for row first_slope_row + j. Kept
+  // per thread: a fresh buffer (96 bytes an angle) lies above malloc's mmap threshold at
   // campaign resolutions, and its page faults would cost more than the estimate.
   thread_local std::vector<double> slopes;
-  slopes.resize(n * 2 * zs);
+  slopes.resize(n * 4 * zs);
   for (std::size_t i = 0; i < zs; ++i) {
     const int s = nominal.travel_row[i];
     if (s >= 0) path.row[static_cast<std::size_t>(s)] = trajectory.travel.data() + i;
     path.row[static_cast<std::size_t>(nominal.first_force_row) + i] = trajectory.contact_force.data() + i;
   }
-  for (std::size_t j = 0; j < 2 * zs; ++j) {
+  for (std::size_t j = 0; j < 4 * zs; ++j) {
     path.row[static_cast<std::size_t>(nominal.first_slope_row) + j] = slopes.data() + j;
-    path.stride[static_cast<std::size_t>(nominal.first_slope_row) + j] = 2 * z;
+    path.stride[static_cast<std::size_t>(nominal.first_slope_row) + j] = 4 * z;
   }
   EvaluatePath(lin, steps, path_kernels::KernelsFor(options_.kernels), path);
+  // The second order at every angle; what it leaves bounds the estimate.
+  const SecondOrderTerms second = SecondOrderOf(scene, lin.nominal);
+  thread_local SecondOrderAngle correction;
+  double largest_remainder = 0.0;
+  double farthest = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::span<double> travel(trajectory.travel.data() + k * zs, zs);
+    const std::span<double> force(trajectory.contact_force.data() + k * zs, zs);
+    const double* derivatives = slopes.data() + k * 4 * zs;
+    second.At({trajectory.centre[k], travel, force, std::span<const double>(derivatives, 2 * zs),
+               std::span<const double>(derivatives + 2 * zs, 2 * zs)},
+              correction);
+    trajectory.centre[k] += correction.centre;
+    for (std::size_t i = 0; i < zs; ++i) {
+      travel[i] += correction.travel[i];
+      force[i] += correction.contact_force[i];
+    }
+    // max() would drop a NaN: the estimate must carry it.
+    if (!(correction.remainder <= largest_remainder)) largest_remainder = correction.remainder;
+    farthest = std::max(farthest, trajectory.centre[k].norm());
+  }
   trajectory.initial.centre = trajectory.centre.front();
   trajectory.initial.travel.assign(trajectory.travel.begin(), trajectory.travel.begin() + z);
   trajectory.initial.contact_force.assign(trajectory.contact_force.begin(), trajectory.contact_force.begin() + z);
@@ -1054,20 +1294,22 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
   for (int k = 0; k <= steps; ++k) {
     trajectory.psi[static_cast<std::size_t>(k)] = 2.0 * std::numbers::pi * static_cast<double>(k) / steps;
   }
-  trajectory.error_estimate = ErrorEstimate(scene, nominal, trajectory, slopes);
+  trajectory.error_estimate = second.EstimateFrom(largest_remainder, farthest);
   // The domain's limits first, as every rung states them; then the rung's own.
   ValidityCheck(scene).Check(trajectory);
   if (trajectory.status != Status::kOk) return trajectory;
   double reach = 0.0;
   for (const Eigen::Vector2d& centre : trajectory.centre) reach = std::max(reach, (centre - trajectory.centre.front()).norm());
-  const double limit = std::max(options_.max_relative_error * reach, options_.min_error_limit);
-  if (!(trajectory.error_estimate <= limit)) {
-    trajectory.status = Status::kBeyondLinearRange;
-    trajectory.message = "the first-order path's second-order error, estimated at " +
-                         Micrometres(trajectory.error_estimate) + " of D_trajectory, exceeds its limit of " +
-                         Micrometres(limit) + ": use the quasistatic rung";
-  }
+  trajectory.message = LinearRangeRefusal(options_, trajectory.error_estimate, reach);
+  if (!trajectory.message.empty()) trajectory.status = Status::kBeyondLinearRange;
   return trajectory;
+}
+
+std::string LinearRangeRefusal(const LinearOptions& options, double error_estimate, double reach) {
+  const double limit = std::max(options.max_relative_error * reach, options.min_error_limit);
+  if (error_estimate <= limit) return {};
+  return "the second-order path's remaining error, bounded at " + Micrometres(error_estimate) +
+         " of D_trajectory, exceeds its limit of " + Micrometres(limit) + ": use the quasistatic rung";
 }
 
 }  // namespace ringtol::solvers

@@ -508,9 +508,7 @@ SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& s
   const auto* automatic = dynamic_cast<const AutoSolver*>(&solver);
   if (linear == nullptr && automatic == nullptr) return outcome;
   std::optional<SpectralResult> spectral =
-      linear != nullptr
-          ? SimulateSpectral(scene, *linear, steps, options.refine_stride, std::numeric_limits<double>::infinity())
-          : SimulateSpectral(scene, automatic->linear(), steps, options.refine_stride, automatic->options().budget);
+      SimulateSpectral(scene, linear != nullptr ? *linear : automatic->linear(), steps, options.refine_stride);
   if (!spectral) return outcome;
   if (automatic != nullptr &&
       (spectral->result.status != Status::kOk || !automatic->LinearVerdict(scene, spectral->margins).empty())) {

@@ -12,8 +12,19 @@
 
 namespace ringtol::solvers {
 
+namespace {
+
+// How far the second-order correction (SecondOrderTerms::At) can stray between two
+// evaluated angles [m, N]: not bounded yet, so every stretch is open and the mode
+// evaluates every angle (docs/model.md §5). A bound of the correction and of its remainder
+// over a stretch, from bounds on the first-order inputs there, is what makes stretches
+// settle.
+constexpr double kCorrectionStraying = std::numeric_limits<double>::infinity();
+
+}  // namespace
+
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
-                                               int stride, double error_budget) {
+                                               int stride) {
   const ValidityCheck validity(scene);
   const std::size_t z = scene.rollers.size();
   if (stride < 2 || steps < 4 * stride) return std::nullopt;
@@ -61,10 +72,10 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
     for (std::size_t i = 0; i < z && certain; ++i) {
       const double force_a = samples.contact_force[j * z + i];
       const double force_b = samples.contact_force[(j + 1) * z + i];
-      certain = std::min(force_a, force_b) > straying.contact_force[i];
+      certain = std::min(force_a, force_b) > straying.contact_force[i] + kCorrectionStraying;
       if (scene.rollers[i].mount != engine::RollerMount::kFixed) {
         const double travel = std::max(std::abs(samples.travel[j * z + i]), std::abs(samples.travel[(j + 1) * z + i]));
-        certain = certain && travel + straying.travel[i] <= scene.rollers[i].spring.travel_limit;
+        certain = certain && travel + straying.travel[i] + kCorrectionStraying <= scene.rollers[i].spring.travel_limit;
       }
     }
     if (!certain) refine(j);
@@ -75,69 +86,45 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   // reach beyond what the evaluated angles give; the extremes only grow, so it ends when
   // none is left. What campaigns record of the forces is certified: the smallest over
   // every contact and the largest; each roller's own range is read at the evaluated angles.
-  engine::Circle circle, error_circle;
-  double reach = 0.0;
+  engine::Circle circle;
   double smallest_force = 0.0;
   double largest_force = 0.0;
-  const Eigen::Vector2d start = samples.centre.front();
-  // exact: also the reach and the second-order error's circle, so that both are the dense
-  // path's.
-  const auto refine_open = [&](bool exact) {
-    for (bool changed = true; changed;) {
-      circle = engine::MinimumEnclosingCircle(samples.centre);
-      error_circle = engine::MinimumEnclosingCircle(samples.centre_error);
-      reach = 0.0;
-      for (const Eigen::Vector2d& c : samples.centre) reach = std::max(reach, (c - start).norm());
-      const auto [low, high] = std::minmax_element(samples.contact_force.begin(), samples.contact_force.end());
-      smallest_force = *low;
-      largest_force = *high;
-      std::vector<std::size_t> wanted;
-      for (std::size_t j = 0; j < segments; ++j) {
-        if (refined[j]) continue;
-        const auto beyond = [j](const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& centre, double radius,
-                                double bound) {
-          return std::max((points[j] - centre).norm(), (points[j + 1] - centre).norm()) + bound > radius;
-        };
-        bool open = beyond(samples.centre, circle.centre, circle.radius, straying.centre) ||
-                    (exact && (beyond(samples.centre, start, reach, straying.centre) ||
-                               beyond(samples.centre_error, error_circle.centre, error_circle.radius,
-                                      straying.CentreErrorBetween(samples, j, j + 1))));
-        for (std::size_t i = 0; i < z && !open; ++i) {
-          const double force_a = samples.contact_force[j * z + i];
-          const double force_b = samples.contact_force[(j + 1) * z + i];
-          open = std::min(force_a, force_b) - straying.contact_force[i] < smallest_force ||
-                 std::max(force_a, force_b) + straying.contact_force[i] > largest_force;
-        }
-        if (open) wanted.push_back(j);
+  for (bool changed = true; changed;) {
+    circle = engine::MinimumEnclosingCircle(samples.centre);
+    const auto [low, high] = std::minmax_element(samples.contact_force.begin(), samples.contact_force.end());
+    smallest_force = *low;
+    largest_force = *high;
+    std::vector<std::size_t> wanted;
+    for (std::size_t j = 0; j < segments; ++j) {
+      if (refined[j]) continue;
+      const double farthest =
+          std::max((samples.centre[j] - circle.centre).norm(), (samples.centre[j + 1] - circle.centre).norm());
+      bool open = farthest + straying.centre + kCorrectionStraying > circle.radius;
+      for (std::size_t i = 0; i < z && !open; ++i) {
+        const double force_a = samples.contact_force[j * z + i];
+        const double force_b = samples.contact_force[(j + 1) * z + i];
+        const double bound = straying.contact_force[i] + kCorrectionStraying;
+        open = std::min(force_a, force_b) - bound < smallest_force || std::max(force_a, force_b) + bound > largest_force;
       }
-      changed = !wanted.empty();
-      for (const std::size_t j : wanted) refine(j);
-      if (!valid()) return false;
+      if (open) wanted.push_back(j);
     }
-    return true;
-  };
-  if (!refine_open(false)) return std::nullopt;
-  // The second-order error estimate: every dense angle's centre error lies within its
-  // stretch's bound (LinearPath::Straying::CentreErrorBetween) of the chord between the
-  // stretch's evaluated ends, so twice the largest distance from the evaluated errors'
-  // circle's centre that an unevaluated one can reach bounds the dense estimate. Where that
-  // bound is within what the estimate is weighed against (the linear rung's range limit
-  // at the evaluated reach, a lower bound of the dense one, and error_budget) it stands;
-  // otherwise the stretches that could widen the circle are evaluated, and the estimate
-  // and the reach are the dense path's.
-  double error_estimate = 2.0 * error_circle.radius;
-  for (std::size_t j = 0; j < segments; ++j) {
-    if (refined[j]) continue;
-    const double farthest = std::max((samples.centre_error[j] - error_circle.centre).norm(),
-                                     (samples.centre_error[j + 1] - error_circle.centre).norm());
-    error_estimate = std::max(error_estimate, 2.0 * (farthest + straying.CentreErrorBetween(samples, j, j + 1)));
+    changed = !wanted.empty();
+    for (const std::size_t j : wanted) refine(j);
+    if (!valid()) return std::nullopt;
   }
-  const LinearOptions& options = linear.options();
-  const double limit = std::max(options.max_relative_error * reach, options.min_error_limit);
-  if (!(error_estimate <= std::min(limit, error_budget))) {
-    if (!refine_open(true)) return std::nullopt;
-    error_estimate = 2.0 * error_circle.radius;
+  // The estimate, as SolveRevolution forms it from the largest remainder over the angles
+  // (each of which is evaluated while the correction is not bounded between them).
+  double largest_remainder = 0.0;
+  double farthest = 0.0;
+  double reach = 0.0;
+  const Eigen::Vector2d start = samples.centre.front();
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    // max() would drop a NaN: the estimate must carry it.
+    if (!(samples.remainder[s] <= largest_remainder)) largest_remainder = samples.remainder[s];
+    farthest = std::max(farthest, samples.centre[s].norm());
+    reach = std::max(reach, (samples.centre[s] - start).norm());
   }
+  const double error_estimate = path.EstimateFrom(largest_remainder, farthest);
 
   SpectralResult spectral;
   SimulationResult& result = spectral.result;
@@ -175,11 +162,10 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
     result.sensor.push_back(samples.signal[s]);
   }
 
-  if (!(kept.error_estimate <= limit)) {
+  const std::string refusal = LinearRangeRefusal(linear.options(), kept.error_estimate, reach);
+  if (!refusal.empty()) {
     result.status = kept.status = Status::kBeyondLinearRange;
-    result.message = kept.message = "the first-order path's second-order error, estimated at " +
-                                    Micrometres(kept.error_estimate) + " of D_trajectory, exceeds its limit of " +
-                                    Micrometres(limit) + ": use the quasistatic rung";
+    result.message = kept.message = refusal;
     return spectral;
   }
 
@@ -189,9 +175,10 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   result.contact_force = forces;
   result.min_contact_force = smallest_force;
 
-  // The signal at every angle: its first-order part summed there, its second-order rest
-  // interpolated between the evaluated angles (which straddle every angle, the coarse
-  // grid's ends being 0 and steps).
+  // The signal at every angle: its first-order part summed there, the rest (the sensor's
+  // second-order terms and the centre's correction along the ray) interpolated between
+  // the evaluated angles (which straddle every angle, the coarse grid's ends being 0 and
+  // steps).
   thread_local std::vector<double> signal;
   path.FirstOrderSignal(signal);
   std::size_t previous = order.front();

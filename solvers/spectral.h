@@ -44,13 +44,7 @@ struct SpectralResult {
 // cannot be linearised) or where any evaluated angle fails the validity check: the dense
 // evaluation then runs and states the failure where it arises. steps >= 1, stride >= 2.
 // The linear rung's own range limit (LinearOptions) applies as in SolveRevolution.
-//
-// The error estimate (Trajectory::error_estimate) is the dense path's where it exceeds the
-// range limit or error_budget [m] (auto's budget; +infinity for the linear rung alone),
-// which then decide on the same number as the dense evaluation; below both, it is an
-// upper bound on the dense path's, from the evaluated angles and each stretch's chord
-// bound, and settles the same scenes.
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
-                                               int stride, double error_budget);
+                                               int stride);
 
 }  // namespace ringtol::solvers

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -87,7 +88,9 @@ TEST(LinearSolver, EveryWayOfSummingThePathGivesTheSameAngles) {
 // The path is summed through the contacts' gap series (each roller term reaches two series,
 // not every output row), from phasor recurrences, folded over a quarter turn where the step
 // count allows. Whatever the route, every angle must be the closed form of
-// LinearSolver::Phasors summed term by term with libm in long double.
+// LinearSolver::Phasors summed term by term with libm in long double, plus what
+// LinearSolver::SecondOrder adds at that angle (which a caller summing the phasors at angles
+// of its own relies on).
 TEST(LinearSolver, SummedPathEqualsTheTermByTermSumOfItsPhasors) {
   // Relative to a row's scale |offset| + sum_p (|cosine| + |sine|): the phasor recurrence
   // is exact to ~1e-13 of a term (restarted from libm every 512 angles), and summing
@@ -97,6 +100,8 @@ TEST(LinearSolver, SummedPathEqualsTheTermByTermSumOfItsPhasors) {
   const solvers::LinearSolver solver;
   const solvers::PhasorSum phasors = solver.Phasors(scene);
   ASSERT_TRUE(phasors.usable);
+  const solvers::SecondOrderTerms corrector = solver.SecondOrder(scene);
+  ASSERT_TRUE(corrector.usable());
   const std::size_t z = scene.rollers.size();
   const auto terms = static_cast<std::size_t>(phasors.rates.size());
   // The rows the trajectory returns, with where each lands in it.
@@ -122,6 +127,9 @@ TEST(LinearSolver, SummedPathEqualsTheTermByTermSumOfItsPhasors) {
     const solvers::Trajectory path = solver.SolveRevolution(scene, steps);
     ASSERT_EQ(path.status, solvers::Status::kOk) << path.message;
     std::vector<long double> cosines(terms), sines(terms);
+    const auto outputs = static_cast<std::size_t>(phasors.offset.size());
+    std::vector<double> first(outputs), scales(outputs), travel(z), force(z);
+    solvers::SecondOrderAngle second;
     double worst = 0.0;  // the largest error relative to its row's scale
     for (std::size_t k = 0; k <= static_cast<std::size_t>(steps); ++k) {
       const long double psi = 2.0L * std::numbers::pi_v<long double> * static_cast<long double>(k) / steps;
@@ -129,14 +137,38 @@ TEST(LinearSolver, SummedPathEqualsTheTermByTermSumOfItsPhasors) {
         cosines[p] = std::cos(static_cast<long double>(phasors.rates[p]) * psi);
         sines[p] = std::sin(static_cast<long double>(phasors.rates[p]) * psi);
       }
-      for (const Row& row : rows) {
-        long double reference = phasors.offset[row.o];
-        double scale = std::abs(phasors.offset[row.o]);
+      for (std::size_t o = 0; o < outputs; ++o) {
+        const auto row = static_cast<Eigen::Index>(o);
+        long double sum = phasors.offset[row];
+        scales[o] = std::abs(phasors.offset[row]);
         for (std::size_t p = 0; p < terms; ++p) {
           const auto q = static_cast<Eigen::Index>(p);
-          reference += phasors.cosine(row.o, q) * cosines[p] + phasors.sine(row.o, q) * sines[p];
-          scale += std::abs(phasors.cosine(row.o, q)) + std::abs(phasors.sine(row.o, q));
+          sum += phasors.cosine(row, q) * cosines[p] + phasors.sine(row, q) * sines[p];
+          scales[o] += std::abs(phasors.cosine(row, q)) + std::abs(phasors.sine(row, q));
         }
+        first[o] = static_cast<double>(sum);
+      }
+      for (std::size_t i = 0; i < z; ++i) {
+        travel[i] = phasors.travel_row[i] >= 0 ? first[static_cast<std::size_t>(phasors.travel_row[i])] : 0.0;
+        force[i] = first[static_cast<std::size_t>(phasors.first_force_row) + i];
+      }
+      const std::size_t first_slope = static_cast<std::size_t>(phasors.first_force_row) + z;
+      corrector.At({Eigen::Vector2d(first[0], first[1]), travel, force,
+                    std::span<const double>(first.data() + first_slope, 2 * z),
+                    std::span<const double>(first.data() + first_slope + 2 * z, 2 * z)},
+                   second);
+      for (const Row& row : rows) {
+        const auto o = static_cast<std::size_t>(row.o);
+        double correction = 0.0;
+        if (o < 2) {
+          correction = second.centre[row.o];
+        } else if (o >= static_cast<std::size_t>(phasors.first_force_row)) {
+          correction = second.contact_force[row.i];
+        } else {
+          correction = second.travel[row.i];
+        }
+        const long double reference = static_cast<long double>(first[o]) + correction;
+        const double scale = scales[o];
         const double error = std::abs(static_cast<double>(row.at(path, k, row.i) - reference));
         worst = std::max(worst, error / scale);
         ASSERT_LE(error, kRelativeRoundOff * scale) << steps << " steps, row " << row.o << ", angle " << k;
