@@ -627,6 +627,7 @@ struct SecondOrderTerms::Contact {
   double gap_gain = 0.0;         // [-] |centre response to a unit gap change|
   double roller_value = 0.0;      // [m] |dr0| + sum |c_m| of the roller: bounds |dr|
   double roller_jerk = 0.0;       // [m] sum m^3 |c_m|: bounds dr'''
+  double law_scale = 0.0;         // [m^(e-1)] delta^(e - 1) at the nominal penetration (penalty law)
 };
 
 void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) const {
@@ -800,9 +801,10 @@ void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) c
         out.remainder = infinite;
         return;
       }
-      const double third = (e - 1.0) * std::abs(e - 2.0) *
-                           std::max(std::pow(lowest, e - 3.0), std::pow(delta + reach, e - 3.0)) /
-                           std::pow(delta, e - 1.0);
+      // x^(e - 3) is monotone, so its largest over [lowest, delta + reach] sits at one end:
+      // one pow per contact and angle instead of three (they were a sixth of a linear sample).
+      const double worst_point = e < 3.0 ? lowest : delta + reach;
+      const double third = (e - 1.0) * std::abs(e - 2.0) * std::pow(worst_point, e - 3.0) / k.law_scale;
       law = (e - 1.0) * (reach * reach - d * d) / (2.0 * delta) + third * reach * reach * reach / 6.0;
       law_drift = (e - 1.0) * reach / lowest;
     }
@@ -861,6 +863,7 @@ SecondOrderTerms LinearSolver::SecondOrderOf(const Scene& scene, std::shared_ptr
     k.force0 = nominal->y0[nominal->first_force_row + index];
     k.gap_gain = nominal->response.block<2, 1>(0, index).norm();
     moments(scene.rollers[i].outline, k.roller_value, k.roller_jerk, unused);
+    k.law_scale = std::pow(nominal->penetration[i], nominal->exponent - 1.0);
   }
   terms.nominal_ = std::move(nominal);
   terms.contacts_ = std::move(contacts);
