@@ -1,6 +1,7 @@
 #include "solvers/linear.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -630,6 +631,43 @@ struct SecondOrderTerms::Contact {
   double law_scale = 0.0;         // [m^(e-1)] delta^(e - 1) at the nominal penetration (penalty law)
 };
 
+namespace {
+
+// Remainder term 1 of SecondOrderTerms::At (the support functions), shared with Over: per
+// outline its slope's and curvature's magnitudes at the contact, its reach (R - q, r + p)
+// and allowance (the reach less U >= |dr|, > 0), U and J >= |dr'''|. The operations and
+// their order are At's own from before Over existed, so its results keep their bits.
+struct OutlineAtContact {
+  double slope = 0.0;      // [m/rad] |a| or |b|
+  double curvature = 0.0;  // [m/rad^2] |q| or |p|
+  double reach = 0.0;      // [m]
+  double allowance = 0.0;  // [m]
+  double value = 0.0;      // [m] U
+  double jerk = 0.0;       // [m] J
+};
+struct SupportRemainder {
+  double value = 0.0;      // [m] of the gap
+  double slope = 0.0;      // [m/rad]
+  double curvature = 0.0;  // [m/rad^2]
+};
+SupportRemainder SupportRemainderOf(const OutlineAtContact& ring, const OutlineAtContact& roller) {
+  const double a = ring.slope, q = ring.curvature, b = roller.slope, p = roller.curvature;
+  const double ring_slide = a / ring.allowance;
+  const double roller_slide = b / roller.allowance;
+  const double ring_cubic = ring.jerk + 3.0 * a;
+  const double roller_cubic = roller.jerk + 3.0 * b;
+  SupportRemainder out;
+  out.value = a * a * ring.value / (2.0 * ring.allowance * ring.reach) + ring_cubic * ring_slide * ring_slide * ring_slide / 3.0 +
+              b * b * roller.value / (2.0 * roller.allowance * roller.reach) +
+              roller_cubic * roller_slide * roller_slide * roller_slide / 3.0;
+  out.slope = a * q * ring.value / (ring.allowance * ring.reach) + ring_cubic * ring_slide * ring_slide / 2.0 +
+              b * p * roller.value / (roller.allowance * roller.reach) + roller_cubic * roller_slide * roller_slide / 2.0;
+  out.curvature = (q * q + a * ring.jerk) / ring.allowance + (p * p + b * roller.jerk) / roller.allowance;
+  return out;
+}
+
+}  // namespace
+
 void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) const {
   const NominalResponse& nominal = *nominal_;
   const std::vector<Contact>& contacts = *contacts_;
@@ -764,19 +802,11 @@ void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) c
       return;
     }
     // 1. The support functions.
-    const double ring_slide = a / ring_allowance;
-    const double roller_slide = b / roller_allowance;
-    const double ring_cubic = ring_jerk_ + 3.0 * a;
-    const double roller_cubic = k.roller_jerk + 3.0 * b;
-    const double support = a * a * ring_value_ / (2.0 * ring_allowance * ring_reach) +
-                           ring_cubic * ring_slide * ring_slide * ring_slide / 3.0 +
-                           b * b * k.roller_value / (2.0 * roller_allowance * roller_reach) +
-                           roller_cubic * roller_slide * roller_slide * roller_slide / 3.0;
-    const double support_slope = a * q * ring_value_ / (ring_allowance * ring_reach) +
-                                 ring_cubic * ring_slide * ring_slide / 2.0 +
-                                 b * p * k.roller_value / (roller_allowance * roller_reach) +
-                                 roller_cubic * roller_slide * roller_slide / 2.0;
-    const double support_curvature = (q * q + a * ring_jerk_) / ring_allowance + (p * p + b * k.roller_jerk) / roller_allowance;
+    const SupportRemainder support_bound = SupportRemainderOf({a, q, ring_reach, ring_allowance, ring_value_, ring_jerk_},
+                                                              {b, p, roller_reach, roller_allowance, k.roller_value, k.roller_jerk});
+    const double support = support_bound.value;
+    const double support_slope = support_bound.slope;
+    const double support_curvature = support_bound.curvature;
     // 2. The turn.
     const double curvature_allowance = curvature[i] - support_curvature;
     if (!(curvature_allowance > 0.0)) {
@@ -824,6 +854,273 @@ void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) c
     drift = std::max(drift, 2.0 * phi + law_drift + geometric);
   }
   out.remainder = remainder + drift * correction;
+}
+
+namespace {
+
+// A closed interval [lo, hi] of reals, for SecondOrderTerms::Over. Its operations enclose
+// the exact result of any operands inside their intervals; rounding is not directed, and
+// Over widens its results by kRoundingAllowance instead.
+struct Interval {
+  double lo = 0.0;
+  double hi = 0.0;
+  static Interval Point(double x) { return {x, x}; }
+  double Magnitude() const { return std::max(std::abs(lo), std::abs(hi)); }       // >= |x|
+  double Mignitude() const { return lo > 0.0 ? lo : (hi < 0.0 ? -hi : 0.0); }     // <= |x|
+};
+Interval operator+(Interval x, Interval y) { return {x.lo + y.lo, x.hi + y.hi}; }
+Interval operator-(Interval x, Interval y) { return {x.lo - y.hi, x.hi - y.lo}; }
+Interval operator*(double w, Interval x) { return w >= 0.0 ? Interval{w * x.lo, w * x.hi} : Interval{w * x.hi, w * x.lo}; }
+Interval operator*(Interval x, Interval y) {
+  const double a = x.lo * y.lo, b = x.lo * y.hi, c = x.hi * y.lo, d = x.hi * y.hi;
+  return {std::min({a, b, c, d}), std::max({a, b, c, d})};
+}
+// y strictly positive (the caller checks y.lo > 0).
+Interval operator/(Interval x, Interval y) { return x * Interval{1.0 / y.hi, 1.0 / y.lo}; }
+Interval Square(Interval x) {
+  const double m = x.Magnitude();
+  const double n = x.Mignitude();
+  return {n * n, m * m};
+}
+
+// Over's interval operations round to nearest, as At does; At's own results carry the
+// rounding of its cancellations (tangent force F turn - F0 turn_linear, phi - turn), about
+// 1e-16 of first-order terms that the correction is 1e-5 or more of: ~1e-11 relative.
+// Over's bounds are widened by 1e-9 relative to cover both.
+constexpr double kRoundingAllowance = 1.0 + 1e-9;
+
+}  // namespace
+
+// At, mirrored term by term over intervals: every quantity At forms at one angle is
+// replaced by an interval holding it at every angle of the range (or by an upper bound of
+// its magnitude, where At only uses that), so the results bound At's wherever its inputs lie
+// in the range. The first-order terms that At's correction cancels (the tangent force
+// F turn - F0 turn_linear, the remainder's phi - turn and its turning term) are rewritten
+// as the sums of second-order parts they equal, so that the bound stays of second order
+// (of third for the remainder) rather than of first.
+void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out) const {
+  const NominalResponse& nominal = *nominal_;
+  const std::vector<Contact>& contacts = *contacts_;
+  const auto zs = static_cast<std::size_t>(nominal.rollers);
+  const double infinite = std::numeric_limits<double>::infinity();
+  out.travel.assign(zs, 0.0);
+  out.contact_force.assign(zs, 0.0);
+  const auto fail = [&] {
+    out.centre = infinite;
+    out.remainder = infinite;
+    for (std::size_t j = 0; j < zs; ++j) {
+      if (nominal.travel_row[j] >= 0) out.travel[j] = infinite;
+      out.contact_force[j] = infinite;
+    }
+  };
+  // Per contact, as in At: gamma, the slope g'_i with its support terms (linear_slope + its
+  // second-order part slope_extra), the curvature's change kappa (curvature = g'' + kappa),
+  // the force's change from the nominal, and the reaches.
+  std::vector<Interval> gamma(zs), linear_slope(zs), slope_extra(zs), slope(zs), kappa(zs), curvature(zs),
+      force_change(zs), ring_reach(zs), roller_reach(zs);
+  const double ring_radius = nominal.ring_radius;
+  const Eigen::Vector2d moved = range.centre - nominal.y0.head<2>();
+  for (std::size_t i = 0; i < zs; ++i) {
+    const engine::Contact& c = nominal.contacts[i];
+    const Contact& k = contacts[i];
+    const Interval a{range.slope_low[i], range.slope_high[i]};
+    const Interval b{range.slope_low[zs + i], range.slope_high[zs + i]};
+    const Interval q{range.curvature_low[i], range.curvature_high[i]};
+    const Interval p{range.curvature_low[zs + i], range.curvature_high[zs + i]};
+    // relative . u = (moved - shift) . u - (travel - travel0) axis . u, the centre anywhere
+    // within centre_radius of range.centre (|u| = 1 moves the product by at most that).
+    const auto relative_along = [&](const Eigen::Vector2d& u) {
+      const double middle = (moved - k.shift).dot(u);
+      Interval along{middle - range.centre_radius, middle + range.centre_radius};
+      if (nominal.travel_row[i] >= 0) {
+        along = along - k.axis.dot(u) * Interval{range.travel_low[i] - k.travel0, range.travel_high[i] - k.travel0};
+      }
+      return along;
+    };
+    ring_reach[i] = Interval::Point(ring_radius) - q;
+    roller_reach[i] = Interval::Point(nominal.roller_radius[i]) + p;
+    linear_slope[i] = a + b + relative_along(c.tangent);
+    kappa[i] = q + p - relative_along(c.normal);
+    curvature[i] = Interval::Point(c.gap_curvature) + kappa[i];
+    // At's premises: where one may fail, At falls back to first-order curvatures and an
+    // infinite remainder, which this does not follow: every bound is infinite.
+    if (!(ring_reach[i].lo > 0.0 && roller_reach[i].lo > 0.0 && curvature[i].lo > 0.0)) {
+      fail();
+      return;
+    }
+    slope_extra[i] = a * q / ring_reach[i] - b * p / roller_reach[i];
+    slope[i] = linear_slope[i] + slope_extra[i];
+    gamma[i] = 0.5 * (Square(a) / ring_reach[i]) - 0.5 * (Square(b) / roller_reach[i]) -
+               0.5 * (Square(slope[i]) / curvature[i]);
+    force_change[i] = Interval{range.force_low[i] - k.force0, range.force_high[i] - k.force0};
+    if (nominal.penetration[i] > 0.0) {
+      const Interval d = (1.0 / nominal.force_stiffness[i]) * force_change[i];
+      gamma[i] = gamma[i] - ((nominal.exponent - 1.0) / (2.0 * nominal.penetration[i])) * Square(d);
+    }
+  }
+  // The outputs' corrections as intervals, summed column by column like At's `add`; the
+  // centre's along kDirections directions u_m = (cos, sin)(m pi / kDirections): a vector
+  // is within pi / (2 kDirections) of one of them or of its opposite, so
+  // |v| <= max_m |v . u_m| / cos(pi / (2 kDirections)), where the two axes alone would
+  // give sqrt(2) where the terms' extremes fall in different directions.
+  constexpr int kDirections = 16;
+  std::array<Interval, kDirections> centre_along{};
+  std::array<Eigen::Vector2d, kDirections> directions;
+  for (int m = 0; m < kDirections; ++m) {
+    const double angle = std::numbers::pi * m / kDirections;
+    directions[static_cast<std::size_t>(m)] = Eigen::Vector2d(std::cos(angle), std::sin(angle));
+  }
+  std::vector<Interval> travel(zs), force(zs);
+  const auto add = [&](Interval weight, Eigen::Index column, const Eigen::MatrixXd& response) {
+    const Eigen::Vector2d moves = response.block<2, 1>(0, column);
+    for (int m = 0; m < kDirections; ++m) {
+      Interval& along = centre_along[static_cast<std::size_t>(m)];
+      along = along + moves.dot(directions[static_cast<std::size_t>(m)]) * weight;
+    }
+    for (std::size_t j = 0; j < zs; ++j) {
+      const int travel_row = nominal.travel_row[j];
+      if (travel_row >= 0) travel[j] = travel[j] + response(travel_row, column) * weight;
+      force[j] = force[j] + response(nominal.first_force_row + static_cast<Eigen::Index>(j), column) * weight;
+    }
+  };
+  for (std::size_t i = 0; i < zs; ++i) add(gamma[i], static_cast<Eigen::Index>(i), nominal.response);
+  // The feedback of contact i, (centre - travel_i axis_i) . t_i after the gammas, is linear
+  // in them: summed gamma by gamma, not from the centre's and travel's intervals, which
+  // would forget that one gamma moves both.
+  std::vector<Interval> feedback(zs);
+  for (std::size_t i = 0; i < zs; ++i) {
+    const Eigen::Vector2d& t = nominal.contacts[i].tangent;
+    for (std::size_t m = 0; m < zs; ++m) {
+      const auto column = static_cast<Eigen::Index>(m);
+      double weight = nominal.response(0, column) * t.x() + nominal.response(1, column) * t.y();
+      if (nominal.travel_row[i] >= 0) weight -= nominal.response(nominal.travel_row[i], column) * contacts[i].axis.dot(t);
+      feedback[i] = feedback[i] + weight * gamma[m];
+    }
+  }
+  // The forces' turn. At's tangent force F turn - F0 turn_linear is, exactly,
+  //   (F - F0) turn + F0 (turn - turn_linear),
+  //   turn - turn_linear = (linear_slope + feedback) kappa / (g'' curvature) - slope_extra / curvature,
+  // (curvature = g'' + kappa, slope = linear_slope + slope_extra), whose parts are each of
+  // second order: bounding F and turn apart would leave a first-order bound.
+  std::vector<Interval> turn(zs), normal_force(zs), tangent_force(zs);
+  for (std::size_t i = 0; i < zs; ++i) {
+    const engine::Contact& c = nominal.contacts[i];
+    const Contact& k = contacts[i];
+    const Interval force_first{range.force_low[i], range.force_high[i]};
+    turn[i] = Interval::Point(0.0) - (slope[i] + feedback[i]) / curvature[i];
+    const Interval turn_change = (linear_slope[i] + feedback[i]) * kappa[i] / (c.gap_curvature * curvature[i]) -
+                                 slope_extra[i] / curvature[i];
+    normal_force[i] = -0.5 * (force_first * Square(turn[i]));
+    tangent_force[i] = force_change[i] * turn[i] + k.force0 * turn_change;
+  }
+  for (std::size_t i = 0; i < zs; ++i) {
+    add(normal_force[i], static_cast<Eigen::Index>(i), nominal.force_response);
+    add(tangent_force[i], static_cast<Eigen::Index>(zs + i), nominal.force_response);
+  }
+  double centre_along_max = 0.0;
+  for (const Interval& along : centre_along) centre_along_max = std::max(centre_along_max, along.Magnitude());
+  out.centre = kRoundingAllowance * centre_along_max / std::cos(std::numbers::pi / (2.0 * kDirections));
+  for (std::size_t j = 0; j < zs; ++j) {
+    out.travel[j] = kRoundingAllowance * travel[j].Magnitude();
+    out.contact_force[j] = kRoundingAllowance * force[j].Magnitude();
+  }
+  // At's `correction`: each term's magnitude by its gain.
+  double correction = 0.0;
+  for (std::size_t i = 0; i < zs; ++i) {
+    correction += contacts[i].gap_gain * gamma[i].Magnitude() + nominal.normal_force_gain[i] * normal_force[i].Magnitude() +
+                  nominal.tangent_force_gain[i] * tangent_force[i].Magnitude();
+  }
+
+  // The remainder, At's five terms. Each is a sum of products and quotients of
+  // non-negative quantities, increasing in the magnitudes |a|, |b|, |q|, |p|, |F|, |dF| and
+  // decreasing in the denominators (the reaches, allowances, curvature): evaluated at the
+  // magnitudes' upper bounds and the denominators' lower bounds, each is at least At's at
+  // any angle of the range. Where At subtracts (the turning term, phi - turn, the law's
+  // reach^2 - d^2), the difference is rewritten below as a sum of such non-negative parts.
+  double remainder = 0.0;
+  double drift = 0.0;
+  for (std::size_t i = 0; i < zs; ++i) {
+    const engine::Contact& c = nominal.contacts[i];
+    const Contact& k = contacts[i];
+    const double a = std::max(std::abs(range.slope_low[i]), std::abs(range.slope_high[i]));
+    const double b = std::max(std::abs(range.slope_low[zs + i]), std::abs(range.slope_high[zs + i]));
+    const double q = std::max(std::abs(range.curvature_low[i]), std::abs(range.curvature_high[i]));
+    const double p = std::max(std::abs(range.curvature_low[zs + i]), std::abs(range.curvature_high[zs + i]));
+    const double ring_low = ring_reach[i].lo;      // <= R - q at every angle
+    const double roller_low = roller_reach[i].lo;  // <= r + p
+    const double ring_allowance = ring_low - ring_value_;
+    const double roller_allowance = roller_low - k.roller_value;
+    if (!(ring_allowance > 0.0 && roller_allowance > 0.0)) {
+      out.remainder = infinite;
+      return;
+    }
+    // 1. The support functions: increasing in a, b, q, p, decreasing in the reaches.
+    const SupportRemainder support = SupportRemainderOf({a, q, ring_low, ring_allowance, ring_value_, ring_jerk_},
+                                                        {b, p, roller_low, roller_allowance, k.roller_value, k.roller_jerk});
+    // 2. The turn. With g1 = |slope|, x = |feedback| + support.slope (At's bound_slope is
+    // g1 + x), K' = support.curvature and G = curvature, At's
+    //   (g1 + x)^2 / (2 (G - K')) - g1^2 / (2 G)
+    //     = (2 g1 x + x^2) / (2 (G - K')) + g1^2 K' / (2 G (G - K')),
+    // increasing in g1, x, K' and decreasing in G.
+    const double curvature_low = curvature[i].lo;
+    const double curvature_allowance = curvature_low - support.curvature;
+    if (!(curvature_allowance > 0.0)) {
+      out.remainder = infinite;
+      return;
+    }
+    const double g1 = slope[i].Magnitude();
+    const double x = feedback[i].Magnitude() + support.slope;
+    const double bound_slope = g1 + x;
+    const double phi = bound_slope / curvature_allowance;  // >= At's phi
+    const double turning = (2.0 * g1 * x + x * x) / (2.0 * curvature_allowance) +
+                           g1 * g1 * support.curvature / (2.0 * curvature_low * curvature_allowance) +
+                           (ring_jerk_ + k.roller_jerk + bound_slope) * phi * phi * phi / 3.0;
+    // 3. The penalty law. At's reach^2 - d^2 with reach = d + |dd| is 2 d |dd| + dd^2,
+    // increasing in d and |dd|; x^(e - 3) is monotone, so its largest over
+    // [delta - reach, delta + reach] is at an end, and it grows as reach does.
+    const double force_correction = force[i].Magnitude();  // >= |At's out.contact_force|
+    double law = 0.0;
+    double law_drift = 0.0;
+    if (nominal.penetration[i] > 0.0) {
+      const double e = nominal.exponent;
+      const double delta = nominal.penetration[i];
+      const double d = force_change[i].Magnitude() / nominal.force_stiffness[i];
+      const double dd = force_correction / nominal.force_stiffness[i];
+      const double reach = d + dd;
+      const double lowest = delta - reach;
+      if (!(lowest > 0.0)) {
+        out.remainder = infinite;
+        return;
+      }
+      const double worst_point = e < 3.0 ? lowest : delta + reach;
+      const double third = std::abs(e - 1.0) * std::abs(e - 2.0) * std::pow(worst_point, e - 3.0) / k.law_scale;
+      law = std::abs(e - 1.0) * (2.0 * d * dd + dd * dd) / (2.0 * delta) + third * reach * reach * reach / 6.0;
+      law_drift = std::abs(e - 1.0) * reach / lowest;
+    }
+    // 4. The forces' turn. With s = slope + feedback, At's phi - |turn| is
+    //   (|slope| + |feedback| - |s| + support.slope) / (G - K') + |s| K' / (G (G - K')),
+    // where |slope| + |feedback| - |s| is 0 when the two have one sign and at most
+    // 2 min(|slope|, |feedback|) otherwise; (phi^2 - turn^2) / 2 = (phi - |turn|)(phi + |turn|) / 2.
+    const Interval s = slope[i] + feedback[i];
+    const bool one_sign = (slope[i].lo >= 0.0 && feedback[i].lo >= 0.0) || (slope[i].hi <= 0.0 && feedback[i].hi <= 0.0);
+    const double sign_loss = one_sign ? 0.0 : 2.0 * std::min(g1, feedback[i].Magnitude());
+    const double turn_bound = s.Magnitude() / curvature_low;  // >= At's |turn|
+    const double phi_excess = (sign_loss + support.slope) / curvature_allowance +
+                              s.Magnitude() * support.curvature / (curvature_low * curvature_allowance);
+    const double force_bound = std::max(std::abs(range.force_low[i]), std::abs(range.force_high[i])) + force_correction;
+    const double phi2 = phi * phi;
+    const double normal = force_correction * phi2 / 2.0 +
+                          force_bound * (phi_excess * (phi + turn_bound) / 2.0 + phi2 * phi2 / 24.0);
+    const double tangent = force_correction * phi + force_bound * (phi_excess + phi2 * phi / 6.0);
+    remainder += k.gap_gain * (support.value + turning + law) + nominal.normal_force_gain[i] * normal +
+                 nominal.tangent_force_gain[i] * tangent;
+    // 5. The response's drift: increasing in phi, reach and the force's change.
+    const double change = force_change[i].Magnitude() + force_correction;
+    const double geometric =
+        nominal.force_stiffness[i] > 0.0 ? change / (c.gap_curvature * nominal.force_stiffness[i]) : 0.0;
+    drift = std::max(drift, 2.0 * phi + law_drift + geometric);
+  }
+  out.remainder = kRoundingAllowance * (remainder + drift * correction);
 }
 
 double SecondOrderTerms::EstimateFrom(double largest_remainder, double farthest) const {

@@ -90,6 +90,27 @@ struct SecondOrderAngle {
   double remainder = 0.0;
 };
 
+// Bounds on the first-order inputs of SecondOrderTerms::At that hold at every angle of a
+// set (a stretch between two evaluated angles), in FirstOrderAngle's layout.
+struct FirstOrderRange {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // [m] the centre lies within centre_radius of this
+  double centre_radius = 0.0;                        // [m] >= 0
+  std::vector<double> travel_low, travel_high;       // [m] Z each (0, 0 for a fixed roller)
+  std::vector<double> force_low, force_high;         // [N] Z each
+  std::vector<double> slope_low, slope_high;         // [m/rad] 2Z each, bore's then roller's
+  std::vector<double> curvature_low, curvature_high; // [m/rad^2] 2Z each, likewise
+};
+
+// Bounds on what SecondOrderTerms::At returns at every angle whose inputs lie in a
+// FirstOrderRange: every field infinite where a premise of At's expansion or of its
+// remainder may fail somewhere in the range.
+struct SecondOrderRange {
+  double centre = 0.0;                // [m] >= |SecondOrderAngle::centre|
+  std::vector<double> travel;         // [m] per roller, >= |SecondOrderAngle::travel| (0 for fixed)
+  std::vector<double> contact_force;  // [N] per roller, >= |SecondOrderAngle::contact_force|
+  double remainder = 0.0;             // [m] >= SecondOrderAngle::remainder
+};
+
 // The second-order correction of one scene, angle by angle (solvers/linear.cpp
 // SecondOrderTerms::At). Cheap to copy; thread-safe; holds the linearisation it came from.
 class SecondOrderTerms {
@@ -99,6 +120,10 @@ class SecondOrderTerms {
   // or SolveRevolution's path before correction); `out` is resized to the scene's rollers
   // (allocates only the first time: reuse it across angles). Requires usable().
   void At(const FirstOrderAngle& first, SecondOrderAngle& out) const;
+  // Bounds At's results over every angle whose inputs lie in `range` (vectors sized as
+  // At's): At mirrored term by term in interval arithmetic (solvers/linear.cpp). `out` is
+  // resized to the scene's rollers. Requires usable().
+  void Over(const FirstOrderRange& range, SecondOrderRange& out) const;
   // [m] Trajectory::error_estimate from the largest remainder [m] over the angles and the
   // path's reach [m] (largest distance of the centre from its start): twice the remainder
   // (every point moves by at most it, so the enclosing circle's radius and the sensor's
