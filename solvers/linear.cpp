@@ -1290,6 +1290,14 @@ struct LinearPath::Parts {
         samples.contact_force.push_back(y[nominal.first_force_row + static_cast<Eigen::Index>(i)]);
       }
       for (std::size_t s = 0; s < 4 * zs; ++s) derivatives[s] = sums[(zs + s) * stride + j];
+      samples.first_order.push_back(y[0]);
+      samples.first_order.push_back(y[1]);
+      samples.first_order.insert(samples.first_order.end(), samples.travel.begin() + static_cast<std::ptrdiff_t>(at),
+                                 samples.travel.end());
+      samples.first_order.insert(samples.first_order.end(),
+                                 samples.contact_force.begin() + static_cast<std::ptrdiff_t>(at),
+                                 samples.contact_force.end());
+      samples.first_order.insert(samples.first_order.end(), derivatives.begin(), derivatives.end());
       const std::span<double> travel(samples.travel.data() + at, zs);
       const std::span<double> force(samples.contact_force.data() + at, zs);
       second.At({y.head<2>(), travel, force, std::span<const double>(derivatives.data(), 2 * zs),
@@ -1324,6 +1332,7 @@ void LinearPath::Samples::clear() {
   contact_force.clear();
   remainder.clear();
   signal.clear();
+  first_order.clear();
 }
 
 LinearPath::LinearPath() = default;
@@ -1429,6 +1438,8 @@ LinearPath::Straying LinearPath::StrayingAt(double dpsi) const {
   Straying bounds;
   bounds.travel.assign(zs, 0.0);
   bounds.contact_force.assign(zs, 0.0);
+  bounds.slopes.assign(2 * zs, 0.0);
+  bounds.curvatures.assign(2 * zs, 0.0);
   const auto straying = [dpsi](double rate) { return std::min(2.0, rate * rate * dpsi * dpsi / 8.0); };
   // sqrt, not hypot: amplitudes of micrometres and newtons neither overflow nor underflow
   // when squared, and hypot's care costs more than the rest of the bounds.
@@ -1456,10 +1467,45 @@ LinearPath::Straying LinearPath::StrayingAt(double dpsi) const {
       if (travel_row >= 0) bounds.travel[i] += s * amplitude(lin.cosine, lin.sine, travel_row, p);
       bounds.contact_force[i] += s * amplitude(lin.cosine, lin.sine, nominal.first_force_row + static_cast<Eigen::Index>(i), p);
     }
+    // The gap series' slope rows Z .. 3Z - 1 and curvature rows 3Z .. 5Z - 1 (Linearisation).
+    for (std::size_t r = 0; r < 2 * zs; ++r) {
+      bounds.slopes[r] += s * amplitude(parts.series_cosine, parts.series_sine, static_cast<Eigen::Index>(zs + r), p);
+      bounds.curvatures[r] += s * amplitude(parts.series_cosine, parts.series_sine, static_cast<Eigen::Index>(3 * zs + r), p);
+    }
   }
   const double turn = across / (0.5 * parts.bore_radius);
   bounds.signal_rest = 2.0 * (form_slope * turn + form_curvature * turn * turn / 2.0 + across * turn / 2.0);
   return bounds;
+}
+
+std::size_t LinearPath::FirstOrderWidth() const { return 2 + 6 * static_cast<std::size_t>(rollers()); }
+
+FirstOrderRange LinearPath::RangeBetween(const Samples& samples, std::size_t a, std::size_t b,
+                                         const Straying& straying) const {
+  const auto zs = static_cast<std::size_t>(rollers());
+  const std::size_t width = FirstOrderWidth();
+  const double* end_a = samples.first_order.data() + a * width;
+  const double* end_b = samples.first_order.data() + b * width;
+  FirstOrderRange range;
+  const Eigen::Vector2d centre_a(end_a[0], end_a[1]);
+  const Eigen::Vector2d centre_b(end_b[0], end_b[1]);
+  range.centre = (centre_a + centre_b) / 2.0;
+  range.centre_radius = (centre_b - centre_a).norm() / 2.0 + straying.centre;
+  // Fields at `offset` in a sample, `count` of them, each within `margin[j]` of its chord.
+  const auto cover = [&](std::size_t offset, std::size_t count, const std::vector<double>& margin,
+                         std::vector<double>& low, std::vector<double>& high) {
+    low.resize(count);
+    high.resize(count);
+    for (std::size_t j = 0; j < count; ++j) {
+      low[j] = std::min(end_a[offset + j], end_b[offset + j]) - margin[j];
+      high[j] = std::max(end_a[offset + j], end_b[offset + j]) + margin[j];
+    }
+  };
+  cover(2, zs, straying.travel, range.travel_low, range.travel_high);
+  cover(2 + zs, zs, straying.contact_force, range.force_low, range.force_high);
+  cover(2 + 2 * zs, 2 * zs, straying.slopes, range.slope_low, range.slope_high);
+  cover(2 + 4 * zs, 2 * zs, straying.curvatures, range.curvature_low, range.curvature_high);
+  return range;
 }
 
 LinearPath LinearSolver::Path(const Scene& scene, int steps) const {

@@ -179,18 +179,25 @@ class LinearPath {
     // r, r', r'' the bore's at theta_s - psi and c_t the centre across the ray; the rest is
     // about r''' t^3 / 6, below 1e-10 m for any part studied.
     std::vector<double> signal;
+    // At's inputs there (the first-order outputs, before the correction), FirstOrderWidth()
+    // an angle, angle-major: centre x, y [m]; travel [m] (Z, 0 for fixed); contact force [N]
+    // (Z); 2Z slopes [m/rad]; 2Z curvatures [m/rad^2] (FirstOrderAngle's layout).
+    std::vector<double> first_order;
     void clear();
     std::size_t size() const { return index.size(); }
   };
 
   // Bounds over the whole revolution for chords dpsi [rad] apart (ChordStraying): how far
   // each first-order output between two angles can stray from the chord through its values
-  // there. What the second-order correction adds is not bounded between angles.
+  // there. What the second-order correction adds between angles, SecondOrderTerms::Over
+  // bounds from RangeBetween.
   struct Straying {
     double centre = 0.0;                // [m]
     double signal_rest = 0.0;           // [m] of signal - e_s . c - r(theta_s - psi): the sensor's second-order terms
     std::vector<double> travel;         // [m] per roller
     std::vector<double> contact_force;  // [N] per roller
+    std::vector<double> slopes;         // [m/rad] 2Z, FirstOrderAngle's layout
+    std::vector<double> curvatures;     // [m/rad^2] 2Z, likewise
   };
 
   LinearPath(LinearPath&&) noexcept;
@@ -217,6 +224,13 @@ class LinearPath {
   // vectorised sums as SolveRevolution.
   void FirstOrderSignal(std::vector<double>& signal) const;
   Straying StrayingAt(double dpsi) const;
+  // Doubles an angle in Samples::first_order: 2 + 6Z.
+  std::size_t FirstOrderWidth() const;
+  // Bounds on At's inputs at every angle between samples a and b (adjacent coarse angles, or
+  // any two angles `straying`'s dpsi apart): each output lies within its straying of the
+  // chord through its values there, so within [min - straying, max + straying], and the
+  // centre within its straying of the chord's segment, a disc about its midpoint.
+  FirstOrderRange RangeBetween(const Samples& samples, std::size_t a, std::size_t b, const Straying& straying) const;
   // Trajectory::error_estimate from the largest remainder over the angles and the path's
   // farthest point from the origin (SecondOrderTerms::EstimateFrom).
   double EstimateFrom(double largest_remainder, double farthest) const;

@@ -193,6 +193,78 @@ TEST(SecondOrderTermsOver, BoundsAtsValuesAtEveryAngleOfTheRange) {
   }
 }
 
+// The spectral mode's use: the range LinearPath::RangeBetween builds from a coarse stretch's
+// two ends and the chord bounds holds At's inputs at every dense angle between them, and
+// Over's bounds from it hold At's values there.
+TEST(SecondOrderTermsOver, RangeFromAStretchsEndsBoundsItsDenseAngles) {
+  constexpr int kScenes = 6;
+  std::mt19937_64 random(7);
+  const solvers::LinearSolver solver;
+  // Over / At per lobe scale (1, 5, 9 times the default campaign's).
+  constexpr std::array<double, 3> kLobeScales = {1.0, 5.0, 9.0};
+  std::array<std::vector<double>, kLobeScales.size()> centre_ratio, remainder_ratio;
+  for (int scene_index = 0; scene_index < kScenes; ++scene_index) {
+    const std::size_t scale = static_cast<std::size_t>(scene_index) % kLobeScales.size();
+    const engine::Scene scene = testing::RandomCampaignLikeScene(random, kLobeScales[scale]);
+    solvers::LinearPath path = solver.Path(scene, kSteps);
+    ASSERT_EQ(path.status(), solvers::Status::kOk);
+    const solvers::SecondOrderTerms terms = solver.SecondOrder(scene);
+    solvers::LinearPath::Samples coarse, dense;
+    path.EvaluateCoarse(kStride, coarse);
+    const solvers::LinearPath::Straying straying = path.StrayingAt(2.0 * std::numbers::pi * kStride / kSteps);
+    const std::size_t width = path.FirstOrderWidth();
+    const std::size_t z = scene.rollers.size();
+    ASSERT_EQ(coarse.first_order.size(), coarse.size() * width);
+    for (std::size_t j = 0; j + 1 < coarse.size(); ++j) {
+      dense.clear();
+      path.Refine(static_cast<int>(j), dense);
+      const solvers::FirstOrderRange range = path.RangeBetween(coarse, j, j + 1, straying);
+      std::vector<Inputs> inputs;
+      for (const solvers::LinearPath::Samples* from : {&coarse, &dense}) {
+        for (std::size_t k = 0; k < from->size(); ++k) {
+          if (from == &coarse && k != j && k != j + 1) continue;
+          const double* row = from->first_order.data() + k * width;
+          Inputs in;
+          in.centre = Eigen::Vector2d(row[0], row[1]);
+          in.travel.assign(row + 2, row + 2 + z);
+          in.force.assign(row + 2 + z, row + 2 + 2 * z);
+          in.slopes.assign(row + 2 + 2 * z, row + 2 + 4 * z);
+          in.curvatures.assign(row + 2 + 4 * z, row + 2 + 6 * z);
+          EXPECT_LE((in.centre - range.centre).norm(), range.centre_radius) << j;
+          for (std::size_t i = 0; i < 2 * z; ++i) {
+            EXPECT_TRUE(range.slope_low[i] <= in.slopes[i] && in.slopes[i] <= range.slope_high[i]) << j << " " << i;
+            EXPECT_TRUE(range.curvature_low[i] <= in.curvatures[i] && in.curvatures[i] <= range.curvature_high[i]) << j;
+          }
+          for (std::size_t i = 0; i < z; ++i) {
+            EXPECT_TRUE(range.force_low[i] <= in.force[i] && in.force[i] <= range.force_high[i]) << j << " " << i;
+            EXPECT_TRUE(range.travel_low[i] <= in.travel[i] && in.travel[i] <= range.travel_high[i]) << j << " " << i;
+          }
+          inputs.push_back(std::move(in));
+        }
+      }
+      solvers::SecondOrderRange bound;
+      terms.Over(range, bound);
+      const Largest at = LargestOf(terms, inputs);
+      ExpectCovers(bound, at, scene_index, static_cast<int>(j));
+      if (std::isfinite(bound.remainder)) {
+        centre_ratio[scale].push_back(bound.centre / at.centre);
+        remainder_ratio[scale].push_back(bound.remainder / at.remainder);
+      }
+    }
+  }
+  // Looser than on the inputs' own spread (the test above): the chord bounds of the
+  // rollers' slopes, whose lobes turn by more than a radian over a stretch, are about five
+  // times their spread.
+  for (std::size_t j = 0; j < kLobeScales.size(); ++j) {
+    ASSERT_FALSE(centre_ratio[j].empty());
+    std::printf("chord ranges, lobes x%g: finite on %zu stretches; Over / At: centre median %.3g worst %.3g, "
+                "remainder median %.3g worst %.3g\n",
+                kLobeScales[j], centre_ratio[j].size(), Median(centre_ratio[j]),
+                *std::max_element(centre_ratio[j].begin(), centre_ratio[j].end()), Median(remainder_ratio[j]),
+                *std::max_element(remainder_ratio[j].begin(), remainder_ratio[j].end()));
+  }
+}
+
 // A range of one angle's inputs gives At's own values: every interval is a point, and each
 // term Over rewrites is an exact algebraic identity of At's, so only round-off separates
 // the two; Over widens its bounds by 1e-9 for that, and the check allows ten times as much.
