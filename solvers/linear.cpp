@@ -1413,6 +1413,8 @@ void LinearPath::Refine(int j, Samples& samples) {
   parts.Append(*lin_, parts.table.data(), stride, index, samples);
 }
 
+const SecondOrderTerms& LinearPath::second_order() const { return parts_->second; }
+
 double LinearPath::EstimateFrom(double largest_remainder, double farthest) const {
   return parts_->second.EstimateFrom(largest_remainder, farthest);
 }
@@ -1440,6 +1442,8 @@ LinearPath::Straying LinearPath::StrayingAt(double dpsi) const {
   bounds.contact_force.assign(zs, 0.0);
   bounds.slopes.assign(2 * zs, 0.0);
   bounds.curvatures.assign(2 * zs, 0.0);
+  bounds.slope_reach.assign(2 * zs, 0.0);
+  bounds.curvature_reach.assign(2 * zs, 0.0);
   const auto straying = [dpsi](double rate) { return std::min(2.0, rate * rate * dpsi * dpsi / 8.0); };
   // sqrt, not hypot: amplitudes of micrometres and newtons neither overflow nor underflow
   // when squared, and hypot's care costs more than the rest of the bounds.
@@ -1469,8 +1473,12 @@ LinearPath::Straying LinearPath::StrayingAt(double dpsi) const {
     }
     // The gap series' slope rows Z .. 3Z - 1 and curvature rows 3Z .. 5Z - 1 (Linearisation).
     for (std::size_t r = 0; r < 2 * zs; ++r) {
-      bounds.slopes[r] += s * amplitude(parts.series_cosine, parts.series_sine, static_cast<Eigen::Index>(zs + r), p);
-      bounds.curvatures[r] += s * amplitude(parts.series_cosine, parts.series_sine, static_cast<Eigen::Index>(3 * zs + r), p);
+      const double slope = amplitude(parts.series_cosine, parts.series_sine, static_cast<Eigen::Index>(zs + r), p);
+      const double curvature = amplitude(parts.series_cosine, parts.series_sine, static_cast<Eigen::Index>(3 * zs + r), p);
+      bounds.slopes[r] += s * slope;
+      bounds.curvatures[r] += s * curvature;
+      bounds.slope_reach[r] += slope;
+      bounds.curvature_reach[r] += curvature;
     }
   }
   const double turn = across / (0.5 * parts.bore_radius);
@@ -1506,6 +1514,47 @@ FirstOrderRange LinearPath::RangeBetween(const Samples& samples, std::size_t a, 
   cover(2 + 2 * zs, 2 * zs, straying.slopes, range.slope_low, range.slope_high);
   cover(2 + 4 * zs, 2 * zs, straying.curvatures, range.curvature_low, range.curvature_high);
   return range;
+}
+
+void LinearPath::RangeOver(const Samples& samples, std::size_t first, std::size_t last, const Straying& straying,
+                           FirstOrderRange& range) const {
+  const auto zs = static_cast<std::size_t>(rollers());
+  const std::size_t width = FirstOrderWidth();
+  // Every stretch's chord lies inside the circle enclosing the run's centres (a disc is
+  // convex), so its RangeBetween disc lies within straying of that circle.
+  thread_local std::vector<Eigen::Vector2d> centres;
+  centres.clear();
+  for (std::size_t k = first; k <= last; ++k) centres.emplace_back(samples.first_order[k * width], samples.first_order[k * width + 1]);
+  const engine::Circle circle = engine::MinimumEnclosingCircle(centres);
+  range.centre = circle.centre;
+  range.centre_radius = circle.radius + straying.centre;
+  const auto cover = [&](std::size_t offset, std::size_t count, const std::vector<double>& margin,
+                         std::vector<double>& low, std::vector<double>& high) {
+    low.assign(count, std::numeric_limits<double>::infinity());
+    high.assign(count, -std::numeric_limits<double>::infinity());
+    for (std::size_t k = first; k <= last; ++k) {
+      const double* at = samples.first_order.data() + k * width + offset;
+      for (std::size_t j = 0; j < count; ++j) {
+        low[j] = std::min(low[j], at[j]);
+        high[j] = std::max(high[j], at[j]);
+      }
+    }
+    for (std::size_t j = 0; j < count; ++j) {
+      low[j] -= margin[j];
+      high[j] += margin[j];
+    }
+  };
+  cover(2, zs, straying.travel, range.travel_low, range.travel_high);
+  cover(2 + zs, zs, straying.contact_force, range.force_low, range.force_high);
+  cover(2 + 2 * zs, 2 * zs, straying.slopes, range.slope_low, range.slope_high);
+  cover(2 + 4 * zs, 2 * zs, straying.curvatures, range.curvature_low, range.curvature_high);
+  // The gap derivatives have no constant term, so they never leave +-their reach.
+  for (std::size_t j = 0; j < 2 * zs; ++j) {
+    range.slope_low[j] = std::max(range.slope_low[j], -straying.slope_reach[j]);
+    range.slope_high[j] = std::min(range.slope_high[j], straying.slope_reach[j]);
+    range.curvature_low[j] = std::max(range.curvature_low[j], -straying.curvature_reach[j]);
+    range.curvature_high[j] = std::min(range.curvature_high[j], straying.curvature_reach[j]);
+  }
 }
 
 LinearPath LinearSolver::Path(const Scene& scene, int steps) const {

@@ -198,6 +198,11 @@ class LinearPath {
     std::vector<double> contact_force;  // [N] per roller
     std::vector<double> slopes;         // [m/rad] 2Z, FirstOrderAngle's layout
     std::vector<double> curvatures;     // [m/rad^2] 2Z, likewise
+    // The largest |slope| and |curvature| anywhere, the sums of their terms' amplitudes:
+    // for a roller's fast lobes, which turn by more than a radian between coarse angles,
+    // tighter than a chord and its bound.
+    std::vector<double> slope_reach;     // [m/rad] 2Z
+    std::vector<double> curvature_reach; // [m/rad^2] 2Z
   };
 
   LinearPath(LinearPath&&) noexcept;
@@ -231,9 +236,18 @@ class LinearPath {
   // chord through its values there, so within [min - straying, max + straying], and the
   // centre within its straying of the chord's segment, a disc about its midpoint.
   FirstOrderRange RangeBetween(const Samples& samples, std::size_t a, std::size_t b, const Straying& straying) const;
+  // The same at every angle between samples first and last (a run of adjacent coarse
+  // angles, each stretch between them `straying`'s dpsi apart): the union of their
+  // stretches' RangeBetween, the centre within straying of the circle enclosing the run's.
+  // `range` is overwritten, its buffers reused.
+  void RangeOver(const Samples& samples, std::size_t first, std::size_t last, const Straying& straying,
+                 FirstOrderRange& range) const;
   // Trajectory::error_estimate from the largest remainder over the angles and the path's
   // farthest point from the origin (SecondOrderTerms::EstimateFrom).
   double EstimateFrom(double largest_remainder, double farthest) const;
+  // The second-order correction the path's outputs carry (SecondOrderTerms::At), for bounds
+  // over the angles between samples (SecondOrderTerms::Over).
+  const SecondOrderTerms& second_order() const;
 
  private:
   friend class LinearSolver;

@@ -14,12 +14,15 @@ namespace ringtol::solvers {
 
 namespace {
 
-// How far the second-order correction (SecondOrderTerms::At) can stray between two
-// evaluated angles [m, N]: not bounded yet, so every stretch is open and the mode
-// evaluates every angle (docs/model.md §5). A bound of the correction and of its remainder
-// over a stretch, from bounds on the first-order inputs there, is what makes stretches
-// settle.
-constexpr double kCorrectionStraying = std::numeric_limits<double>::infinity();
+// How far a coarse stretch's unevaluated angles can be from the chord through its
+// evaluated ends.
+struct StretchBound {
+  double centre = 0.0;  // [m] the corrected centre
+  double signal = 0.0;  // [m] the signal's rest beyond its first-order part
+};
+
+// Coarse stretches a bound of the second-order correction covers (64 dense angles).
+constexpr std::size_t kStretchesABound = 1;
 
 }  // namespace
 
@@ -64,67 +67,120 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   };
   if (!valid()) return std::nullopt;
 
-  // The domain: a dense angle of an unevaluated stretch lies within the chord bound of the
-  // chord between its ends, so a force above its bound and a travel inside its limit by
-  // more than its bound at both ends cannot fail between them.
+  // Each coarse stretch's unevaluated angles, bounded: the first-order outputs lie within
+  // their chord bounds of the chord through the stretch's ends, so SecondOrderTerms::Over
+  // bounds the correction and its remainder there; a corrected output then lies within its
+  // chord bound, plus the correction's bound, plus the larger correction at the ends, of
+  // the chord through the corrected ends.
+  // The correction and its remainder bounded over runs of kStretchesABound coarse stretches
+  // (SecondOrderTerms::Over on LinearPath::RangeOver): a bound a stretch would cost more
+  // than the angles it saves, one over the revolution is too loose for the estimate.
+  const std::size_t width = path.FirstOrderWidth();
+  std::vector<StretchBound> bounds(segments);
+  // Per stretch and roller [m, N], stretch-major.
+  std::vector<double> travel_bound(segments * z), force_bound(segments * z);
+  double largest_remainder = 0.0;
+  thread_local FirstOrderRange range;
+  thread_local SecondOrderRange over;
+  for (std::size_t run = 0; run < segments; run += kStretchesABound) {
+    const std::size_t last = std::min(run + kStretchesABound, segments);
+    path.RangeOver(samples, run, last, straying, range);
+    path.second_order().Over(range, over);
+    // max() would drop a NaN: the estimate must carry it.
+    if (!(over.remainder <= largest_remainder)) largest_remainder = over.remainder;
+    for (std::size_t j = run; j < last; ++j) {
+      StretchBound& bound = bounds[j];
+      const std::size_t a = j;
+      const std::size_t b = j + 1;
+      // The correction at the ends: the corrected outputs less At's first-order inputs.
+      const double* first_a = samples.first_order.data() + a * width;
+      const double* first_b = samples.first_order.data() + b * width;
+      const double end_correction = std::max((samples.centre[a] - Eigen::Vector2d(first_a[0], first_a[1])).norm(),
+                                             (samples.centre[b] - Eigen::Vector2d(first_b[0], first_b[1])).norm());
+      bound.centre = straying.centre + over.centre + end_correction;
+      bound.signal = straying.signal_rest + over.centre + end_correction;
+      for (std::size_t i = 0; i < z; ++i) {
+        const auto end = [&](const std::vector<double>& corrected, std::size_t offset) {
+          return std::max(std::abs(corrected[a * z + i] - first_a[offset + i]),
+                          std::abs(corrected[b * z + i] - first_b[offset + i]));
+        };
+        travel_bound[j * z + i] = straying.travel[i] + over.travel[i] + end(samples.travel, 2);
+        force_bound[j * z + i] = straying.contact_force[i] + over.contact_force[i] + end(samples.contact_force, 2 + z);
+      }
+    }
+  }
+
+  // The domain: a force above its bound and a travel inside its limit by more than its
+  // bound at both ends of a stretch cannot fail between them.
   for (std::size_t j = 0; j < segments; ++j) {
     bool certain = true;
     for (std::size_t i = 0; i < z && certain; ++i) {
       const double force_a = samples.contact_force[j * z + i];
       const double force_b = samples.contact_force[(j + 1) * z + i];
-      certain = std::min(force_a, force_b) > straying.contact_force[i] + kCorrectionStraying;
+      certain = std::min(force_a, force_b) > force_bound[j * z + i];
       if (scene.rollers[i].mount != engine::RollerMount::kFixed) {
         const double travel = std::max(std::abs(samples.travel[j * z + i]), std::abs(samples.travel[(j + 1) * z + i]));
-        certain = certain && travel + straying.travel[i] + kCorrectionStraying <= scene.rollers[i].spring.travel_limit;
+        certain = certain && travel + travel_bound[j * z + i] <= scene.rollers[i].spring.travel_limit;
       }
     }
     if (!certain) refine(j);
   }
   if (!valid()) return std::nullopt;
 
-  // The extremes: each pass refines the stretches whose ends, widened by the chord bound,
+  // The extremes: each pass refines the stretches whose ends, widened by their bounds,
   // reach beyond what the evaluated angles give; the extremes only grow, so it ends when
   // none is left. What campaigns record of the forces is certified: the smallest over
   // every contact and the largest; each roller's own range is read at the evaluated angles.
+  // With_reach: also the path's largest distance from its start.
   engine::Circle circle;
   double smallest_force = 0.0;
   double largest_force = 0.0;
-  for (bool changed = true; changed;) {
-    circle = engine::MinimumEnclosingCircle(samples.centre);
-    const auto [low, high] = std::minmax_element(samples.contact_force.begin(), samples.contact_force.end());
-    smallest_force = *low;
-    largest_force = *high;
-    std::vector<std::size_t> wanted;
-    for (std::size_t j = 0; j < segments; ++j) {
-      if (refined[j]) continue;
-      const double farthest =
-          std::max((samples.centre[j] - circle.centre).norm(), (samples.centre[j + 1] - circle.centre).norm());
-      bool open = farthest + straying.centre + kCorrectionStraying > circle.radius;
-      for (std::size_t i = 0; i < z && !open; ++i) {
-        const double force_a = samples.contact_force[j * z + i];
-        const double force_b = samples.contact_force[(j + 1) * z + i];
-        const double bound = straying.contact_force[i] + kCorrectionStraying;
-        open = std::min(force_a, force_b) - bound < smallest_force || std::max(force_a, force_b) + bound > largest_force;
-      }
-      if (open) wanted.push_back(j);
-    }
-    changed = !wanted.empty();
-    for (const std::size_t j : wanted) refine(j);
-    if (!valid()) return std::nullopt;
-  }
-  // The estimate, as SolveRevolution forms it from the largest remainder over the angles
-  // (each of which is evaluated while the correction is not bounded between them).
-  double largest_remainder = 0.0;
-  double farthest = 0.0;
   double reach = 0.0;
   const Eigen::Vector2d start = samples.centre.front();
-  for (std::size_t s = 0; s < samples.size(); ++s) {
-    // max() would drop a NaN: the estimate must carry it.
-    if (!(samples.remainder[s] <= largest_remainder)) largest_remainder = samples.remainder[s];
-    farthest = std::max(farthest, samples.centre[s].norm());
-    reach = std::max(reach, (samples.centre[s] - start).norm());
+  const auto refine_open = [&](bool with_reach) {
+    for (bool changed = true; changed;) {
+      circle = engine::MinimumEnclosingCircle(samples.centre);
+      const auto [low, high] = std::minmax_element(samples.contact_force.begin(), samples.contact_force.end());
+      smallest_force = *low;
+      largest_force = *high;
+      reach = 0.0;
+      for (const Eigen::Vector2d& c : samples.centre) reach = std::max(reach, (c - start).norm());
+      std::vector<std::size_t> wanted;
+      for (std::size_t j = 0; j < segments; ++j) {
+        if (refined[j]) continue;
+        const auto beyond = [&](const Eigen::Vector2d& from, double radius) {
+          return std::max((samples.centre[j] - from).norm(), (samples.centre[j + 1] - from).norm()) + bounds[j].centre >
+                 radius;
+        };
+        bool open = beyond(circle.centre, circle.radius) || (with_reach && beyond(start, reach));
+        for (std::size_t i = 0; i < z && !open; ++i) {
+          const double force_a = samples.contact_force[j * z + i];
+          const double force_b = samples.contact_force[(j + 1) * z + i];
+          open = std::min(force_a, force_b) - force_bound[j * z + i] < smallest_force ||
+                 std::max(force_a, force_b) + force_bound[j * z + i] > largest_force;
+        }
+        if (open) wanted.push_back(j);
+      }
+      changed = !wanted.empty();
+      for (const std::size_t j : wanted) refine(j);
+      if (!valid()) return false;
+    }
+    return true;
+  };
+
+  if (!refine_open(false)) return std::nullopt;
+
+  // The estimate, as SolveRevolution forms it, from the remainder's bounds over the runs
+  // (which cover every angle, evaluated or not, so it does not depend on which stretches
+  // were evaluated) and the farthest the path can reach.
+  double farthest = 0.0;
+  for (std::size_t j = 0; j < segments; ++j) {
+    farthest = std::max(farthest, std::max(samples.centre[j].norm(), samples.centre[j + 1].norm()) + bounds[j].centre);
   }
   const double error_estimate = path.EstimateFrom(largest_remainder, farthest);
+  // The linear rung's own limit on the dense path's reach: the evaluated reach is a lower
+  // bound of it; where that leaves the verdict open, the reach is refined until exact.
+  if (!LinearRangeRefusal(linear.options(), error_estimate, reach).empty() && !refine_open(true)) return std::nullopt;
 
   SpectralResult spectral;
   SimulationResult& result = spectral.result;
@@ -204,7 +260,14 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   spectral.margins.smallest_force = result.min_contact_force;
   spectral.margins.largest_force = largest_force;
   spectral.margins.reach = reach;
-  for (std::size_t i = 0; i < z; ++i) largest_travel[i] += straying.travel[i];
+  for (std::size_t j = 0; j < segments; ++j) {
+    if (refined[j]) continue;
+    spectral.signal_error = std::max(spectral.signal_error, bounds[j].signal);
+    for (std::size_t i = 0; i < z; ++i) {
+      const double end = std::max(std::abs(samples.travel[j * z + i]), std::abs(samples.travel[(j + 1) * z + i]));
+      largest_travel[i] = std::max(largest_travel[i], end + travel_bound[j * z + i]);
+    }
+  }
   spectral.margins.largest_travel = std::move(largest_travel);
   return spectral;
 }

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <utility>
@@ -45,10 +46,12 @@ solvers::SimulationOptions Options(solvers::AngleMode angles) {
   return options;
 }
 
-// How far the spectral signal may be from the exact reading of the same path.
+// How far the spectral signal may be from the exact reading of the same path: what the
+// evaluation itself certifies, plus the closed form's third order.
 double SensorAgreement(const engine::Scene& scene, const solvers::LinearSolver& linear, int steps) {
-  const solvers::LinearPath path = linear.Path(scene, steps);
-  return path.StrayingAt(2.0 * std::numbers::pi * Options({}).refine_stride / steps).signal_rest + kSensorRest;
+  const std::optional<solvers::SpectralResult> spectral =
+      solvers::SimulateSpectral(scene, linear, steps, Options({}).refine_stride);
+  return (spectral ? spectral->signal_error : 0.0) + kSensorRest;
 }
 
 void ExpectSameAnswer(const engine::Scene& scene, const solvers::LinearSolver& linear, int draw, int& failures) {
@@ -198,6 +201,26 @@ TEST(SpectralAngles, ClosedFormSensorReadingIsTheExactOneToSecondOrder) {
   std::ostringstream worst_text;
   worst_text << std::scientific << worst;
   RecordProperty("worst_reading_error_m", worst_text.str());
+}
+
+// What the mode is for: on default-campaign-like draws it evaluates a fraction of the
+// dense grid's angles (about a quarter on the default campaign itself).
+TEST(SpectralAngles, EvaluatesAFractionOfTheDenseGridsAnglesOnCampaignDraws) {
+  std::mt19937_64 random(11);
+  const solvers::LinearSolver linear;
+  long evaluated = 0, dense = 0;
+  for (int draw = 0; draw < 16; ++draw) {
+    const engine::Scene scene = testing::RandomCampaignLikeScene(random, 1.0);
+    const int steps = solvers::ChooseSteps(scene, Options(solvers::AngleMode::kSpectral));
+    const std::optional<solvers::SpectralResult> spectral =
+        solvers::SimulateSpectral(scene, linear, steps, Options({}).refine_stride);
+    ASSERT_TRUE(spectral.has_value()) << draw;
+    evaluated += spectral->evaluated;
+    dense += steps + 1;
+  }
+  RecordProperty("evaluated", static_cast<int>(evaluated));
+  RecordProperty("dense", static_cast<int>(dense));
+  EXPECT_LT(evaluated, dense / 2);
 }
 
 }  // namespace
