@@ -67,7 +67,7 @@ TEST(AllocationFile, TheExampleHasItsCandidatesCostsAndCurrentDesign) {
   EXPECT_EQ(plan.screen, solvers::Rung::kLinear);
   EXPECT_EQ(plan.first_samples, 256);
   EXPECT_EQ(plan.campaign.sampling.samples, 2048);
-  EXPECT_EQ(plan.campaign.solver.rung, solvers::Rung::kQuasistatic);
+  EXPECT_EQ(plan.campaign.solver.rung, solvers::Rung::kAuto);
   ASSERT_EQ(plan.constraints.size(), 2u);
   EXPECT_EQ(plan.constraints[0].output, "d_trajectory_mm");
   EXPECT_EQ(plan.constraints[0].kind, analysis::ConstraintKind::kQuantile);
@@ -256,7 +256,7 @@ INSTANTIATE_TEST_SUITE_P(
                 {"allocation.constraint[0].upper_N", "upper_mm > 0"}},
         Refusal{"DesignWhosePrefixesAreNotIndependentDraws", "kind = \"sobol\"", "kind = \"latin_hypercube\"",
                 {"design.kind", "latin_hypercube", "\"monte_carlo\""}},
-        Refusal{"ScreenForARungItsBoundIsNotKnownAgainst", "name = \"quasistatic\"", "name = \"dynamic\"",
+        Refusal{"ScreenForARungItsBoundIsNotKnownAgainst", "name = \"auto\"", "name = \"dynamic\"",
                 {"allocation.screen", "dynamic", "\"none\""}},
         Refusal{"SpecPresent", "[allocation]\n", "[spec]\nd_trajectory_mm = 0.3\n\n[allocation]\n",
                 {"spec", "[[allocation.constraint]]"}},
