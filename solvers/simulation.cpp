@@ -193,10 +193,9 @@ void Measure(const engine::Scene& scene, const Trajectory& path, const Eigen::Ve
   }
 }
 
-// The refined mode's allowance for what the first-order chord bounds leave out: the exact
-// model's second-order terms, whose sum the linear rung keeps below a hundredth of the
-// path's reach (LinearOptions::max_relative_error) and which stray no more than the
-// first-order terms they are products of (the sensor's reading is second order in both
+// The refined mode's allowance for what the first-order chord bounds leave out: the linear
+// rung's second order and the exact model's remainder beyond it, which stray no more than
+// the first-order terms they are products of (the sensor's reading is second order in both
 // rungs). Doubling the bound covers them with that margin.
 constexpr double kSecondOrderAllowance = 2.0;
 
@@ -307,34 +306,34 @@ std::optional<SimulationResult> SimulateRefined(const engine::Scene& scene, cons
   const std::size_t segments = coarse.size() - 1;
   std::vector<char> evaluated(segments, 0);  // the segment's inner angles solved and read
   Trajectory head;                            // the initial equilibrium and the run's totals
-  // The first-order path at every dense angle, in closed form (the linear rung's own
-  // path): it carries the fast part, the rollers' lobes, exactly to first order, so what
-  // the exact path adds to it between two evaluated angles is only its second-order rest.
-  Trajectory first_order = (linear != nullptr ? *linear : CertifyingLinearisation()).SolveRevolution(scene, steps);
+  // The linear rung's path at every dense angle, in closed form (first order plus its
+  // second order): it carries the fast part, the rollers' lobes, so what the exact path
+  // adds to it between two evaluated angles is only its remainder, of third order.
+  Trajectory linear_path = (linear != nullptr ? *linear : CertifyingLinearisation()).SolveRevolution(scene, steps);
   if (linear != nullptr) {
-    validity.Check(first_order);
-    if (first_order.status != Status::kOk) {
-      result.status = first_order.status;
-      result.message = first_order.message;
-      result.trajectory = std::move(first_order);
+    validity.Check(linear_path);
+    if (linear_path.status != Status::kOk) {
+      result.status = linear_path.status;
+      result.message = linear_path.message;
+      result.trajectory = std::move(linear_path);
       return result;
     }
     std::vector<int> all(static_cast<std::size_t>(steps) + 1);
     for (int k = 0; k <= steps; ++k) all[static_cast<std::size_t>(k)] = k;
-    revolution.Take(first_order, all);
-    head.initial = first_order.initial;
-    head.error_estimate = first_order.error_estimate;
-  } else if (first_order.status != Status::kOk && first_order.status != Status::kBeyondLinearRange) {
+    revolution.Take(linear_path, all);
+    head.initial = linear_path.initial;
+    head.error_estimate = linear_path.error_estimate;
+  } else if (linear_path.status != Status::kOk && linear_path.status != Status::kBeyondLinearRange) {
     return std::nullopt;
   }
   std::unique_ptr<SparseRevolution> sparse;
-  // How far the exact path's rest, q - first-order path, strays from its chord between
-  // two evaluated angles [m]: the rest is the second-order terms, which the linear rung's
-  // estimate encloses in a circle of diameter error_estimate, doubled for what the
-  // estimate leaves out, plus the two ends' Newton tolerance.
+  // How far the exact path's rest, q - the linear rung's path, strays from its chord
+  // between two evaluated angles [m]: every point of the rest lies within half the linear
+  // rung's error estimate (SecondOrderTerms::EstimateFrom), so it strays by at most the
+  // estimate, doubled for margin, plus the two ends' Newton tolerance.
   double rest_bound = 0.0;
   if (quasistatic != nullptr) {
-    rest_bound = kSecondOrderAllowance * first_order.error_estimate + 2.0 * quasistatic->options().position_tolerance;
+    rest_bound = kSecondOrderAllowance * linear_path.error_estimate + 2.0 * quasistatic->options().position_tolerance;
     sparse = quasistatic->SolveSparse(scene, steps, stride);
     Trajectory first = sparse->coarse();
     validity.Check(first);
@@ -356,7 +355,7 @@ std::optional<SimulationResult> SimulateRefined(const engine::Scene& scene, cons
     steepest += n * amplitude;
   }
   double across = 0.0;
-  for (const Eigen::Vector2d& c : first_order.centre) across = std::max(across, c.norm());
+  for (const Eigen::Vector2d& c : linear_path.centre) across = std::max(across, c.norm());
   across += rest_bound;
   const double signal_bound = kSecondOrderAllowance * form_straying +
                               2.0 * (steepest * across + across * across / 2.0) / bore.radius() + rest_bound;
@@ -437,14 +436,14 @@ std::optional<SimulationResult> SimulateRefined(const engine::Scene& scene, cons
       // Each dense angle between the ends: the first-order path there plus the rest
       // interpolated between the ends', within rest_bound of the exact point; the
       // signal likewise, its rest being what the sensor adds to the first-order centre.
-      const Eigen::Vector2d rest_a = revolution.centre(a) - first_order.centre[static_cast<std::size_t>(a)];
-      const Eigen::Vector2d rest_b = revolution.centre(b) - first_order.centre[static_cast<std::size_t>(b)];
-      const double signal_rest_a = revolution.signal(a) - ray.dot(first_order.centre[static_cast<std::size_t>(a)]);
-      const double signal_rest_b = revolution.signal(b) - ray.dot(first_order.centre[static_cast<std::size_t>(b)]);
+      const Eigen::Vector2d rest_a = revolution.centre(a) - linear_path.centre[static_cast<std::size_t>(a)];
+      const Eigen::Vector2d rest_b = revolution.centre(b) - linear_path.centre[static_cast<std::size_t>(b)];
+      const double signal_rest_a = revolution.signal(a) - ray.dot(linear_path.centre[static_cast<std::size_t>(a)]);
+      const double signal_rest_b = revolution.signal(b) - ray.dot(linear_path.centre[static_cast<std::size_t>(b)]);
       bool open = false;
       for (int k = a + 1; k < b && !open; ++k) {
         const double t = static_cast<double>(k - a) / (b - a);
-        const Eigen::Vector2d& near = first_order.centre[static_cast<std::size_t>(k)];
+        const Eigen::Vector2d& near = linear_path.centre[static_cast<std::size_t>(k)];
         const double reading = ray.dot(near) + (1.0 - t) * signal_rest_a + t * signal_rest_b;
         open = reading + signal_bound > signal_max || reading - signal_bound < signal_min;
         if (sparse != nullptr) {

@@ -86,7 +86,8 @@ struct SolverSettings {
 // quasistatic_equilibrium"): what a results file records as its solver.
 std::string SolverDescription(const SolverSettings& settings);
 inline constexpr double kAngleShareOfPathTolerance = 0.01;
-// The auto rung's budget for the linear rung's estimated second-order error, as a share of
+// The auto rung's budget for the linear rung's error estimate (the bound on what its
+// second-order path misses), as a share of
 // path_tolerance [-]: the sampling bound may use the whole budget, so the model's error is
 // held to half of it, and the total to 1.5 path_tolerance.
 inline constexpr double kAutoShareOfPathTolerance = 0.5;

@@ -29,7 +29,7 @@ enum class Status {
   kStaticallyIndeterminate,  // rigid contact with more than two fixed rollers: use the penalty law
   kIntegrationFailed,        // the dynamic integrator gave up (step-size collapse, repeated failures; see message)
   kNonFinite,                // the dynamic state or the linearised path turned NaN or infinite
-  kBeyondLinearRange,        // the linear rung's estimated second-order error exceeds its limit; path unusable
+  kBeyondLinearRange,        // the linear rung's error bound (of its second-order path) exceeds its limit; path unusable
 };
 
 // Stable lower_snake_case names used in every output file, listed in the order of the

@@ -62,8 +62,8 @@ struct SampleRecord {
   std::int32_t steps = 0;                // angles per revolution the solver used
   std::array<double, kOutputCount> outputs{};  // NaN when status != kOk
   // [mm] the rung's own bound on its error in d_trajectory_mm against the exact model
-  // (solvers::Trajectory::error_estimate: the linear rung's neglected second-order terms,
-  // 0 for the rungs that solve the exact model); NaN when status != kOk.
+  // (solvers::Trajectory::error_estimate: the linear rung's bound on what its second-order
+  // path misses, 0 for the rungs that solve the exact model); NaN when status != kOk.
   double d_trajectory_error = 0.0;
   // The rung whose path the outputs are (solvers::Rung's number: 0 linear, 1 quasistatic,
   // 2 dynamic; the auto rung picks one per sample); kNoRung when no rung ran.
