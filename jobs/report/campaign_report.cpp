@@ -270,7 +270,11 @@ ReplayedTrajectory Replay(const Campaign& campaign, const CampaignReader& reader
   try {
     const sampling::SampledAssembly assembly = campaign.sampling().sampler.Realise(index, stored.u);
     const std::unique_ptr<solvers::Solver> solver = campaign.MakeSolver();
-    result = solvers::Simulate(assembly.scene, *solver, campaign.simulation());
+    // The pictures draw the path and the signal at every angle: replay on the dense grid,
+    // whose D_trajectory and status the sparse angle modes reproduce.
+    solvers::SimulationOptions options = campaign.simulation();
+    options.angles = solvers::AngleMode::kDense;
+    result = solvers::Simulate(assembly.scene, *solver, options);
   } catch (const std::exception& e) {
     out.status = SampleStatusName(SampleStatus::kException);
     out.message = e.what();
