@@ -1488,40 +1488,12 @@ LinearPath::Straying LinearPath::StrayingAt(double dpsi) const {
 
 std::size_t LinearPath::FirstOrderWidth() const { return 2 + 6 * static_cast<std::size_t>(rollers()); }
 
-FirstOrderRange LinearPath::RangeBetween(const Samples& samples, std::size_t a, std::size_t b,
-                                         const Straying& straying) const {
-  const auto zs = static_cast<std::size_t>(rollers());
-  const std::size_t width = FirstOrderWidth();
-  const double* end_a = samples.first_order.data() + a * width;
-  const double* end_b = samples.first_order.data() + b * width;
-  FirstOrderRange range;
-  const Eigen::Vector2d centre_a(end_a[0], end_a[1]);
-  const Eigen::Vector2d centre_b(end_b[0], end_b[1]);
-  range.centre = (centre_a + centre_b) / 2.0;
-  range.centre_radius = (centre_b - centre_a).norm() / 2.0 + straying.centre;
-  // Fields at `offset` in a sample, `count` of them, each within `margin[j]` of its chord.
-  const auto cover = [&](std::size_t offset, std::size_t count, const std::vector<double>& margin,
-                         std::vector<double>& low, std::vector<double>& high) {
-    low.resize(count);
-    high.resize(count);
-    for (std::size_t j = 0; j < count; ++j) {
-      low[j] = std::min(end_a[offset + j], end_b[offset + j]) - margin[j];
-      high[j] = std::max(end_a[offset + j], end_b[offset + j]) + margin[j];
-    }
-  };
-  cover(2, zs, straying.travel, range.travel_low, range.travel_high);
-  cover(2 + zs, zs, straying.contact_force, range.force_low, range.force_high);
-  cover(2 + 2 * zs, 2 * zs, straying.slopes, range.slope_low, range.slope_high);
-  cover(2 + 4 * zs, 2 * zs, straying.curvatures, range.curvature_low, range.curvature_high);
-  return range;
-}
-
 void LinearPath::RangeOver(const Samples& samples, std::size_t first, std::size_t last, const Straying& straying,
                            FirstOrderRange& range) const {
   const auto zs = static_cast<std::size_t>(rollers());
   const std::size_t width = FirstOrderWidth();
   // Every stretch's chord lies inside the circle enclosing the run's centres (a disc is
-  // convex), so its RangeBetween disc lies within straying of that circle.
+  // convex), so each stretch's points lie within straying of that circle.
   thread_local std::vector<Eigen::Vector2d> centres;
   centres.clear();
   for (std::size_t k = first; k <= last; ++k) centres.emplace_back(samples.first_order[k * width], samples.first_order[k * width + 1]);

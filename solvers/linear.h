@@ -190,7 +190,7 @@ class LinearPath {
   // Bounds over the whole revolution for chords dpsi [rad] apart (ChordStraying): how far
   // each first-order output between two angles can stray from the chord through its values
   // there. What the second-order correction adds between angles, SecondOrderTerms::Over
-  // bounds from RangeBetween.
+  // bounds from RangeOver.
   struct Straying {
     double centre = 0.0;                // [m]
     double signal_rest = 0.0;           // [m] of signal - e_s . c - r(theta_s - psi): the sensor's second-order terms
@@ -231,15 +231,13 @@ class LinearPath {
   Straying StrayingAt(double dpsi) const;
   // Doubles an angle in Samples::first_order: 2 + 6Z.
   std::size_t FirstOrderWidth() const;
-  // Bounds on At's inputs at every angle between samples a and b (adjacent coarse angles, or
-  // any two angles `straying`'s dpsi apart): each output lies within its straying of the
-  // chord through its values there, so within [min - straying, max + straying], and the
-  // centre within its straying of the chord's segment, a disc about its midpoint.
-  FirstOrderRange RangeBetween(const Samples& samples, std::size_t a, std::size_t b, const Straying& straying) const;
-  // The same at every angle between samples first and last (a run of adjacent coarse
-  // angles, each stretch between them `straying`'s dpsi apart): the union of their
-  // stretches' RangeBetween, the centre within straying of the circle enclosing the run's.
-  // `range` is overwritten, its buffers reused.
+  // Bounds on At's inputs at every angle between samples first and last (a run of adjacent
+  // coarse angles, each stretch between them `straying`'s dpsi apart): each output lies
+  // within its straying of the chord through its values at a stretch's ends, so within
+  // [min - straying, max + straying] over the run, a gap derivative also within +-its
+  // reach, and the centre within its straying of the circle enclosing the run's centres
+  // (for one stretch, a disc about the chord's midpoint). `range` is overwritten, its
+  // buffers reused.
   void RangeOver(const Samples& samples, std::size_t first, std::size_t last, const Straying& straying,
                  FirstOrderRange& range) const;
   // Trajectory::error_estimate from the largest remainder over the angles and the path's

@@ -193,7 +193,7 @@ TEST(SecondOrderTermsOver, BoundsAtsValuesAtEveryAngleOfTheRange) {
   }
 }
 
-// The spectral mode's use: the range LinearPath::RangeBetween builds from a coarse stretch's
+// The spectral mode's use: the range LinearPath::RangeOver builds from a coarse stretch's
 // two ends and the chord bounds holds At's inputs at every dense angle between them, and
 // Over's bounds from it hold At's values there.
 TEST(SecondOrderTermsOver, RangeFromAStretchsEndsBoundsItsDenseAngles) {
@@ -218,7 +218,8 @@ TEST(SecondOrderTermsOver, RangeFromAStretchsEndsBoundsItsDenseAngles) {
     for (std::size_t j = 0; j + 1 < coarse.size(); ++j) {
       dense.clear();
       path.Refine(static_cast<int>(j), dense);
-      const solvers::FirstOrderRange range = path.RangeBetween(coarse, j, j + 1, straying);
+      solvers::FirstOrderRange range;
+      path.RangeOver(coarse, j, j + 1, straying, range);
       std::vector<Inputs> inputs;
       for (const solvers::LinearPath::Samples* from : {&coarse, &dense}) {
         for (std::size_t k = 0; k < from->size(); ++k) {
