@@ -89,6 +89,7 @@ class AutoSolver final : public Solver {
   // Steps 2 and 3 alone: the exact rungs, for a scene the linear path did not settle.
   Trajectory SolveExact(const engine::Scene& scene, int steps) const;
   const LinearSolver& linear() const { return linear_; }
+  double budget() const { return options_.budget; }  // [m] AutoOptions::budget
   // [N] the inertial force step 2 weighs, with contact_stiffness [N/m] k_c (infinite for
   // rigid contact).
   static double InertiaForceBound(const engine::Scene& scene, double contact_stiffness);

@@ -507,7 +507,8 @@ SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& s
   const auto* automatic = dynamic_cast<const AutoSolver*>(&solver);
   if (linear == nullptr && automatic == nullptr) return outcome;
   std::optional<SpectralResult> spectral =
-      SimulateSpectral(scene, linear != nullptr ? *linear : automatic->linear(), steps, options.refine_stride);
+      linear != nullptr ? SimulateSpectral(scene, *linear, steps, options.refine_stride)
+                        : SimulateSpectral(scene, automatic->linear(), steps, options.refine_stride, automatic->budget());
   if (!spectral) return outcome;
   if (automatic != nullptr &&
       (spectral->result.status != Status::kOk || !automatic->LinearVerdict(scene, spectral->margins).empty())) {

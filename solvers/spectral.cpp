@@ -27,7 +27,7 @@ constexpr std::size_t kStretchesABound = 1;
 }  // namespace
 
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
-                                               int stride) {
+                                               int stride, double estimate_target) {
   const ValidityCheck validity(scene);
   const std::size_t z = scene.rollers.size();
   if (stride < 2 || steps < 4 * stride) return std::nullopt;
@@ -79,16 +79,15 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   std::vector<StretchBound> bounds(segments);
   // Per stretch and roller [m, N], stretch-major.
   std::vector<double> travel_bound(segments * z), force_bound(segments * z);
-  double largest_remainder = 0.0;
+  std::vector<double> stretch_remainder(segments);  // [m] Over's bound on each stretch
   thread_local FirstOrderRange range;
   thread_local SecondOrderRange over;
   for (std::size_t run = 0; run < segments; run += kStretchesABound) {
     const std::size_t last = std::min(run + kStretchesABound, segments);
     path.RangeOver(samples, run, last, straying, range);
     path.second_order().Over(range, over);
-    // max() would drop a NaN: the estimate must carry it.
-    if (!(over.remainder <= largest_remainder)) largest_remainder = over.remainder;
     for (std::size_t j = run; j < last; ++j) {
+      stretch_remainder[j] = over.remainder;
       StretchBound& bound = bounds[j];
       const std::size_t a = j;
       const std::size_t b = j + 1;
@@ -168,16 +167,37 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
     return true;
   };
 
-  if (!refine_open(false)) return std::nullopt;
-
-  // The estimate, as SolveRevolution forms it, from the remainder's bounds over the runs
-  // (which cover every angle, evaluated or not, so it does not depend on which stretches
-  // were evaluated) and the farthest the path can reach.
+  // The estimate, as SolveRevolution forms it, from the remainder's bounds over the
+  // stretches (which cover every angle, so it does not depend on which stretches the
+  // extremes evaluate) and the farthest the path can reach. A stretch whose bound exceeds
+  // the target's share is evaluated (the header says why the share is kept as a floor).
   double farthest = 0.0;
   for (std::size_t j = 0; j < segments; ++j) {
     farthest = std::max(farthest, std::max(samples.centre[j].norm(), samples.centre[j + 1].norm()) + bounds[j].centre);
   }
+  const double share = estimate_target / path.EstimateFrom(1.0, farthest);  // [m] of remainder
+  // max() would drop a NaN: the estimate must carry it.
+  const auto raise = [](double& largest, double value) {
+    if (!std::isnan(largest) && !(value <= largest)) largest = value;
+  };
+  double largest_remainder = 0.0;
+  for (std::size_t j = 0; j < segments; ++j) {
+    double remainder = stretch_remainder[j];
+    if (!(remainder <= share) && std::isfinite(share)) {
+      if (!refined[j]) refine(j);
+      remainder = share;
+      raise(remainder, samples.remainder[j]);
+      raise(remainder, samples.remainder[j + 1]);
+      const auto inner = static_cast<std::size_t>(coarse[j + 1] - coarse[j] - 1);
+      for (std::size_t q = 0; q < inner; ++q) raise(remainder, samples.remainder[first_inner[j] + q]);
+    }
+    raise(largest_remainder, remainder);
+  }
+  if (!valid()) return std::nullopt;
   const double error_estimate = path.EstimateFrom(largest_remainder, farthest);
+
+  if (!refine_open(false)) return std::nullopt;
+
   // The linear rung's own limit on the dense path's reach: the evaluated reach is a lower
   // bound of it; where that leaves the verdict open, the reach is refined until exact.
   if (!LinearRangeRefusal(linear.options(), error_estimate, reach).empty() && !refine_open(true)) return std::nullopt;

@@ -14,6 +14,7 @@
 // evaluated angles, within LinearPath::Straying::signal_rest of the dense reading.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -48,7 +49,16 @@ struct SpectralResult {
 // cannot be linearised) or where any evaluated angle fails the validity check: the dense
 // evaluation then runs and states the failure where it arises. steps >= 1, stride >= 2.
 // The linear rung's own range limit (LinearOptions) applies as in SolveRevolution.
+//
+// The error estimate bounds the remainder over each coarse stretch at once
+// (SecondOrderTerms::Over), which costs no angle but is looser than At's own remainder at
+// each angle. Where that alone would carry the estimate above `estimate_target` [m] (the
+// auto rung's budget; infinite: never), the stretches whose bound exceeds its share are
+// evaluated at every angle and count max(At's largest remainder there, the share), so the
+// estimate stays continuous in the scene, and is below the target exactly where the dense
+// path's own remainder is.
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
-                                               int stride);
+                                               int stride,
+                                               double estimate_target = std::numeric_limits<double>::infinity());
 
 }  // namespace ringtol::solvers

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -140,6 +141,58 @@ TEST(SpectralAngles, AutoSettlesTheSameScenesOnTheSameRung) {
   }
   EXPECT_GT(linear, 0) << "no draw settled on the linear rung: the test shows nothing";
   EXPECT_GT(exact, 0) << "no draw went to the exact rungs: the test shows nothing";
+}
+
+// The estimate with auto's budget as its target: below it the stretches' bounds alone
+// (what the untargeted evaluation gives); above it, the evaluated stretches' own remainder
+// floored at the target's share, so never below the target (continuous where the two
+// meet), never below the dense path's estimate, and below the target wherever the dense
+// path's is (its reach is no larger, so its sensor gain no larger, than the bounded one).
+TEST(SpectralAngles, AutosBudgetTightensTheEstimateOnlyWhereItDecides) {
+  std::mt19937_64 random(17);
+  const solvers::LinearSolver linear;
+  const double target = solvers::kAutoShareOfPathTolerance * kPathTolerance;
+  // The sensor gains of the bounded and the dense reach differ by (their reaches' gap) / R.
+  constexpr double kGainSlack = 1.01;
+  int below = 0, tightened = 0, above = 0;
+  for (int draw = 0; draw < 24; ++draw) {
+    engine::Scene scene = testing::RandomCampaignLikeScene(random, 1.0 + 4.0 * (draw % 3));
+    std::vector<engine::Harmonic> form = scene.ring.inner.harmonics();
+    // The remainder grows as the form's cube: 2x brings the estimates near the target.
+    constexpr std::array<double, 4> kScales = {1.0, 1.9, 2.2, 2.6};
+    for (engine::Harmonic& h : form) h.amplitude *= kScales[draw % 4];
+    testing::SetRing(scene, std::move(form));
+    const int steps = solvers::ChooseSteps(scene, Options(solvers::AngleMode::kSpectral));
+    const int stride = Options({}).refine_stride;
+    const std::optional<solvers::SpectralResult> bounded = solvers::SimulateSpectral(scene, linear, steps, stride);
+    const std::optional<solvers::SpectralResult> targeted =
+        solvers::SimulateSpectral(scene, linear, steps, stride, target);
+    ASSERT_EQ(bounded.has_value(), targeted.has_value()) << draw;
+    if (!bounded || bounded->result.status != solvers::Status::kOk) continue;
+    ASSERT_EQ(targeted->result.status, solvers::Status::kOk) << draw << ": " << targeted->result.message;
+    const double untargeted = bounded->margins.error_estimate;
+    const double estimate = targeted->margins.error_estimate;
+    const solvers::Trajectory dense = linear.SolveRevolution(scene, steps);
+    EXPECT_GE(estimate, dense.error_estimate - kRoundOff) << draw;
+    EXPECT_LE(estimate, untargeted + kRoundOff) << draw;
+    EXPECT_NEAR(targeted->result.d_trajectory, bounded->result.d_trajectory, kRoundOff) << draw;
+    if (untargeted <= target) {
+      EXPECT_EQ(estimate, untargeted) << draw;
+      ++below;
+      continue;
+    }
+    EXPECT_GE(estimate, target * (1.0 - 1e-12)) << draw;
+    if (dense.error_estimate * kGainSlack <= target) {
+      EXPECT_LE(estimate, target * (1.0 + 1e-12)) << draw;
+    }
+    (estimate <= target * (1.0 + 1e-12) ? tightened : above) += 1;
+  }
+  RecordProperty("below", below);
+  RecordProperty("tightened", tightened);
+  RecordProperty("above", above);
+  EXPECT_GT(below, 0) << "no draw's bounds fit the budget: the test shows nothing";
+  EXPECT_GT(tightened, 0) << "no draw needed its stretches evaluated to fit: the test shows nothing";
+  EXPECT_GT(above, 0) << "no draw exceeded the budget: the test shows nothing";
 }
 
 // Large spring-roller lobes and a weak spring: the assembly lifts off for some draws, at
