@@ -506,9 +506,13 @@ SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& s
   const auto* linear = dynamic_cast<const LinearSolver*>(&solver);
   const auto* automatic = dynamic_cast<const AutoSolver*>(&solver);
   if (linear == nullptr && automatic == nullptr) return outcome;
+  // The linear rung alone is held to the budget auto would give it, so both record the
+  // same estimate for a path they both settle.
+  const double target = automatic != nullptr       ? automatic->budget()
+                        : options.path_tolerance > 0.0 ? kAutoShareOfPathTolerance * options.path_tolerance
+                                                       : std::numeric_limits<double>::infinity();
   std::optional<SpectralResult> spectral =
-      linear != nullptr ? SimulateSpectral(scene, *linear, steps, options.refine_stride)
-                        : SimulateSpectral(scene, automatic->linear(), steps, options.refine_stride, automatic->budget());
+      SimulateSpectral(scene, linear != nullptr ? *linear : automatic->linear(), steps, options.refine_stride, target);
   if (!spectral) return outcome;
   if (automatic != nullptr &&
       (spectral->result.status != Status::kOk || !automatic->LinearVerdict(scene, spectral->margins).empty())) {

@@ -21,8 +21,9 @@ struct StretchBound {
   double signal = 0.0;  // [m] the signal's rest beyond its first-order part
 };
 
-// Coarse stretches a bound of the second-order correction covers (64 dense angles).
-constexpr std::size_t kStretchesABound = 1;
+// Coarse stretches the first bound of the second-order correction covers (64 dense
+// angles at the default stride): one a stretch cost a third of a default-campaign sample.
+constexpr std::size_t kStretchesARun = 8;
 
 }  // namespace
 
@@ -71,23 +72,19 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   // their chord bounds of the chord through the stretch's ends, so SecondOrderTerms::Over
   // bounds the correction and its remainder there; a corrected output then lies within its
   // chord bound, plus the correction's bound, plus the larger correction at the ends, of
-  // the chord through the corrected ends.
-  // The correction and its remainder bounded over runs of kStretchesABound coarse stretches
-  // (SecondOrderTerms::Over on LinearPath::RangeOver): a bound a stretch would cost more
-  // than the angles it saves, one over the revolution is too loose for the estimate.
+  // the chord through the corrected ends. Over runs of kStretchesARun stretches first (a
+  // bound per stretch costs more than the angles it saves); a run whose remainder bound
+  // alone would break the estimate's target is bounded again stretch by stretch.
   const std::size_t width = path.FirstOrderWidth();
   std::vector<StretchBound> bounds(segments);
   // Per stretch and roller [m, N], stretch-major.
   std::vector<double> travel_bound(segments * z), force_bound(segments * z);
-  std::vector<double> stretch_remainder(segments);  // [m] Over's bound on each stretch
   thread_local FirstOrderRange range;
   thread_local SecondOrderRange over;
-  for (std::size_t run = 0; run < segments; run += kStretchesABound) {
-    const std::size_t last = std::min(run + kStretchesABound, segments);
-    path.RangeOver(samples, run, last, straying, range);
+  const auto bound_stretches = [&](std::size_t first, std::size_t last) {
+    path.RangeOver(samples, first, last, straying, range);
     path.second_order().Over(range, over);
-    for (std::size_t j = run; j < last; ++j) {
-      stretch_remainder[j] = over.remainder;
+    for (std::size_t j = first; j < last; ++j) {
       StretchBound& bound = bounds[j];
       const std::size_t a = j;
       const std::size_t b = j + 1;
@@ -107,11 +104,70 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
         force_bound[j * z + i] = straying.contact_force[i] + over.contact_force[i] + end(samples.contact_force, 2 + z);
       }
     }
+    return over.remainder;
+  };
+  const std::size_t runs = (segments + kStretchesARun - 1) / kStretchesARun;
+  std::vector<double> run_remainder(runs);  // [m] Over's bound on each run
+  for (std::size_t r = 0; r < runs; ++r) {
+    run_remainder[r] = bound_stretches(r * kStretchesARun, std::min((r + 1) * kStretchesARun, segments));
   }
+
+  // The estimate, as SolveRevolution forms it, from the remainder's bounds over the runs
+  // (which cover every angle, so it does not depend on which stretches the extremes
+  // evaluate) and the farthest the path can reach; where a bound exceeds the target's
+  // share, from the bounds a level finer and at last At's own remainder at every angle,
+  // each level's count floored at the share (the header says why).
+  double farthest = 0.0;
+  for (std::size_t j = 0; j < segments; ++j) {
+    farthest = std::max(farthest, std::max(samples.centre[j].norm(), samples.centre[j + 1].norm()) + bounds[j].centre);
+  }
+  // The linear rung's own limit (LinearRangeRefusal) at the coarse angles' reach, below the
+  // dense path's: a target no decision lies under.
+  double coarse_reach = 0.0;
+  for (std::size_t j = 0; j <= segments; ++j) {
+    coarse_reach = std::max(coarse_reach, (samples.centre[j] - samples.centre.front()).norm());
+  }
+  const LinearOptions& limits = linear.options();
+  const double target =
+      std::min(estimate_target, std::max(limits.max_relative_error * coarse_reach, limits.min_error_limit));
+  const double share = target / path.EstimateFrom(1.0, farthest);  // [m] of remainder
+  // max() would drop a NaN: the estimate must carry it. A NaN bound gives way to a finer one.
+  const auto raise = [](double& largest, double value) {
+    if (!std::isnan(largest) && !(value <= largest)) largest = value;
+  };
+  const auto floored = [&](double bound, double finer) {
+    double count = share;
+    raise(count, std::fmin(bound, finer));
+    return count;
+  };
+  double largest_remainder = 0.0;
+  for (std::size_t r = 0; r < runs; ++r) {
+    double remainder = run_remainder[r];
+    if (!(remainder <= share) && std::isfinite(share)) {
+      double finer = 0.0;
+      for (std::size_t j = r * kStretchesARun; j < std::min((r + 1) * kStretchesARun, segments); ++j) {
+        double stretch = bound_stretches(j, j + 1);
+        if (!(stretch <= share)) {
+          if (!refined[j]) refine(j);
+          double evaluated = samples.remainder[j];
+          raise(evaluated, samples.remainder[j + 1]);
+          const auto inner = static_cast<std::size_t>(coarse[j + 1] - coarse[j] - 1);
+          for (std::size_t q = 0; q < inner; ++q) raise(evaluated, samples.remainder[first_inner[j] + q]);
+          stretch = floored(stretch, evaluated);
+        }
+        raise(finer, stretch);
+      }
+      remainder = floored(remainder, finer);
+    }
+    raise(largest_remainder, remainder);
+  }
+  if (!valid()) return std::nullopt;
+  const double error_estimate = path.EstimateFrom(largest_remainder, farthest);
 
   // The domain: a force above its bound and a travel inside its limit by more than its
   // bound at both ends of a stretch cannot fail between them.
   for (std::size_t j = 0; j < segments; ++j) {
+    if (refined[j]) continue;
     bool certain = true;
     for (std::size_t i = 0; i < z && certain; ++i) {
       const double force_a = samples.contact_force[j * z + i];
@@ -166,35 +222,6 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
     }
     return true;
   };
-
-  // The estimate, as SolveRevolution forms it, from the remainder's bounds over the
-  // stretches (which cover every angle, so it does not depend on which stretches the
-  // extremes evaluate) and the farthest the path can reach. A stretch whose bound exceeds
-  // the target's share is evaluated (the header says why the share is kept as a floor).
-  double farthest = 0.0;
-  for (std::size_t j = 0; j < segments; ++j) {
-    farthest = std::max(farthest, std::max(samples.centre[j].norm(), samples.centre[j + 1].norm()) + bounds[j].centre);
-  }
-  const double share = estimate_target / path.EstimateFrom(1.0, farthest);  // [m] of remainder
-  // max() would drop a NaN: the estimate must carry it.
-  const auto raise = [](double& largest, double value) {
-    if (!std::isnan(largest) && !(value <= largest)) largest = value;
-  };
-  double largest_remainder = 0.0;
-  for (std::size_t j = 0; j < segments; ++j) {
-    double remainder = stretch_remainder[j];
-    if (!(remainder <= share) && std::isfinite(share)) {
-      if (!refined[j]) refine(j);
-      remainder = share;
-      raise(remainder, samples.remainder[j]);
-      raise(remainder, samples.remainder[j + 1]);
-      const auto inner = static_cast<std::size_t>(coarse[j + 1] - coarse[j] - 1);
-      for (std::size_t q = 0; q < inner; ++q) raise(remainder, samples.remainder[first_inner[j] + q]);
-    }
-    raise(largest_remainder, remainder);
-  }
-  if (!valid()) return std::nullopt;
-  const double error_estimate = path.EstimateFrom(largest_remainder, farthest);
 
   if (!refine_open(false)) return std::nullopt;
 

@@ -50,13 +50,16 @@ struct SpectralResult {
 // evaluation then runs and states the failure where it arises. steps >= 1, stride >= 2.
 // The linear rung's own range limit (LinearOptions) applies as in SolveRevolution.
 //
-// The error estimate bounds the remainder over each coarse stretch at once
+// The error estimate bounds the remainder over runs of coarse stretches at once
 // (SecondOrderTerms::Over), which costs no angle but is looser than At's own remainder at
-// each angle. Where that alone would carry the estimate above `estimate_target` [m] (the
-// auto rung's budget; infinite: never), the stretches whose bound exceeds its share are
-// evaluated at every angle and count max(At's largest remainder there, the share), so the
-// estimate stays continuous in the scene, and is below the target exactly where the dense
-// path's own remainder is.
+// each angle. The target [m] is the smaller of `estimate_target` (the auto rung's budget;
+// infinite: none) and the linear rung's own range limit at the coarse angles' reach.
+// Where a run's bound alone would carry the estimate above the target, its stretches are
+// bounded one by one, and a stretch still above it is evaluated at every angle, where At's
+// remainder is exact. Each level counts the smaller of its bound and the finer level's,
+// floored at the target's share: the estimate stays continuous in the scene, never falls
+// below the target once a bound exceeds it, and is below the target exactly where the
+// dense path's own remainder is.
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
                                                int stride,
                                                double estimate_target = std::numeric_limits<double>::infinity());

@@ -160,7 +160,7 @@ TEST(SpectralAngles, AutosBudgetTightensTheEstimateOnlyWhereItDecides) {
     std::vector<engine::Harmonic> form = scene.ring.inner.harmonics();
     // The remainder grows as the form's cube: 2x brings the estimates near the target.
     constexpr std::array<double, 4> kScales = {1.0, 1.9, 2.2, 2.6};
-    for (engine::Harmonic& h : form) h.amplitude *= kScales[draw % 4];
+    for (engine::Harmonic& h : form) h.amplitude *= kScales[static_cast<std::size_t>(draw % 4)];
     testing::SetRing(scene, std::move(form));
     const int steps = solvers::ChooseSteps(scene, Options(solvers::AngleMode::kSpectral));
     const int stride = Options({}).refine_stride;
