@@ -21,7 +21,8 @@ Eigen::Vector2d RollerCentre(const Scene& scene, int i) {
 }
 
 double SpinRatio(const Scene& scene, int i) {
-  return scene.ring.inner.radius() / scene.rollers[static_cast<std::size_t>(i)].outline.radius();
+  const PolarProfile& outline = scene.rollers[static_cast<std::size_t>(i)].outline;
+  return (scene.ring.inner.radius() + scene.ring.inner.mean_deviation()) / (outline.radius() + outline.mean_deviation());
 }
 
 double RollerBodyAngle(const Scene& scene, int i, double psi) {

@@ -123,7 +123,9 @@ double RadialPositionError(const Scene& scene, int i);
 // Centre of roller i at zero spring travel, position errors included [m].
 Eigen::Vector2d RollerCentre(const Scene& scene, int i);
 
-// Spin ratio R / r_b of roller i: radians of roller spin per radian of ring rotation.
+// Spin ratio R / r_b of roller i: radians of roller spin per radian of ring rotation, R and
+// r_b the rolling radii (nominal plus mean deviation: a roller's drawn size changes how
+// fast it turns, so rollers of one class drift in phase against each other).
 double SpinRatio(const Scene& scene, int i);
 
 // Global angle of roller i's body x axis when the ring has turned by psi [rad].

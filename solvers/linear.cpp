@@ -39,6 +39,8 @@ struct Linearisation {
   Eigen::MatrixXd cosine;            // outputs x terms
   Eigen::MatrixXd sine;              // outputs x terms
   std::vector<double> rates;         // [rad of phase per rad of ring angle]
+  std::vector<int> roller;           // per term: the roller whose lobe it is, -1 the bore's
+  std::vector<int> order;            // per term: the harmonic's order
   // The same terms as changes of the contacts' gap functions, the only way they reach the
   // outputs: series i < Z the gap value at contact i [m], Z + i the bore's slope there and
   // 2Z + i the roller's [m/rad] (the slope rows above), 3Z + i and 4Z + i their curvatures
@@ -246,6 +248,8 @@ Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalRespons
       add_gap_and_slope(p, i, a * normal_power[static_cast<std::size_t>(i)], n, z + i);
     }
     lin.rates.push_back(n);
+    lin.roller.push_back(-1);
+    lin.order.push_back(n);
     ++p;
   }
   Eigen::VectorXd constant(2 * z);
@@ -261,6 +265,8 @@ Linearisation Linearise(const Scene& scene, std::shared_ptr<const NominalRespons
       if (a == Complex(0.0)) continue;
       add_gap_and_slope(p, i, -a * std::polar(1.0, m * (c.normal_angle - body0)), m, 2 * z + i);
       lin.rates.push_back(m * engine::SpinRatio(scene, i));
+      lin.roller.push_back(i);
+      lin.order.push_back(m);
       ++p;
     }
   }
@@ -1239,6 +1245,8 @@ PhasorSum LinearSolver::Phasors(const Scene& scene) const {
   sum.cosine = std::move(lin.cosine);
   sum.sine = std::move(lin.sine);
   sum.rates = std::move(lin.rates);
+  sum.roller = std::move(lin.roller);
+  sum.order = std::move(lin.order);
   sum.travel_row = nominal.travel_row;
   sum.first_force_row = nominal.first_force_row;
   return sum;

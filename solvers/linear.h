@@ -62,6 +62,10 @@ struct PhasorSum {
   Eigen::MatrixXd cosine;      // outputs x terms
   Eigen::MatrixXd sine;        // outputs x terms
   std::vector<double> rates;   // [rad of phase per rad of ring angle]
+  // Per term: the roller whose lobe it is (-1: the bore's form), and the harmonic's order
+  // n or m; a roller's term turns at m engine::SpinRatio of the ring's rate.
+  std::vector<int> roller;
+  std::vector<int> order;
   std::vector<int> travel_row;
   int first_force_row = 0;
 };

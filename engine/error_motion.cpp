@@ -1,0 +1,70 @@
+#include "engine/error_motion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ringtol::engine {
+
+double Fundamental::At(double psi) const { return cosine * std::cos(psi) + sine * std::sin(psi); }
+
+Fundamental FundamentalOf(std::span<const double> revolution) {
+  const std::size_t steps = revolution.size();
+  if (steps < 3) throw std::invalid_argument("error motion: a revolution needs at least 3 samples");
+  // On equispaced angles cos and sin are orthogonal to each other and to a constant, so
+  // the least-squares coefficients are the discrete Fourier ones.
+  Fundamental f;
+  const double dpsi = 2.0 * std::numbers::pi / static_cast<double>(steps);
+  for (std::size_t j = 0; j < steps; ++j) {
+    const double psi = dpsi * static_cast<double>(j);
+    f.cosine += revolution[j] * std::cos(psi);
+    f.sine += revolution[j] * std::sin(psi);
+  }
+  f.cosine *= 2.0 / static_cast<double>(steps);
+  f.sine *= 2.0 / static_cast<double>(steps);
+  return f;
+}
+
+ErrorMotion MeasureErrorMotion(std::span<const double> motion, int steps) {
+  if (steps < 3) throw std::invalid_argument("error motion: a revolution needs at least 3 samples");
+  const auto n = static_cast<std::size_t>(steps);
+  if (motion.empty() || motion.size() % n != 0) {
+    throw std::invalid_argument("error motion: the samples are not whole revolutions of " + std::to_string(steps));
+  }
+  const std::size_t revolutions = motion.size() / n;
+  std::vector<double> average(n, 0.0);
+  std::vector<double> low(n, std::numeric_limits<double>::infinity());
+  std::vector<double> high(n, -std::numeric_limits<double>::infinity());
+  for (std::size_t k = 0; k < revolutions; ++k) {
+    for (std::size_t j = 0; j < n; ++j) {
+      const double x = motion[k * n + j];
+      average[j] += x;
+      low[j] = std::min(low[j], x);
+      high[j] = std::max(high[j], x);
+    }
+  }
+  for (double& x : average) x /= static_cast<double>(revolutions);
+  const Fundamental fundamental = FundamentalOf(average);
+  ErrorMotion result;
+  result.fundamental = std::hypot(fundamental.cosine, fundamental.sine);
+  const double dpsi = 2.0 * std::numbers::pi / steps;
+  double sync_low = std::numeric_limits<double>::infinity(), sync_high = -sync_low;
+  double total_low = sync_low, total_high = -sync_low;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double f = fundamental.At(dpsi * static_cast<double>(j));
+    sync_low = std::min(sync_low, average[j] - f);
+    sync_high = std::max(sync_high, average[j] - f);
+    total_low = std::min(total_low, low[j] - f);
+    total_high = std::max(total_high, high[j] - f);
+    result.asynchronous = std::max(result.asynchronous, high[j] - low[j]);
+  }
+  result.synchronous = sync_high - sync_low;
+  result.total = total_high - total_low;
+  return result;
+}
+
+}  // namespace ringtol::engine

@@ -1,0 +1,43 @@
+// Radial error motion of the ring's axis in a fixed sensitive direction, as ISO 230-7
+// (axes of rotation) and ANSI/ASME B89.3.4 define it (docs/model.md §9): the axis motion
+// along the sensor's direction, read over several revolutions at the same angles. A
+// revolution of a ring on rollers does not repeat (the rollers turn R/r times a turn), so
+// the revolutions spread into a band around their average:
+//   synchronous   the average over the revolutions at each angle, with its fundamental
+//                 (the once-per-revolution component, which a fixed sensitive direction
+//                 cannot tell from the artefact's centring) removed;
+//   asynchronous  each revolution's departure from that average;
+//   total         every revolution, the same fundamental removed.
+// Each value is read on the polar plot about its least-squares centre, which for a
+// signal this small against the plot's base circle is the plot less its fundamental:
+// total and synchronous are max - min there, asynchronous the widest the band is along
+// one radial line (max - min over the revolutions at one angle).
+#pragma once
+
+#include <span>
+
+namespace ringtol::engine {
+
+struct ErrorMotion {
+  double total = 0.0;         // [m] total error motion value
+  double synchronous = 0.0;   // [m] synchronous error motion value, fundamental removed
+  double asynchronous = 0.0;  // [m] asynchronous error motion value
+  double fundamental = 0.0;   // [m] amplitude of the once-per-revolution part removed
+};
+
+// `motion` holds `revolutions` revolutions of `steps` samples each, revolution-major, at
+// psi_j = 2 pi j / steps (the revolution's end, j = steps, is the next one's start and
+// not repeated) [m]. Requires steps >= 3 and motion.size() a positive multiple of steps;
+// throws std::invalid_argument otherwise. One revolution has no asynchronous part.
+ErrorMotion MeasureErrorMotion(std::span<const double> motion, int steps);
+
+// The once-per-revolution component of a revolution sampled as above: a cos psi + b sin psi
+// with a, b its least-squares (discrete Fourier) coefficients [m]. Requires steps >= 3.
+struct Fundamental {
+  double cosine = 0.0;  // [m] a
+  double sine = 0.0;    // [m] b
+  double At(double psi) const;
+};
+Fundamental FundamentalOf(std::span<const double> revolution);
+
+}  // namespace ringtol::engine

@@ -1,0 +1,335 @@
+#include "solvers/life.h"
+
+#include <algorithm>
+#include <complex>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <numeric>
+#include <ranges>
+#include <stdexcept>
+#include <vector>
+
+#include "engine/enclosing_circle.h"
+
+namespace ringtol::solvers {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+// Points a curve's hull is sampled at, per order of its fastest term: a term strays from
+// its chords by (2 pi / kHullSamplesPerOrder)^2 / 8 of its amplitude, 3e-4.
+constexpr int kHullSamplesPerOrder = 128;
+// Spin ratios this close (relative) are one: the rollers turn in step (equal diameters).
+constexpr double kSameRatio = 1e-12;
+
+// The lobes of the rollers that turn in step, as one closed curve in their common phase
+// u = ratio psi: sum over terms of cosine cos(order u) + sine sin(order u) [m].
+struct PhaseCurve {
+  double ratio = 0.0;  // engine::SpinRatio of its rollers
+  std::vector<int> order;
+  std::vector<Eigen::Vector2d> cosine, sine;
+  int max_order = 0;
+
+  Eigen::Vector2d At(double u) const {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    const std::complex<double> step = std::polar(1.0, u);
+    std::complex<double> power = 1.0;
+    int power_order = 0;
+    for (std::size_t p = 0; p < order.size(); ++p) {
+      if (order[p] < power_order) power = 1.0, power_order = 0;
+      for (; power_order < order[p]; ++power_order) power *= step;
+      sum += cosine[p] * power.real() + sine[p] * power.imag();
+    }
+    return sum;
+  }
+};
+
+std::vector<PhaseCurve> PhaseCurves(const PhasorSum& sum) {
+  std::vector<PhaseCurve> curves;
+  for (std::size_t p = 0; p < sum.rates.size(); ++p) {
+    if (sum.roller[p] < 0) continue;
+    const double ratio = sum.rates[p] / sum.order[p];
+    auto curve = std::find_if(curves.begin(), curves.end(), [&](const PhaseCurve& c) {
+      return std::abs(c.ratio - ratio) <= kSameRatio * ratio;
+    });
+    if (curve == curves.end()) curve = curves.insert(curves.end(), PhaseCurve{ratio, {}, {}, {}, 0});
+    curve->order.push_back(sum.order[p]);
+    curve->cosine.push_back(sum.cosine.col(static_cast<Eigen::Index>(p)).head<2>());
+    curve->sine.push_back(sum.sine.col(static_cast<Eigen::Index>(p)).head<2>());
+    curve->max_order = std::max(curve->max_order, sum.order[p]);
+  }
+  // At() walks the orders upwards.
+  for (PhaseCurve& curve : curves) {
+    std::vector<std::size_t> by_order(curve.order.size());
+    for (std::size_t q = 0; q < by_order.size(); ++q) by_order[q] = q;
+    std::ranges::sort(by_order, {}, [&](std::size_t q) { return curve.order[q]; });
+    PhaseCurve sorted{curve.ratio, {}, {}, {}, curve.max_order};
+    for (const std::size_t q : by_order) {
+      sorted.order.push_back(curve.order[q]);
+      sorted.cosine.push_back(curve.cosine[q]);
+      sorted.sine.push_back(curve.sine[q]);
+    }
+    curve = std::move(sorted);
+  }
+  return curves;
+}
+
+// Revolutions after which every curve's phase repeats, or 0 (never within kLongestCycle).
+int CycleOf(const std::vector<PhaseCurve>& curves) {
+  long cycle = 1;
+  for (const PhaseCurve& curve : curves) {
+    int denominator = 0;
+    for (int d = 1; d <= kLongestCycle && denominator == 0; ++d) {
+      const double turns = curve.ratio * d;
+      if (std::abs(turns - std::round(turns)) <= kSameRatio * turns) denominator = d;
+    }
+    if (denominator == 0) return 0;
+    cycle = std::lcm(cycle, static_cast<long>(denominator));
+    if (cycle > kLongestCycle) return 0;
+  }
+  return static_cast<int>(cycle);
+}
+
+double Cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+// The convex hull's vertices, counter-clockwise (Andrew's monotone chain). Hand-written
+// because Boost.Geometry's hull compares coordinates with a tolerance, which merges the
+// vertices of a lobe's curve a few nanometres wide; here only the cross product's sign
+// decides, so a hull of any size is exact to round-off.
+std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> points) {
+  std::ranges::sort(points, [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  if (points.size() < 3) return points;
+  std::vector<Eigen::Vector2d> hull(2 * points.size());
+  std::size_t k = 0;
+  for (const Eigen::Vector2d& p : points) {
+    while (k >= 2 && Cross(hull[k - 2], hull[k - 1], p) <= 0.0) --k;
+    hull[k++] = p;
+  }
+  const std::size_t lower = k + 1;
+  for (auto p = points.rbegin() + 1; p != points.rend(); ++p) {
+    while (k >= lower && Cross(hull[k - 2], hull[k - 1], *p) <= 0.0) --k;
+    hull[k++] = *p;
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+// The Minkowski sum of two convex polygons as ConvexHull gives them (counter-clockwise):
+// their edges merged by direction, from the sum of their lowest vertices.
+std::vector<Eigen::Vector2d> MinkowskiSum(std::vector<Eigen::Vector2d> a, std::vector<Eigen::Vector2d> b) {
+  if (a.size() < 3 || b.size() < 3) {
+    std::vector<Eigen::Vector2d> sums;
+    for (const Eigen::Vector2d& p : a) {
+      for (const Eigen::Vector2d& q : b) sums.push_back(p + q);
+    }
+    return ConvexHull(std::move(sums));
+  }
+  const auto lowest = [](std::vector<Eigen::Vector2d>& polygon) {
+    std::ranges::rotate(polygon, std::ranges::min_element(polygon, [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+                          return p.y() < q.y() || (p.y() == q.y() && p.x() < q.x());
+                        }));
+  };
+  lowest(a);
+  lowest(b);
+  const std::size_t na = a.size(), nb = b.size();
+  a.push_back(a[0]);
+  a.push_back(a[1]);
+  b.push_back(b[0]);
+  b.push_back(b[1]);
+  std::vector<Eigen::Vector2d> sum;
+  sum.reserve(na + nb);
+  std::size_t i = 0, j = 0;
+  while (i < na || j < nb) {
+    sum.push_back(a[i] + b[j]);
+    const Eigen::Vector2d edge_a = a[i + 1] - a[i], edge_b = b[j + 1] - b[j];
+    const double turn = edge_a.x() * edge_b.y() - edge_a.y() * edge_b.x();
+    if (turn >= 0.0 && i < na) ++i;
+    if (turn <= 0.0 && j < nb) ++j;
+  }
+  return sum;
+}
+
+// Samples of a curve over one turn of its phase, enough for its hull (kHullSamplesPerOrder).
+std::vector<Eigen::Vector2d> SampleCurve(const PhaseCurve& curve) {
+  const int count = kHullSamplesPerOrder * std::max(curve.max_order, 1);
+  std::vector<Eigen::Vector2d> samples(static_cast<std::size_t>(count));
+  for (int q = 0; q < count; ++q) samples[static_cast<std::size_t>(q)] = curve.At(kTwoPi * q / count);
+  return samples;
+}
+
+// Reads the life values over `revolutions` revolutions of the phase curves on top of the
+// path `rest` (the centre less its curves) and `signal_rest`.
+LifeValues OverRevolutions(const std::vector<PhaseCurve>& curves, const std::vector<Eigen::Vector2d>& rest,
+                           const std::vector<double>& signal_rest, const Eigen::Vector2d& ray, int revolutions) {
+  const std::size_t steps = rest.size();
+  const double dpsi = kTwoPi / static_cast<double>(steps);
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(steps * static_cast<std::size_t>(revolutions));
+  std::vector<double> motion;
+  motion.reserve(points.capacity());
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (int k = 0; k < revolutions; ++k) {
+    for (std::size_t j = 0; j < steps; ++j) {
+      Eigen::Vector2d lobes = Eigen::Vector2d::Zero();
+      for (const PhaseCurve& curve : curves) {
+        const double turns = std::fmod(curve.ratio * k, 1.0);
+        lobes += curve.At(curve.ratio * dpsi * static_cast<double>(j) + kTwoPi * turns);
+      }
+      points.push_back(rest[j] + lobes);
+      motion.push_back(ray.dot(points.back()));
+      const double reading = signal_rest[j] + ray.dot(lobes);
+      low = std::min(low, reading);
+      high = std::max(high, reading);
+    }
+  }
+  LifeValues values;
+  values.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(points).radius;
+  values.runout = high - low;
+  values.error_motion = engine::MeasureErrorMotion(motion, static_cast<int>(steps));
+  return values;
+}
+
+}  // namespace
+
+engine::Scene AtRevolution(const engine::Scene& scene, int k) {
+  engine::Scene turned = scene;
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    // The whole turns drop out first, so a late revolution keeps its phase's precision.
+    const double turns = std::fmod(k * engine::SpinRatio(scene, static_cast<int>(i)), 1.0);
+    turned.rollers[i].spin_phase = std::remainder(scene.rollers[i].spin_phase + 2.0 * std::numbers::pi * turns,
+                                                  2.0 * std::numbers::pi);
+  }
+  return turned;
+}
+
+double ArtefactForm(const engine::Scene& scene, int steps) {
+  std::vector<double> form(static_cast<std::size_t>(steps));
+  const double dpsi = 2.0 * std::numbers::pi / steps;
+  for (int j = 0; j < steps; ++j) {
+    form[static_cast<std::size_t>(j)] = scene.ring.inner.Evaluate(scene.sensor_angle - dpsi * j).r;
+  }
+  const engine::Fundamental fundamental = engine::FundamentalOf(form);
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (int j = 0; j < steps; ++j) {
+    const double rest = form[static_cast<std::size_t>(j)] - fundamental.At(dpsi * j);
+    low = std::min(low, rest);
+    high = std::max(high, rest);
+  }
+  return high - low;
+}
+
+LifeResult SimulateLife(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options,
+                        int revolutions) {
+  if (revolutions < 1) throw std::invalid_argument("SimulateLife: revolutions must be at least 1");
+  SimulationOptions dense = options;
+  dense.angles = AngleMode::kDense;
+  LifeResult life;
+  const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> motion;
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (int k = 0; k < revolutions; ++k) {
+    const SimulationResult one = Simulate(AtRevolution(scene, k), solver, dense);
+    if (one.status != Status::kOk) {
+      life.status = one.status;
+      life.message = "revolution " + std::to_string(k + 1) + " of " + std::to_string(revolutions) + ": " + one.message;
+      return life;
+    }
+    if (k == 0) life.steps = one.steps;
+    const auto steps = static_cast<std::size_t>(life.steps);
+    if (one.steps != life.steps || one.trajectory.centre.size() < steps || one.sensor.size() < steps) {
+      throw std::logic_error("SimulateLife: a revolution came back at other angles than the first");
+    }
+    for (std::size_t j = 0; j < steps; ++j) {
+      points.push_back(one.trajectory.centre[j]);
+      motion.push_back(ray.dot(one.trajectory.centre[j]));
+      low = std::min(low, one.sensor[j]);
+      high = std::max(high, one.sensor[j]);
+    }
+    life.revolutions = k + 1;
+  }
+  life.values.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(points).radius;
+  life.values.runout = high - low;
+  life.values.error_motion = engine::MeasureErrorMotion(motion, life.steps);
+  life.artefact = ArtefactForm(scene, life.steps);
+  return life;
+}
+
+}  // namespace ringtol::solvers
+
+namespace ringtol::solvers {
+
+LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, const SimulationOptions& options,
+                      int revolutions) {
+  LifeResult life = SimulateLife(scene, linear, options, revolutions);
+  if (life.status != Status::kOk) return life;
+  SimulationOptions dense = options;
+  dense.angles = AngleMode::kDense;
+  const SimulationResult one = Simulate(scene, linear, dense);
+  const auto steps = static_cast<std::size_t>(one.steps);
+  const PhasorSum sum = linear.Phasors(scene);
+  if (!sum.usable) throw std::logic_error("LinearLife: a path the linear rung solved has no phasors");
+  const std::vector<PhaseCurve> curves = PhaseCurves(sum);
+  const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
+
+  // The same assembly with round rollers, at the same angles: what the second-order
+  // correction owes to the lobes is the difference of the two paths less the lobes' first
+  // order.
+  engine::Scene round = scene;
+  for (engine::Roller& roller : round.rollers) {
+    roller.outline = engine::PolarProfile(roller.outline.radius(), roller.outline.mean_deviation(), {});
+  }
+  dense.steps = one.steps;
+  const SimulationResult plain = Simulate(round, linear, dense);
+  if (plain.status != Status::kOk) {
+    life.status = plain.status;
+    life.message = "the assembly with round rollers: " + plain.message;
+    return life;
+  }
+
+  // The path and the signal less the rollers' lobes at the drawn phases.
+  const double dpsi = kTwoPi / static_cast<double>(steps);
+  std::vector<Eigen::Vector2d> rest(steps);
+  std::vector<double> signal_rest(steps);
+  for (std::size_t j = 0; j < steps; ++j) {
+    Eigen::Vector2d lobes = Eigen::Vector2d::Zero();
+    for (const PhaseCurve& curve : curves) lobes += curve.At(curve.ratio * dpsi * static_cast<double>(j));
+    rest[j] = one.trajectory.centre[j] - lobes;
+    signal_rest[j] = one.sensor[j] - ray.dot(lobes);
+    life.correction = std::max(life.correction, (rest[j] - plain.trajectory.centre[j]).norm());
+  }
+  life.error_estimate = one.trajectory.error_estimate + 4.0 * life.correction;
+
+  life.cycle = CycleOf(curves);
+  if (life.cycle > 0) {
+    life.asymptotic = OverRevolutions(curves, rest, signal_rest, ray, life.cycle);
+    return life;
+  }
+  // Every phase: the hull of the sum is the sum of the hulls.
+  std::vector<Eigen::Vector2d> hull = ConvexHull(rest);
+  double asynchronous = 0.0;
+  for (const PhaseCurve& curve : curves) {
+    const std::vector<Eigen::Vector2d> samples = SampleCurve(curve);
+    hull = MinkowskiSum(hull, ConvexHull(samples));
+    const auto [low, high] = std::ranges::minmax(samples | std::views::transform([&](const Eigen::Vector2d& g) {
+                                                   return ray.dot(g);
+                                                 }));
+    asynchronous += high - low;
+  }
+  LifeValues& every = life.asymptotic.emplace();
+  every.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(hull).radius;
+  const auto [signal_low, signal_high] = std::ranges::minmax(signal_rest);
+  every.runout = signal_high - signal_low + asynchronous;
+  std::vector<double> motion(steps);
+  for (std::size_t j = 0; j < steps; ++j) motion[j] = ray.dot(rest[j]);
+  every.error_motion = engine::MeasureErrorMotion(motion, one.steps);
+  every.error_motion.asynchronous = asynchronous;
+  every.error_motion.total = every.error_motion.synchronous + asynchronous;
+  return life;
+}
+
+}  // namespace ringtol::solvers
