@@ -134,6 +134,10 @@ CLI::App* AddSimulate(CLI::App& app, ringtol::jobs::SimulateCommand& simulate) {
   AddSolverOptions(*sub, simulate.solver, "Angles per revolution (default: chosen so no harmonic aliases)");
   sub->add_flag("--json", simulate.json, "Print one JSON object");
   sub->add_option("--trajectory", simulate.trajectory_csv, "Write the path to this CSV file");
+  sub->add_option("--revolutions", simulate.revolutions,
+                  "Also the life metrics over this many revolutions, roller phases turning (docs/model.md §9); "
+                  "with --solver linear also over every revolution")
+      ->check(CLI::NonNegativeNumber);
   sub->add_option("--history", simulate.history_csv,
                   "Dynamic solver: write the time history over the motion law's span to this CSV file");
   sub->add_option("--history-interval-ms", simulate.history_interval_ms,

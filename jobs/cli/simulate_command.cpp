@@ -3,6 +3,7 @@
 #include <chrono>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,7 +15,10 @@
 #include "jobs/inputs/input_error.h"
 #include "jobs/inputs/scene_file.h"
 #include "jobs/inputs/sweep_file.h"
+#include "engine/units.h"
 #include "solvers/dynamic.h"
+#include "solvers/life.h"
+#include "solvers/linear.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -41,6 +45,65 @@ Timed SimulateTimed(const engine::Scene& scene, const solvers::Solver& solver,
   return timed;
 }
 
+nlohmann::json ValuesJson(const solvers::LifeValues& values) {
+  const auto mm = [](double metres) { return metres * units::kMillimetresPerMetre; };
+  return {{"d_trajectory_mm", mm(values.d_trajectory)},
+          {"runout_mm", mm(values.runout)},
+          {"error_motion_total_mm", mm(values.error_motion.total)},
+          {"error_motion_synchronous_mm", mm(values.error_motion.synchronous)},
+          {"error_motion_asynchronous_mm", mm(values.error_motion.asynchronous)},
+          {"error_motion_fundamental_mm", mm(values.error_motion.fundamental)}};
+}
+
+nlohmann::json LifeJson(const solvers::LifeResult& life) {
+  nlohmann::json json = {{"status", std::string(solvers::StatusName(life.status))}, {"revolutions", life.revolutions}};
+  if (life.status != solvers::Status::kOk) {
+    json["message"] = life.message;
+    return json;
+  }
+  json["over_revolutions"] = ValuesJson(life.values);
+  json["artefact_mm"] = life.artefact * units::kMillimetresPerMetre;
+  if (life.asymptotic) {
+    json["every_revolution"] = ValuesJson(*life.asymptotic);
+    json["cycle"] = life.cycle;
+    json["allowance_um"] = life.error_estimate * units::kMicrometresPerMetre;
+  }
+  return json;
+}
+
+void PrintLife(std::ostream& out, const solvers::LifeResult& life) {
+  if (life.status != solvers::Status::kOk) {
+    fmt::print(out, "life              {}: {}\n", solvers::StatusName(life.status), life.message);
+    return;
+  }
+  const auto um = [](double metres) { return metres * units::kMicrometresPerMetre; };
+  // Revolutions that repeat after a cycle of a few are those few; otherwise every phase.
+  const std::string every = !life.asymptotic ? std::string()
+                            : life.cycle > 1 ? fmt::format("{:>16}", fmt::format("every ({} repeat)", life.cycle))
+                                             : fmt::format("{:>16}", "every");
+  fmt::print(out, "life              {:>16}{}   revolutions (docs/model.md §9)\n", life.revolutions, every);
+  const auto row = [&](const char* name, double over, std::optional<double> asymptotic) {
+    fmt::print(out, "  {:<16}{:>16.3f}{}   um\n", name, um(over),
+               asymptotic ? fmt::format("{:>16.3f}", um(*asymptotic)) : std::string());
+  };
+  const auto of = [&](auto field) -> std::optional<double> {
+    return life.asymptotic ? std::optional<double>(field(*life.asymptotic)) : std::nullopt;
+  };
+  row("D_trajectory", life.values.d_trajectory, of([](const solvers::LifeValues& v) { return v.d_trajectory; }));
+  row("runout", life.values.runout, of([](const solvers::LifeValues& v) { return v.runout; }));
+  row("error motion", life.values.error_motion.total,
+      of([](const solvers::LifeValues& v) { return v.error_motion.total; }));
+  row("  synchronous", life.values.error_motion.synchronous,
+      of([](const solvers::LifeValues& v) { return v.error_motion.synchronous; }));
+  row("  asynchronous", life.values.error_motion.asynchronous,
+      of([](const solvers::LifeValues& v) { return v.error_motion.asynchronous; }));
+  fmt::print(out, "  {:<16}{:>16.3f}   um, the bore's own form at the sensor, fundamental removed\n", "artefact",
+             um(life.artefact));
+  if (life.asymptotic) {
+    fmt::print(out, "  {:<16}{:>16.3f}   um on the every-revolution values\n", "allowance", um(life.error_estimate));
+  }
+}
+
 }  // namespace
 
 int RunSimulate(const SimulateCommand& command, std::ostream& out) {
@@ -53,6 +116,9 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out) {
     if (!(command.history_interval_ms > 0.0)) {
       throw InputError("--history-interval-ms " + std::to_string(command.history_interval_ms) + ": allowed: > 0");
     }
+  }
+  if (command.revolutions < 0) {
+    throw InputError("--revolutions " + std::to_string(command.revolutions) + ": allowed: >= 0");
   }
   std::ofstream trajectory = OpenOptionalOutput(command.trajectory_csv, "--trajectory");
   std::ofstream history_file = OpenOptionalOutput(command.history_csv, "--history");
@@ -70,6 +136,14 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out) {
       fmt::print(out, "history           {} samples to {}, {}{}\n", history.samples.size(), command.history_csv.string(),
                  solvers::StatusName(history.status), history.message.empty() ? "" : ": " + history.message);
     }
+  }
+  if (command.revolutions > 0) {
+    const auto* linear = dynamic_cast<const solvers::LinearSolver*>(solver.get());
+    const solvers::LifeResult life =
+        linear != nullptr ? solvers::LinearLife(scene, *linear, command.solver.simulation, command.revolutions)
+                          : solvers::SimulateLife(scene, *solver, command.solver.simulation, command.revolutions);
+    json["life"] = LifeJson(life);
+    if (!command.json) PrintLife(out, life);
   }
   if (command.json) out << json.dump(2) << "\n";
   return 0;

@@ -20,6 +20,10 @@ struct SimulateCommand {
   std::filesystem::path trajectory_csv;  // empty: no trajectory file
   std::filesystem::path history_csv;     // dynamic solver only: time history over the motion law's span
   double history_interval_ms = 1.0;      // [ms] > 0, between history samples
+  // >= 0: also the life metrics over this many revolutions (docs/model.md §9), each
+  // solved from its turned roller phases; on the linear rung also over every revolution,
+  // in closed form. 0: one revolution only.
+  int revolutions = 0;
 };
 // Returns the process exit code (0).
 int RunSimulate(const SimulateCommand& command, std::ostream& out);

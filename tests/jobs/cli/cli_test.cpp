@@ -141,6 +141,32 @@ TEST(Cli, SimulateJsonHasEveryDocumentedKey) {
   EXPECT_NEAR(j["static_offset_mm"].get<double>(), 0.0, kNoMotion);
 }
 
+// Round rollers: every revolution is the first, so the life values are the
+// one-revolution ones; only the linear rung adds the every-revolution values.
+TEST(Cli, SimulateReportsTheLifeOverRevolutions) {
+  const Outcome linear = Ringtol("simulate " + Example("order3.toml") + " --json --solver linear --steps 360 --revolutions 3");
+  ASSERT_EQ(linear.exit_code, 0) << linear.err;
+  const nlohmann::json j = nlohmann::json::parse(linear.out);
+  ASSERT_TRUE(j.contains("life")) << j.dump();
+  const nlohmann::json& life = j["life"];
+  EXPECT_EQ(life["status"], "ok");
+  EXPECT_EQ(life["revolutions"], 3);
+  for (const char* key : {"d_trajectory_mm", "runout_mm", "error_motion_total_mm", "error_motion_synchronous_mm",
+                          "error_motion_asynchronous_mm", "error_motion_fundamental_mm"}) {
+    EXPECT_TRUE(life["over_revolutions"].contains(key)) << key;
+    EXPECT_TRUE(life["every_revolution"].contains(key)) << key;
+  }
+  EXPECT_NEAR(life["over_revolutions"]["d_trajectory_mm"].get<double>(), j["d_trajectory_mm"].get<double>(), 1e-9);
+  EXPECT_NEAR(life["every_revolution"]["runout_mm"].get<double>(), j["runout_mm"].get<double>(), 1e-9);
+  const Outcome exact = Ringtol("simulate " + Example("order3.toml") + " --solver quasistatic --steps 360 --revolutions 2");
+  ASSERT_EQ(exact.exit_code, 0) << exact.err;
+  EXPECT_THAT(exact.out, HasSubstr("error motion"));
+  EXPECT_THAT(exact.out, ::testing::Not(HasSubstr("every")));
+  const Outcome refused = Ringtol("simulate " + Example("order3.toml") + " --revolutions -1");
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_THAT(refused.err, HasSubstr("--revolutions"));
+}
+
 TEST(Cli, SweepPrintsOneObjectPerCaseWithItsName) {
   const Outcome run = Ringtol("sweep " + Example("orders.toml") + " --json --solver linear --steps 360");
   ASSERT_EQ(run.exit_code, 0) << run.err;
