@@ -18,7 +18,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <limits>
 #include <exception>
 #include <filesystem>
@@ -32,6 +31,7 @@
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
 #include "solvers/simulation.h"
+#include "tests/support/longer_run.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -46,14 +46,8 @@ constexpr std::int64_t kSamplesPerClass = 2048;
 #endif
 
 // A longer run's count and steps (the header's command), else the constants above.
-std::int64_t SamplesPerClass() {
-  const char* value = std::getenv("RINGTOL_AUTO_RUNG_SAMPLES");
-  return value != nullptr ? std::stoll(value) : kSamplesPerClass;
-}
-int Steps() {
-  const char* value = std::getenv("RINGTOL_AUTO_RUNG_STEPS");
-  return value != nullptr ? std::stoi(value) : kSteps;
-}
+std::int64_t SamplesPerClass() { return testing::LongerRun("RINGTOL_AUTO_RUNG_SAMPLES", kSamplesPerClass); }
+int Steps() { return static_cast<int>(testing::LongerRun("RINGTOL_AUTO_RUNG_STEPS", kSteps)); }
 // The campaigns' default budget: half of a 1 um path tolerance.
 constexpr double kBudget = solvers::kAutoShareOfPathTolerance * 1e-6;  // [m]
 // The reference converges each angle to 1 pm; a diameter and a max - min carry twice that,

@@ -15,7 +15,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -25,6 +24,7 @@
 #include "solvers/life.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
+#include "tests/support/longer_run.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -44,14 +44,8 @@ constexpr double kConverged = 1e-6;
 // [m] the reference converges each angle to 1 pm; a diameter or a range carries twice that.
 constexpr double kReferenceError = 2e-12;
 
-std::int64_t SamplesPerClass() {
-  const char* value = std::getenv("RINGTOL_LIFE_SAMPLES");
-  return value != nullptr ? std::stoll(value) : kSamplesPerClass;
-}
-int Revolutions() {
-  const char* value = std::getenv("RINGTOL_LIFE_REVOLUTIONS");
-  return value != nullptr ? std::stoi(value) : kRevolutions;
-}
+std::int64_t SamplesPerClass() { return testing::LongerRun("RINGTOL_LIFE_SAMPLES", kSamplesPerClass); }
+int Revolutions() { return static_cast<int>(testing::LongerRun("RINGTOL_LIFE_REVOLUTIONS", kRevolutions)); }
 
 const std::string kHead = "scene = \"" + (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/paper/scene.toml").string() +
                           "\"\nseed = 5\n[tolerances.ring]\nclass = \"waterjet\"\n[tolerances.roller_positions]\n"
