@@ -17,12 +17,21 @@ Fundamental FundamentalOf(std::span<const double> revolution) {
   if (steps < 3) throw std::invalid_argument("error motion: a revolution needs at least 3 samples");
   // On equispaced angles cos and sin are orthogonal to each other and to a constant, so
   // the least-squares coefficients are the discrete Fourier ones.
+  // cos and sin of psi_j by turning a phasor, from libm again every 256 angles.
   Fundamental f;
   const double dpsi = 2.0 * std::numbers::pi / static_cast<double>(steps);
+  const double turn_cos = std::cos(dpsi), turn_sin = std::sin(dpsi);
+  double c = 1.0, s = 0.0;
   for (std::size_t j = 0; j < steps; ++j) {
-    const double psi = dpsi * static_cast<double>(j);
-    f.cosine += revolution[j] * std::cos(psi);
-    f.sine += revolution[j] * std::sin(psi);
+    if (j % 256 == 0) {
+      c = std::cos(dpsi * static_cast<double>(j));
+      s = std::sin(dpsi * static_cast<double>(j));
+    }
+    f.cosine += revolution[j] * c;
+    f.sine += revolution[j] * s;
+    const double turned = c * turn_cos - s * turn_sin;
+    s = s * turn_cos + c * turn_sin;
+    c = turned;
   }
   f.cosine *= 2.0 / static_cast<double>(steps);
   f.sine *= 2.0 / static_cast<double>(steps);

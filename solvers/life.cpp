@@ -42,6 +42,37 @@ struct PhaseCurve {
     }
     return sum;
   }
+
+  // At(u0 + q du) for q = 0 .. count - 1, added to out[q]: each order's phasor turned by
+  // its step from one angle to the next, from libm again every kAnchor angles so the
+  // recurrence's round-off stays near 1e-14 of the amplitudes.
+  void AddAlong(double u0, double du, std::size_t count, std::vector<Eigen::Vector2d>& out) const {
+    constexpr std::size_t kAnchor = 256;
+    const std::size_t terms = order.size();
+    // Cosine and sine parts apart: std::complex's product checks for infinities per call.
+    std::vector<double> now_cos(terms), now_sin(terms), step_cos(terms), step_sin(terms);
+    for (std::size_t p = 0; p < terms; ++p) {
+      step_cos[p] = std::cos(order[p] * du);
+      step_sin[p] = std::sin(order[p] * du);
+    }
+    for (std::size_t q = 0; q < count; ++q) {
+      if (q % kAnchor == 0) {
+        for (std::size_t p = 0; p < terms; ++p) {
+          const double phase = order[p] * (u0 + du * static_cast<double>(q));
+          now_cos[p] = std::cos(phase);
+          now_sin[p] = std::sin(phase);
+        }
+      }
+      Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+      for (std::size_t p = 0; p < terms; ++p) {
+        sum += cosine[p] * now_cos[p] + sine[p] * now_sin[p];
+        const double turned = now_cos[p] * step_cos[p] - now_sin[p] * step_sin[p];
+        now_sin[p] = now_sin[p] * step_cos[p] + now_cos[p] * step_sin[p];
+        now_cos[p] = turned;
+      }
+      out[q] += sum;
+    }
+  }
 };
 
 std::vector<PhaseCurve> PhaseCurves(const PhasorSum& sum) {
@@ -156,8 +187,8 @@ std::vector<Eigen::Vector2d> MinkowskiSum(std::vector<Eigen::Vector2d> a, std::v
 // Samples of a curve over one turn of its phase, enough for its hull (kHullSamplesPerOrder).
 std::vector<Eigen::Vector2d> SampleCurve(const PhaseCurve& curve) {
   const int count = kHullSamplesPerOrder * std::max(curve.max_order, 1);
-  std::vector<Eigen::Vector2d> samples(static_cast<std::size_t>(count));
-  for (int q = 0; q < count; ++q) samples[static_cast<std::size_t>(q)] = curve.At(kTwoPi * q / count);
+  std::vector<Eigen::Vector2d> samples(static_cast<std::size_t>(count), Eigen::Vector2d::Zero());
+  curve.AddAlong(0.0, kTwoPi / count, samples.size(), samples);
   return samples;
 }
 
@@ -263,6 +294,52 @@ LifeResult SimulateLife(const engine::Scene& scene, const Solver& solver, const 
 
 namespace ringtol::solvers {
 
+LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& one, const PhasorSum& sum,
+                           int& cycle) {
+  const auto steps = static_cast<std::size_t>(one.steps);
+  if (one.status != Status::kOk || one.trajectory.centre.size() < steps || one.sensor.size() < steps || steps < 3) {
+    throw std::invalid_argument("EveryRevolution: needs a valid revolution at its dense angles");
+  }
+  if (!sum.usable) throw std::invalid_argument("EveryRevolution: needs the scene's phasors");
+  const std::vector<PhaseCurve> curves = PhaseCurves(sum);
+  const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
+
+  // The path and the signal less the rollers' lobes at the drawn phases.
+  const double dpsi = kTwoPi / static_cast<double>(steps);
+  std::vector<Eigen::Vector2d> lobes(steps, Eigen::Vector2d::Zero());
+  for (const PhaseCurve& curve : curves) curve.AddAlong(0.0, curve.ratio * dpsi, steps, lobes);
+  std::vector<Eigen::Vector2d> rest(steps);
+  std::vector<double> signal_rest(steps);
+  for (std::size_t j = 0; j < steps; ++j) {
+    rest[j] = one.trajectory.centre[j] - lobes[j];
+    signal_rest[j] = one.sensor[j] - ray.dot(lobes[j]);
+  }
+
+  cycle = CycleOf(curves);
+  if (cycle > 0) return OverRevolutions(curves, rest, signal_rest, ray, cycle);
+  // Every phase: the hull of the sum is the sum of the hulls.
+  std::vector<Eigen::Vector2d> hull = ConvexHull(rest);
+  double asynchronous = 0.0;
+  for (const PhaseCurve& curve : curves) {
+    const std::vector<Eigen::Vector2d> samples = SampleCurve(curve);
+    hull = MinkowskiSum(hull, ConvexHull(samples));
+    const auto [low, high] = std::ranges::minmax(samples | std::views::transform([&](const Eigen::Vector2d& g) {
+                                                   return ray.dot(g);
+                                                 }));
+    asynchronous += high - low;
+  }
+  LifeValues every;
+  every.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(hull).radius;
+  const auto [signal_low, signal_high] = std::ranges::minmax(signal_rest);
+  every.runout = signal_high - signal_low + asynchronous;
+  std::vector<double> motion(steps);
+  for (std::size_t j = 0; j < steps; ++j) motion[j] = ray.dot(rest[j]);
+  every.error_motion = engine::MeasureErrorMotion(motion, one.steps);
+  every.error_motion.asynchronous = asynchronous;
+  every.error_motion.total = every.error_motion.synchronous + asynchronous;
+  return every;
+}
+
 LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, const SimulationOptions& options,
                       int revolutions) {
   LifeResult life = SimulateLife(scene, linear, options, revolutions);
@@ -270,11 +347,8 @@ LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, co
   SimulationOptions dense = options;
   dense.angles = AngleMode::kDense;
   const SimulationResult one = Simulate(scene, linear, dense);
-  const auto steps = static_cast<std::size_t>(one.steps);
   const PhasorSum sum = linear.Phasors(scene);
-  if (!sum.usable) throw std::logic_error("LinearLife: a path the linear rung solved has no phasors");
-  const std::vector<PhaseCurve> curves = PhaseCurves(sum);
-  const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
+  life.asymptotic = EveryRevolution(scene, one, sum, life.cycle);
 
   // The same assembly with round rollers, at the same angles: what the second-order
   // correction owes to the lobes is the difference of the two paths less the lobes' first
@@ -290,45 +364,15 @@ LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, co
     life.message = "the assembly with round rollers: " + plain.message;
     return life;
   }
-
-  // The path and the signal less the rollers' lobes at the drawn phases.
-  const double dpsi = kTwoPi / static_cast<double>(steps);
-  std::vector<Eigen::Vector2d> rest(steps);
-  std::vector<double> signal_rest(steps);
-  for (std::size_t j = 0; j < steps; ++j) {
+  const std::vector<PhaseCurve> curves = PhaseCurves(sum);
+  const double dpsi = kTwoPi / static_cast<double>(one.steps);
+  for (std::size_t j = 0; j < static_cast<std::size_t>(one.steps); ++j) {
     Eigen::Vector2d lobes = Eigen::Vector2d::Zero();
     for (const PhaseCurve& curve : curves) lobes += curve.At(curve.ratio * dpsi * static_cast<double>(j));
-    rest[j] = one.trajectory.centre[j] - lobes;
-    signal_rest[j] = one.sensor[j] - ray.dot(lobes);
-    life.correction = std::max(life.correction, (rest[j] - plain.trajectory.centre[j]).norm());
+    life.correction =
+        std::max(life.correction, (one.trajectory.centre[j] - lobes - plain.trajectory.centre[j]).norm());
   }
   life.error_estimate = one.trajectory.error_estimate + 4.0 * life.correction;
-
-  life.cycle = CycleOf(curves);
-  if (life.cycle > 0) {
-    life.asymptotic = OverRevolutions(curves, rest, signal_rest, ray, life.cycle);
-    return life;
-  }
-  // Every phase: the hull of the sum is the sum of the hulls.
-  std::vector<Eigen::Vector2d> hull = ConvexHull(rest);
-  double asynchronous = 0.0;
-  for (const PhaseCurve& curve : curves) {
-    const std::vector<Eigen::Vector2d> samples = SampleCurve(curve);
-    hull = MinkowskiSum(hull, ConvexHull(samples));
-    const auto [low, high] = std::ranges::minmax(samples | std::views::transform([&](const Eigen::Vector2d& g) {
-                                                   return ray.dot(g);
-                                                 }));
-    asynchronous += high - low;
-  }
-  LifeValues& every = life.asymptotic.emplace();
-  every.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(hull).radius;
-  const auto [signal_low, signal_high] = std::ranges::minmax(signal_rest);
-  every.runout = signal_high - signal_low + asynchronous;
-  std::vector<double> motion(steps);
-  for (std::size_t j = 0; j < steps; ++j) motion[j] = ray.dot(rest[j]);
-  every.error_motion = engine::MeasureErrorMotion(motion, one.steps);
-  every.error_motion.asynchronous = asynchronous;
-  every.error_motion.total = every.error_motion.synchronous + asynchronous;
   return life;
 }
 

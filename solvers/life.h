@@ -92,6 +92,13 @@ inline constexpr int kLongestCycle = 1000;
 LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, const SimulationOptions& options,
                       int revolutions);
 
+// LinearLife's every-revolution values around a revolution already solved (`one`, at
+// the dense angles of its steps, status ok: any rung's path stands for the path less its
+// lobes plus the lobes at their drawn phases), the lobes' curves from the linear rung's
+// phasors of the same scene (LinearSolver::Phasors, usable). No solve: what a campaign's
+// sample adds. `cycle` as LifeResult::cycle. Throws std::invalid_argument otherwise.
+LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& one, const PhasorSum& sum, int& cycle);
+
 // The artefact value of `scene` over `steps` angles (LifeResult::artefact).
 double ArtefactForm(const engine::Scene& scene, int steps);
 

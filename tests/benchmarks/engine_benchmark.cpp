@@ -14,6 +14,7 @@
 #include "sampling/assembly_sampler.h"
 #include "sampling/design.h"
 #include "solvers/dynamic.h"
+#include "solvers/life.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
 #include "solvers/simulation.h"
@@ -100,6 +101,30 @@ void CampaignSample(benchmark::State& state, solvers::Rung rung, double position
 BENCHMARK_CAPTURE(CampaignSample, linear, solvers::Rung::kLinear, 0.0)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(CampaignSample, quasistatic_1pm, solvers::Rung::kQuasistatic, 1e-12)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(CampaignSample, quasistatic_10nm, solvers::Rung::kQuasistatic, 1e-8)->Unit(benchmark::kMicrosecond);
+
+// What the life over every revolution adds to a campaign-like sample on the linear rung
+// (solvers::EveryRevolution with the phasors it reads), against CampaignSample/linear: the
+// same scene, its rollers of three sizes so that their phases drift apart.
+void LifeEveryRevolution(benchmark::State& state) {
+  engine::Scene scene = testing::CampaignLikeScene();
+  const double sizes[] = {-1.3e-6, 0.4e-6, -0.2e-6};
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    engine::Roller& roller = scene.rollers[i];
+    roller.outline = engine::PolarProfile(roller.outline.radius(), sizes[i], roller.outline.harmonics());
+  }
+  const solvers::LinearSolver linear;
+  solvers::SimulationOptions options;
+  options.path_tolerance = 1e-6;
+  const solvers::SimulationResult one = solvers::Simulate(scene, linear, options);
+  for (auto _ : state) {
+    const solvers::PhasorSum sum = linear.Phasors(scene);
+    int cycle = 0;
+    const solvers::LifeValues every = solvers::EveryRevolution(scene, one, sum, cycle);
+    benchmark::DoNotOptimize(every.d_trajectory);
+  }
+  state.counters["steps"] = one.steps;
+}
+BENCHMARK(LifeEveryRevolution)->Unit(benchmark::kMicrosecond);
 
 void EnclosingCircle(benchmark::State& state) {
   const engine::Scene scene = EightHarmonics(engine::ContactLaw::Model::kPenalty);
