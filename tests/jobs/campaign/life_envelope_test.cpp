@@ -30,9 +30,13 @@ namespace ringtol::jobs {
 namespace {
 
 constexpr int kSteps = 256;
-// Three rollers of different sizes fill their phase torus slowly: after 128 revolutions
-// the union still lay up to 2.2 um inside the envelope on these draws, after 1,024 up to
-// 0.63 um. Under the sanitizers every solve is ~20 times slower: one draw a class.
+// Three rollers of different sizes fill their phase torus slowly, and rollers whose spin
+// ratios are nearly commensurate slowest: on 16 draws a class the union still lay up to
+// 2.2 um inside the envelope after 128 revolutions, 0.63 um after 1,024; on 512 a class,
+// 30 of 1,024 draws lay more than 1 um inside after 1,024 (at most 6.85 um, which 16,384
+// revolutions close to 0.13 um; docs/model.md §9). The draws here are the first of the
+// net, which fill theirs within 1,024. Under the sanitizers every solve is ~20 times
+// slower: one draw a class.
 constexpr int kRevolutions = 1024;
 #if defined(__SANITIZE_ADDRESS__)
 constexpr std::int64_t kSamplesPerClass = 1;
