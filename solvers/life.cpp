@@ -7,6 +7,7 @@
 #include <numbers>
 #include <numeric>
 #include <ranges>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -224,6 +225,45 @@ LifeValues OverRevolutions(const std::vector<PhaseCurve>& curves, const std::vec
   return values;
 }
 
+// The lobes' first order at psi_j = 2 pi j / steps, j < steps, at the drawn phases [m].
+std::vector<Eigen::Vector2d> LobesAt(const std::vector<PhaseCurve>& curves, std::size_t steps) {
+  const double dpsi = kTwoPi / static_cast<double>(steps);
+  std::vector<Eigen::Vector2d> lobes(steps, Eigen::Vector2d::Zero());
+  for (const PhaseCurve& curve : curves) curve.AddAlong(0.0, curve.ratio * dpsi, steps, lobes);
+  return lobes;
+}
+
+// What EveryRevolution and EveryRevolutionFromRest share: the path less its lobes and the
+// signal less them at the same angles.
+LifeValues EveryRevolutionOf(const engine::Scene& scene, const std::vector<PhaseCurve>& curves,
+                             std::vector<Eigen::Vector2d> rest, std::vector<double> signal_rest, int& cycle) {
+  const std::size_t steps = rest.size();
+  const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
+  cycle = CycleOf(curves);
+  if (cycle > 0) return OverRevolutions(curves, rest, signal_rest, ray, cycle);
+  // Every phase: the hull of the sum is the sum of the hulls.
+  std::vector<Eigen::Vector2d> hull = ConvexHull(rest);
+  double asynchronous = 0.0;
+  for (const PhaseCurve& curve : curves) {
+    const std::vector<Eigen::Vector2d> samples = SampleCurve(curve);
+    hull = MinkowskiSum(hull, ConvexHull(samples));
+    const auto [low, high] = std::ranges::minmax(samples | std::views::transform([&](const Eigen::Vector2d& g) {
+                                                   return ray.dot(g);
+                                                 }));
+    asynchronous += high - low;
+  }
+  LifeValues every;
+  every.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(hull).radius;
+  const auto [signal_low, signal_high] = std::ranges::minmax(signal_rest);
+  every.runout = signal_high - signal_low + asynchronous;
+  std::vector<double> motion(steps);
+  for (std::size_t j = 0; j < steps; ++j) motion[j] = ray.dot(rest[j]);
+  every.error_motion = engine::MeasureErrorMotion(motion, static_cast<int>(steps));
+  every.error_motion.asynchronous = asynchronous;
+  every.error_motion.total = every.error_motion.synchronous + asynchronous;
+  return every;
+}
+
 }  // namespace
 
 engine::Scene AtRevolution(const engine::Scene& scene, int k) {
@@ -301,43 +341,26 @@ LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& o
     throw std::invalid_argument("EveryRevolution: needs a valid revolution at its dense angles");
   }
   if (!sum.usable) throw std::invalid_argument("EveryRevolution: needs the scene's phasors");
+  const std::vector<Eigen::Vector2d> lobes = LobesAt(PhaseCurves(sum), steps);
+  std::vector<Eigen::Vector2d> rest(steps);
+  for (std::size_t j = 0; j < steps; ++j) rest[j] = one.trajectory.centre[j] - lobes[j];
+  return EveryRevolutionFromRest(scene, rest, std::span(one.sensor).first(steps), sum, cycle);
+}
+
+LifeValues EveryRevolutionFromRest(const engine::Scene& scene, std::span<const Eigen::Vector2d> rest,
+                                   std::span<const double> signal, const PhasorSum& sum, int& cycle) {
+  const std::size_t steps = rest.size();
+  if (steps < 3 || signal.size() != steps) {
+    throw std::invalid_argument("EveryRevolutionFromRest: needs the path and the signal at the same 3 or more angles");
+  }
+  if (!sum.usable) throw std::invalid_argument("EveryRevolutionFromRest: needs the scene's phasors");
   const std::vector<PhaseCurve> curves = PhaseCurves(sum);
   const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
-
-  // The path and the signal less the rollers' lobes at the drawn phases.
-  const double dpsi = kTwoPi / static_cast<double>(steps);
-  std::vector<Eigen::Vector2d> lobes(steps, Eigen::Vector2d::Zero());
-  for (const PhaseCurve& curve : curves) curve.AddAlong(0.0, curve.ratio * dpsi, steps, lobes);
-  std::vector<Eigen::Vector2d> rest(steps);
+  const std::vector<Eigen::Vector2d> lobes = LobesAt(curves, steps);
   std::vector<double> signal_rest(steps);
-  for (std::size_t j = 0; j < steps; ++j) {
-    rest[j] = one.trajectory.centre[j] - lobes[j];
-    signal_rest[j] = one.sensor[j] - ray.dot(lobes[j]);
-  }
-
-  cycle = CycleOf(curves);
-  if (cycle > 0) return OverRevolutions(curves, rest, signal_rest, ray, cycle);
-  // Every phase: the hull of the sum is the sum of the hulls.
-  std::vector<Eigen::Vector2d> hull = ConvexHull(rest);
-  double asynchronous = 0.0;
-  for (const PhaseCurve& curve : curves) {
-    const std::vector<Eigen::Vector2d> samples = SampleCurve(curve);
-    hull = MinkowskiSum(hull, ConvexHull(samples));
-    const auto [low, high] = std::ranges::minmax(samples | std::views::transform([&](const Eigen::Vector2d& g) {
-                                                   return ray.dot(g);
-                                                 }));
-    asynchronous += high - low;
-  }
-  LifeValues every;
-  every.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(hull).radius;
-  const auto [signal_low, signal_high] = std::ranges::minmax(signal_rest);
-  every.runout = signal_high - signal_low + asynchronous;
-  std::vector<double> motion(steps);
-  for (std::size_t j = 0; j < steps; ++j) motion[j] = ray.dot(rest[j]);
-  every.error_motion = engine::MeasureErrorMotion(motion, one.steps);
-  every.error_motion.asynchronous = asynchronous;
-  every.error_motion.total = every.error_motion.synchronous + asynchronous;
-  return every;
+  for (std::size_t j = 0; j < steps; ++j) signal_rest[j] = signal[j] - ray.dot(lobes[j]);
+  return EveryRevolutionOf(scene, curves, std::vector<Eigen::Vector2d>(rest.begin(), rest.end()),
+                           std::move(signal_rest), cycle);
 }
 
 LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, const SimulationOptions& options,
@@ -364,13 +387,11 @@ LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, co
     life.message = "the assembly with round rollers: " + plain.message;
     return life;
   }
-  const std::vector<PhaseCurve> curves = PhaseCurves(sum);
-  const double dpsi = kTwoPi / static_cast<double>(one.steps);
-  for (std::size_t j = 0; j < static_cast<std::size_t>(one.steps); ++j) {
-    Eigen::Vector2d lobes = Eigen::Vector2d::Zero();
-    for (const PhaseCurve& curve : curves) lobes += curve.At(curve.ratio * dpsi * static_cast<double>(j));
+  const auto steps = static_cast<std::size_t>(one.steps);
+  const std::vector<Eigen::Vector2d> lobes = LobesAt(PhaseCurves(sum), steps);
+  for (std::size_t j = 0; j < steps; ++j) {
     life.correction =
-        std::max(life.correction, (one.trajectory.centre[j] - lobes - plain.trajectory.centre[j]).norm());
+        std::max(life.correction, (one.trajectory.centre[j] - lobes[j] - plain.trajectory.centre[j]).norm());
   }
   life.error_estimate = one.trajectory.error_estimate + 4.0 * life.correction;
   return life;

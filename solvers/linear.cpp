@@ -1439,6 +1439,43 @@ void LinearPath::FirstOrderSignal(std::vector<double>& signal) const {
   for (double& value : signal) value += offset;
 }
 
+void LinearPath::FirstOrderCentreWithoutLobes(std::vector<Eigen::Vector2d>& centre) const {
+  const Parts& parts = *parts_;
+  std::vector<Eigen::Index> bore;
+  for (std::size_t p = 0; p < lin_->rates.size(); ++p) {
+    if (lin_->roller[p] < 0) bore.push_back(static_cast<Eigen::Index>(p));
+  }
+  const auto count = static_cast<Eigen::Index>(bore.size());
+  Eigen::MatrixXd cosine(2, count), sine(2, count);
+  std::vector<double> rates(bore.size());
+  for (Eigen::Index q = 0; q < count; ++q) {
+    cosine.col(q) = lin_->cosine.col(bore[static_cast<std::size_t>(q)]).head<2>();
+    sine.col(q) = lin_->sine.col(bore[static_cast<std::size_t>(q)]).head<2>();
+    rates[static_cast<std::size_t>(q)] = lin_->rates[static_cast<std::size_t>(bore[static_cast<std::size_t>(q)])];
+  }
+  thread_local std::vector<double> rows;
+  SumSeries(cosine, sine, rates, steps_, path_kernels::KernelsFor(parts.kernels), rows);
+  const std::size_t padded = PaddedAngles(steps_);
+  centre.resize(static_cast<std::size_t>(steps_) + 1);
+  for (std::size_t k = 0; k < centre.size(); ++k) {
+    centre[k] = lin_->offset.head<2>() + Eigen::Vector2d(rows[k], rows[padded + k]);
+  }
+}
+
+PhasorSum LinearPath::Phasors() const {
+  PhasorSum sum;
+  sum.usable = true;
+  sum.offset = lin_->offset;
+  sum.cosine = lin_->cosine;
+  sum.sine = lin_->sine;
+  sum.rates = lin_->rates;
+  sum.roller = lin_->roller;
+  sum.order = lin_->order;
+  sum.travel_row = lin_->nominal->travel_row;
+  sum.first_force_row = lin_->nominal->first_force_row;
+  return sum;
+}
+
 LinearPath::Straying LinearPath::StrayingAt(double dpsi) const {
   const Parts& parts = *parts_;
   const Linearisation& lin = *lin_;

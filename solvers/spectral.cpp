@@ -28,7 +28,7 @@ constexpr std::size_t kStretchesARun = 8;
 }  // namespace
 
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
-                                               int stride, double estimate_target) {
+                                               int stride, double estimate_target, bool life) {
   const ValidityCheck validity(scene);
   const std::size_t z = scene.rollers.size();
   if (stride < 2 || steps < 4 * stride) return std::nullopt;
@@ -302,6 +302,40 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   const engine::Runout runout = engine::MeasureRunout(signal, scene.sensor_swing);
   result.runout = runout.total;
   result.swing = runout.swing;
+
+  if (life) {
+    // The centre less its lobes at every angle: its first order there, plus the correction
+    // (the corrected centre less At's first-order input) interpolated between the evaluated
+    // angles.
+    thread_local std::vector<Eigen::Vector2d> centre;
+    path.FirstOrderCentreWithoutLobes(centre);
+    const auto correction = [&](std::size_t s) {
+      const double* first = samples.first_order.data() + s * width;
+      return Eigen::Vector2d(samples.centre[s] - Eigen::Vector2d(first[0], first[1]));
+    };
+    std::size_t from = order.front();
+    Eigen::Vector2d from_correction = correction(from);
+    centre.front() += from_correction;
+    for (std::size_t o = 1; o < order.size(); ++o) {
+      const std::size_t s = order[o];
+      const int a = samples.index[from];
+      const int b = samples.index[s];
+      const Eigen::Vector2d to_correction = correction(s);
+      for (int k = a + 1; k <= b; ++k) {
+        const double t = static_cast<double>(k - a) / (b - a);
+        centre[static_cast<std::size_t>(k)] += (1.0 - t) * from_correction + t * to_correction;
+      }
+      from = s;
+      from_correction = to_correction;
+    }
+    for (std::size_t j = 0; j < segments; ++j) {
+      if (!refined[j]) spectral.centre_error = std::max(spectral.centre_error, bounds[j].centre - straying.centre);
+    }
+    const auto dense = static_cast<std::size_t>(steps);
+    spectral.life = EveryRevolutionFromRest(scene, std::span<const Eigen::Vector2d>(centre).first(dense),
+                                            std::span<const double>(signal).first(dense), path.Phasors(),
+                                            spectral.life_cycle);
+  }
 
   spectral.margins.error_estimate = kept.error_estimate;
   spectral.margins.smallest_force = result.min_contact_force;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "engine/scene.h"
+#include "solvers/life.h"
 #include "solvers/linear.h"
 #include "solvers/simulation.h"
 
@@ -42,6 +43,13 @@ struct SpectralResult {
   // the same path at any angle: the sensor's and the correction's rest interpolated across
   // the unevaluated stretches, plus the closed form's third order (below 1e-10 m).
   double signal_error = 0.0;
+  // With `life`: the every-revolution values, and how far the centre they read can be
+  // from the dense path's [m] (the correction interpolated across unevaluated stretches:
+  // D_trajectory and the synchronous value within twice it, the runout within twice
+  // signal_error).
+  std::optional<LifeValues> life;
+  int life_cycle = 0;  // LifeResult::cycle
+  double centre_error = 0.0;
 };
 
 // nullopt where the evaluation does not apply (a roller the bore might touch twice, which
@@ -60,8 +68,14 @@ struct SpectralResult {
 // floored at the target's share: the estimate stays continuous in the scene, never falls
 // below the target once a bound exceeds it, and is below the target exactly where the
 // dense path's own remainder is.
+//
+// With `life`, also the every-revolution life values (solvers/life.h) from the centre
+// less its lobes at every angle (LinearPath::FirstOrderCentreWithoutLobes) plus the
+// second-order correction interpolated between the evaluated angles, and the signal as
+// runout reads it.
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
                                                int stride,
-                                               double estimate_target = std::numeric_limits<double>::infinity());
+                                               double estimate_target = std::numeric_limits<double>::infinity(),
+                                               bool life = false);
 
 }  // namespace ringtol::solvers

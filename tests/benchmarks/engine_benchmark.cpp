@@ -18,6 +18,7 @@
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
 #include "solvers/simulation.h"
+#include "solvers/spectral.h"
 #include "tests/support/paper_scene.h"
 
 namespace {
@@ -175,6 +176,34 @@ void SamplerRealise(benchmark::State& state, bool exact) {
 }
 BENCHMARK_CAPTURE(SamplerRealise, bounded, false)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(SamplerRealise, exact, true)->Unit(benchmark::kMicrosecond);
+
+// Draws of the default campaign read by the spectral rung (solvers/spectral.h), with and
+// without the every-revolution life values it can add: what a campaign with spectral
+// angles would pay for them, per sample over 64 draws in turn.
+void SpectralLife(benchmark::State& state, bool life) {
+  const sampling::AssemblySampler sampler = DefaultCampaignSampler(false);
+  sampling::DesignOptions design_options;
+  design_options.kind = sampling::DesignKind::kSobol;
+  sampling::Design design(sampler.dimension(), design_options);
+  std::vector<engine::Scene> scenes;
+  for (std::int64_t index = 0; index < 64; ++index) scenes.push_back(sampler.Sample(design, index).scene);
+  const solvers::LinearSolver linear;
+  solvers::SimulationOptions options;
+  options.path_tolerance = 1e-6;
+  std::size_t next = 0;
+  double evaluated = 0.0;
+  for (auto _ : state) {
+    const engine::Scene& scene = scenes[next++ % scenes.size()];
+    const std::optional<solvers::SpectralResult> result =
+        solvers::SimulateSpectral(scene, linear, solvers::ChooseSteps(scene, options), options.refine_stride,
+                                  solvers::kAutoShareOfPathTolerance * options.path_tolerance, life);
+    if (result) evaluated += result->evaluated;
+    benchmark::DoNotOptimize(result);
+  }
+  state.counters["evaluated"] = evaluated / static_cast<double>(next);
+}
+BENCHMARK_CAPTURE(SpectralLife, one_revolution, false)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(SpectralLife, every_revolution, true)->Unit(benchmark::kMicrosecond);
 
 void SamplerConstruction(benchmark::State& state, bool exact) {
   for (auto _ : state) benchmark::DoNotOptimize(DefaultCampaignSampler(exact).dimension());

@@ -12,15 +12,18 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <random>
 #include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "engine/sensor.h"
 #include "solvers/auto.h"
+#include "solvers/life.h"
 #include "solvers/linear.h"
 #include "solvers/simulation.h"
 #include "solvers/spectral.h"
@@ -193,6 +196,46 @@ TEST(SpectralAngles, AutosBudgetTightensTheEstimateOnlyWhereItDecides) {
   EXPECT_GT(below, 0) << "no draw's bounds fit the budget: the test shows nothing";
   EXPECT_GT(tightened, 0) << "no draw needed its stretches evaluated to fit: the test shows nothing";
   EXPECT_GT(above, 0) << "no draw exceeded the budget: the test shows nothing";
+}
+
+// The life over every revolution from the spectral evaluation against the same from the
+// dense path: the lobes are the same phasors, the path less them differs only by the
+// correction interpolated across unevaluated stretches (centre_error) and the signal's
+// rest (signal_error, plus the closed-form sensor's third order).
+TEST(SpectralAngles, LifeValuesAreTheDenseOnes) {
+  std::mt19937_64 random(29);
+  const solvers::LinearSolver linear;
+  const double sizes[] = {-1.3e-6, 0.4e-6, -0.2e-6};
+  int compared = 0;
+  double largest_centre_error = 0.0, largest_difference = 0.0;
+  for (int draw = 0; draw < 12; ++draw) {
+    engine::Scene scene = testing::RandomCampaignLikeScene(random, 1.0 + 2.0 * (draw % 3));
+    for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+      engine::Roller& roller = scene.rollers[i];
+      roller.outline = engine::PolarProfile(roller.outline.radius(), sizes[i], roller.outline.harmonics());
+    }
+    const solvers::SimulationResult dense = solvers::Simulate(scene, linear, Options(solvers::AngleMode::kDense));
+    const std::optional<solvers::SpectralResult> spectral = solvers::SimulateSpectral(
+        scene, linear, dense.steps, Options({}).refine_stride, std::numeric_limits<double>::infinity(), true);
+    if (dense.status != solvers::Status::kOk || !spectral || spectral->result.status != solvers::Status::kOk) continue;
+    ASSERT_TRUE(spectral->life.has_value()) << draw;
+    int cycle = 0;
+    const solvers::LifeValues reference = solvers::EveryRevolution(scene, dense, linear.Phasors(scene), cycle);
+    EXPECT_EQ(spectral->life_cycle, cycle) << draw;
+    const solvers::LifeValues& life = *spectral->life;
+    const double centre = 2.0 * spectral->centre_error + kRoundOff;
+    EXPECT_NEAR(life.d_trajectory, reference.d_trajectory, centre) << draw;
+    EXPECT_NEAR(life.error_motion.synchronous, reference.error_motion.synchronous, centre) << draw;
+    EXPECT_NEAR(life.error_motion.asynchronous, reference.error_motion.asynchronous, kRoundOff) << draw;
+    EXPECT_NEAR(life.runout, reference.runout, 2.0 * SensorAgreement(scene, linear, dense.steps)) << draw;
+    EXPECT_GE(life.d_trajectory, spectral->result.d_trajectory - centre) << draw;
+    largest_centre_error = std::max(largest_centre_error, spectral->centre_error);
+    largest_difference = std::max(largest_difference, std::abs(life.d_trajectory - reference.d_trajectory));
+    ++compared;
+  }
+  EXPECT_GT(compared, 6);
+  RecordProperty("largest_centre_error_um", std::to_string(largest_centre_error * 1e6));
+  RecordProperty("largest_d_trajectory_difference_um", std::to_string(largest_difference * 1e6));
 }
 
 // Large spring-roller lobes and a weak spring: the assembly lifts off for some draws, at
