@@ -293,8 +293,12 @@ double ArtefactForm(const engine::Scene& scene, int steps) {
   return high - low;
 }
 
-LifeResult SimulateLife(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options,
-                        int revolutions) {
+namespace {
+
+// SimulateLife, keeping the first revolution's result in `first` when asked: LinearLife
+// reads its path again.
+LifeResult SolveRevolutions(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options,
+                            int revolutions, SimulationResult* first) {
   if (revolutions < 1) throw std::invalid_argument("SimulateLife: revolutions must be at least 1");
   SimulationOptions dense = options;
   dense.angles = AngleMode::kDense;
@@ -315,6 +319,7 @@ LifeResult SimulateLife(const engine::Scene& scene, const Solver& solver, const 
     if (one.steps != life.steps || one.trajectory.centre.size() < steps || one.sensor.size() < steps) {
       throw std::logic_error("SimulateLife: a revolution came back at other angles than the first");
     }
+    if (k == 0 && first != nullptr) *first = one;
     for (std::size_t j = 0; j < steps; ++j) {
       points.push_back(one.trajectory.centre[j]);
       motion.push_back(ray.dot(one.trajectory.centre[j]));
@@ -330,9 +335,12 @@ LifeResult SimulateLife(const engine::Scene& scene, const Solver& solver, const 
   return life;
 }
 
-}  // namespace ringtol::solvers
+}  // namespace
 
-namespace ringtol::solvers {
+LifeResult SimulateLife(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options,
+                        int revolutions) {
+  return SolveRevolutions(scene, solver, options, revolutions, nullptr);
+}
 
 LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& one, const PhasorSum& sum,
                            int& cycle) {
@@ -365,11 +373,11 @@ LifeValues EveryRevolutionFromRest(const engine::Scene& scene, std::span<const E
 
 LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, const SimulationOptions& options,
                       int revolutions) {
-  LifeResult life = SimulateLife(scene, linear, options, revolutions);
+  SimulationResult one;
+  LifeResult life = SolveRevolutions(scene, linear, options, revolutions, &one);
   if (life.status != Status::kOk) return life;
   SimulationOptions dense = options;
   dense.angles = AngleMode::kDense;
-  const SimulationResult one = Simulate(scene, linear, dense);
   const PhasorSum sum = linear.Phasors(scene);
   life.asymptotic = EveryRevolution(scene, one, sum, life.cycle);
 

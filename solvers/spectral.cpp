@@ -25,6 +25,30 @@ struct StretchBound {
 // angles at the default stride): one a stretch cost a third of a default-campaign sample.
 constexpr std::size_t kStretchesARun = 8;
 
+// Adds to dense[k], k = 0 .. steps, a rest known at the evaluated angles only, linearly
+// interpolated between them: `order` the evaluated samples by angle (the first at k = 0,
+// the last at k = steps), `index` each sample's k, rest_of(s) sample s's rest, read before
+// anything is added at its angle.
+template <typename Value, typename RestOf>
+void AddInterpolated(const std::vector<std::size_t>& order, const std::vector<int>& index, RestOf rest_of,
+                     std::vector<Value>& dense) {
+  std::size_t previous = order.front();
+  Value previous_rest = rest_of(previous);
+  dense.front() += previous_rest;
+  for (std::size_t o = 1; o < order.size(); ++o) {
+    const std::size_t s = order[o];
+    const int a = index[previous];
+    const int b = index[s];
+    const Value rest = rest_of(s);
+    for (int k = a + 1; k <= b; ++k) {
+      const double t = static_cast<double>(k - a) / (b - a);
+      dense[static_cast<std::size_t>(k)] += (1.0 - t) * previous_rest + t * rest;
+    }
+    previous = s;
+    previous_rest = rest;
+  }
+}
+
 }  // namespace
 
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
@@ -284,21 +308,9 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   // steps).
   thread_local std::vector<double> signal;
   path.FirstOrderSignal(signal);
-  std::size_t previous = order.front();
-  double previous_rest = samples.signal[previous] - signal.front();
-  signal.front() += previous_rest;
-  for (std::size_t o = 1; o < order.size(); ++o) {
-    const std::size_t s = order[o];
-    const int a = samples.index[previous];
-    const int b = samples.index[s];
-    const double rest = samples.signal[s] - signal[static_cast<std::size_t>(b)];
-    for (int k = a + 1; k <= b; ++k) {
-      const double t = static_cast<double>(k - a) / (b - a);
-      signal[static_cast<std::size_t>(k)] += (1.0 - t) * previous_rest + t * rest;
-    }
-    previous = s;
-    previous_rest = rest;
-  }
+  AddInterpolated(order, samples.index, [&](std::size_t s) {
+    return samples.signal[s] - signal[static_cast<std::size_t>(samples.index[s])];
+  }, signal);
   const engine::Runout runout = engine::MeasureRunout(signal, scene.sensor_swing);
   result.runout = runout.total;
   result.swing = runout.swing;
@@ -309,25 +321,10 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
     // angles.
     thread_local std::vector<Eigen::Vector2d> centre;
     path.FirstOrderCentreWithoutLobes(centre);
-    const auto correction = [&](std::size_t s) {
+    AddInterpolated(order, samples.index, [&](std::size_t s) {
       const double* first = samples.first_order.data() + s * width;
       return Eigen::Vector2d(samples.centre[s] - Eigen::Vector2d(first[0], first[1]));
-    };
-    std::size_t from = order.front();
-    Eigen::Vector2d from_correction = correction(from);
-    centre.front() += from_correction;
-    for (std::size_t o = 1; o < order.size(); ++o) {
-      const std::size_t s = order[o];
-      const int a = samples.index[from];
-      const int b = samples.index[s];
-      const Eigen::Vector2d to_correction = correction(s);
-      for (int k = a + 1; k <= b; ++k) {
-        const double t = static_cast<double>(k - a) / (b - a);
-        centre[static_cast<std::size_t>(k)] += (1.0 - t) * from_correction + t * to_correction;
-      }
-      from = s;
-      from_correction = to_correction;
-    }
+    }, centre);
     for (std::size_t j = 0; j < segments; ++j) {
       if (!refined[j]) spectral.centre_error = std::max(spectral.centre_error, bounds[j].centre - straying.centre);
     }

@@ -39,11 +39,7 @@ namespace {
 constexpr int kSteps = 256;
 // Under the sanitizers every solve is ~20 times slower: a tenth of the draws still meets
 // both classes' extremes.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr std::int64_t kSamplesPerClass = 256;
-#else
-constexpr std::int64_t kSamplesPerClass = 2048;
-#endif
+constexpr std::int64_t kSamplesPerClass = testing::kSanitized ? 256 : 2048;
 
 // A longer run's count and steps (the header's command), else the constants above.
 std::int64_t SamplesPerClass() { return testing::LongerRun("RINGTOL_AUTO_RUNG_SAMPLES", kSamplesPerClass); }

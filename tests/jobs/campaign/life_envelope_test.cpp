@@ -38,11 +38,7 @@ constexpr int kSteps = 256;
 // net, which fill theirs within 1,024. Under the sanitizers every solve is ~20 times
 // slower: one draw a class.
 constexpr int kRevolutions = 1024;
-#if defined(__SANITIZE_ADDRESS__)
-constexpr std::int64_t kSamplesPerClass = 1;
-#else
-constexpr std::int64_t kSamplesPerClass = 8;
-#endif
+constexpr std::int64_t kSamplesPerClass = testing::kSanitized ? 1 : 8;
 // [m] how far the reference's union may stay inside the envelope: the target.
 constexpr double kConverged = 1e-6;
 // [m] the reference converges each angle to 1 pm; a diameter or a range carries twice that.
