@@ -25,12 +25,6 @@
 
 namespace ringtol::solvers {
 
-struct LifeValues {
-  double d_trajectory = 0.0;        // [m]
-  double runout = 0.0;              // [m]
-  engine::ErrorMotion error_motion; // [m]
-};
-
 struct LifeResult {
   Status status = Status::kOk;  // the first failing revolution's, with its message
   std::string message;

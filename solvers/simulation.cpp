@@ -12,6 +12,7 @@
 #include "engine/sensor.h"
 #include "solvers/auto.h"
 #include "solvers/dynamic.h"
+#include "solvers/life.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
 #include "solvers/spectral.h"
@@ -492,6 +493,24 @@ std::optional<SimulationResult> SimulateRefined(const engine::Scene& scene, cons
   return result;
 }
 
+// SimulationResult::life around a revolution measured at its dense angles. The lobes'
+// curves are the linear rung's phasors whatever rung solved the path: a rung that solves
+// the exact model has no phasors of its own, and the curves' share of the path is first
+// order in the lobes for every rung (docs/model.md §9).
+void ReadLife(const engine::Scene& scene, const Solver& solver, SimulationResult& result) {
+  static const LinearSolver kPhasorSource;
+  const auto* linear = dynamic_cast<const LinearSolver*>(&solver);
+  const auto* automatic = dynamic_cast<const AutoSolver*>(&solver);
+  const LinearSolver& source = linear != nullptr ? *linear : automatic != nullptr ? automatic->linear() : kPhasorSource;
+  const PhasorSum sum = source.Phasors(scene);
+  if (!sum.usable) {
+    result.status = Status::kNotConverged;
+    result.message = "the life values need the linear rung's phasors, and the error-free assembly cannot be linearised";
+    return;
+  }
+  result.life = EveryRevolution(scene, result, sum, result.life_cycle);
+}
+
 // AngleMode::kSpectral for the linear rung and auto's first step: the spectral result when
 // it settles the scene, else the trajectory auto's exact rungs give (to be measured
 // densely), else nullopt for the dense evaluation to decide.
@@ -511,8 +530,8 @@ SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& s
   const double target = automatic != nullptr       ? automatic->budget()
                         : options.path_tolerance > 0.0 ? kAutoShareOfPathTolerance * options.path_tolerance
                                                        : std::numeric_limits<double>::infinity();
-  std::optional<SpectralResult> spectral =
-      SimulateSpectral(scene, linear != nullptr ? *linear : automatic->linear(), steps, options.refine_stride, target);
+  std::optional<SpectralResult> spectral = SimulateSpectral(scene, linear != nullptr ? *linear : automatic->linear(),
+                                                            steps, options.refine_stride, target, options.life);
   if (!spectral) return outcome;
   if (automatic != nullptr &&
       (spectral->result.status != Status::kOk || !automatic->LinearVerdict(scene, spectral->margins).empty())) {
@@ -520,6 +539,8 @@ SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& s
     return outcome;
   }
   outcome.settled = std::move(spectral->result);
+  outcome.settled->life = spectral->life;
+  outcome.settled->life_cycle = spectral->life_cycle;
   return outcome;
 }
 
@@ -530,7 +551,7 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
   result.steps = ChooseSteps(scene, options);
   result.status = CheckSceneGeometry(scene, result.message);
   if (result.status != Status::kOk) return result;
-  if (options.angles == AngleMode::kRefined) {
+  if (options.angles == AngleMode::kRefined && !options.life) {
     if (std::optional<SimulationResult> refined = SimulateRefined(scene, solver, options, result.steps)) {
       return std::move(*refined);
     }
@@ -580,6 +601,7 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
     if (steady->status == Status::kOk) Measure(scene, later, nominal.centre, *steady);
     result.steady = std::move(steady);
   }
+  if (options.life) ReadLife(scene, solver, result);
   return result;
 }
 

@@ -5,10 +5,12 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "engine/enclosing_circle.h"
+#include "engine/error_motion.h"
 #include "engine/scene.h"
 #include "solvers/dynamic.h"
 #include "solvers/solver.h"
@@ -63,6 +65,12 @@ struct SimulationOptions {
   // (a roller's high lobes pass ~60 n times per revolution at sub-micrometre amplitude)
   // then cost what they are worth; campaigns set it, single runs keep the exact rule.
   double path_tolerance = 0.0;
+  // Also read the life values over every revolution the assembly will turn (solvers/life.h,
+  // SimulationResult::life): the lobes of the rollers' spin-ratio groups as closed curves
+  // from the linear rung's phasors, summed onto the path less its lobes. Costs those
+  // curves and a hull, no solve. kRefined angles then run dense: the stretches they skip
+  // are chosen for one revolution's extremes, not for the life's.
+  bool life = false;
 };
 
 // Which solver runs a simulation and how, as a campaign file's [solver] table, the command
@@ -142,6 +150,13 @@ double SamplingErrorBound(const engine::Scene& scene, int steps);
 // Infinite with fewer than two fixed rollers.
 double SumOverPathTerms(const engine::Scene& scene, const std::function<double(double rate)>& weight);
 
+// The one-revolution metrics over many revolutions (solvers/life.h).
+struct LifeValues {
+  double d_trajectory = 0.0;         // [m] over the union of the revolutions' centre paths
+  double runout = 0.0;               // [m] the sensor's max - min over every revolution
+  engine::ErrorMotion error_motion;  // [m] of the axis along the sensor's direction
+};
+
 struct RollerForceRange {
   double min = 0.0;  // [N]
   double max = 0.0;  // [N]
@@ -164,6 +179,10 @@ struct SimulationResult {
   // The same metrics over the trajectory's later, steady revolution (Trajectory::steady)
   // when the solver gives one; its own status says whether they are usable.
   std::shared_ptr<const SimulationResult> steady;
+  // With SimulationOptions::life and status ok: the values over every revolution, and the
+  // revolutions after which the rollers' phases repeat (0: never; LifeResult::cycle).
+  std::optional<LifeValues> life;
+  int life_cycle = 0;
 };
 
 // Never throws for numerical outcomes; status says whether the numbers are usable (they

@@ -89,6 +89,11 @@ const Campaign& Allocation::CandidateCampaign(std::int64_t candidate, Evaluation
   plan.sampling.tolerances = plan_.Tolerances(candidate);
   plan.spec.clear();
   if (role == EvaluationRole::kScreen) plan.solver.rung = *plan_.screen;
+  // The life values cost what a sample's revolution costs again; only a constraint on one
+  // of them pays for it (the other outputs are not stored).
+  plan.solver.simulation.life = std::any_of(stored_outputs_.begin(), stored_outputs_.end(), [](const std::string& name) {
+    return std::find(kOutputNames.begin() + kFirstLifeOutput, kOutputNames.end(), name) != kOutputNames.end();
+  });
   const std::vector<int> options = space_.Options(candidate);
   std::string name = fmt::format("{}, candidate {} (", plan_.campaign.file.string(), candidate);
   for (std::size_t k = 0; k < plan_.components.size(); ++k) {

@@ -127,13 +127,24 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
       if (record.status == SampleStatus::kOk) {
         double max_force = -std::numeric_limits<double>::infinity();
         for (const solvers::RollerForceRange& range : result.contact_force) max_force = std::max(max_force, range.max);
+        // A campaign reads the life unless told not to (an allocation whose constraints name
+        // none of its outputs): its outputs are NaN then, and only then.
+        const bool reads_life = campaign_->simulation().life;
+        const solvers::LifeValues life = result.life.value_or(
+            solvers::LifeValues{kNaN, kNaN, {kNaN, kNaN, kNaN, kNaN}});
         const std::array<double, kOutputCount> outputs = {
             result.d_trajectory * units::kMillimetresPerMetre, result.dist_init * units::kMillimetresPerMetre,
             result.static_offset * units::kMillimetresPerMetre, result.runout * units::kMillimetresPerMetre,
             result.swing * units::kMillimetresPerMetre, result.min_contact_force, max_force,
-            result.d_trajectory * units::kMillimetresPerMetre, steady_d_trajectory * units::kMillimetresPerMetre};
+            result.d_trajectory * units::kMillimetresPerMetre, steady_d_trajectory * units::kMillimetresPerMetre,
+            life.d_trajectory * units::kMillimetresPerMetre, life.runout * units::kMillimetresPerMetre,
+            life.error_motion.total * units::kMillimetresPerMetre,
+            life.error_motion.synchronous * units::kMillimetresPerMetre,
+            life.error_motion.asynchronous * units::kMillimetresPerMetre};
         bool finite = true;
-        for (std::size_t k = 0; k < kOutputCount; ++k) finite = finite && std::isfinite(outputs[k]);
+        for (std::size_t k = 0; k < (reads_life ? kOutputCount : kFirstLifeOutput); ++k) {
+          finite = finite && std::isfinite(outputs[k]);
+        }
         if (finite) {
           record.outputs = outputs;
           record.d_trajectory_error = result.trajectory.error_estimate * units::kMillimetresPerMetre;

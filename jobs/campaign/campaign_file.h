@@ -40,14 +40,17 @@
 
 namespace ringtol::jobs {
 
-// A campaign's defaults differ from a single run's in two fields: the auto rung, and a
+// A campaign's defaults differ from a single run's in three fields: the auto rung, a
 // sampling budget of 1 um (path_tolerance_um), where `ringtol simulate` runs the
-// quasistatic rung and resolves every undulation.
+// quasistatic rung and resolves every undulation, and the life values, which every
+// campaign's sample reads (the life outputs of kOutputNames) and a single run only when
+// asked (--revolutions).
 inline constexpr double kCampaignPathTolerance = 1e-6;  // [m]
 inline solvers::SolverSettings CampaignSolverDefaults() {
   solvers::SolverSettings settings;
   settings.rung = solvers::Rung::kAuto;
   settings.simulation.path_tolerance = kCampaignPathTolerance;
+  settings.simulation.life = true;
   return settings;
 }
 

@@ -40,14 +40,21 @@ std::string_view SampleStatusName(SampleStatus status);
 // Every status, pending first, for enumerations in output files.
 const std::vector<SampleStatus>& AllSampleStatuses();
 
-// The per-sample outputs, in the order of kOutputNames (units in the names). The last two
-// are D_trajectory over the dynamic rung's first and steady revolutions
-// (solvers::DynamicOptions::steady_revolution); the time-free rungs' path is steady by
-// construction, so for them both equal d_trajectory_mm.
-inline constexpr std::array<const char*, 9> kOutputNames = {
+// The per-sample outputs, in the order of kOutputNames (units in the names). The first
+// nine are over one revolution from the drawn phases of the rollers; d_trajectory_first_mm
+// and d_trajectory_steady_mm are D_trajectory over the dynamic rung's first and steady
+// revolutions (solvers::DynamicOptions::steady_revolution); the time-free rungs' path is
+// steady by construction, so for them both equal d_trajectory_mm. The last five are over
+// every revolution the assembly will turn (solvers::LifeValues, docs/model.md §9):
+// D_trajectory and runout over the union of the revolutions, and ISO 230-7's total,
+// synchronous and asynchronous radial error motion values along the sensor's direction.
+inline constexpr std::array<const char*, 14> kOutputNames = {
     "d_trajectory_mm",     "dist_init_mm",        "static_offset_mm",      "runout_mm",
     "swing_mm",            "min_contact_force_N", "max_contact_force_N",   "d_trajectory_first_mm",
-    "d_trajectory_steady_mm"};
+    "d_trajectory_steady_mm", "life_d_trajectory_mm", "life_runout_mm", "error_motion_total_mm",
+    "error_motion_synchronous_mm", "error_motion_asynchronous_mm"};
+// Where the life outputs start in kOutputNames: files of schema 3 and before end there.
+inline constexpr std::size_t kFirstLifeOutput = 9;
 inline constexpr std::size_t kOutputCount = kOutputNames.size();
 
 inline constexpr std::int8_t kNoRung = -1;

@@ -163,12 +163,12 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
     fmt::print(out, "rungs             {} (of the {} samples a rung ran on)\n", RungShares(s.settled_by), ran);
   }
   const int level = static_cast<int>(std::lround(100.0 * s.confidence));
-  fmt::print(out, "\n{:<20} {:>10} {:>10}", "output", "mean", "std");
+  fmt::print(out, "\n{:<28} {:>10} {:>10}", "output", "mean", "std");
   for (const double p : kSummaryProbabilities) fmt::print(out, " {:>30}", fmt::format("q{} [{} % CI]", Percent(p), level));
   fmt::print(out, " {:>10}\n", "spec <=");
   for (const OutputSummary& o : s.outputs) {
     if (o.count == 0) continue;
-    fmt::print(out, "{:<20} {:>10.5g} {:>10.4g}", o.name, o.mean, o.standard_deviation);
+    fmt::print(out, "{:<28} {:>10.5g} {:>10.4g}", o.name, o.mean, o.standard_deviation);
     for (const analysis::QuantileEstimate& q : o.quantiles) {
       fmt::print(out, " {:>30}",
                  fmt::format("{:.5g} [{}, {}]", q.value, ShowBound(q.interval.lower), ShowBound(q.interval.upper)));

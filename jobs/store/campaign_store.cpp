@@ -95,10 +95,13 @@ constexpr const char* kSwingDefinition =
 
 // Where a file of `schema` keeps column `column`; empty when it has no such dataset. Schema
 // 1 named the ill-posed "peak to nearest valley" runout_mm and the max - min that runout_mm
-// is now runout_total_mm; it had no swing. Schemas 1 and 2 had no rung and error bound.
+// is now runout_total_mm; it had no swing. Schemas 1 and 2 had no rung and error bound,
+// schemas 1 to 3 no life outputs.
 constexpr int kFirstSchemaWithRungs = 3;
+constexpr int kFirstSchemaWithLife = 4;
 std::string StoredColumnPath(std::size_t column, int schema) {
   if ((column == kRung || column == kErrorBound) && schema < kFirstSchemaWithRungs) return {};
+  if (column >= kFirstOutput + kFirstLifeOutput && column < kStatus && schema < kFirstSchemaWithLife) return {};
   if (schema >= 2 || column < kFirstOutput || column >= kStatus) return ColumnPath(column);
   const std::string_view output = kOutputNames[column - kFirstOutput];
   if (output == "runout_mm") return "/outputs/runout_total_mm";

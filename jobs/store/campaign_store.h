@@ -4,8 +4,8 @@
 // by h5py and h5dump, and safe against a kill at any moment. docs/results.md documents the schema for
 // readers; this header is the contract for writers.
 //
-// Schema version 3 (N = samples, d = sampler inputs; every 2-D dataset is [N, d]):
-//   /                          attributes: format = "ringtol campaign", schema_version = 3,
+// Schema version 4 (N = samples, d = sampler inputs; every 2-D dataset is [N, d]):
+//   /                          attributes: format = "ringtol campaign", schema_version = 4,
 //                              ringtol_version, catalogue_version, seed (uint64), samples
 //                              (int64, N), design, solver, campaign_path, campaign_file (the
 //                              campaign file's text), base_scene (the base scene as a scene
@@ -82,13 +82,14 @@
 
 namespace ringtol::jobs {
 
-inline constexpr int kCampaignSchemaVersion = 3;
+inline constexpr int kCampaignSchemaVersion = 4;
 // The oldest schema CampaignReader still reads. Schema 1 (ringtol 0.3) kept the max - min
 // of the sensor signal as runout_total_mm and an ill-posed "peak to nearest valley" as
 // runout_mm: its runout_mm is read from runout_total_mm, and it has no swing_mm (HasOutput
 // says so; ReadOutput gives NaN). Schema 2 (ringtol 0.4) has no /outputs/rung and
-// /outputs/d_trajectory_error_mm: they read as -1 and NaN. Resume refuses files of older
-// schemas.
+// /outputs/d_trajectory_error_mm: they read as -1 and NaN. Schemas 1 to 3 have none of
+// the life outputs (kFirstLifeOutput on): HasOutput says so, ReadOutput gives NaN.
+// Resume refuses files of older schemas.
 inline constexpr int kOldestReadableSchema = 1;
 
 struct CampaignStoreOptions {

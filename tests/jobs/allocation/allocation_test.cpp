@@ -136,6 +136,42 @@ TEST(Allocation, ARingDrawnAsMadeDiffersBetweenClassesOnlyByItsScale) {
   }
 }
 
+// A constraint may name a life output: every candidate's samples carry them, and the
+// asynchronous error motion, which only the rollers' lobes make, shrinks with the rollers'
+// class (ISO 492 class 5 allows a third of Normal's radial runout at this size).
+TEST(Allocation, AConstraintCanNameALifeOutputAndTheRollersClassDecidesItsAsynchronousPart) {
+  std::string text = kAllocation;
+  const std::string constraint = "output = \"d_trajectory_mm\"";
+  text.replace(text.find(constraint), constraint.size(), "output = \"error_motion_asynchronous_mm\"");
+  const std::filesystem::path file = testing::FreshTestFolder("allocation_life_test") / "allocation.toml";
+  testing::WriteText(file, text);
+  const Allocation allocation(file);
+  ASSERT_EQ(allocation.stored_outputs(), std::vector<std::string>{"error_motion_asynchronous_mm"});
+  // Candidates 0 and 1: the waterjet ring with Normal and with class 5 rollers.
+  SampleEvaluator normal(allocation.CandidateCampaign(0, EvaluationRole::kConfirm));
+  SampleEvaluator precise(allocation.CandidateCampaign(1, EvaluationRole::kConfirm));
+  const auto column = [](const char* name) {
+    return static_cast<std::size_t>(std::find_if(kOutputNames.begin(), kOutputNames.end(),
+                                                 [&](const char* n) { return std::string_view(n) == name; }) -
+                                    kOutputNames.begin());
+  };
+  const std::size_t asynchronous = column("error_motion_asynchronous_mm");
+  const std::size_t life = column("life_d_trajectory_mm");
+  const std::size_t one = column("d_trajectory_mm");
+  double sum_normal = 0.0, sum_precise = 0.0;
+  constexpr std::int64_t kSamples = 16;
+  for (std::int64_t i = 0; i < kSamples; ++i) {
+    const SampleRecord a = normal.Evaluate(i), b = precise.Evaluate(i);
+    ASSERT_EQ(a.status, SampleStatus::kOk) << a.message;
+    ASSERT_EQ(b.status, SampleStatus::kOk) << b.message;
+    EXPECT_GE(a.outputs[life], a.outputs[one] - 1e-9) << "sample " << i;
+    EXPECT_GT(a.outputs[asynchronous], 0.0) << "sample " << i;
+    sum_normal += a.outputs[asynchronous];
+    sum_precise += b.outputs[asynchronous];
+  }
+  EXPECT_LT(sum_precise, 0.6 * sum_normal);
+}
+
 TEST(AllocationDriver, AnInterruptedRunInAnyOrderEndsAsAnUninterruptedOne) {
   const Allocation allocation(AllocationFile());
   MemorySamples whole;

@@ -8,7 +8,7 @@ import numpy as np
 
 with h5py.File(sys.argv[1], "r") as f:
     assert f.attrs["format"] == "ringtol campaign", f.attrs["format"]
-    assert int(f.attrs["schema_version"]) == 3
+    assert int(f.attrs["schema_version"]) == 4
     for key in ("ringtol_version", "catalogue_version", "campaign_file", "base_scene", "design", "solver"):
         assert isinstance(f.attrs[key], str) and f.attrs[key], key
     n = int(f.attrs["samples"])
@@ -35,4 +35,11 @@ with h5py.File(sys.argv[1], "r") as f:
     error = f["outputs/d_trajectory_error_mm"][:]
     assert rung.dtype == np.int8 and np.all((rung[ok] >= 0) & (rung[ok] <= 2)), "the rung a sample settled on"
     assert np.all(error[ok] >= 0.0) and np.all(np.isnan(error[~ok]))
+    life = f["outputs/life_d_trajectory_mm"][:]
+    assert np.all(life[ok] >= d_trajectory[ok] - 1e-6), "the life's union holds the drawn revolution"
+    assert np.all(f["outputs/life_runout_mm"][:][ok] >= runout[ok] - 1e-6)
+    total, synchronous, asynchronous = (f["outputs/error_motion_" + part + "_mm"][:][ok]
+                                        for part in ("total", "synchronous", "asynchronous"))
+    assert np.all(asynchronous >= 0.0) and np.all(total <= synchronous + asynchronous + 1e-9)
+    assert np.all(total >= synchronous - 1e-9) and np.all(np.isnan(life[~ok]))
     print(f"{int(ok.sum())} samples ok of {n}, {d} inputs")

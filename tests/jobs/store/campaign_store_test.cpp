@@ -123,6 +123,12 @@ SampleRecord AsStored(SampleRecord written) {
   return written;
 }
 
+// What a file of schema 3 or before holds for a stored record: no life outputs.
+SampleRecord WithoutLife(SampleRecord stored) {
+  std::fill(stored.outputs.begin() + kFirstLifeOutput, stored.outputs.end(), std::numeric_limits<double>::quiet_NaN());
+  return stored;
+}
+
 // Bit for bit (NaN included), field by field, so that a failure says which field.
 void ExpectStored(const SampleRecord& actual, const SampleRecord& written) {
   const SampleRecord expected = AsStored(written);
@@ -618,26 +624,37 @@ void SetSchemaVersion(hid_t file, int schema) {
   H5Aclose(attribute);
 }
 
+// A file of an older `schema` made from a current one of `samples` deterministic records:
+// `edit` changes its datasets as that schema had them; every schema before 4 lacks the life
+// outputs.
+fs::path OlderFile(std::int64_t samples, int schema, const std::function<void(hid_t)>& edit) {
+  const fs::path path = TestFolder() / "results.h5";
+  {
+    CampaignStore store = CampaignStore::Create(path, TestIdentity(), samples);
+    for (std::int64_t i = 0; i < samples; ++i) store.Add(DeterministicRecord(i));
+  }
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  EXPECT_GE(file, 0);
+  edit(file);
+  for (std::size_t k = kFirstLifeOutput; k < kOutputCount; ++k) {
+    EXPECT_GE(H5Ldelete(file, (std::string("/outputs/") + kOutputNames[k]).c_str(), H5P_DEFAULT), 0);
+  }
+  SetSchemaVersion(file, schema);
+  H5Fclose(file);
+  return path;
+}
+
 // A schema-1 file as ringtol 0.3 wrote it, made from a current one: its max - min sat in
 // runout_total_mm, its runout_mm held the ill-posed peak to nearest valley, and it had no
 // swing and no per-revolution diameters.
 TEST(CampaignReader, ReadsASchemaOneFileWithItsColumnsForWhatTheyAre) {
   constexpr std::int64_t kSamples = 8;
-  const fs::path path = TestFolder() / "results.h5";
-  {
-    CampaignStore store = CampaignStore::Create(path, TestIdentity(), kSamples);
-    for (std::int64_t i = 0; i < kSamples; ++i) store.Add(DeterministicRecord(i));
-  }
-  {
-    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    ASSERT_GE(file, 0);
+  const fs::path path = OlderFile(kSamples, 1, [](hid_t file) {
     ASSERT_GE(H5Lmove(file, "/outputs/runout_mm", file, "/outputs/runout_total_mm", H5P_DEFAULT, H5P_DEFAULT), 0);
     ASSERT_GE(H5Lmove(file, "/outputs/swing_mm", file, "/outputs/runout_mm", H5P_DEFAULT, H5P_DEFAULT), 0);
     ASSERT_GE(H5Ldelete(file, "/outputs/d_trajectory_first_mm", H5P_DEFAULT), 0);
     ASSERT_GE(H5Ldelete(file, "/outputs/d_trajectory_steady_mm", H5P_DEFAULT), 0);
-    SetSchemaVersion(file, 1);
-    H5Fclose(file);
-  }
+  });
   const auto column = [](const char* name) {
     return static_cast<std::size_t>(std::find(kOutputNames.begin(), kOutputNames.end(), std::string_view(name)) -
                                     kOutputNames.begin());
@@ -668,19 +685,10 @@ TEST(CampaignReader, ReadsASchemaOneFileWithItsColumnsForWhatTheyAre) {
 // A schema-2 file (ringtol 0.4) had no rung and no error bound: they read as kNoRung and NaN.
 TEST(CampaignReader, ReadsASchemaTwoFileWithoutRungsAsNoRungRan) {
   constexpr std::int64_t kSamples = 6;
-  const fs::path path = TestFolder() / "results.h5";
-  {
-    CampaignStore store = CampaignStore::Create(path, TestIdentity(), kSamples);
-    for (std::int64_t i = 0; i < kSamples; ++i) store.Add(DeterministicRecord(i));
-  }
-  {
-    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    ASSERT_GE(file, 0);
+  const fs::path path = OlderFile(kSamples, 2, [](hid_t file) {
     ASSERT_GE(H5Ldelete(file, "/outputs/rung", H5P_DEFAULT), 0);
     ASSERT_GE(H5Ldelete(file, "/outputs/d_trajectory_error_mm", H5P_DEFAULT), 0);
-    SetSchemaVersion(file, 2);
-    H5Fclose(file);
-  }
+  });
   const CampaignReader reader(path);
   EXPECT_EQ(reader.schema_version(), 2);
   const std::vector<std::int8_t> rungs = reader.ReadRungs(0, kSamples);
@@ -689,9 +697,28 @@ TEST(CampaignReader, ReadsASchemaTwoFileWithoutRungsAsNoRungRan) {
     const SampleRecord read = reader.ReadSample(i);
     EXPECT_EQ(read.rung, kNoRung) << "sample " << i;
     EXPECT_TRUE(std::isnan(read.d_trajectory_error)) << "sample " << i;
-    EXPECT_EQ(Bits(read.outputs), Bits(AsStored(DeterministicRecord(i)).outputs)) << "sample " << i;
+    EXPECT_EQ(Bits(read.outputs), Bits(WithoutLife(AsStored(DeterministicRecord(i))).outputs)) << "sample " << i;
   }
   EXPECT_TRUE(CheckResults(path).intact());
+}
+
+// A schema-3 file had no life outputs: they read as NaN, HasOutput says they are absent,
+// and the file verifies but is not resumed.
+TEST(CampaignReader, ReadsASchemaThreeFileWithoutLifeOutputsAsNaN) {
+  constexpr std::int64_t kSamples = 6;
+  const fs::path path = OlderFile(kSamples, 3, [](hid_t) {});
+  const CampaignReader reader(path);
+  EXPECT_EQ(reader.schema_version(), 3);
+  EXPECT_TRUE(reader.HasOutput("d_trajectory_steady_mm"));
+  for (std::size_t k = kFirstLifeOutput; k < kOutputCount; ++k) EXPECT_FALSE(reader.HasOutput(kOutputNames[k]));
+  for (std::int64_t i = 0; i < kSamples; ++i) {
+    const SampleRecord read = reader.ReadSample(i);
+    EXPECT_EQ(Bits(read.outputs), Bits(WithoutLife(AsStored(DeterministicRecord(i))).outputs)) << "sample " << i;
+  }
+  EXPECT_TRUE(std::isnan(reader.ReadOutput("life_d_trajectory_mm", 0, kSamples)[2]));
+  EXPECT_TRUE(CheckResults(path).intact());
+  EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), kSamples); }),
+              HasSubstr("schema 3"));
 }
 
 // ---------------------------------------------------------------------------------------
