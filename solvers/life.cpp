@@ -17,9 +17,13 @@ namespace ringtol::solvers {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-// Points a curve's hull is sampled at, per order of its fastest term: a term strays from
-// its chords by (2 pi / kHullSamplesPerOrder)^2 / 8 of its amplitude, 3e-4.
-constexpr int kHullSamplesPerOrder = 128;
+// A curve's hull is sampled finely enough that the curve strays from the samples' chords
+// by at most this share of the sum of its terms' amplitudes; the hull is then widened by
+// what it may miss, so it always holds the curve.
+constexpr double kCurveStraying = 2e-4;
+// The most samples a curve's hull takes per order of its fastest term: (2 pi / 128)^2 / 8,
+// 3e-4 of the term's amplitude.
+constexpr int kMostCurveSamplesPerOrder = 128;
 // Spin ratios this close (relative) are one: the rollers turn in step (equal diameters).
 constexpr double kSameRatio = 1e-12;
 
@@ -185,11 +189,37 @@ std::vector<Eigen::Vector2d> MinkowskiSum(std::vector<Eigen::Vector2d> a, std::v
   return sum;
 }
 
-// Samples of a curve over one turn of its phase, enough for its hull (kHullSamplesPerOrder).
-std::vector<Eigen::Vector2d> SampleCurve(const PhaseCurve& curve) {
-  const int count = kHullSamplesPerOrder * std::max(curve.max_order, 1);
-  std::vector<Eigen::Vector2d> samples(static_cast<std::size_t>(count), Eigen::Vector2d::Zero());
-  curve.AddAlong(0.0, kTwoPi / count, samples.size(), samples);
+// Samples of a curve over one turn of its phase, and how far the curve strays from their
+// chords [m]. A term of order o and amplitude A (an ellipse c cos + s sin: A = sqrt(|c|^2 +
+// |s|^2) bounds its radius) strays by at most A min(2, (o du)^2 / 8) between samples du
+// apart, so the step that keeps the sum within kCurveStraying of sum A is
+// sqrt(8 kCurveStraying sum A / sum A o^2): the fast terms' amplitudes set it, not their
+// orders alone.
+struct CurveSamples {
+  std::vector<Eigen::Vector2d> points;
+  double straying = 0.0;  // [m]
+};
+CurveSamples SampleCurve(const PhaseCurve& curve) {
+  double amplitude = 0.0, weighted = 0.0;
+  std::vector<double> amplitudes(curve.order.size());
+  for (std::size_t p = 0; p < curve.order.size(); ++p) {
+    amplitudes[p] = std::hypot(curve.cosine[p].norm(), curve.sine[p].norm());
+    amplitude += amplitudes[p];
+    weighted += amplitudes[p] * curve.order[p] * curve.order[p];
+  }
+  constexpr int kFewest = 16;
+  const int most = kMostCurveSamplesPerOrder * std::max(curve.max_order, 1);
+  const int count =
+      weighted > 0.0 ? std::clamp(static_cast<int>(std::ceil(kTwoPi / std::sqrt(8.0 * kCurveStraying * amplitude / weighted))),
+                                  kFewest, most)
+                     : kFewest;
+  const double du = kTwoPi / count;
+  CurveSamples samples{std::vector<Eigen::Vector2d>(static_cast<std::size_t>(count), Eigen::Vector2d::Zero()), 0.0};
+  curve.AddAlong(0.0, du, samples.points.size(), samples.points);
+  for (std::size_t p = 0; p < curve.order.size(); ++p) {
+    const double chord = curve.order[p] * du;
+    samples.straying += amplitudes[p] * std::min(2.0, chord * chord / 8.0);
+  }
   return samples;
 }
 
@@ -243,17 +273,20 @@ LifeValues EveryRevolutionOf(const engine::Scene& scene, const std::vector<Phase
   if (cycle > 0) return OverRevolutions(curves, rest, signal_rest, ray, cycle);
   // Every phase: the hull of the sum is the sum of the hulls.
   std::vector<Eigen::Vector2d> hull = ConvexHull(rest);
-  double asynchronous = 0.0;
+  double asynchronous = 0.0, straying = 0.0;
   for (const PhaseCurve& curve : curves) {
-    const std::vector<Eigen::Vector2d> samples = SampleCurve(curve);
-    hull = MinkowskiSum(hull, ConvexHull(samples));
-    const auto [low, high] = std::ranges::minmax(samples | std::views::transform([&](const Eigen::Vector2d& g) {
+    const CurveSamples samples = SampleCurve(curve);
+    hull = MinkowskiSum(hull, ConvexHull(samples.points));
+    const auto [low, high] = std::ranges::minmax(samples.points | std::views::transform([&](const Eigen::Vector2d& g) {
                                                    return ray.dot(g);
                                                  }));
-    asynchronous += high - low;
+    asynchronous += high - low + 2.0 * samples.straying;
+    straying += samples.straying;
   }
   LifeValues every;
-  every.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(hull).radius;
+  // The sampled curves' hulls lie inside the curves' and within `straying` of them: widened
+  // by it, the circle encloses every revolution and is at most 2 straying too wide.
+  every.d_trajectory = 2.0 * (engine::MinimumEnclosingCircle(hull).radius + straying);
   const auto [signal_low, signal_high] = std::ranges::minmax(signal_rest);
   every.runout = signal_high - signal_low + asynchronous;
   std::vector<double> motion(steps);
