@@ -131,6 +131,18 @@ std::vector<CampaignMode> DefaultCampaignModes(const solvers::SolverSettings& ca
       modes.push_back({std::move(name), settings});
     }
   }
+  // What the life values cost: the linear rung's modes and the campaign's own again, each
+  // reading one revolution only.
+  if (campaign.simulation.life) {
+    const std::size_t with_life = modes.size();
+    for (std::size_t m = 0; m < with_life; ++m) {
+      const solvers::SolverSettings& settings = modes[m].solver;
+      if (m != 0 && settings.rung != solvers::Rung::kLinear) continue;
+      solvers::SolverSettings one = settings;
+      one.simulation.life = false;
+      modes.push_back({modes[m].name + ", one revolution", one});
+    }
+  }
   return modes;
 }
 

@@ -107,12 +107,19 @@ TEST(CampaignSpeed, TheCampaignsOwnModeRunsOnceUnderItsNameAndFirst) {
   // "campaign".
   std::vector<std::string> names;
   for (const CampaignMode& mode : DefaultCampaignModes(SmallCampaign().plan().solver)) names.push_back(mode.name);
+  // Then, for what the life values cost, the campaign's own mode and the linear ones again
+  // reading one revolution only.
   EXPECT_THAT(names, ::testing::ElementsAre("auto, spectral", "linear", "quasistatic", "auto", "linear, refined",
-                                            "quasistatic, refined", "auto, refined", "linear, spectral"));
+                                            "quasistatic, refined", "auto, refined", "linear, spectral",
+                                            "auto, spectral, one revolution", "linear, one revolution",
+                                            "linear, refined, one revolution", "linear, spectral, one revolution"));
+  for (const CampaignMode& mode : DefaultCampaignModes(SmallCampaign().plan().solver)) {
+    EXPECT_EQ(mode.solver.simulation.life, !mode.name.ends_with("one revolution")) << mode.name;
+  }
   solvers::SolverSettings dynamic = SmallCampaign().plan().solver;
   dynamic.rung = solvers::Rung::kDynamic;
   const std::vector<CampaignMode> modes = DefaultCampaignModes(dynamic);
-  ASSERT_EQ(modes.size(), 9u);
+  ASSERT_EQ(modes.size(), 13u);
   EXPECT_EQ(modes.front().name, "campaign");
   EXPECT_EQ(modes.front().solver.rung, solvers::Rung::kDynamic);
 }
