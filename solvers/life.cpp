@@ -154,6 +154,37 @@ std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> points) {
   return hull;
 }
 
+// Whether p lies in the counter-clockwise convex polygon `hull` (3 or more vertices) or on
+// its boundary: the wedge at hull[0] holding p, found by bisection, then its far edge.
+bool InHull(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p) {
+  const std::size_t n = hull.size();
+  if (Cross(hull[0], hull[1], p) < 0.0 || Cross(hull[0], hull[n - 1], p) > 0.0) return false;
+  std::size_t low = 1, high = n - 1;
+  while (high - low > 1) {
+    const std::size_t middle = (low + high) / 2;
+    (Cross(hull[0], hull[middle], p) >= 0.0 ? low : high) = middle;
+  }
+  return Cross(hull[low], hull[low + 1], p) >= 0.0;
+}
+
+// The convex hull of a densely sampled path: the hull of every few of its points first,
+// then of that hull's vertices and the points outside it. Exact (a point in the hull of
+// some points is in the hull of all), and cheaper than sorting every point wherever the
+// path wanders inside its own hull.
+std::vector<Eigen::Vector2d> PathHull(const std::vector<Eigen::Vector2d>& path) {
+  constexpr std::size_t kFirstStride = 8;
+  std::vector<Eigen::Vector2d> first;
+  first.reserve(path.size() / kFirstStride + 1);
+  for (std::size_t j = 0; j < path.size(); j += kFirstStride) first.push_back(path[j]);
+  const std::vector<Eigen::Vector2d> inner = ConvexHull(std::move(first));
+  if (inner.size() < 3) return ConvexHull(path);
+  std::vector<Eigen::Vector2d> candidates = inner;
+  for (std::size_t j = 0; j < path.size(); ++j) {
+    if (j % kFirstStride != 0 && !InHull(inner, path[j])) candidates.push_back(path[j]);
+  }
+  return ConvexHull(std::move(candidates));
+}
+
 // The Minkowski sum of two convex polygons as ConvexHull gives them (counter-clockwise):
 // their edges merged by direction, from the sum of their lowest vertices.
 std::vector<Eigen::Vector2d> MinkowskiSum(std::vector<Eigen::Vector2d> a, std::vector<Eigen::Vector2d> b) {
@@ -272,7 +303,7 @@ LifeValues EveryRevolutionOf(const engine::Scene& scene, const std::vector<Phase
   cycle = CycleOf(curves);
   if (cycle > 0) return OverRevolutions(curves, rest, signal_rest, ray, cycle);
   // Every phase: the hull of the sum is the sum of the hulls.
-  std::vector<Eigen::Vector2d> hull = ConvexHull(rest);
+  std::vector<Eigen::Vector2d> hull = PathHull(rest);
   double asynchronous = 0.0, straying = 0.0;
   for (const PhaseCurve& curve : curves) {
     const CurveSamples samples = SampleCurve(curve);
@@ -382,26 +413,27 @@ LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& o
     throw std::invalid_argument("EveryRevolution: needs a valid revolution at its dense angles");
   }
   if (!sum.usable) throw std::invalid_argument("EveryRevolution: needs the scene's phasors");
-  const std::vector<Eigen::Vector2d> lobes = LobesAt(PhaseCurves(sum), steps);
+  const std::vector<PhaseCurve> curves = PhaseCurves(sum);
+  const std::vector<Eigen::Vector2d> lobes = LobesAt(curves, steps);
+  const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
   std::vector<Eigen::Vector2d> rest(steps);
-  for (std::size_t j = 0; j < steps; ++j) rest[j] = one.trajectory.centre[j] - lobes[j];
-  return EveryRevolutionFromRest(scene, rest, std::span(one.sensor).first(steps), sum, cycle);
+  std::vector<double> signal_rest(steps);
+  for (std::size_t j = 0; j < steps; ++j) {
+    rest[j] = one.trajectory.centre[j] - lobes[j];
+    signal_rest[j] = one.sensor[j] - ray.dot(lobes[j]);
+  }
+  return EveryRevolutionOf(scene, curves, std::move(rest), std::move(signal_rest), cycle);
 }
 
 LifeValues EveryRevolutionFromRest(const engine::Scene& scene, std::span<const Eigen::Vector2d> rest,
-                                   std::span<const double> signal, const PhasorSum& sum, int& cycle) {
+                                   std::span<const double> signal_rest, const PhasorSum& sum, int& cycle) {
   const std::size_t steps = rest.size();
-  if (steps < 3 || signal.size() != steps) {
+  if (steps < 3 || signal_rest.size() != steps) {
     throw std::invalid_argument("EveryRevolutionFromRest: needs the path and the signal at the same 3 or more angles");
   }
   if (!sum.usable) throw std::invalid_argument("EveryRevolutionFromRest: needs the scene's phasors");
-  const std::vector<PhaseCurve> curves = PhaseCurves(sum);
-  const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
-  const std::vector<Eigen::Vector2d> lobes = LobesAt(curves, steps);
-  std::vector<double> signal_rest(steps);
-  for (std::size_t j = 0; j < steps; ++j) signal_rest[j] = signal[j] - ray.dot(lobes[j]);
-  return EveryRevolutionOf(scene, curves, std::vector<Eigen::Vector2d>(rest.begin(), rest.end()),
-                           std::move(signal_rest), cycle);
+  return EveryRevolutionOf(scene, PhaseCurves(sum), std::vector<Eigen::Vector2d>(rest.begin(), rest.end()),
+                           std::vector<double>(signal_rest.begin(), signal_rest.end()), cycle);
 }
 
 LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, const SimulationOptions& options,

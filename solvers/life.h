@@ -93,11 +93,11 @@ LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, co
 // phasors of the same scene (LinearSolver::Phasors, usable). No solve: what a campaign's
 // sample adds. `cycle` as LifeResult::cycle. Throws std::invalid_argument otherwise.
 LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& one, const PhasorSum& sum, int& cycle);
-// The same from the centre less the rollers' lobes [m] and the sensor signal [m] (lobes
-// included) at psi_k = 2 pi k / size, k = 0 .. size - 1 (size >= 3, both alike), as the
-// spectral evaluation has them.
+// The same from the centre and the sensor signal less the rollers' lobes [m] at psi_k =
+// 2 pi k / size, k = 0 .. size - 1 (size >= 3, both alike), as the spectral evaluation has
+// them.
 LifeValues EveryRevolutionFromRest(const engine::Scene& scene, std::span<const Eigen::Vector2d> rest,
-                                   std::span<const double> signal, const PhasorSum& sum, int& cycle);
+                                   std::span<const double> signal_rest, const PhasorSum& sum, int& cycle);
 
 // The artefact value of `scene` over `steps` angles (LifeResult::artefact).
 double ArtefactForm(const engine::Scene& scene, int steps);

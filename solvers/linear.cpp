@@ -1439,26 +1439,36 @@ void LinearPath::FirstOrderSignal(std::vector<double>& signal) const {
   for (double& value : signal) value += offset;
 }
 
-void LinearPath::FirstOrderCentreWithoutLobes(std::vector<Eigen::Vector2d>& centre) const {
+void LinearPath::FirstOrderWithoutLobes(std::vector<Eigen::Vector2d>& centre, std::vector<double>& signal) const {
   const Parts& parts = *parts_;
+  const auto zs = static_cast<std::size_t>(lin_->nominal->rollers);
   std::vector<Eigen::Index> bore;
   for (std::size_t p = 0; p < lin_->rates.size(); ++p) {
     if (lin_->roller[p] < 0) bore.push_back(static_cast<Eigen::Index>(p));
   }
   const auto count = static_cast<Eigen::Index>(bore.size());
-  Eigen::MatrixXd cosine(2, count), sine(2, count);
+  // Rows x, y and the signal (e_s . centre + the form at the sensor) in one series.
+  Eigen::MatrixXd cosine(3, count), sine(3, count);
   std::vector<double> rates(bore.size());
+  const auto form = static_cast<Eigen::Index>(5 * zs);
   for (Eigen::Index q = 0; q < count; ++q) {
-    cosine.col(q) = lin_->cosine.col(bore[static_cast<std::size_t>(q)]).head<2>();
-    sine.col(q) = lin_->sine.col(bore[static_cast<std::size_t>(q)]).head<2>();
-    rates[static_cast<std::size_t>(q)] = lin_->rates[static_cast<std::size_t>(bore[static_cast<std::size_t>(q)])];
+    const Eigen::Index p = bore[static_cast<std::size_t>(q)];
+    cosine.col(q).head<2>() = lin_->cosine.col(p).head<2>();
+    sine.col(q).head<2>() = lin_->sine.col(p).head<2>();
+    cosine(2, q) = parts.ray.dot(lin_->cosine.col(p).head<2>()) + parts.series_cosine(form, p);
+    sine(2, q) = parts.ray.dot(lin_->sine.col(p).head<2>()) + parts.series_sine(form, p);
+    rates[static_cast<std::size_t>(q)] = lin_->rates[static_cast<std::size_t>(p)];
   }
   thread_local std::vector<double> rows;
   SumSeries(cosine, sine, rates, steps_, path_kernels::KernelsFor(parts.kernels), rows);
   const std::size_t padded = PaddedAngles(steps_);
-  centre.resize(static_cast<std::size_t>(steps_) + 1);
-  for (std::size_t k = 0; k < centre.size(); ++k) {
+  const auto angles = static_cast<std::size_t>(steps_) + 1;
+  centre.resize(angles);
+  signal.resize(angles);
+  const double offset = parts.ray.dot(lin_->offset.head<2>()) + parts.bore_reach;
+  for (std::size_t k = 0; k < angles; ++k) {
     centre[k] = lin_->offset.head<2>() + Eigen::Vector2d(rows[k], rows[padded + k]);
+    signal[k] = offset + rows[2 * padded + k];
   }
 }
 

@@ -232,10 +232,11 @@ class LinearPath {
   // first-order part, for the reductions that need every angle (the swing). The same
   // vectorised sums as SolveRevolution.
   void FirstOrderSignal(std::vector<double>& signal) const;
-  // The centre's first order [m] less the rollers' lobes (PhasorSum::roller >= 0) at every
-  // angle k = 0 .. steps, by the same sums: the path the life values (solvers/life.h) add
-  // the lobes' curves to. The bore's terms turn at whole rates, so the sums fold.
-  void FirstOrderCentreWithoutLobes(std::vector<Eigen::Vector2d>& centre) const;
+  // The centre's and the signal's first order [m] less the rollers' lobes (PhasorSum::roller
+  // >= 0) at every angle k = 0 .. steps, by the same sums: what the life values
+  // (solvers/life.h) add the lobes' curves to. The bore's terms turn at whole rates, so the
+  // sums fold.
+  void FirstOrderWithoutLobes(std::vector<Eigen::Vector2d>& centre, std::vector<double>& signal) const;
   // The first-order terms, as LinearSolver::Phasors gives them for this scene.
   PhasorSum Phasors() const;
   Straying StrayingAt(double dpsi) const;

@@ -306,31 +306,35 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   // second-order terms and the centre's correction along the ray) interpolated between
   // the evaluated angles (which straddle every angle, the coarse grid's ends being 0 and
   // steps).
-  thread_local std::vector<double> signal;
+  thread_local std::vector<double> signal, signal_second;
   path.FirstOrderSignal(signal);
-  AddInterpolated(order, samples.index, [&](std::size_t s) {
-    return samples.signal[s] - signal[static_cast<std::size_t>(samples.index[s])];
-  }, signal);
+  signal_second.resize(samples.index.size());
+  for (std::size_t s = 0; s < signal_second.size(); ++s) {
+    signal_second[s] = samples.signal[s] - signal[static_cast<std::size_t>(samples.index[s])];
+  }
+  AddInterpolated(order, samples.index, [&](std::size_t s) { return signal_second[s]; }, signal);
   const engine::Runout runout = engine::MeasureRunout(signal, scene.sensor_swing);
   result.runout = runout.total;
   result.swing = runout.swing;
 
   if (life) {
-    // The centre less its lobes at every angle: its first order there, plus the correction
-    // (the corrected centre less At's first-order input) interpolated between the evaluated
-    // angles.
+    // The centre and the signal less their lobes at every angle: their first order there,
+    // plus the second order (the corrected centre less At's first-order input; the signal's
+    // as above) interpolated between the evaluated angles.
     thread_local std::vector<Eigen::Vector2d> centre;
-    path.FirstOrderCentreWithoutLobes(centre);
+    thread_local std::vector<double> signal_rest;
+    path.FirstOrderWithoutLobes(centre, signal_rest);
     AddInterpolated(order, samples.index, [&](std::size_t s) {
       const double* first = samples.first_order.data() + s * width;
       return Eigen::Vector2d(samples.centre[s] - Eigen::Vector2d(first[0], first[1]));
     }, centre);
+    AddInterpolated(order, samples.index, [&](std::size_t s) { return signal_second[s]; }, signal_rest);
     for (std::size_t j = 0; j < segments; ++j) {
       if (!refined[j]) spectral.centre_error = std::max(spectral.centre_error, bounds[j].centre - straying.centre);
     }
     const auto dense = static_cast<std::size_t>(steps);
     spectral.life = EveryRevolutionFromRest(scene, std::span<const Eigen::Vector2d>(centre).first(dense),
-                                            std::span<const double>(signal).first(dense), path.Phasors(),
+                                            std::span<const double>(signal_rest).first(dense), path.Phasors(),
                                             spectral.life_cycle);
   }
 

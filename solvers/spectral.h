@@ -69,10 +69,9 @@ struct SpectralResult {
 // below the target once a bound exceeds it, and is below the target exactly where the
 // dense path's own remainder is.
 //
-// With `life`, also the every-revolution life values (solvers/life.h) from the centre
-// less its lobes at every angle (LinearPath::FirstOrderCentreWithoutLobes) plus the
-// second-order correction interpolated between the evaluated angles, and the signal as
-// runout reads it.
+// With `life`, also the every-revolution life values (solvers/life.h) from the centre and
+// the signal less their lobes at every angle (LinearPath::FirstOrderWithoutLobes), each
+// plus its second order interpolated between the evaluated angles.
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
                                                int stride,
                                                double estimate_target = std::numeric_limits<double>::infinity(),
