@@ -1,5 +1,5 @@
 // How much of the life's value one revolution misses (jobs/report/campaign_summary.h), from
-// paired values whose answer is known, and where the terminal summary says it.
+// paired values whose answer is known, and where the summary and the report's answer say it.
 #include "jobs/report/campaign_summary.h"
 
 #include <gmock/gmock.h>
@@ -11,6 +11,9 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "jobs/report/campaign_report.h"
+#include "jobs/report/report_html.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -86,6 +89,21 @@ TEST(LifeGap, TheTerminalSummaryStatesItOnlyWhereTheColumnsAre) {
   PrintSummary(with, summary);
   EXPECT_THAT(with.str(), HasSubstr("life              Over the stage's life, runout q99 is "));
   EXPECT_EQ(SummaryJson(summary)["life"]["runout"]["count"], 100);
+}
+
+TEST(LifeGap, TheReportsAnswerStatesItOnlyWhereTheColumnsAre) {
+  CampaignReport report;
+  EXPECT_THAT(ReportHtml(report), Not(HasSubstr("Over the stage")));
+  EXPECT_FALSE(ReportJson(report).contains("life"));
+  const Pairs pairs = FivePercentAbove();
+  report.life_gaps.push_back(*CompareLife("D_trajectory", pairs.one, pairs.life));
+  const std::string page = ReportHtml(report);
+  const std::size_t answer = page.find("id=\"answer\"");
+  const std::size_t sentence = page.find("Over the stage&apos;s life, D_trajectory");
+  ASSERT_NE(sentence, std::string::npos);
+  EXPECT_GT(sentence, answer);  // in the answer's block, before it closes
+  EXPECT_LT(sentence, page.find("</div>", answer));
+  EXPECT_EQ(ReportJson(report)["life"]["D_trajectory"]["count"], 100);
 }
 
 }  // namespace
