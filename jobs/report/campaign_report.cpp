@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <set>
 #include <span>
@@ -21,6 +22,8 @@
 namespace ringtol::jobs {
 namespace {
 
+// The output whose largest value picks the sample whose error motion is drawn.
+constexpr std::string_view kErrorMotionTotal = "error_motion_total_mm";
 // Drawn values are read 65,536 samples at a time: 8 bytes x inputs each.
 constexpr std::int64_t kValuesBlock = std::int64_t{1} << 16;
 constexpr std::size_t kFailedListed = 20;
@@ -323,6 +326,24 @@ ReplayedTrajectory Replay(const Campaign& campaign, const CampaignReader& reader
   return out;
 }
 
+// The sample's error motion over `revolutions`, as the campaign's solver computes it now.
+ErrorMotionPlot ReplayErrorMotion(const Campaign& campaign, const CampaignReader& reader, std::int64_t index,
+                                  double stored_total_mm, int revolutions) {
+  const SampleRecord stored = reader.ReadSample(index);
+  ErrorMotionPlot plot;
+  try {
+    const sampling::SampledAssembly assembly = campaign.sampling().sampler.Realise(index, stored.u);
+    const std::unique_ptr<solvers::Solver> solver = campaign.MakeSolver();
+    plot = PlotErrorMotion(assembly.scene, *solver, campaign.simulation(), revolutions);
+  } catch (const std::exception& e) {
+    plot.status = SampleStatusName(SampleStatus::kException);
+    plot.message = e.what();
+  }
+  plot.index = index;
+  plot.stored_total_mm = stored_total_mm;
+  return plot;
+}
+
 }  // namespace
 
 OutputReport DescribeOutput(std::string name, std::optional<double> upper_spec_limit, std::span<const double> ok_values,
@@ -431,6 +452,9 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
       saltelli ? campaign.sampling().sampler.Groups(campaign.plan().sampling.grouping) : sampling::InputGroups{};
   report.samples_per_draw = saltelli ? design.samples_per_row() / 2.0 : 1.0;
   std::vector<double> trajectory_mm;  // kept from the loop for picking the samples to replay
+  // The used ok samples' values of the life comparisons' columns and of the total error
+  // motion, in used_ok order.
+  std::map<std::string, std::vector<double>, std::less<>> life_values;
   std::vector<std::string> screened_names;  // outputs to screen, and their values on the screened samples
   std::vector<std::vector<double>> y_screens;
   for (const char* name : kOutputNames) {
@@ -454,8 +478,10 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
       }
     }
     report.outputs.push_back(std::move(out));
+    if (name == kErrorMotionTotal || IsLifeColumn(name)) life_values[name] = std::move(values);
     if (std::string_view(name) == "d_trajectory_mm") trajectory_mm = std::move(all);
   }
+  report.life_gaps = LifeGaps(life_values);
   // Every output's screening at once: they share the inputs' sorting, decompositions and
   // bootstrap draws.
   if (!screened_names.empty()) {
@@ -478,6 +504,22 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
     const std::int64_t median = by_d[(by_d.size() - 1) / 2];
     report.trajectories.push_back(Replay(campaign, reader, "worst", by_d.back()));
     if (median != by_d.back()) report.trajectories.push_back(Replay(campaign, reader, "median", median));
+  }
+
+  if (const auto total = life_values.find(kErrorMotionTotal); total != life_values.end()) {
+    // The largest finite value, the first sample of equal ones.
+    std::optional<std::size_t> worst;
+    for (std::size_t k = 0; k < total->second.size(); ++k) {
+      if (std::isfinite(total->second[k]) && (!worst || total->second[k] > total->second[*worst])) worst = k;
+    }
+    if (!options.replay) {
+      report.error_motion_problem = "replays were not asked for";
+    } else if (!worst) {
+      report.error_motion_problem = "no ok sample has a total error motion";
+    } else {
+      report.error_motion = ReplayErrorMotion(campaign, reader, used_ok[*worst], total->second[*worst],
+                                              options.error_motion_revolutions);
+    }
   }
   return report;
 }
@@ -708,6 +750,33 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   }
   j["trajectories"] = std::move(trajectories);
   j["replay_problem"] = report.replay_problem ? nlohmann::json(*report.replay_problem) : nlohmann::json(nullptr);
+  if (!report.life_gaps.empty()) {
+    nlohmann::json life = nlohmann::json::object();
+    for (const LifeGap& gap : report.life_gaps) life[gap.label] = LifeGapJson(gap);
+    j["life"] = std::move(life);
+  }
+  if (report.error_motion_problem) j["error_motion_problem"] = *report.error_motion_problem;
+  if (const std::optional<ErrorMotionPlot>& p = report.error_motion) {
+    nlohmann::json plot = {{"index", p->index},
+                           {"stored_total_mm", JsonNumber(p->stored_total_mm)},
+                           {"status", p->status},
+                           {"message", p->message},
+                           {"revolutions", p->revolutions},
+                           {"steps", p->steps}};
+    if (p->status == "ok") {
+      plot["total_um"] = p->total_um;
+      plot["synchronous_um"] = p->synchronous_um;
+      plot["asynchronous_um"] = p->asynchronous_um;
+      plot["fundamental_um"] = p->fundamental_um;
+      plot["circles_um"] = {{"total", {p->total_inner_um, p->total_outer_um}},
+                            {"synchronous", {p->synchronous_inner_um, p->synchronous_outer_um}}};
+      plot["angle_deg"] = p->angle_deg;
+      plot["lowest_um"] = p->lowest_um;
+      plot["highest_um"] = p->highest_um;
+      plot["average_um"] = p->average_um;
+    }
+    j["error_motion"] = std::move(plot);
+  }
   return j;
 }
 

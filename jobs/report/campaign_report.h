@@ -4,7 +4,10 @@
 // orders drive the variance (Sobol' indices from a Saltelli design, or a cheaper screening
 // for other designs), and the orbits of the worst and the median sample by D_trajectory
 // (centre path, enclosing circle, static equilibrium, sensor signal), replayed from their
-// stored design points. `ringtol report` writes it as one
+// stored design points. Where the file holds the life columns (docs/model.md §9), also how
+// much of the life's D_trajectory and runout one revolution misses, and the ISO 230-7
+// polar plot of the sample with the largest total error motion, replayed over several
+// revolutions (jobs/report/error_motion_plot.h). `ringtol report` writes it as one
 // self-contained HTML page (jobs/report/report_html.h) and as JSON (ReportJson).
 //
 // The numbers come from analysis/ (order statistics, distributions, sensitivities); this
@@ -43,6 +46,8 @@
 #include "analysis/order_statistics.h"
 #include "analysis/sensitivity.h"
 #include "sampling/assembly_sampler.h"
+#include "jobs/report/campaign_summary.h"
+#include "jobs/report/error_motion_plot.h"
 #include "jobs/store/campaign_store.h"
 #include "solvers/simulation.h"
 
@@ -60,6 +65,11 @@ struct ReportOptions {
   // the first in design order: 8 bytes x inputs each.
   std::int64_t screening_samples = 16384;
   bool replay = true;  // replay the worst and the median sample to draw their orbits
+  // Revolutions the sample with the largest total error motion is replayed over for its
+  // polar plot (with `replay`, where the file has error_motion_total_mm), >= 1. Sixteen
+  // show the band the rollers' drifting phases spread the motion into, at sixteen times a
+  // replayed orbit's cost; the stored value may reach further (it is over the life).
+  int error_motion_revolutions = 16;
   // The harmonic-order chart shows the fewest orders that together carry this share of
   // what all orders carry, plus any other carrying at least `order_chart_single`
   // (OrdersCarryingVariance); the rest are summed into one bar. Both in [0, 1].
@@ -177,6 +187,13 @@ struct CampaignReport {
   std::vector<OutputSensitivity> sensitivities;  // one per output
   std::vector<ReplayedTrajectory> trajectories;  // the worst first, then the median (if another sample)
   std::optional<std::string> replay_problem;      // why trajectories are missing
+  // Over the stage's life, where the file holds the life columns (none otherwise):
+  std::vector<LifeGap> life_gaps;  // kLifeColumns order
+  // The sample with the largest error_motion_total_mm among the used ok ones, replayed
+  // over options.error_motion_revolutions; or why it is not (error_motion_problem). Both
+  // empty for a file without the column.
+  std::optional<ErrorMotionPlot> error_motion;
+  std::optional<std::string> error_motion_problem;
   ReportOptions options;
 };
 

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
+#include <string_view>
+#include <utility>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -23,7 +26,72 @@ std::string RungName(std::size_t rung) { return std::string(NameOf(solvers::kRun
 
 std::string ShowBound(double value) { return std::isfinite(value) ? fmt::format("{:.5g}", value) : "unbounded"; }
 
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return analysis::EstimateQuantile(values, 0.5).value;
+}
+
 }  // namespace
+
+bool IsLifeColumn(std::string_view name) {
+  return std::any_of(std::begin(kLifeColumns), std::end(kLifeColumns),
+                     [&](const LifeColumns& c) { return name == c.one_revolution || name == c.life; });
+}
+
+std::vector<LifeGap> LifeGaps(const std::map<std::string, std::vector<double>, std::less<>>& ok_values) {
+  std::vector<LifeGap> gaps;
+  for (const LifeColumns& c : kLifeColumns) {
+    const auto one = ok_values.find(c.one_revolution), life = ok_values.find(c.life);
+    if (one == ok_values.end() || life == ok_values.end()) continue;
+    if (std::optional<LifeGap> gap = CompareLife(c.label, one->second, life->second)) gaps.push_back(std::move(*gap));
+  }
+  return gaps;
+}
+
+std::optional<LifeGap> CompareLife(std::string label, std::span<const double> one, std::span<const double> life) {
+  std::vector<double> ones, lifes, excess;
+  for (std::size_t i = 0; i < std::min(one.size(), life.size()); ++i) {
+    if (!std::isfinite(one[i]) || !std::isfinite(life[i])) continue;
+    ones.push_back(one[i]);
+    lifes.push_back(life[i]);
+    if (one[i] > 0.0) excess.push_back(life[i] / one[i] - 1.0);
+  }
+  if (ones.empty()) return std::nullopt;
+  LifeGap gap;
+  gap.label = std::move(label);
+  gap.count = static_cast<std::int64_t>(ones.size());
+  std::sort(ones.begin(), ones.end());
+  std::sort(lifes.begin(), lifes.end());
+  gap.one_q50 = analysis::EstimateQuantile(ones, 0.5).value;
+  gap.one_q99 = analysis::EstimateQuantile(ones, 0.99).value;
+  gap.life_q50 = analysis::EstimateQuantile(lifes, 0.5).value;
+  gap.life_q99 = analysis::EstimateQuantile(lifes, 0.99).value;
+  gap.median_excess = excess.empty() ? std::numeric_limits<double>::quiet_NaN() : Median(std::move(excess));
+  return gap;
+}
+
+std::string LifeGapSentence(const LifeGap& gap) {
+  const auto change = [](double life, double one) {
+    return one > 0.0 ? fmt::format(" ({:+.1f} %)", 100.0 * (life / one - 1.0)) : std::string();
+  };
+  std::string sentence = fmt::format(
+      "Over the stage's life, {} q99 is {:.4g} mm against {:.4g} mm over one revolution{} and q50 {:.4g} mm against "
+      "{:.4g} mm{}",
+      gap.label, gap.life_q99, gap.one_q99, change(gap.life_q99, gap.one_q99), gap.life_q50, gap.one_q50,
+      change(gap.life_q50, gap.one_q50));
+  if (std::isfinite(gap.median_excess)) {
+    sentence += fmt::format("; the median sample's life value lies {:.1f} % {} its own one-revolution value",
+                            100.0 * std::abs(gap.median_excess), gap.median_excess < 0.0 ? "below" : "above");
+  }
+  return sentence + ".";
+}
+
+nlohmann::json LifeGapJson(const LifeGap& gap) {
+  return {{"count", gap.count},
+          {"one_revolution_mm", {{"q50", gap.one_q50}, {"q99", gap.one_q99}}},
+          {"life_mm", {{"q50", gap.life_q50}, {"q99", gap.life_q99}}},
+          {"median_excess", Bound(gap.median_excess)}};
+}
 
 std::vector<std::int64_t> CountRungs(const CampaignReader& results, const std::vector<SampleStatus>& status,
                                      const std::vector<bool>& used) {
@@ -101,6 +169,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
 
   std::vector<bool> within(status.size(), true);
   bool any_spec = false;
+  std::map<std::string, std::vector<double>, std::less<>> paired;  // kLifeColumns' ok values, in sample order
   for (const char* name : kOutputNames) {
     if (!results.HasOutput(name) || !ShowsOutput(results.identity(), name)) continue;
     OutputSummary output;
@@ -120,6 +189,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     }
     any_spec = any_spec || output.upper_spec_limit.has_value();
     output.count = static_cast<std::int64_t>(values.size());
+    if (IsLifeColumn(name)) paired[name] = values;  // before the sort: the pairs are by sample
     if (!values.empty()) {
       std::sort(values.begin(), values.end());
       double sum = 0.0;
@@ -137,6 +207,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     }
     summary.outputs.push_back(std::move(output));
   }
+  summary.life_gaps = LifeGaps(paired);
   if (any_spec && summary.done > 0) {
     std::int64_t good = 0;
     for (std::size_t i = 0; i < status.size(); ++i) {
@@ -162,6 +233,7 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
   if (const std::int64_t ran = RungsRan(s.settled_by); ran > 0) {
     fmt::print(out, "rungs             {} (of the {} samples a rung ran on)\n", RungShares(s.settled_by), ran);
   }
+  for (const LifeGap& gap : s.life_gaps) fmt::print(out, "life              {}\n", LifeGapSentence(gap));
   const int level = static_cast<int>(std::lround(100.0 * s.confidence));
   fmt::print(out, "\n{:<28} {:>10} {:>10}", "output", "mean", "std");
   for (const double p : kSummaryProbabilities) fmt::print(out, " {:>30}", fmt::format("q{} [{} % CI]", Percent(p), level));
@@ -218,6 +290,11 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
     outputs[o.name] = x;
   }
   j["outputs"] = outputs;
+  if (!s.life_gaps.empty()) {
+    nlohmann::json life = nlohmann::json::object();
+    for (const LifeGap& gap : s.life_gaps) life[gap.label] = LifeGapJson(gap);
+    j["life"] = std::move(life);
+  }
   auto proportion = [](const std::optional<analysis::ProportionEstimate>& p) {
     if (!p) return nlohmann::json(nullptr);
     return nlohmann::json{{"value", p->value}, {"lower", p->interval.lower}, {"upper", p->interval.upper},

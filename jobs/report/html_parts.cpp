@@ -31,6 +31,7 @@ th:first-child, td:first-child { text-align: left; }
 .warn { border-left: 4px solid #b35806; padding-left: 0.6rem; }
 .charts { display: flex; flex-wrap: wrap; gap: 1rem; }
 .charts figure { flex: 1 1 26rem; margin: 0; }
+.charts figure.alone { flex: 0 1 32rem; }
 figure svg { width: 100%; height: auto; }
 figcaption { font-size: 0.85rem; color: #333; }
 .highlight { font-weight: bold; }
@@ -97,8 +98,9 @@ void Row(std::string& html, std::initializer_list<std::string> cells, bool heade
   html += "</tr>\n";
 }
 
-std::string Figure(const std::string& svg_text, const std::string& caption) {
-  return fmt::format("<figure>{}<figcaption>{}</figcaption></figure>\n", svg_text, EscapeXml(caption));
+std::string Figure(const std::string& svg_text, const std::string& caption, FigureWidth width) {
+  return fmt::format("<figure{}>{}<figcaption>{}</figcaption></figure>\n",
+                     width == FigureWidth::kAlone ? " class=\"alone\"" : "", svg_text, EscapeXml(caption));
 }
 
 std::vector<svg::ReferenceLine> SpecLines(const OutputReport& out) {

@@ -37,7 +37,10 @@ std::string SourceLabel(std::string_view name);
 std::string Index(const analysis::SobolIndex& index);  // "0.512 ± 0.031"
 
 void Row(std::string& html, std::initializer_list<std::string> cells, bool header = false);
-std::string Figure(const std::string& svg_text, const std::string& caption);
+// In a row of charts, a figure fills its share; one alone in its row would fill the page,
+// so kAlone keeps it as wide as a figure of two in a row.
+enum class FigureWidth { kShare, kAlone };
+std::string Figure(const std::string& svg_text, const std::string& caption, FigureWidth width = FigureWidth::kShare);
 
 // One output's distribution: its histogram and empirical CDF with the upper spec limit
 // drawn, and a table of moments, quantiles with their intervals, capability and yield.

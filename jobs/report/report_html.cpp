@@ -309,6 +309,7 @@ void AnswerSection(std::string& html, const CampaignReport& report, const Output
     html += fmt::format("<p>Rungs: {} (of the {} samples a rung ran on).</p>\n",
                         EscapeXml(RungShares(report.settled_by)), ran);
   }
+  for (const LifeGap& gap : report.life_gaps) html += fmt::format("<p>{}</p>\n", EscapeXml(LifeGapSentence(gap)));
   html += "</div>\n";
 }
 
@@ -423,6 +424,64 @@ void OrbitSection(std::string& html, const CampaignReport& report) {
   }
 }
 
+// ISO 230-7's polar plot: the band of revolutions shaded, the synchronous average as a
+// line, the total error motion's enclosing circles solid and the synchronous one's dashed.
+std::string ErrorMotionSvg(const ErrorMotionPlot& p, double units_per_division) {
+  svg::PolarChart chart;
+  chart.title = fmt::format("Sample {}: radial error motion over {} revolutions", p.index, p.revolutions);
+  chart.unit = "µm";
+  chart.units_per_division = units_per_division;
+  chart.bands.push_back(
+      {.name = "revolutions", .angle_deg = p.angle_deg, .lower = p.lowest_um, .upper = p.highest_um, .colour = 0});
+  chart.circles = {{.value = p.total_inner_um, .name = "total", .colour = 2},
+                   {.value = p.total_outer_um, .colour = 2},
+                   {.value = p.synchronous_inner_um, .name = "synchronous", .colour = 1, .dashed = true},
+                   {.value = p.synchronous_outer_um, .colour = 1, .dashed = true}};
+  chart.curves.push_back({.name = "synchronous average", .angle_deg = p.angle_deg, .value = p.average_um, .colour = 1});
+  return svg::RenderPolarChart(chart);
+}
+
+// The polar plot of the sample with the largest total error motion, or why there is none;
+// nothing for a file without the life columns.
+void ErrorMotionSection(std::string& html, const CampaignReport& report) {
+  if (!report.error_motion && !report.error_motion_problem) return;
+  html += "<h2 id=\"error-motion\">Radial error motion of the worst assembly (ISO 230-7)</h2>\n";
+  if (!report.error_motion) {
+    html += fmt::format("<p>No polar plot is drawn: {}.</p>\n", EscapeXml(*report.error_motion_problem));
+    return;
+  }
+  const ErrorMotionPlot& p = *report.error_motion;
+  if (p.status != "ok") {
+    html += fmt::format(
+        "<p class=\"warn\">Sample {} (the largest total error motion, {} mm stored) does not replay over {} "
+        "revolutions (status {}{}), so its polar plot is not drawn.</p>\n",
+        p.index, Num(p.stored_total_mm), p.revolutions, EscapeXml(p.status),
+        p.message.empty() ? "" : ": " + EscapeXml(p.message));
+    return;
+  }
+  html += fmt::format(
+      "<p>Sample {} has the largest total error motion stored, {} mm over the stage's life, of the {} ok "
+      "independent samples. It is replayed from its stored design point with the campaign's solver settings over "
+      "{} successive revolutions, each with the rollers turned on by the revolutions before it, and the axis motion "
+      "(the centre's component along the sensor's ray) is read as ISO 230-7 reads a radial error motion in a fixed "
+      "sensitive direction: the once-per-revolution part of the synchronous average ({} µm), which a fixed "
+      "direction cannot tell from the artefact's centring, is removed, and the motion is drawn magnified about a "
+      "base circle, its centre the plot's least-squares centre. So few revolutions need not reach every phase of the "
+      "rollers, so the values below may fall short of the stored one.</p>\n",
+      p.index, Num(p.stored_total_mm), report.ok, p.revolutions, Num(p.fundamental_um));
+  const double division = svg::PolarDivision(p.total_inner_um, p.total_outer_um);
+  html += "<div class=\"charts\">\n";
+  html += Figure(
+      ErrorMotionSvg(p, division),
+      fmt::format("Total error motion {} µm (the solid circles just enclose every revolution), synchronous {} µm "
+                  "(the dashed circles just enclose the average over the revolutions), asynchronous {} µm (the "
+                  "widest the shaded band is along one radius); {} revolutions of {} angles. Scale: {:g} µm per "
+                  "division about the base circle; ring angle ψ from +x counter-clockwise.",
+                  Num(p.total_um), Num(p.synchronous_um), Num(p.asynchronous_um), p.revolutions, p.steps, division),
+      FigureWidth::kAlone);
+  html += "</div>\n";
+}
+
 void OutputsSection(std::string& html, const CampaignReport& report) {
   html += "<h2 id=\"outputs\">Every output</h2>\n<table>\n";
   Row(html, {"output", "ok", "mean", "std", "50 %", "90 %", "99 % [interval]", "99.9 %", "spec", "within spec"}, true);
@@ -505,6 +564,7 @@ std::string ReportHtml(const CampaignReport& report) {
     SensitivitySection(html, report, *s);
   }
   OrbitSection(html, report);
+  ErrorMotionSection(html, report);
   OutputsSection(html, report);
   ContributorsSection(html, report);
   MethodSection(html, report);

@@ -7,7 +7,10 @@
 // (contributors, by source, by the harmonic orders that carry the variance against the
 // roller count), the orbits of the worst and the median sample (centre path with its
 // enclosing circle and static equilibrium, beside the sensor signal over the revolution),
-// every other output, and how each number was made.
+// where the file has the life columns the ISO 230-7 polar plot of the sample with the
+// largest total error motion, every other output, and how each number was made. The
+// answer also says, where it can, how much of the life's D_trajectory and runout one
+// revolution misses.
 #pragma once
 
 #include <string>

@@ -6,6 +6,7 @@
 #include <iterator>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <tuple>
 #include <utility>
 
@@ -449,7 +450,7 @@ void DrawReferenceLines(Svg& svg, const std::vector<ReferenceLine>& lines, const
 }
 
 struct LegendEntry {
-  enum class Swatch { kLine, kPoint, kRing, kBar, kCircle, kHighlight };
+  enum class Swatch { kLine, kPoint, kRing, kBar, kCircle, kHighlight, kBand };
   Swatch swatch = Swatch::kLine;
   std::string name;
   std::string colour{};  // escaped; for lines, points, rings and bars
@@ -533,6 +534,8 @@ void DrawLegend(Svg& svg, const std::vector<LegendEntry>& entries, const std::ve
       case LegendEntry::Swatch::kHighlight:
         svg.Add("<rect x=\"{}\" y=\"{}\" width=\"18\" height=\"12\" fill=\"#e3e3e3\" stroke=\"#999\"/>", Num(x),
                 Num(y - 6.0));
+        break;
+      case LegendEntry::Swatch::kBand:  // the shaded rectangle alone, drawn above
         break;
     }
     svg.Add("<text x=\"{}\" y=\"{}\">{}</text>\n", Num(x + 24.0), Num(y + 4.0), EscapeXml(e.name));
@@ -797,7 +800,151 @@ void EqualiseAspect(Scale& x, Scale& y) {
   }
 }
 
+// ---------------------------------------------------------------- polar plots
+
+// The plot's centre and the pixels of one division.
+struct Polar {
+  Point centre;
+  double division = 1.0;        // [px]
+  double units_per_division = 1.0;
+
+  double Radius(double value) const {
+    const double divisions = kPolarBaseDivisions + value / units_per_division;
+    return division * std::clamp(divisions, 0.0, static_cast<double>(kPolarBaseDivisions + kPolarDivisionsOut));
+  }
+  Point At(double angle_deg, double value) const {
+    const double a = angle_deg * std::numbers::pi / 180.0, r = Radius(value);
+    return {centre.x + r * std::cos(a), centre.y - r * std::sin(a)};  // SVG's y points down
+  }
+};
+
+// A closed curve as a path's subpath; non-finite points are left out.
+std::string PolarLoop(const Polar& polar, std::span<const double> angle_deg, std::span<const double> value) {
+  std::string d;
+  for (std::size_t i = 0; i < std::min(angle_deg.size(), value.size()); ++i) {
+    if (!std::isfinite(angle_deg[i]) || !std::isfinite(value[i])) continue;
+    const Point p = polar.At(angle_deg[i], value[i]);
+    fmt::format_to(std::back_inserter(d), "{}{} {}", d.empty() ? "M" : "L", Num(p.x), Num(p.y));
+  }
+  return d.empty() ? d : d + "Z";
+}
+
+std::string Dash(bool dashed) { return dashed ? fmt::format(" stroke-dasharray=\"{}\"", kDash) : std::string(); }
+
 }  // namespace
+
+double PolarDivision(double lowest, double highest) {
+  const double reach = std::max(std::abs(lowest), std::abs(highest));
+  if (!std::isfinite(lowest) || !std::isfinite(highest) || !(reach > 0.0) || reach > kHuge) return 1.0;
+  Step step = NiceNumber(reach / kPolarDivisionsOut, false);
+  while (step.Multiple(kPolarDivisionsOut) < reach) step = step.Next();  // the decimal may round below
+  return step.value();
+}
+
+std::string RenderPolarChart(const PolarChart& chart) {
+  const double width = ValidSize(chart.width, 440.0, 200.0), height = ValidSize(chart.height, 480.0, 200.0);
+  Svg svg(chart.title, width, height);
+
+  std::vector<LegendEntry> legend;
+  const auto add_entry = [&](LegendEntry::Swatch swatch, const std::string& name, int colour, bool dashed) {
+    if (name.empty()) return;
+    legend.push_back({swatch, name, std::string(PaletteColour(colour)), dashed, swatch == LegendEntry::Swatch::kBand});
+  };
+  for (const PolarBand& band : chart.bands) add_entry(LegendEntry::Swatch::kBand, band.name, band.colour, false);
+  for (const PolarCurve& curve : chart.curves) {
+    add_entry(LegendEntry::Swatch::kLine, curve.name, curve.colour, curve.dashed);
+  }
+  for (const PolarCircle& circle : chart.circles) {
+    add_entry(LegendEntry::Swatch::kLine, circle.name, circle.colour, circle.dashed);
+  }
+  std::vector<Point> legend_places;
+  const int legend_rows = PlaceLegend(legend, width, legend_places);
+
+  double lowest = kInfinity, highest = -kInfinity;
+  const auto extend = [&](std::span<const double> values) {
+    for (const double v : values) {
+      if (!std::isfinite(v)) continue;
+      lowest = std::min(lowest, v);
+      highest = std::max(highest, v);
+    }
+  };
+  for (const PolarBand& band : chart.bands) {
+    extend(band.lower);
+    extend(band.upper);
+  }
+  for (const PolarCurve& curve : chart.curves) extend(curve.value);
+  for (const PolarCircle& circle : chart.circles) extend(std::span(&circle.value, 1));
+
+  // The angles' labels sit outside the outermost ring, the scale's below the plot.
+  constexpr double kLabelRoom = 22.0;
+  const double top = kTitleBand + kLegendRow * legend_rows + kLegendGap + kLabelRoom;
+  const double bottom = height - kLabelRoom - 24.0;
+  const double outer = std::max(10.0, 0.5 * std::min(width - 2.0 * kLabelRoom - 16.0, bottom - top));
+  Polar polar;
+  polar.centre = {0.5 * width, top + 0.5 * (bottom - top)};
+  polar.division = outer / (kPolarBaseDivisions + kPolarDivisionsOut);
+  polar.units_per_division = std::isfinite(chart.units_per_division) && chart.units_per_division > 0.0
+                                 ? chart.units_per_division
+                                 : PolarDivision(lowest, highest);
+
+  // Grid: a ring per division, the base circle darker; spokes every 30 degrees.
+  std::string rings;
+  for (int k = 1; k <= kPolarBaseDivisions + kPolarDivisionsOut; ++k) {
+    if (k == kPolarBaseDivisions) continue;
+    fmt::format_to(std::back_inserter(rings), "<circle cx=\"{}\" cy=\"{}\" r=\"{}\"/>", Num(polar.centre.x),
+                   Num(polar.centre.y), Num(k * polar.division));
+  }
+  std::string spokes;
+  for (int a = 0; a < 360; a += 30) {
+    const double rad = a * std::numbers::pi / 180.0;
+    fmt::format_to(std::back_inserter(spokes), "M{} {}L{} {}", Num(polar.centre.x), Num(polar.centre.y),
+                   Num(polar.centre.x + outer * std::cos(rad)), Num(polar.centre.y - outer * std::sin(rad)));
+  }
+  svg.Add("<g class=\"grid\" fill=\"none\" stroke=\"#ddd\" stroke-width=\"1\">{}<path d=\"{}\"/></g>\n", rings,
+          spokes);
+  svg.Add(
+      "<circle class=\"base\" cx=\"{}\" cy=\"{}\" r=\"{}\" fill=\"none\" stroke=\"#999\" stroke-width=\"1.2\"/>\n",
+      Num(polar.centre.x), Num(polar.centre.y), Num(kPolarBaseDivisions * polar.division));
+  std::string angle_labels;
+  for (int a = 0; a < 360; a += 30) {
+    const double rad = a * std::numbers::pi / 180.0, r = outer + 12.0;
+    fmt::format_to(std::back_inserter(angle_labels), "<text x=\"{}\" y=\"{}\">{}°</text>",
+                   Num(polar.centre.x + r * std::cos(rad)), Num(polar.centre.y - r * std::sin(rad) + 4.0), a);
+  }
+  svg.Add("<g class=\"angles\" text-anchor=\"middle\" fill=\"#444\">{}</g>\n", angle_labels);
+
+  for (const PolarBand& band : chart.bands) {
+    const std::string upper = PolarLoop(polar, band.angle_deg, band.upper);
+    const std::string lower = PolarLoop(polar, band.angle_deg, band.lower);
+    if (upper.empty() || lower.empty()) continue;
+    // Each angle's lower point lies inside its upper one, so even-odd fills the ring between.
+    svg.Add(
+        "<path class=\"band\" d=\"{}{}\" fill=\"{}\" fill-opacity=\"0.25\" fill-rule=\"evenodd\" "
+        "stroke=\"none\"/>\n",
+        upper, lower, PaletteColour(band.colour));
+  }
+  for (const PolarCircle& circle : chart.circles) {
+    if (!std::isfinite(circle.value)) continue;
+    svg.Add(
+        "<circle class=\"circle\" cx=\"{}\" cy=\"{}\" r=\"{}\" fill=\"none\" stroke=\"{}\" "
+        "stroke-width=\"1.2\"{}/>\n",
+        Num(polar.centre.x), Num(polar.centre.y), Num(polar.Radius(circle.value)), PaletteColour(circle.colour),
+        Dash(circle.dashed));
+  }
+  for (const PolarCurve& curve : chart.curves) {
+    const std::string d = PolarLoop(polar, curve.angle_deg, curve.value);
+    if (d.empty()) continue;
+    svg.Add(
+        "<path class=\"series\" d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"1.5\" "
+        "stroke-linejoin=\"round\"{}/>\n",
+        d, PaletteColour(curve.colour), Dash(curve.dashed));
+  }
+  svg.Add("<text class=\"scale\" x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#222\">{}</text>\n", Num(0.5 * width),
+          Num(height - 12.0),
+          EscapeXml(fmt::format("{:g} {} per division", polar.units_per_division, chart.unit)));
+  DrawLegend(svg, legend, legend_places);
+  return svg.Finish();
+}
 
 std::string_view PaletteColour(int index) {
   return kPalette[static_cast<std::size_t>(((index % kPaletteSize) + kPaletteSize) % kPaletteSize)];

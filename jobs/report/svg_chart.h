@@ -3,14 +3,17 @@
 // (it scales to the width of its container), a <title> for screen readers, system fonts,
 // black and grey text, and colours from a palette that stays readable in greyscale print.
 //
-// Three kinds of chart:
+// Four kinds of chart:
 //   RenderChart      x-y data: lines, steps (an empirical CDF), points (labelled, of four
 //                    marker shapes, or ringed to single some out), shaded bands (a confidence band), log2 axes
 //                    (estimate vs sample count), log10 axes (error vs time over decades),
 //                    equal aspect (a trajectory in µm, with its minimum enclosing circle);
 //   RenderBarChart   horizontal grouped bars with error bars (sensitivity indices S1, ST
 //                    per category), categories optionally highlighted;
-//   RenderHistogram  bins of equal width (the distribution of an output).
+//   RenderHistogram  bins of equal width (the distribution of an output);
+//   RenderPolarChart small radial deviations about a base circle, magnified (ISO 230-7's
+//                    polar plot of error motion): closed curves, shaded bands between two
+//                    curves, circles concentric with the base one.
 // Each can carry reference lines (a spec limit, the 99 % level) with a label.
 //
 // Rendering never fails: a point with a non-finite coordinate (or <= 0 on a log axis) is
@@ -148,9 +151,57 @@ struct HistogramChart {
   double width = 640.0, height = 360.0;
 };
 
+// A polar plot of deviations far smaller than the radius they are measured at (an axis's
+// error motion, micrometres on a ring of metres): the base circle is drawn at a fixed
+// radius, and a deviation v at angle a (degrees from +x, counter-clockwise) at
+// kPolarBaseDivisions + v / units_per_division divisions from the centre. Grid rings mark
+// each division, spokes every 30 degrees. A deviation beyond the plot (more than
+// kPolarDivisionsOut divisions out, or in past the centre) is drawn at its edge.
+inline constexpr int kPolarBaseDivisions = 6;  // the base circle's radius
+inline constexpr int kPolarDivisionsOut = 4;   // the plot reaches this far beyond it
+
+struct PolarCurve {
+  std::string name{};                        // legend entry; empty: not in the legend
+  std::vector<double> angle_deg{}, value{};  // closed: the last point joins the first
+  int colour = 0;
+  bool dashed = false;
+};
+
+// The region between two closed curves at the same angles, shaded (a band of revolutions).
+struct PolarBand {
+  std::string name{};
+  std::vector<double> angle_deg{}, lower{}, upper{};
+  int colour = 0;
+};
+
+// A circle concentric with the base one, `value` out from it.
+struct PolarCircle {
+  double value = 0.0;
+  std::string name{};
+  int colour = 2;
+  bool dashed = false;
+};
+
+struct PolarChart {
+  std::string title{};
+  std::string unit{};  // of the values, for the scale's label ("µm")
+  // > 0: the scale; otherwise PolarDivision of every value drawn.
+  double units_per_division = 0.0;
+  std::vector<PolarBand> bands{};  // drawn first
+  std::vector<PolarCircle> circles{};
+  std::vector<PolarCurve> curves{};  // drawn last, in order
+  double width = 440.0, height = 480.0;  // of the viewBox [px]
+};
+
+// The finest step of 1, 2 or 5 x 10^k that keeps values in [lowest, highest] within
+// kPolarDivisionsOut divisions of the base circle on either side; 1 when both are 0 or
+// either is not finite.
+double PolarDivision(double lowest, double highest);
+
 std::string RenderChart(const Chart& chart);
 std::string RenderBarChart(const BarChart& chart);
 std::string RenderHistogram(const HistogramChart& chart);
+std::string RenderPolarChart(const PolarChart& chart);
 
 // Tick positions with their labels, as the charts draw them.
 struct Ticks {

@@ -19,6 +19,7 @@
 #include "engine/units.h"
 #include "jobs/campaign/campaign.h"
 #include "jobs/report/campaign_report.h"
+#include "jobs/report/campaign_summary.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/cli/report_command.h"
 #include "jobs/report/report_html.h"
@@ -261,6 +262,31 @@ TEST_F(ReportTest, TheAnswerStatesTheShareOfSamplesEachRungSettled) {
   report.settled_by.clear();  // a file of schema < 3 records no rung
   EXPECT_THAT(ReportHtml(report), Not(HasSubstr("Rungs:")));
   EXPECT_FALSE(ReportJson(report).contains("rungs"));
+}
+
+// Files of this schema have no life columns: the report and the summary leave out the
+// life's parts without an error, replays or not.
+TEST_F(ReportTest, AFileWithoutTheLifeColumnsHasNoLifeParts) {
+  const std::filesystem::path results = RunWithFailures();
+  ReportOptions options;
+  options.bootstrap_resamples = 0;
+  const CampaignReport report = BuildReport(results, options);
+  EXPECT_FALSE(report.error_motion.has_value());
+  EXPECT_FALSE(report.error_motion_problem.has_value());
+  EXPECT_TRUE(report.life_gaps.empty());
+  EXPECT_EQ(report.trajectories.size(), 2u);  // the orbits are replayed as before
+  const std::string html = ReportHtml(report);
+  EXPECT_THAT(html, Not(HasSubstr("ISO 230-7")));
+  EXPECT_THAT(html, Not(HasSubstr("Over the stage")));  // its apostrophe is escaped in the page
+  const nlohmann::json json = ReportJson(report);
+  EXPECT_FALSE(json.contains("error_motion"));
+  EXPECT_FALSE(json.contains("life"));
+
+  const CampaignSummary summary = Summarise(CampaignReader(results), {});
+  EXPECT_TRUE(summary.life_gaps.empty());
+  std::ostringstream text;
+  PrintSummary(text, summary);
+  EXPECT_THAT(text.str(), Not(HasSubstr("Over the stage's life")));
 }
 
 TEST_F(ReportTest, ASampleThatNoLongerReplaysIsReportedInsteadOfDrawn) {

@@ -608,6 +608,54 @@ TEST(SvgHistogram, DrawsBinsAndALabelledSpecLine) {
   ExpectValidSvg({svg});
 }
 
+TEST(SvgPolar, TheDivisionIsTheFinestNiceStepThatKeepsEveryValueWithinTheRings) {
+  EXPECT_EQ(PolarDivision(-3.0, 7.0), 2.0);  // 7 / 4 = 1.75
+  EXPECT_EQ(PolarDivision(-12.0, 3.0), 5.0);  // 12 / 4 = 3
+  EXPECT_EQ(PolarDivision(0.0, 4.0), 1.0);    // exactly four divisions out
+  EXPECT_EQ(PolarDivision(-0.3, 0.3), 0.1);   // 0.075
+  EXPECT_EQ(PolarDivision(0.0, 0.0), 1.0);
+  EXPECT_EQ(PolarDivision(kNaN, 1.0), 1.0);
+}
+
+// A deviation v is drawn kPolarBaseDivisions + v / units_per_division divisions from the
+// centre, at its angle counter-clockwise from +x; beyond the rings it stays on the
+// outermost one, and a NaN point is left out.
+TEST(SvgPolar, DeviationsAreDrawnTheirDivisionsOutFromTheBaseCircle) {
+  PolarChart chart;
+  chart.title = "error motion";
+  chart.unit = "µm";
+  chart.units_per_division = 0.5;
+  chart.curves.push_back(
+      {.name = "average", .angle_deg = {0.0, 90.0, 180.0, 270.0, 300.0}, .value = {0.0, 0.5, -1.0, 100.0, kNaN}});
+  chart.circles.push_back({.value = 1.0, .name = "outer"});
+  chart.bands.push_back({.name = "revolutions", .angle_deg = {0.0, 120.0, 240.0}, .lower = {-1.0, -1.0, -1.0},
+                         .upper = {1.0, 1.0, 1.0}});
+  const std::string svg = RenderPolarChart(chart);
+  const std::vector<std::string> base = Tags(svg, "<circle class=\"base\"");
+  ASSERT_EQ(base.size(), 1u);
+  const double cx = NumberAttribute(base[0], "cx"), cy = NumberAttribute(base[0], "cy");
+  const double division = NumberAttribute(base[0], "r") / kPolarBaseDivisions;
+  const std::vector<std::string> curves = Tags(svg, "<path class=\"series\"");
+  ASSERT_EQ(curves.size(), 1u);
+  const PathCoordinates p = CoordinatesOf(Attribute(curves[0], "d"));
+  ASSERT_EQ(p.x.size(), 4u);
+  ASSERT_EQ(p.y.size(), 4u);
+  EXPECT_NEAR(p.x[0] - cx, kPolarBaseDivisions * division, kPixel);
+  EXPECT_NEAR(p.y[0], cy, kPixel);
+  EXPECT_NEAR(cy - p.y[1], (kPolarBaseDivisions + 1) * division, kPixel);  // y grows upwards, pixels downwards
+  EXPECT_NEAR(cx - p.x[2], (kPolarBaseDivisions - 2) * division, kPixel);
+  EXPECT_NEAR(p.y[3] - cy, (kPolarBaseDivisions + kPolarDivisionsOut) * division, kPixel);
+  const std::vector<std::string> circles = Tags(svg, "<circle class=\"circle\"");
+  ASSERT_EQ(circles.size(), 1u);
+  EXPECT_NEAR(NumberAttribute(circles[0], "r"), (kPolarBaseDivisions + 2) * division, kPixel);
+  const std::vector<std::string> bands = Tags(svg, "<path class=\"band\"");
+  ASSERT_EQ(bands.size(), 1u);
+  EXPECT_EQ(Attribute(bands[0], "fill-rule"), "evenodd");
+  EXPECT_THAT(svg, HasSubstr("0.5 µm per division"));
+  EXPECT_THAT(svg, HasSubstr(">revolutions<"));
+  ExpectValidSvg({svg});
+}
+
 TEST(SvgEmpty, EmptyAndDegenerateInputsGiveValidChartsThatSayNoData) {
   // Named rather than temporaries: GCC 12 at -O3 misreads a temporary's strings as
   // maybe-uninitialized.
