@@ -62,11 +62,12 @@ double Median(std::vector<double> values) {
 }
 
 // Output columns compared, as indices into kOutputNames.
-constexpr std::size_t kDTrajectory = 0, kStaticOffset = 2, kRunout = 3, kSwing = 4;
+constexpr std::size_t kDTrajectory = 0, kStaticOffset = 2, kRunout = 3, kSwing = 4, kLifeDTrajectory = 9;
 static_assert(std::string_view(kOutputNames[kDTrajectory]) == "d_trajectory_mm");
 static_assert(std::string_view(kOutputNames[kStaticOffset]) == "static_offset_mm");
 static_assert(std::string_view(kOutputNames[kRunout]) == "runout_mm");
 static_assert(std::string_view(kOutputNames[kSwing]) == "swing_mm");
+static_assert(std::string_view(kOutputNames[kLifeDTrajectory]) == "life_d_trajectory_mm");
 
 CampaignModeRow Compare(const std::string& name, const solvers::SolverSettings& solver, const ModeRun& run,
                         const std::vector<SampleRecord>& reference) {
@@ -101,6 +102,7 @@ CampaignModeRow Compare(const std::string& name, const solvers::SolverSettings& 
   row.max_error_d_trajectory = in_um(kDTrajectory);
   row.max_error_runout = in_um(kRunout);
   row.max_error_swing = in_um(kSwing);
+  row.max_error_life_d_trajectory = solver.simulation.life ? in_um(kLifeDTrajectory) : kNaN;
   row.max_error_static_offset = in_um(kStaticOffset);
   row.median_solve_time = Median(std::move(times));
   return row;
@@ -202,14 +204,14 @@ void PrintCampaignSpeed(std::ostream& out, const CampaignSpeedResult& result) {
   out << fmt::format("campaign          {}\n", result.campaign);
   out << fmt::format("samples           the design's first {}, on {} threads; errors against quasistatic at full resolution\n\n",
                      result.samples, result.threads);
-  out << fmt::format("{:<22} {:>10} {:>8} {:>12} {:>12} {:>12} {:>12} {:>10} {:>8}\n", "mode", "samples/s", "x quasi",
-                     "median ms", "D_traj um", "runout um", "swing um", "status !=", "ok");
+  out << fmt::format("{:<32} {:>10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6}\n", "mode", "samples/s",
+                     "x quasi", "median ms", "D_traj um", "runout um", "swing um", "life D um", "status !=", "ok");
   const auto line = [&](const CampaignModeRow& row) {
-    out << fmt::format("{:<22} {:>10.1f} {:>8} {:>12.3f} {:>12} {:>12} {:>12} {:>10} {:>8}\n", row.name,
+    out << fmt::format("{:<32} {:>10.1f} {:>8} {:>10.3f} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6}\n", row.name,
                        row.samples_per_second, row.speed_ratio > 0.0 ? fmt::format("{:.2f}", row.speed_ratio) : "-",
                        row.median_solve_time * 1e3, Micrometres(row.max_error_d_trajectory),
-                       Micrometres(row.max_error_runout), Micrometres(row.max_error_swing), row.status_mismatches,
-                       row.ok);
+                       Micrometres(row.max_error_runout), Micrometres(row.max_error_swing),
+                       Micrometres(row.max_error_life_d_trajectory), row.status_mismatches, row.ok);
   };
   for (const CampaignModeRow& row : result.rows) line(row);
   line(result.reference);
@@ -221,12 +223,13 @@ void PrintCampaignSpeed(std::ostream& out, const CampaignSpeedResult& result) {
 
 void WriteCampaignSpeedCsv(std::ostream& out, const CampaignSpeedResult& result) {
   out << "mode,solver,samples_per_second,median_solve_ms,ok,compared,max_error_d_trajectory_um,max_error_runout_um,"
-         "max_error_swing_um,max_error_static_offset_um,status_mismatches,speed_ratio\n";
+         "max_error_swing_um,max_error_static_offset_um,max_error_life_d_trajectory_um,status_mismatches,speed_ratio\n";
   const auto line = [&](const CampaignModeRow& row) {
-    out << fmt::format("{},\"{}\",{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{},{:.6g}\n", row.name, row.solver,
-                       row.samples_per_second, row.median_solve_time * 1e3, row.ok, row.compared,
+    out << fmt::format("{},\"{}\",{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{},{:.6g}\n", row.name,
+                       row.solver, row.samples_per_second, row.median_solve_time * 1e3, row.ok, row.compared,
                        row.max_error_d_trajectory, row.max_error_runout, row.max_error_swing,
-                       row.max_error_static_offset, row.status_mismatches, row.speed_ratio);
+                       row.max_error_static_offset, row.max_error_life_d_trajectory, row.status_mismatches,
+                       row.speed_ratio);
   };
   for (const CampaignModeRow& row : result.rows) line(row);
   line(result.reference);

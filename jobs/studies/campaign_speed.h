@@ -57,6 +57,9 @@ struct CampaignModeRow {
   double max_error_runout = 0.0;
   double max_error_swing = 0.0;
   double max_error_static_offset = 0.0;
+  // [um] the same for life_d_trajectory_mm: the life's closed form on this mode's path
+  // against the reference's; NaN for a mode that reads one revolution only.
+  double max_error_life_d_trajectory = 0.0;
   std::int64_t status_mismatches = 0;  // samples whose status differs from the reference's
   std::string first_mismatch;          // "sample <i>: <status> against <reference status>"
   double speed_ratio = 0.0;            // samples_per_second over the "quasistatic" row's; 0 if none
@@ -83,7 +86,7 @@ void PrintCampaignSpeed(std::ostream& out, const CampaignSpeedResult& result);
 
 // One row per mode and the reference: mode,solver,samples_per_second,median_solve_ms,
 // ok,compared,max_error_d_trajectory_um,max_error_runout_um,max_error_swing_um,
-// max_error_static_offset_um,status_mismatches,speed_ratio.
+// max_error_static_offset_um,max_error_life_d_trajectory_um,status_mismatches,speed_ratio.
 void WriteCampaignSpeedCsv(std::ostream& out, const CampaignSpeedResult& result);
 
 // A self-contained log-log chart: samples per second against the largest per-sample error
