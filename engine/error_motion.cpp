@@ -10,15 +10,12 @@
 
 namespace ringtol::engine {
 
-double Fundamental::At(double psi) const { return cosine * std::cos(psi) + sine * std::sin(psi); }
+namespace {
 
-Fundamental FundamentalOf(std::span<const double> revolution) {
-  const std::size_t steps = revolution.size();
-  if (steps < 3) throw std::invalid_argument("error motion: a revolution needs at least 3 samples");
-  // On equispaced angles cos and sin are orthogonal to each other and to a constant, so
-  // the least-squares coefficients are the discrete Fourier ones.
-  // cos and sin of psi_j by turning a phasor, from libm again every 256 angles.
-  Fundamental f;
+// Calls at(j, cos psi_j, sin psi_j) for psi_j = 2 pi j / steps, j < steps: a phasor turned
+// from one angle to the next, from libm again every 256 angles.
+template <typename At>
+void ForEachAngle(std::size_t steps, At at) {
   const double dpsi = 2.0 * std::numbers::pi / static_cast<double>(steps);
   const double turn_cos = std::cos(dpsi), turn_sin = std::sin(dpsi);
   double c = 1.0, s = 0.0;
@@ -27,12 +24,27 @@ Fundamental FundamentalOf(std::span<const double> revolution) {
       c = std::cos(dpsi * static_cast<double>(j));
       s = std::sin(dpsi * static_cast<double>(j));
     }
-    f.cosine += revolution[j] * c;
-    f.sine += revolution[j] * s;
+    at(j, c, s);
     const double turned = c * turn_cos - s * turn_sin;
     s = s * turn_cos + c * turn_sin;
     c = turned;
   }
+}
+
+}  // namespace
+
+double Fundamental::At(double psi) const { return cosine * std::cos(psi) + sine * std::sin(psi); }
+
+Fundamental FundamentalOf(std::span<const double> revolution) {
+  const std::size_t steps = revolution.size();
+  if (steps < 3) throw std::invalid_argument("error motion: a revolution needs at least 3 samples");
+  // On equispaced angles cos and sin are orthogonal to each other and to a constant, so
+  // the least-squares coefficients are the discrete Fourier ones.
+  Fundamental f;
+  ForEachAngle(steps, [&](std::size_t j, double c, double s) {
+    f.cosine += revolution[j] * c;
+    f.sine += revolution[j] * s;
+  });
   f.cosine *= 2.0 / static_cast<double>(steps);
   f.sine *= 2.0 / static_cast<double>(steps);
   return f;
@@ -60,17 +72,16 @@ ErrorMotion MeasureErrorMotion(std::span<const double> motion, int steps) {
   const Fundamental fundamental = FundamentalOf(average);
   ErrorMotion result;
   result.fundamental = std::hypot(fundamental.cosine, fundamental.sine);
-  const double dpsi = 2.0 * std::numbers::pi / steps;
   double sync_low = std::numeric_limits<double>::infinity(), sync_high = -sync_low;
   double total_low = sync_low, total_high = -sync_low;
-  for (std::size_t j = 0; j < n; ++j) {
-    const double f = fundamental.At(dpsi * static_cast<double>(j));
+  ForEachAngle(n, [&](std::size_t j, double c, double s) {
+    const double f = fundamental.cosine * c + fundamental.sine * s;
     sync_low = std::min(sync_low, average[j] - f);
     sync_high = std::max(sync_high, average[j] - f);
     total_low = std::min(total_low, low[j] - f);
     total_high = std::max(total_high, high[j] - f);
     result.asynchronous = std::max(result.asynchronous, high[j] - low[j]);
-  }
+  });
   result.synchronous = sync_high - sync_low;
   result.total = total_high - total_low;
   return result;
