@@ -50,40 +50,46 @@ Fundamental FundamentalOf(std::span<const double> revolution) {
   return f;
 }
 
-ErrorMotion MeasureErrorMotion(std::span<const double> motion, int steps) {
+ErrorMotionBand ErrorMotionBandOf(std::span<const double> motion, int steps) {
   if (steps < 3) throw std::invalid_argument("error motion: a revolution needs at least 3 samples");
   const auto n = static_cast<std::size_t>(steps);
   if (motion.empty() || motion.size() % n != 0) {
     throw std::invalid_argument("error motion: the samples are not whole revolutions of " + std::to_string(steps));
   }
   const std::size_t revolutions = motion.size() / n;
-  std::vector<double> average(n, 0.0);
-  std::vector<double> low(n, std::numeric_limits<double>::infinity());
-  std::vector<double> high(n, -std::numeric_limits<double>::infinity());
+  ErrorMotionBand band{std::vector<double>(n, std::numeric_limits<double>::infinity()),
+                       std::vector<double>(n, -std::numeric_limits<double>::infinity()), std::vector<double>(n, 0.0),
+                       0.0};
   for (std::size_t k = 0; k < revolutions; ++k) {
     for (std::size_t j = 0; j < n; ++j) {
       const double x = motion[k * n + j];
-      average[j] += x;
-      low[j] = std::min(low[j], x);
-      high[j] = std::max(high[j], x);
+      band.average[j] += x;
+      band.lowest[j] = std::min(band.lowest[j], x);
+      band.highest[j] = std::max(band.highest[j], x);
     }
   }
-  for (double& x : average) x /= static_cast<double>(revolutions);
-  const Fundamental fundamental = FundamentalOf(average);
-  ErrorMotion result;
-  result.fundamental = std::hypot(fundamental.cosine, fundamental.sine);
-  double sync_low = std::numeric_limits<double>::infinity(), sync_high = -sync_low;
-  double total_low = sync_low, total_high = -sync_low;
+  for (double& x : band.average) x /= static_cast<double>(revolutions);
+  const Fundamental fundamental = FundamentalOf(band.average);
+  band.fundamental = std::hypot(fundamental.cosine, fundamental.sine);
   ForEachAngle(n, [&](std::size_t j, double c, double s) {
     const double f = fundamental.cosine * c + fundamental.sine * s;
-    sync_low = std::min(sync_low, average[j] - f);
-    sync_high = std::max(sync_high, average[j] - f);
-    total_low = std::min(total_low, low[j] - f);
-    total_high = std::max(total_high, high[j] - f);
-    result.asynchronous = std::max(result.asynchronous, high[j] - low[j]);
+    band.average[j] -= f;
+    band.lowest[j] -= f;
+    band.highest[j] -= f;
   });
+  return band;
+}
+
+ErrorMotion MeasureErrorMotion(std::span<const double> motion, int steps) {
+  const ErrorMotionBand band = ErrorMotionBandOf(motion, steps);
+  ErrorMotion result;
+  result.fundamental = band.fundamental;
+  const auto [sync_low, sync_high] = std::ranges::minmax(band.average);
   result.synchronous = sync_high - sync_low;
-  result.total = total_high - total_low;
+  result.total = std::ranges::max(band.highest) - std::ranges::min(band.lowest);
+  for (std::size_t j = 0; j < band.average.size(); ++j) {
+    result.asynchronous = std::max(result.asynchronous, band.highest[j] - band.lowest[j]);
+  }
   return result;
 }
 

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <span>
+#include <vector>
 
 namespace ringtol::engine {
 
@@ -30,6 +31,16 @@ struct ErrorMotion {
 // not repeated) [m]. Requires steps >= 3 and motion.size() a positive multiple of steps;
 // throws std::invalid_argument otherwise. One revolution has no asynchronous part.
 ErrorMotion MeasureErrorMotion(std::span<const double> motion, int steps);
+
+// The polar plot the values are read from, at psi_j [m]: each angle's least and greatest
+// value over the revolutions (the band) and their average (the synchronous plot), all less
+// the average's fundamental, whose amplitude is ErrorMotion::fundamental. Same requirements
+// as MeasureErrorMotion, which reads its values from it.
+struct ErrorMotionBand {
+  std::vector<double> lowest, highest, average;
+  double fundamental = 0.0;  // [m]
+};
+ErrorMotionBand ErrorMotionBandOf(std::span<const double> motion, int steps);
 
 // The once-per-revolution component of a revolution sampled as above: a cos psi + b sin psi
 // with a, b its least-squares (discrete Fourier) coefficients [m]. Requires steps >= 3.

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -43,26 +42,13 @@ ErrorMotionPlot PlotErrorMotion(const engine::Scene& scene, const solvers::Solve
   }
 
   const auto n = static_cast<std::size_t>(plot.steps);
-  std::vector<double> average(n, 0.0);
-  std::vector<double> lowest(n, std::numeric_limits<double>::infinity());
-  std::vector<double> highest(n, -std::numeric_limits<double>::infinity());
-  for (std::size_t k = 0; k < static_cast<std::size_t>(revolutions); ++k) {
-    for (std::size_t j = 0; j < n; ++j) {
-      const double m = motion[k * n + j];
-      average[j] += m;
-      lowest[j] = std::min(lowest[j], m);
-      highest[j] = std::max(highest[j], m);
-    }
-  }
-  for (double& x : average) x /= static_cast<double>(revolutions);
-  const engine::Fundamental fundamental = engine::FundamentalOf(average);
-  plot.fundamental_um = std::hypot(fundamental.cosine, fundamental.sine) * units::kMicrometresPerMetre;
-  std::vector<double> removed(n);
+  engine::ErrorMotionBand band = engine::ErrorMotionBandOf(motion, plot.steps);
+  std::vector<double>& lowest = band.lowest;
+  std::vector<double>& highest = band.highest;
+  std::vector<double>& average = band.average;
+  plot.fundamental_um = band.fundamental * units::kMicrometresPerMetre;
   double mean = 0.0;
-  for (std::size_t j = 0; j < n; ++j) {
-    removed[j] = fundamental.At(2.0 * std::numbers::pi * static_cast<double>(j) / plot.steps);
-    mean += (average[j] - removed[j]) / static_cast<double>(n);
-  }
+  for (const double x : average) mean += x / static_cast<double>(n);
 
   constexpr double um = units::kMicrometresPerMetre;
   std::vector<double> angle_deg(n);
@@ -70,9 +56,9 @@ ErrorMotionPlot PlotErrorMotion(const engine::Scene& scene, const solvers::Solve
   plot.total_outer_um = plot.synchronous_outer_um = -std::numeric_limits<double>::infinity();
   for (std::size_t j = 0; j < n; ++j) {
     angle_deg[j] = 360.0 * static_cast<double>(j) / plot.steps;
-    lowest[j] = (lowest[j] - removed[j] - mean) * um;
-    highest[j] = (highest[j] - removed[j] - mean) * um;
-    average[j] = (average[j] - removed[j] - mean) * um;
+    lowest[j] = (lowest[j] - mean) * um;
+    highest[j] = (highest[j] - mean) * um;
+    average[j] = (average[j] - mean) * um;
     plot.total_inner_um = std::min(plot.total_inner_um, lowest[j]);
     plot.total_outer_um = std::max(plot.total_outer_um, highest[j]);
     plot.synchronous_inner_um = std::min(plot.synchronous_inner_um, average[j]);

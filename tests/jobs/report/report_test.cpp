@@ -23,6 +23,7 @@
 #include "jobs/inputs/input_error.h"
 #include "jobs/cli/report_command.h"
 #include "jobs/report/report_html.h"
+#include "tests/support/older_results.h"
 #include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
@@ -264,10 +265,33 @@ TEST_F(ReportTest, TheAnswerStatesTheShareOfSamplesEachRungSettled) {
   EXPECT_FALSE(ReportJson(report).contains("rungs"));
 }
 
-// Files of this schema have no life columns: the report and the summary leave out the
-// life's parts without an error, replays or not.
+// A file of today's schema has the life columns. This campaign's rollers are round, so
+// every revolution is the first: the life adds nothing to one revolution, and the replayed
+// revolutions of the polar plot coincide (no band).
+TEST_F(ReportTest, RoundRollersGiveALifeEqualToOneRevolutionAndNoBand) {
+  const std::filesystem::path results = RunWithFailures();
+  ReportOptions options;
+  options.bootstrap_resamples = 0;
+  options.error_motion_revolutions = 3;
+  const CampaignReport report = BuildReport(results, options);
+  ASSERT_EQ(report.life_gaps.size(), 2u);
+  for (const LifeGap& gap : report.life_gaps) {
+    EXPECT_NEAR(gap.life_q99, gap.one_q99, 1e-9) << gap.label;
+    EXPECT_NEAR(gap.median_excess, 0.0, 1e-9) << gap.label;
+  }
+  ASSERT_TRUE(report.error_motion.has_value());
+  EXPECT_EQ(report.error_motion->status, "ok") << report.error_motion->message;
+  EXPECT_NEAR(report.error_motion->asynchronous_um, 0.0, 1e-6);
+  EXPECT_NEAR(report.error_motion->total_um, report.error_motion->synchronous_um, 1e-6);
+  EXPECT_NEAR(report.error_motion->total_um, report.error_motion->stored_total_mm * 1e3, 1e-3);
+  EXPECT_THAT(ReportHtml(report), HasSubstr("ISO 230-7"));
+}
+
+// Files of schema 3 and before have no life columns: the report and the summary leave out
+// the life's parts without an error, replays or not.
 TEST_F(ReportTest, AFileWithoutTheLifeColumnsHasNoLifeParts) {
   const std::filesystem::path results = RunWithFailures();
+  ringtol::testing::AsOlderSchema(results, 3);
   ReportOptions options;
   options.bootstrap_resamples = 0;
   const CampaignReport report = BuildReport(results, options);

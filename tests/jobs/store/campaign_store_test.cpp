@@ -28,6 +28,7 @@
 #include "jobs/inputs/input_error.h"
 #include "jobs/campaign/sample_record.h"
 #include "tests/support/damage.h"
+#include "tests/support/older_results.h"
 #include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
@@ -617,30 +618,15 @@ TEST(CampaignReader, RefusesAFileOfANewerSchema) {
   EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), 2); }), HasSubstr(expected));
 }
 
-// Makes an open file claim an older schema, as the tests of older files need.
-void SetSchemaVersion(hid_t file, int schema) {
-  const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);
-  H5Awrite(attribute, H5T_NATIVE_INT, &schema);
-  H5Aclose(attribute);
-}
-
-// A file of an older `schema` made from a current one of `samples` deterministic records:
-// `edit` changes its datasets as that schema had them; every schema before 4 lacks the life
-// outputs.
+// A file of an older `schema` made from a current one of `samples` deterministic records
+// (testing::AsOlderSchema).
 fs::path OlderFile(std::int64_t samples, int schema, const std::function<void(hid_t)>& edit) {
   const fs::path path = TestFolder() / "results.h5";
   {
     CampaignStore store = CampaignStore::Create(path, TestIdentity(), samples);
     for (std::int64_t i = 0; i < samples; ++i) store.Add(DeterministicRecord(i));
   }
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  EXPECT_GE(file, 0);
-  edit(file);
-  for (std::size_t k = kFirstLifeOutput; k < kOutputCount; ++k) {
-    EXPECT_GE(H5Ldelete(file, (std::string("/outputs/") + kOutputNames[k]).c_str(), H5P_DEFAULT), 0);
-  }
-  SetSchemaVersion(file, schema);
-  H5Fclose(file);
+  testing::AsOlderSchema(path, schema, edit);
   return path;
 }
 
