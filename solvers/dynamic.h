@@ -84,7 +84,7 @@ struct DynamicOptions {
   // tolerances per kind of state scale with relative_tolerance from these values at 1e-8
   // (so one knob trades accuracy for speed): 1e-11 m, 1e-8 m/s, 1e-9 rad, 1e-6 rad/s.
   // At the default the error in D_trajectory against a 1e-11 reference is <= 0.02 um for
-  // ring orders 2 to 20 at 0.14 mm (README, "Which rung when": `ringtol bench ladder`); 1e-5 is about 1.5
+  // ring orders 2 to 20 at 0.14 mm (docs/usage.md, "Which rung when": `ringtol bench ladder`); 1e-5 is about 1.5
   // times faster at <= 0.13 um.
   double relative_tolerance = 1e-6;  // [-] > 0
   // BDF steps allowed between two outputs (an output every sample angle, and at the end

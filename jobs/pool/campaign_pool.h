@@ -101,7 +101,7 @@ struct PoolReport {
   double commit_time = 0.0;                     // [s] rank 0 writing the file
   // [s] rank 0's main thread handling results: receiving, unpacking, replying, buffering
   // and writing. Per sample, the coordinator's cost, which bounds how many ranks it can
-  // feed (README, "Campaigns at scale").
+  // feed (docs/performance.md, "Campaigns at scale").
   double coordinator_time = 0.0;
   // Messages rank 0 exchanged with worker ranks (received and sent) and their bytes: with
   // shards about 2 per chunk and 17 bytes per sample; without, every record's bytes.

@@ -222,7 +222,7 @@ std::vector<std::size_t> OrdersCarryingVariance(std::span<const double> ranking,
 analysis::SobolIndex SumOfIndices(std::span<const analysis::SobolIndex> parts, bool total);
 
 // Everything the HTML shows, keyed in the SALib / OpenTURNS vocabulary (S1, S1_conf, ST,
-// ST_conf); README documents the keys.
+// ST_conf); docs/usage.md ("Reports") documents the keys.
 nlohmann::json ReportJson(const CampaignReport& report);
 
 // The pieces of the report the allocation report (jobs/report/allocation_report.h) also

@@ -1,5 +1,5 @@
 // `ringtol bench campaign`: speed against accuracy of the solver's modes on a campaign's
-// own samples (README, "Performance").
+// own samples (docs/performance.md).
 //
 // Every mode computes every sample of the campaign's design, with its sampler, on all
 // cores of this process; only the [solver] settings differ. The reference

@@ -214,7 +214,7 @@ BENCHMARK_CAPTURE(SamplerConstruction, exact, true)->Unit(benchmark::kMillisecon
 // The dynamic rung at its speed target: the article's scene with an order-2
 // ring error (0.14 mm at 45 deg), the article's law (settle 0.5 s, then 270 deg/s), and
 // the time to settle and sample one revolution at 360 angles. Each setting's error in
-// D_trajectory against a 1e-11 reference is in README, "Which rung when" (`ringtol bench ladder`).
+// D_trajectory against a 1e-11 reference is in docs/usage.md, "Which rung when" (`ringtol bench ladder`).
 struct DynamicSetting {
   bool friction = true;
   bool reduced = false;  // massless spring roller and rolling without slip
@@ -230,7 +230,7 @@ void DynamicRevolution(benchmark::State& state, DynamicSetting setting) {
   scene.dynamics.rolling_without_slip = setting.reduced;
   scene.dynamics.massless_spring_rollers = setting.reduced;
   solvers::DynamicOptions options;
-  options.start = solvers::DynamicStart::kArticleSettle;  // the settle README's timings include
+  options.start = solvers::DynamicStart::kArticleSettle;  // the settle docs/performance.md's timings include
   options.steady_revolution = 0;
   options.method = setting.method;
   options.relative_tolerance = setting.tolerance;
