@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <numbers>
 #include <optional>
 #include <ostream>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -655,6 +658,34 @@ TEST(SceneFile, BlamesTheMeasuredProfileForAmplitudesLargerThanTheRadius) {
                     HasSubstr("ring.measured_profile (|mean_deviation_mm| + sum of amplitude_mm"),
                     HasSubstr("amplitudes larger than the radius (`ringtol fit` shows the fit: fewer orders?)"),
                     HasSubstr("allowed: < 302 (ring.inner_radius_mm)")));
+}
+
+}  // namespace
+}  // namespace ringtol::jobs
+
+namespace ringtol::jobs {
+namespace {
+
+// The examples' comments quote the rollers' centre circle the position classes are graded
+// at (sampling/catalogue.h): every such number must be the diameter of the article's
+// scene's centre circle, which every example builds on.
+TEST(Examples, CommentsQuoteTheCentreCircleTheSceneHas) {
+  const engine::Scene scene = ReadScene(std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/paper/scene.toml");
+  const double diameter_mm = 2.0 * scene.rollers.front().centre_radius * 1e3;
+  const std::regex quoted(R"((\d+(\.\d+)?) mm centre circle)");
+  int found = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples")) {
+    if (entry.path().extension() != ".toml") continue;
+    std::ifstream in(entry.path());
+    std::string line;
+    while (std::getline(in, line)) {
+      for (std::sregex_iterator m(line.begin(), line.end(), quoted), end; m != end; ++m) {
+        EXPECT_NEAR(std::stod((*m)[1]), diameter_mm, 0.5) << entry.path() << ": " << line;
+        ++found;
+      }
+    }
+  }
+  EXPECT_GE(found, 3) << "the examples no longer quote the centre circle: the test shows nothing";
 }
 
 }  // namespace
