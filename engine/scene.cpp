@@ -71,13 +71,13 @@ bool SameWithoutErrors(const Scene& a, const Scene& b) {
   if (rollers_a.size() != rollers_b.size()) return false;
   for (std::size_t i = 0; i < rollers_a.size(); ++i) {
     const auto& [name_a, angle_a, centre_a, radial_a, tangential_a, outline_a, reference_a, phase_a, mount_a,
-                 spring_a, roller_mass_a, roller_inertia_a] = rollers_a[i];
+                 spring_a, roller_mass_a, roller_inertia_a, width_a] = rollers_a[i];
     const auto& [name_b, angle_b, centre_b, radial_b, tangential_b, outline_b, reference_b, phase_b, mount_b,
-                 spring_b, roller_mass_b, roller_inertia_b] = rollers_b[i];
+                 spring_b, roller_mass_b, roller_inertia_b, width_b] = rollers_b[i];
     // The radial and tangential offsets are errors: not compared.
     if (!(name_a == name_b && angle_a == angle_b && centre_a == centre_b && outline_a.radius() == outline_b.radius() &&
           reference_a == reference_b && phase_a == phase_b && mount_a == mount_b && spring_a == spring_b &&
-          roller_mass_a == roller_mass_b && roller_inertia_a == roller_inertia_b)) {
+          roller_mass_a == roller_mass_b && roller_inertia_a == roller_inertia_b && width_a == width_b)) {
       return false;
     }
   }

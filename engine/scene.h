@@ -49,6 +49,9 @@ struct Roller {
   Spring spring;                    // used when mount == kSpring
   double mass = 0.0;                // [kg]
   double spin_inertia = 0.0;        // [kg m^2]
+  // [m] axial length as the scene file gives it: only a mass computed from density uses
+  // it, and a scene written back keeps it; 0 where no file gave one.
+  double width = 0.0;
 
   bool operator==(const Roller&) const = default;
 };

@@ -272,6 +272,7 @@ void ReadRoller(const TableReader& table, std::size_t index, engine::Scene& scen
   // A solid cylinder: the bearing's bore and its inner ring standing still are ignored,
   // which overstates the spinning mass by a few per cent (docs/model.md §1).
   const double r2 = in.radius * in.radius;
+  roller.width = in.width;
   roller.mass = in.mass ? *in.mass : *in.density * std::numbers::pi * r2 * in.width;
   roller.spin_inertia = in.spin_inertia.value_or(roller.mass * r2 / 2.0);
   RequireDeviationsBelowRadius(table, roller.outline, scene_key::kRadiusMm);

@@ -172,8 +172,9 @@ void WriteRoller(Writer& out, const engine::Roller& roller, const engine::Ring& 
     out.Key(scene_key::kSpringAxisDeg, Deg(roller.spring.axis_angle));
     out.Key(scene_key::kSpringTravelLimitMm, Mm(roller.spring.travel_limit));
   }
-  // A Scene keeps no width: the format needs one, but with mass_kg given it is unused.
-  out.Key(scene_key::kWidthMm, Mm(ring.thickness));
+  // The format needs a width; with mass_kg given it is unused, so a scene built without a
+  // file (width 0) takes the ring's thickness.
+  out.Key(scene_key::kWidthMm, Mm(roller.width > 0.0 ? roller.width : ring.thickness));
   out.Key(scene_key::kMassKg, Float(roller.mass));
   out.Key(scene_key::kSpinInertiaKgM2, Float(roller.spin_inertia));
   out.Key(scene_key::kShapePhaseReference, Quoted(NameOf(kShapePhaseReferenceNames, roller.phase_reference)));
@@ -186,8 +187,8 @@ void WriteRoller(Writer& out, const engine::Roller& roller, const engine::Ring& 
 std::string WriteScene(const engine::Scene& scene) {
   Writer out(
       "# Written by ringtol: a complete scene file (format: jobs/inputs/scene_file.h), every key explicit.\n"
-      "# Masses and spin inertias are given as such; each roller's width_mm, which only enters\n"
-      "# a mass computed from density, repeats the ring's thickness and has no effect.\n");
+      "# Masses and spin inertias are given as such; each roller's width_mm only enters a mass\n"
+      "# computed from density, so with mass_kg given it has no effect.\n");
 
   const engine::Ring& ring = scene.ring;
   out.Table("[ring]");

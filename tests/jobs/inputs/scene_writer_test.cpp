@@ -192,7 +192,8 @@ TEST(SceneWriter, WritesBackTheNumbersOfTheFileItRead) {
   const std::string text = WriteScene(scene);
   for (const char* line : {"inner_radius_mm = 302.0", "outer_radius_mm = 339.85", "angle_deg = 210.0",
                            "amplitude_mm = 0.14, phase_deg = 45.0", "full_damping_penetration_mm = 0.001",
-                           "rate_deg_per_s = 270.0", "revolutions = 3.0", "spring_travel_limit_mm = 5.0"}) {
+                           "rate_deg_per_s = 270.0", "revolutions = 3.0", "spring_travel_limit_mm = 5.0",
+                           "width_mm = 4.0"}) {
     EXPECT_THAT(text, HasSubstr(line));
   }
   EXPECT_EQ(ReadBack(scene), scene);
