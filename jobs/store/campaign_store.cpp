@@ -418,9 +418,35 @@ hsize_t DefaultChunkRows(const CampaignStoreOptions& options, std::int64_t sampl
 
 constexpr int kSmallColumnDeflateLevel = 1;
 
+// The rung column's enumeration (schema 4 on): solvers::Rung's numbers under its names,
+// and "none" for kNoRung, so that h5py and h5dump name each sample's rung as the status
+// column names its status.
+TypeId RungType(const Where& where) {
+  TypeId type(Check(H5Tenum_create(H5T_NATIVE_INT8), where, "creating", "the rung type"));
+  const auto insert = [&](const char* name, std::int8_t value) {
+    CheckStatus(H5Tenum_insert(type.get(), name, &value), where, "naming rung", name);
+  };
+  insert("none", kNoRung);
+  for (const auto& [rung, name] : solvers::kRungNames) {
+    if (rung != solvers::Rung::kAuto) insert(std::string(name).c_str(), static_cast<std::int8_t>(rung));
+  }
+  return type;
+}
+
+// The rung column's memory type for its int8 numbers: the dataset's own enumeration where
+// it has one (HDF5 converts no integer to an enumeration), none (-1) in files of schema 3,
+// whose plain integers read as they are.
+TypeId RungMemoryType(const Where& where, hid_t dataset) {
+  const TypeId stored(Check(H5Dget_type(dataset), where, "reading the type of", ColumnPath(kRung)));
+  if (H5Tget_class(stored.get()) != H5T_ENUM) return TypeId();
+  return TypeId(Check(H5Tget_native_type(stored.get(), H5T_DIR_DEFAULT), where, "reading the type of",
+                      ColumnPath(kRung)));
+}
+
 void CreateColumn(const Where& where, hid_t file, std::size_t column, hsize_t samples, hsize_t inputs,
                   hsize_t chunk_rows, int deflate_level, bool checksum, hid_t status_type, hid_t message_type) {
   const std::string path = ColumnPath(column);
+  const TypeId rung_type = RungType(where);
   const int rank = IsMatrix(column) ? 2 : 1;
   const hsize_t dims[2] = {samples, inputs};
   const hsize_t max_dims[2] = {H5S_UNLIMITED, inputs};
@@ -463,8 +489,8 @@ void CreateColumn(const Where& where, hid_t file, std::size_t column, hsize_t sa
       filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT32, &zero);
       break;
     case kRung:
-      file_type = H5T_STD_I8LE;
-      filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT8, &no_rung);
+      file_type = rung_type.get();
+      filled = H5Pset_fill_value(dcpl.get(), rung_type.get(), &no_rung);
       break;
     case kMessage:
       file_type = message_type;  // the default fill, all zero bytes, is the empty string
@@ -565,8 +591,10 @@ void WriteRows(const Where& where, const DatasetId& dataset, std::size_t column,
   const hsize_t memory_dims[2] = {rows, width};
   const SpaceId memory_space(
       Check(H5Screate_simple(IsMatrix(column) ? 2 : 1, memory_dims, nullptr), where, "creating a dataspace for", path));
-  CheckStatus(H5Dwrite(dataset.get(), memory_type, memory_space.get(), file_space.get(), H5P_DEFAULT, data), where,
-              "writing", path);
+  const TypeId rung = column == kRung ? RungMemoryType(where, dataset.get()) : TypeId();
+  CheckStatus(H5Dwrite(dataset.get(), rung.get() >= 0 ? rung.get() : memory_type, memory_space.get(),
+                       file_space.get(), H5P_DEFAULT, data),
+              where, "writing", path);
   CheckStatus(H5Dflush(dataset.get()), where, "flushing", path);
 }
 
@@ -598,7 +626,8 @@ std::optional<std::string> TryReadRows(const Where& where, const DatasetId& data
               "selecting rows of", path);
   const SpaceId memory_space(
       Check(H5Screate_simple(IsMatrix(column) ? 2 : 1, count, nullptr), where, "creating a dataspace for", path));
-  return TryRead(dataset.get(), memory_type, memory_space.get(), file_space.get(), data);
+  const TypeId rung = column == kRung ? RungMemoryType(where, dataset.get()) : TypeId();
+  return TryRead(dataset.get(), rung.get() >= 0 ? rung.get() : memory_type, memory_space.get(), file_space.get(), data);
 }
 
 // As TryReadRows; a damaged chunk is an InputError naming the file, the dataset and the samples.

@@ -23,8 +23,9 @@
 //                              swing_mm carry a `definition` string, swing_mm also the
 //                              resolution_um and cutoff_upr it was read with
 //   /outputs/steps             int32 [N]
-//   /outputs/rung              int8 [N]        solvers::Rung number of the path the outputs are
-//                              (0 linear, 1 quasistatic, 2 dynamic); -1 when no rung ran
+//   /outputs/rung              int8 enum [N]   solvers::Rung number of the path the outputs are
+//                              (0 linear, 1 quasistatic, 2 dynamic); -1 "none" when no rung
+//                              ran (schema 3: plain int8)
 //   /outputs/d_trajectory_error_mm  float64 [N]  that rung's own bound on its error in
 //                              d_trajectory_mm (SampleRecord::d_trajectory_error); NaN unless ok
 //   /outputs/status            int8 enum [N]   SampleStatusName names; fill value "pending"

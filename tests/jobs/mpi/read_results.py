@@ -34,6 +34,7 @@ with h5py.File(sys.argv[1], "r") as f:
     rung = f["outputs/rung"][:]
     error = f["outputs/d_trajectory_error_mm"][:]
     assert rung.dtype == np.int8 and np.all((rung[ok] >= 0) & (rung[ok] <= 2)), "the rung a sample settled on"
+    assert h5py.check_enum_dtype(f["outputs/rung"].dtype) == {"none": -1, "linear": 0, "quasistatic": 1, "dynamic": 2}
     assert np.all(error[ok] >= 0.0) and np.all(np.isnan(error[~ok]))
     life = f["outputs/life_d_trajectory_mm"][:]
     assert np.all(life[ok] >= d_trajectory[ok] - 1e-6), "the life's union holds the drawn revolution"

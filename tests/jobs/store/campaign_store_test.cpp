@@ -16,6 +16,7 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -204,6 +205,37 @@ TEST(SampleStatus, ListsEveryStatusOnceWithPendingFirstAndDistinctNames) {
   }
   EXPECT_EQ(names.size(), all.size());
   EXPECT_EQ(values.size(), all.size());
+}
+
+// The rung column names its numbers as the status column does, so that h5py and h5dump
+// show "quasistatic" rather than 1; the numbers themselves read back as written.
+TEST(CampaignStore, TheRungColumnIsAnEnumerationOfTheRungsNames) {
+  const fs::path path = TestFolder() / "results.h5";
+  {
+    CampaignStore store = CampaignStore::Create(path, TestIdentity(), 4);
+    for (std::int64_t i = 0; i < 3; ++i) store.Add(DeterministicRecord(i));
+  }
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const hid_t dataset = H5Dopen2(file, "/outputs/rung", H5P_DEFAULT);
+  const hid_t type = H5Dget_type(dataset);
+  EXPECT_EQ(H5Tget_class(type), H5T_ENUM);
+  std::map<std::string, int> members;
+  for (int m = 0; m < H5Tget_nmembers(type); ++m) {
+    char* name = H5Tget_member_name(type, static_cast<unsigned>(m));
+    std::int8_t value = 0;
+    H5Tget_member_value(type, static_cast<unsigned>(m), &value);
+    members[name] = value;
+    H5free_memory(name);
+  }
+  H5Tclose(type);
+  H5Dclose(dataset);
+  H5Fclose(file);
+  EXPECT_EQ(members, (std::map<std::string, int>{{"none", -1}, {"linear", 0}, {"quasistatic", 1}, {"dynamic", 2}}));
+  const CampaignReader reader(path);
+  const std::vector<std::int8_t> rungs = reader.ReadRungs(0, 4);
+  EXPECT_EQ(rungs, (std::vector<std::int8_t>{DeterministicRecord(0).rung, DeterministicRecord(1).rung,
+                                             DeterministicRecord(2).rung, kNoRung}));
 }
 
 TEST(CampaignStore, RoundTripsEveryFieldBitForBitAcrossOutOfOrderCommits) {
@@ -705,6 +737,32 @@ TEST(CampaignReader, ReadsASchemaThreeFileWithoutLifeOutputsAsNaN) {
   EXPECT_TRUE(CheckResults(path).intact());
   EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), kSamples); }),
               HasSubstr("schema 3"));
+}
+
+// A schema-3 file kept the rung as plain int8: it reads as it is.
+TEST(CampaignReader, ReadsASchemaThreeRungColumnOfPlainIntegers) {
+  constexpr std::int64_t kSamples = 5;
+  const fs::path path = OlderFile(kSamples, 3, [](hid_t file) {
+    std::vector<std::int8_t> rungs(kSamples);
+    const hid_t old_rungs = H5Dopen2(file, "/outputs/rung", H5P_DEFAULT);
+    const hid_t memory = H5Dget_type(old_rungs);
+    ASSERT_GE(H5Dread(old_rungs, memory, H5S_ALL, H5S_ALL, H5P_DEFAULT, rungs.data()), 0);
+    H5Tclose(memory);
+    H5Dclose(old_rungs);
+    ASSERT_GE(H5Ldelete(file, "/outputs/rung", H5P_DEFAULT), 0);
+    const hsize_t size = kSamples;
+    const hid_t space = H5Screate_simple(1, &size, nullptr);
+    const hid_t plain = H5Dcreate2(file, "/outputs/rung", H5T_STD_I8LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(H5Dwrite(plain, H5T_NATIVE_INT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, rungs.data()), 0);
+    H5Dclose(plain);
+    H5Sclose(space);
+  });
+  const CampaignReader reader(path);
+  const std::vector<std::int8_t> rungs = reader.ReadRungs(0, kSamples);
+  for (std::int64_t i = 0; i < kSamples; ++i) {
+    EXPECT_EQ(rungs[static_cast<std::size_t>(i)], DeterministicRecord(i).rung) << i;
+    EXPECT_EQ(reader.ReadSample(i).rung, DeterministicRecord(i).rung) << i;
+  }
 }
 
 // ---------------------------------------------------------------------------------------
