@@ -373,7 +373,15 @@ int main(int argc, char** argv) {
   const CLI::App* report_app = AddReport(app, report);
   const CLI::App* verify_app = AddVerify(app, verify);
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // CLI11 prints help and the version and exits 0 for them; for everything else (an
+    // option out of range, a missing file, an unknown option) its own codes (105, 103, ...)
+    // would be one more table for a script to know: bad input is 1, as everywhere else.
+    const int code = app.exit(e);
+    return code == static_cast<int>(CLI::ExitCodes::Success) ? 0 : 1;
+  }
   if (*campaign_app) {
     campaign.arguments.assign(argv, argv + argc);
     return RunMpiCommand([&] { return ringtol::jobs::RunCampaign(campaign, std::cout, std::cerr); });

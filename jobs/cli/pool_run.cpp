@@ -48,6 +48,10 @@ void CheckBeforeWork(MPI_Comm communicator, const PoolOptions& pool, double prog
 
 void CheckOutput(const std::filesystem::path& out, bool resume) {
   const std::string name = out.string();
+  if (std::filesystem::is_directory(out)) {
+    throw InputError(name + ": --out names a folder; name the results file to write, e.g. " +
+                     (out / "results.h5").string());
+  }
   if (resume) {
     if (!std::filesystem::exists(out))
       throw InputError(name + ": --resume: there is no such results file to continue");

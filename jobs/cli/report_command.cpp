@@ -1,5 +1,9 @@
 #include "jobs/cli/report_command.h"
 
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <system_error>
 
@@ -24,21 +28,38 @@ void CheckWritable(const std::filesystem::path& path, const std::filesystem::pat
   if (std::filesystem::equivalent(path, results, error)) {
     throw InputError(fmt::format("{} {}: is the results file itself; allowed: another path", option, path.string()));
   }
+  if (std::filesystem::is_directory(path, error)) {
+    throw InputError(fmt::format("{} {}: is a folder; allowed: a file name in it", option, path.string()));
+  }
+  if (access(folder.c_str(), W_OK) != 0) {
+    throw InputError(fmt::format("{} {}: the folder '{}' is not writable ({})", option, path.string(), folder.string(),
+                                 std::strerror(errno)));
+  }
 }
 
 // Write beside, then rename: readers see the old page or the new one, never half of one.
 void WriteAtomically(const std::filesystem::path& path, const std::string& text) {
   const std::filesystem::path temporary = path.string() + ".partial";
   {
+    errno = 0;
     std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
     file << text;
     file.close();
     if (!file) {
-      std::filesystem::remove(temporary);
-      throw InputError(fmt::format("{}: cannot be written", path.string()));
+      const int reason = errno;
+      std::error_code ignored;
+      std::filesystem::remove(temporary, ignored);
+      throw InputError(fmt::format("{}: cannot be written ({})", path.string(),
+                                   reason != 0 ? std::strerror(reason) : "the write failed"));
     }
   }
-  std::filesystem::rename(temporary, path);
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw InputError(fmt::format("{}: cannot be written ({})", path.string(), error.message()));
+  }
 }
 
 analysis::SobolEstimator EstimatorNamed(const std::string& name) {

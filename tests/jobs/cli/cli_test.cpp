@@ -106,6 +106,32 @@ TEST(Cli, SampleRefusesABadDesignSizeBeforeAnyWork) {
   EXPECT_EQ(nowhere.out, "");
 }
 
+// The command line's own refusals exit 1 like every other bad input (docs/usage.md), not
+// with CLI11's internal codes, and say which option and why.
+TEST(Cli, OptionErrorsExitOneNamingTheOption) {
+  const Outcome range = Ringtol("simulate " + Example("scene.toml") + " --steps -5");
+  EXPECT_EQ(range.exit_code, 1);
+  EXPECT_THAT(range.err, HasSubstr("--steps"));
+  const Outcome unknown = Ringtol("simulate " + Example("scene.toml") + " --no-such-option");
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_THAT(unknown.err, HasSubstr("--no-such-option"));
+  const Outcome missing = Ringtol("simulate /nonexistent/scene.toml");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_THAT(missing.err, HasSubstr("/nonexistent/scene.toml"));
+  EXPECT_EQ(Ringtol("").exit_code, 1);  // a command is required
+}
+
+// --out naming a folder is a mistake to name, not a results file to resume.
+TEST(Cli, CampaignOutNamingAFolderSaysSo) {
+  const std::filesystem::path folder = std::filesystem::path(::testing::TempDir()) / "ringtol_out_folder";
+  std::filesystem::create_directories(folder);
+  const Outcome run = Ringtol(std::string("campaign ") + RINGTOL_SOURCE_DIR + "/examples/campaigns/default.toml --out " +
+                              folder.string());
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_THAT(run.err, HasSubstr("--out names a folder"));
+  EXPECT_THAT(run.err, ::testing::Not(HasSubstr("--resume")));
+}
+
 TEST(Cli, ClassesListsTheCatalogueAndItsSources) {
   const Outcome list = Ringtol("classes");
   EXPECT_EQ(list.exit_code, 0);

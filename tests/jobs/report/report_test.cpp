@@ -370,6 +370,15 @@ TEST_F(ReportTest, CommandRefusesBadPathsAndOptionsBeforeAnyWork) {
   EXPECT_THAT(error_of(command), HasSubstr("--out " + command.out.string() + ": the folder"));
   command.out = results;
   EXPECT_THAT(error_of(command), HasSubstr("is the results file itself"));
+  command.out = dir_;
+  EXPECT_THAT(error_of(command), HasSubstr("is a folder; allowed: a file name in it"));
+  // A folder no one may write in, root included: the error says so, not how the
+  // temporary file failed.
+  command.out = "/proc/ringtol-report.html";
+  const std::string unwritable = error_of(command);
+  EXPECT_THAT(unwritable, HasSubstr("/proc/ringtol-report.html"));
+  EXPECT_THAT(unwritable, ::testing::Not(HasSubstr("filesystem error")));
+  EXPECT_THAT(unwritable, ::testing::Not(HasSubstr(".partial")));
   command.out = dir_ / "report.html";
   command.estimator = "sobol-magic";
   EXPECT_THAT(error_of(command), HasSubstr("--estimator sobol-magic: unknown; allowed: saltelli2010-jansen"));
