@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sampling/assembly_sampler.h"
+#include "sampling/design.h"
 
 namespace ringtol::jobs {
 
@@ -46,6 +47,13 @@ struct CampaignIdentity {
 inline bool ShowsOutput(const CampaignIdentity& identity, std::string_view output) {
   const bool per_revolution = output == "d_trajectory_first_mm" || output == "d_trajectory_steady_mm";
   return !per_revolution || identity.solver.starts_with("dynamic");
+}
+
+// Whether --samples may grow a campaign of this design: a Latin hypercube's strata are its
+// whole size, so a larger one is another design, whose first samples are not the ones
+// already drawn; every other design's sample i is the same whatever the size.
+inline bool DesignCanGrow(const CampaignIdentity& identity) {
+  return identity.design != sampling::DesignName(sampling::DesignKind::kLatinHypercube);
 }
 
 }  // namespace ringtol::jobs

@@ -974,6 +974,11 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
     throw InputError(fmt::format("{}: holds {} samples and cannot shrink to {}; --samples can only grow a campaign",
                                  name, stored.samples, samples));
   }
+  if (samples > stored.samples && !DesignCanGrow(identity)) {
+    throw InputError(fmt::format("{}: is a Latin hypercube of {} samples and cannot grow to {}: its strata are its "
+                                 "whole size; run a new campaign with --samples {} into another --out",
+                                 name, stored.samples, samples, samples));
+  }
 
   auto file = std::make_unique<File>();
   file->path = path;

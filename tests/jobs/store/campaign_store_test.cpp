@@ -537,6 +537,21 @@ TEST(CampaignStore, ResumeRefusesToShrinkTheCampaign) {
   EXPECT_EQ(ReadBytes(path), before);
 }
 
+// A Latin hypercube of 8 is not the first 8 of one of 12: growing it would leave a file
+// stratified in neither. The same size resumes.
+TEST(CampaignStore, ResumeRefusesToGrowALatinHypercube) {
+  const fs::path path = TestFolder() / "results.h5";
+  CampaignIdentity latin = TestIdentity();
+  latin.design = "latin_hypercube";
+  CampaignStore::Create(path, latin, 8);
+  const std::string before = ReadBytes(path);
+  EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, latin, 12); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("Latin hypercube of 8 samples"), HasSubstr("cannot grow to 12"),
+                    HasSubstr("--samples 12")));
+  EXPECT_EQ(ReadBytes(path), before);
+  EXPECT_NO_THROW(CampaignStore::Resume(path, latin, 8));
+}
+
 TEST(CampaignStore, ResumeRefusesAnotherCampaignNamingWhatDiffers) {
   const fs::path path = TestFolder() / "results.h5";
   CampaignStore::Create(path, TestIdentity(), 8);
