@@ -99,17 +99,27 @@ void PrintFit(std::ostream& out, const FitCommand& command, const MeasuredFit& m
 
 std::string Fragment(const FitCommand& command, const MeasuredFit& measured) {
   const sampling::FourierFit& fit = measured.fit;
-  const char* mean_key = IsRadius(measured) ? "inner_radius_mm" : "mean_deviation_mm";
+  // The form alone: a fragment pasted into a design of another nominal size keeps that
+  // design's size, and the export's own size, which only the ring it was measured on has,
+  // is stated for whoever wants it.
+  const std::string size =
+      IsRadius(measured)
+          ? fmt::format("# Its mean radius is {} mm. On a scene of that ring, mean_deviation_mm = {} less its\n"
+                        "# inner_radius_mm keeps its size too; or name the export: measured_profile =\n"
+                        "# {{ file = \"...\", orders = {} }}.\n",
+                        Millimetres(fit.mean), Millimetres(fit.mean), command.orders)
+          : fmt::format("# Its mean deviation is {} mm from the tester's nominal: on that ring's scene,\n"
+                        "# mean_deviation_mm = {} keeps its size too.\n",
+                        Millimetres(fit.mean), Millimetres(fit.mean));
   std::string text = fmt::format(
-      "# [ring] keys for a scene file (jobs/inputs/scene_file.h), written by ringtol fit from\n"
+      "# [ring] keys for a scene file (docs/usage.md, \"Measured profiles\"), written by ringtol fit from\n"
       "#   {}\n"
       "# Least-squares Fourier fit of orders 0..{} to {} points: R^2 = {:.6f}, residual rms {:.4f} um.\n"
       "# Harmonics: {} of the fit; order 1, the tester's set-up eccentricity, {}.\n"
-      "# Merge into the scene's [ring] table: these keys replace its {} and harmonics.\n"
-      "[ring]\n{} = {}\n",
+      "# The form alone, for a ring of any nominal size: these keys replace the [ring] table's harmonics.\n"
+      "{}[ring]\n",
       command.profile.string(), command.orders, fit.points, fit.r_squared, Micrometres(fit.residual_rms),
-      FragmentOrders(command), command.keep_eccentricity ? "is kept" : "is left out", mean_key, mean_key,
-      Millimetres(fit.mean));
+      FragmentOrders(command), command.keep_eccentricity ? "is kept" : "is left out", size);
   const std::vector<engine::Harmonic> harmonics = FormHarmonics(fit, command.keep_eccentricity);
   if (harmonics.empty()) return text + "harmonics = []\n";
   text += "harmonics = [\n";

@@ -53,16 +53,33 @@ void RequireDeviationsBelowRadius(const TableReader& table, const engine::PolarP
 // ---- [ring]
 
 // ring.measured_profile: a roundness tester's export, fitted on reading.
+//   reference = "nominal" (the default): the export's own size counts: a radius file's
+//     mean radius less ring.inner_radius_mm, or a deviation file's mean deviation, becomes
+//     the ring's mean deviation. A mean radius more than kSameRingShare from the nominal
+//     one is a profile of another ring, refused as such.
+//   reference = "own_mean": the form alone, about the export's own mean: its harmonics on
+//     a ring of any nominal size (a measured 302 mm ring's form on a 150 mm design).
+enum class ProfileReference { kNominal, kOwnMean };
+inline constexpr NameTable<ProfileReference, 2> kProfileReferenceNames = {
+    {{ProfileReference::kNominal, "nominal"}, {ProfileReference::kOwnMean, "own_mean"}}};
+// A ring's mean radius lies within its size tolerance of the nominal one, a small fraction
+// of a per cent for any ring ringtol models; a measured form is as small against the
+// radius. Beyond this share of the nominal radius the numbers are another ring's, or in
+// another unit.
+constexpr double kSameRingShare = 0.01;
+
 struct MeasuredProfileInput {
   std::filesystem::path file;  // resolved against the scene file's folder
   int orders = 0;
   bool keep_eccentricity = false;
+  ProfileReference reference = ProfileReference::kNominal;
 };
 
 constexpr std::string_view kProfileFileAllowed =
     "the path of an existing CSV file (jobs/inputs/profile_csv.h), relative to the scene file's folder";
 constexpr std::string_view kMeasuredProfileAllowed =
-    "a table { file = \"profile.csv\", orders = integer 1..1000, keep_eccentricity = false }";
+    "a table { file = \"profile.csv\", orders = integer 1..1000, keep_eccentricity = false, reference = "
+    "\"nominal\" or \"own_mean\" }";
 
 // The file named at `site`, resolved against `folder` (an absolute path stays as it is).
 std::filesystem::path ReadProfilePath(const Site& site, const std::filesystem::path& folder) {
@@ -80,14 +97,17 @@ std::vector<Field<MeasuredProfileInput>> MeasuredProfileFields(const std::filesy
           [folder](const Site& site, MeasuredProfileInput& in) { in.file = ReadProfilePath(site, folder); }, {}, {}},
       Integer("orders", Presence::kRequired, Between(1.0, kMaxHarmonicOrder), &MeasuredProfileInput::orders),
       Flag("keep_eccentricity", Presence::kOptional, &MeasuredProfileInput::keep_eccentricity),
+      Choice("reference", Presence::kOptional, kProfileReferenceNames, &MeasuredProfileInput::reference),
   };
 }
 
 // What a measured profile adds to the ring's keys.
 struct MeasuredRing {
   ProfileQuantity quantity = ProfileQuantity::kRadius;
+  ProfileReference reference = ProfileReference::kNominal;
   double mean = 0.0;  // [m] fitted order 0: a radius or a mean deviation, as the file holds
   std::vector<engine::Harmonic> harmonics;
+  std::string file;   // the export, for messages
 };
 
 // Errors of the CSV and of the fit come with the key's position and path in front:
@@ -98,7 +118,8 @@ MeasuredRing ReadMeasuredProfile(const Site& site, const std::filesystem::path& 
   table.Read(MeasuredProfileFields(folder), in);
   try {
     const MeasuredFit measured = FitProfileFile(in.file, in.orders);
-    return {measured.quantity, measured.fit.mean, FormHarmonics(measured.fit, in.keep_eccentricity)};
+    return {measured.quantity, in.reference, measured.fit.mean, FormHarmonics(measured.fit, in.keep_eccentricity),
+            in.file.string()};
   } catch (const InputError& error) {
     throw InputError(fmt::format("{}: {}: {}", Where(site.file, site.node.source()), site.key_path, error.what()));
   }
@@ -137,10 +158,36 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
   RingInput in;
   table.Read(RingFields(folder), in);
   if (in.measured) {
+    const MeasuredRing& measured = *in.measured;
+    const double limit = kSameRingShare * in.inner_radius;
+    const double form = DeviationBound(engine::PolarProfile(1.0, 0.0, measured.harmonics));
+    // A form as large as the ring is a fit gone wild (too many orders across a gap), which
+    // RequireDeviationsBelowRadius blames below; the checks here are for sane fits.
+    const bool sane = form < in.inner_radius;
     // A measured radius is the nominal radius plus the mean deviation.
-    in.mean_deviation +=
-        in.measured->quantity == ProfileQuantity::kRadius ? in.measured->mean - in.inner_radius : in.measured->mean;
-    in.harmonics.insert(in.harmonics.end(), in.measured->harmonics.begin(), in.measured->harmonics.end());
+    const double offset = measured.quantity == ProfileQuantity::kRadius ? measured.mean - in.inner_radius : measured.mean;
+    if (sane && measured.reference == ProfileReference::kNominal && std::abs(offset) > limit) {
+      const std::string what =
+          measured.quantity == ProfileQuantity::kRadius
+              ? fmt::format("its mean radius {} mm lies {} mm from ring.inner_radius_mm = {} mm", Millimetres(measured.mean),
+                            ShowDerived(Millimetres(offset)), Millimetres(in.inner_radius))
+              : fmt::format("its mean deviation is {} mm on a ring of {} mm", ShowDerived(Millimetres(offset)),
+                            Millimetres(in.inner_radius));
+      table.FailAbout("measured_profile", table.KeyPath("measured_profile"),
+                 fmt::format("{}: {}, more than {} %: a profile of another ring (or deviations in another unit)",
+                             measured.file, what, 100.0 * kSameRingShare),
+                 "reference = \"own_mean\" to take its form alone on this ring, or a profile of a ring of this size");
+    }
+    if (sane && form > limit) {
+      table.FailAbout("measured_profile", table.KeyPath("measured_profile"),
+                 fmt::format("{}: a form of {} mm (sum of its amplitudes) on a ring of {} mm, more than {} %: "
+                             "deviations in another unit than the column names?",
+                             measured.file, ShowDerived(Millimetres(form)), Millimetres(in.inner_radius),
+                             100.0 * kSameRingShare),
+                 "deviation_um for micrometres, deviation_mm for millimetres (jobs/inputs/profile_csv.h)");
+    }
+    if (measured.reference == ProfileReference::kNominal) in.mean_deviation += offset;
+    in.harmonics.insert(in.harmonics.end(), measured.harmonics.begin(), measured.harmonics.end());
   }
   if (!(in.outer_radius > in.inner_radius)) {
     table.Fail(scene_key::kOuterRadiusMm, "not larger than the inner radius",

@@ -25,13 +25,18 @@
 //                                (sampling/profile_fit.h, jobs/inputs/profile_csv.h)
 //       keep_eccentricity        default false: order 1 is the tester's set-up eccentricity
 //                                and is dropped; true keeps it
+//       reference                default "nominal": the export's size counts; "own_mean": its
+//                                form alone, about its own mean, on a ring of any size
 //                                The fit a_0 + sum_n C_n cos(n theta + phi_n) joins the ring's
 //                                own keys: orders 2..orders (1..orders when kept) are appended
-//                                to harmonics (equal orders add up), and mean_deviation_mm
-//                                gains a_0 - inner_radius_mm when the file holds radii
-//                                (radius_mm), a_0 when it holds deviations (deviation_mm,
-//                                deviation_um). With radii and no other ring errors, r(theta)
-//                                is the fitted outline. CSV and fit errors are InputErrors
+//                                to harmonics (equal orders add up), and with reference
+//                                "nominal" mean_deviation_mm gains a_0 - inner_radius_mm when
+//                                the file holds radii (radius_mm), a_0 when it holds deviations
+//                                (deviation_mm, deviation_um); that offset beyond 1 % of
+//                                inner_radius_mm is refused as another ring's profile, and a
+//                                form (sum of C_n) beyond 1 % as deviations in another unit.
+//                                With radii and no other ring errors, r(theta) is the fitted
+//                                outline. CSV and fit errors are InputErrors
 //                                with this key's position and path in front, e.g.
 //                                "scene.toml:9:20: ring.measured_profile: ring.csv:7: ..."
 //   [roller_positions]           optional: mean_deviation_mm, harmonics (as above), the

@@ -127,11 +127,13 @@ std::string ErrorFor(const FitCommand& command) {
   return "";
 }
 
-// The [ring] keys of a fragment, pasted over inner_radius_mm and harmonics of the paper scene.
-std::string PaperSceneWithFragment(const std::string& fragment) {
+// The [ring] keys of a fragment, pasted over the harmonics of the paper scene, or of the
+// same scene at another nominal inner radius [mm].
+std::string PaperSceneWithFragment(const std::string& fragment, const std::string& inner_radius_mm = "302.0") {
   const std::string keys = fragment.substr(fragment.find("[ring]\n") + std::string_view("[ring]\n").size());
-  const std::string text = ReplaceOnce(ReadText(kPaperScene), "inner_radius_mm = 302.0\n", keys);
-  return ReplaceOnce(text, kRingHarmonics, "#");
+  const std::string text =
+      ReplaceOnce(ReadText(kPaperScene), "inner_radius_mm = 302.0\n", "inner_radius_mm = " + inner_radius_mm + "\n");
+  return ReplaceOnce(text, kRingHarmonics, keys + "#");
 }
 
 TEST(RunFit, PrintsTheFittedHarmonicsAsATable) {
@@ -215,16 +217,23 @@ TEST(RunFit, WritesAFragmentThatGivesASceneTheFittedRing) {
   ASSERT_EQ(form.size(), static_cast<std::size_t>(kOrders - 1));
   EXPECT_EQ(form.front().order, 2);
 
-  const engine::Scene pasted = ParseScene(PaperSceneWithFragment(written), "pasted.toml");
-  EXPECT_NEAR(pasted.ring.inner.radius(), fit.mean, kFragmentRelative * fit.mean);
-  EXPECT_EQ(pasted.ring.inner.mean_deviation(), 0.0);
-  const std::vector<Harmonic>& read = pasted.ring.inner.harmonics();
-  ASSERT_EQ(read.size(), form.size());
-  for (std::size_t i = 0; i < form.size(); ++i) {
-    SCOPED_TRACE("order " + std::to_string(form[i].order));
-    EXPECT_EQ(read[i].order, form[i].order);
-    EXPECT_NEAR(read[i].amplitude, form[i].amplitude, kFragmentRelative * form[i].amplitude);
-    EXPECT_NEAR(read[i].phase, form[i].phase, kFragmentRelative * std::abs(form[i].phase));
+  // The form alone: pasted into the article's scene and into a 150 mm design, the scene's
+  // own size stays and the harmonics are the fit's.
+  EXPECT_THAT(written, ::testing::Not(HasSubstr("\ninner_radius_mm =")));
+  EXPECT_THAT(written, HasSubstr("# Its mean radius is 30"));
+  for (const char* nominal : {"302.0", "150.0"}) {
+    SCOPED_TRACE(std::string("inner_radius_mm = ") + nominal);
+    const engine::Scene pasted = ParseScene(PaperSceneWithFragment(written, nominal), "pasted.toml");
+    EXPECT_EQ(pasted.ring.inner.radius(), std::stod(nominal) * 1e-3);
+    EXPECT_EQ(pasted.ring.inner.mean_deviation(), 0.0);
+    const std::vector<Harmonic>& read = pasted.ring.inner.harmonics();
+    ASSERT_EQ(read.size(), form.size());
+    for (std::size_t i = 0; i < form.size(); ++i) {
+      SCOPED_TRACE("order " + std::to_string(form[i].order));
+      EXPECT_EQ(read[i].order, form[i].order);
+      EXPECT_NEAR(read[i].amplitude, form[i].amplitude, kFragmentRelative * form[i].amplitude);
+      EXPECT_NEAR(read[i].phase, form[i].phase, kFragmentRelative * std::abs(form[i].phase));
+    }
   }
 
   // The scene that names the export directly has the same outline: the same harmonics,
@@ -252,7 +261,7 @@ TEST(RunFit, KeepsTheEccentricityInTheFragmentWhenAsked) {
   EXPECT_THAT(ReadText(fragment), HasSubstr("is kept"));
 }
 
-TEST(RunFit, WritesTheMeanDeviationOfADeviationExportToTheFragment) {
+TEST(RunFit, StatesTheMeanDeviationOfADeviationExportInTheFragmentsComment) {
   const std::filesystem::path folder = TestFolder();
   const std::filesystem::path profile = WriteProfile(folder / "deviations.csv", "deviation_um", 1e-6, 2e-6, kTruth);
   const std::filesystem::path fragment = folder / "ring.toml";
@@ -260,8 +269,9 @@ TEST(RunFit, WritesTheMeanDeviationOfADeviationExportToTheFragment) {
   command.fragment = fragment;
   Output(command);
   const std::string written = ReadText(fragment);
-  EXPECT_THAT(written, HasSubstr("\nmean_deviation_mm = "));
-  EXPECT_THAT(written, ::testing::Not(HasSubstr("inner_radius_mm =")));
+  EXPECT_THAT(written, HasSubstr("# Its mean deviation is "));
+  EXPECT_THAT(written, ::testing::Not(HasSubstr("\nmean_deviation_mm =")));
+  EXPECT_THAT(written, ::testing::Not(HasSubstr("\ninner_radius_mm =")));
 }
 
 TEST(RunFit, ShowsStandardErrorsItCannotEstimateAsMissing) {

@@ -599,6 +599,52 @@ TEST(SceneFile, RejectsAMissingMeasuredProfileNamingKeyValueAndPath) {
               HasSubstr("ring.measured_profile.file = \"profiles\": not a file"));
 }
 
+// A profile measured on a 302 mm ring, named by a 150 mm design: by default its size
+// counts and the mismatch is named as such; with reference = "own_mean" its form alone
+// goes onto the 150 mm ring, the harmonics the same as on the 302 mm one.
+TEST(SceneFile, AProfileOfAnotherRingSizeIsRefusedAsSuchOrTakenAsItsFormAlone) {
+  const std::filesystem::path folder = MeasuredFolder();
+  WriteText(folder / "ring.csv", MeasuredRadii());
+  constexpr double kSmallBore = 0.150;  // [m]
+  std::string text = PaperSceneMeasuring("{ file = \"ring.csv\", orders = 6 }");
+  const auto small = [&](std::string scene) {
+    const std::string from = "inner_radius_mm = 302.0", to = "inner_radius_mm = 150.0";
+    scene.replace(scene.find(from), from.size(), to);
+    return scene;
+  };
+  WriteText(folder / "scene.toml", small(text));
+  EXPECT_THAT(ringtol::testing::MessageOf<InputError>([&] { ReadScene(folder / "scene.toml"); }),
+              AllOf(HasSubstr("ring.measured_profile"), HasSubstr("its mean radius 302"),
+                    HasSubstr("from ring.inner_radius_mm = 150 mm"), HasSubstr("a profile of another ring"),
+                    HasSubstr("reference = \"own_mean\"")));
+  WriteText(folder / "scene.toml", small(PaperSceneMeasuring("{ file = \"ring.csv\", orders = 6, reference = \"own_mean\" }")));
+  const engine::PolarProfile& bore = ReadScene(folder / "scene.toml").ring.inner;
+  EXPECT_EQ(bore.radius(), kSmallBore);
+  EXPECT_NEAR(bore.mean_deviation(), 0.0, kFitRoundOff);
+  for (int n = 2; n <= kMeasuredOrders; ++n) {
+    EXPECT_NEAR(bore.cos_coefficient(n), CosCoefficient(kMeasuredForm, n), kFitRoundOff) << n;
+    EXPECT_NEAR(bore.sin_coefficient(n), SinCoefficient(kMeasuredForm, n), kFitRoundOff) << n;
+  }
+  // On the ring it was measured on, own_mean drops the export's size and keeps its form.
+  WriteText(folder / "ring.csv", MeasuredRadii(kBoreRadius + 20e-6));
+  WriteText(folder / "scene.toml", PaperSceneMeasuring("{ file = \"ring.csv\", orders = 6, reference = \"own_mean\" }"));
+  EXPECT_NEAR(ReadScene(folder / "scene.toml").ring.inner.mean_deviation(), 0.0, kFitRoundOff);
+  WriteText(folder / "scene.toml", PaperSceneMeasuring("{ file = \"ring.csv\", orders = 6 }"));
+  EXPECT_NEAR(ReadScene(folder / "scene.toml").ring.inner.mean_deviation(), 20e-6, kFitRoundOff);
+}
+
+// Micrometres under a deviation_mm column make a form a thousand times too large: named,
+// with the column that was meant.
+TEST(SceneFile, AFormTooLargeForTheRingNamesTheColumnsUnit) {
+  const std::filesystem::path folder = MeasuredFolder();
+  std::vector<engine::Harmonic> in_micrometres = kMeasuredForm;
+  for (engine::Harmonic& h : in_micrometres) h.amplitude *= 1e3;  // 30 um written as 30 "mm"
+  WriteText(folder / "ring.csv", MeasuredCsv("deviation_mm", 1e-3, 0.0, in_micrometres));
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 6 }"),
+              AllOf(HasSubstr("ring.measured_profile"), HasSubstr("a form of"), HasSubstr("on a ring of 302 mm"),
+                    HasSubstr("deviation_um for micrometres")));
+}
+
 TEST(SceneFile, RejectsMeasuredProfileOrdersOutOfRange) {
   const std::filesystem::path folder = MeasuredFolder();
   WriteText(folder / "ring.csv", MeasuredRadii());
@@ -615,7 +661,8 @@ TEST(SceneFile, RejectsUnknownMissingAndMistypedKeysOfTheMeasuredProfile) {
   const std::filesystem::path folder = MeasuredFolder();
   WriteText(folder / "ring.csv", MeasuredRadii());
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", order = 6 }"),
-              HasSubstr("unknown key 'ring.measured_profile.order'; valid keys here: file, orders, keep_eccentricity"));
+              HasSubstr("unknown key 'ring.measured_profile.order'; valid keys here: file, orders, keep_eccentricity, "
+                        "reference"));
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\" }"),
               AllOf(HasSubstr("ring.measured_profile.orders: missing required key"),
                     HasSubstr("allowed: an integer >= 1 and <= 1000")));
