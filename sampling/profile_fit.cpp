@@ -129,6 +129,21 @@ FourierFit FitFourierSeries(std::span<const ProfileSample> samples, int max_orde
                                 " points at distinct angles; got " + std::to_string(distinct.size()));
   }
 
+  const double entries = static_cast<double>(samples.size()) * static_cast<double>(unknowns);
+  if (entries > kMaxFitMatrixEntries) {
+    const long long most_orders =
+        static_cast<long long>((kMaxFitMatrixEntries / static_cast<double>(samples.size()) - 1.0) / 2.0);
+    throw std::invalid_argument(
+        "fitting orders up to " + std::to_string(max_order) + " to " + std::to_string(samples.size()) +
+        " points needs a " + std::to_string(samples.size()) + " x " + std::to_string(unknowns) +
+        " least-squares matrix and its factor (" +
+        Show(2.0 * entries * sizeof(double) / 1e9, std::chars_format::fixed, 1) + " GB); at most " +
+        std::to_string(static_cast<long long>(kMaxFitMatrixEntries)) + " entries: " +
+        (most_orders >= 1 ? "orders up to " + std::to_string(most_orders) + " at these points, or " : std::string()) +
+        "every " + std::to_string(static_cast<long long>(std::ceil(entries / kMaxFitMatrixEntries))) +
+        "th point at these orders");
+  }
+
   FourierFit fit;
   fit.points = static_cast<int>(samples.size());
   fit.largest_gap = LargestGap(std::move(distinct));

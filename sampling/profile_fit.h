@@ -55,9 +55,17 @@ struct FourierFit {
 // still be poor: the standard errors show how much noise they amplify.
 inline constexpr double kMaxFitConditionNumber = 1e10;
 
+// The largest least-squares matrix a fit builds, points x (2 max_order + 1) [-]: with its
+// SVD factor about 1 GB. A tester's export of a few thousand points fits hundreds of
+// orders within it; a larger one is refused before any allocation rather than left to
+// fail for memory.
+inline constexpr double kMaxFitMatrixEntries = 64e6;
+
 // Least-squares fit of orders 0..max_order to the samples. Throws std::invalid_argument,
 // with a message for the person who took the measurement, when
 //   - max_order < 1;
+//   - the matrix would exceed kMaxFitMatrixEntries (the message says how many orders, or
+//     every how many points, fit);
 //   - an angle or a value is not finite (the message gives the sample's index);
 //   - fewer than 2 max_order + 1 distinct angles (after wrapping) remain: the unknowns
 //     outnumber the equations;

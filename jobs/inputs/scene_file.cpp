@@ -165,26 +165,28 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
     // RequireDeviationsBelowRadius blames below; the checks here are for sane fits.
     const bool sane = form < in.inner_radius;
     // A measured radius is the nominal radius plus the mean deviation.
-    const double offset = measured.quantity == ProfileQuantity::kRadius ? measured.mean - in.inner_radius : measured.mean;
+    const double offset =
+        measured.quantity == ProfileQuantity::kRadius ? measured.mean - in.inner_radius : measured.mean;
     if (sane && measured.reference == ProfileReference::kNominal && std::abs(offset) > limit) {
       const std::string what =
           measured.quantity == ProfileQuantity::kRadius
-              ? fmt::format("its mean radius {} mm lies {} mm from ring.inner_radius_mm = {} mm", Millimetres(measured.mean),
-                            ShowDerived(Millimetres(offset)), Millimetres(in.inner_radius))
+              ? fmt::format("its mean radius {} mm lies {} mm from ring.inner_radius_mm = {} mm",
+                            Millimetres(measured.mean), ShowDerived(Millimetres(offset)), Millimetres(in.inner_radius))
               : fmt::format("its mean deviation is {} mm on a ring of {} mm", ShowDerived(Millimetres(offset)),
                             Millimetres(in.inner_radius));
-      table.FailAbout("measured_profile", table.KeyPath("measured_profile"),
-                 fmt::format("{}: {}, more than {} %: a profile of another ring (or deviations in another unit)",
-                             measured.file, what, 100.0 * kSameRingShare),
-                 "reference = \"own_mean\" to take its form alone on this ring, or a profile of a ring of this size");
+      table.FailAbout(
+          "measured_profile", table.KeyPath("measured_profile"),
+          fmt::format("{}: {}, more than {} %: a profile of another ring (or deviations in another unit)",
+                      measured.file, what, 100.0 * kSameRingShare),
+          "reference = \"own_mean\" to take its form alone on this ring, or a profile of a ring of this size");
     }
     if (sane && form > limit) {
       table.FailAbout("measured_profile", table.KeyPath("measured_profile"),
-                 fmt::format("{}: a form of {} mm (sum of its amplitudes) on a ring of {} mm, more than {} %: "
-                             "deviations in another unit than the column names?",
-                             measured.file, ShowDerived(Millimetres(form)), Millimetres(in.inner_radius),
-                             100.0 * kSameRingShare),
-                 "deviation_um for micrometres, deviation_mm for millimetres (jobs/inputs/profile_csv.h)");
+                      fmt::format("{}: a form of {} mm (sum of its amplitudes) on a ring of {} mm, more than {} %: "
+                                  "deviations in another unit than the column names?",
+                                  measured.file, ShowDerived(Millimetres(form)), Millimetres(in.inner_radius),
+                                  100.0 * kSameRingShare),
+                      "deviation_um for micrometres, deviation_mm for millimetres (docs/usage.md, \"Measured profiles\")");
     }
     if (measured.reference == ProfileReference::kNominal) in.mean_deviation += offset;
     in.harmonics.insert(in.harmonics.end(), measured.harmonics.begin(), measured.harmonics.end());

@@ -263,6 +263,15 @@ TEST(FitFourierSeries, RejectsTooFewDistinctAnglesNamingTheCounts) {
   EXPECT_THAT(ErrorFor({}, 1), HasSubstr("got 0"));
 }
 
+// A long export at many orders is refused before its matrix is allocated, saying what fits
+// instead: here 100,000 points at orders up to 1,000 would take 3.2 GB.
+TEST(FitFourierSeries, RefusesAMatrixTooLargeSayingWhatFits) {
+  const std::string message = ErrorFor(Sample(EvenAngles(100000), kFormError), 1000);
+  EXPECT_THAT(message, AllOf(HasSubstr("orders up to 1000 to 100000 points"), HasSubstr("100000 x 2001"),
+                             HasSubstr("3.2 GB"), HasSubstr("orders up to 319 at these points"),
+                             HasSubstr("every 4th point")));
+}
+
 TEST(FitFourierSeries, RejectsAGapTooWideForTheOrdersNamingTheGap) {
   // 50 readings within 20 degrees: enough points for order 10, but not enough outline.
   std::vector<double> angles;
