@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds and runs every test, as the README's second command and CI (.ci/run) do:
-#   1. installs any missing Debian package of .ci/packages (needs root, as on a fresh machine),
+#   1. installs any missing Debian package of .ci/packages (what ringtol needs) and
+#      .ci/test-packages (what its tests need; needs root, as on a fresh machine),
 #   2. Release build with warnings as errors (benchmarks compiled, not run), all tests,
 #   3. RelWithDebInfo build under AddressSanitizer + UndefinedBehaviorSanitizer, all tests.
 set -euo pipefail
@@ -10,7 +11,7 @@ missing=()
 while read -r package; do
   [ -n "$package" ] || continue
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
-done < .ci/packages
+done < <(cat .ci/packages .ci/test-packages)
 if [ ${#missing[@]} -gt 0 ]; then
   echo "installing: ${missing[*]}"
   apt-get update
