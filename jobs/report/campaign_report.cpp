@@ -261,11 +261,13 @@ void KeepPoints(std::vector<double>& values, const std::vector<std::size_t>& kep
 
 // The orbit of one sample as the campaign's solver computes it now, drawn only when it
 // reproduces the stored D_trajectory.
-ReplayedTrajectory Replay(const Campaign& campaign, const CampaignReader& reader, std::string label,
+ReplayedTrajectory Replay(const Campaign& campaign, const CampaignReader& reader, std::string label, std::string by,
                           std::int64_t index) {
   const SampleRecord stored = reader.ReadSample(index);
   ReplayedTrajectory out;
   out.label = std::move(label);
+  out.by = std::move(by);
+  out.stored_by = stored.outputs[OutputColumn(out.by)];
   out.index = index;
   out.stored_d_trajectory_mm = stored.outputs[OutputColumn("d_trajectory_mm")];
   out.tolerance_mm = ReplayTolerance(campaign.plan().solver) * units::kMillimetresPerMetre;
@@ -451,7 +453,14 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   const sampling::InputGroups groups =
       saltelli ? campaign.sampling().sampler.Groups(campaign.plan().sampling.grouping) : sampling::InputGroups{};
   report.samples_per_draw = saltelli ? design.samples_per_row() / 2.0 : 1.0;
-  std::vector<double> trajectory_mm;  // kept from the loop for picking the samples to replay
+  // The outputs the orbits are picked by: each one the spec constrains, else D_trajectory;
+  // their values are kept from the loop.
+  std::vector<std::string> ranked_by;
+  for (const char* name : kOutputNames) {
+    if (SpecOf(report.identity, name)) ranked_by.emplace_back(name);
+  }
+  if (ranked_by.empty()) ranked_by.emplace_back("d_trajectory_mm");
+  std::map<std::string, std::vector<double>, std::less<>> ranking_values;
   // The used ok samples' values of the life comparisons' columns and of the total error
   // motion, in used_ok order.
   std::map<std::string, std::vector<double>, std::less<>> life_values;
@@ -479,7 +488,7 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
     }
     report.outputs.push_back(std::move(out));
     if (name == kErrorMotionTotal || IsLifeColumn(name)) life_values[name] = std::move(values);
-    if (std::string_view(name) == "d_trajectory_mm") trajectory_mm = std::move(all);
+    if (std::find(ranked_by.begin(), ranked_by.end(), name) != ranked_by.end()) ranking_values[name] = std::move(all);
   }
   report.life_gaps = LifeGaps(life_values);
   // Every output's screening at once: they share the inputs' sorting, decompositions and
@@ -495,15 +504,20 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   } else if (used_ok.empty()) {
     report.replay_problem = "no sample finished ok";
   } else {
-    std::vector<std::int64_t> by_d = used_ok;
-    std::sort(by_d.begin(), by_d.end(), [&](std::int64_t a, std::int64_t b) {
-      const double da = trajectory_mm[static_cast<std::size_t>(a)], db = trajectory_mm[static_cast<std::size_t>(b)];
-      return da != db ? da < db : a < b;
-    });
-    // Of an even count the lower of the two middle samples: both are as near the median.
-    const std::int64_t median = by_d[(by_d.size() - 1) / 2];
-    report.trajectories.push_back(Replay(campaign, reader, "worst", by_d.back()));
-    if (median != by_d.back()) report.trajectories.push_back(Replay(campaign, reader, "median", median));
+    for (const std::string& output : ranked_by) {
+      const auto found = ranking_values.find(output);
+      if (found == ranking_values.end()) continue;  // a column this file lacks
+      const std::vector<double>& value = found->second;
+      std::vector<std::int64_t> ranked = used_ok;
+      std::sort(ranked.begin(), ranked.end(), [&](std::int64_t a, std::int64_t b) {
+        const double va = value[static_cast<std::size_t>(a)], vb = value[static_cast<std::size_t>(b)];
+        return va != vb ? va < vb : a < b;
+      });
+      // Of an even count the lower of the two middle samples: both are as near the median.
+      const std::int64_t median = ranked[(ranked.size() - 1) / 2];
+      report.trajectories.push_back(Replay(campaign, reader, "worst", output, ranked.back()));
+      if (median != ranked.back()) report.trajectories.push_back(Replay(campaign, reader, "median", output, median));
+    }
   }
 
   if (const auto total = life_values.find(kErrorMotionTotal); total != life_values.end()) {
@@ -727,6 +741,8 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   nlohmann::json trajectories = nlohmann::json::array();
   for (const ReplayedTrajectory& t : report.trajectories) {
     nlohmann::json entry = {{"label", t.label},
+                            {"by", t.by},
+                            {"stored_by", JsonNumber(t.stored_by)},
                             {"index", t.index},
                             {"status", t.status},
                             {"message", t.message},

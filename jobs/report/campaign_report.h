@@ -144,7 +144,11 @@ inline constexpr std::size_t kDrawnPoints = 2000;
 // settings, to draw its orbit. Positions are in the scene's frame [µm]; the curves are
 // kept as drawn (at most kDrawnPoints points each, decimated from `steps` + 1).
 struct ReplayedTrajectory {
-  std::string label;  // "worst" (largest D_trajectory) or "median" (nearest the median)
+  std::string label;  // "worst" (largest value of `by`) or "median" (nearest its median)
+  // The output the sample is worst or median by: each output the spec constrains, else
+  // d_trajectory_mm; and its stored value [in the output's unit].
+  std::string by = "d_trajectory_mm";
+  double stored_by = 0.0;
   std::int64_t index = 0;
   double stored_d_trajectory_mm = 0.0;
   double d_trajectory_mm = 0.0;  // as replayed now
@@ -185,7 +189,9 @@ struct CampaignReport {
   std::vector<OutputReport> outputs;             // kOutputNames order
   std::string primary_output;                    // the spec'd output, else d_trajectory_mm
   std::vector<OutputSensitivity> sensitivities;  // one per output
-  std::vector<ReplayedTrajectory> trajectories;  // the worst first, then the median (if another sample)
+  // Per output ranked by (ReplayedTrajectory::by), in kOutputNames order: the worst, then
+  // the median (if another sample).
+  std::vector<ReplayedTrajectory> trajectories;
   std::optional<std::string> replay_problem;      // why trajectories are missing
   // Over the stage's life, where the file holds the life columns (none otherwise):
   std::vector<LifeGap> life_gaps;  // kLifeColumns order

@@ -387,17 +387,34 @@ void OrbitSection(std::string& html, const CampaignReport& report) {
                         EscapeXml(report.replay_problem.value_or("no sample finished ok")));
     return;
   }
+  // The outputs the samples were picked by, in words.
+  std::vector<std::string> by;
+  for (const ReplayedTrajectory& t : report.trajectories) {
+    const std::string name = Label(t.by);
+    if (std::find(by.begin(), by.end(), name) == by.end()) by.push_back(name);
+  }
+  std::string by_words;
+  for (std::size_t k = 0; k < by.size(); ++k) by_words += (k == 0 ? "" : k + 1 == by.size() ? " and " : ", ") + by[k];
   html += fmt::format(
-      "<p>Worst and median refer to D_trajectory, over the {} ok independent samples: the worst has the largest, "
+      "<p>Worst and median refer to {}{}, over the {} ok independent samples: the worst has the largest, "
       "the median sample is the one nearest the median. Each is replayed from its stored design point "
       "(<code>/inputs/u</code>) with the campaign's solver settings and drawn only if it reproduces its stored "
       "D_trajectory. Left: the ring centre over one revolution, relative to the centre of its smallest enclosing "
       "circle, whose diameter is D_trajectory; the ring sits at the static equilibrium before it turns, Dist_init "
       "from that centre. Right: the sensor's reading over the same revolution, above its minimum; the total "
       "indicator reading is TIR = max &#8722; min.</p>\n",
-      report.ok);
+      EscapeXml(by_words), report.identity.spec.empty() ? "" : " (what the spec constrains)", report.ok);
   for (const ReplayedTrajectory& t : report.trajectories) {
-    const std::string which = t.label == "worst" ? "Worst D_trajectory" : "Median D_trajectory";
+    // "D_trajectory [mm]" -> "D_trajectory" and "mm".
+    const std::string label = Label(t.by);
+    const std::size_t bracket = label.rfind(" [");
+    const std::string quantity = label.substr(0, bracket);
+    const std::string unit = label.substr(bracket + 2, label.size() - bracket - 3);
+    const std::string which = fmt::format("{} {}", t.label == "worst" ? "Worst" : "Median", EscapeXml(quantity));
+    // The title states D_trajectory and the TIR anyway; another ranking output besides.
+    const std::string ranked_value = t.by == "d_trajectory_mm" || t.by == "runout_mm"
+                                         ? std::string()
+                                         : fmt::format(", {} {} {}", EscapeXml(quantity), Num(t.stored_by), unit);
     if (!t.reproduced) {
       html += fmt::format("<h3>{}: sample {}</h3>\n", which, t.index);
       const std::string replayed =
@@ -410,8 +427,9 @@ void OrbitSection(std::string& html, const CampaignReport& report) {
           t.index, EscapeXml(replayed));
       continue;
     }
-    html += fmt::format("<h3>{}: sample {}, D_trajectory {} mm, TIR {} mm</h3>\n", which, t.index,
-                        Num(t.stored_d_trajectory_mm), Num(t.tir_um * units::kMetresPerMicrometre * units::kMillimetresPerMetre));
+    html += fmt::format("<h3>{}: sample {}{}, D_trajectory {} mm, TIR {} mm</h3>\n", which, t.index, ranked_value,
+                        Num(t.stored_d_trajectory_mm),
+                        Num(t.tir_um * units::kMetresPerMicrometre * units::kMillimetresPerMetre));
     html += "<div class=\"charts\">\n";
     html += Figure(OrbitSvg(t), "Dotted: the smallest circle enclosing the path; ring: the static equilibrium.");
     html += Figure(SensorSvg(t), fmt::format("Ringed: the reading's maximum (at {:.1f}°) and minimum (at {:.1f}°).",

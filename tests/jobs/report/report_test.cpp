@@ -313,6 +313,40 @@ TEST_F(ReportTest, AFileWithoutTheLifeColumnsHasNoLifeParts) {
   EXPECT_THAT(text.str(), Not(HasSubstr("Over the stage's life")));
 }
 
+// The orbits shown are the worst and the median by what the spec constrains: with a limit
+// on the runout alone, by the runout; with limits on both, by each in turn.
+TEST_F(ReportTest, OrbitsAreTheWorstAndMedianByEachOutputTheSpecConstrains) {
+  for (const bool both : {false, true}) {
+    SCOPED_TRACE(both ? "D_trajectory and runout" : "runout alone");
+    std::string text = kCampaign;
+    const std::string spec = "d_trajectory_mm = 0.25\n";
+    text.replace(text.find(spec), spec.size(), both ? spec + "runout_mm = 0.2\n" : "runout_mm = 0.2\n");
+    std::ofstream(dir_ / "campaign.toml") << text;
+    const std::filesystem::path results = RunWithFailures(both ? "both.h5" : "runout.h5");
+    ReportOptions options;
+    options.bootstrap_resamples = 0;
+    const CampaignReport report = BuildReport(results, options);
+    std::vector<std::string> by;
+    for (const ReplayedTrajectory& t : report.trajectories) by.push_back(t.by + " " + t.label);
+    const std::vector<std::string> expected =
+        both ? std::vector<std::string>{"d_trajectory_mm worst", "d_trajectory_mm median", "runout_mm worst",
+                                        "runout_mm median"}
+             : std::vector<std::string>{"runout_mm worst", "runout_mm median"};
+    EXPECT_EQ(by, expected);
+    const auto largest_runout = std::max_element(ok_records_.begin(), ok_records_.end(), [&](const auto& a, const auto& b) {
+      return a.outputs[Column("runout_mm")] < b.outputs[Column("runout_mm")];
+    });
+    const ReplayedTrajectory& worst = report.trajectories[both ? 2 : 0];
+    EXPECT_EQ(worst.index, largest_runout->index);
+    EXPECT_EQ(worst.stored_by, largest_runout->outputs[Column("runout_mm")]);
+    EXPECT_TRUE(worst.reproduced);
+    const std::string html = ReportHtml(report);
+    EXPECT_THAT(html, HasSubstr(fmt::format("Worst runout (max - min): sample {},", worst.index)));
+    EXPECT_THAT(html, HasSubstr("(what the spec constrains)"));
+    EXPECT_EQ(ReportJson(report)["trajectories"][both ? 2 : 0]["by"], "runout_mm");
+  }
+}
+
 TEST_F(ReportTest, ASampleThatNoLongerReplaysIsReportedInsteadOfDrawn) {
   CampaignReport report;
   ReplayedTrajectory moved;
