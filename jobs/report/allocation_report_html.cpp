@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "jobs/report/allocation_report.h"
+#include "jobs/report/allocation_summary.h"
 #include "jobs/report/html_parts.h"
 #include "jobs/report/svg_chart.h"
 
@@ -316,7 +317,7 @@ void SearchSection(std::string& html, const AllocationReport& report) {
   Row(html, {"samples simulated by the confirming rung", fmt::format("{}", report.samples_confirm)});
   Row(html, {"common random numbers: variance gain", std::isnan(report.common_random_numbers_gain)
                                                           ? std::string("n/a (no simulated neighbour)")
-                                                          : Num(report.common_random_numbers_gain)});
+                                                          : EscapeXml(CommonRandomGainText(report.common_random_numbers_gain))});
   Row(html, {"search ran to its end", report.complete ? "yes" : "no"});
   html += "</table>\n";
   html += "<p class=\"note\">The variance gain compares the recommendation with its cheapest simulated neighbour (one "

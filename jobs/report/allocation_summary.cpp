@@ -59,9 +59,25 @@ std::string CandidateClasses(const AllocationIdentity& identity, const Candidate
     const AllocationIdentity::Option& option =
         identity.options[k][static_cast<std::size_t>(candidate.options[k])];
     text += fmt::format("{}{} {}", k == 0 ? "" : ", ", identity.components[k], option.class_name);
-    if (identity.components[k] == "rollers") text += fmt::format(" ({})", option.mode);
+    // The mode where it tells candidates apart: always for bought-in rollers, and for any
+    // component whose options differ in it (positions as bored or measured and reworked).
+    const std::vector<AllocationIdentity::Option>& options = identity.options[k];
+    const bool modes_differ = std::any_of(options.begin(), options.end(),
+                                          [&](const AllocationIdentity::Option& o) { return o.mode != options[0].mode; });
+    if (identity.components[k] == "rollers" || modes_differ) text += fmt::format(" ({})", option.mode);
   }
   return text;
+}
+
+std::string CommonRandomGainText(double gain) {
+  // Beyond this the two candidates' values move together almost exactly (they differ in a
+  // component that barely moves the output), and the ratio's digits mean nothing.
+  constexpr double kLargestShownGain = 1e4;
+  if (gain > kLargestShownGain) {
+    return fmt::format("more than {:g} times (the two candidates differ in a component that barely moves it)",
+                       kLargestShownGain);
+  }
+  return fmt::format("{:.3g} times", gain);
 }
 
 std::string ConstraintText(const analysis::Constraint& constraint) {
@@ -158,9 +174,9 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
   if (std::isfinite(outcome.common_random_numbers_gain)) {
     fmt::print(out,
                "common random     the difference of mean {} between the recommendation and its nearest looser "
-               "candidate is {:.3g} x less variable than with independent draws\n",
+               "candidate is {} less variable than with independent draws\n",
                identity.constraints.empty() ? std::string("output") : identity.constraints.front().output,
-               outcome.common_random_numbers_gain);
+               CommonRandomGainText(outcome.common_random_numbers_gain));
   }
 }
 

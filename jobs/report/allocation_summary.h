@@ -15,6 +15,9 @@ namespace ringtol::jobs {
 
 // "ring IT7/2, rollers 5 (inspected), roller_positions IT8, springs pm10".
 std::string CandidateClasses(const AllocationIdentity& identity, const CandidateOutcome& candidate);
+// "25.5 times", or beyond 10^4 a sentence: a ratio that large says the two candidates'
+// values move together, and its digits mean nothing.
+std::string CommonRandomGainText(double gain);
 // "d_trajectory_mm: 99 % quantile <= 0.05 mm" or "static_offset_mm: yield >= 99.73 % within 0.03 mm".
 std::string ConstraintText(const analysis::Constraint& constraint);
 // How far a judged constraint is from its limit, on the safe side > 0: the limit less the

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "jobs/report/allocation_report.h"
+#include "jobs/report/allocation_summary.h"
 #include "tests/support/chromium.h"
 #include "tests/support/text_files.h"
 
@@ -174,6 +175,30 @@ std::string CandidateRow(const std::string& html, std::int64_t index) {
   return Between(html, fmt::format("data-candidate=\"{}\"", index), "</tr>");
 }
 
+// Two candidates that differ only in a component's mode read differently: the mode is named
+// wherever a component's options differ in it (positions as bored or reworked), and always
+// for the rollers.
+TEST(AllocationSummary, CandidatesThatDifferOnlyInAModeReadDifferently) {
+  AllocationIdentity identity;
+  identity.components = {"rollers", "roller_positions", "springs"};
+  identity.options = {{{"5", "inspected", 5e-6, 1.0}},
+                      {{"IT7", "process", 70e-6, 1.0}, {"IT7", "inspected", 70e-6, 1.5}},
+                      {{"pm10", "process", 0.1, 0.1}}};
+  CandidateOutcome bored, reworked;
+  bored.options = {0, 0, 0};
+  reworked.options = {0, 1, 0};
+  EXPECT_EQ(CandidateClasses(identity, bored), "rollers 5 (inspected), roller_positions IT7 (process), springs pm10");
+  EXPECT_EQ(CandidateClasses(identity, reworked),
+            "rollers 5 (inspected), roller_positions IT7 (inspected), springs pm10");
+}
+
+// A variance ratio of ten million is exact arithmetic on two nearly equal columns, not a
+// precision gain worth its digits: said in words.
+TEST(AllocationSummary, AHugeCommonRandomNumbersGainIsSaidInWords) {
+  EXPECT_EQ(CommonRandomGainText(25.5), "25.5 times");
+  EXPECT_THAT(CommonRandomGainText(1.27e7), AllOf(HasSubstr("more than 10000 times"), ::testing::Not(HasSubstr("e+07"))));
+}
+
 TEST(AllocationReport, AnswerNamesTheRecommendedClassesTheirCostsAndTheirMargins) {
   const AllocationReport report = MakeAllocationReport(Input());
   const std::string html = AllocationReportHtml(report);
@@ -244,7 +269,7 @@ TEST(AllocationReport, JsonHoldsTheNumbersThePageShows) {
   EXPECT_EQ(json["search"]["simulated"], 6);
   EXPECT_EQ(json["search"]["costlier"], 3);
   EXPECT_EQ(json["search"]["common_random_numbers_gain"], 7.5);
-  EXPECT_THAT(Between(html, "id=\"search\"", "</table>"), HasSubstr("<td>7.5</td>"));
+  EXPECT_THAT(Between(html, "id=\"search\"", "</table>"), HasSubstr("<td>7.5 times</td>"));
 }
 
 TEST(AllocationReport, NoFeasibleCandidateNamesTheBindingConstraintAndHowFarItMisses) {
