@@ -114,6 +114,18 @@ void AnswerSection(std::string& html, const AllocationReport& report) {
         Num(c.outcome.relative_cost),
         id.reference ? "relative to the current design" : "relative to the loosest candidate",
         Num(c.relative_to_loosest), Yield(c), 100 * id.confidence, c.outcome.samples, SettledBy(c));
+    const bool quantiles = std::any_of(id.constraints.begin(), id.constraints.end(), [](const analysis::Constraint& k) {
+      return k.kind == analysis::ConstraintKind::kQuantile;
+    });
+    if (quantiles) {
+      html += fmt::format(
+          "<p class=\"note\">The yield counts the samples within every limit at once; each quantile constraint "
+          "below is judged on its own output, at its own level, from the same {} samples. So the verdict and the "
+          "yield answer different questions: every quantile limit can be met while the yield is below each "
+          "quantile's level, and a yield of 100 % from {} samples says only that the share outside is below the "
+          "interval's far end (a campaign of more samples of the same classes may find a few).</p>\n",
+          c.outcome.samples, c.outcome.samples);
+    }
     RecommendationTable(html, report, c);
     if (!report.alternatives.empty()) {
       html += "<p>Next cheapest feasible:</p>\n<ul>\n";
@@ -186,8 +198,16 @@ std::string ParetoSvg(const AllocationReport& report) {
   chart.title = "Cost against yield of every simulated candidate";
   chart.x.label = report.identity.reference ? "cost relative to the current design" : "cost relative to the loosest";
   chart.y.label = "yield (within every limit)";
-  chart.y.max = 1.0;
   chart.height = 420.0;
+  // The yields of a tolerance choice crowd below 1: the axis spans them, not [0, 1], and
+  // keeps room above 1 for the recommendation's label below the legend.
+  double lowest = 1.0;
+  for (const std::int64_t i : report.simulated) {
+    const CandidateReport& c = At(report, i);
+    if (c.outcome.yield.trials > 0) lowest = std::min(lowest, c.outcome.yield.value);
+  }
+  chart.y.min = std::max(0.0, std::floor(20.0 * lowest) / 20.0 - 0.05);
+  chart.y.max = 1.0 + 0.1 * (1.0 - *chart.y.min);
   const std::vector<Marks> marks = {
       {analysis::Verdict::kFeasible, "feasible", svg::Series::Marker::kCircle, kFeasibleColour},
       {analysis::Verdict::kInfeasible, "infeasible", svg::Series::Marker::kSquare, kInfeasibleColour},

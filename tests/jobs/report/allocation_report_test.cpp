@@ -221,6 +221,9 @@ TEST(AllocationReport, AnswerNamesTheRecommendedClassesTheirCostsAndTheirMargins
   EXPECT_THAT(answer, HasSubstr("candidate 6: ring ground, rollers 6 (process)"));
   EXPECT_THAT(answer, HasSubstr("candidate 3: ring turned, rollers 6 (process) &#8212; cost 0.75, about 20000 samples"));
   EXPECT_THAT(answer, Not(HasSubstr("No candidate is feasible")));
+  // The yield and the quantile verdicts answer different questions, and the page says so
+  // beside the verdict.
+  EXPECT_THAT(answer, HasSubstr("The yield counts the samples within every limit at once; each quantile constraint"));
 }
 
 TEST(AllocationReport, FrontTableListsTheFrontInCostOrderWithTheRecommendationMarked) {
