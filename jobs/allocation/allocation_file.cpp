@@ -262,7 +262,8 @@ AllocationOption ReadOption(const Site& site, AllocatedComponent component, cons
   } else if (const toml::table* t = site.node.as_table()) {
     const TableReader table(*t, site.key_path, site.file);
     const std::vector<Field<OptionText>> fields{
-        Text("class", Presence::kRequired, class_allowed, &OptionText::class_name),
+        Text("class", Presence::kRequired, "a class of the catalogue for this component (`ringtol classes` lists them)",
+             &OptionText::class_name),
         Choice<OptionText, std::optional<ToleranceMode>>(
             "mode", Presence::kOptional, {{"process", ToleranceMode::kProcess}, {"inspected", ToleranceMode::kInspected}},
             &OptionText::mode),

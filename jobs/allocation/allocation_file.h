@@ -1,38 +1,7 @@
-// Allocation files: a campaign file (jobs/campaign/campaign_file.h: scene, seed, [design],
-// [tolerances.*], [solver], [catalogue]) whose [tolerances.*] are the current design, plus
-// an [allocation] table saying what may change, what it costs and what must hold.
-// examples/allocation/default.toml is the reference; docs/allocation.md the manual.
-//
-//   [design]                        as a campaign's, kind "sobol" or "monte_carlo" (stages are
-//                                   prefixes of it); samples is the most any candidate gets
-//   [solver]                        as a campaign's (default auto): the rung that confirms;
-//                                   a screen needs auto or quasistatic
-//   [allocation]
-//     screen = "linear"             "linear" or "none": the cheap rung that may settle a
-//                                   candidate where its error bound allows (docs/allocation.md)
-//     search = "auto"               "auto", "exhaustive" or "branch_and_bound"; auto is
-//                                   exhaustive up to max_exhaustive candidates
-//     max_exhaustive = 256          integer >= 1
-//     batch = 8                     integer 1..4096: candidates simulated at a time
-//     first_samples = 256           integer >= 1, <= design.samples: a candidate's first
-//                                   stage; each later stage doubles it, up to design.samples
-//                                   (absent and above design.samples: design.samples)
-//     confidence = 0.95             in (0, 1): of every interval a verdict is judged by
-//     reference = "current"         "current" (the [tolerances] design, which must then be one
-//                                   of the candidates) or "loosest": what relative cost is against
-//   [[allocation.constraint]]       at least one
-//     output = "d_trajectory_mm"    one of the campaign's outputs (jobs/campaign/sample_record.h)
-//     quantile = 0.99               in (0, 1): this quantile of the output must be <= upper, or
-//     yield = 0.9973                in (0, 1): at least this fraction of assemblies <= upper
-//     upper_mm = 0.10               > 0, the unit as in the output's name (upper_N for forces)
-//   [allocation.components.ring]    any of ring, rollers, roller_positions, springs; at least one
-//     options = ["waterjet", "precise", "IT7/2"]   classes, loosest first; a roller option may be
-//                                   { class = "6", mode = "process" } (mode as in [tolerances])
-//     cost = [1.0, 2.0, 6.0]        relative cost per option, >= 0, never falling as options
-//                                   tighten; or
-//     cost_model = { form = "reciprocal_power", a = 0.0, b = 1.0, k = 1.0 }
-//                                   analysis::CostModel of the option's characteristic
-//                                   tolerance (CharacteristicTolerance); a >= 0, b > 0, k > 0
+// Allocation files: a campaign file (jobs/campaign/campaign_file.h) whose [tolerances.*] are
+// the current design, plus an [allocation] table saying what may change, what it costs and
+// what must hold. The format, key by key, is docs/inputs.md, "Allocation files";
+// docs/allocation.md is the manual, examples/allocation/default.toml the reference example.
 //
 // A component's options inherit every other key of its [tolerances] table (mode,
 // capability, spectrum); a component with no [tolerances] table takes the defaults.

@@ -1,30 +1,9 @@
-// Campaign files: a sampling file (jobs/inputs/sampling_file.h: scene, seed, [design],
-// [tolerances.*], [catalogue]) plus how to simulate each sample and what counts as good.
-// examples/campaigns/default.toml is the reference.
-//
-//   [solver]                       optional
-//     name = "auto"                "auto", "linear", "quasistatic" or "dynamic": auto picks
-//                                  per sample the cheapest whose error fits half the
-//                                  path_tolerance (solvers/auto.h)
-//     steps = 0                    0..solvers::kMaxSteps: angles per revolution; 0 = automatic
-//     path_tolerance_um = 1.0      >= 0: budget of the automatic resolution for the sampling
-//                                  error of D_trajectory (solvers/simulation.h,
-//                                  SamplingErrorBound); 0 resolves every undulation.
-//                                  The quasistatic solver then converges each angle to
-//                                  1 % of it (solvers::SolverSettings), else to 1 pm
-//     angles = "dense"             "refined" or "spectral": evaluate every angle, or every
-//                                  eighth and only the stretches that can move D_trajectory,
-//                                  runout or the status (refined: linear and quasistatic
-//                                  rungs; spectral: the linear rung, alone or as auto's
-//                                  first step, read from its phasors; solvers::AngleMode)
-//     relative_tolerance = 1e-6    > 0 and < 1: the dynamic solver's integration tolerance
-//     start = "quasistatic_equilibrium"  or "article_settle": where the dynamic solver
-//                                  starts (solvers::DynamicStart); the other rungs ignore it
-//   [spec]                         optional: upper specification limits (one-sided)
-//     d_trajectory_mm = 0.30       any output of jobs/campaign/sample_record.h, > 0 (mm or N)
+// Campaign files: a sampling file (jobs/inputs/sampling_file.h) plus how to simulate each
+// sample ([solver]) and what counts as good ([spec]). The format, key by key, is
+// docs/inputs.md, "Campaign files"; examples/campaigns/default.toml is the default campaign.
 //
 // Failure: InputError naming the file, key, value and allowed range, for everything
-// ReadSamplingFile refuses and for the keys above.
+// ReadSamplingFile refuses and for the keys of [solver] and [spec].
 #pragma once
 
 #include <array>

@@ -97,7 +97,7 @@ void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings,
          "--solver",
          [&settings](const std::string& name) { settings.rung = *ValueNamed(ringtol::solvers::kRungNames, name); },
          "Solver, a rung of the ladder, or auto: the cheapest whose error estimate fits half the path tolerance "
-         "(solvers/auto.h)")
+         "(docs/model.md §7)")
       ->check(CLI::IsMember(names))
       ->default_str(std::string(NameOf(ringtol::solvers::kRungNames, settings.rung)));
   app.add_option("--steps", settings.simulation.steps, steps_help)
@@ -110,7 +110,7 @@ void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings,
            settings.simulation.angles = *ValueNamed(ringtol::solvers::kAngleModeNames, name);
          },
          "Angles evaluated at full cost: every one (dense), a coarse grid refined where the metrics could change "
-         "(refined), or the linear rung read from its phasors there (spectral; solvers/spectral.h)")
+         "(refined), or the linear rung read from its phasors there (spectral; docs/model.md §5)")
       ->check(CLI::IsMember(angle_modes))
       ->default_str(std::string(NameOf(ringtol::solvers::kAngleModeNames, settings.simulation.angles)));
   app.add_option("--relative-tolerance", settings.relative_tolerance, "Dynamic solver: integrator tolerance, > 0 and < 1")

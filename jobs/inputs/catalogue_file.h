@@ -1,18 +1,8 @@
 // The tolerance catalogue as a file: jobs/inputs/catalogue.toml, built into the executable, and
 // the same tables under [catalogue] in a sampling (campaign) file, which add classes or
-// replace shipped ones of the same name.
-//
-//   version = "..."                     shipped file only: kept with every campaign's results
-//   [[roller]]        ISO 492 outer-ring classes, rows by outside diameter D
-//     name, aliases = [...], description
-//     rows = [{ outside_diameter_over_mm, outside_diameter_up_to_mm, kea_um, vdsp_series_9_um,
-//               vdsp_series_0_1_um, vdsp_series_2_4_um, mean_diameter_lower_um,
-//               mean_diameter_upper_um, source }, ...]
-//   [[ring]]          bore circularity, rows by bore diameter
-//     rows = [{ diameter_over_mm, diameter_up_to_mm, circularity_mm, source }, ...]
-//   [[roller_position]]   zone diameter, rows by centre-circle diameter
-//     rows = [{ diameter_over_mm, diameter_up_to_mm, zone_diameter_mm, source }, ...]
-//   [[spring]]        rows = [{ stiffness_percent, preload_percent, source }] (one row)
+// replace shipped ones of the same name. The format, key by key, is docs/inputs.md,
+// "Tolerance catalogue"; the shipped file also has `version`, kept with every campaign's
+// results.
 //
 // Every row needs its source. Errors are InputErrors in the form of jobs/inputs/input_error.h;
 // overlapping rows and negative tolerances are refused (sampling::ToleranceCatalogue::Add).

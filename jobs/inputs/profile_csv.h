@@ -2,20 +2,10 @@
 // (ring.measured_profile) and `ringtol fit` shows, through the same two functions
 // (FitProfileFile, FormHarmonics), so that both routes give the same harmonics.
 //
-// The file: one reading per line, as comma-separated text.
-//
-//   # lines starting with '#' and blank lines are ignored, anywhere
-//   angle_deg, radius_mm, quality      <- header: the first line that is not a comment
-//   0.0, 100.0012, ok                  <- one row per reading
-//   0.5, 100.0009, ok
-//
-// The header's first column names the angle and its unit, `angle_deg` or `angle_rad`;
-// the second names the quantity and its unit, `radius_mm` (the measured radius),
-// `deviation_mm` or `deviation_um` (radial deviation from the nominal radius). Further
-// columns are allowed and ignored, but every row must have as many fields as the header.
-// Fields may be padded with spaces or tabs; CRLF line ends and a UTF-8 byte-order mark
-// are accepted, as spreadsheet programs write them. Values are converted to SI here: the
-// rest of ringtol sees metres and radians only.
+// The file (docs/inputs.md, "Profile CSV files"): comma-separated readings under a header
+// whose first column names the angle (`angle_deg`, `angle_rad`) and whose second names the
+// quantity (`radius_mm`, `deviation_mm`, `deviation_um`). Values are converted to SI here:
+// the rest of ringtol sees metres and radians only.
 //
 // Everything here throws InputError (jobs/inputs/input_error.h) and nothing else (std::bad_alloc
 // aside), with messages in its form, e.g.

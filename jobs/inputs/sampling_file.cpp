@@ -18,13 +18,18 @@ namespace {
 using sampling::ToleranceMode;
 
 constexpr double kPerPercent = 1e-2;
+// Default spectrum cutoffs [undulations per revolution]: the ring's is the classic 50 UPR
+// roundness filter; a roller's order n passes the contact about n R / r_b times a ring
+// revolution, each pass costing solver steps, so its cutoff is low (docs/tolerances.md §7.2).
+constexpr int kRingMaxOrder = 50;
+constexpr int kRollerMaxOrder = 8;
 
 // Keys every tolerance table has.
 struct Common {
   std::optional<std::string> class_name;
   ToleranceMode mode = ToleranceMode::kProcess;
   double cp = 1.0;
-  int max_order = 0;
+  int max_order = 0;  // set by ToleranceSection to the component's default
   double exponent = 1.0;
   std::vector<double> relative_scales;
 
@@ -82,8 +87,8 @@ bool ClassOrNumbers(const TableReader& table, const Common& common, std::vector<
   return common.class_name.has_value();
 }
 
-sampling::SpectrumShape Spectrum(const TableReader& table, const Common& c, int default_max) {
-  sampling::SpectrumShape shape{2, c.max_order > 0 ? c.max_order : default_max, c.exponent, c.relative_scales};
+sampling::SpectrumShape Spectrum(const TableReader& table, const Common& c) {
+  sampling::SpectrumShape shape{2, c.max_order, c.exponent, c.relative_scales};
   if (!shape.relative_scales.empty() && static_cast<int>(shape.relative_scales.size()) != shape.order_count())
     table.Fail("relative_scales", "has " + std::to_string(shape.relative_scales.size()) + " values",
                "one per order 2.." + std::to_string(shape.max_order) + ": " + std::to_string(shape.order_count()));
@@ -163,13 +168,15 @@ std::vector<Field<FileInput>> DesignFields() {
 
 // One [tolerances.*] table: the fields every component has (class, spectrum when it has
 // one, capability) and its own, read into its slot.
+// max_order: the spectrum's default cutoff, 0 for a component without a spectrum.
 template <typename Input>
-Field<ToleranceInputs> ToleranceSection(std::string_view key, bool spectrum, std::vector<Field<Input>> own,
+Field<ToleranceInputs> ToleranceSection(std::string_view key, int max_order, std::vector<Field<Input>> own,
                                         std::optional<Input> ToleranceInputs::*slot) {
   return Section<ToleranceInputs>(key, Presence::kOptional,
-                                  [spectrum, own = std::move(own), slot](const TableReader& t, ToleranceInputs& in) {
+                                  [max_order, own = std::move(own), slot](const TableReader& t, ToleranceInputs& in) {
                                     Input read;
-                                    t.Read(With(CommonFields<Input>(spectrum), own), read);
+                                    read.max_order = max_order;
+                                    t.Read(With(CommonFields<Input>(max_order > 0), own), read);
                                     in.*slot = read;
                                   });
 }
@@ -177,26 +184,30 @@ Field<ToleranceInputs> ToleranceSection(std::string_view key, bool spectrum, std
 std::vector<Field<ToleranceInputs>> ToleranceFields() {
   const double um = units::kMetresPerMicrometre;
   return {
-      ToleranceSection<RingInput>("ring", true,
+      ToleranceSection<RingInput>("ring", kRingMaxOrder,
                                   {Number("circularity_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0),
-                                          &RingInput::circularity)},
+                                          &RingInput::circularity)
+                                       .WithoutDefault()},
                                   &ToleranceInputs::ring),
       ToleranceSection<RollerInput>(
-          "rollers", true,
+          "rollers", kRollerMaxOrder,
           {Text("diameter_series", Presence::kOptional, "\"9\", \"0\", \"1\", \"2\", \"3\", \"4\"", &RollerInput::series),
-           Number("kea_um", Presence::kOptional, um, AtLeast(0), &RollerInput::kea),
-           Number("vdsp_um", Presence::kOptional, um, AtLeast(0), &RollerInput::vdsp),
-           Number("mean_diameter_lower_um", Presence::kOptional, um, AnyFinite(), &RollerInput::lower),
-           Number("mean_diameter_upper_um", Presence::kOptional, um, AnyFinite(), &RollerInput::upper)},
+           Number("kea_um", Presence::kOptional, um, AtLeast(0), &RollerInput::kea).WithoutDefault(),
+           Number("vdsp_um", Presence::kOptional, um, AtLeast(0), &RollerInput::vdsp).WithoutDefault(),
+           Number("mean_diameter_lower_um", Presence::kOptional, um, AnyFinite(), &RollerInput::lower).WithoutDefault(),
+           Number("mean_diameter_upper_um", Presence::kOptional, um, AnyFinite(), &RollerInput::upper).WithoutDefault()},
           &ToleranceInputs::rollers),
-      ToleranceSection<PositionInput>("roller_positions", false,
+      ToleranceSection<PositionInput>("roller_positions", 0,
                                       {Number("zone_diameter_mm", Presence::kOptional, units::kMetresPerMillimetre,
-                                              Above(0), &PositionInput::zone)},
+                                              Above(0), &PositionInput::zone)
+                                           .WithoutDefault()},
                                       &ToleranceInputs::positions),
       ToleranceSection<SpringInput>(
-          "springs", false,
-          {Number("stiffness_percent", Presence::kOptional, kPerPercent, Between(0, 100), &SpringInput::stiffness),
-           Number("preload_percent", Presence::kOptional, kPerPercent, Range{0, false, 100, true}, &SpringInput::preload)},
+          "springs", 0,
+          {Number("stiffness_percent", Presence::kOptional, kPerPercent, Between(0, 100), &SpringInput::stiffness)
+               .WithoutDefault(),
+           Number("preload_percent", Presence::kOptional, kPerPercent, Range{0, false, 100, true}, &SpringInput::preload)
+               .WithoutDefault()},
           &ToleranceInputs::springs),
   };
 }
@@ -274,7 +285,7 @@ void ResolveRing(const TableReader& t, const RingInput& in, SamplingPlan& plan) 
   } else {
     r.circularity = in.circularity;
   }
-  r.spectrum = Spectrum(t, in, 50);
+  r.spectrum = Spectrum(t, in);
   r.capability = in.capability();
   plan.tolerances.ring = r;
 }
@@ -290,7 +301,7 @@ void ResolveRollers(const TableReader& t, const RollerInput& in, SamplingPlan& p
       by_class ? Lookup(t, [&] { return RollersOfClass(plan, *in.class_name, plan.roller_series); })
                : std::vector<sampling::RollerShapeTolerance>(count, {"", in.kea, in.vdsp, in.lower, in.upper, {}, {}});
   for (sampling::RollerShapeTolerance& r : rollers) {
-    r.form = Spectrum(t, in, 8);
+    r.form = Spectrum(t, in);
     r.capability = in.capability();
     plan.tolerances.roller_shapes.push_back(r);
   }

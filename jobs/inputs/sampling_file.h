@@ -1,42 +1,12 @@
-// Sampling files: what to sample and how. They are the sampling half of a campaign file
-// (jobs/campaign/campaign_file.h), which adds its solver and spec tables beside these; `ringtol
-// sample` reads either. examples/tolerances/normal_waterjet.toml is the reference.
-//
-//   scene = "scene.toml"            required: base scene, relative to this file
-//   seed = 1                        integer >= 0, default 1: the campaign seed
-//   [design]                        optional
-//     kind = "monte_carlo"          "monte_carlo" (default), "latin_hypercube", "sobol", "saltelli"
-//     samples = 1000                integer >= 1, default 1000; a Sobol' net needs
-//                                   replicates x 2^m, Saltelli (groups + 2) x rows (2^m rows
-//                                   on a Sobol' base); a Latin hypercube cannot grow later
-//     replicates = 1                sobol only: independently shifted nets (error bars)
-//     randomise = true              sobol, saltelli: false gives the raw net
-//     base = "sobol"                saltelli only: "sobol" or "monte_carlo"
-//     groups = "source"             saltelli only: "coordinate", "quantity", "component",
-//                                   "source" or "order" (sampling/assembly_sampler.h)
-//   [tolerances.ring]               optional: ring bore form
-//     class = "waterjet" | circularity_mm > 0     exactly one
-//     mode = "process"              "process" (as made) or "inspected" (out-of-tolerance rejected)
-//     capability_cp = 1.0           > 0 and <= 1.33: fraction inside erf(3 Cp / sqrt 2)
-//     max_order = 50                2..1000: cutoff in undulations per revolution
-//     exponent = 1.0                >= 0: amplitude scale n^-exponent, or
-//     relative_scales = [...]       one value >= 0 per order 2..max_order
-//   [tolerances.rollers]            optional: every roller's running surface
-//     class = "Normal" | kea_um, vdsp_um, mean_diameter_lower_um, mean_diameter_upper_um
-//     diameter_series = "9"         "9" (default, the widest VDsp), "0", "1", "2", "3", "4"
-//     mode, capability_cp           as above
-//     max_order = 8                 2..1000: roller form cutoff; exponent, relative_scales as above
-//   [tolerances.roller_positions]   optional: every roller's axis
-//     class = "IT7" | zone_diameter_mm > 0;  mode, capability_cp
-//   [tolerances.springs]            optional: every spring roller's spring
-//     class = "pm10" | stiffness_percent and preload_percent;  mode, capability_cp
-//   [catalogue]                     optional: classes added to the shipped catalogue
-//                                   (jobs/inputs/catalogue_file.h)
+// Sampling files: what to sample and how (scene, seed, [design], [tolerances.*],
+// [catalogue]). They are the sampling half of a campaign file (jobs/campaign/campaign_file.h),
+// which adds its solver and spec tables beside these; `ringtol sample` reads either. The
+// format, key by key, is docs/inputs.md, "Campaign files".
 //
 // Classes are looked up at each roller's own diameter (2 r_b for shapes, twice its centre
 // radius for positions) and the ring's bore diameter 2R. Failure: InputError naming the
-// file, key, value and allowed range, for every problem above, an unknown class or a
-// diameter its rows do not cover, a sample count the design cannot have, and what the
+// file, key, value and allowed range, for every key out of its range, an unknown class or
+// a diameter its rows do not cover, a sample count the design cannot have, and what the
 // sampler refuses (a capability too high to calibrate a form spectrum).
 #pragma once
 

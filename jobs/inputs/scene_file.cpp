@@ -76,7 +76,7 @@ struct MeasuredProfileInput {
 };
 
 constexpr std::string_view kProfileFileAllowed =
-    "the path of an existing CSV file (jobs/inputs/profile_csv.h), relative to the scene file's folder";
+    "the path of an existing CSV file (docs/inputs.md, \"Profile CSV files\"), relative to the scene file's folder";
 constexpr std::string_view kMeasuredProfileAllowed =
     "a table { file = \"profile.csv\", orders = integer 1..1000, keep_eccentricity = false, reference = "
     "\"nominal\" or \"own_mean\" }";

@@ -186,7 +186,7 @@ void WriteRoller(Writer& out, const engine::Roller& roller, const engine::Ring& 
 
 std::string WriteScene(const engine::Scene& scene) {
   Writer out(
-      "# Written by ringtol: a complete scene file (format: jobs/inputs/scene_file.h), every key explicit.\n"
+      "# Written by ringtol: a complete scene file (format: docs/inputs.md, \"Scene files\"), every key explicit.\n"
       "# Masses and spin inertias are given as such; each roller's width_mm only enters a mass\n"
       "# computed from density, so with mass_kg given it has no effect.\n");
 

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -69,6 +70,42 @@ std::vector<Field<engine::Harmonic>> HarmonicFields() {
 
 }  // namespace
 
+namespace {
+thread_local KeyRecorder* active_recorder = nullptr;
+}  // namespace
+
+KeyRecorder::KeyRecorder() {
+  if (active_recorder != nullptr) throw std::logic_error("KeyRecorder: one is already recording on this thread");
+  active_recorder = this;
+}
+
+KeyRecorder::~KeyRecorder() { active_recorder = nullptr; }
+
+KeyRecorder* KeyRecorder::Active() { return active_recorder; }
+
+void KeyRecorder::Add(KeyRecord record) {
+  // "rollers[2].harmonics[0].order" -> "rollers[].harmonics[].order": one entry per key of a format.
+  std::string path;
+  bool in_index = false;
+  for (const char c : record.path) {
+    if (c == '[') in_index = true;
+    if (c == ']') in_index = false;
+    if (!in_index || c == '[') path += c;
+  }
+  record.path = std::move(path);
+  const auto same = [&record](const KeyRecord& known) { return known.file == record.file && known.path == record.path; };
+  const auto known = std::find_if(keys_.begin(), keys_.end(), same);
+  if (known == keys_.end()) {
+    keys_.push_back(std::move(record));
+  } else if (known->allowed.empty()) {
+    // A reader that passes a key on to another (a campaign file's root, which the sampling
+    // reader shares) lists it with no allowed text; the reader that reads it says more.
+    *known = std::move(record);
+  }
+}
+
+std::string ShowText(const std::string& text) { return text.empty() ? std::string() : fmt::format("\"{}\"", text); }
+
 bool Range::Contains(double value) const {
   const bool above = lower_open ? value > lower : value >= lower;
   const bool below = upper_open ? value < upper : value <= upper;
@@ -77,9 +114,10 @@ bool Range::Contains(double value) const {
 
 std::string Range::Describe() const {
   std::string text;
-  if (std::isfinite(lower)) text = fmt::format("{} {}", lower_open ? ">" : ">=", ShowDerived(lower));
+  // Bounds are constants in file units: shown in full, as a user would type them.
+  if (std::isfinite(lower)) text = fmt::format("{} {}", lower_open ? ">" : ">=", ShowNumber(lower));
   if (std::isfinite(upper)) {
-    text += fmt::format("{}{} {}", text.empty() ? "" : " and ", upper_open ? "<" : "<=", ShowDerived(upper));
+    text += fmt::format("{}{} {}", text.empty() ? "" : " and ", upper_open ? "<" : "<=", ShowNumber(upper));
   }
   return text.empty() ? "any finite number" : text;
 }

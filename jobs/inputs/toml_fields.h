@@ -24,6 +24,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -66,6 +67,8 @@ std::string ShowNumber(double value);
 std::string ShowDerived(double value);
 // A TOML value as written (numbers as by ShowNumber, strings quoted), cut to 80 characters.
 std::string ShowValue(const toml::node& node);
+// Text as a TOML string ("\"penalty\""), or "" for empty text.
+std::string ShowText(const std::string& text);
 // "file:line:col", or "file" when the parser recorded no position.
 std::string Where(const std::string& file, const toml::source_region& region);
 
@@ -102,6 +105,42 @@ inline constexpr std::string_view kHarmonicsAllowed =
 
 enum class Presence { kRequired, kOptional };
 
+// What a reader's field lists say about one key, as docs/inputs.md states it; the test that
+// holds that reference to the readers (tests/jobs/cli/input_reference_test.cpp) collects
+// them by reading the reference's own examples.
+struct KeyRecord {
+  std::string file;  // the source name the reader was given
+  std::string path;  // "ring.inner_radius_mm", "rollers[].angle_deg": element indices dropped
+  bool required = false;
+  std::string allowed;    // Field::allowed
+  std::string only_when;  // Field::applies_when, "" for every configuration
+  // The value the reader keeps when the key is absent, in file units as the file would write
+  // it ("1.5", "\"penalty\"", "true"); "" where that is not a single value (a list, a value
+  // derived from other keys, a key with no default).
+  std::string default_value;
+};
+
+// While one is alive, every TableReader::Read on its thread records each field of the list
+// it reads with (the first sighting of a file's path wins), before reading that field, so
+// the recorded default is what the key's absence leaves. Readers behave as without it. At
+// most one per thread: a second throws std::logic_error. Not copyable or movable.
+class KeyRecorder {
+ public:
+  KeyRecorder();
+  ~KeyRecorder();
+  KeyRecorder(const KeyRecorder&) = delete;
+  KeyRecorder& operator=(const KeyRecorder&) = delete;
+
+  const std::vector<KeyRecord>& keys() const { return keys_; }
+
+  // The recorder alive on this thread, or null.
+  static KeyRecorder* Active();
+  void Add(KeyRecord record);
+
+ private:
+  std::vector<KeyRecord> keys_;
+};
+
 // One key of a table: read, checked and stored into a T.
 template <typename T>
 struct Field {
@@ -115,10 +154,18 @@ struct Field {
   // words the condition for messages, e.g. mount = "spring".
   std::function<bool(const T&)> applies;
   std::string_view applies_when;
+  // The key's current value in `T` as the file would write it, or "" (KeyRecord::default_value).
+  std::function<std::string(const T&)> show = {};
 
   Field When(std::function<bool(const T&)> condition, std::string_view description) && {
     applies = std::move(condition);
     applies_when = description;
+    return std::move(*this);
+  }
+  // For a key whose absence means something other than the member's initial value (the
+  // tolerance numbers a class stands in for): nothing is shown as its default.
+  Field WithoutDefault() && {
+    show = {};
     return std::move(*this);
   }
 };
@@ -128,18 +175,30 @@ class TableReader;
 // Field factories. M is the member type: double or std::optional<double> and so on; an
 // absent optional key leaves the member at its in-class default, which is therefore the
 // documented default.
+// A number's value in file units, to 6 significant digits (the conversion to SI and back
+// need not round-trip exactly); "" for an absent optional.
+template <typename M>
+std::string ShowInFileUnits(const M& value, double to_si) {
+  if constexpr (std::is_same_v<M, std::optional<double>>) {
+    return value ? ShowDerived(*value / to_si) : "";
+  } else {
+    return ShowDerived(static_cast<double>(value) / to_si);
+  }
+}
+
 template <typename T, typename M>
 Field<T> Number(std::string_view key, Presence presence, double to_si, Range range, M T::*member) {
   std::string allowed = range.Describe();
   return {key, presence, allowed,
           [to_si, range, member](const Site& site, T& target) { target.*member = ReadNumber(site, range) * to_si; },
-          {}, {}};
+          {}, {}, [to_si, member](const T& target) { return ShowInFileUnits(target.*member, to_si); }};
 }
 
 template <typename T>
 Field<T> Integer(std::string_view key, Presence presence, Range range, int T::*member) {
   return {key, presence, "an integer " + range.Describe(),
-          [range, member](const Site& site, T& target) { target.*member = ReadInteger(site, range); }, {}, {}};
+          [range, member](const Site& site, T& target) { target.*member = ReadInteger(site, range); }, {}, {},
+          [member](const T& target) { return std::to_string(target.*member); }};
 }
 
 template <typename T>
@@ -148,13 +207,14 @@ Field<T> Text(std::string_view key, Presence presence, std::string_view allowed,
           [allowed = std::string(allowed), member](const Site& site, T& target) {
             target.*member = ReadText(site, allowed);
           },
-          {}, {}};
+          {}, {}, [member](const T& target) { return ShowText(target.*member); }};
 }
 
 template <typename T>
 Field<T> Flag(std::string_view key, Presence presence, bool T::*member) {
   return {key, presence, "true or false",
-          [member](const Site& site, T& target) { target.*member = ReadFlag(site); }, {}, {}};
+          [member](const Site& site, T& target) { target.*member = ReadFlag(site); }, {}, {},
+          [member](const T& target) { return std::string(target.*member ? "true" : "false"); }};
 }
 
 // A string from a fixed set, stored as the matching enumerator.
@@ -174,7 +234,13 @@ Field<T> Choice(std::string_view key, Presence presence, std::vector<std::pair<s
             }
             site.Fail("unknown value", allowed);
           },
-          {}, {}};
+          {}, {},
+          [options, member](const T& target) {
+            for (const auto& [name, value] : options) {
+              if (target.*member == value) return ShowText(std::string(name));
+            }
+            return std::string();
+          }};
 }
 
 // The same, from the enum's name table (engine/enum_names.h).
@@ -295,7 +361,12 @@ void TableReader::Read(const std::vector<Field<T>>& fields, T& target) const {
   std::vector<std::string_view> keys;
   for (const Field<T>& field : fields) keys.push_back(field.key);
   RejectUnknownKeys(keys);
+  KeyRecorder* const recorder = KeyRecorder::Active();
   for (const Field<T>& field : fields) {
+    if (recorder != nullptr) {
+      recorder->Add({*file_, KeyPath(field.key), field.presence == Presence::kRequired, field.allowed,
+                     std::string(field.applies_when), field.show ? field.show(target) : std::string()});
+    }
     const bool applies = !field.applies || field.applies(target);
     const toml::node* node = table_->get(field.key);
     if (node == nullptr) {
