@@ -160,7 +160,7 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
   if (in.measured) {
     const MeasuredRing& measured = *in.measured;
     const double limit = kSameRingShare * in.inner_radius;
-    const double form = DeviationBound(engine::PolarProfile(1.0, 0.0, measured.harmonics));
+    const double form = AmplitudeSum(measured.harmonics);
     // A form as large as the ring is a fit gone wild (too many orders across a gap), which
     // RequireDeviationsBelowRadius blames below; the checks here are for sane fits.
     const bool sane = form < in.inner_radius;

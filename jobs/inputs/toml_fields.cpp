@@ -302,10 +302,14 @@ toml::table ParseToml(std::string_view text, const std::string& source_name) {
   }
 }
 
+double AmplitudeSum(const std::vector<engine::Harmonic>& harmonics) {
+  double sum = 0.0;
+  for (const engine::Harmonic& harmonic : harmonics) sum += std::abs(harmonic.amplitude);
+  return sum;
+}
+
 double DeviationBound(const engine::PolarProfile& profile) {
-  double bound = std::abs(profile.mean_deviation());
-  for (const engine::Harmonic& harmonic : profile.harmonics()) bound += std::abs(harmonic.amplitude);
-  return bound;
+  return std::abs(profile.mean_deviation()) + AmplitudeSum(profile.harmonics());
 }
 
 std::string FitRule(double ring_radius) {

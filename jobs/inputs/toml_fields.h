@@ -347,6 +347,8 @@ std::string ReadTextFile(const std::filesystem::path& file);
 // Parses TOML; a syntax error becomes InputError "<source>:<line>:<col>: not valid TOML: ...".
 toml::table ParseToml(std::string_view text, const std::string& source_name);
 
+// sum_n |C_n| [m]: how far a form can stray from its mean.
+double AmplitudeSum(const std::vector<engine::Harmonic>& harmonics);
 // |mean_deviation| + sum_n C_n [m]: how far a profile can stray from its radius. The
 // polar form needs it below the radius, or r(theta) can reach zero.
 double DeviationBound(const engine::PolarProfile& profile);

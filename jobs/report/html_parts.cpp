@@ -57,17 +57,19 @@ std::string PercentInterval(const analysis::Interval& i) {
   return fmt::format("[{}, {}]", Percent(i.lower), Percent(i.upper));
 }
 
-// "d_trajectory_mm" -> "D_trajectory [mm]": the unit key's suffix becomes the unit.
-std::string Label(std::string_view name) {
-  const std::size_t cut = name.rfind('_');
-  const std::string_view quantity = name.substr(0, cut);
+std::string Quantity(std::string_view name) {
+  const std::string_view quantity = name.substr(0, name.rfind('_'));
   std::string text = quantity == "d_trajectory"   ? "D_trajectory"
                      : quantity == "dist_init"    ? "Dist_init"
                      : quantity == "runout"       ? "runout (max - min)"
                                                   : std::string(quantity);
   if (text.front() != 'D') std::replace(text.begin(), text.end(), '_', ' ');
-  return fmt::format("{} [{}]", text, name.substr(cut + 1));
+  return text;
 }
+
+std::string Unit(std::string_view name) { return std::string(name.substr(name.rfind('_') + 1)); }
+
+std::string Label(std::string_view name) { return fmt::format("{} [{}]", Quantity(name), Unit(name)); }
 
 std::string SourceLabel(std::string_view name) {
   std::string out(name);

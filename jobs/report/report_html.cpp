@@ -405,11 +405,8 @@ void OrbitSection(std::string& html, const CampaignReport& report) {
       "indicator reading is TIR = max &#8722; min.</p>\n",
       EscapeXml(by_words), report.identity.spec.empty() ? "" : " (what the spec constrains)", report.ok);
   for (const ReplayedTrajectory& t : report.trajectories) {
-    // "D_trajectory [mm]" -> "D_trajectory" and "mm".
-    const std::string label = Label(t.by);
-    const std::size_t bracket = label.rfind(" [");
-    const std::string quantity = label.substr(0, bracket);
-    const std::string unit = label.substr(bracket + 2, label.size() - bracket - 3);
+    const std::string quantity = Quantity(t.by);
+    const std::string unit = Unit(t.by);
     const std::string which = fmt::format("{} {}", t.label == "worst" ? "Worst" : "Median", EscapeXml(quantity));
     // The title states D_trajectory and the TIR anyway; another ranking output besides.
     const std::string ranked_value = t.by == "d_trajectory_mm" || t.by == "runout_mm"

@@ -446,7 +446,7 @@ TypeId RungMemoryType(const Where& where, hid_t dataset) {
 void CreateColumn(const Where& where, hid_t file, std::size_t column, hsize_t samples, hsize_t inputs,
                   hsize_t chunk_rows, int deflate_level, bool checksum, hid_t status_type, hid_t message_type) {
   const std::string path = ColumnPath(column);
-  const TypeId rung_type = RungType(where);
+  TypeId rung_type;  // the rung column's own type, alive until the dataset is created
   const int rank = IsMatrix(column) ? 2 : 1;
   const hsize_t dims[2] = {samples, inputs};
   const hsize_t max_dims[2] = {H5S_UNLIMITED, inputs};
@@ -489,6 +489,7 @@ void CreateColumn(const Where& where, hid_t file, std::size_t column, hsize_t sa
       filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT32, &zero);
       break;
     case kRung:
+      rung_type = RungType(where);
       file_type = rung_type.get();
       filled = H5Pset_fill_value(dcpl.get(), rung_type.get(), &no_rung);
       break;
