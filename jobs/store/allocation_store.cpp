@@ -18,6 +18,7 @@
 
 #include "jobs/inputs/input_error.h"
 #include "jobs/store/hdf5_file.h"
+#include "jobs/store/sample_table.h"
 
 namespace ringtol::jobs {
 
@@ -37,10 +38,6 @@ constexpr std::int64_t kMostChunkSamples = 1024;
 constexpr hsize_t kCandidateChunkRows = 4096;
 // Rows of /inputs/u in one chunk: about 256 KiB, as the campaign's.
 constexpr std::size_t kDesignChunkBytes = 256u << 10;
-// Hash slots of each [C, N] dataset's chunk cache: a prime (HDF5's advice), many times the
-// chunks a batch of candidates fills (8 candidates of 2,048 samples in chunks of at least
-// 64: at most 256), so that those chunks never evict each other.
-constexpr std::size_t kCacheSlots = 12421;
 constexpr std::array<EvaluationRole, 2> kRoles = {EvaluationRole::kScreen, EvaluationRole::kConfirm};
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -50,26 +47,55 @@ std::size_t RoleIndex(EvaluationRole role) { return role == EvaluationRole::kScr
 // ---------------------------------------------------------------------------------------
 // The [C, N] datasets of a role, statuses last: Commit writes them in this order.
 
-enum class Field { kOutput, kErrorBound, kSteps, kSolveTime, kStatus };
+enum class SampleField { kOutput, kErrorBound, kSteps, kSolveTime, kStatus };
 
-struct ColumnSpec {
+struct RoleColumn {
   std::string name;  // under /samples/<role>/
-  Field field = Field::kOutput;
+  SampleField field = SampleField::kOutput;
   std::size_t output = 0;  // kOutput: index into the stored outputs
 };
 
-std::vector<ColumnSpec> RoleColumns(EvaluationRole role, const std::vector<std::string>& outputs) {
-  std::vector<ColumnSpec> columns;
-  for (std::size_t q = 0; q < outputs.size(); ++q) columns.push_back({outputs[q], Field::kOutput, q});
-  if (role == EvaluationRole::kScreen) columns.push_back({"d_trajectory_error_mm", Field::kErrorBound, 0});
-  columns.push_back({"steps", Field::kSteps, 0});
-  columns.push_back({"solve_time_s", Field::kSolveTime, 0});
-  columns.push_back({"status", Field::kStatus, 0});
+std::vector<RoleColumn> RoleColumns(EvaluationRole role, const std::vector<std::string>& outputs) {
+  std::vector<RoleColumn> columns;
+  for (std::size_t q = 0; q < outputs.size(); ++q) columns.push_back({outputs[q], SampleField::kOutput, q});
+  if (role == EvaluationRole::kScreen) columns.push_back({"d_trajectory_error_mm", SampleField::kErrorBound, 0});
+  columns.push_back({"steps", SampleField::kSteps, 0});
+  columns.push_back({"solve_time_s", SampleField::kSolveTime, 0});
+  columns.push_back({"status", SampleField::kStatus, 0});
   return columns;
 }
 
-std::string ColumnPath(EvaluationRole role, const ColumnSpec& column) {
+std::string ColumnPath(EvaluationRole role, const RoleColumn& column) {
   return "/samples/" + RoleName(role) + "/" + column.name;
+}
+
+// A role's columns as the sample table keeps them (jobs/store/sample_table.h).
+std::vector<ColumnSpec> RoleSpecs(EvaluationRole role, const std::vector<RoleColumn>& columns) {
+  std::vector<ColumnSpec> specs;
+  for (const RoleColumn& column : columns) {
+    ColumnSpec& spec = specs.emplace_back();
+    spec.path = spec.stored_path = ColumnPath(role, column);
+    spec.fill = kNaN;
+    spec.cached = true;
+    if (column.field == SampleField::kSteps) {
+      spec.type = ColumnType::kInt32;
+      spec.fill = 0;
+    } else if (column.field == SampleField::kStatus) {
+      spec.type = ColumnType::kInt8Enum;
+      spec.enumeration = StatusType;
+      spec.fill = static_cast<double>(SampleStatus::kPending);
+    }
+  }
+  return specs;
+}
+
+// [C, N]: a row of samples per candidate.
+RowSpace CandidateRows(std::int64_t candidates, std::int64_t samples, std::int64_t chunk_samples = 1) {
+  RowSpace space;
+  space.groups = candidates;
+  space.samples = samples;
+  space.chunk_samples = chunk_samples;
+  return space;
 }
 
 // The outputs the samples keep: those the constraints name, each once, in their order.
@@ -422,27 +448,6 @@ hsize_t ChunkSamples(const AllocationStoreOptions& options, const AllocationIden
   return static_cast<hsize_t>(std::min(chunk, identity.samples));
 }
 
-void CreateSampleColumns(const Where& where, hid_t file, EvaluationRole role, const std::vector<std::string>& outputs,
-                         hsize_t candidates, hsize_t samples, hsize_t chunk_samples, bool checksum) {
-  const std::int32_t zero = 0;
-  const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
-  const TypeId status_type = StatusType(where);
-  for (const ColumnSpec& column : RoleColumns(role, outputs)) {
-    ArraySpec spec{ColumnPath(role, column), H5T_IEEE_F64LE, {candidates, samples}, 1, chunk_samples};
-    spec.fill = &kNaN;
-    if (column.field == Field::kSteps) {
-      spec.file_type = H5T_STD_I32LE;
-      spec.fill = &zero;
-      spec.fill_type = H5T_NATIVE_INT32;
-    } else if (column.field == Field::kStatus) {
-      spec.file_type = status_type.get();
-      spec.fill = &pending;
-      spec.fill_type = status_type.get();
-    }
-    CreateArray(where, file, spec, checksum);
-  }
-}
-
 // The outcome's datasets, before any outcome: /outcome/... as an empty allocation.
 void CreateOutcome(const Where& where, hid_t file, hsize_t candidates, hsize_t constraints, bool checksum) {
   const TypeId verdict = EnumType(where, analysis::kVerdictNames, "the verdict type");
@@ -597,18 +602,15 @@ void WriteSchema(const Where& where, hid_t file, const AllocationIdentity& ident
 
   const std::vector<std::string> stored = StoredOutputs(identity.constraints);
   const hsize_t chunk = ChunkSamples(options, identity);
-  for (const EvaluationRole role : kRoles) CreateSampleColumns(where, file, role, stored, c, n, chunk, checksum);
+  for (const EvaluationRole role : kRoles) {
+    SampleTable::Create(where, file, CandidateRows(candidates, identity.samples, static_cast<std::int64_t>(chunk)),
+                        RoleSpecs(role, RoleColumns(role, stored)), checksum);
+  }
   CreateOutcome(where, file, c, identity.constraints.size(), checksum);
 }
 
 // ---------------------------------------------------------------------------------------
 // The samples of an open file
-
-struct Key {
-  std::int64_t candidate = 0;
-  std::int64_t index = 0;
-  friend auto operator<=>(const Key&, const Key&) = default;
-};
 
 // One buffered sample: what its row of each column gets.
 struct Buffered {
@@ -619,57 +621,39 @@ struct Buffered {
   double solve_time = 0.0;  // [s]
 };
 
-using Buffer = std::array<std::map<Key, Buffered>, 2>;  // per role
+using Buffer = std::array<RowBuffer<Buffered>, 2>;  // per role, keyed by (candidate, sample)
 
 struct Samples {
-  Where where;
   std::int64_t candidates = 0;
   std::int64_t samples = 0;
   std::vector<std::string> outputs;  // stored
-  std::array<std::vector<ColumnSpec>, 2> specs;
-  std::array<std::vector<DatasetId>, 2> columns;
-  TypeId status_type;  // native
+  std::array<std::vector<RoleColumn>, 2> columns;
+  std::array<SampleTable, 2> tables;
 
-  void Open(hid_t file, const AllocationIdentity& identity, hid_t access) {
+  void Open(const Where& where, hid_t file, const AllocationIdentity& identity, std::size_t cache_bytes) {
     candidates = CandidateCount(identity);
     samples = identity.samples;
     outputs = StoredOutputs(identity.constraints);
     for (const EvaluationRole role : kRoles) {
       const std::size_t r = RoleIndex(role);
-      specs[r] = RoleColumns(role, outputs);
-      columns[r].clear();
-      for (const ColumnSpec& spec : specs[r]) {
-        const std::string path = ColumnPath(role, spec);
-        DatasetId dataset(H5Dopen2(file, path.c_str(), access));
-        if (dataset.get() < 0) Fail(where, "is not a complete ringtol allocation file: cannot open dataset " + path);
-        const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
-        hsize_t dims[2] = {0, 0};
-        if (H5Sget_simple_extent_ndims(space.get()) != 2) Fail(where, fmt::format("dataset {} is not [C, N]", path));
-        H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-        if (dims[0] != static_cast<hsize_t>(candidates) || dims[1] != static_cast<hsize_t>(samples)) {
-          Fail(where, fmt::format("dataset {} is [{}, {}] where the file declares {} candidates and {} samples", path,
-                                  dims[0], dims[1], candidates, samples));
-        }
-        columns[r].push_back(std::move(dataset));
-      }
+      columns[r] = RoleColumns(role, outputs);
+      tables[r] = SampleTable::Open(where, file, CandidateRows(candidates, samples), RoleSpecs(role, columns[r]),
+                                    cache_bytes);
     }
-    const TypeId type(Check(H5Dget_type(Status(EvaluationRole::kConfirm).get()), where, "reading the type of",
-                            "a status dataset"));
-    if (H5Tget_class(type.get()) != H5T_ENUM || H5Tget_size(type.get()) != 1) {
-      Fail(where, "its status datasets are not one-byte enumerations");
-    }
-    status_type = TypeId(Check(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), where, "reading", "the status type"));
+  }
+
+  void set_where(const Where& where) {
+    for (SampleTable& table : tables) table.set_where(where);
   }
 
   void Close() {
-    for (auto& role : columns) role.clear();
-    status_type.reset();
+    for (SampleTable& table : tables) table = SampleTable();
   }
 
-  const DatasetId& Status(EvaluationRole role) const { return columns[RoleIndex(role)].back(); }
+  const SampleTable& Table(EvaluationRole role) const { return tables[RoleIndex(role)]; }
 
-  std::size_t ColumnOf(EvaluationRole role, Field field, std::size_t output = 0) const {
-    const std::vector<ColumnSpec>& list = specs[RoleIndex(role)];
+  std::size_t ColumnOf(EvaluationRole role, SampleField field, std::size_t output = 0) const {
+    const std::vector<RoleColumn>& list = columns[RoleIndex(role)];
     for (std::size_t i = 0; i < list.size(); ++i) {
       if (list[i].field == field && list[i].output == output) return i;
     }
@@ -682,7 +666,7 @@ struct Samples {
       throw std::invalid_argument(fmt::format("{}: output '{}' is not stored; stored: {}", what, output,
                                               fmt::join(outputs, ", ")));
     }
-    return ColumnOf(role, Field::kOutput, static_cast<std::size_t>(found - outputs.begin()));
+    return ColumnOf(role, SampleField::kOutput, static_cast<std::size_t>(found - outputs.begin()));
   }
 
   void CheckRange(std::string_view what, std::int64_t candidate, std::int64_t begin, std::int64_t end) const {
@@ -695,160 +679,45 @@ struct Samples {
   }
 
   // Samples [begin, end) of one candidate's row of a column; InputError for a damaged chunk.
-  template <typename T>
-  std::vector<T> Row(EvaluationRole role, std::size_t column, hid_t memory_type, std::int64_t candidate,
-                     std::int64_t begin, std::int64_t end) const {
-    std::vector<T> values(static_cast<std::size_t>(end - begin));
-    if (values.empty()) return values;
-    const DatasetId& dataset = columns[RoleIndex(role)][column];
-    const std::string path = ColumnPath(role, specs[RoleIndex(role)][column]);
-    const SpaceId file_space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
-    const hsize_t start[2] = {static_cast<hsize_t>(candidate), static_cast<hsize_t>(begin)};
-    const hsize_t count[2] = {1, values.size()};
-    CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr), where,
-                "selecting samples of", path);
-    const SpaceId memory_space(Check(H5Screate_simple(1, &count[1], nullptr), where, "creating a dataspace for", path));
-    if (const auto problem = TryRead(dataset.get(), memory_type, memory_space.get(), file_space.get(), values.data())) {
-      throw InputError(fmt::format("{}: dataset {} is damaged: candidate {}, samples {} to {} cannot be read ({})",
-                                   where.file, path, candidate, begin, end - 1, *problem));
-    }
-    return values;
+  std::vector<double> Row(EvaluationRole role, std::size_t column, std::int64_t candidate, std::int64_t begin,
+                          std::int64_t end) const {
+    return Table(role).Read<double>(column, candidate, begin, end - begin);
   }
 
   std::vector<SampleStatus> Statuses(EvaluationRole role, std::int64_t candidate, std::int64_t begin,
                                      std::int64_t end) const {
-    const std::vector<std::int8_t> raw =
-        Row<std::int8_t>(role, specs[RoleIndex(role)].size() - 1, status_type.get(), candidate, begin, end);
-    std::vector<SampleStatus> statuses;
-    statuses.reserve(raw.size());
-    for (std::size_t i = 0; i < raw.size(); ++i) {
-      if (!IsKnownStatus(raw[i])) {
-        throw InputError(fmt::format("{}: dataset /samples/{}/status is damaged: candidate {} sample {} has status {}, "
-                                     "which no ringtol writes",
-                                     where.file, RoleName(role), candidate, begin + static_cast<std::int64_t>(i),
-                                     raw[i]));
-      }
-      statuses.push_back(static_cast<SampleStatus>(raw[i]));
-    }
-    return statuses;
+    return Table(role).Statuses(candidate, begin, end - begin);
   }
 };
-
-// The buffered samples of one candidate within [begin, end), laid over values read from the file.
-template <typename T, typename Get>
-void Overlay(const std::map<Key, Buffered>& buffer, std::int64_t candidate, std::int64_t begin, std::int64_t end,
-             std::vector<T>& values, Get get) {
-  for (auto it = buffer.lower_bound({candidate, begin}); it != buffer.end() && it->first < Key{candidate, end}; ++it) {
-    values[static_cast<std::size_t>(it->first.index - begin)] = get(it->second);
-  }
-}
 
 // ---------------------------------------------------------------------------------------
 // Damage: every allocated chunk of every [C, N] dataset read once.
 
-struct DamagedChunk {
+struct RoleDamage {
   EvaluationRole role = EvaluationRole::kScreen;
-  std::size_t column = 0;
-  std::array<hsize_t, 2> offset{};  // candidate, first sample
-  hsize_t samples = 0;              // in the chunk
-  std::string problem;
+  DamagedChunk chunk;
 };
 
 // `done` (per role, optional) counts the finished samples of the status chunks that read.
-std::vector<DamagedChunk> ScanSamples(const Samples& samples, std::array<std::int64_t, 2>* done = nullptr) {
-  std::vector<DamagedChunk> damaged;
+std::vector<RoleDamage> ScanSamples(const Samples& samples, std::array<std::int64_t, 2>* done = nullptr) {
+  std::vector<RoleDamage> damaged;
   for (const EvaluationRole role : kRoles) {
-    const std::size_t r = RoleIndex(role);
-    for (std::size_t column = 0; column < samples.columns[r].size(); ++column) {
-      const DatasetId& dataset = samples.columns[r][column];
-      const std::string path = ColumnPath(role, samples.specs[r][column]);
-      const PlistId dcpl(Check(H5Dget_create_plist(dataset.get()), samples.where, "reading the layout of", path));
-      hsize_t chunk[2] = {0, 0};
-      if (H5Pget_chunk(dcpl.get(), 2, chunk) != 2) Fail(samples.where, fmt::format("dataset {} is not chunked", path));
-      const SpaceId space(Check(H5Dget_space(dataset.get()), samples.where, "reading the shape of", path));
-      hsize_t allocated = 0;
-      CheckStatus(H5Dget_num_chunks(dataset.get(), space.get(), &allocated), samples.where, "counting the chunks of",
-                  path);
-      const TypeId type(Check(H5Dget_type(dataset.get()), samples.where, "reading the type of", path));
-      const TypeId native(Check(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), samples.where, "reading the type of",
-                                path));
-      const bool status = samples.specs[r][column].field == Field::kStatus;
-      std::vector<unsigned char> buffer(chunk[1] * H5Tget_size(native.get()));
-      for (hsize_t i = 0; i < allocated; ++i) {
-        std::array<hsize_t, 2> offset{};
-        unsigned mask = 0;
-        haddr_t address = 0;
-        hsize_t bytes = 0;
-        if (H5Dget_chunk_info(dataset.get(), space.get(), i, offset.data(), &mask, &address, &bytes) < 0) {
-          Fail(samples.where, fmt::format("reading the chunk index of {} failed", path));
-        }
-        const hsize_t count[2] = {1, std::min(chunk[1], static_cast<hsize_t>(samples.samples) - offset[1])};
-        const SpaceId selection(H5Scopy(space.get()));
-        CheckStatus(H5Sselect_hyperslab(selection.get(), H5S_SELECT_SET, offset.data(), nullptr, count, nullptr),
-                    samples.where, "selecting a chunk of", path);
-        const SpaceId memory(Check(H5Screate_simple(1, &count[1], nullptr), samples.where, "creating", "a dataspace"));
-        std::optional<std::string> problem =
-            TryRead(dataset.get(), native.get(), memory.get(), selection.get(), buffer.data());
-        if (!problem && status) {
-          const auto* raw = reinterpret_cast<const std::int8_t*>(buffer.data());
-          const auto* unknown = std::find_if(raw, raw + count[1], [](std::int8_t v) { return !IsKnownStatus(v); });
-          if (unknown != raw + count[1]) problem = fmt::format("status {}, which no ringtol writes", *unknown);
-          if (!problem && done != nullptr) {
-            const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
-            (*done)[r] += static_cast<std::int64_t>(count[1]) - std::count(raw, raw + count[1], pending);
-          }
-        }
-        if (problem) damaged.push_back({role, column, offset, count[1], *problem});
-      }
-    }
+    const TableScan scan = samples.Table(role).Scan();
+    for (const DamagedChunk& chunk : scan.damaged) damaged.push_back({role, chunk});
+    if (done != nullptr) (*done)[RoleIndex(role)] = scan.done;
   }
   return damaged;
 }
 
 // Gives every damaged chunk its fill values and marks its samples pending, chunks first and
-// statuses after (as the campaign's RepairDamage, and for the same reason).
-void RepairSamples(hid_t file, const Samples& samples, const std::vector<DamagedChunk>& damaged) {
-  std::array<std::vector<std::array<hsize_t, 2>>, 2> pending;
+// statuses after (SampleTable::Repair).
+void RepairSamples(Samples& samples, const std::vector<RoleDamage>& damaged) {
   for (const EvaluationRole role : kRoles) {
-    const std::size_t r = RoleIndex(role);
-    for (std::size_t column = 0; column < samples.columns[r].size(); ++column) {
-      std::vector<std::array<hsize_t, 2>> offsets;
-      for (const DamagedChunk& chunk : damaged) {
-        if (chunk.role == role && chunk.column == column) offsets.push_back(chunk.offset);
-      }
-      if (offsets.empty()) continue;
-      const std::string path = ColumnPath(role, samples.specs[r][column]);
-      const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), samples.where, "opening", path));
-      RewriteChunksWithFill(samples.where, dataset.get(), path, offsets);
-      for (const auto& offset : offsets) {
-        std::cerr << fmt::format("ringtol: {}: dataset {} was damaged at candidate {}, samples from {}; they are "
-                                 "computed again\n",
-                                 samples.where.file, path, offset[0], offset[1]);
-      }
-      if (column + 1 < samples.columns[r].size()) pending[r].insert(pending[r].end(), offsets.begin(), offsets.end());
+    std::vector<DamagedChunk> chunks;
+    for (const RoleDamage& damage : damaged) {
+      if (damage.role == role) chunks.push_back(damage.chunk);
     }
-  }
-  for (const EvaluationRole role : kRoles) {
-    const std::size_t r = RoleIndex(role);
-    if (pending[r].empty()) continue;
-    const std::string path = ColumnPath(role, samples.specs[r].back());
-    const DatasetId status(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), samples.where, "opening", path));
-    const PlistId dcpl(Check(H5Dget_create_plist(status.get()), samples.where, "reading the layout of", path));
-    hsize_t chunk[2] = {0, 0};
-    H5Pget_chunk(dcpl.get(), 2, chunk);
-    const SpaceId space(Check(H5Dget_space(status.get()), samples.where, "reading the shape of", path));
-    const TypeId type = EnumMemoryType(samples.where, status.get(), path);
-    if (type.get() < 0) Fail(samples.where, fmt::format("dataset {} is not an enumeration", path));
-    const std::vector<std::int8_t> fill(chunk[1], static_cast<std::int8_t>(SampleStatus::kPending));
-    for (const auto& offset : pending[r]) {
-      const hsize_t count[2] = {1, std::min(chunk[1], static_cast<hsize_t>(samples.samples) - offset[1])};
-      CheckStatus(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, offset.data(), nullptr, count, nullptr),
-                  samples.where, "selecting samples of", path);
-      const SpaceId memory(Check(H5Screate_simple(1, &count[1], nullptr), samples.where, "creating", "a dataspace"));
-      CheckStatus(H5Dwrite(status.get(), type.get(), memory.get(), space.get(), H5P_DEFAULT, fill.data()),
-                  samples.where, "writing", path);
-    }
-    CheckStatus(H5Dflush(status.get()), samples.where, "flushing", path);
+    if (!chunks.empty()) samples.tables[RoleIndex(role)].Repair(chunks);
   }
 }
 
@@ -1074,11 +943,48 @@ struct AllocationStore::File {
   // reopens open datasets with default access, losing the chunk cache).
   void StartWriting(const AllocationStoreOptions& options) {
     CheckStatus(H5Fstart_swmr_write(file.get()), where, "starting", "SWMR writing");
-    const PlistId access(Check(H5Pcreate(H5P_DATASET_ACCESS), where, "creating", "a dataset access property list"));
-    CheckStatus(H5Pset_chunk_cache(access.get(), kCacheSlots, options.chunk_cache_bytes, H5D_CHUNK_CACHE_W0_DEFAULT),
-                where, "configuring", "the chunk cache");
-    samples.where = where;
-    samples.Open(file.get(), identity, access.get());
+    samples.Open(where, file.get(), identity, options.chunk_cache_bytes);
+  }
+
+  // Writes the buffered samples, each role's statuses after its other columns.
+  void CommitSamples() {
+    for (const EvaluationRole role : kRoles) {
+      const std::size_t r = RoleIndex(role);
+      const RowBuffer<Buffered>& rows = buffer[r];
+      if (rows.empty()) continue;
+      const std::vector<RoleColumn>& columns = samples.columns[r];
+      std::vector<std::vector<double>> numbers(columns.size());
+      std::vector<std::int32_t> steps;
+      std::vector<std::int8_t> codes;
+      std::vector<const void*> values(columns.size());
+      for (std::size_t c = 0; c < columns.size(); ++c) {
+        const RoleColumn& column = columns[c];
+        for (const auto& [key, sample] : rows.rows()) {
+          switch (column.field) {
+            case SampleField::kOutput:
+              numbers[c].push_back(sample.outputs[column.output]);
+              break;
+            case SampleField::kErrorBound:
+              numbers[c].push_back(sample.error_bound);
+              break;
+            case SampleField::kSolveTime:
+              numbers[c].push_back(sample.solve_time);
+              break;
+            case SampleField::kSteps:
+              steps.push_back(sample.steps);
+              break;
+            case SampleField::kStatus:
+              codes.push_back(static_cast<std::int8_t>(sample.status));
+              break;
+          }
+        }
+        values[c] = column.field == SampleField::kSteps    ? static_cast<const void*>(steps.data())
+                    : column.field == SampleField::kStatus ? static_cast<const void*>(codes.data())
+                                                           : static_cast<const void*>(numbers[c].data());
+      }
+      samples.tables[r].Write(rows.Keys(), values);
+    }
+    for (RowBuffer<Buffered>& role : buffer) role.clear();
   }
 
   bool Close() {
@@ -1089,12 +995,17 @@ struct AllocationStore::File {
 
 AllocationStore::AllocationStore(std::unique_ptr<File> file) : file_(std::move(file)) {}
 
-// Buffered samples are dropped, not committed: only Commit has the outcome that describes
-// them, and a file whose /outcome lags its samples would tell a reader less than the file
-// of the last commit does. Resume computes them again.
+// Commits what is buffered, as the campaign's store does, but not the outcome, which only
+// Commit has: the samples on disk may then be newer than /outcome, which is derived from
+// them (the next run's first commit brings it up to date).
 AllocationStore::~AllocationStore() {
   if (!file_) return;
   const QuietErrors quiet;
+  try {
+    file_->CommitSamples();
+  } catch (const std::exception& error) {
+    std::cerr << "ringtol: " << error.what() << '\n';
+  }
   if (!file_->Close()) {
     std::cerr << "ringtol: " << file_->where.file << ": closing failed (HDF5: " << Hdf5Detail() << ")\n";
   }
@@ -1157,7 +1068,7 @@ AllocationStore AllocationStore::Resume(const fs::path& path, const AllocationId
   FileLock lock = FileLock::Acquire(path, name);
 
   // Everything is checked read-only first: a refused file is never modified.
-  std::vector<DamagedChunk> damaged;
+  std::vector<RoleDamage> damaged;
   {
     const FileId reading = OpenForReading(path);
     const Stored stored = ReadStored(opening, reading.get());
@@ -1166,8 +1077,7 @@ AllocationStore AllocationStore::Resume(const fs::path& path, const AllocationId
                        "; resume it with the allocation that wrote it, or choose a new results file");
     }
     Samples samples;
-    samples.where = opening;
-    samples.Open(reading.get(), stored.identity, H5P_DEFAULT);
+    samples.Open(opening, reading.get(), stored.identity, 0);
     damaged = ScanSamples(samples);
   }
 
@@ -1179,9 +1089,8 @@ AllocationStore AllocationStore::Resume(const fs::path& path, const AllocationId
   file->file = OpenForWriting(path);
   if (!damaged.empty()) {
     Samples samples;
-    samples.where = file->where;
-    samples.Open(file->file.get(), identity, H5P_DEFAULT);
-    RepairSamples(file->file.get(), samples, damaged);
+    samples.Open(file->where, file->file.get(), identity, 0);
+    RepairSamples(samples, damaged);
   }
   file->StartWriting(options);
   return AllocationStore(std::move(file));
@@ -1204,8 +1113,8 @@ std::vector<SampleStatus> AllocationStore::ReadStatus(EvaluationRole role, std::
   const QuietErrors quiet;
   file_->samples.CheckRange("AllocationStore::ReadStatus", candidate, begin, end);
   std::vector<SampleStatus> statuses = file_->samples.Statuses(role, candidate, begin, end);
-  Overlay(file_->buffer[RoleIndex(role)], candidate, begin, end, statuses,
-          [](const Buffered& sample) { return sample.status; });
+  file_->buffer[RoleIndex(role)].Overlay(candidate, begin, end, statuses,
+                                         [](const Buffered& sample) { return sample.status; });
   return statuses;
 }
 
@@ -1215,10 +1124,10 @@ std::vector<double> AllocationStore::ReadOutput(EvaluationRole role, std::string
   const Samples& s = file_->samples;
   const std::size_t column = s.OutputColumn("AllocationStore::ReadOutput", role, output);
   s.CheckRange("AllocationStore::ReadOutput", candidate, begin, end);
-  std::vector<double> values = s.Row<double>(role, column, H5T_NATIVE_DOUBLE, candidate, begin, end);
-  const std::size_t q = s.specs[RoleIndex(role)][column].output;
-  Overlay(file_->buffer[RoleIndex(role)], candidate, begin, end, values,
-          [q](const Buffered& sample) { return sample.outputs[q]; });
+  std::vector<double> values = s.Row(role, column, candidate, begin, end);
+  const std::size_t q = s.columns[RoleIndex(role)][column].output;
+  file_->buffer[RoleIndex(role)].Overlay(candidate, begin, end, values,
+                                         [q](const Buffered& sample) { return sample.outputs[q]; });
   return values;
 }
 
@@ -1228,10 +1137,9 @@ std::vector<double> AllocationStore::ReadErrorBound(std::int64_t candidate, std:
   const Samples& s = file_->samples;
   s.CheckRange("AllocationStore::ReadErrorBound", candidate, begin, end);
   const EvaluationRole role = EvaluationRole::kScreen;
-  std::vector<double> values =
-      s.Row<double>(role, s.ColumnOf(role, Field::kErrorBound), H5T_NATIVE_DOUBLE, candidate, begin, end);
-  Overlay(file_->buffer[RoleIndex(role)], candidate, begin, end, values,
-          [](const Buffered& sample) { return sample.error_bound; });
+  std::vector<double> values = s.Row(role, s.ColumnOf(role, SampleField::kErrorBound), candidate, begin, end);
+  file_->buffer[RoleIndex(role)].Overlay(candidate, begin, end, values,
+                                         [](const Buffered& sample) { return sample.error_bound; });
   return values;
 }
 
@@ -1252,7 +1160,7 @@ void AllocationStore::Add(EvaluationRole role, std::int64_t candidate, const Sam
   sample.error_bound = ok ? record.d_trajectory_error : kNaN;
   sample.steps = record.steps;
   sample.solve_time = record.solve_time;
-  file_->buffer[RoleIndex(role)][Key{candidate, record.index}] = std::move(sample);
+  file_->buffer[RoleIndex(role)].Put({candidate, record.index}, std::move(sample));
 }
 
 std::size_t AllocationStore::buffered() const { return file_->buffer[0].size() + file_->buffer[1].size(); }
@@ -1261,81 +1169,10 @@ void AllocationStore::Commit(const AllocationOutcome& outcome) {
   File& f = *file_;
   CheckOutcome(outcome, f.samples.candidates, f.identity.constraints.size());
   const QuietErrors quiet;
-  const Where& w = f.where;
-  // Per role: the selection of its buffered samples (runs of consecutive samples of one
-  // candidate) and each column's values in the buffer's (candidate, sample) order.
-  for (const bool statuses : {false, true}) {
-    for (const EvaluationRole role : kRoles) {
-      const std::size_t r = RoleIndex(role);
-      const std::map<Key, Buffered>& buffer = f.buffer[r];
-      if (buffer.empty()) continue;
-      const std::vector<ColumnSpec>& specs = f.samples.specs[r];
-      const auto m = static_cast<hsize_t>(buffer.size());
-      const SpaceId selection(Check(H5Dget_space(f.samples.Status(role).get()), w, "reading the shape of", "samples"));
-      CheckStatus(H5Sselect_none(selection.get()), w, "selecting", "samples");
-      for (auto it = buffer.begin(); it != buffer.end();) {
-        auto last = it;
-        hsize_t count = 1;
-        for (auto next = std::next(it); next != buffer.end() && next->first.candidate == it->first.candidate &&
-                                        next->first.index == last->first.index + 1;
-             ++next, ++count) {
-          last = next;
-        }
-        const hsize_t start[2] = {static_cast<hsize_t>(it->first.candidate), static_cast<hsize_t>(it->first.index)};
-        const hsize_t block[2] = {1, count};
-        CheckStatus(H5Sselect_hyperslab(selection.get(), H5S_SELECT_OR, start, nullptr, block, nullptr), w,
-                    "selecting", "samples");
-        it = std::next(last);
-      }
-      const SpaceId memory(Check(H5Screate_simple(1, &m, nullptr), w, "creating", "a dataspace"));
-      for (std::size_t column = 0; column < specs.size(); ++column) {
-        const ColumnSpec& spec = specs[column];
-        if ((spec.field == Field::kStatus) != statuses) continue;
-        std::vector<double> numbers;
-        std::vector<std::int32_t> steps;
-        std::vector<std::int8_t> codes;
-        const void* data = nullptr;
-        hid_t type = H5T_NATIVE_DOUBLE;
-        for (const auto& [key, sample] : buffer) {
-          switch (spec.field) {
-            case Field::kOutput:
-              numbers.push_back(sample.outputs[spec.output]);
-              break;
-            case Field::kErrorBound:
-              numbers.push_back(sample.error_bound);
-              break;
-            case Field::kSolveTime:
-              numbers.push_back(sample.solve_time);
-              break;
-            case Field::kSteps:
-              steps.push_back(sample.steps);
-              break;
-            case Field::kStatus:
-              codes.push_back(static_cast<std::int8_t>(sample.status));
-              break;
-          }
-        }
-        if (spec.field == Field::kSteps) {
-          data = steps.data();
-          type = H5T_NATIVE_INT32;
-        } else if (spec.field == Field::kStatus) {
-          data = codes.data();
-          type = f.samples.status_type.get();
-        } else {
-          data = numbers.data();
-        }
-        const std::string path = ColumnPath(role, spec);
-        const DatasetId& dataset = f.samples.columns[r][column];
-        CheckStatus(H5Dwrite(dataset.get(), type, memory.get(), selection.get(), H5P_DEFAULT, data), w, "writing",
-                    path);
-        CheckStatus(H5Dflush(dataset.get()), w, "flushing", path);
-      }
-    }
-  }
+  f.CommitSamples();
   // After the statuses: an outcome on disk never describes samples that are not.
-  WriteOutcome(w, f.file.get(), outcome, f.identity.constraints.size());
-  CheckStatus(H5Fflush(f.file.get(), H5F_SCOPE_LOCAL), w, "flushing", "the file");
-  for (auto& role : f.buffer) role.clear();
+  WriteOutcome(f.where, f.file.get(), outcome, f.identity.constraints.size());
+  CheckStatus(H5Fflush(f.file.get(), H5F_SCOPE_LOCAL), f.where, "flushing", "the file");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1354,9 +1191,9 @@ AllocationReader::AllocationReader(const fs::path& path) : file_(std::make_uniqu
     f.where = Where{path.string(), true};
     f.file = OpenForReading(path);
     f.identity = ReadStored(f.where, f.file.get()).identity;
-    f.samples.where = f.where;
-    f.samples.Open(f.file.get(), f.identity, H5P_DEFAULT);
+    f.samples.Open(f.where, f.file.get(), f.identity, 0);
     f.where.input = false;
+    f.samples.set_where(f.where);
   } catch (...) {
     file_.reset();  // while HDF5 is quiet
     throw;
@@ -1391,7 +1228,7 @@ std::vector<double> AllocationReader::ReadOutput(EvaluationRole role, std::strin
   const Samples& s = file_->samples;
   const std::size_t column = s.OutputColumn("AllocationReader::ReadOutput", role, output);
   s.CheckRange("AllocationReader::ReadOutput", candidate, begin, end);
-  return s.Row<double>(role, column, H5T_NATIVE_DOUBLE, candidate, begin, end);
+  return s.Row(role, column, candidate, begin, end);
 }
 
 std::vector<double> AllocationReader::ReadDesignPoints(std::int64_t begin, std::int64_t end) const {
@@ -1426,14 +1263,12 @@ AllocationCheck CheckAllocationResults(const fs::path& path) {
     if (!HasChecksum(where, dataset.get(), dataset_path)) check.unchecked.push_back(dataset_path);
   }
   Samples samples;
-  samples.where = where;
-  samples.Open(file.get(), stored.identity, H5P_DEFAULT);
+  samples.Open(where, file.get(), stored.identity, 0);
   std::array<std::int64_t, 2> done{};
-  for (const DamagedChunk& chunk : ScanSamples(samples, &done)) {
-    const auto first = static_cast<std::int64_t>(chunk.offset[1]);
-    check.damaged.push_back({ColumnPath(chunk.role, samples.specs[RoleIndex(chunk.role)][chunk.column]),
-                             static_cast<std::int64_t>(chunk.offset[0]),
-                             {first, first + static_cast<std::int64_t>(chunk.samples)}, chunk.problem});
+  for (const RoleDamage& damage : ScanSamples(samples, &done)) {
+    const DamagedChunk& chunk = damage.chunk;
+    check.damaged.push_back(
+        {samples.Table(damage.role).spec(chunk.column).path, chunk.group, chunk.samples, chunk.problem});
   }
   check.done_screen = done[RoleIndex(EvaluationRole::kScreen)];
   check.done_confirm = done[RoleIndex(EvaluationRole::kConfirm)];

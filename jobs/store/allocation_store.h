@@ -47,11 +47,11 @@
 // candidate rows (1 x chunk_samples) and their chunks allocated when first written, so a
 // candidate never simulated takes no space on disk (docs/results.md gives a measured size).
 //
-// Crash safety as CampaignStore: Commit writes the buffered samples' outputs, steps and
-// times, then their statuses, then /outcome whole, flushing each; a sample is on disk
-// exactly when its status is not pending, and /outcome describes the last complete
-// commit (a kill during its rewrite can tear it: it is derived, and the next commit
-// rewrites it). Failure: InputError as CampaignStore's, naming the file: creating over an
+// Crash safety as CampaignStore, on the same sample table (jobs/store/sample_table.h):
+// Commit writes each role's buffered outputs, steps and times, then their statuses, then
+// /outcome whole, flushing each; a sample is on disk exactly when its status is not
+// pending, and /outcome describes the last complete commit (a kill during its rewrite can
+// tear it: it is derived, and the next commit rewrites it). Failure: InputError as CampaignStore's, naming the file: creating over an
 // existing file or in a missing directory, resuming a file that is missing, not a ringtol
 // allocation file (a campaign file is named as one), of another schema or of another
 // allocation (the first differing field is named), reading a damaged chunk (naming the
@@ -98,9 +98,9 @@ class AllocationStore {
   // not read, /outcome is rewritten by the next Commit.
   static AllocationStore Resume(const std::filesystem::path& path, const AllocationIdentity& identity,
                                 const AllocationStoreOptions& options = {});
-  // Closes the file without committing: buffered samples are dropped (only Commit has the
-  // outcome that describes them, and the file keeps samples and /outcome of one commit);
-  // a resume computes them again. Never throws (errors go to stderr).
+  // Commits the buffered samples (as CampaignStore does) but not an outcome, which only
+  // Commit has: /outcome may then lag the samples on disk, as it does between two commits,
+  // until the next run's first Commit. Never throws (errors go to stderr).
   ~AllocationStore();
   AllocationStore(AllocationStore&&) noexcept;
   AllocationStore& operator=(AllocationStore&&) noexcept;

@@ -1,0 +1,669 @@
+#include "jobs/store/sample_table.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "jobs/inputs/input_error.h"
+
+namespace ringtol::jobs::hdf5 {
+
+namespace {
+
+// HDF5's advice: about 100 hash slots per chunk that fits in the cache, a prime number;
+// capped, since HDF5 allocates and scans every slot (small chunks would ask for millions).
+constexpr std::size_t kSlotsPerCachedChunk = 100;
+constexpr std::size_t kMaxSlots = 1u << 17;
+// Pending() reads statuses in blocks of this many samples to bound its memory.
+constexpr std::int64_t kStatusBlock = std::int64_t{1} << 20;
+
+std::size_t NextPrime(std::size_t n) {
+  const auto prime = [](std::size_t k) {
+    if (k < 2) return false;
+    for (std::size_t f = 2; f * f <= k; ++f) {
+      if (k % f == 0) return false;
+    }
+    return true;
+  };
+  while (!prime(n)) ++n;
+  return n;
+}
+
+std::string VerifyHint(const std::string& file) {
+  return fmt::format("; `ringtol verify {}` lists every damaged dataset", file);
+}
+
+bool MustBeFinite(FiniteRule rule, SampleStatus status) {
+  switch (rule) {
+    case FiniteRule::kNone:
+      return false;
+    case FiniteRule::kWhenFinished:
+      return status != SampleStatus::kPending;
+    case FiniteRule::kUnlessSamplingFailed:
+      return status != SampleStatus::kPending && status != SampleStatus::kSamplingFailed;
+    case FiniteRule::kWhenOk:
+      return status == SampleStatus::kOk;
+  }
+  return false;
+}
+
+// The first (row, value) of `rows` rows of `width` values that breaks `rule`.
+template <typename T>
+std::optional<std::pair<std::int64_t, std::size_t>> FirstNonFinite(FiniteRule rule, const T* values,
+                                                                   std::int64_t rows, std::size_t width,
+                                                                   const SampleStatus* statuses) {
+  for (std::int64_t i = 0; i < rows; ++i) {
+    if (!MustBeFinite(rule, statuses[i])) continue;
+    for (std::size_t j = 0; j < width; ++j) {
+      if (!std::isfinite(values[static_cast<std::size_t>(i) * width + j])) return std::make_pair(i, j);
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<std::pair<std::int64_t, std::size_t>> FirstNonFinite(const ColumnSpec& spec, const void* values,
+                                                                   std::int64_t rows, const SampleStatus* statuses) {
+  const std::size_t width = std::max<std::size_t>(1, spec.width);
+  if (spec.type == ColumnType::kFloat64) {
+    return FirstNonFinite(spec.finite, static_cast<const double*>(values), rows, width, statuses);
+  }
+  if (spec.type == ColumnType::kFloat32) {
+    return FirstNonFinite(spec.finite, static_cast<const float*>(values), rows, width, statuses);
+  }
+  return std::nullopt;
+}
+
+// A column's values in memory: its C++ type as an HDF5 type that this table owns.
+TypeId MemoryType(const Where& where, const ColumnSpec& spec, hid_t dataset) {
+  switch (spec.type) {
+    case ColumnType::kFloat64:
+      return TypeId(H5Tcopy(H5T_NATIVE_DOUBLE));
+    case ColumnType::kFloat32:
+      return TypeId(H5Tcopy(H5T_NATIVE_FLOAT));
+    case ColumnType::kInt32:
+      return TypeId(H5Tcopy(H5T_NATIVE_INT32));
+    case ColumnType::kText:
+      return FixedString(where, spec.text_bytes);
+    case ColumnType::kInt8Enum:
+      break;
+  }
+  // HDF5 converts no integer to an enumeration: int8 codes move through the dataset's own
+  // type where it has one (files before the column was an enumeration hold plain int8).
+  const TypeId stored(Check(H5Dget_type(dataset), where, "reading the type of", spec.path));
+  if (H5Tget_class(stored.get()) != H5T_ENUM) return TypeId(H5Tcopy(H5T_NATIVE_INT8));
+  return TypeId(Check(H5Tget_native_type(stored.get(), H5T_DIR_ASCEND), where, "reading the type of", spec.path));
+}
+
+std::size_t ElementSize(const ColumnSpec& spec) {
+  switch (spec.type) {
+    case ColumnType::kFloat64:
+      return sizeof(double);
+    case ColumnType::kFloat32:
+      return sizeof(float);
+    case ColumnType::kInt32:
+      return sizeof(std::int32_t);
+    case ColumnType::kInt8Enum:
+      return sizeof(std::int8_t);
+    case ColumnType::kText:
+      return spec.text_bytes;
+  }
+  return 1;
+}
+
+// Fills `rows` rows with the column's fill value, as its C++ type.
+void FillRows(const ColumnSpec& spec, std::size_t values, void* out) {
+  switch (spec.type) {
+    case ColumnType::kFloat64:
+      std::fill_n(static_cast<double*>(out), values, spec.fill);
+      break;
+    case ColumnType::kFloat32:
+      std::fill_n(static_cast<float*>(out), values, static_cast<float>(spec.fill));
+      break;
+    case ColumnType::kInt32:
+      std::fill_n(static_cast<std::int32_t*>(out), values, static_cast<std::int32_t>(spec.fill));
+      break;
+    case ColumnType::kInt8Enum:
+      std::fill_n(static_cast<std::int8_t*>(out), values, static_cast<std::int8_t>(spec.fill));
+      break;
+    case ColumnType::kText:
+      std::fill_n(static_cast<char*>(out), values * spec.text_bytes, '\0');
+      break;
+  }
+}
+
+// The file dataspace of `dataset` with the rows of `runs` selected: flat [first, count)
+// (times the width), grouped one group's [first, count).
+struct Run {
+  RowKey first;
+  hsize_t count = 0;
+};
+
+std::vector<Run> RunsOf(std::span<const RowKey> rows) {
+  std::vector<Run> runs;
+  for (const RowKey& key : rows) {
+    if (!runs.empty() && runs.back().first.group == key.group &&
+        runs.back().first.sample + static_cast<std::int64_t>(runs.back().count) == key.sample) {
+      ++runs.back().count;
+    } else {
+      runs.push_back({key, 1});
+    }
+  }
+  return runs;
+}
+
+}  // namespace
+
+SampleTable::SampleTable() = default;
+SampleTable::~SampleTable() = default;
+SampleTable::SampleTable(SampleTable&&) noexcept = default;
+SampleTable& SampleTable::operator=(SampleTable&&) noexcept = default;
+
+bool SampleTable::stored(std::size_t column) const { return datasets_[column].get() >= 0; }
+
+bool SampleTable::checksummed(std::size_t column) const {
+  return stored(column) && HasChecksum(where_, datasets_[column].get(), specs_[column].stored_path);
+}
+
+void SampleTable::CheckType(std::size_t column, ColumnType as) const {
+  if (specs_[column].type != as) throw std::logic_error("SampleTable: " + specs_[column].path + " read as another type");
+}
+
+void SampleTable::Create(const Where& where, hid_t file, const RowSpace& space, const std::vector<ColumnSpec>& columns,
+                         bool checksums) {
+  if (columns.empty() || columns.back().type != ColumnType::kInt8Enum) {
+    throw std::logic_error("SampleTable: the last column must be the status column");
+  }
+  const auto samples = static_cast<hsize_t>(space.samples);
+  const auto chunk_samples = static_cast<hsize_t>(std::max<std::int64_t>(1, space.chunk_samples));
+  for (const ColumnSpec& spec : columns) {
+    const std::string& path = spec.path;
+    int rank = 1;
+    hsize_t dims[2] = {samples, 0};
+    hsize_t max_dims[2] = {space.extendable ? H5S_UNLIMITED : samples, 0};
+    hsize_t chunk[2] = {chunk_samples, 0};
+    if (space.grouped()) {
+      rank = 2;
+      dims[0] = max_dims[0] = static_cast<hsize_t>(space.groups);
+      dims[1] = max_dims[1] = samples;
+      chunk[0] = 1;
+      chunk[1] = chunk_samples;
+    } else if (spec.width > 0) {
+      rank = 2;
+      dims[1] = max_dims[1] = chunk[1] = spec.width;
+    }
+    const SpaceId dataspace(Check(H5Screate_simple(rank, dims, max_dims), where, "creating the dataspace of", path));
+    const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+    CheckStatus(H5Pset_chunk(dcpl.get(), rank, chunk), where, "chunking", path);
+    if (spec.deflate_level > 0) {
+      CheckStatus(H5Pset_shuffle(dcpl.get()), where, "setting the shuffle filter of", path);
+      CheckStatus(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(spec.deflate_level)), where, "setting deflate on",
+                  path);
+    }
+    if (checksums) AddChecksum(where, dcpl, path);
+    TypeId enumeration;  // alive until the dataset is created
+    hid_t file_type = H5T_IEEE_F64LE;
+    herr_t filled = 0;
+    const double f64 = spec.fill;
+    const auto f32 = static_cast<float>(spec.fill);
+    const auto i32 = static_cast<std::int32_t>(spec.fill);
+    const auto i8 = static_cast<std::int8_t>(spec.fill);
+    TypeId text;
+    switch (spec.type) {
+      case ColumnType::kFloat64:
+        filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_DOUBLE, &f64);
+        break;
+      case ColumnType::kFloat32:
+        file_type = H5T_IEEE_F32LE;
+        filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_FLOAT, &f32);
+        break;
+      case ColumnType::kInt32:
+        file_type = H5T_STD_I32LE;
+        filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT32, &i32);
+        break;
+      case ColumnType::kInt8Enum:
+        if (spec.enumeration == nullptr) throw std::logic_error("SampleTable: " + path + " has no enumeration");
+        enumeration = spec.enumeration(where);
+        file_type = enumeration.get();
+        filled = H5Pset_fill_value(dcpl.get(), file_type, &i8);
+        break;
+      case ColumnType::kText:
+        text = FixedString(where, spec.text_bytes);
+        file_type = text.get();  // the default fill, all zero bytes, is the empty string
+        break;
+    }
+    CheckStatus(filled, where, "setting the fill value of", path);
+    // Chunks are written when first filled, so rows never written take no space.
+    CheckStatus(H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_INCR), where, "configuring", path);
+    const DatasetId dataset(Check(
+        H5Dcreate2(file, path.c_str(), file_type, dataspace.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
+        "creating dataset", path));
+  }
+}
+
+SampleTable SampleTable::Open(const Where& where, hid_t file, RowSpace space, std::vector<ColumnSpec> columns,
+                              std::size_t cache_bytes) {
+  if (columns.empty() || columns.back().type != ColumnType::kInt8Enum || columns.back().stored_path.empty()) {
+    throw std::logic_error("SampleTable: the last column must be the status column");
+  }
+  SampleTable table;
+  table.where_ = where;
+  table.datasets_.resize(columns.size());
+  table.memory_types_.resize(columns.size());
+  const auto open = [&](std::size_t c, hid_t access) {
+    const ColumnSpec& spec = columns[c];
+    DatasetId dataset(H5Dopen2(file, spec.stored_path.c_str(), access));
+    if (dataset.get() < 0) {
+      Fail(where, "is not a complete ringtol results file: cannot open dataset " + spec.stored_path);
+    }
+    const SpaceId dataspace(Check(H5Dget_space(dataset.get()), where, "reading the shape of", spec.stored_path));
+    const int rank = space.grouped() || spec.width > 0 ? 2 : 1;
+    if (H5Sget_simple_extent_ndims(dataspace.get()) != rank) {
+      Fail(where, fmt::format("dataset {} has the wrong rank", spec.stored_path));
+    }
+    hsize_t dims[2] = {0, 0};
+    H5Sget_simple_extent_dims(dataspace.get(), dims, nullptr);
+    if (space.grouped()) {
+      if (dims[0] != static_cast<hsize_t>(space.groups) || dims[1] != static_cast<hsize_t>(space.samples)) {
+        Fail(where, fmt::format("dataset {} is [{}, {}] where the file declares {} {}s and {} samples",
+                                spec.stored_path, dims[0], dims[1], space.groups, space.group_name, space.samples));
+      }
+    } else if (dims[0] < static_cast<hsize_t>(space.samples) || (rank == 2 && dims[1] != spec.width)) {
+      Fail(where, fmt::format("dataset {} has {} rows{} where the file declares {} samples{}", spec.stored_path,
+                              dims[0], rank == 2 ? fmt::format(" of {}", dims[1]) : "", space.samples,
+                              rank == 2 ? fmt::format(" and {} inputs", spec.width) : ""));
+    }
+    const TypeId type(Check(H5Dget_type(dataset.get()), where, "reading the type of", spec.stored_path));
+    if (spec.type == ColumnType::kText &&
+        (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) != 0)) {
+      Fail(where, fmt::format("dataset {} does not hold fixed-length strings", spec.stored_path));
+    }
+    if (c + 1 == columns.size() && (H5Tget_class(type.get()) != H5T_ENUM || H5Tget_size(type.get()) != 1)) {
+      Fail(where, fmt::format("dataset {} is not a one-byte enumeration", spec.stored_path));
+    }
+    table.memory_types_[c] = MemoryType(where, spec, dataset.get());
+    table.datasets_[c] = std::move(dataset);
+  };
+  // The status column's chunks are the table's, and size the cached columns' caches.
+  const std::size_t status = columns.size() - 1;
+  const auto chunk_samples = [&](hid_t dataset) {
+    const PlistId dcpl(Check(H5Dget_create_plist(dataset), where, "reading the layout of", columns[status].stored_path));
+    hsize_t chunk[2] = {0, 0};
+    const int rank = space.grouped() ? 2 : 1;
+    if (H5Pget_chunk(dcpl.get(), rank, chunk) != rank || chunk[rank - 1] == 0) {
+      Fail(where, fmt::format("dataset {} is not chunked", columns[status].stored_path));
+    }
+    return static_cast<std::int64_t>(chunk[rank - 1]);
+  };
+  // Columns without a cache of their own first, in order, the statuses always among them.
+  const auto own_cache = [&](std::size_t c) { return columns[c].cached && cache_bytes > 0 && c != status; };
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    if (!columns[c].stored_path.empty() && !own_cache(c)) open(c, H5P_DEFAULT);
+  }
+  space.chunk_samples = chunk_samples(table.datasets_[status].get());
+  const auto chunks = static_cast<std::size_t>(std::max<std::int64_t>(1, space.groups) *
+                                               ((space.samples + space.chunk_samples - 1) / space.chunk_samples));
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    const ColumnSpec& spec = columns[c];
+    if (spec.stored_path.empty() || !own_cache(c)) continue;
+    // Keeps the chunks being filled in memory between commits, so that a commit rewrites a
+    // partly filled chunk without first reading it from the file.
+    const std::size_t chunk_bytes =
+        static_cast<std::size_t>(space.chunk_samples) * std::max<std::size_t>(1, spec.width) * ElementSize(spec);
+    const std::size_t cached = std::clamp<std::size_t>(cache_bytes / std::max<std::size_t>(1, chunk_bytes), 1, chunks);
+    const std::size_t slots = NextPrime(std::min(kMaxSlots, kSlotsPerCachedChunk * cached));
+    const PlistId dapl(Check(H5Pcreate(H5P_DATASET_ACCESS), where, "creating", "a dataset access property list"));
+    CheckStatus(H5Pset_chunk_cache(dapl.get(), slots, cache_bytes, H5D_CHUNK_CACHE_W0_DEFAULT), where, "configuring",
+                "the chunk cache");
+    open(c, dapl.get());
+  }
+  table.space_ = space;
+  table.specs_ = std::move(columns);
+  return table;
+}
+
+std::string SampleTable::Rows(std::int64_t group, std::int64_t first, std::int64_t last) const {
+  const std::string samples =
+      first == last ? fmt::format("sample {}", first) : fmt::format("samples {} to {}", first, last);
+  return space_.grouped() ? fmt::format("{} {}, {}", space_.group_name, group, samples) : samples;
+}
+
+void SampleTable::Write(std::span<const RowKey> rows, std::span<const void* const> values) const {
+  if (rows.empty()) return;
+  if (values.size() != specs_.size()) throw std::logic_error("SampleTable::Write: one value array per column");
+  const std::vector<Run> runs = RunsOf(rows);
+  const auto m = static_cast<hsize_t>(rows.size());
+  // Statuses last, after everything else is flushed: a status on disk vouches for its sample.
+  for (std::size_t c = 0; c < specs_.size(); ++c) {
+    const ColumnSpec& spec = specs_[c];
+    if (!stored(c)) throw std::logic_error("SampleTable::Write: " + spec.path + " is not in this file");
+    const SpaceId file_space(Check(H5Dget_space(datasets_[c].get()), where_, "reading the shape of", spec.path));
+    CheckStatus(H5Sselect_none(file_space.get()), where_, "selecting rows of", spec.path);
+    for (const Run& run : runs) {
+      hsize_t start[2] = {static_cast<hsize_t>(run.first.sample), 0};
+      hsize_t count[2] = {run.count, spec.width};
+      if (space_.grouped()) {
+        start[0] = static_cast<hsize_t>(run.first.group);
+        start[1] = static_cast<hsize_t>(run.first.sample);
+        count[0] = 1;
+        count[1] = run.count;
+      }
+      CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_OR, start, nullptr, count, nullptr), where_,
+                  "selecting rows of", spec.path);
+    }
+    const hsize_t memory_dims[2] = {m, spec.width};
+    const SpaceId memory_space(Check(H5Screate_simple(spec.width > 0 ? 2 : 1, memory_dims, nullptr), where_,
+                                     "creating a dataspace for", spec.path));
+    CheckStatus(H5Dwrite(datasets_[c].get(), memory_types_[c].get(), memory_space.get(), file_space.get(), H5P_DEFAULT,
+                         values[c]),
+                where_, "writing", spec.path);
+    CheckStatus(H5Dflush(datasets_[c].get()), where_, "flushing", spec.path);
+  }
+}
+
+std::optional<std::string> SampleTable::TryReadRows(std::size_t column, std::int64_t group, std::int64_t first,
+                                                    std::int64_t count, void* out) const {
+  if (count == 0) return std::nullopt;
+  const ColumnSpec& spec = specs_[column];
+  if (!stored(column)) {
+    FillRows(spec, static_cast<std::size_t>(count) * Width(column), out);
+    return std::nullopt;
+  }
+  const SpaceId file_space(Check(H5Dget_space(datasets_[column].get()), where_, "reading the shape of", spec.path));
+  hsize_t start[2] = {static_cast<hsize_t>(first), 0};
+  hsize_t rows[2] = {static_cast<hsize_t>(count), spec.width};
+  if (space_.grouped()) {
+    start[0] = static_cast<hsize_t>(group);
+    start[1] = static_cast<hsize_t>(first);
+    rows[0] = 1;
+    rows[1] = static_cast<hsize_t>(count);
+  }
+  CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, rows, nullptr), where_,
+              "selecting rows of", spec.path);
+  const hsize_t memory_dims[2] = {static_cast<hsize_t>(count), spec.width};
+  const SpaceId memory_space(Check(H5Screate_simple(spec.width > 0 ? 2 : 1, memory_dims, nullptr), where_,
+                                   "creating a dataspace for", spec.path));
+  return hdf5::TryRead(datasets_[column].get(), memory_types_[column].get(), memory_space.get(), file_space.get(), out);
+}
+
+void SampleTable::ReadInto(std::size_t column, ColumnType as, std::int64_t group, std::int64_t begin,
+                           std::int64_t count, void* out, const SampleStatus* statuses) const {
+  CheckType(column, as);
+  const ColumnSpec& spec = specs_[column];
+  if (count < 0 || begin < 0 || begin + count > space_.samples || group < 0 ||
+      group >= std::max<std::int64_t>(1, space_.groups)) {
+    throw std::out_of_range(fmt::format("SampleTable: {} is outside the table", Rows(group, begin, begin + count - 1)));
+  }
+  if (count == 0) return;
+  if (const auto problem = TryReadRows(column, group, begin, count, out)) {
+    throw InputError(fmt::format("{}: dataset {} is damaged: {} cannot be read ({}){}", where_.file, spec.path,
+                                 Rows(group, begin, begin + count - 1), *problem, VerifyHint(where_.file)));
+  }
+  if (spec.finite == FiniteRule::kNone || !stored(column)) return;
+  std::vector<SampleStatus> read;
+  if (statuses == nullptr) {
+    read = Statuses(group, begin, count);
+    statuses = read.data();
+  }
+  if (const auto bad = FirstNonFinite(spec, out, count, statuses)) {
+    const std::int64_t sample = begin + bad->first;
+    throw InputError(fmt::format("{}: dataset {} is damaged: {} is {} but holds a non-finite number{}{}", where_.file,
+                                 spec.path, Rows(group, sample, sample),
+                                 SampleStatusName(statuses[bad->first]),
+                                 spec.width > 0 ? fmt::format(" at input {}", bad->second) : std::string(),
+                                 VerifyHint(where_.file)));
+  }
+}
+
+std::vector<SampleStatus> SampleTable::Statuses(std::int64_t group, std::int64_t begin, std::int64_t count) const {
+  const std::vector<std::int8_t> raw = Read<std::int8_t>(status_column(), group, begin, count);
+  std::vector<SampleStatus> statuses;
+  statuses.reserve(raw.size());
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    if (!IsKnownStatus(raw[i])) {
+      const std::int64_t sample = begin + static_cast<std::int64_t>(i);
+      throw InputError(fmt::format("{}: dataset {} is damaged: {} has status {}, which no ringtol writes{}",
+                                   where_.file, specs_.back().path, Rows(group, sample, sample), raw[i],
+                                   VerifyHint(where_.file)));
+    }
+    statuses.push_back(static_cast<SampleStatus>(raw[i]));
+  }
+  return statuses;
+}
+
+std::vector<std::int64_t> SampleTable::Pending(std::int64_t group, std::int64_t begin, std::int64_t end) const {
+  std::vector<std::int64_t> pending;
+  const auto code = static_cast<std::int8_t>(SampleStatus::kPending);
+  for (std::int64_t first = begin; first < end; first += kStatusBlock) {
+    const std::int64_t count = std::min(kStatusBlock, end - first);
+    const std::vector<std::int8_t> block = Read<std::int8_t>(status_column(), group, first, count);
+    for (std::int64_t i = 0; i < count; ++i) {
+      if (block[static_cast<std::size_t>(i)] == code) pending.push_back(first + i);
+    }
+  }
+  return pending;
+}
+
+TableScan SampleTable::Scan() const {
+  TableScan scan;
+  const std::int64_t chunk = space_.chunk_samples;
+  // The chunks of a column: every one of a flat table (one that was never written reads as
+  // its fill), those that exist of a grouped one.
+  const auto chunks_of = [&](std::size_t column) {
+    std::vector<RowKey> firsts;
+    if (!space_.grouped()) {
+      for (std::int64_t first = 0; first < space_.samples; first += chunk) firsts.push_back({0, first});
+      return firsts;
+    }
+    const std::string& path = specs_[column].path;
+    const SpaceId dataspace(Check(H5Dget_space(datasets_[column].get()), where_, "reading the shape of", path));
+    hsize_t allocated = 0;
+    CheckStatus(H5Dget_num_chunks(datasets_[column].get(), dataspace.get(), &allocated), where_,
+                "counting the chunks of", path);
+    for (hsize_t i = 0; i < allocated; ++i) {
+      std::array<hsize_t, 2> offset{};
+      unsigned mask = 0;
+      haddr_t address = 0;
+      hsize_t bytes = 0;
+      if (H5Dget_chunk_info(datasets_[column].get(), dataspace.get(), i, offset.data(), &mask, &address, &bytes) < 0) {
+        Fail(where_, fmt::format("reading the chunk index of {} failed", path));
+      }
+      firsts.push_back({static_cast<std::int64_t>(offset[0]), static_cast<std::int64_t>(offset[1])});
+    }
+    return firsts;
+  };
+
+  // The statuses of every chunk whose status chunk reads, by its first row.
+  std::map<RowKey, std::vector<SampleStatus>> statuses;
+  std::vector<DamagedChunk> status_damage;
+  const std::size_t status = status_column();
+  std::vector<std::int8_t> raw;
+  for (const RowKey& first : chunks_of(status)) {
+    const std::int64_t count = std::min(chunk, space_.samples - first.sample);
+    raw.resize(static_cast<std::size_t>(count));
+    std::optional<std::string> problem = TryReadRows(status, first.group, first.sample, count, raw.data());
+    if (!problem) {
+      const auto unknown = std::find_if(raw.begin(), raw.end(), [](std::int8_t value) { return !IsKnownStatus(value); });
+      if (unknown != raw.end()) {
+        const std::int64_t sample = first.sample + (unknown - raw.begin());
+        problem = fmt::format("{} has status {}, which no ringtol writes", Rows(first.group, sample, sample), *unknown);
+      }
+    }
+    if (problem) {
+      status_damage.push_back({status, first.group, {first.sample, first.sample + count}, *problem});
+      continue;
+    }
+    std::vector<SampleStatus>& chunk_statuses = statuses[first];
+    for (std::int64_t i = 0; i < count; ++i) {
+      const auto value = static_cast<SampleStatus>(raw[static_cast<std::size_t>(i)]);
+      chunk_statuses.push_back(value);
+      if (value != SampleStatus::kPending) {
+        ++scan.done;
+      } else if (!space_.grouped()) {
+        const std::int64_t sample = first.sample + i;
+        if (!scan.pending.empty() && scan.pending.back().end == sample) {
+          ++scan.pending.back().end;
+        } else {
+          scan.pending.push_back({sample, sample + 1});
+        }
+      }
+    }
+  }
+
+  std::vector<unsigned char> buffer;
+  for (std::size_t c = 0; c < status; ++c) {
+    if (!stored(c)) continue;
+    const ColumnSpec& spec = specs_[c];
+    for (const RowKey& first : chunks_of(c)) {
+      const std::int64_t count = std::min(chunk, space_.samples - first.sample);
+      buffer.resize(static_cast<std::size_t>(count) * Width(c) * ElementSize(spec));
+      std::optional<std::string> problem = TryReadRows(c, first.group, first.sample, count, buffer.data());
+      if (!problem && spec.finite != FiniteRule::kNone) {
+        const auto found = statuses.find(first);
+        if (found != statuses.end()) {
+          if (const auto bad = FirstNonFinite(spec, buffer.data(), count, found->second.data())) {
+            const std::int64_t sample = first.sample + bad->first;
+            problem = fmt::format("{} is {} but holds a non-finite number{}", Rows(first.group, sample, sample),
+                                  SampleStatusName(found->second[static_cast<std::size_t>(bad->first)]),
+                                  spec.width > 0 ? fmt::format(" at input {}", bad->second) : std::string());
+          }
+        }
+      }
+      if (problem) scan.damaged.push_back({c, first.group, {first.sample, first.sample + count}, *problem});
+    }
+  }
+  scan.damaged.insert(scan.damaged.end(), status_damage.begin(), status_damage.end());
+  return scan;
+}
+
+void SampleTable::Repair(const std::vector<DamagedChunk>& damaged) {
+  std::vector<DamagedChunk> recompute;  // of the columns other than the statuses
+  for (std::size_t c = 0; c < specs_.size(); ++c) {
+    std::vector<std::array<hsize_t, 2>> offsets;
+    std::vector<std::pair<std::int64_t, SampleRange>> reported;  // by group, merged
+    for (const DamagedChunk& chunk : damaged) {
+      if (chunk.column != c) continue;
+      offsets.push_back(space_.grouped()
+                            ? std::array<hsize_t, 2>{static_cast<hsize_t>(chunk.group),
+                                                     static_cast<hsize_t>(chunk.samples.begin)}
+                            : std::array<hsize_t, 2>{static_cast<hsize_t>(chunk.samples.begin), 0});
+      if (!reported.empty() && reported.back().first == chunk.group &&
+          reported.back().second.end == chunk.samples.begin) {
+        reported.back().second.end = chunk.samples.end;
+      } else {
+        reported.emplace_back(chunk.group, chunk.samples);
+      }
+      if (c != status_column()) recompute.push_back(chunk);
+    }
+    if (offsets.empty()) continue;
+    RewriteChunksWithFill(where_, datasets_[c].get(), specs_[c].path, offsets);
+    // HDF5 remembers where it last found a chunk, and its filter mask, in the open dataset:
+    // reopened, it reads the rewritten chunks as they now are.
+    const PlistId access(Check(H5Dget_access_plist(datasets_[c].get()), where_, "reading the access of",
+                               specs_[c].path));
+    const FileId file(Check(H5Iget_file_id(datasets_[c].get()), where_, "finding the file of", specs_[c].path));
+    datasets_[c].reset();
+    datasets_[c] = DatasetId(Check(H5Dopen2(file.get(), specs_[c].stored_path.c_str(), access.get()), where_,
+                                   "opening dataset", specs_[c].stored_path));
+    for (const auto& [group, range] : reported) {
+      std::cerr << fmt::format("ringtol: {}: dataset {} was damaged at {}; they are computed again\n", where_.file,
+                               specs_[c].path, Rows(group, range.begin, range.end - 1));
+    }
+  }
+  if (recompute.empty()) return;
+  const std::size_t status = status_column();
+  const ColumnSpec& spec = specs_[status];
+  const SpaceId file_space(Check(H5Dget_space(datasets_[status].get()), where_, "reading the shape of", spec.path));
+  std::vector<std::int8_t> pending;
+  for (const DamagedChunk& chunk : recompute) {
+    const auto count = static_cast<hsize_t>(chunk.samples.end - chunk.samples.begin);
+    hsize_t start[2] = {static_cast<hsize_t>(chunk.samples.begin), 0};
+    hsize_t rows[2] = {count, 0};
+    if (space_.grouped()) {
+      start[0] = static_cast<hsize_t>(chunk.group);
+      start[1] = static_cast<hsize_t>(chunk.samples.begin);
+      rows[0] = 1;
+      rows[1] = count;
+    }
+    CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, rows, nullptr), where_,
+                "selecting rows of", spec.path);
+    const SpaceId memory(Check(H5Screate_simple(1, &count, nullptr), where_, "creating a dataspace for", spec.path));
+    pending.assign(count, static_cast<std::int8_t>(SampleStatus::kPending));
+    CheckStatus(H5Dwrite(datasets_[status].get(), memory_types_[status].get(), memory.get(), file_space.get(),
+                         H5P_DEFAULT, pending.data()),
+                where_, "writing", spec.path);
+  }
+  CheckStatus(H5Dflush(datasets_[status].get()), where_, "flushing", spec.path);
+}
+
+void SampleTable::Grow(std::int64_t samples) {
+  if (space_.grouped() || !space_.extendable) throw std::logic_error("SampleTable::Grow: the table cannot grow");
+  for (std::size_t c = 0; c < specs_.size(); ++c) {
+    if (!stored(c)) continue;
+    const std::string& path = specs_[c].path;
+    const SpaceId dataspace(Check(H5Dget_space(datasets_[c].get()), where_, "reading the shape of", path));
+    hsize_t dims[2] = {0, 0};
+    H5Sget_simple_extent_dims(dataspace.get(), dims, nullptr);
+    if (dims[0] >= static_cast<hsize_t>(samples)) continue;
+    dims[0] = static_cast<hsize_t>(samples);
+    CheckStatus(H5Dset_extent(datasets_[c].get(), dims), where_, "extending", path);
+  }
+  space_.samples = std::max(space_.samples, samples);
+}
+
+bool SampleTable::SameStorage(const SampleTable& other) const {
+  if (other.specs_.size() != specs_.size() || other.space_.chunk_samples != space_.chunk_samples) return false;
+  const auto filter = [](const PlistId& dcpl, int k) {
+    unsigned flags = 0;
+    std::size_t values = 0;  // asks for none of its parameters: HDF5 then needs no array
+    return H5Pget_filter2(dcpl.get(), static_cast<unsigned>(k), &flags, &values, nullptr, 0, nullptr, nullptr);
+  };
+  for (std::size_t c = 0; c < specs_.size(); ++c) {
+    if (!stored(c) || !other.stored(c)) return false;
+    const PlistId a(Check(H5Dget_create_plist(other.datasets_[c].get()), other.where_, "reading the layout of",
+                          specs_[c].path));
+    const PlistId b(Check(H5Dget_create_plist(datasets_[c].get()), where_, "reading the layout of", specs_[c].path));
+    const int filters = H5Pget_nfilters(a.get());
+    if (filters < 0 || filters != H5Pget_nfilters(b.get())) return false;
+    for (int k = 0; k < filters; ++k) {
+      const H5Z_filter_t id = filter(a, k);
+      if (id < 0 || id != filter(b, k)) return false;
+    }
+    hsize_t x[2] = {0, 0};
+    hsize_t y[2] = {0, 0};
+    if (H5Pget_chunk(a.get(), 2, x) != H5Pget_chunk(b.get(), 2, y) || x[0] != y[0] || x[1] != y[1]) return false;
+  }
+  return true;
+}
+
+std::int64_t SampleTable::CopyChunks(const SampleTable& other, std::span<const std::int64_t> firsts) const {
+  if (firsts.empty()) return 0;
+  std::int64_t copied = 0;
+  std::vector<unsigned char> buffer;
+  // Every column before the statuses, flushed, so that a status copied vouches for its sample.
+  for (std::size_t c = 0; c < specs_.size(); ++c) {
+    const std::string& path = specs_[c].path;
+    for (const std::int64_t first : firsts) {
+      const hsize_t offset[2] = {static_cast<hsize_t>(first), 0};
+      hsize_t bytes = 0;
+      CheckStatus(H5Dget_chunk_storage_size(other.datasets_[c].get(), offset, &bytes), other.where_,
+                  "sizing a chunk of", path);
+      buffer.resize(static_cast<std::size_t>(bytes));
+      std::uint32_t mask = 0;
+      CheckStatus(H5Dread_chunk(other.datasets_[c].get(), H5P_DEFAULT, offset, &mask, buffer.data()), other.where_,
+                  "reading a chunk of", path);
+      CheckStatus(H5Dwrite_chunk(datasets_[c].get(), H5P_DEFAULT, mask, offset, buffer.size(), buffer.data()), where_,
+                  "writing a chunk of", path);
+      copied += static_cast<std::int64_t>(bytes);
+    }
+    CheckStatus(H5Dflush(datasets_[c].get()), where_, "flushing", path);
+  }
+  return copied;
+}
+
+}  // namespace ringtol::jobs::hdf5
