@@ -168,8 +168,28 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   // Cheap checks first, so a wrong option fails before a second of calibration.
   CheckBeforeWork(world, command.pool, command.progress_seconds, command.out, command.resume);
 
+  // A resume without --samples never asks a file grown by an earlier --samples to shrink:
+  // the larger of the campaign file's count and the file's own. A file that does not read
+  // is refused below, by Resume.
+  std::optional<std::int64_t> stored_samples;
+  if (command.resume && !command.samples) {
+    std::int64_t stored = 0;
+    if (rank == 0) {
+      try {
+        stored = CampaignReader(command.out).samples();
+      } catch (const std::exception&) {
+        stored = 0;
+      }
+    }
+    MPI_Bcast(&stored, 1, MPI_INT64_T, 0, world);
+    if (stored > 0) stored_samples = stored;
+  }
   std::unique_ptr<Campaign> campaign;
-  ThrowAgreed(world, Attempt([&] { campaign = std::make_unique<Campaign>(command.file, command.samples, command.seed); }));
+  ThrowAgreed(world, Attempt([&] {
+    std::optional<std::int64_t> samples = command.samples;
+    if (stored_samples && *stored_samples > ReadCampaignFile(command.file).sampling.samples) samples = stored_samples;
+    campaign = std::make_unique<Campaign>(command.file, samples, command.seed);
+  }));
 
   std::unique_ptr<CampaignStore> store;
   std::string error;

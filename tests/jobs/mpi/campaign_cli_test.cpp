@@ -241,6 +241,12 @@ TEST(Campaign, ResumeWithMoreSamplesGrowsTheFileAsIfRunWhole) {
   EXPECT_EQ(nlohmann::json::parse(grown.out)["run"]["computed"], 28);
   ExpectSameResults(folder / "whole.h5", folder / "grown.h5");
   EXPECT_THAT(Campaign(file, folder / "grown.h5", "--resume --samples 10"), ExitsWith(Ne(0), HasSubstr("grown.h5")));
+  // Grown beyond the campaign file's 48, it resumes without --samples at its own size.
+  ASSERT_EQ(Campaign(file, folder / "grown.h5", "--resume --samples 60").exit_code, 0);
+  const Outcome again = Campaign(file, folder / "grown.h5", "--resume --json");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(nlohmann::json::parse(again.out)["run"]["computed"], 0);
+  EXPECT_EQ(CampaignReader(folder / "grown.h5").samples(), 60);
 }
 
 // Growing a finished file and being killed while at it: the resume that follows must
