@@ -17,12 +17,13 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <compare>
 #include <cstdint>
-#include <map>
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "jobs/campaign/sample_record.h"
@@ -198,31 +199,60 @@ template <>
 inline ColumnType SampleTable::ElementType<char>() { return ColumnType::kText; }
 
 // Buffered rows of one table, each a `Row` the store turns into its columns' values: the
-// last of two rows of one key wins, and a store's reads can lay them over the file's.
+// last of two rows of one key wins, and a store's reads can lay them over the file's. Rows
+// are appended as they come and put in key order when next read, so that a store buffering
+// thousands of samples between commits pays for one sort, not a tree.
 template <typename Row>
 class RowBuffer {
  public:
-  void Put(RowKey key, Row row) { rows_.insert_or_assign(key, std::move(row)); }
-  std::size_t size() const { return rows_.size(); }
+  void Put(RowKey key, Row row) {
+    sorted_ = sorted_ && (rows_.empty() || rows_.back().first < key);
+    rows_.emplace_back(key, std::move(row));
+  }
+  // The number of distinct keys.
+  std::size_t size() const { return rows().size(); }
   bool empty() const { return rows_.empty(); }
-  void clear() { rows_.clear(); }
-  const std::map<RowKey, Row>& rows() const { return rows_; }
+  void clear() {
+    rows_.clear();
+    sorted_ = true;
+  }
+  // In key order, one row per key.
+  const std::vector<std::pair<RowKey, Row>>& rows() const {
+    if (!sorted_) {
+      std::stable_sort(rows_.begin(), rows_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      // Of equal keys the last added wins: keep the last of each run.
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < rows_.size(); ++i) {
+        if (i + 1 < rows_.size() && rows_[i + 1].first == rows_[i].first) continue;
+        if (kept != i) rows_[kept] = std::move(rows_[i]);
+        ++kept;
+      }
+      rows_.erase(rows_.begin() + static_cast<std::ptrdiff_t>(kept), rows_.end());
+      sorted_ = true;
+    }
+    return rows_;
+  }
   std::vector<RowKey> Keys() const {
     std::vector<RowKey> keys;
-    keys.reserve(rows_.size());
-    for (const auto& [key, row] : rows_) keys.push_back(key);
+    keys.reserve(rows().size());
+    for (const auto& [key, row] : rows()) keys.push_back(key);
     return keys;
   }
   // Lays the buffered rows of [begin, end) of a group over `values` (read from the file).
   template <typename T, typename Get>
   void Overlay(std::int64_t group, std::int64_t begin, std::int64_t end, std::vector<T>& values, Get get) const {
-    for (auto it = rows_.lower_bound({group, begin}); it != rows_.end() && it->first < RowKey{group, end}; ++it) {
+    const auto& sorted = rows();
+    auto it = std::lower_bound(sorted.begin(), sorted.end(), RowKey{group, begin},
+                               [](const auto& row, const RowKey& key) { return row.first < key; });
+    for (; it != sorted.end() && it->first < RowKey{group, end}; ++it) {
       values[static_cast<std::size_t>(it->first.sample - begin)] = get(it->second);
     }
   }
 
  private:
-  std::map<RowKey, Row> rows_;
+  // Sorted lazily by the const readers above.
+  mutable std::vector<std::pair<RowKey, Row>> rows_;
+  mutable bool sorted_ = true;
 };
 
 }  // namespace ringtol::jobs::hdf5
