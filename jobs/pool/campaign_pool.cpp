@@ -8,6 +8,7 @@
 #include <csignal>
 #include <ctime>
 #include <cstring>
+#include <deque>
 #include <exception>
 #include <memory>
 #include <mutex>
@@ -18,6 +19,8 @@
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "jobs/pool/block_schedule.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -262,6 +265,61 @@ class PendingCursor {
   std::size_t at_ = 0;
 };
 
+// Pending samples handed out block by block (PoolOptions::align_samples), block-cyclically
+// (jobs/pool/block_schedule.h): each computing rank's chunks are cut, in order, from the
+// blocks it took, so that a block is computed by one rank unless the run's last samples
+// are shared out; then a rank with nothing left takes from the back of the rank with most.
+class BlockHandout {
+ public:
+  BlockHandout(const PoolResults& store, std::int64_t block, int computing_ranks)
+      : store_(store), block_(block), queues_(static_cast<std::size_t>(computing_ranks)) {
+    std::vector<std::int64_t> blocks;
+    for (std::int64_t begin = 0; begin < store.items(); begin += kPendingBlock) {
+      for (const std::int64_t index : store.Pending(begin, std::min(store.items(), begin + kPendingBlock))) {
+        if (blocks.empty() || blocks.back() != index / block) blocks.push_back(index / block);
+      }
+    }
+    schedule_.emplace(blocks, computing_ranks);
+  }
+
+  // Up to `size` pending samples for computing rank `who`, ascending.
+  std::vector<std::int64_t> Next(int who, std::int64_t size) {
+    std::deque<std::int64_t>& own = queues_[static_cast<std::size_t>(who)];
+    std::vector<std::int64_t> chunk;
+    while (static_cast<std::int64_t>(chunk.size()) < size) {
+      if (own.empty() && !Refill(who)) break;
+      const auto n = std::min(static_cast<std::size_t>(size) - chunk.size(), own.size());
+      chunk.insert(chunk.end(), own.begin(), own.begin() + static_cast<std::ptrdiff_t>(n));
+      own.erase(own.begin(), own.begin() + static_cast<std::ptrdiff_t>(n));
+    }
+    return chunk;
+  }
+
+ private:
+  // Gives `who` more samples: its next block, or at the end half of another rank's.
+  bool Refill(int who) {
+    std::deque<std::int64_t>& own = queues_[static_cast<std::size_t>(who)];
+    for (const std::int64_t block : schedule_->Take(who, 1)) {
+      const std::vector<std::int64_t> pending =
+          store_.Pending(block * block_, std::min(store_.items(), (block + 1) * block_));
+      own.insert(own.end(), pending.begin(), pending.end());
+    }
+    if (!own.empty()) return true;
+    const auto victim = std::max_element(queues_.begin(), queues_.end(),
+                                         [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    if (victim->empty()) return false;
+    const std::size_t take = (victim->size() + 1) / 2;
+    own.insert(own.end(), victim->end() - static_cast<std::ptrdiff_t>(take), victim->end());
+    victim->erase(victim->end() - static_cast<std::ptrdiff_t>(take), victim->end());
+    return true;
+  }
+
+  const PoolResults& store_;
+  std::int64_t block_;
+  std::optional<BlockSchedule> schedule_;
+  std::vector<std::deque<std::int64_t>> queues_;  // per computing rank: taken, not handed out
+};
+
 // What rank 0's computing threads ring when its main thread has work to do; the main
 // thread sleeps on it.
 class Doorbell {
@@ -412,13 +470,22 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
   }
   report.already_done = store.items() - pending;
   std::int64_t unassigned = pending;
-  PendingCursor cursor(store);
+  // Computing rank numbers for the block schedule: rank 0's threads first, then the workers.
+  const auto computing_rank = [&](int mpi_rank) { return threads + mpi_rank - 1; };
+  std::optional<PendingCursor> cursor;
+  std::optional<BlockHandout> blocks;
+  if (options.align_samples > 0) {
+    blocks.emplace(store, options.align_samples, report.computing_ranks);
+  } else {
+    cursor.emplace(store);
+  }
 
   // [s] per sample, over this run; the floor keeps the division finite should a clock
   // ever read samples as taking no time.
   constexpr double kShortestSample = 1e-9;
   double mean_time = 0.0;
-  auto next_chunk = [&]() {
+  auto next_chunk = [&](int who) {
+    if (report.stopped != 0) return std::vector<std::int64_t>();
     std::int64_t size = options.chunk_samples;
     if (size <= 0) {
       const std::int64_t share = std::max<std::int64_t>(1, unassigned / (2 * report.computing_ranks));
@@ -428,25 +495,13 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
                  : std::clamp<std::int64_t>(std::llround(std::min(fitting, static_cast<double>(share))), 1, share);
     }
     std::vector<std::int64_t> chunk;
-    while (report.stopped == 0 && static_cast<std::int64_t>(chunk.size()) < size) {
-      const std::optional<std::int64_t> index = cursor.Next();
-      if (!index) break;
-      chunk.push_back(*index);
-    }
-    // Up to the end of the stored chunk it reached, when that takes at most kAlignGrowth
-    // times its size (a chunk of slow samples is not stretched far past chunk_seconds) and
-    // stays within its share of what remains (the end of the run does not wait for it).
-    const std::int64_t align = options.align_samples;
-    if (options.chunk_samples <= 0 && align > 0 && !chunk.empty()) {
-      constexpr std::int64_t kAlignGrowth = 4;
-      const std::int64_t block_end = (chunk.back() / align + 1) * align;
-      const std::int64_t most = std::max(size, unassigned / (2 * report.computing_ranks));
-      if (block_end - chunk.back() - 1 <= kAlignGrowth * size) {
-        for (std::optional<std::int64_t> next = cursor.Peek();
-             report.stopped == 0 && next && *next < block_end && static_cast<std::int64_t>(chunk.size()) < most;
-             next = cursor.Peek()) {
-          chunk.push_back(*cursor.Next());
-        }
+    if (blocks) {
+      chunk = blocks->Next(who, size);
+    } else {
+      while (static_cast<std::int64_t>(chunk.size()) < size) {
+        const std::optional<std::int64_t> index = cursor->Next();
+        if (!index) break;
+        chunk.push_back(*index);
       }
     }
     unassigned -= static_cast<std::int64_t>(chunk.size());
@@ -515,7 +570,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
       Unpacker in(message);
       if (status.MPI_TAG == kTagStopping) stop(in.Get<std::int32_t>());
       // Reply first: the worker computes while rank 0 files what it sent.
-      const std::vector<std::int64_t> chunk = next_chunk();
+      const std::vector<std::int64_t> chunk = next_chunk(computing_rank(status.MPI_SOURCE));
       Check(MPI_Send(chunk.data(), static_cast<int>(chunk.size()), MPI_INT64_T, status.MPI_SOURCE, kTagWork,
                      communicator),
             "MPI_Send");
@@ -529,13 +584,14 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
       arrived = true;
     }
     bool locals_finished = true;
-    for (const std::unique_ptr<LocalWorker>& local : locals) {
+    for (std::size_t t = 0; t < locals.size(); ++t) {
+      const std::unique_ptr<LocalWorker>& local = locals[t];
       for (SampleRecord& record : local->Collect()) {
         absorb(std::move(record), false);
         arrived = true;
       }
       if (local->WantsWork()) {
-        std::vector<std::int64_t> chunk = next_chunk();
+        std::vector<std::int64_t> chunk = next_chunk(static_cast<int>(t));
         if (chunk.empty()) {
           local->Stop();
         } else {

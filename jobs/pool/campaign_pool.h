@@ -8,10 +8,14 @@
 // own, jobs/store/campaign_store.h) files its records there instead, commits them at the end
 // of each chunk, and sends only their summaries (index, status, solve time: 17 bytes a
 // sample), so that results never travel through rank 0 and what rank 0 does per sample is
-// bookkeeping: two small messages per chunk. Rank 0 hands out pending indices in
-// ascending order, taken from the file a block at a time, so nothing it holds grows with
-// the campaign: the records between two commits, one block of pending indices, and one
-// outstanding chunk per worker. With `coordinator_computes` threads of rank 0 compute too,
+// bookkeeping: two small messages per chunk. Rank 0 hands out pending indices block-
+// cyclically (jobs/pool/block_schedule.h): block j of the results file's chunk rows goes
+// to computing rank j mod K, and each rank's chunks are cut from its blocks in order, so
+// that each stored chunk is written by one rank and each shard holds a few strided runs of
+// blocks; a rank with none left takes the back half of the longest queue, and the run's
+// last samples are shared out one chunk at a time. It holds the numbers of the pending
+// blocks (8 bytes a block), the records between two commits and one block's pending
+// indices per computing rank. With `coordinator_computes` threads of rank 0 compute too,
 // each fed chunks like a worker (MPI is called from rank 0's main thread only:
 // MPI_THREAD_FUNNELED).
 //
@@ -55,10 +59,10 @@ namespace ringtol::jobs {
 
 struct PoolOptions {
   std::int64_t chunk_samples = 0;  // > 0: samples per chunk, fixed; 0: adaptive
-  // > 0: an adaptive chunk is extended to the end of the block of this many samples (the
-  // results file's chunk rows) it reached, when that at most quintuples it and stays within
-  // its share of what remains, so that each stored chunk is written by one rank and shards
-  // join by copying whole chunks; 0: chunks end anywhere.
+  // > 0: samples are handed out block-cyclically in blocks of this many (the results file's
+  // chunk rows), so that each stored chunk is written by one rank and shards join by
+  // copying whole chunks; 0: in ascending order (an allocation's rounds, whose items are
+  // no file's rows).
   std::int64_t align_samples = 0;
   double chunk_seconds = 0.5;      // [s] > 0: adaptive chunks' target wall time
   // [s] >= 0: results reach the file at least this often (about 50 ms later when samples
