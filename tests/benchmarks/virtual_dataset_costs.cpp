@@ -1,8 +1,11 @@
 // What HDF5's virtual datasets (the serial libhdf5 ringtol links) cost for a results file
 // assembled from the shards of K ranks instead of joined (docs/results.md, "Shards"): one
 // float64 column of N samples whose stored chunks of `rows` samples were written by the
-// ranks in turn, as the campaign pool hands them out, mapped three ways:
-//   interleaved  one mapping per shard, selecting its chunks' rows (an irregular hyperslab)
+// ranks in turn (block-cyclically, jobs/pool/block_schedule.h), mapped four ways:
+//   interleaved  one mapping per shard, selecting its chunks' rows as a union of blocks
+//                (an irregular hyperslab)
+//   strided      one mapping per shard, its chunks' rows as one regular strided hyperslab
+//                on both sides, plus one for a last, shorter chunk
 //   per-run      one mapping per chunk (a single block each)
 //   contiguous   one mapping per shard of one block (as if each rank computed one range)
 // Times creating the virtual dataset, opening it, reading the column twice (the first read
@@ -10,7 +13,7 @@
 //
 // Built with -DRINGTOL_BENCHMARKS=ON (build/tests/ringtol_virtual_dataset_costs), or alone:
 //   g++ -std=c++20 -O2 tests/benchmarks/virtual_dataset_costs.cpp -I/usr/include/hdf5/serial -lhdf5_serial -o vds_costs
-//   vds_costs FOLDER SHARDS SAMPLES ROWS interleaved|per-run|contiguous
+//   vds_costs FOLDER SHARDS SAMPLES ROWS interleaved|strided|per-run|contiguous
 //
 // FOLDER must exist and is filled with the shards and vds.h5; the numbers are wall times.
 #include <hdf5.h>
@@ -42,7 +45,7 @@ int Writer(hsize_t chunk, hsize_t chunks, int shards, bool contiguous) {
 
 int main(int argc, char** argv) {
   if (argc != 6) {
-    std::fprintf(stderr, "usage: %s FOLDER SHARDS SAMPLES ROWS interleaved|per-run|contiguous\n", argv[0]);
+    std::fprintf(stderr, "usage: %s FOLDER SHARDS SAMPLES ROWS interleaved|strided|per-run|contiguous\n", argv[0]);
     return 2;
   }
   const std::string folder = argv[1];
@@ -52,6 +55,7 @@ int main(int argc, char** argv) {
   const std::string layout = argv[5];
   const bool contiguous = layout == "contiguous";
   const bool per_run = layout == "per-run";
+  const bool strided = layout == "strided";
   const hsize_t chunks = (samples + rows - 1) / rows;
   const hsize_t dims[1] = {samples};
   const hsize_t chunk_dims[1] = {rows};
@@ -91,7 +95,31 @@ int main(int argc, char** argv) {
   const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
   std::size_t mappings = 0;
   const hid_t selection = H5Screate_simple(1, dims, nullptr);
-  for (int shard = 0; shard < shards; ++shard) {
+  for (int shard = 0; shard < shards && strided; ++shard) {
+    // Chunks shard, shard + K, ...: the whole ones as one strided selection, a last shorter
+    // one as a block of its own.
+    const std::string name = ShardName(shard);
+    const hsize_t whole = samples / rows;
+    const auto k = static_cast<hsize_t>(shards);
+    const auto s = static_cast<hsize_t>(shard);
+    const hsize_t count[1] = {whole > s ? (whole - s + k - 1) / k : 0};
+    if (count[0] > 0) {
+      const hsize_t first[1] = {s * rows};
+      const hsize_t stride[1] = {k * rows};
+      const hsize_t block[1] = {rows};
+      H5Sselect_hyperslab(selection, H5S_SELECT_SET, first, stride, count, block);
+      H5Pset_virtual(dcpl, selection, name.c_str(), "x", selection);
+      ++mappings;
+    }
+    if (samples % rows != 0 && whole % k == s) {
+      const hsize_t first[1] = {whole * rows};
+      const hsize_t last[1] = {samples % rows};
+      H5Sselect_hyperslab(selection, H5S_SELECT_SET, first, nullptr, last, nullptr);
+      H5Pset_virtual(dcpl, selection, name.c_str(), "x", selection);
+      ++mappings;
+    }
+  }
+  for (int shard = 0; shard < shards && !strided; ++shard) {
     const std::string name = ShardName(shard);
     bool any = false;
     for (hsize_t chunk = 0; chunk < chunks; ++chunk) {
