@@ -79,15 +79,12 @@ bool Campaign::IndependentDraw(std::int64_t index) const {
 
 std::unique_ptr<solvers::Solver> Campaign::MakeSolver() const { return solvers::MakeSolver(plan_.solver); }
 
-SampleEvaluator::SampleEvaluator(const Campaign& campaign, EvaluatorFaults faults)
+SampleDrawer::SampleDrawer(const Campaign& campaign)
     : campaign_(&campaign),
       design_(campaign.sampling().design.dimension(), campaign.sampling().design.options()),
-      solver_(campaign.MakeSolver()),
-      faults_(std::move(faults)),
       u_(static_cast<std::size_t>(campaign.sampling().design.dimension())) {}
 
-SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
-  const auto start = std::chrono::steady_clock::now();
+SampleRecord SampleDrawer::Draw(std::int64_t index, std::optional<sampling::SampledAssembly>* assembly) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   SampleRecord record;
   record.index = index;
@@ -96,16 +93,26 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
   design_.Point(index, u_);
   record.u = u_;
   record.values.assign(campaign_->sampling().sampler.inputs().size(), kNaN);
-
-  std::optional<sampling::SampledAssembly> assembly;
   try {
-    assembly = campaign_->sampling().sampler.Realise(index, u_);
-    record.values = assembly->values;
-    record.redraws = assembly->redraws;
+    sampling::SampledAssembly drawn = campaign_->sampling().sampler.Realise(index, u_);
+    record.values = drawn.values;
+    record.redraws = drawn.redraws;
+    if (assembly != nullptr) *assembly = std::move(drawn);
   } catch (const std::exception& e) {
     record.status = SampleStatus::kSamplingFailed;
     record.message = e.what();
   }
+  return record;
+}
+
+SampleEvaluator::SampleEvaluator(const Campaign& campaign, EvaluatorFaults faults)
+    : campaign_(&campaign), drawer_(campaign), solver_(campaign.MakeSolver()), faults_(std::move(faults)) {}
+
+SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
+  const auto start = std::chrono::steady_clock::now();
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::optional<sampling::SampledAssembly> assembly;
+  SampleRecord record = drawer_.Draw(index, &assembly);
   if (assembly) {
     try {
       if (faults_.before_simulate) faults_.before_simulate(index);

@@ -59,6 +59,26 @@ struct EvaluatorFaults {
   std::function<void(std::int64_t index, solvers::SimulationResult&)> after_simulate;  // may spoil outputs
 };
 
+// Draws samples of one campaign without simulating them: each sample's design point, drawn
+// values and redraws, exactly as SampleEvaluator draws them, for replays of samples whose
+// inputs a results file does not keep. Not thread-safe (it owns a Design, whose Sobol'
+// engine is stateful): one per thread.
+class SampleDrawer {
+ public:
+  explicit SampleDrawer(const Campaign& campaign);
+
+  // A record of the sample's index, u, values and redraws. Its status is kSamplingFailed,
+  // with the sampler's message and NaN values, when the assembly cannot be realised, and
+  // kPending (drawn, not simulated) otherwise; `assembly`, when given, receives the
+  // realised assembly. Never throws for the sample's own failure.
+  SampleRecord Draw(std::int64_t index, std::optional<sampling::SampledAssembly>* assembly = nullptr);
+
+ private:
+  const Campaign* campaign_;
+  sampling::Design design_;
+  std::vector<double> u_;
+};
+
 // Computes samples of one campaign. Not thread-safe (it owns a Design, whose Sobol'
 // engine is stateful): one per thread.
 class SampleEvaluator {
@@ -72,10 +92,9 @@ class SampleEvaluator {
 
  private:
   const Campaign* campaign_;
-  sampling::Design design_;
+  SampleDrawer drawer_;
   std::unique_ptr<solvers::Solver> solver_;
   EvaluatorFaults faults_;
-  std::vector<double> u_;
 };
 
 }  // namespace ringtol::jobs

@@ -1,6 +1,19 @@
 #include "jobs/campaign/sample_record.h"
 
+#include <boost/crc.hpp>
+
 namespace ringtol::jobs {
+
+std::uint32_t DrawChecksum(const SampleRecord& record) {
+  boost::crc_32_type crc;
+  crc.process_bytes(record.u.data(), record.u.size() * sizeof(double));
+  for (const double value : record.values) {
+    const auto stored = static_cast<float>(value);
+    crc.process_bytes(&stored, sizeof(stored));
+  }
+  crc.process_bytes(&record.redraws, sizeof(record.redraws));
+  return crc.checksum();
+}
 
 SampleStatus FromSolverStatus(solvers::Status status) {
   return static_cast<SampleStatus>(static_cast<std::int8_t>(status));

@@ -156,6 +156,52 @@ TEST(SampleEvaluator, TheStoredDesignPointReplaysTheSampleAlone) {
   EXPECT_EQ(assembly.values, record.values);
 }
 
+TEST(SampleDrawer, DrawsEverySampleAsTheEvaluatorDoesBitForBitInAnyOrder) {
+  const TempFile file(kSmallCampaign);
+  const Campaign campaign(file.path(), std::nullopt, std::nullopt);
+  SampleEvaluator evaluator(campaign);
+  SampleDrawer drawer(campaign);
+  for (const std::int64_t index : {7, 2, 11, 0}) {
+    const SampleRecord evaluated = evaluator.Evaluate(index);
+    const SampleRecord drawn = drawer.Draw(index);
+    EXPECT_EQ(drawn.index, index);
+    EXPECT_EQ(drawn.status, SampleStatus::kPending);
+    ASSERT_EQ(drawn.u.size(), evaluated.u.size());
+    for (std::size_t j = 0; j < drawn.u.size(); ++j) EXPECT_TRUE(SameBits(drawn.u[j], evaluated.u[j])) << j;
+    ASSERT_EQ(drawn.values.size(), evaluated.values.size());
+    for (std::size_t j = 0; j < drawn.values.size(); ++j) {
+      EXPECT_TRUE(SameBits(drawn.values[j], evaluated.values[j])) << j;
+    }
+    EXPECT_EQ(drawn.redraws, evaluated.redraws);
+    EXPECT_EQ(DrawChecksum(drawn), DrawChecksum(evaluated));
+  }
+}
+
+TEST(DrawChecksum, ChangesWithAnyStoredBitOfTheDrawAndNotBelowTheStoredFloat) {
+  const TempFile file(kSmallCampaign);
+  const Campaign campaign(file.path(), std::nullopt, std::nullopt);
+  SampleDrawer drawer(campaign);
+  const SampleRecord drawn = drawer.Draw(4);
+  const std::uint32_t checksum = DrawChecksum(drawn);
+  SampleRecord changed = drawn;
+  changed.u.back() = std::nextafter(changed.u.back(), 2.0);  // the last bit of a double
+  EXPECT_NE(DrawChecksum(changed), checksum);
+  changed = drawn;
+  changed.redraws += 1;
+  EXPECT_NE(DrawChecksum(changed), checksum);
+  changed = drawn;
+  changed.values.front() = std::nextafter(static_cast<float>(changed.values.front()), 1e30F);  // a float32 step
+  EXPECT_NE(DrawChecksum(changed), checksum);
+  // A value is stored as float32: a change that rounds to the same float is no change.
+  changed = drawn;
+  const double value = static_cast<float>(drawn.values.front());
+  changed.values.front() = value + (std::nextafter(static_cast<float>(value), 1e30F) - value) / 8.0;
+  ASSERT_EQ(static_cast<float>(changed.values.front()), static_cast<float>(value));
+  SampleRecord rounded = drawn;
+  rounded.values.front() = value;
+  EXPECT_EQ(DrawChecksum(changed), DrawChecksum(rounded));
+}
+
 TEST(SampleEvaluator, AnExceptionOrANanStaysInItsSampleWithItsReason) {
   const TempFile file(kSmallCampaign);
   const Campaign campaign(file.path(), std::nullopt, std::nullopt);
