@@ -78,7 +78,7 @@ struct SampleRecord {
   double solve_time = 0.0;               // [s] wall time of realise + simulate
 };
 
-// A checksum of a sample's draw as a results file stores it: CRC-32 (Boost.CRC) of the bits
+// A checksum of a sample's draw as a results file stores it: CRC-32 (zlib's) of the bits
 // of u, of the values rounded to float32, and of the redraws. A file that keeps only the
 // first samples' inputs keeps this of every sample, so a replay (SampleDrawer) that no
 // longer reproduces a draw (another sampler, another catalogue) is caught, not trusted.

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <chrono>
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -201,9 +203,11 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
                                      "run, or remove them to start a new one",
                                      command.out.string(), shards.front().string()));
       }
+      CampaignStoreOptions options;
+      if (command.store_inputs) options.inputs_stored_below = std::numeric_limits<std::int64_t>::max();
       store = std::make_unique<CampaignStore>(
           command.resume ? CampaignStore::Resume(command.out, campaign->identity(), campaign->samples())
-                         : CampaignStore::Create(command.out, campaign->identity(), campaign->samples()));
+                         : CampaignStore::Create(command.out, campaign->identity(), campaign->samples(), options));
       // What a run killed before joining its shards left in them.
       for (const std::filesystem::path& shard : shards) store->Absorb(shard);
     });
@@ -211,15 +215,19 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   ThrowAgreed(world, error);
 
   // Worker ranks file what they compute in shards of their own, chunked as the results
-  // file is, so that rank 0 joins them by copying whole chunks.
-  std::int64_t chunk_rows = rank == 0 ? store->chunk_rows() : 0;
-  MPI_Bcast(&chunk_rows, 1, MPI_INT64_T, 0, world);
+  // file is and keeping the same samples' inputs, so that rank 0 joins them by copying
+  // whole chunks.
+  std::array<std::int64_t, 2> layout = {rank == 0 ? store->chunk_rows() : 0,
+                                        rank == 0 ? store->inputs_stored_below() : 0};
+  MPI_Bcast(layout.data(), 2, MPI_INT64_T, 0, world);
+  const std::int64_t chunk_rows = layout[0];
   pool.align_samples = chunk_rows;
   std::unique_ptr<CampaignStore> shard;
   if (rank != 0) {
     error = Attempt([&] {
       CampaignStoreOptions options;
       options.chunk_samples = chunk_rows;
+      options.inputs_stored_below = layout[1];
       shard = std::make_unique<CampaignStore>(
           CampaignStore::Create(ShardPath(command.out, rank), campaign->identity(), campaign->samples(), options));
     });

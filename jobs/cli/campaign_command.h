@@ -22,6 +22,9 @@ struct CampaignCommand {
   bool resume = false;                  // continue `out`, computing only what it lacks
   bool json = false;                    // the summary as one JSON object
   bool quiet = false;                   // no progress on stderr
+  // A new results file keeps every sample's u and values, not only the first
+  // kStoredInputSamples (jobs/store/campaign_store.h); a resumed file keeps its own choice.
+  bool store_inputs = false;
   double progress_seconds = 10.0;       // [s] > 0: between progress lines when stderr is not a terminal
   PoolOptions pool;                     // its `stop` is set by RunCampaign
   // The command line as typed (argv), repeated with --resume in the message of a stop;

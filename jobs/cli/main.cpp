@@ -18,6 +18,7 @@
 #include "jobs/cli/report_command.h"
 #include "jobs/cli/sample_command.h"
 #include "jobs/cli/simulate_command.h"
+#include "jobs/cli/inputs_command.h"
 #include "jobs/cli/verify_command.h"
 #include "jobs/inputs/input_error.h"
 #include "solvers/simulation.h"
@@ -258,6 +259,9 @@ CLI::App* AddCampaign(CLI::App& app, ringtol::jobs::CampaignCommand& campaign) {
   sub->add_flag("--resume", campaign.resume,
                 "Continue --out after an interruption, or grow it to --samples: compute only what it lacks");
   sub->add_flag("--json", campaign.json, "Print the summary as one JSON object");
+  sub->add_flag("--store-inputs", campaign.store_inputs,
+                "Keep every sample's design point and drawn values in a new results file (by default the first "
+                "16,384; readers replay the others from the campaign)");
   AddProgressOptions(*sub, campaign.quiet, campaign.progress_seconds);
   AddPoolOptions(*sub, campaign.pool);
   return sub;
@@ -326,6 +330,14 @@ CLI::App* AddVerify(CLI::App& app, ringtol::jobs::VerifyCommand& verify) {
   return sub;
 }
 
+CLI::App* AddInputs(CLI::App& app, ringtol::jobs::InputsCommand& inputs) {
+  CLI::App* sub = app.add_subcommand(
+      "inputs", "Print chosen samples' design points and drawn values as CSV, kept in the file or replayed");
+  AddInputFile(*sub, "results", inputs.results, "Results file (HDF5) of ringtol campaign");
+  sub->add_option("--samples", inputs.samples, "Samples to print: FIRST, or FIRST:END (END excluded)")->required();
+  return sub;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -372,6 +384,8 @@ int main(int argc, char** argv) {
   const CLI::App* allocate_app = AddAllocate(app, allocate);
   const CLI::App* report_app = AddReport(app, report);
   const CLI::App* verify_app = AddVerify(app, verify);
+  ringtol::jobs::InputsCommand inputs;
+  const CLI::App* inputs_app = AddInputs(app, inputs);
 
   try {
     app.parse(argc, argv);
@@ -404,6 +418,7 @@ int main(int argc, char** argv) {
     if (*bench_campaign_app) return ringtol::jobs::RunBenchCampaign(bench_campaign, std::cout, std::cerr);
     if (*report_app) return ringtol::jobs::RunReport(report, std::cout);
     if (*verify_app) return ringtol::jobs::RunVerify(verify, std::cout);
+    if (*inputs_app) return ringtol::jobs::RunInputs(inputs, std::cout);
   } catch (const ringtol::jobs::InputError& e) {
     std::cerr << "ringtol: error: " << e.what() << "\n";
     return 1;

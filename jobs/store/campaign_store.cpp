@@ -20,6 +20,7 @@
 #include "jobs/inputs/input_error.h"
 #include "jobs/store/hdf5_file.h"
 #include "jobs/store/sample_table.h"
+#include "jobs/campaign/campaign.h"
 
 namespace ringtol::jobs {
 
@@ -43,6 +44,7 @@ enum Column : std::size_t {
   kU,
   kValues,
   kRedraws,
+  kDrawChecksum,
   kSteps,
   kMessage,
   kSolveTime,
@@ -61,6 +63,8 @@ std::string ColumnPath(std::size_t column) {
       return "/inputs/values";
     case kRedraws:
       return "/inputs/redraws";
+    case kDrawChecksum:
+      return "/inputs/draw_checksum";
     case kSteps:
       return "/outputs/steps";
     case kMessage:
@@ -87,10 +91,14 @@ constexpr const char* kSwingDefinition =
 // Where a file of `schema` keeps column `column`; empty when it has no such dataset. Schema
 // 1 named the ill-posed "peak to nearest valley" runout_mm and the max - min that runout_mm
 // is now runout_total_mm; it had no swing. Schemas 1 and 2 had no rung and error bound,
-// schemas 1 to 3 no life outputs.
+// schemas 1 to 3 no life outputs. Schema 5 keeps failure messages in /failures instead of
+// a message per sample, and a draw checksum per sample.
 constexpr int kFirstSchemaWithRungs = 3;
 constexpr int kFirstSchemaWithLife = 4;
+constexpr int kFirstSchemaWithSlimRows = 5;
 std::string StoredColumnPath(std::size_t column, int schema) {
+  if (column == kMessage && schema >= kFirstSchemaWithSlimRows) return {};
+  if (column == kDrawChecksum && schema < kFirstSchemaWithSlimRows) return {};
   if ((column == kRung || column == kErrorBound) && schema < kFirstSchemaWithRungs) return {};
   if (column >= kFirstOutput + kFirstLifeOutput && column < kStatus && schema < kFirstSchemaWithLife) return {};
   if (schema >= 2 || column < kFirstOutput || column >= kStatus) return ColumnPath(column);
@@ -192,6 +200,8 @@ struct Stored {
   CampaignIdentity identity;
   std::int64_t samples = 0;
   int schema_version = 0;
+  // Samples from here on keep no u and values (schema 5; every sample before it).
+  std::int64_t inputs_stored_below = std::numeric_limits<std::int64_t>::max();
 };
 
 Stored ReadStored(const Where& where, hid_t file) {
@@ -232,6 +242,15 @@ Stored ReadStored(const Where& where, hid_t file) {
   stored.samples = Require(
       where, ReadNumberAttribute<std::int64_t>(where, file, "samples", H5T_INTEGER, H5T_NATIVE_INT64), "samples");
   if (stored.samples < 1) Fail(where, fmt::format("attribute samples = {} is not positive", stored.samples));
+  if (stored.schema_version >= kFirstSchemaWithSlimRows) {
+    stored.inputs_stored_below =
+        Require(where,
+                ReadNumberAttribute<std::int64_t>(where, file, "inputs_stored_below", H5T_INTEGER, H5T_NATIVE_INT64),
+                "inputs_stored_below");
+    if (stored.inputs_stored_below < 0) {
+      Fail(where, fmt::format("attribute inputs_stored_below = {} is negative", stored.inputs_stored_below));
+    }
+  }
 
   identity.inputs = ReadInputDescriptions(where, file);
   identity.calibrations = ReadCalibrations(where, file);
@@ -319,7 +338,8 @@ TypeId RungType(const Where& where) {
 
 constexpr int kSmallColumnDeflateLevel = 1;
 
-std::vector<ColumnSpec> Columns(int schema, std::size_t inputs, int deflate_level) {
+// `inputs_stored_below`: the first sample whose u and values are not stored.
+std::vector<ColumnSpec> Columns(int schema, std::size_t inputs, int deflate_level, std::int64_t inputs_stored_below) {
   std::vector<ColumnSpec> columns(kColumnCount);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t c = 0; c < kColumnCount; ++c) {
@@ -331,19 +351,25 @@ std::vector<ColumnSpec> Columns(int schema, std::size_t inputs, int deflate_leve
     // exponent) and, in SWMR mode, every rewrite of a compressed chunk that grows leaves its
     // old copy behind (HDF5 does not free it); stored uncompressed they are rewritten in
     // place. Counts, statuses and messages shrink a hundredfold and their chunks stay
-    // small, so they are always deflated.
+    // small, so they are always deflated; checksums are random bits, never.
     spec.deflate_level = deflate_level;
     switch (c) {
       case kU:
         spec.width = inputs;
         spec.cached = true;
         spec.finite = FiniteRule::kWhenFinished;
+        spec.stored_below = inputs_stored_below;
         break;
       case kValues:
         spec.type = ColumnType::kFloat32;
         spec.width = inputs;
         spec.cached = true;
         spec.finite = FiniteRule::kUnlessSamplingFailed;
+        spec.stored_below = inputs_stored_below;
+        break;
+      case kDrawChecksum:
+        spec.type = ColumnType::kUInt32;
+        spec.fill = 0;
         break;
       case kRedraws:
       case kSteps:
@@ -371,8 +397,10 @@ std::vector<ColumnSpec> Columns(int schema, std::size_t inputs, int deflate_leve
         spec.finite = FiniteRule::kWhenOk;
         break;
     }
-    const bool floating = spec.type == ColumnType::kFloat64 || spec.type == ColumnType::kFloat32;
-    if (!floating) spec.deflate_level = std::max(deflate_level, kSmallColumnDeflateLevel);
+    const bool small = spec.type == ColumnType::kInt32 || spec.type == ColumnType::kInt8Enum ||
+                       spec.type == ColumnType::kText;
+    if (small) spec.deflate_level = std::max(deflate_level, kSmallColumnDeflateLevel);
+    if (spec.type == ColumnType::kUInt32) spec.deflate_level = 0;
   }
   return columns;
 }
@@ -387,8 +415,171 @@ RowSpace Rows(std::int64_t samples, std::int64_t chunk_samples = 1) {
 
 // Opens the columns of a file of `stored`'s schema and size.
 SampleTable OpenColumns(const Where& where, hid_t file, const Stored& stored, std::size_t cache_bytes = 0) {
-  return SampleTable::Open(where, file, Rows(stored.samples),
-                           Columns(stored.schema_version, stored.identity.inputs.size(), 0), cache_bytes);
+  return SampleTable::Open(
+      where, file, Rows(stored.samples),
+      Columns(stored.schema_version, stored.identity.inputs.size(), 0, stored.inputs_stored_below), cache_bytes);
+}
+
+// ---------------------------------------------------------------------------------------
+// Failures (schema 5): why each failed sample failed, one row per failed sample committed,
+// appended; a sample computed again appends again and its last row counts.
+
+constexpr const char* kFailureSamples = "/failures/sample";
+constexpr const char* kFailureMessages = "/failures/message";
+// Uncompressed, so that an append rewrites a partly filled chunk in place (SWMR never
+// frees the old copy of a compressed one), and small, as failures are rare.
+constexpr hsize_t kFailureChunkRows = 64;
+constexpr std::int64_t kNoFailureSample = -1;
+
+void CreateFailures(const Where& where, hid_t file, bool checksums) {
+  const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
+  GroupId(Check(H5Gcreate2(file, "failures", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group",
+                "failures"));
+  const TypeId message = FixedString(where, kMessageBytes);
+  for (const auto& [path, type] : {std::pair<const char*, hid_t>{kFailureSamples, H5T_STD_I64LE},
+                                   std::pair<const char*, hid_t>{kFailureMessages, message.get()}}) {
+    const hsize_t dims[1] = {0};
+    const hsize_t max_dims[1] = {H5S_UNLIMITED};
+    const SpaceId space(Check(H5Screate_simple(1, dims, max_dims), where, "creating the dataspace of", path));
+    const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+    CheckStatus(H5Pset_chunk(dcpl.get(), 1, &kFailureChunkRows), where, "chunking", path);
+    if (checksums) AddChecksum(where, dcpl, path);
+    // A row never written, or rewritten after damage, names no sample.
+    if (type == H5T_STD_I64LE) {
+      CheckStatus(H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT64, &kNoFailureSample), where,
+                  "setting the fill value of", path);
+    }
+    DatasetId(Check(H5Dcreate2(file, path, type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
+                    "creating dataset", path));
+  }
+}
+
+// Appends (sample, message) rows at the end of /failures/sample, the messages first: a
+// sample's row vouches for its message. A kill between the two leaves messages beyond the
+// samples' rows, which the next append writes over.
+void AppendFailures(const Where& where, const DatasetId& samples, const DatasetId& messages,
+                    const std::vector<std::int64_t>& indices, const std::vector<char>& texts) {
+  if (indices.empty()) return;
+  const TypeId message_type = FixedString(where, kMessageBytes);
+  const auto count = static_cast<hsize_t>(indices.size());
+  const SpaceId before(Check(H5Dget_space(samples.get()), where, "reading the shape of", kFailureSamples));
+  hsize_t rows = 0;
+  H5Sget_simple_extent_dims(before.get(), &rows, nullptr);
+  for (const auto& [dataset, path, type, data] :
+       {std::tuple<hid_t, const char*, hid_t, const void*>{messages.get(), kFailureMessages, message_type.get(),
+                                                           texts.data()},
+        std::tuple<hid_t, const char*, hid_t, const void*>{samples.get(), kFailureSamples, H5T_NATIVE_INT64,
+                                                           indices.data()}}) {
+    const SpaceId current(Check(H5Dget_space(dataset), where, "reading the shape of", path));
+    hsize_t extent = 0;
+    H5Sget_simple_extent_dims(current.get(), &extent, nullptr);
+    const hsize_t grown = rows + count;
+    if (extent < grown) CheckStatus(H5Dset_extent(dataset, &grown), where, "extending", path);
+    const SpaceId space(Check(H5Dget_space(dataset), where, "reading the shape of", path));
+    CheckStatus(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, &rows, nullptr, &count, nullptr), where,
+                "selecting rows of", path);
+    const SpaceId memory(Check(H5Screate_simple(1, &count, nullptr), where, "creating a dataspace for", path));
+    CheckStatus(H5Dwrite(dataset, type, memory.get(), space.get(), H5P_DEFAULT, data), where, "writing", path);
+    CheckStatus(H5Dflush(dataset), where, "flushing", path);
+  }
+}
+
+// Every failure row of a file, read chunk by chunk: its samples, the row each sample's last
+// one is at, and the chunks of either dataset that do not read (a kill while an append
+// rewrote one in place tears it; their rows name no sample).
+struct FailureRows {
+  std::vector<std::int64_t> samples;  // per row; kNoFailureSample where unwritten or damaged
+  std::vector<std::pair<std::int64_t, std::size_t>> latest;  // (sample, row), by sample
+  std::vector<std::array<hsize_t, 2>> damaged_samples;   // chunk offsets of /failures/sample
+  std::vector<std::array<hsize_t, 2>> damaged_messages;  // chunk offsets of /failures/message
+  std::string problem;  // the first damaged chunk's
+
+  bool damaged() const { return !damaged_samples.empty() || !damaged_messages.empty(); }
+  std::optional<std::size_t> Find(std::int64_t sample) const {
+    const auto found = std::lower_bound(latest.begin(), latest.end(), std::make_pair(sample, std::size_t{0}));
+    if (found == latest.end() || found->first != sample) return std::nullopt;
+    return found->second;
+  }
+};
+
+FailureRows ReadFailureRows(const Where& where, hid_t file) {
+  FailureRows rows;
+  const TypeId message_type = FixedString(where, kMessageBytes);
+  std::vector<char> texts(kFailureChunkRows * kMessageBytes);
+  for (const char* path : {kFailureSamples, kFailureMessages}) {
+    const bool samples = path == kFailureSamples;
+    const DatasetId dataset(Check(H5Dopen2(file, path, H5P_DEFAULT), where, "opening dataset", path));
+    const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
+    hsize_t extent = 0;
+    H5Sget_simple_extent_dims(space.get(), &extent, nullptr);
+    // Messages beyond the samples' rows belong to no row (a kill between the two appends).
+    if (samples) rows.samples.assign(extent, kNoFailureSample);
+    const hsize_t used = samples ? extent : std::min<hsize_t>(extent, rows.samples.size());
+    for (hsize_t first = 0; first < used; first += kFailureChunkRows) {
+      const hsize_t count = std::min(kFailureChunkRows, used - first);
+      CheckStatus(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, &first, nullptr, &count, nullptr), where,
+                  "selecting rows of", path);
+      const SpaceId memory(Check(H5Screate_simple(1, &count, nullptr), where, "creating a dataspace for", path));
+      const auto problem = samples ? TryRead(dataset.get(), H5T_NATIVE_INT64, memory.get(), space.get(),
+                                             rows.samples.data() + first)
+                                   : TryRead(dataset.get(), message_type.get(), memory.get(), space.get(), texts.data());
+      if (!problem) continue;
+      if (!rows.damaged()) rows.problem = fmt::format("{}: {}", path, *problem);
+      (samples ? rows.damaged_samples : rows.damaged_messages).push_back({first, 0});
+      std::fill_n(rows.samples.begin() + static_cast<std::ptrdiff_t>(first), count, kNoFailureSample);
+    }
+  }
+  for (std::size_t row = 0; row < rows.samples.size(); ++row) {
+    if (rows.samples[row] != kNoFailureSample) rows.latest.emplace_back(rows.samples[row], row);
+  }
+  // By sample, the last row of each sample kept.
+  std::stable_sort(rows.latest.begin(), rows.latest.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::pair<std::int64_t, std::size_t>> latest;
+  for (std::size_t i = 0; i < rows.latest.size(); ++i) {
+    if (i + 1 < rows.latest.size() && rows.latest[i + 1].first == rows.latest[i].first) continue;
+    latest.push_back(rows.latest[i]);
+  }
+  rows.latest = std::move(latest);
+  return rows;
+}
+
+// The finished, failed samples whose message the failure rows no longer hold.
+std::vector<std::int64_t> LostMessages(const SampleTable& table, const FailureRows& rows) {
+  std::vector<std::int64_t> lost;
+  const std::int64_t chunk = table.space().chunk_samples;
+  const std::int64_t samples = table.space().samples;
+  std::vector<std::int8_t> statuses(static_cast<std::size_t>(chunk));
+  // Chunk by chunk: a status chunk that does not read is damage of its own, computed again.
+  for (std::int64_t begin = 0; begin < samples; begin += chunk) {
+    const std::int64_t count = std::min(chunk, samples - begin);
+    if (table.TryRead(table.status_column(), 0, begin, count, statuses.data())) continue;
+    for (std::int64_t i = 0; i < count; ++i) {
+      const auto status = static_cast<SampleStatus>(statuses[static_cast<std::size_t>(i)]);
+      if (status != SampleStatus::kOk && status != SampleStatus::kPending && !rows.Find(begin + i)) {
+        lost.push_back(begin + i);
+      }
+    }
+  }
+  return lost;
+}
+
+std::string ReadFailureMessage(const Where& where, hid_t file, std::size_t row) {
+  const DatasetId dataset(Check(H5Dopen2(file, kFailureMessages, H5P_DEFAULT), where, "opening dataset",
+                                kFailureMessages));
+  const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", kFailureMessages));
+  const hsize_t first = row;
+  const hsize_t one = 1;
+  CheckStatus(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, &first, nullptr, &one, nullptr), where,
+              "selecting rows of", kFailureMessages);
+  const SpaceId memory(Check(H5Screate_simple(1, &one, nullptr), where, "creating a dataspace for", kFailureMessages));
+  const TypeId type = FixedString(where, kMessageBytes);
+  std::array<char, kMessageBytes + 1> text{};
+  if (const auto problem = TryRead(dataset.get(), type.get(), memory.get(), space.get(), text.data())) {
+    throw InputError(fmt::format("{}: dataset {} is damaged at row {} ({})", where.file, kFailureMessages, row,
+                                 *problem));
+  }
+  return text.data();
 }
 
 // ---------------------------------------------------------------------------------------
@@ -405,6 +596,10 @@ void CheckArguments(const CampaignIdentity& identity, std::int64_t samples, cons
   }
   if (options.chunk_samples < 0) {
     throw std::invalid_argument(fmt::format("CampaignStore: chunk_samples = {} is negative", options.chunk_samples));
+  }
+  if (options.inputs_stored_below < 0) {
+    throw std::invalid_argument(
+        fmt::format("CampaignStore: inputs_stored_below = {} is negative", options.inputs_stored_below));
   }
   for (std::size_t i = 0; i < identity.spec.size(); ++i) {
     const std::string& output = identity.spec[i].output;
@@ -452,9 +647,13 @@ void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identit
   WriteInputDescriptions(where, file, identity.inputs, options.checksums);
   WriteCalibrations(where, file, identity.calibrations, gcpl);
 
+  const std::int64_t stored_below = options.inputs_stored_below;
+  WriteAttribute(where, file, "inputs_stored_below", H5T_STD_I64LE, H5T_NATIVE_INT64, &stored_below);
   const auto chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples, identity.inputs.size()));
   SampleTable::Create(where, file, Rows(samples, chunk_rows),
-                      Columns(kCampaignSchemaVersion, identity.inputs.size(), options.deflate_level), options.checksums);
+                      Columns(kCampaignSchemaVersion, identity.inputs.size(), options.deflate_level, stored_below),
+                      options.checksums);
+  CreateFailures(where, file, options.checksums);
   for (const SpecLimit& limit : identity.spec) {
     const std::string path = "/outputs/" + limit.output;
     const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
@@ -492,6 +691,25 @@ void CheckRange(std::string_view what, std::int64_t begin, std::int64_t end, std
   }
 }
 
+// Gives the damaged chunks of the failure rows their fill values (rows that name no
+// sample) and marks pending the failed samples whose messages they held, so that a resume
+// computes them, and their messages, again.
+void RepairFailures(const Where& where, hid_t file, const SampleTable& table) {
+  const FailureRows rows = ReadFailureRows(where, file);
+  const std::vector<std::int64_t> lost = LostMessages(table, rows);
+  if (!rows.damaged() && lost.empty()) return;
+  for (const auto& [path, offsets] : {std::pair{kFailureSamples, rows.damaged_samples},
+                                      std::pair{kFailureMessages, rows.damaged_messages}}) {
+    if (offsets.empty()) continue;
+    const DatasetId dataset(Check(H5Dopen2(file, path, H5P_DEFAULT), where, "opening", path));
+    RewriteChunksWithFill(where, dataset.get(), path, offsets);
+  }
+  std::cerr << fmt::format("ringtol: {}: the failure rows were damaged; {} failed samples lose their message and are "
+                           "computed again\n",
+                           where.file, lost.size());
+  table.MarkPending(lost);
+}
+
 // ---------------------------------------------------------------------------------------
 // Damage: CheckResults reads every chunk; Resume rewrites the damaged ones.
 
@@ -524,6 +742,27 @@ ResultsCheck Check(const Where& where, hid_t file, const SampleTable& table, con
     description.checksummed = HasChecksum(where, dataset.get(), path);
     check.datasets.push_back(std::move(description));
   }
+  // The failure rows (schema 5), chunk by chunk: the failed samples whose messages a damaged
+  // chunk held are what a resume computes again for it.
+  std::vector<SampleRange> lost;
+  if (table.stored(kDrawChecksum)) {
+    const FailureRows rows = ReadFailureRows(where, file);
+    for (const std::int64_t sample : LostMessages(table, rows)) lost.push_back({sample, sample + 1});
+    lost = Merged(std::move(lost));
+    for (const char* path : {kFailureSamples, kFailureMessages}) {
+      const DatasetId dataset(hdf5::Check(H5Dopen2(file, path, H5P_DEFAULT), where, "opening dataset", path));
+      DatasetCheck failures;
+      failures.path = path;
+      failures.checksummed = HasChecksum(where, dataset.get(), path);
+      // Lost messages are the failure rows' damage, whichever dataset lost them.
+      const bool hit = path == kFailureSamples ? !rows.damaged_samples.empty() || !rows.damaged() : !rows.damaged_messages.empty();
+      if (hit && !lost.empty()) {
+        failures.damaged = lost;
+        failures.first_problem = rows.damaged() ? rows.problem : "failed samples without a message row";
+      }
+      check.datasets.push_back(std::move(failures));
+    }
+  }
   for (std::size_t c = 0; c < table.column_count(); ++c) {
     if (!table.stored(c)) continue;  // an output an older schema lacks
     const ColumnSpec& spec = table.spec(c);
@@ -543,6 +782,7 @@ ResultsCheck Check(const Where& where, hid_t file, const SampleTable& table, con
   check.pending = scan.pending;
   std::vector<SampleRange> recompute = check.pending;
   for (const DamagedChunk& chunk : scan.damaged) recompute.push_back(chunk.samples);
+  recompute.insert(recompute.end(), lost.begin(), lost.end());
   check.recompute = Merged(std::move(recompute));
   return check;
 }
@@ -558,6 +798,10 @@ struct CampaignStore::File {
   std::int64_t samples = 0;
   std::size_t inputs = 0;
   std::int64_t chunk_rows = 0;
+  int schema = kCampaignSchemaVersion;  // a resumed file keeps its own
+  std::int64_t inputs_stored_below = std::numeric_limits<std::int64_t>::max();
+  DatasetId failure_samples;   // schema 5
+  DatasetId failure_messages;  // schema 5
   CampaignIdentity identity;  // what a shard must match
   RowBuffer<SampleRecord> buffer;
 
@@ -565,13 +809,21 @@ struct CampaignStore::File {
   // (entering SWMR reopens open datasets with default access, losing the chunk cache).
   void StartWriting(const CampaignStoreOptions& options) {
     CheckStatus(H5Fstart_swmr_write(file.get()), where, "starting", "SWMR writing");
-    table = SampleTable::Open(where, file.get(), Rows(samples), Columns(kCampaignSchemaVersion, inputs, 0),
+    table = SampleTable::Open(where, file.get(), Rows(samples), Columns(schema, inputs, 0, inputs_stored_below),
                               options.chunk_cache_bytes);
+    if (schema >= kFirstSchemaWithSlimRows) {
+      failure_samples = DatasetId(
+          Check(H5Dopen2(file.get(), kFailureSamples, H5P_DEFAULT), where, "opening dataset", kFailureSamples));
+      failure_messages = DatasetId(
+          Check(H5Dopen2(file.get(), kFailureMessages, H5P_DEFAULT), where, "opening dataset", kFailureMessages));
+    }
   }
 
   // Closes the columns, then the file (whose close flushes and clears the superblock flags).
   bool Close() {
     table = SampleTable();
+    failure_samples.reset();
+    failure_messages.reset();
     return file.Close();
   }
 };
@@ -618,6 +870,7 @@ CampaignStore CampaignStore::Create(const fs::path& path, const CampaignIdentity
   file->inputs = identity.inputs.size();
   file->identity = identity;
   file->chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples, file->inputs));
+  file->inputs_stored_below = options.inputs_stored_below;
   try {
     file->file = CreateExclusive(temporary, path);
     file->lock = FileLock::Acquire(temporary, name);
@@ -653,11 +906,11 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
   {
     const FileId reading = OpenForReading(path);
     stored = ReadStored(opening, reading.get());
-    if (stored.schema_version != kCampaignSchemaVersion) {
+    if (stored.schema_version < kOldestResumableSchema) {
       throw InputError(fmt::format(
-          "{}: was written by an older ringtol (schema {}); it can be reported but not resumed by this one (schema "
-          "{}): start a new results file",
-          name, stored.schema_version, kCampaignSchemaVersion));
+          "{}: was written by an older ringtol (schema {}); it can be reported but not resumed by this one (schemas "
+          "{} to {}): start a new results file",
+          name, stored.schema_version, kOldestResumableSchema, kCampaignSchemaVersion));
     }
     if (const std::optional<std::string> difference = IdentityDifference(stored.identity, identity)) {
       throw InputError(name + ": was written by another campaign: " + *difference +
@@ -685,10 +938,13 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
   file->inputs = identity.inputs.size();
   file->identity = identity;
   file->chunk_rows = chunk_rows;
+  file->schema = stored.schema_version;
+  file->inputs_stored_below = stored.inputs_stored_below;
   file->file = OpenForWriting(path);
   {
     SampleTable table = OpenColumns(file->where, file->file.get(), stored);
     table.Repair(damage.damaged);
+    if (stored.schema_version >= kFirstSchemaWithSlimRows) RepairFailures(file->where, file->file.get(), table);
     if (samples > stored.samples) {
       table.Grow(samples);
       const std::optional<AttributeId> attribute = OpenAttribute(file->where, file->file.get(), "samples");
@@ -739,8 +995,13 @@ void CampaignStore::Commit() {
   std::vector<double> u(m * d);
   std::vector<float> values(m * d);
   std::vector<std::int32_t> redraws(m);
+  std::vector<std::uint32_t> checksums(m);
   std::vector<std::int32_t> steps(m);
-  std::vector<char> messages(m * kMessageBytes, '\0');
+  // Schema 5 keeps the messages of failed samples only, in /failures; schema 4 one a sample.
+  const bool slim = f.schema >= kFirstSchemaWithSlimRows;
+  std::vector<char> messages(slim ? 0 : m * kMessageBytes, '\0');
+  std::vector<std::int64_t> failed;
+  std::vector<char> failure_messages;
   std::vector<double> solve_times(m);
   std::vector<std::int8_t> rungs(m);
   std::vector<double> error_bounds(m);
@@ -752,8 +1013,16 @@ void CampaignStore::Commit() {
     // Rounded here rather than by HDF5, whose conversion may clip instead of round.
     for (std::size_t j = 0; j < d; ++j) values[i * d + j] = static_cast<float>(record.values[j]);
     redraws[i] = record.redraws;
+    checksums[i] = DrawChecksum(record);
     steps[i] = record.steps;
-    TruncateUtf8(record.message, kMessageChars).copy(messages.data() + i * kMessageBytes, kMessageChars);
+    if (!slim) {
+      TruncateUtf8(record.message, kMessageChars).copy(messages.data() + i * kMessageBytes, kMessageChars);
+    } else if (record.status != SampleStatus::kOk) {
+      failed.push_back(record.index);
+      failure_messages.resize(failure_messages.size() + kMessageBytes, '\0');
+      TruncateUtf8(record.message, kMessageChars)
+          .copy(failure_messages.data() + failure_messages.size() - kMessageBytes, kMessageChars);
+    }
     solve_times[i] = record.solve_time;
     const bool ok = record.status == SampleStatus::kOk;
     rungs[i] = record.rung;
@@ -768,6 +1037,7 @@ void CampaignStore::Commit() {
   columns[kU] = u.data();
   columns[kValues] = values.data();
   columns[kRedraws] = redraws.data();
+  columns[kDrawChecksum] = checksums.data();
   columns[kSteps] = steps.data();
   columns[kMessage] = messages.data();
   columns[kSolveTime] = solve_times.data();
@@ -775,11 +1045,15 @@ void CampaignStore::Commit() {
   columns[kErrorBound] = error_bounds.data();
   for (std::size_t k = 0; k < kOutputCount; ++k) columns[kFirstOutput + k] = outputs[k].data();
   columns[kStatus] = statuses.data();
+  // Before the statuses (Write's last column): a status on disk vouches for its message.
+  if (slim) AppendFailures(f.where, f.failure_samples, f.failure_messages, failed, failure_messages);
   f.table.Write(f.buffer.Keys(), columns);
   f.buffer.clear();
 }
 
 std::int64_t CampaignStore::chunk_rows() const { return file_->chunk_rows; }
+
+std::int64_t CampaignStore::inputs_stored_below() const { return file_->inputs_stored_below; }
 
 CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
   const QuietErrors quiet;
@@ -791,9 +1065,9 @@ CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
   {
     const FileId shard = OpenForReading(shard_path);
     const Stored stored = ReadStored(opening, shard.get());
-    if (stored.schema_version != kCampaignSchemaVersion) {
+    if (stored.schema_version != f.schema) {
       throw InputError(fmt::format("{}: is a shard of schema {}, not {}", opening.file, stored.schema_version,
-                                   kCampaignSchemaVersion));
+                                   f.schema));
     }
     if (const std::optional<std::string> difference = IdentityDifference(stored.identity, f.identity)) {
       throw InputError(opening.file + ": is a shard of another campaign than " + f.where.file + ": " + *difference +
@@ -806,7 +1080,13 @@ CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
     SampleTable from = OpenColumns(opening, shard.get(), stored);
     from.set_where(Where{opening.file, false});
     const std::int64_t rows = from.space().chunk_samples;
-    const bool as_stored = rows == f.chunk_rows && stored.samples == f.samples && f.table.SameStorage(from);
+    // A shard whose failure rows are damaged is read sample by sample: those that lost
+    // their message stay pending here and are computed again.
+    const bool failures_intact =
+        f.schema < kFirstSchemaWithSlimRows || !ReadFailureRows(opening, shard.get()).damaged();
+    const bool as_stored = rows == f.chunk_rows && stored.samples == f.samples &&
+                           stored.inputs_stored_below == f.inputs_stored_below && failures_intact &&
+                           f.table.SameStorage(from);
     const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
     std::vector<std::int64_t> whole;  // first samples of the chunks copied as stored
     std::vector<std::int8_t> theirs(static_cast<std::size_t>(rows));
@@ -834,11 +1114,31 @@ CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
         }
       }
     }
+    if (f.schema >= kFirstSchemaWithSlimRows && !whole.empty()) {
+      // The messages of the failed samples in the chunks copied as stored, before their statuses.
+      const FailureRows failures = ReadFailureRows(opening, shard.get());
+      std::vector<std::int64_t> failed;
+      std::vector<char> messages;
+      for (const auto& [sample, row] : failures.latest) {
+        if (!std::binary_search(whole.begin(), whole.end(), sample - sample % rows)) continue;
+        failed.push_back(sample);
+        const std::string text = ReadFailureMessage(opening, shard.get(), row);
+        messages.resize(messages.size() + kMessageBytes, '\0');
+        text.copy(messages.data() + messages.size() - kMessageBytes, kMessageChars);
+      }
+      AppendFailures(f.where, f.failure_samples, f.failure_messages, failed, messages);
+    }
     absorbed.bytes += f.table.CopyChunks(from, whole);
   }
   if (!one_by_one.empty()) {
     const CampaignReader shard(shard_path);
-    for (const std::int64_t index : one_by_one) Add(shard.ReadSample(index));
+    for (const std::int64_t index : one_by_one) {
+      try {
+        Add(shard.ReadSample(index));
+      } catch (const InputError&) {
+        --absorbed.samples;  // a damaged row of the shard: computed again
+      }
+    }
     Commit();
   }
   std::error_code error;
@@ -879,8 +1179,53 @@ struct CampaignReader::File {
   FileId file;
   SampleTable table;
   Stored stored;
+  // Built on first need: the failure rows (schema 5) and the campaign that replays the
+  // draws a file does not keep.
+  mutable std::optional<FailureRows> failures;
+  mutable std::unique_ptr<Campaign> campaign;
+  mutable std::unique_ptr<SampleDrawer> drawer;
 
   void Open(const fs::path& path);
+
+  std::string Message(std::int64_t index, SampleStatus status) const {
+    if (stored.schema_version < kFirstSchemaWithSlimRows) {
+      std::vector<char> message = table.Read<char>(kMessage, 0, index, 1);
+      message.push_back('\0');
+      return message.data();
+    }
+    if (status == SampleStatus::kOk || status == SampleStatus::kPending) return {};
+    if (!failures) failures = ReadFailureRows(where, file.get());
+    const std::optional<std::size_t> row = failures->Find(index);
+    if (!row && failures->damaged()) {
+      throw InputError(fmt::format("{}: the message of sample {} was in a damaged chunk ({}){}", where.file, index,
+                                   failures->problem,
+                                   fmt::format("; `ringtol verify {}` lists every damaged dataset", where.file)));
+    }
+    return row ? ReadFailureMessage(where, file.get(), *row) : std::string();
+  }
+
+  // Sample `index`'s draw replayed (it is beyond inputs_stored_below), checked against the
+  // checksum the file keeps of it.
+  SampleRecord Replay(std::int64_t index) const {
+    if (!drawer) {
+      campaign = std::make_unique<Campaign>(stored.identity, stored.samples);
+      drawer = std::make_unique<SampleDrawer>(*campaign);
+    }
+    SampleRecord drawn = drawer->Draw(index);
+    for (double& value : drawn.values) value = static_cast<float>(value);  // as a stored value reads
+    const std::uint32_t kept = table.Read<std::uint32_t>(kDrawChecksum, 0, index, 1).front();
+    if (const std::uint32_t now = DrawChecksum(drawn); now != kept) {
+      throw InputError(fmt::format(
+          "{}: keeps no inputs for sample {}, and this ringtol draws them differently from the ringtol {} that wrote "
+          "it (draw checksum {:08x} now, {:08x} in the file): read it with that version",
+          where.file, index, stored.identity.ringtol_version, now, kept));
+    }
+    return drawn;
+  }
+
+  bool Replayed(std::int64_t index, SampleStatus status) const {
+    return index >= stored.inputs_stored_below && status != SampleStatus::kPending;
+  }
 
   void CheckRows(std::string_view what, std::int64_t begin, std::int64_t count) const {
     if (count < 0) throw std::out_of_range(fmt::format("{}: count {} is negative", what, count));
@@ -952,8 +1297,21 @@ std::vector<double> CampaignReader::ReadOutput(std::string_view name, std::int64
 }
 
 std::vector<double> CampaignReader::ReadValues(std::int64_t begin, std::int64_t count) const {
-  const std::vector<float> stored = file_->Rows<float>("CampaignReader::ReadValues", kValues, begin, count);
-  return {stored.begin(), stored.end()};
+  const File& f = *file_;
+  const std::vector<float> stored = f.Rows<float>("CampaignReader::ReadValues", kValues, begin, count);
+  std::vector<double> values(stored.begin(), stored.end());
+  const std::int64_t replayed_from = std::max(begin, f.stored.inputs_stored_below);
+  if (replayed_from >= begin + count) return values;
+  const QuietErrors quiet;
+  const std::size_t d = f.stored.identity.inputs.size();
+  const std::vector<SampleStatus> statuses = f.table.Statuses(0, replayed_from, begin + count - replayed_from);
+  for (std::int64_t index = replayed_from; index < begin + count; ++index) {
+    if (!f.Replayed(index, statuses[static_cast<std::size_t>(index - replayed_from)])) continue;
+    const SampleRecord drawn = f.Replay(index);
+    std::copy(drawn.values.begin(), drawn.values.end(),
+              values.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(index - begin) * d));
+  }
+  return values;
 }
 
 std::vector<std::int32_t> CampaignReader::ReadRedraws(std::int64_t begin, std::int64_t count) const {
@@ -967,19 +1325,24 @@ std::vector<std::int8_t> CampaignReader::ReadRungs(std::int64_t begin, std::int6
 SampleRecord CampaignReader::ReadSample(std::int64_t index) const {
   const QuietErrors quiet;
   file_->CheckRows("CampaignReader::ReadSample", index, 1);
-  const SampleTable& table = file_->table;
+  const File& f = *file_;
+  const SampleTable& table = f.table;
   SampleRecord record;
   record.index = index;
   record.status = table.Statuses(0, index, 1).front();
   const SampleStatus* status = &record.status;
-  record.u = table.Read<double>(kU, 0, index, 1, status);
-  const std::vector<float> values = table.Read<float>(kValues, 0, index, 1, status);
-  record.values.assign(values.begin(), values.end());
+  if (f.Replayed(index, record.status)) {
+    const SampleRecord drawn = f.Replay(index);
+    record.u = drawn.u;
+    record.values = drawn.values;
+  } else {
+    record.u = table.Read<double>(kU, 0, index, 1, status);
+    const std::vector<float> values = table.Read<float>(kValues, 0, index, 1, status);
+    record.values.assign(values.begin(), values.end());
+  }
   record.redraws = table.Read<std::int32_t>(kRedraws, 0, index, 1).front();
   record.steps = table.Read<std::int32_t>(kSteps, 0, index, 1).front();
-  std::vector<char> message = table.Read<char>(kMessage, 0, index, 1);
-  message.push_back('\0');
-  record.message = message.data();
+  record.message = f.Message(index, record.status);
   record.solve_time = table.Read<double>(kSolveTime, 0, index, 1).front();
   record.rung = table.Read<std::int8_t>(kRung, 0, index, 1).front();
   record.d_trajectory_error = table.Read<double>(kErrorBound, 0, index, 1).front();

@@ -4,20 +4,24 @@
 // by h5py and h5dump, and safe against a kill at any moment. docs/results.md documents the schema for
 // readers; this header is the contract for writers.
 //
-// Schema version 4 (N = samples, d = sampler inputs; every 2-D dataset is [N, d]):
-//   /                          attributes: format = "ringtol campaign", schema_version = 4,
+// Schema version 5 (N = samples, d = sampler inputs, S = min(N, inputs_stored_below)):
+//   /                          attributes: format = "ringtol campaign", schema_version = 5,
 //                              ringtol_version, catalogue_version, seed (uint64), samples
 //                              (int64, N), design, solver, campaign_path, campaign_file (the
 //                              campaign file's text), base_scene (the base scene as a scene
-//                              file, jobs/inputs/scene_writer.h)
+//                              file, jobs/inputs/scene_writer.h), inputs_stored_below (int64,
+//                              CampaignStoreOptions::inputs_stored_below)
 //   /inputs/name, quantity, component, source   [d] strings: one per design coordinate
 //   /inputs/roller, order                        [d] int32 (roller -1 for the ring)
-//   /inputs/u                  float64 [N, d]  the design point of each sample, before
-//                              inspection redraws: AssemblySampler::Realise(index, u)
-//                              replays the sample, and the same u under other tolerances
-//                              are common random numbers (tolerance allocation)
-//   /inputs/values             float32 [N, d]  the drawn values, in the units of /inputs/name
+//   /inputs/u                  float64 [S, d]  the design point of each of the first S
+//                              samples, before inspection redraws: AssemblySampler::Realise
+//                              (index, u) replays the sample, and the same u under other
+//                              tolerances are common random numbers (tolerance allocation);
+//                              CampaignReader replays the others (SampleDrawer)
+//   /inputs/values             float32 [S, d]  the drawn values, in the units of /inputs/name
 //   /inputs/redraws            int32 [N]
+//   /inputs/draw_checksum      uint32 [N]      DrawChecksum of each finished sample's draw, so
+//                              that a replay which no longer reproduces it is refused
 //   /outputs/<kOutputNames>    float64 [N]     NaN when the sample failed; attribute
 //                              upper_spec_limit when the campaign sets one; runout_mm and
 //                              swing_mm carry a `definition` string, swing_mm also the
@@ -29,7 +33,9 @@
 //   /outputs/d_trajectory_error_mm  float64 [N]  that rung's own bound on its error in
 //                              d_trajectory_mm (SampleRecord::d_trajectory_error); NaN unless ok
 //   /outputs/status            int8 enum [N]   SampleStatusName names; fill value "pending"
-//   /outputs/message           fixed 256-byte strings [N]: why a sample failed (truncated)
+//   /failures/sample           int64 [M]       the failed samples committed, in commit order
+//   /failures/message          fixed 256-byte strings [M]: why each failed (truncated); a
+//                              sample computed again appends again, and its last row counts
 //   /timing/solve_time_s       float64 [N]     wall time of each sample: the one dataset
 //                              that differs between two runs of the same campaign
 //   /calibration/<k>           groups, k = 0, 1, ...: what the sampler's calibration of each form
@@ -40,6 +46,9 @@
 //                              draws (int32). Optional: files before it, or campaigns without form
 //                              tolerances, have none, and readers that ignore it lose nothing
 //                              but the time to calibrate again, so the schema stays 3.
+// Schema 4 is schema 5 with u and values for every sample, no draw checksum, and a message
+// per sample (/outputs/message, fixed 256-byte strings [N], empty unless the sample failed)
+// instead of /failures; ringtol still resumes such a file in its own schema.
 // Every per-sample dataset is chunked along samples and extendable (maximum size
 // unlimited), so a campaign can grow with --samples. Every dataset ends its filter pipeline
 // with HDF5's Fletcher-32 checksum, so that a chunk damaged on disk fails to read instead
@@ -83,14 +92,20 @@
 
 namespace ringtol::jobs {
 
-inline constexpr int kCampaignSchemaVersion = 4;
+inline constexpr int kCampaignSchemaVersion = 5;
+// The oldest schema Resume continues (in its own schema).
+inline constexpr int kOldestResumableSchema = 4;
+// Samples whose design points and drawn values a file keeps unless told otherwise
+// (CampaignStoreOptions::inputs_stored_below): those the report's screening reads
+// (ReportOptions::screening_samples); the rest are replayed from (campaign, index).
+inline constexpr std::int64_t kStoredInputSamples = 16384;
 // The oldest schema CampaignReader still reads. Schema 1 (ringtol 0.3) kept the max - min
 // of the sensor signal as runout_total_mm and an ill-posed "peak to nearest valley" as
 // runout_mm: its runout_mm is read from runout_total_mm, and it has no swing_mm (HasOutput
 // says so; ReadOutput gives NaN). Schema 2 (ringtol 0.4) has no /outputs/rung and
 // /outputs/d_trajectory_error_mm: they read as -1 and NaN. Schemas 1 to 3 have none of
 // the life outputs (kFirstLifeOutput on): HasOutput says so, ReadOutput gives NaN.
-// Resume refuses files of older schemas.
+// Resume refuses files older than kOldestResumableSchema.
 inline constexpr int kOldestReadableSchema = 1;
 
 struct CampaignStoreOptions {
@@ -102,6 +117,9 @@ struct CampaignStoreOptions {
   // false writes datasets without Fletcher-32, as builds before checksums did: for tests of
   // such files and for measuring what the checksum costs.
   bool checksums = true;
+  // The samples whose u and values the file keeps: those below this index (the largest
+  // int64 keeps every one: --store-inputs). Create only: a resumed file keeps its own.
+  std::int64_t inputs_stored_below = kStoredInputSamples;
 };
 
 class CampaignStore {
@@ -139,6 +157,8 @@ class CampaignStore {
   // Samples per HDF5 chunk of every per-sample dataset. A shard made with this many
   // (CampaignStoreOptions::chunk_samples) has chunks that Absorb copies as they are stored.
   std::int64_t chunk_rows() const;
+  // The first sample whose u and values the file does not keep (schema 4: the largest int64).
+  std::int64_t inputs_stored_below() const;
 
   // Copies into this file every finished sample of the shard at `shard` (a results file of
   // the same campaign, no larger) that this file has pending, flushes, and removes the

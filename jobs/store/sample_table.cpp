@@ -89,6 +89,8 @@ TypeId MemoryType(const Where& where, const ColumnSpec& spec, hid_t dataset) {
       return TypeId(H5Tcopy(H5T_NATIVE_FLOAT));
     case ColumnType::kInt32:
       return TypeId(H5Tcopy(H5T_NATIVE_INT32));
+    case ColumnType::kUInt32:
+      return TypeId(H5Tcopy(H5T_NATIVE_UINT32));
     case ColumnType::kText:
       return FixedString(where, spec.text_bytes);
     case ColumnType::kInt8Enum:
@@ -109,6 +111,8 @@ std::size_t ElementSize(const ColumnSpec& spec) {
       return sizeof(float);
     case ColumnType::kInt32:
       return sizeof(std::int32_t);
+    case ColumnType::kUInt32:
+      return sizeof(std::uint32_t);
     case ColumnType::kInt8Enum:
       return sizeof(std::int8_t);
     case ColumnType::kText:
@@ -128,6 +132,9 @@ void FillRows(const ColumnSpec& spec, std::size_t values, void* out) {
       break;
     case ColumnType::kInt32:
       std::fill_n(static_cast<std::int32_t*>(out), values, static_cast<std::int32_t>(spec.fill));
+      break;
+    case ColumnType::kUInt32:
+      std::fill_n(static_cast<std::uint32_t*>(out), values, static_cast<std::uint32_t>(spec.fill));
       break;
     case ColumnType::kInt8Enum:
       std::fill_n(static_cast<std::int8_t*>(out), values, static_cast<std::int8_t>(spec.fill));
@@ -183,9 +190,10 @@ void SampleTable::Create(const Where& where, hid_t file, const RowSpace& space, 
   const auto samples = static_cast<hsize_t>(space.samples);
   const auto chunk_samples = static_cast<hsize_t>(std::max<std::int64_t>(1, space.chunk_samples));
   for (const ColumnSpec& spec : columns) {
+    if (spec.stored_path.empty()) continue;  // not in this schema
     const std::string& path = spec.path;
     int rank = 1;
-    hsize_t dims[2] = {samples, 0};
+    hsize_t dims[2] = {std::min(samples, static_cast<hsize_t>(spec.stored_below)), 0};
     hsize_t max_dims[2] = {space.extendable ? H5S_UNLIMITED : samples, 0};
     hsize_t chunk[2] = {chunk_samples, 0};
     if (space.grouped()) {
@@ -213,6 +221,7 @@ void SampleTable::Create(const Where& where, hid_t file, const RowSpace& space, 
     const double f64 = spec.fill;
     const auto f32 = static_cast<float>(spec.fill);
     const auto i32 = static_cast<std::int32_t>(spec.fill);
+    const auto u32 = static_cast<std::uint32_t>(spec.fill);
     const auto i8 = static_cast<std::int8_t>(spec.fill);
     TypeId text;
     switch (spec.type) {
@@ -226,6 +235,10 @@ void SampleTable::Create(const Where& where, hid_t file, const RowSpace& space, 
       case ColumnType::kInt32:
         file_type = H5T_STD_I32LE;
         filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT32, &i32);
+        break;
+      case ColumnType::kUInt32:
+        file_type = H5T_STD_U32LE;
+        filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_UINT32, &u32);
         break;
       case ColumnType::kInt8Enum:
         if (spec.enumeration == nullptr) throw std::logic_error("SampleTable: " + path + " has no enumeration");
@@ -274,9 +287,11 @@ SampleTable SampleTable::Open(const Where& where, hid_t file, RowSpace space, st
         Fail(where, fmt::format("dataset {} is [{}, {}] where the file declares {} {}s and {} samples",
                                 spec.stored_path, dims[0], dims[1], space.groups, space.group_name, space.samples));
       }
-    } else if (dims[0] < static_cast<hsize_t>(space.samples) || (rank == 2 && dims[1] != spec.width)) {
+    } else if (dims[0] < static_cast<hsize_t>(std::min(space.samples, spec.stored_below)) ||
+               (rank == 2 && dims[1] != spec.width)) {
       Fail(where, fmt::format("dataset {} has {} rows{} where the file declares {} samples{}", spec.stored_path,
-                              dims[0], rank == 2 ? fmt::format(" of {}", dims[1]) : "", space.samples,
+                              dims[0], rank == 2 ? fmt::format(" of {}", dims[1]) : "",
+                              std::min(space.samples, spec.stored_below),
                               rank == 2 ? fmt::format(" and {} inputs", spec.width) : ""));
     }
     const TypeId type(Check(H5Dget_type(dataset.get()), where, "reading the type of", spec.stored_path));
@@ -337,12 +352,19 @@ std::string SampleTable::Rows(std::int64_t group, std::int64_t first, std::int64
 void SampleTable::Write(std::span<const RowKey> rows, std::span<const void* const> values) const {
   if (rows.empty()) return;
   if (values.size() != specs_.size()) throw std::logic_error("SampleTable::Write: one value array per column");
-  const std::vector<Run> runs = RunsOf(rows);
-  const auto m = static_cast<hsize_t>(rows.size());
   // Statuses last, after everything else is flushed: a status on disk vouches for its sample.
   for (std::size_t c = 0; c < specs_.size(); ++c) {
     const ColumnSpec& spec = specs_[c];
-    if (!stored(c)) throw std::logic_error("SampleTable::Write: " + spec.path + " is not in this file");
+    if (!stored(c)) continue;
+    // Samples beyond stored_below are dropped: in a flat table they end the sorted rows.
+    std::span<const RowKey> kept = rows;
+    if (!space_.grouped() && spec.stored_below < space_.samples) {
+      const auto end = std::lower_bound(rows.begin(), rows.end(), RowKey{0, spec.stored_below});
+      kept = rows.first(static_cast<std::size_t>(end - rows.begin()));
+      if (kept.empty()) continue;
+    }
+    const std::vector<Run> runs = RunsOf(kept);
+    const auto m = static_cast<hsize_t>(kept.size());
     const SpaceId file_space(Check(H5Dget_space(datasets_[c].get()), where_, "reading the shape of", spec.path));
     CheckStatus(H5Sselect_none(file_space.get()), where_, "selecting rows of", spec.path);
     for (const Run& run : runs) {
@@ -375,6 +397,16 @@ std::optional<std::string> SampleTable::TryReadRows(std::size_t column, std::int
     FillRows(spec, static_cast<std::size_t>(count) * Width(column), out);
     return std::nullopt;
   }
+  // Samples beyond stored_below read as the fill.
+  const std::int64_t stored_end = space_.grouped() ? first + count : std::min(first + count, StoredRows(column));
+  if (stored_end < first + count) {
+    const std::int64_t held = std::max<std::int64_t>(0, stored_end - first);
+    const std::size_t row_bytes = Width(column) * ElementSize(spec);
+    FillRows(spec, static_cast<std::size_t>(count - held) * Width(column),
+             static_cast<unsigned char*>(out) + static_cast<std::size_t>(held) * row_bytes);
+    if (held == 0) return std::nullopt;
+    count = held;
+  }
   const SpaceId file_space(Check(H5Dget_space(datasets_[column].get()), where_, "reading the shape of", spec.path));
   hsize_t start[2] = {static_cast<hsize_t>(first), 0};
   hsize_t rows[2] = {static_cast<hsize_t>(count), spec.width};
@@ -405,13 +437,15 @@ void SampleTable::ReadInto(std::size_t column, ColumnType as, std::int64_t group
     throw InputError(fmt::format("{}: dataset {} is damaged: {} cannot be read ({}){}", where_.file, spec.path,
                                  Rows(group, begin, begin + count - 1), *problem, VerifyHint(where_.file)));
   }
-  if (spec.finite == FiniteRule::kNone || !stored(column)) return;
+  // Only stored samples must be finite: those beyond stored_below read as the fill.
+  const std::int64_t checked = space_.grouped() ? count : std::min(count, StoredRows(column) - begin);
+  if (spec.finite == FiniteRule::kNone || !stored(column) || checked <= 0) return;
   std::vector<SampleStatus> read;
   if (statuses == nullptr) {
-    read = Statuses(group, begin, count);
+    read = Statuses(group, begin, checked);
     statuses = read.data();
   }
-  if (const auto bad = FirstNonFinite(spec, out, count, statuses)) {
+  if (const auto bad = FirstNonFinite(spec, out, checked, statuses)) {
     const std::int64_t sample = begin + bad->first;
     throw InputError(fmt::format("{}: dataset {} is damaged: {} is {} but holds a non-finite number{}{}", where_.file,
                                  spec.path, Rows(group, sample, sample),
@@ -458,7 +492,7 @@ TableScan SampleTable::Scan() const {
   const auto chunks_of = [&](std::size_t column) {
     std::vector<RowKey> firsts;
     if (!space_.grouped()) {
-      for (std::int64_t first = 0; first < space_.samples; first += chunk) firsts.push_back({0, first});
+      for (std::int64_t first = 0; first < StoredRows(column); first += chunk) firsts.push_back({0, first});
       return firsts;
     }
     const std::string& path = specs_[column].path;
@@ -521,7 +555,7 @@ TableScan SampleTable::Scan() const {
     if (!stored(c)) continue;
     const ColumnSpec& spec = specs_[c];
     for (const RowKey& first : chunks_of(c)) {
-      const std::int64_t count = std::min(chunk, space_.samples - first.sample);
+      const std::int64_t count = std::min(chunk, StoredRows(c) - first.sample);
       buffer.resize(static_cast<std::size_t>(count) * Width(c) * ElementSize(spec));
       std::optional<std::string> problem = TryReadRows(c, first.group, first.sample, count, buffer.data());
       if (!problem && spec.finite != FiniteRule::kNone) {
@@ -602,6 +636,30 @@ void SampleTable::Repair(const std::vector<DamagedChunk>& damaged) {
   CheckStatus(H5Dflush(datasets_[status].get()), where_, "flushing", spec.path);
 }
 
+void SampleTable::MarkPending(std::span<const std::int64_t> samples) const {
+  if (samples.empty()) return;
+  std::vector<RowKey> rows;
+  rows.reserve(samples.size());
+  for (const std::int64_t sample : samples) rows.push_back({0, sample});
+  const std::size_t status = status_column();
+  const ColumnSpec& spec = specs_[status];
+  const SpaceId file_space(Check(H5Dget_space(datasets_[status].get()), where_, "reading the shape of", spec.path));
+  CheckStatus(H5Sselect_none(file_space.get()), where_, "selecting rows of", spec.path);
+  for (const Run& run : RunsOf(rows)) {
+    const hsize_t start[1] = {static_cast<hsize_t>(run.first.sample)};
+    const hsize_t count[1] = {run.count};
+    CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_OR, start, nullptr, count, nullptr), where_,
+                "selecting rows of", spec.path);
+  }
+  const auto m = static_cast<hsize_t>(rows.size());
+  const SpaceId memory(Check(H5Screate_simple(1, &m, nullptr), where_, "creating a dataspace for", spec.path));
+  const std::vector<std::int8_t> pending(rows.size(), static_cast<std::int8_t>(SampleStatus::kPending));
+  CheckStatus(H5Dwrite(datasets_[status].get(), memory_types_[status].get(), memory.get(), file_space.get(),
+                       H5P_DEFAULT, pending.data()),
+              where_, "writing", spec.path);
+  CheckStatus(H5Dflush(datasets_[status].get()), where_, "flushing", spec.path);
+}
+
 void SampleTable::Grow(std::int64_t samples) {
   if (space_.grouped() || !space_.extendable) throw std::logic_error("SampleTable::Grow: the table cannot grow");
   for (std::size_t c = 0; c < specs_.size(); ++c) {
@@ -610,8 +668,9 @@ void SampleTable::Grow(std::int64_t samples) {
     const SpaceId dataspace(Check(H5Dget_space(datasets_[c].get()), where_, "reading the shape of", path));
     hsize_t dims[2] = {0, 0};
     H5Sget_simple_extent_dims(dataspace.get(), dims, nullptr);
-    if (dims[0] >= static_cast<hsize_t>(samples)) continue;
-    dims[0] = static_cast<hsize_t>(samples);
+    const auto rows = static_cast<hsize_t>(std::min(samples, specs_[c].stored_below));
+    if (dims[0] >= rows) continue;
+    dims[0] = rows;
     CheckStatus(H5Dset_extent(datasets_[c].get(), dims), where_, "extending", path);
   }
   space_.samples = std::max(space_.samples, samples);
@@ -625,7 +684,8 @@ bool SampleTable::SameStorage(const SampleTable& other) const {
     return H5Pget_filter2(dcpl.get(), static_cast<unsigned>(k), &flags, &values, nullptr, 0, nullptr, nullptr);
   };
   for (std::size_t c = 0; c < specs_.size(); ++c) {
-    if (!stored(c) || !other.stored(c)) return false;
+    if (stored(c) != other.stored(c)) return false;
+    if (!stored(c)) continue;  // a column neither file's schema has
     const PlistId a(Check(H5Dget_create_plist(other.datasets_[c].get()), other.where_, "reading the layout of",
                           specs_[c].path));
     const PlistId b(Check(H5Dget_create_plist(datasets_[c].get()), where_, "reading the layout of", specs_[c].path));
@@ -649,7 +709,9 @@ std::int64_t SampleTable::CopyChunks(const SampleTable& other, std::span<const s
   // Every column before the statuses, flushed, so that a status copied vouches for its sample.
   for (std::size_t c = 0; c < specs_.size(); ++c) {
     const std::string& path = specs_[c].path;
+    if (!stored(c)) continue;
     for (const std::int64_t first : firsts) {
+      if (first >= StoredRows(c)) continue;
       const hsize_t offset[2] = {static_cast<hsize_t>(first), 0};
       hsize_t bytes = 0;
       CheckStatus(H5Dget_chunk_storage_size(other.datasets_[c].get(), offset, &bytes), other.where_,

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <compare>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -53,10 +54,10 @@ struct RowKey {
   friend auto operator<=>(const RowKey&, const RowKey&) = default;
 };
 
-// The C++ type a column is written and read as: double, float, std::int32_t, std::int8_t
-// (the codes of an enumeration, or plain int8 in files written before it was one), and
-// char (fixed-length text, text_bytes a row).
-enum class ColumnType { kFloat64, kFloat32, kInt32, kInt8Enum, kText };
+// The C++ type a column is written and read as: double, float, std::int32_t,
+// std::uint32_t, std::int8_t (the codes of an enumeration, or plain int8 in files written
+// before it was one), and char (fixed-length text, text_bytes a row).
+enum class ColumnType { kFloat64, kFloat32, kInt32, kUInt32, kInt8Enum, kText };
 
 // Which finished samples must hold finite numbers in a floating-point column: a non-finite
 // number there is damage the writer cannot have made (it writes NaN only where a sample has
@@ -75,6 +76,9 @@ struct ColumnSpec {
                             // in SWMR mode that would grow: HDF5 leaves the old copy behind)
   bool cached = false;      // kept in a chunk cache of Open's cache_bytes (wide columns)
   FiniteRule finite = FiniteRule::kNone;
+  // Samples from here on are not stored: the dataset has min(N, stored_below) rows, writes
+  // of later samples are dropped and reads of them give the fill (flat tables).
+  std::int64_t stored_below = std::numeric_limits<std::int64_t>::max();
 };
 
 // A column's damaged chunk: its samples (of one group) fail to read, hold a status no
@@ -96,7 +100,8 @@ struct TableScan {
 
 class SampleTable {
  public:
-  // Creates every column (their groups must exist), all rows holding their fill values.
+  // Creates every column with a stored_path (their groups must exist), all rows holding
+  // their fill values.
   // The last column is the status column (kInt8Enum, fill pending).
   static void Create(const Where& where, hid_t file, const RowSpace& space, const std::vector<ColumnSpec>& columns,
                      bool checksums);
@@ -121,8 +126,9 @@ class SampleTable {
   void set_where(Where where) { where_ = std::move(where); }
   const Where& where() const { return where_; }
 
-  // Writes `rows` (sorted, unique) of every column, `values[c]` holding rows.size() values
-  // of column c's C++ type (times its width), every column flushed before the statuses.
+  // Writes `rows` (sorted, unique) of every column this file stores, `values[c]` holding
+  // rows.size() values of column c's C++ type (times its width; those of samples beyond
+  // stored_below are not written), every column flushed before the statuses.
   void Write(std::span<const RowKey> rows, std::span<const void* const> values) const;
 
   // Samples [begin, begin + count) of a group's row of a column (text: text_bytes a row). `statuses`, when given,
@@ -153,6 +159,8 @@ class SampleTable {
   // of other columns pending, and reopens the columns it rewrote. Reports each chunk on
   // stderr. Needs a file open for writing outside SWMR mode.
   void Repair(const std::vector<DamagedChunk>& damaged);
+  // Marks samples of a flat table pending (ascending), so that a resume computes them again.
+  void MarkPending(std::span<const std::int64_t> samples) const;
   // Extends every column of a flat extendable table to `samples` rows (a grow killed
   // half-way has extended some already). Outside SWMR mode.
   void Grow(std::int64_t samples);
@@ -170,6 +178,10 @@ class SampleTable {
   static ColumnType ElementType();
   std::size_t Width(std::size_t column) const { return specs_[column].width == 0 ? 1 : specs_[column].width; }
   // Elements of the column's C++ type a row takes: its width, in text its bytes.
+  // Rows of column `column` in the file: min(N, stored_below).
+  std::int64_t StoredRows(std::size_t column) const {
+    return std::min(space_.samples, specs_[column].stored_below);
+  }
   std::size_t ValuesPerRow(std::size_t column) const {
     return Width(column) * (specs_[column].type == ColumnType::kText ? specs_[column].text_bytes : 1);
   }
@@ -193,6 +205,8 @@ template <>
 inline ColumnType SampleTable::ElementType<float>() { return ColumnType::kFloat32; }
 template <>
 inline ColumnType SampleTable::ElementType<std::int32_t>() { return ColumnType::kInt32; }
+template <>
+inline ColumnType SampleTable::ElementType<std::uint32_t>() { return ColumnType::kUInt32; }
 template <>
 inline ColumnType SampleTable::ElementType<std::int8_t>() { return ColumnType::kInt8Enum; }
 template <>

@@ -17,6 +17,7 @@
 #include "jobs/report/campaign_summary.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/store/campaign_store.h"
+#include "tests/support/small_campaign.h"
 #include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
@@ -29,22 +30,9 @@ const std::string kSceneLine =
     "scene = \"" + (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/paper/scene.toml").string() + "\"\n";
 
 // Quick to calibrate and to solve: a low-order ring spectrum, positions and springs.
-const std::string kSmallCampaign = kSceneLine + R"(seed = 7
-[design]
-kind = "monte_carlo"
-samples = 16
-[tolerances.ring]
-circularity_mm = 0.2
-max_order = 6
-[tolerances.roller_positions]
-zone_diameter_mm = 0.05
-[tolerances.springs]
-class = "pm10"
-[solver]
-name = "quasistatic"
-[spec]
-d_trajectory_mm = 0.25
-)";
+const std::string kSmallCampaign = ringtol::testing::SmallCampaign(
+    (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/paper/scene.toml").string(), 7, 16,
+    "[tolerances.springs]\nclass = \"pm10\"\n");
 
 // A file of this test's own (ctest runs tests in parallel), removed at the end.
 class TempFile {

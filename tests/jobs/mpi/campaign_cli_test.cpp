@@ -13,11 +13,14 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include <fmt/format.h>
+#include <hdf5.h>
 #include <nlohmann/json.hpp>
 
 #include "jobs/store/campaign_store.h"
@@ -347,6 +350,40 @@ TEST(Campaign, ResultsReadInH5pyAndH5dumpWithTheDocumentedSchema) {
                              (folder / "python.txt").string() + " 2>&1";
   EXPECT_EQ(std::system(python.c_str()), 0) << testing::ReadText(folder / "python.txt");
   EXPECT_THAT(testing::ReadText(folder / "python.txt"), HasSubstr("48 samples ok"));
+}
+
+// `ringtol inputs` prints chosen samples' design points and values as the reader gives
+// them (kept or replayed: jobs/store tests the replay), and refuses samples outside the file.
+TEST(Campaign, InputsPrintsChosenSamplesAsCsvAndStoreInputsKeepsEverySample) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  const std::filesystem::path out = folder / "r.h5";
+  ASSERT_EQ(Campaign(file, out, "--store-inputs").exit_code, 0);
+  {
+    const hid_t h5 = H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const hid_t attribute = H5Aopen(h5, "inputs_stored_below", H5P_DEFAULT);
+    std::int64_t stored_below = 0;
+    EXPECT_GE(H5Aread(attribute, H5T_NATIVE_INT64, &stored_below), 0);
+    H5Aclose(attribute);
+    H5Fclose(h5);
+    EXPECT_EQ(stored_below, std::numeric_limits<std::int64_t>::max());
+  }
+  const Outcome printed = RunRingtol("", "inputs " + out.string() + " --samples 3:6");
+  ASSERT_EQ(printed.exit_code, 0) << printed.err;
+  std::istringstream lines(printed.out);
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(lines, line);) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 4u);  // the header and samples 3, 4, 5
+  const CampaignReader reader(out);
+  const std::size_t d = reader.identity().inputs.size();
+  EXPECT_THAT(rows[0], AllOf(HasSubstr("sample,status,u_0,"), HasSubstr("," + reader.identity().inputs.back().name)));
+  EXPECT_EQ(std::count(rows[1].begin(), rows[1].end(), ','), static_cast<std::ptrdiff_t>(1 + 2 * d));
+  const SampleRecord four = reader.ReadSample(4);
+  EXPECT_EQ(rows[2].substr(0, rows[2].find(',', 2)), "4,ok");
+  EXPECT_THAT(rows[2], HasSubstr(fmt::format(",{},", four.u.front())));
+  EXPECT_THAT(RunRingtol("", "inputs " + out.string() + " --samples 40:49"),
+              ExitsWith(1, AllOf(HasSubstr("--samples 40:49"), HasSubstr("0 to 47"))));
+
 }
 
 // Samples on disk in a results file being written (0 while it does not exist yet).

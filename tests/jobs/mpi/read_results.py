@@ -8,20 +8,27 @@ import numpy as np
 
 with h5py.File(sys.argv[1], "r") as f:
     assert f.attrs["format"] == "ringtol campaign", f.attrs["format"]
-    assert int(f.attrs["schema_version"]) == 4
+    assert int(f.attrs["schema_version"]) == 5
     for key in ("ringtol_version", "catalogue_version", "campaign_file", "base_scene", "design", "solver"):
         assert isinstance(f.attrs[key], str) and f.attrs[key], key
     n = int(f.attrs["samples"])
     d = f["inputs/name"].shape[0]
-    assert f["inputs/u"].shape == (n, d) and f["inputs/values"].shape == (n, d)
+    kept = min(n, int(f.attrs["inputs_stored_below"]))  # the first samples' inputs; ringtol replays the rest
+    assert f["inputs/u"].shape == (kept, d) and f["inputs/values"].shape == (kept, d)
     assert f["inputs/u"].maxshape[0] is None, "extendable along samples"
-    assert f["outputs/message"].compression == "gzip" and f["outputs/status"].compression == "gzip"
+    assert f["inputs/draw_checksum"].shape == (n,) and f["inputs/draw_checksum"].dtype == np.uint32
+    assert f["outputs/status"].compression == "gzip" and "message" not in f["outputs"]
     names = [x.decode() for x in f["inputs/name"][:]]
     assert all(name.endswith(("_um", "_deg", "_percent")) for name in names), names
     status = f["outputs/status"]
     mapping = h5py.check_enum_dtype(status.dtype)
     assert mapping["pending"] == -1 and mapping["ok"] == 0, mapping
     ok = status[:] == mapping["ok"]
+    failed = f["failures/sample"][:]
+    messages = f["failures/message"][:]
+    assert failed.shape == messages.shape and failed.dtype == np.int64
+    done = status[:] != mapping["pending"]
+    assert set(failed.tolist()) == set(np.flatnonzero(done & ~ok).tolist()), "one message row per failed sample"
     d_trajectory = f["outputs/d_trajectory_mm"][:]
     assert np.all(np.isfinite(d_trajectory[ok])) and np.all(np.isnan(d_trajectory[~ok]))
     assert f["outputs/d_trajectory_mm"].attrs["upper_spec_limit"] == 0.2

@@ -24,6 +24,7 @@
 #include "jobs/cli/report_command.h"
 #include "jobs/report/report_html.h"
 #include "tests/support/older_results.h"
+#include "tests/support/small_campaign.h"
 #include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
@@ -34,21 +35,7 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 
 // A copy of the paper's scene beside the campaign file, so the test can take both away.
-const std::string kCampaign = R"(scene = "scene.toml"
-seed = 3
-[design]
-kind = "monte_carlo"
-samples = 40
-[tolerances.ring]
-circularity_mm = 0.2
-max_order = 6
-[tolerances.roller_positions]
-zone_diameter_mm = 0.05
-[solver]
-name = "quasistatic"
-[spec]
-d_trajectory_mm = 0.25
-)";
+const std::string kCampaign = ringtol::testing::SmallCampaign("scene.toml", 3, 40);
 
 class ReportTest : public ::testing::Test {
  protected:

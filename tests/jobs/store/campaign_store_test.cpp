@@ -27,9 +27,11 @@
 #include <gtest/gtest.h>
 
 #include "jobs/inputs/input_error.h"
+#include "jobs/campaign/campaign.h"
 #include "jobs/campaign/sample_record.h"
 #include "tests/support/damage.h"
 #include "tests/support/older_results.h"
+#include "tests/support/small_campaign.h"
 #include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
@@ -41,7 +43,7 @@ using ::testing::HasSubstr;
 using testing::FlipBytes;
 
 constexpr std::size_t kInputs = 4;
-constexpr std::size_t kStoredMessageChars = 255;  // /outputs/message: 256 bytes with the terminator
+constexpr std::size_t kStoredMessageChars = 255;  // /failures/message: 256 bytes with the terminator
 
 fs::path TestFolder() { return ringtol::testing::FreshTestFolder("campaign_store_test"); }
 
@@ -166,8 +168,11 @@ std::string InputErrorOf(const std::function<void()>& action) {
 // `batch`, each batch added back to front like results arriving from many ranks.
 void WriteDeterministic(
     const fs::path& path, std::int64_t samples, std::size_t batch, const std::function<void()>& opened = [] {}) {
+  // The test identity is no campaign that could replay a draw: every sample keeps its inputs.
+  CampaignStoreOptions options;
+  options.inputs_stored_below = std::numeric_limits<std::int64_t>::max();
   CampaignStore store = fs::exists(path) ? CampaignStore::Resume(path, TestIdentity(), samples)
-                                         : CampaignStore::Create(path, TestIdentity(), samples);
+                                         : CampaignStore::Create(path, TestIdentity(), samples, options);
   opened();
   const std::vector<std::int64_t> pending = store.Pending(0, samples);
   for (std::size_t i = 0; i < pending.size(); ++i) {
@@ -677,6 +682,126 @@ fs::path OlderFile(std::int64_t samples, int schema, const std::function<void(hi
   return path;
 }
 
+
+
+// Keeping the inputs of the first samples only, the reader replays the others from (campaign,
+// index) to the bits the run drew, and refuses a replay whose draw checksum differs.
+TEST(CampaignReader, ReplaysTheInputsAFileDoesNotKeepAndRefusesADrawThatChanged) {
+  constexpr std::int64_t kKept = 5;
+  const fs::path folder = TestFolder();
+  testing::WriteText(folder / "campaign.toml",
+                     ringtol::testing::SmallCampaign((fs::path(RINGTOL_SOURCE_DIR) / "examples/paper/scene.toml").string(), 11,
+                                            16));
+  const Campaign campaign(folder / "campaign.toml", std::nullopt, std::nullopt);
+  const fs::path path = folder / "results.h5";
+  std::vector<SampleRecord> evaluated;
+  {
+    CampaignStoreOptions options;
+    options.inputs_stored_below = kKept;
+    CampaignStore store = CampaignStore::Create(path, campaign.identity(), campaign.samples(), options);
+    SampleEvaluator evaluator(campaign);
+    for (std::int64_t i = 0; i < campaign.samples(); ++i) {
+      evaluated.push_back(evaluator.Evaluate(i));
+      store.Add(evaluated.back());
+    }
+  }
+  {
+    // The file keeps u and values of the first kKept samples and nothing of the others.
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const hid_t u = H5Dopen2(file, "/inputs/u", H5P_DEFAULT);
+    const hid_t space = H5Dget_space(u);
+    hsize_t dims[2] = {0, 0};
+    H5Sget_simple_extent_dims(space, dims, nullptr);
+    EXPECT_EQ(dims[0], static_cast<hsize_t>(kKept));
+    H5Sclose(space);
+    H5Dclose(u);
+    H5Fclose(file);
+  }
+  {
+    const CampaignReader reader(path);
+    const std::size_t d = campaign.identity().inputs.size();
+    const std::vector<double> values = reader.ReadValues(0, campaign.samples());
+    for (std::int64_t i = 0; i < campaign.samples(); ++i) {
+      SCOPED_TRACE("sample " + std::to_string(i));
+      ExpectStored(reader.ReadSample(i), evaluated[static_cast<std::size_t>(i)]);
+      for (std::size_t j = 0; j < d; ++j) {
+        EXPECT_EQ(values[static_cast<std::size_t>(i) * d + j],
+                  static_cast<double>(static_cast<float>(evaluated[static_cast<std::size_t>(i)].values[j])));
+      }
+    }
+  }
+  EXPECT_TRUE(CheckResults(path).intact());
+
+  // Another sampler would draw sample 9 differently: its checksum no longer matches.
+  {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    const hid_t checksums = H5Dopen2(file, "/inputs/draw_checksum", H5P_DEFAULT);
+    const hid_t space = H5Dget_space(checksums);
+    const hsize_t at[1] = {9};
+    const hsize_t one[1] = {1};
+    H5Sselect_hyperslab(space, H5S_SELECT_SET, at, nullptr, one, nullptr);
+    const hid_t memory = H5Screate_simple(1, one, nullptr);
+    const std::uint32_t other = DrawChecksum(evaluated[9]) ^ 1u;
+    EXPECT_GE(H5Dwrite(checksums, H5T_NATIVE_UINT32, memory, space, H5P_DEFAULT, &other), 0);
+    H5Sclose(memory);
+    H5Sclose(space);
+    H5Dclose(checksums);
+    H5Fclose(file);
+  }
+  const CampaignReader changed(path);
+  EXPECT_NO_THROW(changed.ReadSample(4));  // kept: nothing to replay
+  EXPECT_THAT(InputErrorOf([&] { changed.ReadSample(9); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("sample 9"), HasSubstr("draws them differently")));
+}
+
+// What a finished sample costs on disk once its inputs are not kept (the target for
+// a pool of 1,000 ranks): the bytes two files of different sizes differ by, per sample, so
+// that the file's fixed metadata cancels. 14 float64 outputs, the error bound and the
+// solve time are 128 bytes; steps, redraws, the checksum, rung and status add 14.
+TEST(CampaignStore, ASlimRowTakesAtMost150BytesBeyondTheStoredInputs) {
+  constexpr double kMostBytesPerRow = 150.0;
+  const auto size = [](std::int64_t samples) {
+    const fs::path path = TestFolder() / ("slim" + std::to_string(samples) + ".h5");
+    {
+      CampaignStoreOptions options;
+      options.inputs_stored_below = 0;
+      CampaignStore store = CampaignStore::Create(path, TestIdentity(), samples, options);
+      for (std::int64_t i = 0; i < samples; ++i) {
+        SampleRecord record = DeterministicRecord(i);
+        record.status = SampleStatus::kOk;
+        record.message.clear();
+        for (std::size_t k = 0; k < kOutputCount; ++k) record.outputs[k] = 1e-3 * static_cast<double>(i) + static_cast<double>(k);
+        store.Add(std::move(record));
+        if (i % 1000 == 999) store.Commit();
+      }
+    }
+    return static_cast<double>(fs::file_size(path));
+  };
+  constexpr std::int64_t kSmall = 4096;
+  constexpr std::int64_t kLarge = 3 * kSmall;
+  const double per_row = (size(kLarge) - size(kSmall)) / static_cast<double>(kLarge - kSmall);
+  RecordProperty("bytes_per_row", std::to_string(per_row));
+  EXPECT_LE(per_row, kMostBytesPerRow);
+  EXPECT_GE(per_row, 128.0);  // the float64 columns alone: nothing was left out
+}
+
+// A schema-4 file (a message per sample, every sample's inputs, no draw checksums) is
+// resumed in its own schema: it grows, and what the resume adds reads back as written.
+TEST(CampaignStore, ResumesASchemaFourFileInItsOwnSchema) {
+  constexpr std::int64_t kSamples = 20;
+  constexpr std::int64_t kGrown = 40;
+  const fs::path path = OlderFile(kSamples, 4, {});
+  {
+    CampaignStore store = CampaignStore::Resume(path, TestIdentity(), kGrown);
+    for (const std::int64_t index : store.Pending(0, kGrown)) store.Add(DeterministicRecord(index));
+  }
+  const CampaignReader reader(path);
+  EXPECT_EQ(reader.schema_version(), 4);
+  EXPECT_EQ(reader.samples(), kGrown);
+  for (std::int64_t index = 0; index < kGrown; ++index) ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+  EXPECT_TRUE(CheckResults(path).intact());
+}
+
 // A schema-1 file as ringtol 0.3 wrote it, made from a current one: its max - min sat in
 // runout_total_mm, its runout_mm held the ill-posed peak to nearest valley, and it had no
 // swing and no per-revolution diameters.
@@ -837,13 +962,15 @@ const DatasetCheck& Dataset(const ResultsCheck& check, const std::string& path) 
   return *found;
 }
 
-const std::vector<std::string> kDamagedDatasets = {"/inputs/u", "/inputs/values", "/outputs/d_trajectory_mm",
-                                                   "/outputs/status", "/outputs/message", "/timing/solve_time_s"};
+const std::vector<std::string> kDamagedDatasets = {"/inputs/u",           "/inputs/values",
+                                                   "/inputs/draw_checksum", "/outputs/d_trajectory_mm",
+                                                   "/outputs/status",     "/timing/solve_time_s"};
 
 TEST(CampaignStore, EveryDatasetEndsItsFiltersWithTheFletcher32Checksum) {
   const fs::path path = WriteFinished(TestFolder() / "results.h5");
   const ResultsCheck check = CheckResults(path);
-  EXPECT_EQ(check.datasets.size(), 6 + 9 + kOutputCount);  // descriptions, per-sample columns (rung and error bound among them), outputs
+  // Descriptions, the failure rows, per-sample columns (rung and error bound among them), outputs.
+  EXPECT_EQ(check.datasets.size(), 6 + 2 + 9 + kOutputCount);
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   for (const DatasetCheck& dataset : check.datasets) {
     SCOPED_TRACE(dataset.path);
@@ -898,6 +1025,53 @@ TEST(CheckResults, NamesTheOneDamagedDatasetAndTheSamplesOfItsChunk) {
     EXPECT_EQ(check.recompute, (std::vector<SampleRange>{{16, 32}}));
     // A damaged status chunk loses whether its samples were done.
     EXPECT_EQ(check.done, damaged == "/outputs/status" ? kDamageSamples - kDamageChunk : kDamageSamples);
+  }
+}
+
+// The failure rows hold the failed samples' messages: a damaged chunk of them loses those
+// messages, which verify names by sample and a resume computes again with their samples.
+TEST(CampaignStore, AResumeComputesAgainTheFailedSamplesWhoseMessagesADamagedChunkHeld) {
+  const fs::path intact = WriteFinished(TestFolder() / "results.h5");
+  std::vector<SampleRange> failed;  // one chunk of 64 rows holds every failure row
+  for (std::int64_t index = 0; index < kDamageSamples; ++index) {
+    if (DeterministicRecord(index).status == SampleStatus::kOk) continue;
+    if (!failed.empty() && failed.back().end == index) {
+      ++failed.back().end;
+    } else {
+      failed.push_back({index, index + 1});
+    }
+  }
+  ASSERT_FALSE(failed.empty());
+  for (const char* damaged : {"/failures/message", "/failures/sample"}) {
+    SCOPED_TRACE(damaged);
+    // Bytes of written rows: the chunk's unwritten rest is zeros, and Fletcher-32 cannot
+    // tell 0x0000 from 0xffff (sums modulo 65535), so flipping zeros would go unseen.
+    fs::path path = intact;
+    path.replace_filename(std::string("damaged_") + (damaged + 10) + ".h5");
+    fs::copy_file(intact, path, fs::copy_options::overwrite_existing);
+    constexpr std::uint64_t kIntoTheFirstRows = 16;
+    FlipBytes(path, ChunkOf(path, damaged, 0).address + kIntoTheFirstRows, kFlippedBytes);
+    const ResultsCheck check = CheckResults(path);
+    EXPECT_FALSE(check.intact());
+    EXPECT_EQ(Dataset(check, damaged).damaged, failed);
+    EXPECT_EQ(check.recompute, failed);
+    EXPECT_THAT(InputErrorOf([&] { CampaignReader(path).ReadSample(failed.front().begin); }),
+                AllOf(HasSubstr(path.string()), HasSubstr("damaged")));
+    {
+      CampaignStore store = CampaignStore::Resume(path, TestIdentity(), kDamageSamples);
+      const std::vector<std::int64_t> pending = store.Pending(0, kDamageSamples);
+      std::vector<std::int64_t> expected;
+      for (const SampleRange& range : failed) {
+        for (std::int64_t index = range.begin; index < range.end; ++index) expected.push_back(index);
+      }
+      ASSERT_EQ(pending, expected);
+      for (const std::int64_t index : pending) store.Add(DeterministicRecord(index));
+    }
+    EXPECT_TRUE(CheckResults(path).intact());
+    const CampaignReader reader(path);
+    for (std::int64_t index = 0; index < kDamageSamples; ++index) {
+      ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+    }
   }
 }
 
