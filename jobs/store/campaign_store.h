@@ -52,8 +52,9 @@
 // Every per-sample dataset is chunked along samples and extendable (maximum size
 // unlimited), so a campaign can grow with --samples. Every dataset ends its filter pipeline
 // with HDF5's Fletcher-32 checksum, so that a chunk damaged on disk fails to read instead
-// of reading as other numbers (files of earlier builds have none and still read). Redraws, steps, statuses and messages
-// are shuffled and deflated (they shrink a hundredfold); the floating-point columns are
+// of reading as other numbers (files of earlier builds have none and still read). Redraws,
+// steps, rungs and statuses are shuffled and deflated (they shrink a hundredfold); the
+// floating-point columns, the draw checksums and the failure rows are
 // deflated only on request (deflate_level), because they barely compress and, in SWMR
 // mode, HDF5 never frees the old copy of a compressed chunk it rewrites: each commit of a
 // partly filled chunk would leave one behind.
@@ -63,18 +64,20 @@
 // writing process dies. Commit() flushes a batch's inputs, outputs and timings first and
 // its statuses last, so a sample is on disk exactly when its status is not pending; a
 // kill between the two leaves it pending and it is computed again on resume, to the same
-// bits.
+// bits. The failure rows are appended before the statuses of the samples they describe.
 //
 // Damage: a chunk whose checksum fails (or, in files without checksums, a finished sample
 // holding a non-finite design point, drawn value or ok output) is damaged. Readers throw
 // InputError naming the file, the dataset and the samples; CheckResults lists every damaged
-// chunk; Resume recomputes the samples of damaged chunks (see Resume).
+// chunk; Resume recomputes the samples of damaged chunks (see Resume), and the failed samples
+// whose messages a damaged chunk of the failure rows held.
 //
 // Failure: InputError (jobs/inputs/input_error.h) naming the file, for every problem a user can
 // cause: creating over an existing file, a directory that does not exist or cannot be
 // written, resuming a file that is missing, truncated, not HDF5, not a ringtol campaign,
-// of another schema version, or of another campaign (what differs is named), and a damaged
-// file. HDF5 write errors after a successful open (disk full) throw std::runtime_error
+// of a schema it does not resume, or of another campaign (what differs is named), and a
+// damaged file; reading a sample whose inputs the file does not keep, when this ringtol
+// draws them differently from the one that wrote it (its draw checksum differs). HDF5 write errors after a successful open (disk full) throw std::runtime_error
 // naming the file and dataset.
 #pragma once
 
@@ -110,8 +113,8 @@ inline constexpr int kOldestReadableSchema = 1;
 
 struct CampaignStoreOptions {
   int deflate_level = 0;            // 0..9: zlib level of the floating-point columns; 0 = none
-  // > 0: samples per HDF5 chunk; 0: about 256 KiB per chunk of /inputs/u (of
-  // /outputs/message, 256 bytes a row, when there are fewer than 32 inputs)
+  // > 0: samples per HDF5 chunk; 0: about 256 KiB per chunk of /inputs/u (of 256 bytes a
+  // row when there are fewer than 32 inputs)
   std::int64_t chunk_samples = 0;
   std::size_t chunk_cache_bytes = 32u << 20;  // per 2-D dataset: keeps the chunks being filled in memory
   // false writes datasets without Fletcher-32, as builds before checksums did: for tests of
@@ -226,12 +229,16 @@ class CampaignReader {
   // One output over [begin, begin + count), by its name in kOutputNames; NaN for an output
   // the file does not hold.
   std::vector<double> ReadOutput(std::string_view name, std::int64_t begin, std::int64_t count) const;
-  // Row-major [count, d]: the drawn values of every input (stored as float32), as read.
+  // Row-major [count, d]: the drawn values of every input (stored as float32), as read; a
+  // finished sample beyond inputs_stored_below drawn again (SampleDrawer, its draw
+  // checksum checked), a pending one NaN. The first replay builds the campaign from the
+  // file (a calibration where the file keeps none).
   std::vector<double> ReadValues(std::int64_t begin, std::int64_t count) const;
   std::vector<std::int32_t> ReadRedraws(std::int64_t begin, std::int64_t count) const;
   // /outputs/rung: kNoRung for samples no rung ran and in files of schema < 3.
   std::vector<std::int8_t> ReadRungs(std::int64_t begin, std::int64_t count) const;
-  // Everything stored about one sample (solve_time included).
+  // Everything stored about one sample (solve_time included), its inputs drawn again as
+  // ReadValues's, and its message from the failure rows.
   SampleRecord ReadSample(std::int64_t index) const;
 
  private:
