@@ -355,17 +355,11 @@ std::vector<ColumnSpec> Columns(int schema, std::size_t inputs, int deflate_leve
     spec.deflate_level = deflate_level;
     switch (c) {
       case kU:
-        spec.width = inputs;
-        spec.cached = true;
         spec.finite = FiniteRule::kWhenFinished;
-        spec.stored_below = inputs_stored_below;
         break;
       case kValues:
         spec.type = ColumnType::kFloat32;
-        spec.width = inputs;
-        spec.cached = true;
         spec.finite = FiniteRule::kUnlessSamplingFailed;
-        spec.stored_below = inputs_stored_below;
         break;
       case kDrawChecksum:
         spec.type = ColumnType::kUInt32;
@@ -396,6 +390,11 @@ std::vector<ColumnSpec> Columns(int schema, std::size_t inputs, int deflate_leve
       default:  // outputs
         spec.finite = FiniteRule::kWhenOk;
         break;
+    }
+    if (c == kU || c == kValues) {  // a row of every input, for the first samples only
+      spec.width = inputs;
+      spec.cached = true;
+      spec.stored_below = inputs_stored_below;
     }
     const bool small = spec.type == ColumnType::kInt32 || spec.type == ColumnType::kInt8Enum ||
                        spec.type == ColumnType::kText;
@@ -1082,8 +1081,9 @@ CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
     const std::int64_t rows = from.space().chunk_samples;
     // A shard whose failure rows are damaged is read sample by sample: those that lost
     // their message stay pending here and are computed again.
-    const bool failures_intact =
-        f.schema < kFirstSchemaWithSlimRows || !ReadFailureRows(opening, shard.get()).damaged();
+    std::optional<FailureRows> failures;
+    if (f.schema >= kFirstSchemaWithSlimRows) failures = ReadFailureRows(opening, shard.get());
+    const bool failures_intact = !failures || !failures->damaged();
     const bool as_stored = rows == f.chunk_rows && stored.samples == f.samples &&
                            stored.inputs_stored_below == f.inputs_stored_below && failures_intact &&
                            f.table.SameStorage(from);
@@ -1116,10 +1116,9 @@ CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
     }
     if (f.schema >= kFirstSchemaWithSlimRows && !whole.empty()) {
       // The messages of the failed samples in the chunks copied as stored, before their statuses.
-      const FailureRows failures = ReadFailureRows(opening, shard.get());
       std::vector<std::int64_t> failed;
       std::vector<char> messages;
-      for (const auto& [sample, row] : failures.latest) {
+      for (const auto& [sample, row] : failures->latest) {
         if (!std::binary_search(whole.begin(), whole.end(), sample - sample % rows)) continue;
         failed.push_back(sample);
         const std::string text = ReadFailureMessage(opening, shard.get(), row);
