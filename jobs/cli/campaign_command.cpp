@@ -50,44 +50,47 @@ void PrintRun(std::ostream& out, const PoolReport& run) {
   }
 }
 
-// What the shards cost rank 0: the messages it exchanged with worker ranks, and joining
-// the shards into the results file.
-void PrintShards(std::ostream& out, const PoolReport& run, const CampaignStore::Absorbed& joined, double join_time) {
-  if (run.ranks < 2 || run.computed == 0) return;
-  const auto per_sample = [&](double x) { return x / static_cast<double>(run.computed); };
+// Under mpirun: what the workers cost rank 0 (the messages it exchanged with them) and the
+// index it wrote of their shards.
+struct Indexed {
+  ShardIndexSummary index;
+  double seconds = 0.0;      // [s] writing the index
+  double cpu_seconds = 0.0;  // [s] of which CPU
+};
+
+void PrintShards(std::ostream& out, const PoolReport& run, const std::optional<Indexed>& indexed) {
+  if (!indexed) return;
+  const auto per_sample = [&](double x) { return run.computed > 0 ? x / static_cast<double>(run.computed) : 0.0; };
   fmt::print(out,
-             "coordinator       {:.3f} messages ({:.0f} bytes) per sample with the workers; joining their shards: "
-             "{} samples ({} in whole chunks, {:.1f} MB) in {:.2f} s\n",
+             "coordinator       {:.3f} messages ({:.0f} bytes) per sample with the workers; the results file indexes "
+             "{} shards ({} mappings, at most {} a shard), written in {:.3f} s\n",
              per_sample(static_cast<double>(run.coordinator_messages)),
-             per_sample(static_cast<double>(run.coordinator_bytes)), joined.samples, joined.chunk_samples,
-             static_cast<double>(joined.bytes) / 1e6, join_time);
+             per_sample(static_cast<double>(run.coordinator_bytes)), indexed->index.shards, indexed->index.mappings,
+             indexed->index.most_mappings, indexed->seconds);
 }
 
-nlohmann::json RunJson(const PoolReport& run, const CampaignStore::Absorbed& joined, double join_time,
-                       double join_cpu_time) {
-  return {{"computed", run.computed},
-          {"coordinator_cpu_time_s", run.coordinator_cpu_time},
-          {"shard_join_cpu_time_s", join_cpu_time},
-          {"coordinator_messages", run.coordinator_messages},
-          {"coordinator_bytes", run.coordinator_bytes},
-          {"shard_samples_joined", joined.samples},
-          {"shard_chunk_samples_joined", joined.chunk_samples},
-          {"shard_bytes_joined", joined.bytes},
-          {"shard_join_time_s", join_time},
-          {"already_done", run.already_done},
-          {"wall_time_s", run.wall_time},
-          {"samples_per_s", SamplesPerSecond(run)},
-          {"solver_time_s", run.solver_time},
-          {"commit_time_s", run.commit_time},
-          {"coordinator_time_s", run.coordinator_time},
-          {"ranks", run.ranks},
-          {"computing_ranks", run.computing_ranks}};
+nlohmann::json RunJson(const PoolReport& run, const std::optional<Indexed>& indexed) {
+  nlohmann::json json = {{"computed", run.computed},
+                         {"coordinator_cpu_time_s", run.coordinator_cpu_time},
+                         {"coordinator_messages", run.coordinator_messages},
+                         {"coordinator_bytes", run.coordinator_bytes},
+                         {"already_done", run.already_done},
+                         {"wall_time_s", run.wall_time},
+                         {"samples_per_s", SamplesPerSecond(run)},
+                         {"solver_time_s", run.solver_time},
+                         {"commit_time_s", run.commit_time},
+                         {"coordinator_time_s", run.coordinator_time},
+                         {"ranks", run.ranks},
+                         {"computing_ranks", run.computing_ranks}};
+  if (indexed) {
+    json["shards"] = indexed->index.shards;
+    json["shard_mappings"] = indexed->index.mappings;
+    json["shard_mappings_most"] = indexed->index.most_mappings;
+    json["index_time_s"] = indexed->seconds;
+    json["index_cpu_time_s"] = indexed->cpu_seconds;
+  }
+  return json;
 }
-
-
-
-
-
 
 // Progress on stderr: a bar redrawn in place on a terminal, a line every `interval`
 // seconds otherwise (logs of batch jobs).
@@ -152,6 +155,43 @@ std::int64_t SamplesOnDisk(const std::filesystem::path& file) {
 }
 
 
+
+// Whether `out` is kept in shards: an index of them, or shards a killed run left (beside
+// a self-contained file, or before its first index). InputError for an index whose shard is
+// missing.
+bool IsSharded(const std::filesystem::path& out) {
+  if (!FindShards(out).empty()) return true;
+  return std::filesystem::exists(out) && !IndexedShards(out).empty();
+}
+
+// Makes every shard of `out` ready to continue (CampaignStore::Resume: damage repaired,
+// grown to `samples`) and returns the samples they hold. A self-contained results file
+// becomes shard 0 (renamed: its samples stay where they are on disk), so that a campaign
+// started in one process continues under mpirun.
+std::vector<bool> ResumeShards(const std::filesystem::path& out, const CampaignIdentity& identity,
+                               std::int64_t samples, const CampaignStoreOptions& options) {
+  const std::filesystem::path own = ShardPath(out, 0);
+  if (std::filesystem::exists(out) && IndexedShards(out).empty()) {
+    if (const int schema = CampaignReader(out).schema_version(); schema < kCampaignSchemaVersion) {
+      throw InputError(fmt::format("{}: was written by an older ringtol (schema {}), which keeps it in one file: "
+                                   "resume it without mpirun",
+                                   out.string(), schema));
+    }
+    if (std::filesystem::exists(own)) {
+      throw InputError(fmt::format("{}: keeps samples itself and {} exists beside it: move one of them away",
+                                   out.string(), own.string()));
+    }
+    // Checked and repaired as it is before it changes its name.
+    { const CampaignStore plain = CampaignStore::Resume(out, identity, samples, options); }
+    std::filesystem::rename(out, own);
+  }
+  const std::vector<std::filesystem::path> shards = FindShards(out);
+  for (const std::filesystem::path& path : shards) {
+    const CampaignStore shard = CampaignStore::Resume(path, identity, samples, options);
+  }
+  return FinishedSamples(shards, samples);
+}
+
 }  // namespace
 
 int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream& progress) {
@@ -193,43 +233,75 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
     campaign = std::make_unique<Campaign>(command.file, samples, command.seed);
   }));
 
+  // Rank 0's results file, or under mpirun the shard of every computing rank (rank 0's
+  // included) and `finished`, what the shards already hold.
   std::unique_ptr<CampaignStore> store;
+  std::vector<bool> finished;
+  std::array<std::int64_t, 3> layout = {0, 0, 0};  // sharded, chunk rows, inputs stored below
   std::string error;
   if (rank == 0) {
     error = Attempt([&] {
-      const std::vector<std::filesystem::path> shards = FindShards(command.out);
-      if (!command.resume && !shards.empty()) {
-        throw InputError(fmt::format("{}: shards of an earlier run of it exist ({}); pass --resume to continue that "
-                                     "run, or remove them to start a new one",
-                                     command.out.string(), shards.front().string()));
-      }
+      const bool sharded = ranks > 1 || (command.resume && IsSharded(command.out));
       CampaignStoreOptions options;
       if (command.store_inputs) options.inputs_stored_below = std::numeric_limits<std::int64_t>::max();
-      store = std::make_unique<CampaignStore>(
-          command.resume ? CampaignStore::Resume(command.out, campaign->identity(), campaign->samples())
-                         : CampaignStore::Create(command.out, campaign->identity(), campaign->samples(), options));
-      // What a run killed before joining its shards left in them.
-      for (const std::filesystem::path& shard : shards) store->Absorb(shard);
+      if (!command.resume) {
+        if (const std::vector<std::filesystem::path> shards = FindShards(command.out); !shards.empty()) {
+          throw InputError(fmt::format("{}: shards of an earlier run of it exist ({}); pass --resume to continue "
+                                       "that run, or remove them to start a new one",
+                                       command.out.string(), shards.front().string()));
+        }
+      }
+      if (!sharded) {
+        store = std::make_unique<CampaignStore>(
+            command.resume ? CampaignStore::Resume(command.out, campaign->identity(), campaign->samples())
+                           : CampaignStore::Create(command.out, campaign->identity(), campaign->samples(), options));
+      } else {
+        if (command.resume) {
+          finished = ResumeShards(command.out, campaign->identity(), campaign->samples(), options);
+        }
+        if (finished.empty()) finished.assign(static_cast<std::size_t>(campaign->samples()), false);
+        // Opened again once the index of every shard is written (below).
+        const std::filesystem::path own = ShardPath(command.out, 0);
+        if (!std::filesystem::exists(own)) {
+          const CampaignStore created = CampaignStore::Create(own, campaign->identity(), campaign->samples(), options);
+          layout = {1, created.chunk_rows(), created.inputs_stored_below()};
+        } else {
+          const CampaignStore resumed = CampaignStore::Resume(own, campaign->identity(), campaign->samples());
+          layout = {1, resumed.chunk_rows(), resumed.inputs_stored_below()};
+        }
+        return;
+      }
+      layout = {0, store->chunk_rows(), store->inputs_stored_below()};
     });
   }
   ThrowAgreed(world, error);
 
-  // Worker ranks file what they compute in shards of their own, chunked as the results
-  // file is and keeping the same samples' inputs, so that rank 0 joins them by copying
-  // whole chunks.
-  std::array<std::int64_t, 2> layout = {rank == 0 ? store->chunk_rows() : 0,
-                                        rank == 0 ? store->inputs_stored_below() : 0};
-  MPI_Bcast(layout.data(), 2, MPI_INT64_T, 0, world);
-  const std::int64_t chunk_rows = layout[0];
+  // Every other rank files what it computes in a shard of its own, chunked as rank 0's and
+  // keeping the same samples' inputs.
+  MPI_Bcast(layout.data(), 3, MPI_INT64_T, 0, world);
+  const bool sharded = layout[0] != 0;
+  const std::int64_t chunk_rows = layout[1];
   pool.align_samples = chunk_rows;
   std::unique_ptr<CampaignStore> shard;
   if (rank != 0) {
     error = Attempt([&] {
       CampaignStoreOptions options;
       options.chunk_samples = chunk_rows;
-      options.inputs_stored_below = layout[1];
+      options.inputs_stored_below = layout[2];
+      const std::filesystem::path path = ShardPath(command.out, rank);
       shard = std::make_unique<CampaignStore>(
-          CampaignStore::Create(ShardPath(command.out, rank), campaign->identity(), campaign->samples(), options));
+          std::filesystem::exists(path) ? CampaignStore::Resume(path, campaign->identity(), campaign->samples())
+                                        : CampaignStore::Create(path, campaign->identity(), campaign->samples(), options));
+    });
+  }
+  ThrowAgreed(world, error);
+  // The results file exists from the start: an index of the shards, showing what they
+  // hold now (rewritten when the run ends or stops).
+  if (rank == 0 && sharded) {
+    error = Attempt([&] {
+      WriteShardIndex(command.out, campaign->identity(), campaign->samples(), FindShards(command.out));
+      store = std::make_unique<CampaignStore>(
+          CampaignStore::Resume(ShardPath(command.out, 0), campaign->identity(), campaign->samples()));
     });
   }
   ThrowAgreed(world, error);
@@ -238,23 +310,22 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   if (rank == 0 && !command.quiet) {
     report_progress = ProgressPrinter(progress, isatty(STDERR_FILENO) == 1, command.progress_seconds);
   }
-  const PoolReport run = RunPool(world, *campaign, rank == 0 ? store.get() : shard.get(), pool, report_progress);
-  shard.reset();  // committed and closed before rank 0 joins it
+  const PoolReport run = RunPool(world, *campaign, rank == 0 ? store.get() : shard.get(), pool, report_progress,
+                                 rank == 0 && sharded ? &finished : nullptr);
+  // Committed and closed before rank 0 indexes the shards; the summary reads what is on disk.
+  shard.reset();
+  store.reset();
   MPI_Barrier(world);
   const int stopped = run.stopped != 0 ? run.stopped : signals->received();
   if (rank != 0) return signals->received() != 0 ? StopSignals::ExitCode(signals->received()) : 0;
-  CampaignStore::Absorbed joined;
-  const auto join_start = std::chrono::steady_clock::now();
-  const double join_cpu_start = ThreadCpuSeconds();
-  for (const std::filesystem::path& path : FindShards(command.out)) {
-    const CampaignStore::Absorbed one = store->Absorb(path);
-    joined.samples += one.samples;
-    joined.chunk_samples += one.chunk_samples;
-    joined.bytes += one.bytes;
+  std::optional<Indexed> indexed;
+  if (sharded) {
+    const auto index_start = std::chrono::steady_clock::now();
+    const double index_cpu_start = ThreadCpuSeconds();
+    indexed = Indexed{WriteShardIndex(command.out, campaign->identity(), campaign->samples(), FindShards(command.out))};
+    indexed->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - index_start).count();
+    indexed->cpu_seconds = ThreadCpuSeconds() - index_cpu_start;
   }
-  const double join_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - join_start).count();
-  const double join_cpu_time = ThreadCpuSeconds() - join_cpu_start;
-  store.reset();  // closes the file: the summary reads what is on disk
   if (stopped != 0) {
     const std::int64_t on_disk = SamplesOnDisk(command.out);
     fmt::print(progress,
@@ -272,7 +343,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
       Summarise(results, [&campaign = *campaign](std::int64_t index) { return campaign.IndependentDraw(index); });
   if (command.json) {
     nlohmann::json json = SummaryJson(summary);
-    json["run"] = RunJson(run, joined, join_time, join_cpu_time);
+    json["run"] = RunJson(run, indexed);
     out << json.dump(2) << "\n";
   } else {
     fmt::print(out, "campaign          {}\n", command.file.string());
@@ -281,7 +352,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
                campaign->identity().seed, campaign->identity().inputs.size(), campaign->identity().solver);
     PrintSummary(out, summary);
     PrintRun(out, run);
-    PrintShards(out, run, joined, join_time);
+    PrintShards(out, run, indexed);
   }
   return 0;
 }

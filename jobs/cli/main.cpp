@@ -19,6 +19,7 @@
 #include "jobs/cli/sample_command.h"
 #include "jobs/cli/simulate_command.h"
 #include "jobs/cli/inputs_command.h"
+#include "jobs/cli/join_command.h"
 #include "jobs/cli/verify_command.h"
 #include "jobs/inputs/input_error.h"
 #include "solvers/simulation.h"
@@ -338,6 +339,14 @@ CLI::App* AddInputs(CLI::App& app, ringtol::jobs::InputsCommand& inputs) {
   return sub;
 }
 
+CLI::App* AddJoin(CLI::App& app, ringtol::jobs::JoinCommand& join) {
+  CLI::App* sub = app.add_subcommand(
+      "join", "Join the shards of a results file written under mpirun into one self-contained file");
+  AddInputFile(*sub, "results", join.results, "Results file (HDF5) of ringtol campaign under mpirun: an index of shards");
+  sub->add_option("--out", join.out, "Write the joined file here and keep the index and its shards (default: replace the index)");
+  return sub;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -386,6 +395,8 @@ int main(int argc, char** argv) {
   const CLI::App* verify_app = AddVerify(app, verify);
   ringtol::jobs::InputsCommand inputs;
   const CLI::App* inputs_app = AddInputs(app, inputs);
+  ringtol::jobs::JoinCommand join;
+  const CLI::App* join_app = AddJoin(app, join);
 
   try {
     app.parse(argc, argv);
@@ -419,6 +430,7 @@ int main(int argc, char** argv) {
     if (*report_app) return ringtol::jobs::RunReport(report, std::cout);
     if (*verify_app) return ringtol::jobs::RunVerify(verify, std::cout);
     if (*inputs_app) return ringtol::jobs::RunInputs(inputs, std::cout);
+    if (*join_app) return ringtol::jobs::RunJoin(join, std::cout);
   } catch (const ringtol::jobs::InputError& e) {
     std::cerr << "ringtol: error: " << e.what() << "\n";
     return 1;

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "jobs/inputs/input_error.h"
+#include "jobs/store/campaign_store.h"
 
 namespace ringtol::jobs {
 
@@ -53,7 +54,8 @@ void CheckOutput(const std::filesystem::path& out, bool resume) {
                      (out / "results.h5").string());
   }
   if (resume) {
-    if (!std::filesystem::exists(out))
+    // A run under mpirun killed before it first indexed its shards left only them.
+    if (!std::filesystem::exists(out) && FindShards(out).empty())
       throw InputError(name + ": --resume: there is no such results file to continue");
     return;
   }

@@ -178,12 +178,18 @@ class CampaignWork final : public PoolWork {
   const Campaign& campaign_;
 };
 
+// A campaign's results file, or rank 0's shard with what every shard held at the start.
 class CampaignResults final : public PoolResults {
  public:
-  explicit CampaignResults(CampaignStore& store) : store_(store) {}
+  CampaignResults(CampaignStore& store, const std::vector<bool>* finished) : store_(store), finished_(finished) {}
   std::int64_t items() const override { return store_.samples(); }
   std::vector<std::int64_t> Pending(std::int64_t begin, std::int64_t end) const override {
-    return store_.Pending(begin, end);
+    if (finished_ == nullptr) return store_.Pending(begin, end);
+    std::vector<std::int64_t> pending;
+    for (std::int64_t index = begin; index < end; ++index) {
+      if (!(*finished_)[static_cast<std::size_t>(index)]) pending.push_back(index);
+    }
+    return pending;
   }
   void Add(SampleRecord record) override { store_.Add(std::move(record)); }
   std::size_t buffered() const override { return store_.buffered(); }
@@ -191,6 +197,7 @@ class CampaignResults final : public PoolResults {
 
  private:
   CampaignStore& store_;
+  const std::vector<bool>* finished_;
 };
 
 // 0 while the pool goes on; the stop request's value once there is one.
@@ -658,10 +665,10 @@ PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* res
 }
 
 PoolReport RunPool(MPI_Comm communicator, const Campaign& campaign, CampaignStore* store, const PoolOptions& options,
-                   const std::function<void(const PoolProgress&)>& progress) {
+                   const std::function<void(const PoolProgress&)>& progress, const std::vector<bool>* finished) {
   const CampaignWork work(campaign);
   std::optional<CampaignResults> results;
-  if (store != nullptr) results.emplace(*store);
+  if (store != nullptr) results.emplace(*store, finished);
   return RunPool(communicator, work, results ? &*results : nullptr, options, progress);
 }
 

@@ -51,6 +51,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <vector>
 
 #include "jobs/campaign/campaign.h"
 #include "jobs/store/campaign_store.h"
@@ -60,8 +61,8 @@ namespace ringtol::jobs {
 struct PoolOptions {
   std::int64_t chunk_samples = 0;  // > 0: samples per chunk, fixed; 0: adaptive
   // > 0: samples are handed out block-cyclically in blocks of this many (the results file's
-  // chunk rows), so that each stored chunk is written by one rank and shards join by
-  // copying whole chunks; 0: in ascending order (an allocation's rounds, whose items are
+  // chunk rows), so that each stored chunk is written by one rank, each shard maps into the
+  // index as a few strided runs, and `ringtol join` copies whole chunks; 0: in ascending order (an allocation's rounds, whose items are
   // no file's rows).
   std::int64_t align_samples = 0;
   double chunk_seconds = 0.5;      // [s] > 0: adaptive chunks' target wall time
@@ -161,8 +162,11 @@ PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* res
 double ThreadCpuSeconds();
 
 // A campaign's pending samples into its results file (`store`: rank 0's; on a worker rank
-// its shard, or null).
+// its shard, or null). With `finished` (rank 0; jobs/store/campaign_store.h: shards as the
+// results file) `store` is rank 0's own shard and the samples to compute are those
+// `finished` does not hold, instead of the store's pending ones.
 PoolReport RunPool(MPI_Comm communicator, const Campaign& campaign, CampaignStore* store, const PoolOptions& options,
-                   const std::function<void(const PoolProgress&)>& progress);
+                   const std::function<void(const PoolProgress&)>& progress,
+                   const std::vector<bool>* finished = nullptr);
 
 }  // namespace ringtol::jobs

@@ -202,6 +202,10 @@ struct Stored {
   int schema_version = 0;
   // Samples from here on keep no u and values (schema 5; every sample before it).
   std::int64_t inputs_stored_below = std::numeric_limits<std::int64_t>::max();
+  // An index of shards (kShardIndexSchemaVersion): schema_version is then its rows' schema,
+  // and the shards' chunk rows the blocks its readers read statuses in.
+  bool index = false;
+  std::int64_t chunk_rows = 1;
 };
 
 Stored ReadStored(const Where& where, hid_t file) {
@@ -218,15 +222,22 @@ Stored ReadStored(const Where& where, hid_t file) {
   const auto schema =
       Require(where, ReadNumberAttribute<std::int64_t>(where, file, "schema_version", H5T_INTEGER, H5T_NATIVE_INT64),
               "schema_version");
-  if (schema > kCampaignSchemaVersion) {
+  if (schema > kShardIndexSchemaVersion) {
     throw InputError(fmt::format("{}: was written by a newer ringtol (schema {}); this ringtol reads schema {}",
-                                 where.file, schema, kCampaignSchemaVersion));
+                                 where.file, schema, kShardIndexSchemaVersion));
   }
   if (schema < kOldestReadableSchema) {
     throw InputError(fmt::format("{}: has unknown schema version {}; this ringtol reads schemas {} to {}", where.file,
-                                 schema, kOldestReadableSchema, kCampaignSchemaVersion));
+                                 schema, kOldestReadableSchema, kShardIndexSchemaVersion));
   }
-  stored.schema_version = static_cast<int>(schema);
+  stored.index = schema == kShardIndexSchemaVersion;
+  stored.schema_version = stored.index ? kCampaignSchemaVersion : static_cast<int>(schema);
+  if (stored.index) {
+    stored.chunk_rows = Require(
+        where, ReadNumberAttribute<std::int64_t>(where, file, "shard_chunk_rows", H5T_INTEGER, H5T_NATIVE_INT64),
+        "shard_chunk_rows");
+    if (stored.chunk_rows < 1) Fail(where, fmt::format("attribute shard_chunk_rows = {} is not positive", stored.chunk_rows));
+  }
 
   CampaignIdentity& identity = stored.identity;
   const auto text = [&](const char* name) { return Require(where, ReadStringAttribute(where, file, name), name); };
@@ -415,7 +426,7 @@ RowSpace Rows(std::int64_t samples, std::int64_t chunk_samples = 1) {
 // Opens the columns of a file of `stored`'s schema and size.
 SampleTable OpenColumns(const Where& where, hid_t file, const Stored& stored, std::size_t cache_bytes = 0) {
   return SampleTable::Open(
-      where, file, Rows(stored.samples),
+      where, file, Rows(stored.samples, stored.chunk_rows),
       Columns(stored.schema_version, stored.identity.inputs.size(), 0, stored.inputs_stored_below), cache_bytes);
 }
 
@@ -623,10 +634,11 @@ hsize_t DefaultChunkRows(const CampaignStoreOptions& options, std::int64_t sampl
   return std::min<hsize_t>(rows, static_cast<hsize_t>(samples));
 }
 
-void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identity, std::int64_t samples,
-                 const CampaignStoreOptions& options) {
+// The root's attributes, the groups, the input descriptions and the calibrations: what a
+// results file and an index of shards (`schema`) share.
+void WriteIdentity(const Where& where, hid_t file, const CampaignIdentity& identity, std::int64_t samples,
+                   const CampaignStoreOptions& options, std::int32_t schema) {
   WriteStringAttribute(where, file, "format", kFormat);
-  const std::int32_t schema = kCampaignSchemaVersion;
   WriteAttribute(where, file, "schema_version", H5T_STD_I32LE, H5T_NATIVE_INT32, &schema);
   WriteStringAttribute(where, file, "ringtol_version", identity.ringtol_version);
   WriteStringAttribute(where, file, "catalogue_version", identity.catalogue_version);
@@ -648,18 +660,16 @@ void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identit
 
   const std::int64_t stored_below = options.inputs_stored_below;
   WriteAttribute(where, file, "inputs_stored_below", H5T_STD_I64LE, H5T_NATIVE_INT64, &stored_below);
-  const auto chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples, identity.inputs.size()));
-  SampleTable::Create(where, file, Rows(samples, chunk_rows),
-                      Columns(kCampaignSchemaVersion, identity.inputs.size(), options.deflate_level, stored_below),
-                      options.checksums);
-  CreateFailures(where, file, options.checksums);
+}
+
+// The outputs' attributes: spec limits, and what the two sensor columns mean and how the
+// swing was read, for readers of the file that do not parse base_scene.
+void WriteColumnAttributes(const Where& where, hid_t file, const CampaignIdentity& identity) {
   for (const SpecLimit& limit : identity.spec) {
     const std::string path = "/outputs/" + limit.output;
     const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
     WriteAttribute(where, dataset.get(), "upper_spec_limit", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &limit.upper);
   }
-  // What the two sensor columns mean and how the swing was read, for readers of the file
-  // that do not parse base_scene.
   const DatasetId runout(Check(H5Dopen2(file, "/outputs/runout_mm", H5P_DEFAULT), where, "opening dataset",
                                "/outputs/runout_mm"));
   WriteStringAttribute(where, runout.get(), "definition", kRunoutDefinition);
@@ -669,6 +679,18 @@ void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identit
   const double resolution_um = identity.swing.resolution * units::kMicrometresPerMetre;
   WriteAttribute(where, swing.get(), "resolution_um", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &resolution_um);
   WriteAttribute(where, swing.get(), "cutoff_upr", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &identity.swing.cutoff_upr);
+}
+
+void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identity, std::int64_t samples,
+                 const CampaignStoreOptions& options) {
+  WriteIdentity(where, file, identity, samples, options, kCampaignSchemaVersion);
+  const auto chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples, identity.inputs.size()));
+  SampleTable::Create(
+      where, file, Rows(samples, chunk_rows),
+      Columns(kCampaignSchemaVersion, identity.inputs.size(), options.deflate_level, options.inputs_stored_below),
+      options.checksums);
+  CreateFailures(where, file, options.checksums);
+  WriteColumnAttributes(where, file, identity);
 }
 
 std::string ExistsMessage(const std::string& file) {
@@ -905,6 +927,9 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
   {
     const FileId reading = OpenForReading(path);
     stored = ReadStored(opening, reading.get());
+    if (stored.index) {
+      throw InputError(name + ": is an index of shards: `ringtol campaign --resume` continues it through its shards");
+    }
     if (stored.schema_version < kOldestResumableSchema) {
       throw InputError(fmt::format(
           "{}: was written by an older ringtol (schema {}); it can be reported but not resumed by this one (schemas "
@@ -1064,6 +1089,7 @@ CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
   {
     const FileId shard = OpenForReading(shard_path);
     const Stored stored = ReadStored(opening, shard.get());
+    if (stored.index) throw InputError(opening.file + ": is an index of shards, not a shard");
     if (stored.schema_version != f.schema) {
       throw InputError(fmt::format("{}: is a shard of schema {}, not {}", opening.file, stored.schema_version,
                                    f.schema));
@@ -1140,9 +1166,6 @@ CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
     }
     Commit();
   }
-  std::error_code error;
-  fs::remove(shard_path, error);
-  if (error) Fail(f.where, fmt::format("cannot remove shard {}: {}", shard_path.string(), error.message()));
   return absorbed;
 }
 
@@ -1169,6 +1192,261 @@ std::vector<fs::path> FindShards(const fs::path& results) {
   std::vector<fs::path> shards;
   for (auto& [rank, path] : found) shards.push_back(std::move(path));
   return shards;
+}
+
+// ---------------------------------------------------------------------------------------
+// Shard indexes
+
+namespace {
+
+constexpr const char* kShardFiles = "/shards/file";
+
+// The finished samples of a shard that no earlier shard has, as ranges, marking them in
+// `owned`.
+std::vector<SampleRange> ClaimFinished(const SampleTable& table, std::vector<bool>& owned) {
+  std::vector<SampleRange> rows;
+  const std::int64_t samples = table.space().samples;
+  constexpr std::int64_t kBlock = std::int64_t{1} << 20;
+  for (std::int64_t begin = 0; begin < samples; begin += kBlock) {
+    const std::int64_t count = std::min(kBlock, samples - begin);
+    const std::vector<SampleStatus> statuses = table.Statuses(0, begin, count);
+    for (std::int64_t i = 0; i < count; ++i) {
+      const std::int64_t sample = begin + i;
+      if (statuses[static_cast<std::size_t>(i)] == SampleStatus::kPending || owned[static_cast<std::size_t>(sample)]) {
+        continue;
+      }
+      owned[static_cast<std::size_t>(sample)] = true;
+      if (!rows.empty() && rows.back().end == sample) {
+        ++rows.back().end;
+      } else {
+        rows.push_back({sample, sample + 1});
+      }
+    }
+  }
+  return rows;
+}
+
+hsize_t FailureRowCount(const Where& where, hid_t file) {
+  const DatasetId dataset(Check(H5Dopen2(file, kFailureSamples, H5P_DEFAULT), where, "opening dataset",
+                                kFailureSamples));
+  const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", kFailureSamples));
+  hsize_t rows = 0;
+  H5Sget_simple_extent_dims(space.get(), &rows, nullptr);
+  return rows;
+}
+
+// /failures/sample and /failures/message as every shard's rows, one shard after another.
+void CreateFailureViews(const Where& where, hid_t file, const std::vector<std::string>& shards,
+                        const std::vector<hsize_t>& rows) {
+  const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
+  GroupId(Check(H5Gcreate2(file, "failures", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group",
+                "failures"));
+  hsize_t total = 0;
+  for (const hsize_t n : rows) total += n;
+  const TypeId message = FixedString(where, kMessageBytes);
+  for (const auto& [path, type] : {std::pair<const char*, hid_t>{kFailureSamples, H5T_STD_I64LE},
+                                   std::pair<const char*, hid_t>{kFailureMessages, message.get()}}) {
+    const SpaceId view(Check(H5Screate_simple(1, &total, nullptr), where, "creating the dataspace of", path));
+    const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+    CheckStatus(H5Pset_layout(dcpl.get(), H5D_VIRTUAL), where, "configuring", path);
+    if (type == H5T_STD_I64LE) {
+      CheckStatus(H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT64, &kNoFailureSample), where,
+                  "setting the fill value of", path);
+    }
+    hsize_t first = 0;
+    for (std::size_t s = 0; s < shards.size(); ++s) {
+      if (rows[s] == 0) continue;
+      const SpaceId from(Check(H5Screate_simple(1, &rows[s], nullptr), where, "creating the dataspace of", path));
+      CheckStatus(H5Sselect_hyperslab(view.get(), H5S_SELECT_SET, &first, nullptr, &rows[s], nullptr), where,
+                  "selecting rows of", path);
+      CheckStatus(H5Pset_virtual(dcpl.get(), view.get(), shards[s].c_str(), path, from.get()), where,
+                  "mapping " + shards[s] + " into", path);
+      first += rows[s];
+    }
+    CheckStatus(H5Sselect_all(view.get()), where, "selecting", path);
+    DatasetId(Check(H5Dcreate2(file, path, type, view.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
+                    "creating dataset", path));
+  }
+}
+
+// A shard an index lists, as ReadStored finds it: InputError unless it is a results file
+// of the index's campaign, of no more samples, keeping the same inputs.
+Stored CheckShard(const Where& index, const fs::path& shard, const Stored& expected) {
+  std::error_code error;
+  if (!fs::exists(shard, error)) {
+    throw InputError(fmt::format("{}: is an index of shards, and its shard {} is missing: put it back beside the "
+                                 "index (the samples it holds are nowhere else)",
+                                 index.file, shard.string()));
+  }
+  const Where opening{shard.string(), true};
+  const FileId file = OpenForReading(shard);
+  Stored stored = ReadStored(opening, file.get());
+  if (stored.index) throw InputError(opening.file + ": is an index of shards, not a shard");
+  if (stored.schema_version != expected.schema_version) {
+    throw InputError(fmt::format("{}: is a shard of schema {}, not {}", opening.file, stored.schema_version,
+                                 expected.schema_version));
+  }
+  if (const std::optional<std::string> difference = IdentityDifference(stored.identity, expected.identity)) {
+    throw InputError(opening.file + ": is a shard of another campaign than " + index.file + ": " + *difference);
+  }
+  if (stored.samples > expected.samples) {
+    throw InputError(fmt::format("{}: is a shard of {} samples, more than the {} of {}", opening.file, stored.samples,
+                                 expected.samples, index.file));
+  }
+  if (stored.inputs_stored_below != expected.inputs_stored_below) {
+    throw InputError(fmt::format("{}: keeps the inputs of samples below {}, where {} keeps those below {}",
+                                 opening.file, stored.inputs_stored_below, index.file, expected.inputs_stored_below));
+  }
+  return stored;
+}
+
+// The shards of an index, each checked.
+std::vector<fs::path> ListedShards(const Where& where, hid_t file, const fs::path& index, const Stored& stored) {
+  std::vector<fs::path> shards;
+  const fs::path folder = index.parent_path();
+  for (const std::string& name : ReadStrings(where, file, kShardFiles)) {
+    if (name.empty() || fs::path(name).has_parent_path()) {
+      Fail(where, fmt::format("dataset {} names '{}', not a file beside the index", kShardFiles, name));
+    }
+    shards.push_back(folder / name);
+    CheckShard(where, shards.back(), stored);
+  }
+  return shards;
+}
+
+}  // namespace
+
+ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentity& identity, std::int64_t samples,
+                                  const std::vector<fs::path>& shards) {
+  const QuietErrors quiet;
+  const std::string name = results.string();
+  std::error_code error;
+  if (fs::exists(results, error)) {
+    const FileId file = OpenForReading(results);
+    if (!ReadStored(Where{name, true}, file.get()).index) {
+      throw InputError(name + ": keeps samples of its own; an index of shards cannot replace it");
+    }
+  }
+  Stored expected;
+  expected.identity = identity;
+  expected.samples = samples;
+  expected.schema_version = kCampaignSchemaVersion;
+  ShardIndexSummary summary;
+  std::vector<VirtualSource> sources;
+  std::vector<std::string> names;
+  std::vector<hsize_t> failure_rows;
+  std::vector<bool> owned(static_cast<std::size_t>(samples), false);
+  std::int64_t chunk_rows = 0;
+  for (std::size_t s = 0; s < shards.size(); ++s) {
+    const fs::path& shard = shards[s];
+    if (fs::weakly_canonical(shard).parent_path() != fs::weakly_canonical(results).parent_path()) {
+      throw std::invalid_argument("WriteShardIndex: shard " + shard.string() + " is not beside " + name);
+    }
+    const Where opening{shard.string(), true};
+    const FileId file = OpenForReading(shard);
+    const Stored stored = ReadStored(opening, file.get());
+    if (s == 0) expected.inputs_stored_below = stored.inputs_stored_below;
+    CheckShard(Where{name, true}, shard, expected);
+    const SampleTable table = OpenColumns(opening, file.get(), stored);
+    if (s == 0) chunk_rows = table.space().chunk_samples;
+    VirtualSource source{shard.filename().string(), stored.samples, ClaimFinished(table, owned)};
+    for (const SampleRange& range : source.rows) summary.samples += range.end - range.begin;
+    summary.most_mappings = std::max(summary.most_mappings, static_cast<std::int64_t>(RegularRuns(source.rows).size()));
+    names.push_back(source.file);
+    failure_rows.push_back(FailureRowCount(opening, file.get()));
+    sources.push_back(std::move(source));
+  }
+  if (sources.empty()) throw std::invalid_argument("WriteShardIndex: no shards");
+  summary.shards = static_cast<std::int64_t>(sources.size());
+
+  fs::path temporary = results;
+  temporary += ".index-new";
+  fs::remove(temporary, error);  // what a kill while writing the last one left
+  const Where where{name, false};
+  try {
+    FileId file = CreateExclusive(temporary, results);
+    CampaignStoreOptions options;
+    options.inputs_stored_below = expected.inputs_stored_below;
+    WriteIdentity(where, file.get(), identity, samples, options, kShardIndexSchemaVersion);
+    WriteAttribute(where, file.get(), "shard_chunk_rows", H5T_STD_I64LE, H5T_NATIVE_INT64, &chunk_rows);
+    const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
+    GroupId(Check(H5Gcreate2(file.get(), "shards", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group",
+                  "shards"));
+    WriteStrings(where, file.get(), kShardFiles, names, true);
+    summary.mappings = SampleTable::CreateVirtual(
+        where, file.get(), Rows(samples, chunk_rows),
+        Columns(kCampaignSchemaVersion, identity.inputs.size(), 0, expected.inputs_stored_below), sources);
+    CreateFailureViews(where, file.get(), names, failure_rows);
+    WriteColumnAttributes(where, file.get(), identity);
+    if (!file.Close()) Fail(where, "closing the new index failed (HDF5: " + Hdf5Detail() + ")");
+    fs::rename(temporary, results, error);
+    if (error) Fail(where, "cannot give the new index its name: " + error.message());
+  } catch (...) {
+    fs::remove(temporary, error);
+    throw;
+  }
+  return summary;
+}
+
+std::vector<bool> FinishedSamples(const std::vector<fs::path>& shards, std::int64_t samples) {
+  const QuietErrors quiet;
+  std::vector<bool> finished(static_cast<std::size_t>(samples), false);
+  for (const fs::path& shard : shards) {
+    const Where opening{shard.string(), true};
+    const FileId file = OpenForReading(shard);
+    Stored stored = ReadStored(opening, file.get());
+    stored.samples = std::min(stored.samples, samples);
+    ClaimFinished(OpenColumns(opening, file.get(), stored), finished);
+  }
+  return finished;
+}
+
+std::vector<fs::path> IndexedShards(const fs::path& results) {
+  const QuietErrors quiet;
+  const Where where{results.string(), true};
+  const FileId file = OpenForReading(results);
+  const Stored stored = ReadStored(where, file.get());
+  if (!stored.index) return {};
+  return ListedShards(where, file.get(), results, stored);
+}
+
+CampaignStore::Absorbed JoinShards(const fs::path& results, const fs::path& out) {
+  std::vector<fs::path> shards;
+  Stored stored;
+  {
+    const QuietErrors quiet;
+    const Where where{results.string(), true};
+    const FileId file = OpenForReading(results);
+    stored = ReadStored(where, file.get());
+    if (!stored.index) throw InputError(results.string() + ": keeps its samples itself: there are no shards to join");
+    shards = ListedShards(where, file.get(), results, stored);
+  }
+  const bool in_place = fs::weakly_canonical(out) == fs::weakly_canonical(results);
+  fs::path target = out;
+  std::error_code error;
+  if (in_place) {
+    target += ".joining";
+    fs::remove(target, error);  // what a killed join left
+  }
+  CampaignStoreOptions options;
+  options.chunk_samples = stored.chunk_rows;
+  options.inputs_stored_below = stored.inputs_stored_below;
+  CampaignStore::Absorbed joined;
+  {
+    CampaignStore store = CampaignStore::Create(target, stored.identity, stored.samples, options);
+    for (const fs::path& shard : shards) {
+      const CampaignStore::Absorbed one = store.Absorb(shard);
+      joined.samples += one.samples;
+      joined.chunk_samples += one.chunk_samples;
+      joined.bytes += one.bytes;
+    }
+  }
+  if (in_place) {
+    fs::rename(target, results, error);
+    if (error) throw std::runtime_error(results.string() + ": cannot replace the index: " + error.message());
+    for (const fs::path& shard : shards) fs::remove(shard, error);
+  }
+  return joined;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1254,6 +1532,8 @@ void CampaignReader::File::Open(const fs::path& path) {
   where = Where{path.string(), true};
   file = OpenForReading(path);
   stored = ReadStored(where, file.get());
+  // HDF5 reads the rows of a shard that is missing as fill, silently: refuse instead.
+  if (stored.index) ListedShards(where, file.get(), path, stored);
   table = OpenColumns(where, file.get(), stored);
   where.input = false;  // open and valid: later failures are the system's
   table.set_where(where);
@@ -1361,11 +1641,95 @@ bool ResultsCheck::checksummed() const {
   return std::all_of(datasets.begin(), datasets.end(), [](const DatasetCheck& d) { return d.checksummed; });
 }
 
+namespace {
+
+// The rows of `mask` that hold `value`, as ranges.
+std::vector<SampleRange> RangesOf(const std::vector<std::uint8_t>& mask, std::uint8_t value) {
+  std::vector<SampleRange> ranges;
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    if (mask[i] != value) continue;
+    const auto sample = static_cast<std::int64_t>(i);
+    if (!ranges.empty() && ranges.back().end == sample) {
+      ++ranges.back().end;
+    } else {
+      ranges.push_back({sample, sample + 1});
+    }
+  }
+  return ranges;
+}
+
+void Mark(std::vector<std::uint8_t>& mask, const std::vector<SampleRange>& ranges, std::uint8_t value) {
+  for (const SampleRange& range : ranges) {
+    std::fill(mask.begin() + range.begin, mask.begin() + range.end, value);
+  }
+}
+
+// An index's check: every shard's, each shard answering for the samples it does not hold
+// pending, merged by dataset. A sample is to be computed again when no shard holds it
+// whole.
+ResultsCheck CheckIndex(const Where& where, hid_t file, const fs::path& path, const Stored& stored) {
+  ResultsCheck merged;
+  merged.samples = stored.samples;
+  const auto n = static_cast<std::size_t>(stored.samples);
+  std::vector<std::uint8_t> claimed(n, 0);
+  std::vector<std::uint8_t> done(n, 0);
+  std::vector<std::uint8_t> whole(n, 0);
+  for (const fs::path& shard : ListedShards(where, file, path, stored)) {
+    const ResultsCheck one = CheckResults(shard);
+    std::vector<std::uint8_t> answers(n, 0);  // 1: the shard answers for the sample; 2: and it is damaged there
+    std::fill_n(answers.begin(), static_cast<std::size_t>(one.samples), 1);
+    Mark(answers, one.pending, 0);
+    std::vector<std::uint8_t> status_read = answers;
+    for (const DatasetCheck& dataset : one.datasets) {
+      std::vector<SampleRange> damaged;
+      for (const SampleRange& range : dataset.damaged) {
+        for (std::int64_t i = range.begin; i < range.end; ++i) {
+          if (answers[static_cast<std::size_t>(i)] == 0) continue;
+          answers[static_cast<std::size_t>(i)] = 2;
+          if (dataset.path == "/outputs/status") status_read[static_cast<std::size_t>(i)] = 0;
+          if (!damaged.empty() && damaged.back().end == i) {
+            ++damaged.back().end;
+          } else {
+            damaged.push_back({i, i + 1});
+          }
+        }
+      }
+      auto found = std::find_if(merged.datasets.begin(), merged.datasets.end(),
+                                [&](const DatasetCheck& d) { return d.path == dataset.path; });
+      if (found == merged.datasets.end()) {
+        DatasetCheck copy = dataset;
+        copy.damaged.clear();
+        copy.first_problem.clear();
+        merged.datasets.push_back(std::move(copy));
+        found = merged.datasets.end() - 1;
+      }
+      found->checksummed = found->checksummed && dataset.checksummed;
+      if (!damaged.empty() && found->first_problem.empty()) {
+        found->first_problem = shard.filename().string() + ": " + dataset.first_problem;
+      }
+      found->damaged.insert(found->damaged.end(), damaged.begin(), damaged.end());
+      found->damaged = Merged(std::move(found->damaged));
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      claimed[i] = claimed[i] | static_cast<std::uint8_t>(answers[i] != 0);
+      done[i] = done[i] | static_cast<std::uint8_t>(answers[i] != 0 && status_read[i] != 0);
+      whole[i] = whole[i] | static_cast<std::uint8_t>(answers[i] == 1);
+    }
+  }
+  merged.done = std::count(done.begin(), done.end(), std::uint8_t{1});
+  merged.pending = RangesOf(claimed, 0);
+  merged.recompute = RangesOf(whole, 0);
+  return merged;
+}
+
+}  // namespace
+
 ResultsCheck CheckResults(const fs::path& path) {
   const QuietErrors quiet;
   const Where where{path.string(), true};
   const FileId file = OpenForReading(path);
   const Stored stored = ReadStored(where, file.get());
+  if (stored.index) return CheckIndex(where, file.get(), path, stored);
   const SampleTable table = OpenColumns(where, file.get(), stored);
   return Check(where, file.get(), table, table.Scan());
 }

@@ -1,7 +1,7 @@
 // The results file of a campaign: one HDF5 file (Debian's serial libhdf5, C API) written
-// by the coordinating rank as results arrive, or under mpirun by each worker into a shard
-// of the same schema that the coordinating rank joins into it (Absorb, below), readable
-// by h5py and h5dump, and safe against a kill at any moment. docs/results.md documents the schema for
+// as results arrive, or under mpirun one shard of the same schema per computing rank and
+// an index of them (WriteShardIndex, below), readable by h5py and h5dump as one file, and
+// safe against a kill at any moment. docs/results.md documents the schema for
 // readers; this header is the contract for writers.
 //
 // Schema version 5 (N = samples, d = sampler inputs, S = min(N, inputs_stored_below)):
@@ -96,6 +96,8 @@
 namespace ringtol::jobs {
 
 inline constexpr int kCampaignSchemaVersion = 5;
+// An index of shards: schema 5's datasets, the per-sample ones virtual (WriteShardIndex).
+inline constexpr int kShardIndexSchemaVersion = 6;
 // The oldest schema Resume continues (in its own schema).
 inline constexpr int kOldestResumableSchema = 4;
 // Samples whose design points and drawn values a file keeps unless told otherwise
@@ -164,14 +166,15 @@ class CampaignStore {
   std::int64_t inputs_stored_below() const;
 
   // Copies into this file every finished sample of the shard at `shard` (a results file of
-  // the same campaign, no larger) that this file has pending, flushes, and removes the
-  // shard. A chunk of samples this file has none of is copied as stored (its filtered
-  // bytes, checksum included: no decompression, no re-filtering), when the shard's chunks,
-  // filters and sample count match this file's; other samples are read and written one by
-  // one. Statuses last, so a kill at any moment loses nothing: the shard stays until
-  // everything is flushed, and absorbing it again copies only what is still pending here.
-  // A chunk of the shard whose statuses do not read is left out (its samples stay pending
-  // and are computed again). InputError when the shard is of another campaign or larger.
+  // the same campaign, no larger) that this file has pending, and flushes; the shard stays
+  // as it is (JoinShards removes shards once the joined file has its name). A chunk of
+  // samples this file has none of is copied as stored (its filtered bytes, checksum
+  // included: no decompression, no re-filtering), when the shard's chunks, filters and
+  // sample count match this file's; other samples are read and written one by one.
+  // Statuses last, so a kill at any moment loses nothing, and absorbing it again copies
+  // only what is still pending here. A chunk of the shard whose statuses do not read is
+  // left out (its samples stay pending and are computed again). InputError when the shard
+  // is an index, of another campaign or larger.
   struct Absorbed {
     std::int64_t samples = 0;         // finished samples copied
     std::int64_t chunk_samples = 0;   // of which in chunks copied as stored
@@ -185,13 +188,48 @@ class CampaignStore {
   std::unique_ptr<File> file_;
 };
 
-// Shards: under mpirun each worker rank writes the samples it computes into a shard of its
-// own, a results file of the same campaign (same schema, same chunks) beside the main one,
-// so that results never travel through rank 0; rank 0 absorbs the shards into the main
-// file when the run ends or stops, and when a run killed before that resumes.
-// ShardPath: "<results>.shard-<rank>". FindShards: those that exist, by rank.
+// Shards: under mpirun each computing rank writes the samples it computes into a shard of
+// its own, a results file of the same campaign (same schema, same chunks) beside the
+// results file, so that results never travel through rank 0; the results file is their
+// index (below). ShardPath: "<results>.shard-<rank>". FindShards: those that exist, by rank.
 std::filesystem::path ShardPath(const std::filesystem::path& results, int rank);
 std::vector<std::filesystem::path> FindShards(const std::filesystem::path& results);
+
+// Shards as the results file: under mpirun every computing rank keeps its shard, and the
+// results file becomes their index (schema 6): the root's attributes, /inputs descriptions
+// and /calibration of a results file, /shards/file [K] (the shards' file names, beside the
+// index) and root attribute shard_chunk_rows, and every per-sample dataset a virtual
+// dataset of N rows showing each sample from the shard that finished it (the first listed
+// when two did), pending elsewhere; /failures/sample and /failures/message show every
+// shard's failure rows one after another. h5py and HDF5's tools read it as one file;
+// CampaignReader, CheckResults and JoinShards open every shard first and refuse an index
+// whose shard is missing or of another campaign (HDF5 itself would read its rows as fill).
+struct ShardIndexSummary {
+  std::int64_t shards = 0;
+  std::int64_t samples = 0;       // finished samples the index shows
+  std::int64_t mappings = 0;      // of one per-sample dataset, all shards
+  std::int64_t most_mappings = 0;  // of one shard
+};
+// Writes `results` as the index of `shards` (results files of `identity`, of at most
+// `samples` samples each, in `results`'s folder), reading each shard's statuses; built
+// beside it and renamed over it, so a kill leaves the old index or the new one. InputError
+// for a shard of another campaign or layout, and when `results` is a results file that
+// keeps samples of its own (it would be lost).
+ShardIndexSummary WriteShardIndex(const std::filesystem::path& results, const CampaignIdentity& identity,
+                                  std::int64_t samples, const std::vector<std::filesystem::path>& shards);
+// The samples that some shard holds finished ([samples]; a shard's rows beyond its own N
+// are not finished): what a run into these shards need not compute. Reads each shard's
+// statuses (InputError for a shard that does not open as a results file, or whose status
+// chunks do not read: resume it first, CampaignStore::Resume).
+std::vector<bool> FinishedSamples(const std::vector<std::filesystem::path>& shards, std::int64_t samples);
+// The shards a results file's index lists, checked to exist and to be results files of its
+// campaign (InputError naming the missing or wrong one); empty for a self-contained file.
+std::vector<std::filesystem::path> IndexedShards(const std::filesystem::path& results);
+// Writes the samples of an index and its shards into `out`, one self-contained results
+// file of the same campaign (chunks copied as stored where they can be: Absorb). `out`
+// may be `results` itself: the joined file then replaces the index, and the shards are
+// removed once it has. Returns what was copied.
+CampaignStore::Absorbed JoinShards(const std::filesystem::path& results, const std::filesystem::path& out);
 
 // Read-only access for summaries, reports, replays and tests. Opens a file a killed run
 // left behind as well as a finished one.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
@@ -395,6 +396,12 @@ PlistId FileAccess(const Where& where) {
   // HDF5's flock() would stop SWMR readers while a writer holds it, and it cannot outlast
   // the switch to SWMR mode; FileLock guards writers instead.
   CheckStatus(H5Pset_file_locking(fapl.get(), false, true), where, "configuring", "file access");
+  // A virtual dataset (an index of shards) opens its sources with HDF5's default access,
+  // locking on, and HDF5 refuses a second open of a file with other locking settings: the
+  // variable HDF5 reads for that default makes every open of this process agree. A value
+  // the user set is kept.
+  static const bool unlocked_by_default = setenv("HDF5_USE_FILE_LOCKING", "FALSE", 0) == 0;
+  if (!unlocked_by_default) Fail(where, "cannot set HDF5_USE_FILE_LOCKING");
   CheckStatus(H5Pset_metadata_read_attempts(fapl.get(), kMetadataReadAttempts), where, "configuring", "file access");
   return fapl;
 }

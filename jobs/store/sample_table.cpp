@@ -145,6 +145,47 @@ void FillRows(const ColumnSpec& spec, std::size_t values, void* out) {
   }
 }
 
+// The column's type in the file, its fill value set in `dcpl`.
+TypeId FileTypeWithFill(const Where& where, const ColumnSpec& spec, const PlistId& dcpl) {
+  const std::string& path = spec.path;
+  TypeId type;
+  herr_t filled = 0;
+  const double f64 = spec.fill;
+  const auto f32 = static_cast<float>(spec.fill);
+  const auto i32 = static_cast<std::int32_t>(spec.fill);
+  const auto u32 = static_cast<std::uint32_t>(spec.fill);
+  const auto i8 = static_cast<std::int8_t>(spec.fill);
+  switch (spec.type) {
+    case ColumnType::kFloat64:
+      type = TypeId(H5Tcopy(H5T_IEEE_F64LE));
+      filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_DOUBLE, &f64);
+      break;
+    case ColumnType::kFloat32:
+      type = TypeId(H5Tcopy(H5T_IEEE_F32LE));
+      filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_FLOAT, &f32);
+      break;
+    case ColumnType::kInt32:
+      type = TypeId(H5Tcopy(H5T_STD_I32LE));
+      filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT32, &i32);
+      break;
+    case ColumnType::kUInt32:
+      type = TypeId(H5Tcopy(H5T_STD_U32LE));
+      filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_UINT32, &u32);
+      break;
+    case ColumnType::kInt8Enum:
+      if (spec.enumeration == nullptr) throw std::logic_error("SampleTable: " + path + " has no enumeration");
+      type = spec.enumeration(where);
+      filled = H5Pset_fill_value(dcpl.get(), type.get(), &i8);
+      break;
+    case ColumnType::kText:
+      type = FixedString(where, spec.text_bytes);  // the default fill, all zero bytes, is the empty string
+      break;
+  }
+  Check(type.get(), where, "making the type of", path);
+  CheckStatus(filled, where, "setting the fill value of", path);
+  return type;
+}
+
 // The file dataspace of `dataset` with the rows of `runs` selected: flat [first, count)
 // (times the width), grouped one group's [first, count).
 struct Run {
@@ -215,49 +256,82 @@ void SampleTable::Create(const Where& where, hid_t file, const RowSpace& space, 
                   path);
     }
     if (checksums) AddChecksum(where, dcpl, path);
-    TypeId enumeration;  // alive until the dataset is created
-    hid_t file_type = H5T_IEEE_F64LE;
-    herr_t filled = 0;
-    const double f64 = spec.fill;
-    const auto f32 = static_cast<float>(spec.fill);
-    const auto i32 = static_cast<std::int32_t>(spec.fill);
-    const auto u32 = static_cast<std::uint32_t>(spec.fill);
-    const auto i8 = static_cast<std::int8_t>(spec.fill);
-    TypeId text;
-    switch (spec.type) {
-      case ColumnType::kFloat64:
-        filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_DOUBLE, &f64);
-        break;
-      case ColumnType::kFloat32:
-        file_type = H5T_IEEE_F32LE;
-        filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_FLOAT, &f32);
-        break;
-      case ColumnType::kInt32:
-        file_type = H5T_STD_I32LE;
-        filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT32, &i32);
-        break;
-      case ColumnType::kUInt32:
-        file_type = H5T_STD_U32LE;
-        filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_UINT32, &u32);
-        break;
-      case ColumnType::kInt8Enum:
-        if (spec.enumeration == nullptr) throw std::logic_error("SampleTable: " + path + " has no enumeration");
-        enumeration = spec.enumeration(where);
-        file_type = enumeration.get();
-        filled = H5Pset_fill_value(dcpl.get(), file_type, &i8);
-        break;
-      case ColumnType::kText:
-        text = FixedString(where, spec.text_bytes);
-        file_type = text.get();  // the default fill, all zero bytes, is the empty string
-        break;
-    }
-    CheckStatus(filled, where, "setting the fill value of", path);
+    const TypeId file_type = FileTypeWithFill(where, spec, dcpl);
     // Chunks are written when first filled, so rows never written take no space.
     CheckStatus(H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_INCR), where, "configuring", path);
     const DatasetId dataset(Check(
-        H5Dcreate2(file, path.c_str(), file_type, dataspace.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
+        H5Dcreate2(file, path.c_str(), file_type.get(), dataspace.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
         "creating dataset", path));
   }
+}
+
+std::vector<StridedRows> RegularRuns(std::span<const SampleRange> rows) {
+  std::vector<StridedRows> runs;
+  for (const SampleRange& range : rows) {
+    const std::int64_t length = range.end - range.begin;
+    if (!runs.empty()) {
+      StridedRows& run = runs.back();
+      const std::int64_t gap = range.begin - run.start;
+      const std::int64_t next = run.start + run.count * run.stride;
+      if (run.block == length && (run.count == 1 ? gap >= run.block : range.begin == next)) {
+        if (run.count == 1) run.stride = gap;
+        ++run.count;
+        continue;
+      }
+    }
+    runs.push_back({range.begin, length, 1, length});
+  }
+  return runs;
+}
+
+std::int64_t SampleTable::CreateVirtual(const Where& where, hid_t file, const RowSpace& space,
+                                        const std::vector<ColumnSpec>& columns,
+                                        std::span<const VirtualSource> sources) {
+  if (columns.empty() || columns.back().type != ColumnType::kInt8Enum || space.grouped()) {
+    throw std::logic_error("SampleTable::CreateVirtual: a flat table, its status column last");
+  }
+  std::int64_t mappings = 0;
+  for (const ColumnSpec& spec : columns) {
+    if (spec.stored_path.empty()) continue;
+    const std::string& path = spec.path;
+    const int rank = spec.width > 0 ? 2 : 1;
+    const hsize_t dims[2] = {static_cast<hsize_t>(std::min(space.samples, spec.stored_below)), spec.width};
+    const SpaceId view(Check(H5Screate_simple(rank, dims, nullptr), where, "creating the dataspace of", path));
+    const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+    const TypeId type = FileTypeWithFill(where, spec, dcpl);
+    // Virtual even without a mapping (nothing finished yet): every row then reads as the fill.
+    CheckStatus(H5Pset_layout(dcpl.get(), H5D_VIRTUAL), where, "configuring", path);
+    std::int64_t column_mappings = 0;
+    for (const VirtualSource& source : sources) {
+      const hsize_t source_dims[2] = {static_cast<hsize_t>(std::min(source.samples, spec.stored_below)), spec.width};
+      // Rows beyond either file's stored rows are not mapped.
+      std::vector<SampleRange> shown;
+      const auto end = static_cast<std::int64_t>(std::min(dims[0], source_dims[0]));
+      for (const SampleRange& range : source.rows) {
+        if (range.begin < end) shown.push_back({range.begin, std::min(range.end, end)});
+      }
+      const SpaceId from(Check(H5Screate_simple(rank, source_dims, nullptr), where, "creating the dataspace of", path));
+      for (const StridedRows& run : RegularRuns(shown)) {
+        const hsize_t start[2] = {static_cast<hsize_t>(run.start), 0};
+        const hsize_t stride[2] = {static_cast<hsize_t>(run.stride), 1};
+        const hsize_t count[2] = {static_cast<hsize_t>(run.count), 1};
+        const hsize_t block[2] = {static_cast<hsize_t>(run.block), spec.width};
+        for (hid_t selection : {view.get(), from.get()}) {
+          CheckStatus(H5Sselect_hyperslab(selection, H5S_SELECT_SET, start, stride, count, block), where,
+                      "selecting rows of", path);
+        }
+        CheckStatus(H5Pset_virtual(dcpl.get(), view.get(), source.file.c_str(), spec.stored_path.c_str(), from.get()),
+                    where, "mapping " + source.file + " into", path);
+        ++column_mappings;
+      }
+    }
+    CheckStatus(H5Sselect_all(view.get()), where, "selecting", path);
+    const DatasetId dataset(Check(H5Dcreate2(file, spec.stored_path.c_str(), type.get(), view.get(), H5P_DEFAULT,
+                                             dcpl.get(), H5P_DEFAULT),
+                                  where, "creating dataset", path));
+    mappings = column_mappings;
+  }
+  return mappings;
 }
 
 SampleTable SampleTable::Open(const Where& where, hid_t file, RowSpace space, std::vector<ColumnSpec> columns,
@@ -309,6 +383,7 @@ SampleTable SampleTable::Open(const Where& where, hid_t file, RowSpace space, st
   const std::size_t status = columns.size() - 1;
   const auto chunk_samples = [&](hid_t dataset) {
     const PlistId dcpl(Check(H5Dget_create_plist(dataset), where, "reading the layout of", columns[status].stored_path));
+    if (H5Pget_layout(dcpl.get()) == H5D_VIRTUAL) return std::max<std::int64_t>(1, space.chunk_samples);
     hsize_t chunk[2] = {0, 0};
     const int rank = space.grouped() ? 2 : 1;
     if (H5Pget_chunk(dcpl.get(), rank, chunk) != rank || chunk[rank - 1] == 0) {

@@ -98,6 +98,27 @@ struct TableScan {
   std::vector<SampleRange> pending;
 };
 
+// Rows [start + k * stride, start + k * stride + block) for k in [0, count): one regular
+// hyperslab, as a virtual dataset maps it in one piece.
+struct StridedRows {
+  std::int64_t start = 0;
+  std::int64_t stride = 1;  // >= block when count > 1
+  std::int64_t count = 1;
+  std::int64_t block = 1;
+  friend bool operator==(const StridedRows&, const StridedRows&) = default;
+};
+// The fewest StridedRows a greedy pass finds for `rows` (ascending, disjoint, not
+// touching): runs of equal length at equal spacing merge. Block-cyclic shards give one.
+std::vector<StridedRows> RegularRuns(std::span<const SampleRange> rows);
+
+// A file a virtual table (SampleTable::CreateVirtual) shows rows of: the same columns at
+// the same rows, as a shard of a results file has.
+struct VirtualSource {
+  std::string file;               // as the virtual file names it (relative: to its folder)
+  std::int64_t samples = 0;       // the source's N: its columns have min(N, stored_below) rows
+  std::vector<SampleRange> rows;  // the rows it shows: ascending, disjoint, within [0, samples)
+};
+
 class SampleTable {
  public:
   // Creates every column with a stored_path (their groups must exist), all rows holding
@@ -105,9 +126,17 @@ class SampleTable {
   // The last column is the status column (kInt8Enum, fill pending).
   static void Create(const Where& where, hid_t file, const RowSpace& space, const std::vector<ColumnSpec>& columns,
                      bool checksums);
+  // Creates every column with a stored_path as a virtual dataset of `space`'s rows (flat
+  // tables; fixed size): each source's rows read from the same rows of its own column,
+  // every other row as the fill. Each source's rows are mapped as RegularRuns. Returns the
+  // mappings of one column a row (the status column's).
+  static std::int64_t CreateVirtual(const Where& where, hid_t file, const RowSpace& space,
+                                    const std::vector<ColumnSpec>& columns, std::span<const VirtualSource> sources);
   // Opens the columns of a file of `space` (at least N rows of a flat table, exactly
   // [groups, N] of a grouped one, `width` values a row); columns whose stored_path is
   // empty stay closed and read as their fill. InputError naming the dataset otherwise.
+  // Virtual columns (CreateVirtual) have no chunks: the table keeps space.chunk_samples as
+  // the block its scans read (Scan and CopyChunks are for stored tables).
   static SampleTable Open(const Where& where, hid_t file, RowSpace space, std::vector<ColumnSpec> columns,
                           std::size_t cache_bytes = 0);
 

@@ -9,27 +9,19 @@ Runs the campaign alone (one computing thread), under `mpirun -n 2` (rank 0 comp
 coordinates) and under `mpirun -n 3 --coordinator-computes 0` (rank 0 only coordinates, as
 it does from 16 ranks on; on a 2-core machine 3 ranks oversubscribe the cores, which the
 MPI environment below allows). From ringtol's JSON summaries it reads, per sample: the
-coordinator's messages and bytes, its handling time, the time rank 0 spends writing, the
-stored bytes and the time of joining the workers' shards into the results file.
+coordinator's messages and bytes, its handling time, the time spent writing a shard, the
+stored bytes, and the time rank 0 takes to write the index of the shards at the end.
 
-The model (rank 0 coordinates only; R - 1 workers each compute and write their shard):
+The model (rank 0 coordinates only; R - 1 workers each compute and write their shard; the
+results file is an index of the shards, nothing is copied):
     a worker's time per sample        t + w           t: sample, w: writing its shard
     throughput [samples/s]            X = min((R - 1) / (t + w), 1 / c, F / B)
         c = 2 h / n: rank 0's handling per sample, h its CPU time per message (measured),
         n = max(block, chunk_seconds / t) samples per chunk; F: the file system's
         aggregate bandwidth, B: stored bytes per sample
-    joining the shards at the end     j = 2 B / F1 per sample (read and write by one
-        process at bandwidth F1, measured here as the join's own rate)
-    efficiency                        E = t / (R (1 / X + j))
-and two ways of not joining at the end:
-    overlapped   rank 0 copies each chunk a worker commits while the others compute, so
-                 that only the last chunks are copied at the end: its CPU per sample is then
-                 c + j, and X = min((R - 1) / (t + w), 1 / (c + j), F / B), E = t X / R
-                 (the copy of the last chunk of each worker, about R chunks, is left out);
-    no copy      a results file assembled from the shards without copying (HDF5 virtual
-                 datasets), j = 0. HDF5 1.10's virtual datasets do not yet make this real
-                 with the pool's interleaved chunks: what they cost is measured by
-                 tests/benchmarks/virtual_dataset_costs.cpp (docs/results.md, "Shards").
+    the index at the end              i R per sample: rank 0 reads every shard's statuses,
+        i per sample and shard (measured on 3 shards)
+    efficiency                        E = t / (R (1 / X + i R))
 """
 import argparse
 import json
@@ -51,22 +43,22 @@ def run(ringtol, campaign, samples, ranks, folder, extra=()):
     if ranks > 1:
         command = ["mpirun", "-n", str(ranks)] + (["--allow-run-as-root"] if os.geteuid() == 0 else []) + command
     result = subprocess.run(command, check=True, capture_output=True, text=True, env={**os.environ, **MPI_ENVIRONMENT})
-    os.remove(out)
-    return json.loads(result.stdout)["run"]
+    summary = json.loads(result.stdout)["run"]
+    written = [os.path.join(folder, name) for name in os.listdir(folder) if name.startswith(f"r{ranks}.h5")]
+    summary["stored_bytes"] = sum(os.path.getsize(path) for path in written if path != out)
+    for path in written:
+        os.remove(path)
+    return summary
 
 
 CHUNK_SECONDS = 0.5  # PoolOptions::chunk_seconds
 BLOCK = 208  # samples per stored chunk of the default campaign (256 KiB of /inputs/u, 157 inputs)
 
 
-def efficiency(ranks, t, w, per_message, stored_bytes, fs_bandwidth, join_per_sample, overlapped=False):
-    """join_per_sample: rank 0's copy of a worker sample, at the end or (overlapped) while the workers compute."""
+def efficiency(ranks, t, w, per_message, stored_bytes, fs_bandwidth, index_per_sample_shard):
     c = 2 * per_message / max(BLOCK, CHUNK_SECONDS / t)
-    if overlapped:
-        throughput = min((ranks - 1) / (t + w), 1 / (c + join_per_sample), fs_bandwidth / stored_bytes)
-        return t / (ranks / throughput)
     throughput = min((ranks - 1) / (t + w), 1 / c, fs_bandwidth / stored_bytes)
-    return t / (ranks * (1 / throughput + join_per_sample))
+    return t / (ranks * (1 / throughput + index_per_sample_shard * ranks))
 
 
 def main():
@@ -81,39 +73,33 @@ def main():
         runs = {1: run(args.ringtol, args.campaign, args.samples, 1, folder),
                 2: run(args.ringtol, args.campaign, args.samples, 2, folder),
                 3: run(args.ringtol, args.campaign, args.samples, 3, folder, ["--coordinator-computes", "0"])}
+        stored_bytes = runs[3].pop("stored_bytes") / args.samples
     print(f"{args.samples} samples of {os.path.basename(args.campaign)}; 3 ranks oversubscribe a 2-core machine")
-    print(f"{'ranks':>5} {'wall s':>7} {'join s':>7} {'samples/s':>10} {'msgs/sample':>12} {'bytes/sample':>13} "
+    print(f"{'ranks':>5} {'wall s':>7} {'index s':>8} {'samples/s':>10} {'msgs/sample':>12} {'bytes/sample':>13} "
           f"{'rank 0 us/sample':>17} {'of it CPU':>10} {'writing us/sample':>18}")
     for ranks, r in runs.items():
         n = r["computed"]
-        wall = r["wall_time_s"] + r.get("shard_join_time_s", 0.0)
-        print(f"{ranks:>5} {r['wall_time_s']:>7.2f} {r.get('shard_join_time_s', 0.0):>7.3f} {n / wall:>10.1f} "
+        wall = r["wall_time_s"] + r.get("index_time_s", 0.0)
+        print(f"{ranks:>5} {r['wall_time_s']:>7.2f} {r.get('index_time_s', 0.0):>8.3f} {n / wall:>10.1f} "
               f"{r.get('coordinator_messages', 0) / n:>12.4f} {r.get('coordinator_bytes', 0) / n:>13.1f} "
               f"{1e6 * r['coordinator_time_s'] / n:>17.2f} {1e6 * r['coordinator_cpu_time_s'] / n:>10.2f} "
               f"{1e6 * r['commit_time_s'] / n:>18.2f}")
     one, two, three = runs[1], runs[2], runs[3]
-    rate = lambda r: r["computed"] / (r["wall_time_s"] + r.get("shard_join_time_s", 0.0))
-    print(f"2-rank efficiency against 1 rank (join included): {100 * rate(two) / (2 * rate(one)):.1f} %")
+    rate = lambda r: r["computed"] / (r["wall_time_s"] + r.get("index_time_s", 0.0))
+    print(f"2-rank efficiency against 1 rank (index included): {100 * rate(two) / (2 * rate(one)):.1f} %")
 
     # CPU times, not wall times: on a busy machine the wall times mostly measure waits for a core.
     t = one["solver_time_s"] / one["computed"]
     w = one["coordinator_cpu_time_s"] / one["computed"]  # rank 0 alone: collecting and writing every sample
     per_message = three["coordinator_cpu_time_s"] / three["coordinator_messages"]  # rank 0 coordinating only
-    joined = max(1, three["shard_samples_joined"])
-    join_per_sample = three["shard_join_cpu_time_s"] / joined
-    stored_bytes = three.get("shard_bytes_joined", 0) / max(1, three.get("shard_chunk_samples_joined", 0)) or 2e3
-    join_bandwidth = 2 * stored_bytes / join_per_sample
-    print(f"\nmodel inputs: t = {1e6 * t:.0f} us, w = {1e6 * w:.2f} us, h = {1e6 * per_message:.1f} us a message, B = {stored_bytes:.0f} "
-          f"bytes, join {1e6 * join_per_sample:.2f} us a sample (F1 = {join_bandwidth / 1e9:.2f} GB/s)")
-    print(f"{'sample us':>9} {'F GB/s':>7} {'E(100)':>7} {'E(1000)':>8} {'E(100) overlapped':>18} "
-          f"{'E(1000) overlapped':>19} {'E(100) no copy':>15} {'E(1000) no copy':>16}")
+    index = three["index_cpu_time_s"] / (three["computed"] * three["shards"])
+    print(f"\nmodel inputs: t = {1e6 * t:.0f} us, w = {1e6 * w:.2f} us, h = {1e6 * per_message:.1f} us a message, "
+          f"B = {stored_bytes:.0f} bytes, i = {1e9 * index:.1f} ns a sample and shard")
+    print(f"{'sample us':>9} {'F GB/s':>7} {'E(100)':>7} {'E(1000)':>8}")
     for sample in [t] + [us * 1e-6 for us in args.sample_us]:
         for bandwidth in args.fs_bandwidth:
-            row = [efficiency(r, sample, w, per_message, stored_bytes, bandwidth * 1e9, j, overlapped)
-                   for j, overlapped in ((join_per_sample, False), (join_per_sample, True), (0.0, False))
-                   for r in (100, 1000)]
-            print(f"{1e6 * sample:>9.0f} {bandwidth:>7.0f} {100 * row[0]:>6.1f}% {100 * row[1]:>7.1f}% "
-                  f"{100 * row[2]:>17.1f}% {100 * row[3]:>18.1f}% {100 * row[4]:>14.1f}% {100 * row[5]:>15.1f}%")
+            row = [efficiency(r, sample, w, per_message, stored_bytes, bandwidth * 1e9, index) for r in (100, 1000)]
+            print(f"{1e6 * sample:>9.0f} {bandwidth:>7.0f} {100 * row[0]:>6.1f}% {100 * row[1]:>7.1f}%")
 
 
 if __name__ == "__main__":

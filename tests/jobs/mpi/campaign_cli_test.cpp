@@ -146,14 +146,16 @@ TEST(CampaignUnderMpirun, OneTwoAndThreeRanksAndAnyChunkSizeWriteIdenticalResult
   ASSERT_EQ(three.exit_code, 0) << three.err;
   const Outcome dedicated = Campaign(file, folder / "dedicated.h5", "--coordinator-computes 0 --json", Mpirun(3));
   ASSERT_EQ(dedicated.exit_code, 0) << dedicated.err;
-  // The workers filed every sample in their shards, joined at the end; rank 0 received per
-  // sample at most its summary (index 8, status 1, solve time 8 bytes), its index handed
-  // out (8) and a message's kind byte (1, were every chunk one sample).
+  // The workers filed every sample in their shards, which the results file indexes; rank 0
+  // received per sample at most its summary (index 8, status 1, solve time 8 bytes), its
+  // index handed out (8) and a message's kind byte (1, were every chunk one sample).
   constexpr double kMaxCoordinatorBytesPerSample = 8 + 1 + 8 + 8 + 1;
   const nlohmann::json run = nlohmann::json::parse(dedicated.out)["run"];
   EXPECT_LE(run["coordinator_bytes"].get<double>() / 48, kMaxCoordinatorBytesPerSample);
-  EXPECT_EQ(run["shard_samples_joined"], 48);
-  for (const char* name : {"two.h5", "three.h5", "dedicated.h5"}) EXPECT_TRUE(FindShards(folder / name).empty());
+  EXPECT_EQ(run["shards"], 3);  // rank 0's computes nothing, and is indexed all the same
+  for (const auto& [name, ranks] : {std::pair{"two.h5", 2}, std::pair{"three.h5", 3}, std::pair{"dedicated.h5", 3}}) {
+    EXPECT_EQ(IndexedShards(folder / name).size(), static_cast<std::size_t>(ranks)) << name;
+  }
   ExpectSameResults(folder / "alone.h5", folder / "two.h5");
   ExpectSameResults(folder / "alone.h5", folder / "three.h5");
   ExpectSameResults(folder / "alone.h5", folder / "dedicated.h5");
@@ -198,31 +200,59 @@ TEST(CampaignUnderMpirun, AfterAWorkerIsKilledUnderMpirunResumeCompletesTheSameF
   ExpectSameResults(folder / "whole.h5", folder / "killed.h5");
 }
 
-// Finished samples of a results file and of the shards its worker ranks left beside it.
-std::int64_t DoneWithShards(const std::filesystem::path& out) {
-  const auto done = [](const std::filesystem::path& file) {
-    return CampaignReader(file).samples() - Pending(file);
-  };
-  std::int64_t total = done(out);
-  for (const std::filesystem::path& shard : FindShards(out)) total += done(shard);
-  return total;
+// Finished samples in the shards of a results file written under mpirun.
+std::int64_t DoneInShards(const std::filesystem::path& out) {
+  const std::vector<bool> finished = FinishedSamples(FindShards(out), CampaignReader(out).samples());
+  return std::count(finished.begin(), finished.end(), true);
 }
 
-TEST(CampaignUnderMpirun, AfterTheCoordinatorIsKilledResumeJoinsTheShardsAndComputesOnlyWhatIsMissing) {
+TEST(CampaignUnderMpirun, AfterTheCoordinatorIsKilledResumeContinuesTheShardsAndComputesOnlyWhatIsMissing) {
   const std::filesystem::path folder = Folder();
   const auto file = Write(folder / "campaign.toml", kCampaign);
   const std::filesystem::path out = folder / "killed.h5";
   ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
   const Outcome killed = Campaign(file, out, "--chunk 3 --commit-seconds 0 --test-kill-after 10", Mpirun(2));
   EXPECT_NE(killed.exit_code, 0);
-  const std::int64_t done = DoneWithShards(out);
+  const std::int64_t done = DoneInShards(out);
   EXPECT_GE(done, 10);
   EXPECT_LT(done, 48);
+  EXPECT_EQ(Pending(out), 48) << "the index written at the start shows what the shards held then";
   const Outcome resumed = Campaign(file, out, "--resume --json", Mpirun(2));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_EQ(nlohmann::json::parse(resumed.out)["run"]["computed"], 48 - done);
+  EXPECT_EQ(IndexedShards(out), FindShards(out));
+  ExpectSameResults(folder / "whole.h5", out);
+}
+
+// A campaign begun in one process continues under mpirun: its file becomes shard 0 of the
+// index, in place; `ringtol join` makes one file of the index again, with the same samples.
+TEST(CampaignUnderMpirun, AFileBegunAloneContinuesInShardsAndJoinsBackIntoOneFile) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  const std::filesystem::path out = folder / "r.h5";
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  ASSERT_EQ(Campaign(file, out, "--samples 20").exit_code, 0);
+  const Outcome resumed = Campaign(file, out, "--resume --samples 48 --json", Mpirun(3));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(nlohmann::json::parse(resumed.out)["run"]["computed"], 28);
+  EXPECT_EQ(IndexedShards(out), (std::vector<std::filesystem::path>{ShardPath(out, 0), ShardPath(out, 1), ShardPath(out, 2)}));
+  ExpectSameResults(folder / "whole.h5", out);
+  const Outcome verified = RunRingtol("", "verify " + out.string());
+  EXPECT_EQ(verified.exit_code, 0) << verified.out << verified.err;
+  EXPECT_THAT(verified.out, HasSubstr("48 done"));
+  const std::string python = "/usr/bin/python3 " + std::string(RINGTOL_SOURCE_DIR) + "/tests/jobs/mpi/read_results.py " +
+                             out.string() + " > " + (folder / "python.txt").string() + " 2>&1";
+  EXPECT_EQ(std::system(python.c_str()), 0) << testing::ReadText(folder / "python.txt");
+  EXPECT_THAT(testing::ReadText(folder / "python.txt"), HasSubstr("samples ok of 48"));
+
+  const Outcome copy = RunRingtol("", "join " + out.string() + " --out " + (folder / "copy.h5").string());
+  ASSERT_EQ(copy.exit_code, 0) << copy.err;
+  EXPECT_THAT(copy.out, AllOf(HasSubstr("joined 3 shards"), HasSubstr("48 samples")));
+  EXPECT_THAT(RunRingtol("", "join " + (folder / "copy.h5").string()), ExitsWith(1, HasSubstr("no shards")));
+  ASSERT_EQ(RunRingtol("", "join " + out.string()).exit_code, 0);
   EXPECT_TRUE(FindShards(out).empty());
   ExpectSameResults(folder / "whole.h5", out);
+  ExpectSameResults(folder / "whole.h5", folder / "copy.h5");
 }
 
 TEST(Campaign, ANewRunRefusesToStartOverShardsOfAnEarlierOne) {
@@ -386,10 +416,15 @@ TEST(Campaign, InputsPrintsChosenSamplesAsCsvAndStoreInputsKeepsEverySample) {
 
 }
 
-// Samples on disk in a results file being written (0 while it does not exist yet).
+// Samples on disk in a results file being written (0 while it does not exist yet): under
+// mpirun in its shards, whose index shows what they held when the run started.
 std::int64_t Done(const std::filesystem::path& file) {
-  if (!std::filesystem::exists(file)) return 0;
   try {
+    if (const std::vector<std::filesystem::path> shards = FindShards(file); !shards.empty()) {
+      const std::vector<bool> finished = FinishedSamples(shards, CampaignReader(shards.front()).samples());
+      return std::count(finished.begin(), finished.end(), true);
+    }
+    if (!std::filesystem::exists(file)) return 0;
     const CampaignReader results(file);
     return results.samples() - Pending(file);
   } catch (const std::exception&) {

@@ -402,7 +402,7 @@ TEST(CampaignStore, AbsorbingShardsStoresEverySampleAsIfWrittenDirectly) {
     const CampaignStore::Absorbed second = main.Absorb(ShardPath(path, 2));
     EXPECT_EQ(second.samples, 8);  // block 4; sample 0 is the main file's already
     EXPECT_EQ(second.chunk_samples, 8);
-    EXPECT_TRUE(FindShards(path).empty());
+    EXPECT_EQ(FindShards(path).size(), 2u);  // left for their owner to remove
     EXPECT_TRUE(main.Pending(0, kShardedSamples).empty());
   }
   const CampaignReader reader(path);
@@ -415,15 +415,11 @@ TEST(CampaignStore, AbsorbingShardsStoresEverySampleAsIfWrittenDirectly) {
   EXPECT_EQ(check.done, kShardedSamples);
 }
 
-TEST(CampaignStore, AbsorbingAShardAgainAfterAKillBeforeItsRemovalCopiesNothingTwice) {
-  const fs::path folder = TestFolder();
-  const fs::path path = folder / "results.h5";
-  const fs::path kept = folder / "kept_shard.h5";
+TEST(CampaignStore, AbsorbingAShardAgainCopiesNothingTwice) {
+  const fs::path path = TestFolder() / "results.h5";
   {
     CampaignStore main = ShardedCampaign(path);
-    fs::copy_file(ShardPath(path, 1), kept, fs::copy_options::overwrite_existing);
     main.Absorb(ShardPath(path, 1));
-    fs::rename(kept, ShardPath(path, 1));  // as if killed after copying, before removing it
     const CampaignStore::Absorbed again = main.Absorb(ShardPath(path, 1));
     EXPECT_EQ(again.samples, 0);
   }
@@ -660,12 +656,12 @@ TEST(CampaignReader, RefusesAFileOfANewerSchema) {
   {
     const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
     const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);
-    const int newer = kCampaignSchemaVersion + 1;
+    const int newer = kShardIndexSchemaVersion + 1;
     H5Awrite(attribute, H5T_NATIVE_INT, &newer);
     H5Aclose(attribute);
     H5Fclose(file);
   }
-  const std::string expected = "written by a newer ringtol (schema " + std::to_string(kCampaignSchemaVersion + 1) + ")";
+  const std::string expected = "written by a newer ringtol (schema " + std::to_string(kShardIndexSchemaVersion + 1) + ")";
   EXPECT_THAT(InputErrorOf([&] { CampaignReader reader(path); }), HasSubstr(expected));
   EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), 2); }), HasSubstr(expected));
 }
@@ -1297,6 +1293,135 @@ TEST(CampaignStore, SurvivesSigkillAtAnyMomentAndResumesToTheSameBits) {
   EXPECT_EQ(std::count(statuses.begin(), statuses.end(), SampleStatus::kPending), 0);
   for (std::int64_t index = 0; index < kKillSamples && !HasFailure(); ++index) {
     ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Shard indexes: three shards of a 40-sample campaign in chunks of 8, as the pool leaves
+// them: blocks 0 and 3 (shard 0), 1 and 4 (shard 1), 2 (shard 2) block-cyclically, the
+// second half of block 3 adopted by shard 2, which also holds another record of sample 0:
+// the index takes that from shard 0, listed first.
+
+std::vector<fs::path> BlockCyclicShards(const fs::path& path) {
+  const auto write = [&](int rank, std::vector<std::pair<std::int64_t, std::int64_t>> ranges) {
+    CampaignStore shard = CampaignStore::Create(ShardPath(path, rank), TestIdentity(), kShardedSamples, ShardChunks());
+    for (const auto& [begin, end] : ranges) WriteRange(shard, begin, end);
+    return ShardPath(path, rank);
+  };
+  std::vector<fs::path> shards = {write(0, {{0, 8}, {24, 28}}), write(1, {{8, 16}, {32, 40}}),
+                                  write(2, {{16, 24}, {28, 32}})};
+  {
+    CampaignStore shard = CampaignStore::Resume(shards[2], TestIdentity(), kShardedSamples);
+    SampleRecord other = DeterministicRecord(1);
+    other.index = 0;
+    shard.Add(other);
+  }
+  return shards;
+}
+
+TEST(ShardIndex, ReadsEverySampleFromTheShardThatFinishedIt) {
+  const fs::path path = TestFolder() / "results.h5";
+  const std::vector<fs::path> shards = BlockCyclicShards(path);
+  const ShardIndexSummary summary = WriteShardIndex(path, TestIdentity(), kShardedSamples, shards);
+  EXPECT_EQ(summary.shards, 3);
+  EXPECT_EQ(summary.samples, kShardedSamples);
+  // Shard 1 is one strided run; shards 0 and 2 a run of blocks and a half block each.
+  EXPECT_EQ(summary.most_mappings, 2);
+  EXPECT_EQ(summary.mappings, 2 + 1 + 2);
+  EXPECT_EQ(IndexedShards(path), shards);
+  const CampaignReader reader(path);
+  EXPECT_EQ(reader.samples(), kShardedSamples);
+  EXPECT_EQ(reader.identity().seed, TestIdentity().seed);
+  for (std::int64_t index = 0; index < kShardedSamples; ++index) {
+    ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+  }
+  std::vector<double> expected;
+  for (std::int64_t index = 0; index < kShardedSamples; ++index) {
+    expected.push_back(AsStored(DeterministicRecord(index)).outputs[0]);
+  }
+  EXPECT_EQ(Bits(reader.ReadOutput(kOutputNames[0], 0, kShardedSamples)), Bits(expected));
+  const ResultsCheck check = CheckResults(path);
+  EXPECT_TRUE(check.intact());
+  EXPECT_TRUE(check.checksummed());
+  EXPECT_EQ(check.done, kShardedSamples);
+  EXPECT_TRUE(check.recompute.empty());
+}
+
+TEST(ShardIndex, ShowsRowsNoShardFinishedAsPending) {
+  const fs::path path = TestFolder() / "results.h5";
+  {
+    CampaignStore shard = CampaignStore::Create(ShardPath(path, 0), TestIdentity(), kShardedSamples, ShardChunks());
+    WriteRange(shard, 0, 10);
+  }
+  WriteShardIndex(path, TestIdentity(), kShardedSamples, {ShardPath(path, 0)});
+  const CampaignReader reader(path);
+  for (std::int64_t index = 10; index < kShardedSamples; ++index) ExpectPendingRow(reader.ReadSample(index));
+  const ResultsCheck check = CheckResults(path);
+  EXPECT_EQ(check.done, 10);
+  EXPECT_EQ(check.pending, (std::vector<SampleRange>{{10, kShardedSamples}}));
+  EXPECT_EQ(check.recompute, check.pending);
+}
+
+TEST(ShardIndex, ReadersRefuseAnIndexWhoseShardIsMissingInsteadOfReadingItsRowsAsPending) {
+  const fs::path path = TestFolder() / "results.h5";
+  WriteShardIndex(path, TestIdentity(), kShardedSamples, BlockCyclicShards(path));
+  fs::rename(ShardPath(path, 1), path.parent_path() / "moved.h5");
+  const auto names_the_shard = AllOf(HasSubstr("results.h5.shard-1"), HasSubstr("missing"));
+  EXPECT_THAT(InputErrorOf([&] { CampaignReader reader(path); }), names_the_shard);
+  EXPECT_THAT(InputErrorOf([&] { CheckResults(path); }), names_the_shard);
+  EXPECT_THAT(InputErrorOf([&] { JoinShards(path, path.parent_path() / "joined.h5"); }), names_the_shard);
+}
+
+TEST(ShardIndex, RefusesToReplaceAFileThatKeepsItsOwnSamples) {
+  const fs::path path = TestFolder() / "results.h5";
+  const std::vector<fs::path> shards = BlockCyclicShards(path);
+  { CampaignStore::Create(path, TestIdentity(), kShardedSamples, ShardChunks()); }
+  const std::string before = ReadBytes(path);
+  EXPECT_THAT(InputErrorOf([&] { WriteShardIndex(path, TestIdentity(), kShardedSamples, shards); }),
+              AllOf(HasSubstr("results.h5"), HasSubstr("samples of its own")));
+  EXPECT_EQ(ReadBytes(path), before);
+}
+
+TEST(ShardIndex, VerifyFindsADamagedShardChunkOnlyWhereThatShardHoldsSamples) {
+  const fs::path path = TestFolder() / "results.h5";
+  const std::vector<fs::path> shards = BlockCyclicShards(path);
+  WriteShardIndex(path, TestIdentity(), kShardedSamples, shards);
+  // Shard 1's chunk of samples 8 to 15, all its own, and shard 0's of 24 to 31, of which
+  // it holds 24 to 27 and shard 2 the rest.
+  for (const auto& [shard, sample] : {std::pair{shards[1], 9}, std::pair{shards[0], 25}}) {
+    const ChunkPlace chunk = ChunkOf(shard, "/outputs/d_trajectory_mm", sample);
+    FlipBytes(shard, chunk.address + chunk.bytes / 2 - kFlippedBytes / 2, kFlippedBytes);
+  }
+  const ResultsCheck check = CheckResults(path);
+  EXPECT_FALSE(check.intact());
+  const DatasetCheck& damaged = Dataset(check, "/outputs/d_trajectory_mm");
+  EXPECT_EQ(damaged.damaged, (std::vector<SampleRange>{{8, 16}, {24, 28}}));
+  EXPECT_THAT(damaged.first_problem, HasSubstr("results.h5.shard-"));
+  EXPECT_EQ(check.recompute, damaged.damaged);
+  EXPECT_EQ(check.done, kShardedSamples);
+}
+
+TEST(ShardIndex, JoinWritesOneSelfContainedFileOfTheSameSamples) {
+  const fs::path folder = TestFolder();
+  const fs::path path = folder / "results.h5";
+  const std::vector<fs::path> shards = BlockCyclicShards(path);
+  WriteShardIndex(path, TestIdentity(), kShardedSamples, shards);
+  const CampaignStore::Absorbed copy = JoinShards(path, folder / "copy.h5");
+  EXPECT_EQ(copy.samples, kShardedSamples);
+  // Blocks 0, 1, 2 and 4, and shard 0's half of block 3, whose chunk comes first.
+  EXPECT_EQ(copy.chunk_samples, 36);
+  EXPECT_EQ(IndexedShards(path), shards);  // the index and its shards stay
+  EXPECT_TRUE(IndexedShards(folder / "copy.h5").empty());
+
+  JoinShards(path, path);  // in place: the shards go
+  EXPECT_TRUE(FindShards(path).empty());
+  EXPECT_TRUE(IndexedShards(path).empty());
+  for (const fs::path& joined : {path, folder / "copy.h5"}) {
+    const CampaignReader reader(joined);
+    for (std::int64_t index = 0; index < kShardedSamples; ++index) {
+      ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+    }
+    EXPECT_TRUE(CheckResults(joined).intact());
   }
 }
 

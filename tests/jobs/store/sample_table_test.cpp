@@ -209,5 +209,16 @@ TEST(RowBuffer, TheLastRowOfAKeyWinsAndOverlaysTheFilesValues) {
   EXPECT_EQ(row, (std::vector<double>{0.0, 6.0, 0.0}));
 }
 
+TEST(RegularRuns, BlocksAtEqualSpacingAreOneStridedRunAndOddOnesRunsOfTheirOwn) {
+  // Block-cyclic blocks of 8 over 3 ranks, then a half block and an adopted pair of blocks.
+  const std::vector<SampleRange> rows = {{8, 16}, {32, 40}, {56, 64}, {80, 84}, {100, 108}, {124, 132}};
+  EXPECT_EQ(RegularRuns(rows), (std::vector<StridedRows>{{8, 24, 3, 8}, {80, 4, 1, 4}, {100, 24, 2, 8}}));
+  EXPECT_EQ(RegularRuns(std::vector<SampleRange>{{5, 6}}), (std::vector<StridedRows>{{5, 1, 1, 1}}));
+  EXPECT_TRUE(RegularRuns(std::vector<SampleRange>{}).empty());
+  // A row that breaks the spacing starts a new run, which the next rows may extend.
+  EXPECT_EQ(RegularRuns(std::vector<SampleRange>{{0, 2}, {10, 12}, {15, 17}, {20, 22}}),
+            (std::vector<StridedRows>{{0, 10, 2, 2}, {15, 5, 2, 2}}));
+}
+
 }  // namespace
 }  // namespace ringtol::jobs::hdf5
