@@ -164,32 +164,68 @@ bool IsSharded(const std::filesystem::path& out) {
   return std::filesystem::exists(out) && !IndexedShards(out).empty();
 }
 
-// Makes every shard of `out` ready to continue (CampaignStore::Resume: damage repaired,
-// grown to `samples`) and returns the samples they hold. A self-contained results file
-// becomes shard 0 (renamed: its samples stay where they are on disk), so that a campaign
-// started in one process continues under mpirun.
-std::vector<bool> ResumeShards(const std::filesystem::path& out, const CampaignIdentity& identity,
-                               std::int64_t samples, const CampaignStoreOptions& options) {
+// Before a resume under mpirun (rank 0): a self-contained results file becomes shard 0
+// (renamed: its samples stay where they are on disk), so that a campaign started in one
+// process continues in shards; it is checked and repaired as it is first.
+void MakeShardZero(const std::filesystem::path& out, const CampaignIdentity& identity, std::int64_t samples) {
   const std::filesystem::path own = ShardPath(out, 0);
-  if (std::filesystem::exists(out) && IndexedShards(out).empty()) {
-    if (const int schema = CampaignReader(out).schema_version(); schema < kCampaignSchemaVersion) {
-      throw InputError(fmt::format("{}: was written by an older ringtol (schema {}), which keeps it in one file: "
-                                   "resume it without mpirun",
-                                   out.string(), schema));
-    }
-    if (std::filesystem::exists(own)) {
-      throw InputError(fmt::format("{}: keeps samples itself and {} exists beside it: move one of them away",
-                                   out.string(), own.string()));
-    }
-    // Checked and repaired as it is before it changes its name.
-    { const CampaignStore plain = CampaignStore::Resume(out, identity, samples, options); }
-    std::filesystem::rename(out, own);
+  if (!std::filesystem::exists(out) || !IndexedShards(out).empty()) return;
+  if (const int schema = CampaignReader(out).schema_version(); schema < kCampaignSchemaVersion) {
+    throw InputError(fmt::format("{}: was written by an older ringtol (schema {}), which keeps it in one file: "
+                                 "resume it without mpirun",
+                                 out.string(), schema));
   }
-  const std::vector<std::filesystem::path> shards = FindShards(out);
-  for (const std::filesystem::path& path : shards) {
-    const CampaignStore shard = CampaignStore::Resume(path, identity, samples, options);
+  if (std::filesystem::exists(own)) {
+    throw InputError(fmt::format("{}: keeps samples itself and {} exists beside it: move one of them away",
+                                 out.string(), own.string()));
   }
-  return FinishedSamples(shards, samples);
+  { const CampaignStore plain = CampaignStore::Resume(out, identity, samples); }
+  std::filesystem::rename(out, own);
+}
+
+// The contents of every rank's shard, on rank 0 in rank order (collective): each rank
+// reads its own (`mine`; samples < 0 when it could not), so that the cost is spread
+// over the ranks; rank 0 reads itself a shard whose rank could not.
+std::vector<ShardContents> GatherContents(MPI_Comm world, const ShardContents& mine, const std::filesystem::path& out,
+                                          const CampaignIdentity& identity, std::int64_t samples) {
+  int rank = 0;
+  int ranks = 1;
+  MPI_Comm_rank(world, &rank);
+  MPI_Comm_size(world, &ranks);
+  std::vector<std::int64_t> packed = {mine.samples, mine.chunk_rows, mine.inputs_stored_below, mine.failure_rows};
+  for (const SampleRange& range : mine.finished) packed.insert(packed.end(), {range.begin, range.end});
+  const int count = static_cast<int>(packed.size());
+  std::vector<int> counts(static_cast<std::size_t>(ranks));
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, world);
+  std::vector<int> offsets(static_cast<std::size_t>(ranks), 0);
+  for (std::size_t r = 1; r < offsets.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<std::int64_t> all(rank == 0 ? static_cast<std::size_t>(offsets.back() + counts.back()) : 0);
+  MPI_Gatherv(packed.data(), count, MPI_INT64_T, all.data(), counts.data(), offsets.data(), MPI_INT64_T, 0, world);
+  std::vector<ShardContents> contents;
+  if (rank != 0) return contents;
+  for (int r = 0; r < ranks; ++r) {
+    const std::int64_t* at = all.data() + offsets[static_cast<std::size_t>(r)];
+    if (at[0] < 0) {
+      contents.push_back(ReadShardContents(ShardPath(out, r), identity, samples));
+      continue;
+    }
+    ShardContents shard{ShardPath(out, r), at[0], at[1], at[2], at[3], {}};
+    for (int k = 4; k + 1 < counts[static_cast<std::size_t>(r)]; k += 2) shard.finished.push_back({at[k], at[k + 1]});
+    contents.push_back(std::move(shard));
+  }
+  return contents;
+}
+
+// What `store` holds, or samples = -1 when it cannot say (GatherContents reads it then).
+ShardContents ContentsOf(CampaignStore* store) {
+  ShardContents contents;
+  contents.samples = -1;
+  if (store == nullptr) return contents;
+  try {
+    return store->Contents();
+  } catch (const std::exception&) {
+    return contents;
+  }
 }
 
 }  // namespace
@@ -236,6 +272,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   // Rank 0's results file, or under mpirun the shard of every computing rank (rank 0's
   // included) and `finished`, what the shards already hold.
   std::unique_ptr<CampaignStore> store;
+  std::vector<ShardContents> stale;  // shards of ranks this run does not have
   std::vector<bool> finished;
   std::array<std::int64_t, 3> layout = {0, 0, 0};  // sharded, chunk rows, inputs stored below
   std::string error;
@@ -256,19 +293,34 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
             command.resume ? CampaignStore::Resume(command.out, campaign->identity(), campaign->samples())
                            : CampaignStore::Create(command.out, campaign->identity(), campaign->samples(), options));
       } else {
-        if (command.resume) {
-          finished = ResumeShards(command.out, campaign->identity(), campaign->samples(), options);
+        if (command.resume) MakeShardZero(command.out, campaign->identity(), campaign->samples());
+        // Shards of ranks beyond this run's stay as they are: rank 0 repairs them and reads
+        // what they hold once.
+        const auto has_rank = [&](const std::filesystem::path& path) {
+          for (int r = 0; r < ranks; ++r) {
+            if (path == ShardPath(command.out, r)) return true;
+          }
+          return false;
+        };
+        for (const std::filesystem::path& path : FindShards(command.out)) {
+          if (has_rank(path)) continue;
+          { const CampaignStore repaired = CampaignStore::Resume(path, campaign->identity(), campaign->samples()); }
+          stale.push_back(ReadShardContents(path, campaign->identity(), campaign->samples()));
         }
-        if (finished.empty()) finished.assign(static_cast<std::size_t>(campaign->samples()), false);
-        // Opened again once the index of every shard is written (below).
         const std::filesystem::path own = ShardPath(command.out, 0);
         if (!std::filesystem::exists(own)) {
-          const CampaignStore created = CampaignStore::Create(own, campaign->identity(), campaign->samples(), options);
-          layout = {1, created.chunk_rows(), created.inputs_stored_below()};
-        } else {
-          const CampaignStore resumed = CampaignStore::Resume(own, campaign->identity(), campaign->samples());
-          layout = {1, resumed.chunk_rows(), resumed.inputs_stored_below()};
+          // A run killed before rank 0 wrote a sample: chunked as the other shards.
+          if (const std::vector<std::filesystem::path> shards = FindShards(command.out); !shards.empty()) {
+            const ShardContents other = ReadShardContents(shards.front(), campaign->identity(), campaign->samples());
+            options.chunk_samples = other.chunk_rows;
+            options.inputs_stored_below = other.inputs_stored_below;
+          }
         }
+        store = std::make_unique<CampaignStore>(
+            std::filesystem::exists(own)
+                ? CampaignStore::Resume(own, campaign->identity(), campaign->samples())
+                : CampaignStore::Create(own, campaign->identity(), campaign->samples(), options));
+        layout = {1, store->chunk_rows(), store->inputs_stored_below()};
         return;
       }
       layout = {0, store->chunk_rows(), store->inputs_stored_below()};
@@ -296,15 +348,24 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   }
   ThrowAgreed(world, error);
   // The results file exists from the start: an index of the shards, showing what they
-  // hold now (rewritten when the run ends or stops).
-  if (rank == 0 && sharded) {
-    error = Attempt([&] {
-      WriteShardIndex(command.out, campaign->identity(), campaign->samples(), FindShards(command.out));
-      store = std::make_unique<CampaignStore>(
-          CampaignStore::Resume(ShardPath(command.out, 0), campaign->identity(), campaign->samples()));
-    });
+  // hold now (rewritten when the run ends or stops). Each rank reads its own shard.
+  if (sharded) {
+    std::vector<ShardContents> contents = GatherContents(world, ContentsOf(rank == 0 ? store.get() : shard.get()),
+                                                         command.out, campaign->identity(), campaign->samples());
+    if (rank == 0) {
+      error = Attempt([&] {
+        contents.insert(contents.end(), stale.begin(), stale.end());
+        finished.assign(static_cast<std::size_t>(campaign->samples()), false);
+        for (const ShardContents& one : contents) {
+          for (const SampleRange& range : one.finished) {
+            std::fill(finished.begin() + range.begin, finished.begin() + range.end, true);
+          }
+        }
+        WriteShardIndex(command.out, campaign->identity(), campaign->samples(), contents);
+      });
+    }
+    ThrowAgreed(world, error);
   }
-  ThrowAgreed(world, error);
 
   std::function<void(const PoolProgress&)> report_progress;
   if (rank == 0 && !command.quiet) {
@@ -312,7 +373,15 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   }
   const PoolReport run = RunPool(world, *campaign, rank == 0 ? store.get() : shard.get(), pool, report_progress,
                                  rank == 0 && sharded ? &finished : nullptr);
-  // Committed and closed before rank 0 indexes the shards; the summary reads what is on disk.
+  // Every rank commits and says what its shard holds; all are closed before rank 0 indexes
+  // them, and the summary reads what is on disk.
+  const auto index_start = std::chrono::steady_clock::now();
+  const double index_cpu_start = ThreadCpuSeconds();
+  std::vector<ShardContents> contents;
+  if (sharded) {
+    contents = GatherContents(world, ContentsOf(rank == 0 ? store.get() : shard.get()), command.out,
+                              campaign->identity(), campaign->samples());
+  }
   shard.reset();
   store.reset();
   MPI_Barrier(world);
@@ -320,9 +389,8 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   if (rank != 0) return signals->received() != 0 ? StopSignals::ExitCode(signals->received()) : 0;
   std::optional<Indexed> indexed;
   if (sharded) {
-    const auto index_start = std::chrono::steady_clock::now();
-    const double index_cpu_start = ThreadCpuSeconds();
-    indexed = Indexed{WriteShardIndex(command.out, campaign->identity(), campaign->samples(), FindShards(command.out))};
+    contents.insert(contents.end(), stale.begin(), stale.end());
+    indexed = Indexed{WriteShardIndex(command.out, campaign->identity(), campaign->samples(), contents)};
     indexed->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - index_start).count();
     indexed->cpu_seconds = ThreadCpuSeconds() - index_cpu_start;
   }

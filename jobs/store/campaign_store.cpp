@@ -1316,10 +1316,59 @@ std::vector<fs::path> ListedShards(const Where& where, hid_t file, const fs::pat
 
 }  // namespace
 
+namespace {
+
+// `rows` without the samples of `owned` (both ascending, disjoint).
+std::vector<SampleRange> Without(const std::vector<SampleRange>& rows, const std::vector<SampleRange>& owned) {
+  std::vector<SampleRange> kept;
+  auto next = owned.begin();
+  for (SampleRange range : rows) {
+    while (next != owned.end() && next->end <= range.begin) ++next;
+    for (auto it = next; it != owned.end() && it->begin < range.end; ++it) {
+      if (it->begin > range.begin) kept.push_back({range.begin, it->begin});
+      range.begin = std::max(range.begin, it->end);
+    }
+    if (range.begin < range.end) kept.push_back(range);
+  }
+  return kept;
+}
+
+// The finished samples of a shard's table, as ranges.
+std::vector<SampleRange> FinishedRows(const SampleTable& table) {
+  std::vector<bool> none(static_cast<std::size_t>(table.space().samples), false);
+  return ClaimFinished(table, none);
+}
+
+}  // namespace
+
+ShardContents ReadShardContents(const fs::path& shard, const CampaignIdentity& identity, std::int64_t samples) {
+  const QuietErrors quiet;
+  Stored expected;
+  expected.identity = identity;
+  expected.samples = samples;
+  expected.schema_version = kCampaignSchemaVersion;
+  const Where opening{shard.string(), true};
+  const FileId file = OpenForReading(shard);
+  const Stored stored = ReadStored(opening, file.get());
+  expected.inputs_stored_below = stored.inputs_stored_below;
+  CheckShard(opening, shard, expected);
+  const SampleTable table = OpenColumns(opening, file.get(), stored);
+  return {shard, stored.samples, table.space().chunk_samples, stored.inputs_stored_below,
+          static_cast<std::int64_t>(FailureRowCount(opening, file.get())), FinishedRows(table)};
+}
+
 ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentity& identity, std::int64_t samples,
                                   const std::vector<fs::path>& shards) {
+  std::vector<ShardContents> contents;
+  for (const fs::path& shard : shards) contents.push_back(ReadShardContents(shard, identity, samples));
+  return WriteShardIndex(results, identity, samples, contents);
+}
+
+ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentity& identity, std::int64_t samples,
+                                  const std::vector<ShardContents>& shards) {
   const QuietErrors quiet;
   const std::string name = results.string();
+  if (shards.empty()) throw std::invalid_argument("WriteShardIndex: no shards");
   std::error_code error;
   if (fs::exists(results, error)) {
     const FileId file = OpenForReading(results);
@@ -1327,37 +1376,28 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
       throw InputError(name + ": keeps samples of its own; an index of shards cannot replace it");
     }
   }
-  Stored expected;
-  expected.identity = identity;
-  expected.samples = samples;
-  expected.schema_version = kCampaignSchemaVersion;
+  const std::int64_t chunk_rows = shards.front().chunk_rows;
+  const std::int64_t stored_below = shards.front().inputs_stored_below;
   ShardIndexSummary summary;
+  summary.shards = static_cast<std::int64_t>(shards.size());
   std::vector<VirtualSource> sources;
   std::vector<std::string> names;
   std::vector<hsize_t> failure_rows;
-  std::vector<bool> owned(static_cast<std::size_t>(samples), false);
-  std::int64_t chunk_rows = 0;
-  for (std::size_t s = 0; s < shards.size(); ++s) {
-    const fs::path& shard = shards[s];
-    if (fs::weakly_canonical(shard).parent_path() != fs::weakly_canonical(results).parent_path()) {
-      throw std::invalid_argument("WriteShardIndex: shard " + shard.string() + " is not beside " + name);
+  std::vector<SampleRange> owned;  // by the shards before: the first listed wins
+  for (const ShardContents& shard : shards) {
+    if (shard.path.parent_path().lexically_normal() != results.parent_path().lexically_normal() ||
+        shard.samples > samples || shard.chunk_rows != chunk_rows || shard.inputs_stored_below != stored_below) {
+      throw std::invalid_argument("WriteShardIndex: shard " + shard.path.string() + " is not a shard of " + name);
     }
-    const Where opening{shard.string(), true};
-    const FileId file = OpenForReading(shard);
-    const Stored stored = ReadStored(opening, file.get());
-    if (s == 0) expected.inputs_stored_below = stored.inputs_stored_below;
-    CheckShard(Where{name, true}, shard, expected);
-    const SampleTable table = OpenColumns(opening, file.get(), stored);
-    if (s == 0) chunk_rows = table.space().chunk_samples;
-    VirtualSource source{shard.filename().string(), stored.samples, ClaimFinished(table, owned)};
+    VirtualSource source{shard.path.filename().string(), shard.samples, Without(shard.finished, owned)};
     for (const SampleRange& range : source.rows) summary.samples += range.end - range.begin;
     summary.most_mappings = std::max(summary.most_mappings, static_cast<std::int64_t>(RegularRuns(source.rows).size()));
+    owned.insert(owned.end(), source.rows.begin(), source.rows.end());
+    owned = Merged(std::move(owned));
     names.push_back(source.file);
-    failure_rows.push_back(FailureRowCount(opening, file.get()));
+    failure_rows.push_back(static_cast<hsize_t>(shard.failure_rows));
     sources.push_back(std::move(source));
   }
-  if (sources.empty()) throw std::invalid_argument("WriteShardIndex: no shards");
-  summary.shards = static_cast<std::int64_t>(sources.size());
 
   fs::path temporary = results;
   temporary += ".index-new";
@@ -1366,7 +1406,7 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
   try {
     FileId file = CreateExclusive(temporary, results);
     CampaignStoreOptions options;
-    options.inputs_stored_below = expected.inputs_stored_below;
+    options.inputs_stored_below = stored_below;
     WriteIdentity(where, file.get(), identity, samples, options, kShardIndexSchemaVersion);
     WriteAttribute(where, file.get(), "shard_chunk_rows", H5T_STD_I64LE, H5T_NATIVE_INT64, &chunk_rows);
     const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
@@ -1375,7 +1415,7 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
     WriteStrings(where, file.get(), kShardFiles, names, true);
     summary.mappings = SampleTable::CreateVirtual(
         where, file.get(), Rows(samples, chunk_rows),
-        Columns(kCampaignSchemaVersion, identity.inputs.size(), 0, expected.inputs_stored_below), sources);
+        Columns(kCampaignSchemaVersion, identity.inputs.size(), 0, stored_below), sources);
     CreateFailureViews(where, file.get(), names, failure_rows);
     WriteColumnAttributes(where, file.get(), identity);
     if (!file.Close()) Fail(where, "closing the new index failed (HDF5: " + Hdf5Detail() + ")");
@@ -1388,17 +1428,12 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
   return summary;
 }
 
-std::vector<bool> FinishedSamples(const std::vector<fs::path>& shards, std::int64_t samples) {
+ShardContents CampaignStore::Contents() {
+  Commit();
   const QuietErrors quiet;
-  std::vector<bool> finished(static_cast<std::size_t>(samples), false);
-  for (const fs::path& shard : shards) {
-    const Where opening{shard.string(), true};
-    const FileId file = OpenForReading(shard);
-    Stored stored = ReadStored(opening, file.get());
-    stored.samples = std::min(stored.samples, samples);
-    ClaimFinished(OpenColumns(opening, file.get(), stored), finished);
-  }
-  return finished;
+  File& f = *file_;
+  const auto failures = f.failure_samples.get() >= 0 ? static_cast<std::int64_t>(FailureRowCount(f.where, f.file.get())) : 0;
+  return {f.path, f.samples, f.chunk_rows, f.inputs_stored_below, failures, FinishedRows(f.table)};
 }
 
 std::vector<fs::path> IndexedShards(const fs::path& results) {

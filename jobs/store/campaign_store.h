@@ -113,6 +113,24 @@ inline constexpr std::int64_t kStoredInputSamples = 16384;
 // Resume refuses files older than kOldestResumableSchema.
 inline constexpr int kOldestReadableSchema = 1;
 
+// Samples [begin, end).
+struct SampleRange {
+  std::int64_t begin = 0;
+  std::int64_t end = 0;
+  friend bool operator==(const SampleRange&, const SampleRange&) = default;
+};
+
+// What a shard holds, for its index: reported by the rank that writes it
+// (CampaignStore::Contents, in parallel on every rank), or read from the file.
+struct ShardContents {
+  std::filesystem::path path;
+  std::int64_t samples = 0;              // its N
+  std::int64_t chunk_rows = 0;
+  std::int64_t inputs_stored_below = 0;
+  std::int64_t failure_rows = 0;         // rows of /failures/sample
+  std::vector<SampleRange> finished;     // ascending, disjoint, not touching
+};
+
 struct CampaignStoreOptions {
   int deflate_level = 0;            // 0..9: zlib level of the floating-point columns; 0 = none
   // > 0: samples per HDF5 chunk; 0: about 256 KiB per chunk of /inputs/u (of 256 bytes a
@@ -158,6 +176,9 @@ class CampaignStore {
   std::size_t buffered() const;
   // Writes and flushes every buffered sample, statuses last (see the header comment).
   void Commit();
+
+  // Commits, and reports what the file holds (its statuses read: N bytes), for its index.
+  ShardContents Contents();
 
   // Samples per HDF5 chunk of every per-sample dataset. A shard made with this many
   // (CampaignStoreOptions::chunk_samples) has chunks that Absorb copies as they are stored.
@@ -210,18 +231,21 @@ struct ShardIndexSummary {
   std::int64_t mappings = 0;      // of one per-sample dataset, all shards
   std::int64_t most_mappings = 0;  // of one shard
 };
-// Writes `results` as the index of `shards` (results files of `identity`, of at most
-// `samples` samples each, in `results`'s folder), reading each shard's statuses; built
-// beside it and renamed over it, so a kill leaves the old index or the new one. InputError
-// for a shard of another campaign or layout, and when `results` is a results file that
-// keeps samples of its own (it would be lost).
+// Reads a shard's contents (its statuses: N bytes). InputError unless it is a results file
+// of `identity`'s campaign of at most `samples` samples, whose status chunks read.
+ShardContents ReadShardContents(const std::filesystem::path& shard, const CampaignIdentity& identity,
+                                std::int64_t samples);
+// Writes `results` as the index of `shards` (of `identity`'s campaign, of at most `samples`
+// samples each, in `results`'s folder, all of one chunking and stored inputs), opening
+// none of them: its cost grows with the shards and their finished runs, not with N.
+// Built beside it and renamed over it, so a kill leaves the old index or the new one.
+// InputError when `results` is a results file that keeps samples of its own (they would
+// be lost).
+ShardIndexSummary WriteShardIndex(const std::filesystem::path& results, const CampaignIdentity& identity,
+                                  std::int64_t samples, const std::vector<ShardContents>& shards);
+// As above, each shard's contents read from its file (ReadShardContents).
 ShardIndexSummary WriteShardIndex(const std::filesystem::path& results, const CampaignIdentity& identity,
                                   std::int64_t samples, const std::vector<std::filesystem::path>& shards);
-// The samples that some shard holds finished ([samples]; a shard's rows beyond its own N
-// are not finished): what a run into these shards need not compute. Reads each shard's
-// statuses (InputError for a shard that does not open as a results file, or whose status
-// chunks do not read: resume it first, CampaignStore::Resume).
-std::vector<bool> FinishedSamples(const std::vector<std::filesystem::path>& shards, std::int64_t samples);
 // The shards a results file's index lists, checked to exist and to be results files of its
 // campaign (InputError naming the missing or wrong one); empty for a self-contained file.
 std::vector<std::filesystem::path> IndexedShards(const std::filesystem::path& results);
@@ -284,12 +308,6 @@ class CampaignReader {
   std::unique_ptr<File> file_;
 };
 
-// Samples [begin, end).
-struct SampleRange {
-  std::int64_t begin = 0;
-  std::int64_t end = 0;
-  friend bool operator==(const SampleRange&, const SampleRange&) = default;
-};
 
 // One dataset of a results file, read chunk by chunk.
 struct DatasetCheck {

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -200,10 +201,16 @@ TEST(CampaignUnderMpirun, AfterAWorkerIsKilledUnderMpirunResumeCompletesTheSameF
   ExpectSameResults(folder / "whole.h5", folder / "killed.h5");
 }
 
-// Finished samples in the shards of a results file written under mpirun.
+// Finished samples in the shards of a results file written under mpirun, each counted once.
 std::int64_t DoneInShards(const std::filesystem::path& out) {
-  const std::vector<bool> finished = FinishedSamples(FindShards(out), CampaignReader(out).samples());
-  return std::count(finished.begin(), finished.end(), true);
+  std::set<std::int64_t> done;
+  for (const std::filesystem::path& shard : FindShards(out)) {
+    const CampaignReader reader(shard);
+    for (const SampleRange& range : ReadShardContents(shard, reader.identity(), reader.samples()).finished) {
+      for (std::int64_t i = range.begin; i < range.end; ++i) done.insert(i);
+    }
+  }
+  return static_cast<std::int64_t>(done.size());
 }
 
 TEST(CampaignUnderMpirun, AfterTheCoordinatorIsKilledResumeContinuesTheShardsAndComputesOnlyWhatIsMissing) {
@@ -222,6 +229,28 @@ TEST(CampaignUnderMpirun, AfterTheCoordinatorIsKilledResumeContinuesTheShardsAnd
   EXPECT_EQ(nlohmann::json::parse(resumed.out)["run"]["computed"], 48 - done);
   EXPECT_EQ(IndexedShards(out), FindShards(out));
   ExpectSameResults(folder / "whole.h5", out);
+}
+
+// Fewer ranks than the shards: the others' shards stay and are indexed as they are; a
+// resume with nothing left to compute writes the same index, byte for byte.
+TEST(CampaignUnderMpirun, AResumeWithFewerRanksKeepsTheOtherShardsAndANoOpResumeChangesNoByte) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  const std::filesystem::path out = folder / "r.h5";
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  ASSERT_EQ(Campaign(file, out, "--samples 20 --coordinator-computes 0", Mpirun(3)).exit_code, 0);
+  const Outcome grown = Campaign(file, out, "--resume --samples 48 --json", Mpirun(2));
+  ASSERT_EQ(grown.exit_code, 0) << grown.err;
+  EXPECT_EQ(nlohmann::json::parse(grown.out)["run"]["computed"], 28);
+  EXPECT_EQ(IndexedShards(out), (std::vector<std::filesystem::path>{ShardPath(out, 0), ShardPath(out, 1), ShardPath(out, 2)}));
+  ExpectSameResults(folder / "whole.h5", out);
+  const std::string index = testing::ReadText(out);
+  const std::string shard = testing::ReadText(ShardPath(out, 2));
+  const Outcome again = Campaign(file, out, "--resume --json");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(nlohmann::json::parse(again.out)["run"]["computed"], 0);
+  EXPECT_TRUE(testing::ReadText(out) == index) << "a resume with nothing to compute rewrote the index differently";
+  EXPECT_TRUE(testing::ReadText(ShardPath(out, 2)) == shard);
 }
 
 // A campaign begun in one process continues under mpirun: its file becomes shard 0 of the
@@ -420,10 +449,7 @@ TEST(Campaign, InputsPrintsChosenSamplesAsCsvAndStoreInputsKeepsEverySample) {
 // mpirun in its shards, whose index shows what they held when the run started.
 std::int64_t Done(const std::filesystem::path& file) {
   try {
-    if (const std::vector<std::filesystem::path> shards = FindShards(file); !shards.empty()) {
-      const std::vector<bool> finished = FinishedSamples(shards, CampaignReader(shards.front()).samples());
-      return std::count(finished.begin(), finished.end(), true);
-    }
+    if (!FindShards(file).empty()) return DoneInShards(file);
     if (!std::filesystem::exists(file)) return 0;
     const CampaignReader results(file);
     return results.samples() - Pending(file);
