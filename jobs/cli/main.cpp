@@ -251,6 +251,8 @@ void AddPoolOptions(CLI::App& app, ringtol::jobs::PoolOptions& pool) {
   app.add_option("--test-kill-rank", pool.kill_rank)->group("");
 }
 
+constexpr double kSecondsPerMicrosecond = 1e-6;
+
 CLI::App* AddCampaign(CLI::App& app, ringtol::jobs::CampaignCommand& campaign) {
   CLI::App* sub = app.add_subcommand(
       "campaign", "Run a Monte Carlo campaign into an HDF5 results file, alone or under mpirun, and summarise it");
@@ -265,6 +267,12 @@ CLI::App* AddCampaign(CLI::App& app, ringtol::jobs::CampaignCommand& campaign) {
                 "16,384; readers replay the others from the campaign)");
   AddProgressOptions(*sub, campaign.quiet, campaign.progress_seconds);
   AddPoolOptions(*sub, campaign.pool);
+  // Test hook standing in for the physics (PoolOptions::test_sample_seconds); not for users.
+  sub->add_option_function<double>(
+         "--test-sample-us",
+         [&campaign](double microseconds) { campaign.pool.test_sample_seconds = microseconds * kSecondsPerMicrosecond; })
+      ->check(CLI::PositiveNumber)
+      ->group("");
   return sub;
 }
 

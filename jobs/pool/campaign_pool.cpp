@@ -1,6 +1,7 @@
 #include "jobs/pool/campaign_pool.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -17,6 +18,7 @@
 #include <string>
 #include <thread>
 #include <type_traits>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -134,20 +136,27 @@ void Pack(const SampleRecord& r, Packer& out) {
   out.Put(r.message);
 }
 
-// What rank 0 counts of a record that a worker filed in its shard.
-void PackSummary(const SampleRecord& r, Packer& out) {
-  out.Put(r.index);
-  out.Put(r.status);
-  out.Put(r.solve_time);
-}
+// What rank 0 counts of the records a worker filed in its shard: one tally a chunk, so
+// that rank 0's work does not grow with the samples of a chunk.
+struct Tally {
+  double solve_time = 0.0;  // [s] summed
+  // Samples by status, indexed by the status's byte.
+  std::array<std::int64_t, std::numeric_limits<std::uint8_t>::max() + 1> by_status{};
 
-SampleRecord UnpackSummary(Unpacker& in) {
-  SampleRecord r;
-  r.index = in.Get<std::int64_t>();
-  r.status = in.Get<SampleStatus>();
-  r.solve_time = in.Get<double>();
-  return r;
-}
+  void Count(const SampleRecord& r) {
+    solve_time += r.solve_time;
+    ++by_status[static_cast<std::uint8_t>(r.status)];
+  }
+  // The solve time, then (status, samples) of each status counted.
+  void Pack(Packer& out) const {
+    out.Put(solve_time);
+    for (std::size_t b = 0; b < by_status.size(); ++b) {
+      if (by_status[b] == 0) continue;
+      out.Put(static_cast<SampleStatus>(static_cast<std::int8_t>(static_cast<std::uint8_t>(b))));
+      out.Put(by_status[b]);
+    }
+  }
+};
 
 SampleRecord Unpack(Unpacker& in, std::size_t dimension) {
   SampleRecord r;
@@ -167,15 +176,39 @@ SampleRecord Unpack(Unpacker& in, std::size_t dimension) {
 
 class CampaignWork final : public PoolWork {
  public:
-  explicit CampaignWork(const Campaign& campaign) : campaign_(campaign) {}
+  CampaignWork(const Campaign& campaign, double test_sample_seconds)
+      : campaign_(campaign), test_sample_seconds_(test_sample_seconds) {}
   Evaluator MakeEvaluator() const override {
+    if (test_sample_seconds_ > 0.0) {
+      auto drawer = std::make_shared<SampleDrawer>(campaign_);
+      return [drawer, seconds = test_sample_seconds_](std::int64_t index) { return Spin(*drawer, index, seconds); };
+    }
     auto evaluator = std::make_shared<SampleEvaluator>(campaign_);
     return [evaluator](std::int64_t index) { return evaluator->Evaluate(index); };
   }
   std::size_t dimension() const override { return campaign_.identity().inputs.size(); }
 
  private:
+  // PoolOptions::test_sample_seconds: the sample's real draw, then CPU spent to the given
+  // total, and outputs that are a function of the index alone.
+  static SampleRecord Spin(SampleDrawer& drawer, std::int64_t index, double seconds) {
+    const Clock::time_point start = Clock::now();
+    const double cpu_start = ThreadCpuSeconds();
+    SampleRecord record = drawer.Draw(index);
+    while (ThreadCpuSeconds() - cpu_start < seconds) {
+    }
+    if (record.status == SampleStatus::kPending) record.status = SampleStatus::kOk;
+    for (std::size_t k = 0; k < record.outputs.size(); ++k) {
+      record.outputs[k] = 1e-6 * static_cast<double>(index % 1000) + 1e-3 * static_cast<double>(k);
+    }
+    record.rung = 0;
+    record.d_trajectory_error = 0.0;
+    record.solve_time = Seconds(Clock::now() - start);
+    return record;
+  }
+
   const Campaign& campaign_;
+  double test_sample_seconds_;
 };
 
 // A campaign's results file, or rank 0's shard with what every shard held at the start.
@@ -203,7 +236,16 @@ class CampaignResults final : public PoolResults {
 // 0 while the pool goes on; the stop request's value once there is one.
 int StopRequest(const PoolOptions& options) { return options.stop ? options.stop() : 0; }
 
-void RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolResults* shard, const PoolOptions& options) {
+// What a worker rank's thread spent: all of its CPU time, and that inside samples.
+struct WorkerCpu {
+  double total = 0.0;
+  double samples = 0.0;
+};
+
+WorkerCpu RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolResults* shard,
+                    const PoolOptions& options) {
+  const double cpu_start = ThreadCpuSeconds();
+  WorkerCpu cpu;
   const PoolWork::Evaluator evaluate = work.MakeEvaluator();
   Packer results;  // empty: the first request
   int tag = kTagResults;
@@ -217,9 +259,13 @@ void RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolResult
     Check(MPI_Get_count(&status, MPI_INT64_T, &count), "MPI_Get_count");
     chunk.resize(static_cast<std::size_t>(count));
     Check(MPI_Recv(chunk.data(), count, MPI_INT64_T, 0, kTagWork, communicator, MPI_STATUS_IGNORE), "MPI_Recv");
-    if (chunk.empty()) return;
+    if (chunk.empty()) {
+      cpu.total = ThreadCpuSeconds() - cpu_start;
+      return cpu;
+    }
     results.Clear();
     results.Put(shard != nullptr ? kSummaries : kRecords);
+    Tally tally;
     for (const std::int64_t index : chunk) {
       if (const int stop = StopRequest(options); stop != 0) {
         // Rebuilt with the request in front of the records finished so far; the rest of
@@ -231,14 +277,17 @@ void RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolResult
         tag = kTagStopping;
         break;
       }
+      const double sample_start = ThreadCpuSeconds();
       SampleRecord record = evaluate(index);
+      cpu.samples += ThreadCpuSeconds() - sample_start;
       if (shard == nullptr) {
         Pack(record, results);
       } else {
-        PackSummary(record, results);
+        tally.Count(record);
         shard->Add(std::move(record));
       }
     }
+    if (shard != nullptr) tally.Pack(results);
     if (first && rank == options.kill_rank) std::raise(SIGKILL);
     // On disk before rank 0 counts them: a kill after this loses none of them.
     if (shard != nullptr) shard->Commit();
@@ -528,13 +577,27 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
   };
   std::int64_t failed = 0;
   // `filed`: in a worker's shard already, so only counted here.
-  auto absorb = [&](SampleRecord record, bool filed) {
-    ++report.computed;
-    report.solver_time += record.solve_time;
-    mean_time += (record.solve_time - mean_time) / static_cast<double>(report.computed);
-    ++report.status[record.status];
-    if (record.status != SampleStatus::kOk) ++failed;
-    if (!filed) store.Add(std::move(record));
+  Clock::time_point last_arrival = start;
+  auto count = [&](SampleStatus status, std::int64_t samples, double solve_time) {
+    last_arrival = Clock::now();
+    report.computed += samples;
+    report.solver_time += solve_time;
+    mean_time = report.solver_time / static_cast<double>(std::max<std::int64_t>(1, report.computed));
+    report.status[status] += samples;
+    if (status != SampleStatus::kOk) failed += samples;
+  };
+  auto absorb = [&](SampleRecord record) {
+    count(record.status, 1, record.solve_time);
+    store.Add(std::move(record));
+  };
+  // A worker's tally of a chunk it filed in its shard (Tally::Pack): its solve time goes
+  // with its first status.
+  auto absorb_tally = [&](Unpacker& in) {
+    double solve_time = in.Get<double>();
+    while (!in.done()) {
+      const auto status = in.Get<SampleStatus>();
+      count(status, in.Get<std::int64_t>(), std::exchange(solve_time, 0.0));
+    }
   };
   auto tell = [&] {
     if (progress) progress({report.already_done + report.computed, store.items(), report.computed, failed,
@@ -585,8 +648,11 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
       report.coordinator_messages += 2;
       report.coordinator_bytes += bytes + static_cast<std::int64_t>(chunk.size() * sizeof(std::int64_t));
       if (!in.done()) {
-        const bool filed = in.Get<char>() == kSummaries;
-        while (!in.done()) absorb(filed ? UnpackSummary(in) : Unpack(in, dimension), filed);
+        if (in.Get<char>() == kSummaries) {
+          absorb_tally(in);
+        } else {
+          while (!in.done()) absorb(Unpack(in, dimension));
+        }
       }
       arrived = true;
     }
@@ -594,7 +660,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
     for (std::size_t t = 0; t < locals.size(); ++t) {
       const std::unique_ptr<LocalWorker>& local = locals[t];
       for (SampleRecord& record : local->Collect()) {
-        absorb(std::move(record), false);
+        absorb(std::move(record));
         arrived = true;
       }
       if (local->WantsWork()) {
@@ -609,7 +675,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
     }
     if (active_workers == 0 && locals_finished) {
       for (const std::unique_ptr<LocalWorker>& local : locals) {
-        for (SampleRecord& record : local->Collect()) absorb(std::move(record), false);
+        for (SampleRecord& record : local->Collect()) absorb(std::move(record));
       }
       break;
     }
@@ -638,6 +704,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
   report.coordinator_time += Seconds(Clock::now() - last);
   report.coordinator_cpu_time += ThreadCpuSeconds() - last_cpu;
   report.wall_time = Seconds(Clock::now() - start);
+  report.tail_time = Seconds(Clock::now() - last_arrival);
   tell();
   return report;
 }
@@ -656,17 +723,26 @@ PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* res
   int ranks = 1;
   Check(MPI_Comm_rank(communicator, &rank), "MPI_Comm_rank");
   Check(MPI_Comm_size(communicator, &ranks), "MPI_Comm_size");
+  // Every rank reaches the reduction below, which adds up the workers' CPU times.
+  WorkerCpu cpu;
+  PoolReport report;
   if (rank != 0) {
-    RunWorker(communicator, rank, work, results, options);
-    return {};
+    cpu = RunWorker(communicator, rank, work, results, options);
+  } else {
+    if (results == nullptr) throw std::logic_error("RunPool: rank 0 needs the results file");
+    report = RunCoordinator(communicator, ranks, work, *results, options, progress);
   }
-  if (results == nullptr) throw std::logic_error("RunPool: rank 0 needs the results file");
-  return RunCoordinator(communicator, ranks, work, *results, options, progress);
+  const std::array<double, 2> mine = {cpu.total, cpu.samples};
+  std::array<double, 2> all = {0.0, 0.0};
+  Check(MPI_Reduce(mine.data(), all.data(), 2, MPI_DOUBLE, MPI_SUM, 0, communicator), "MPI_Reduce");
+  report.worker_cpu_time = all[0];
+  report.worker_sample_cpu_time = all[1];
+  return report;
 }
 
 PoolReport RunPool(MPI_Comm communicator, const Campaign& campaign, CampaignStore* store, const PoolOptions& options,
                    const std::function<void(const PoolProgress&)>& progress, const std::vector<bool>* finished) {
-  const CampaignWork work(campaign);
+  const CampaignWork work(campaign, options.test_sample_seconds);
   std::optional<CampaignResults> results;
   if (store != nullptr) results.emplace(*store, finished);
   return RunPool(communicator, work, results ? &*results : nullptr, options, progress);

@@ -6,9 +6,9 @@
 // sends back the chunk's records (jobs/campaign/sample_record.h, packed), which is also its next
 // request; an empty chunk tells it to stop. A worker given a shard (a results file of its
 // own, jobs/store/campaign_store.h) files its records there instead, commits them at the end
-// of each chunk, and sends only their summaries (index, status, solve time: 17 bytes a
-// sample), so that results never travel through rank 0 and what rank 0 does per sample is
-// bookkeeping: two small messages per chunk. Rank 0 hands out pending indices block-
+// of each chunk, and sends only a tally of the chunk (its summed solve time and its samples
+// by status: a few bytes whatever its size), so that results never travel through rank 0
+// and rank 0's work does not grow with the samples: two small messages per chunk. Rank 0 hands out pending indices block-
 // cyclically (jobs/pool/block_schedule.h): block j of the results file's chunk rows goes
 // to computing rank j mod K, and each rank's chunks are cut from its blocks in order, so
 // that each stored chunk is written by one rank and each shard holds a few strided runs of
@@ -82,6 +82,11 @@ struct PoolOptions {
   // computing its first chunk, before sending it.
   std::int64_t kill_after_committed = -1;
   int kill_rank = -1;
+  // [s] Test hook that stands in for the physics: > 0 makes each of a campaign's samples
+  // draw its inputs, spin until its thread has spent this much CPU time and report
+  // synthetic outputs (status ok), so that the pool's own costs can be measured against a
+  // known sample cost (docs/performance.md, "Campaigns at scale"). 0: the campaign's solver.
+  double test_sample_seconds = 0.0;
   // Polled between samples by every computing thread of every rank, so it must be
   // thread-safe: 0 goes on, any other value stops the pool early (see above) and is
   // reported as PoolReport::stopped. Empty: never stops early.
@@ -109,12 +114,19 @@ struct PoolReport {
   // feed (docs/performance.md, "Campaigns at scale").
   double coordinator_time = 0.0;
   // Messages rank 0 exchanged with worker ranks (received and sent) and their bytes: with
-  // shards about 2 per chunk and 17 bytes per sample; without, every record's bytes.
+  // shards 2 per chunk of a few dozen bytes; without, every record's bytes.
   std::int64_t coordinator_messages = 0;
   std::int64_t coordinator_bytes = 0;
   // [s] the CPU time of coordinator_time: what handling costs, without the waits for a core
   // that an oversubscribed or busy machine adds to it.
   double coordinator_cpu_time = 0.0;
+  // [s] CPU time of the worker ranks' computing threads, all of it and the part inside
+  // samples: the difference is what the pool costs a worker (asking, packing, writing its
+  // shard).
+  double worker_cpu_time = 0.0;
+  double worker_sample_cpu_time = 0.0;
+  // [s] from the last result's arrival at rank 0 to the pool's end (the last commit).
+  double tail_time = 0.0;
   int computing_ranks = 0;                      // worker ranks plus rank 0's computing threads
   int ranks = 0;
   // Nonzero: the pool stopped early at this request (PoolOptions::stop of rank 0, or of

@@ -1,6 +1,7 @@
 #include "jobs/store/campaign_store.h"
 
 #include <hdf5.h>
+#include <zlib.h>
 
 #include <fmt/format.h>
 
@@ -1016,8 +1017,15 @@ void CampaignStore::Commit() {
 
   const std::size_t m = f.buffer.size();
   const std::size_t d = f.inputs;
-  std::vector<double> u(m * d);
-  std::vector<float> values(m * d);
+  // The design points and drawn values of the samples the file keeps them for, which come
+  // first in sample order (SampleTable::Write reads no more).
+  const auto& rows = f.buffer.rows();
+  const auto kept = static_cast<std::size_t>(
+      std::lower_bound(rows.begin(), rows.end(), RowKey{0, f.inputs_stored_below},
+                       [](const auto& row, const RowKey& key) { return row.first < key; }) -
+      rows.begin());
+  std::vector<double> u(kept * d);
+  std::vector<float> values(kept * d);
   std::vector<std::int32_t> redraws(m);
   std::vector<std::uint32_t> checksums(m);
   std::vector<std::int32_t> steps(m);
@@ -1033,9 +1041,11 @@ void CampaignStore::Commit() {
   std::vector<std::int8_t> statuses(m);
   std::size_t i = 0;
   for (const auto& [key, record] : f.buffer.rows()) {
-    std::copy(record.u.begin(), record.u.end(), u.begin() + static_cast<std::ptrdiff_t>(i * d));
-    // Rounded here rather than by HDF5, whose conversion may clip instead of round.
-    for (std::size_t j = 0; j < d; ++j) values[i * d + j] = static_cast<float>(record.values[j]);
+    if (i < kept) {
+      std::copy(record.u.begin(), record.u.end(), u.begin() + static_cast<std::ptrdiff_t>(i * d));
+      // Rounded here rather than by HDF5, whose conversion may clip instead of round.
+      for (std::size_t j = 0; j < d; ++j) values[i * d + j] = static_cast<float>(record.values[j]);
+    }
     redraws[i] = record.redraws;
     checksums[i] = DrawChecksum(record);
     steps[i] = record.steps;
@@ -1186,7 +1196,7 @@ std::vector<fs::path> FindShards(const fs::path& results) {
     const std::string rank = name.substr(prefix.size());
     constexpr std::size_t kMaxDigits = 9;  // fits an int
     if (rank.empty() || rank.size() > kMaxDigits || !std::all_of(rank.begin(), rank.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
-    found.emplace_back(std::stoi(rank), entry.path());
+    found.emplace_back(std::stoi(rank), ShardPath(results, std::stoi(rank)));  // named as ShardPath names it
   }
   std::sort(found.begin(), found.end());
   std::vector<fs::path> shards;
@@ -1333,6 +1343,23 @@ std::vector<SampleRange> Without(const std::vector<SampleRange>& rows, const std
   return kept;
 }
 
+// CRC-32 of everything an index shows of its shards: equal digests, equal indexes.
+std::uint32_t IndexDigest(std::int64_t samples, std::int64_t chunk_rows, std::int64_t stored_below,
+                          const std::vector<VirtualSource>& sources, const std::vector<hsize_t>& failure_rows) {
+  std::vector<std::int64_t> numbers = {samples, chunk_rows, stored_below};
+  std::string names;
+  for (std::size_t s = 0; s < sources.size(); ++s) {
+    names += sources[s].file + '\n';
+    numbers.insert(numbers.end(), {sources[s].samples, static_cast<std::int64_t>(failure_rows[s]),
+                                   static_cast<std::int64_t>(sources[s].rows.size())});
+    for (const SampleRange& range : sources[s].rows) numbers.insert(numbers.end(), {range.begin, range.end});
+  }
+  uLong crc = crc32(0L, Z_NULL, 0);
+  crc = crc32(crc, reinterpret_cast<const Bytef*>(names.data()), static_cast<uInt>(names.size()));
+  crc = crc32(crc, reinterpret_cast<const Bytef*>(numbers.data()), static_cast<uInt>(numbers.size() * sizeof(std::int64_t)));
+  return static_cast<std::uint32_t>(crc);
+}
+
 // The finished samples of a shard's table, as ranges.
 std::vector<SampleRange> FinishedRows(const SampleTable& table) {
   std::vector<bool> none(static_cast<std::size_t>(table.space().samples), false);
@@ -1370,11 +1397,14 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
   const std::string name = results.string();
   if (shards.empty()) throw std::invalid_argument("WriteShardIndex: no shards");
   std::error_code error;
+  std::optional<std::uint32_t> written_digest;
   if (fs::exists(results, error)) {
     const FileId file = OpenForReading(results);
     if (!ReadStored(Where{name, true}, file.get()).index) {
       throw InputError(name + ": keeps samples of its own; an index of shards cannot replace it");
     }
+    written_digest = ReadNumberAttribute<std::uint32_t>(Where{name, true}, file.get(), "shard_digest", H5T_INTEGER,
+                                                        H5T_NATIVE_UINT32);
   }
   const std::int64_t chunk_rows = shards.front().chunk_rows;
   const std::int64_t stored_below = shards.front().inputs_stored_below;
@@ -1385,7 +1415,10 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
   std::vector<hsize_t> failure_rows;
   std::vector<SampleRange> owned;  // by the shards before: the first listed wins
   for (const ShardContents& shard : shards) {
-    if (shard.path.parent_path().lexically_normal() != results.parent_path().lexically_normal() ||
+    const auto folder = [](const fs::path& path) {
+      return path.has_parent_path() ? path.parent_path().lexically_normal() : fs::path(".");
+    };
+    if (folder(shard.path) != folder(results) ||
         shard.samples > samples || shard.chunk_rows != chunk_rows || shard.inputs_stored_below != stored_below) {
       throw std::invalid_argument("WriteShardIndex: shard " + shard.path.string() + " is not a shard of " + name);
     }
@@ -1398,6 +1431,11 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
     failure_rows.push_back(static_cast<hsize_t>(shard.failure_rows));
     sources.push_back(std::move(source));
   }
+  // An index that already shows these shards as they are stays as it is, so that a resume
+  // with nothing to compute changes no byte (HDF5 does not lay out a new file the same way
+  // every time).
+  const std::uint32_t digest = IndexDigest(samples, chunk_rows, stored_below, sources, failure_rows);
+  if (written_digest == digest) return summary;
 
   fs::path temporary = results;
   temporary += ".index-new";
@@ -1409,6 +1447,7 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
     options.inputs_stored_below = stored_below;
     WriteIdentity(where, file.get(), identity, samples, options, kShardIndexSchemaVersion);
     WriteAttribute(where, file.get(), "shard_chunk_rows", H5T_STD_I64LE, H5T_NATIVE_INT64, &chunk_rows);
+    WriteAttribute(where, file.get(), "shard_digest", H5T_STD_U32LE, H5T_NATIVE_UINT32, &digest);
     const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
     GroupId(Check(H5Gcreate2(file.get(), "shards", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group",
                   "shards"));

@@ -148,8 +148,9 @@ TEST(CampaignUnderMpirun, OneTwoAndThreeRanksAndAnyChunkSizeWriteIdenticalResult
   const Outcome dedicated = Campaign(file, folder / "dedicated.h5", "--coordinator-computes 0 --json", Mpirun(3));
   ASSERT_EQ(dedicated.exit_code, 0) << dedicated.err;
   // The workers filed every sample in their shards, which the results file indexes; rank 0
-  // received per sample at most its summary (index 8, status 1, solve time 8 bytes), its
-  // index handed out (8) and a message's kind byte (1, were every chunk one sample).
+  // received per sample at most a chunk's tally (solve time 8, one status 1 and its count
+  // 8 bytes), its index handed out (8) and a message's kind byte (1), were every chunk one
+  // sample.
   constexpr double kMaxCoordinatorBytesPerSample = 8 + 1 + 8 + 8 + 1;
   const nlohmann::json run = nlohmann::json::parse(dedicated.out)["run"];
   EXPECT_LE(run["coordinator_bytes"].get<double>() / 48, kMaxCoordinatorBytesPerSample);
@@ -251,6 +252,18 @@ TEST(CampaignUnderMpirun, AResumeWithFewerRanksKeepsTheOtherShardsAndANoOpResume
   EXPECT_EQ(nlohmann::json::parse(again.out)["run"]["computed"], 0);
   EXPECT_TRUE(testing::ReadText(out) == index) << "a resume with nothing to compute rewrote the index differently";
   EXPECT_TRUE(testing::ReadText(ShardPath(out, 2)) == shard);
+}
+
+// Shards are named beside a results file given by a relative path as the index names them.
+TEST(CampaignUnderMpirun, AResultsFileNamedRelativeToTheWorkingFolderResumes) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  const std::string here = Mpirun(2) + "-wdir " + folder.string() + " ";
+  ASSERT_EQ(RunRingtol(here, "campaign campaign.toml --out r.h5 --quiet --samples 20").exit_code, 0);
+  const Outcome resumed = RunRingtol(here, "campaign campaign.toml --out r.h5 --quiet --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  ExpectSameResults(folder / "whole.h5", folder / "r.h5");
 }
 
 // A campaign begun in one process continues under mpirun: its file becomes shard 0 of the
