@@ -12,16 +12,17 @@ MPI environment below allows). From ringtol's JSON summaries it reads, per sampl
 coordinator's messages and bytes, its handling time, the time spent writing a shard, the
 stored bytes, and the time rank 0 takes to write the index of the shards at the end.
 
-The model (rank 0 coordinates only; R - 1 workers each compute and write their shard; the
-results file is an index of the shards, nothing is copied):
+The model (rank 0 coordinates only; R - 1 workers each compute and write their shard;
+the results file is an index of the shards, nothing is copied), for a campaign of N samples:
     a worker's time per sample        t + w           t: sample, w: writing its shard
     throughput [samples/s]            X = min((R - 1) / (t + w), 1 / c, F / B)
         c = 2 h / n: rank 0's handling per sample, h its CPU time per message (measured),
         n = max(block, chunk_seconds / t) samples per chunk; F: the file system's
-        aggregate bandwidth, B: stored bytes per sample
-    the index at the end              i R per sample: rank 0 reads every shard's statuses,
-        i per sample and shard (measured on 3 shards)
-    efficiency                        E = t / (R (1 / X + i R))
+        aggregate bandwidth, B: stored bytes per sample beyond the first 16,384 (--row-bytes);
+        w measured alone, or given (--write-us)
+    the end of the run                T = s R: rank 0 writing the index of R shards, s per
+        shard (--index-seconds-per-shard, from build/ringtol_shard_index_benchmark)
+    efficiency                        E = N t / (R (N / X + T))
 """
 import argparse
 import json
@@ -43,22 +44,20 @@ def run(ringtol, campaign, samples, ranks, folder, extra=()):
     if ranks > 1:
         command = ["mpirun", "-n", str(ranks)] + (["--allow-run-as-root"] if os.geteuid() == 0 else []) + command
     result = subprocess.run(command, check=True, capture_output=True, text=True, env={**os.environ, **MPI_ENVIRONMENT})
-    summary = json.loads(result.stdout)["run"]
-    written = [os.path.join(folder, name) for name in os.listdir(folder) if name.startswith(f"r{ranks}.h5")]
-    summary["stored_bytes"] = sum(os.path.getsize(path) for path in written if path != out)
-    for path in written:
-        os.remove(path)
-    return summary
+    for name in os.listdir(folder):
+        if name.startswith(f"r{ranks}.h5"):
+            os.remove(os.path.join(folder, name))
+    return json.loads(result.stdout)["run"]
 
 
 CHUNK_SECONDS = 0.5  # PoolOptions::chunk_seconds
 BLOCK = 208  # samples per stored chunk of the default campaign (256 KiB of /inputs/u, 157 inputs)
 
 
-def efficiency(ranks, t, w, per_message, stored_bytes, fs_bandwidth, index_per_sample_shard):
+def efficiency(ranks, samples, t, w, per_message, row_bytes, fs_bandwidth, index_per_shard):
     c = 2 * per_message / max(BLOCK, CHUNK_SECONDS / t)
-    throughput = min((ranks - 1) / (t + w), 1 / c, fs_bandwidth / stored_bytes)
-    return t / (ranks * (1 / throughput + index_per_sample_shard * ranks))
+    throughput = min((ranks - 1) / (t + w), 1 / c, fs_bandwidth / row_bytes)
+    return samples * t / (ranks * (samples / throughput + index_per_shard * ranks))
 
 
 def main():
@@ -68,12 +67,19 @@ def main():
     parser.add_argument("--samples", type=int, default=2048)
     parser.add_argument("--fs-bandwidth", type=float, nargs="+", default=[1.0, 10.0, 100.0], help="GB/s, aggregate")
     parser.add_argument("--sample-us", type=float, nargs="+", default=[], help="model these sample times too")
+    parser.add_argument("--model-samples", type=float, nargs="+", default=[1e7, 1e8], help="campaign sizes modelled")
+    parser.add_argument("--write-us", type=float, nargs="+", default=[],
+                        help="model these worker overheads a sample too (default: w measured alone, every sample "
+                             "keeping its inputs)")
+    parser.add_argument("--row-bytes", type=float, default=133.0,
+                        help="stored bytes a sample beyond the first 16,384 (CampaignStore test, docs/results.md)")
+    parser.add_argument("--index-seconds-per-shard", type=float, default=2.1e-4,
+                        help="writing the index, per shard (build/ringtol_shard_index_benchmark at 1,000 shards)")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
         runs = {1: run(args.ringtol, args.campaign, args.samples, 1, folder),
                 2: run(args.ringtol, args.campaign, args.samples, 2, folder),
                 3: run(args.ringtol, args.campaign, args.samples, 3, folder, ["--coordinator-computes", "0"])}
-        stored_bytes = runs[3].pop("stored_bytes") / args.samples
     print(f"{args.samples} samples of {os.path.basename(args.campaign)}; 3 ranks oversubscribe a 2-core machine")
     print(f"{'ranks':>5} {'wall s':>7} {'index s':>8} {'samples/s':>10} {'msgs/sample':>12} {'bytes/sample':>13} "
           f"{'rank 0 us/sample':>17} {'of it CPU':>10} {'writing us/sample':>18}")
@@ -92,14 +98,17 @@ def main():
     t = one["solver_time_s"] / one["computed"]
     w = one["coordinator_cpu_time_s"] / one["computed"]  # rank 0 alone: collecting and writing every sample
     per_message = three["coordinator_cpu_time_s"] / three["coordinator_messages"]  # rank 0 coordinating only
-    index = three["index_cpu_time_s"] / (three["computed"] * three["shards"])
     print(f"\nmodel inputs: t = {1e6 * t:.0f} us, w = {1e6 * w:.2f} us, h = {1e6 * per_message:.1f} us a message, "
-          f"B = {stored_bytes:.0f} bytes, i = {1e9 * index:.1f} ns a sample and shard")
-    print(f"{'sample us':>9} {'F GB/s':>7} {'E(100)':>7} {'E(1000)':>8}")
+          f"B = {args.row_bytes:.0f} bytes, s = {1e3 * args.index_seconds_per_shard:.2f} ms a shard")
+    print(f"{'sample us':>9} {'w us':>5} {'F GB/s':>7} {'N':>8} {'E(100)':>7} {'E(1000)':>8}")
     for sample in [t] + [us * 1e-6 for us in args.sample_us]:
-        for bandwidth in args.fs_bandwidth:
-            row = [efficiency(r, sample, w, per_message, stored_bytes, bandwidth * 1e9, index) for r in (100, 1000)]
-            print(f"{1e6 * sample:>9.0f} {bandwidth:>7.0f} {100 * row[0]:>6.1f}% {100 * row[1]:>7.1f}%")
+        for write in [w] + [us * 1e-6 for us in args.write_us]:
+            for bandwidth in args.fs_bandwidth:
+                for n in args.model_samples:
+                    row = [efficiency(r, n, sample, write, per_message, args.row_bytes, bandwidth * 1e9,
+                                      args.index_seconds_per_shard) for r in (100, 1000)]
+                    print(f"{1e6 * sample:>9.0f} {1e6 * write:>5.1f} {bandwidth:>7.0f} {n:>8.0e} {100 * row[0]:>6.1f}% "
+                          f"{100 * row[1]:>7.1f}%")
 
 
 if __name__ == "__main__":
