@@ -161,6 +161,13 @@ TEST(CampaignUnderMpirun, OneTwoAndThreeRanksAndAnyChunkSizeWriteIdenticalResult
   ExpectSameResults(folder / "alone.h5", folder / "two.h5");
   ExpectSameResults(folder / "alone.h5", folder / "three.h5");
   ExpectSameResults(folder / "alone.h5", folder / "dedicated.h5");
+  // And as h5py reads them: the shards' index against the file written alone.
+  for (const char* name : {"two.h5", "three.h5"}) {
+    const std::string python = "/usr/bin/python3 " + std::string(RINGTOL_SOURCE_DIR) + "/tests/jobs/mpi/same_columns.py " +
+                               (folder / "alone.h5").string() + " " + (folder / name).string() + " > " +
+                               (folder / "python.txt").string() + " 2>&1";
+    EXPECT_EQ(std::system(python.c_str()), 0) << name << ": " << testing::ReadText(folder / "python.txt");
+  }
 }
 
 // Runs the campaign with `options` (resuming `out` if it exists) and the test hook that
