@@ -102,6 +102,7 @@ SampleRecord SampleDrawer::Draw(std::int64_t index, std::optional<sampling::Samp
     record.status = SampleStatus::kSamplingFailed;
     record.message = e.what();
   }
+  record.draw_checksum = DrawChecksum(record);
   return record;
 }
 

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -76,6 +77,9 @@ struct SampleRecord {
   // 2 dynamic; the auto rung picks one per sample); kNoRung when no rung ran.
   std::int8_t rung = kNoRung;
   double solve_time = 0.0;               // [s] wall time of realise + simulate
+  // DrawChecksum of this record, when whoever drew it computed it (SampleDrawer does, on
+  // the computing thread, so that the writer need not): empty otherwise.
+  std::optional<std::uint32_t> draw_checksum;
 };
 
 // A checksum of a sample's draw as a results file stores it: CRC-32 (zlib's) of the bits

@@ -76,6 +76,7 @@ nlohmann::json RunJson(const PoolReport& run, const std::optional<Indexed>& inde
                          {"coordinator_bytes", run.coordinator_bytes},
                          {"worker_cpu_time_s", run.worker_cpu_time},
                          {"worker_sample_cpu_time_s", run.worker_sample_cpu_time},
+                         {"worker_wait_cpu_time_s", run.worker_wait_cpu_time},
                          {"tail_time_s", run.tail_time},
                          {"already_done", run.already_done},
                          {"wall_time_s", run.wall_time},

@@ -240,6 +240,7 @@ int StopRequest(const PoolOptions& options) { return options.stop ? options.stop
 struct WorkerCpu {
   double total = 0.0;
   double samples = 0.0;
+  double waiting = 0.0;  // from sending a chunk's results to receiving the next chunk
 };
 
 WorkerCpu RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolResults* shard,
@@ -251,6 +252,7 @@ WorkerCpu RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolR
   int tag = kTagResults;
   std::vector<std::int64_t> chunk;
   for (bool first = true;; first = false) {
+    const double wait_start = ThreadCpuSeconds();
     Check(MPI_Send(results.bytes().data(), static_cast<int>(results.bytes().size()), MPI_BYTE, 0, tag, communicator),
           "MPI_Send");
     MPI_Status status;
@@ -259,6 +261,7 @@ WorkerCpu RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolR
     Check(MPI_Get_count(&status, MPI_INT64_T, &count), "MPI_Get_count");
     chunk.resize(static_cast<std::size_t>(count));
     Check(MPI_Recv(chunk.data(), count, MPI_INT64_T, 0, kTagWork, communicator, MPI_STATUS_IGNORE), "MPI_Recv");
+    cpu.waiting += ThreadCpuSeconds() - wait_start;
     if (chunk.empty()) {
       cpu.total = ThreadCpuSeconds() - cpu_start;
       return cpu;
@@ -732,11 +735,12 @@ PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* res
     if (results == nullptr) throw std::logic_error("RunPool: rank 0 needs the results file");
     report = RunCoordinator(communicator, ranks, work, *results, options, progress);
   }
-  const std::array<double, 2> mine = {cpu.total, cpu.samples};
-  std::array<double, 2> all = {0.0, 0.0};
-  Check(MPI_Reduce(mine.data(), all.data(), 2, MPI_DOUBLE, MPI_SUM, 0, communicator), "MPI_Reduce");
+  const std::array<double, 3> mine = {cpu.total, cpu.samples, cpu.waiting};
+  std::array<double, 3> all = {0.0, 0.0, 0.0};
+  Check(MPI_Reduce(mine.data(), all.data(), 3, MPI_DOUBLE, MPI_SUM, 0, communicator), "MPI_Reduce");
   report.worker_cpu_time = all[0];
   report.worker_sample_cpu_time = all[1];
+  report.worker_wait_cpu_time = all[2];
   return report;
 }
 

@@ -125,6 +125,8 @@ struct PoolReport {
   // shard).
   double worker_cpu_time = 0.0;
   double worker_sample_cpu_time = 0.0;
+  // [s] of worker_cpu_time, waiting for rank 0's next chunk: Open MPI's blocking calls spin.
+  double worker_wait_cpu_time = 0.0;
   // [s] from the last result's arrival at rank 0 to the pool's end (the last commit).
   double tail_time = 0.0;
   int computing_ranks = 0;                      // worker ranks plus rank 0's computing threads

@@ -1047,7 +1047,7 @@ void CampaignStore::Commit() {
       for (std::size_t j = 0; j < d; ++j) values[i * d + j] = static_cast<float>(record.values[j]);
     }
     redraws[i] = record.redraws;
-    checksums[i] = DrawChecksum(record);
+    checksums[i] = record.draw_checksum ? *record.draw_checksum : DrawChecksum(record);
     steps[i] = record.steps;
     if (!slim) {
       TruncateUtf8(record.message, kMessageChars).copy(messages.data() + i * kMessageBytes, kMessageChars);

@@ -162,6 +162,9 @@ TEST(SampleDrawer, DrawsEverySampleAsTheEvaluatorDoesBitForBitInAnyOrder) {
     }
     EXPECT_EQ(drawn.redraws, evaluated.redraws);
     EXPECT_EQ(DrawChecksum(drawn), DrawChecksum(evaluated));
+    // Computed where the sample is drawn, so that the writer need not.
+    EXPECT_EQ(drawn.draw_checksum, DrawChecksum(drawn));
+    EXPECT_EQ(evaluated.draw_checksum, DrawChecksum(evaluated));
   }
 }
 
