@@ -1211,9 +1211,8 @@ namespace {
 
 constexpr const char* kShardFiles = "/shards/file";
 
-// The finished samples of a shard that no earlier shard has, as ranges, marking them in
-// `owned`.
-std::vector<SampleRange> ClaimFinished(const SampleTable& table, std::vector<bool>& owned) {
+// The finished samples of a shard's table, as ranges.
+std::vector<SampleRange> FinishedRows(const SampleTable& table) {
   std::vector<SampleRange> rows;
   const std::int64_t samples = table.space().samples;
   constexpr std::int64_t kBlock = std::int64_t{1} << 20;
@@ -1222,10 +1221,7 @@ std::vector<SampleRange> ClaimFinished(const SampleTable& table, std::vector<boo
     const std::vector<SampleStatus> statuses = table.Statuses(0, begin, count);
     for (std::int64_t i = 0; i < count; ++i) {
       const std::int64_t sample = begin + i;
-      if (statuses[static_cast<std::size_t>(i)] == SampleStatus::kPending || owned[static_cast<std::size_t>(sample)]) {
-        continue;
-      }
-      owned[static_cast<std::size_t>(sample)] = true;
+      if (statuses[static_cast<std::size_t>(i)] == SampleStatus::kPending) continue;
       if (!rows.empty() && rows.back().end == sample) {
         ++rows.back().end;
       } else {
@@ -1236,10 +1232,9 @@ std::vector<SampleRange> ClaimFinished(const SampleTable& table, std::vector<boo
   return rows;
 }
 
-hsize_t FailureRowCount(const Where& where, hid_t file) {
-  const DatasetId dataset(Check(H5Dopen2(file, kFailureSamples, H5P_DEFAULT), where, "opening dataset",
-                                kFailureSamples));
-  const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", kFailureSamples));
+// Rows of /failures/sample, open as `dataset`.
+hsize_t FailureRowCount(const Where& where, hid_t dataset) {
+  const SpaceId space(Check(H5Dget_space(dataset), where, "reading the shape of", kFailureSamples));
   hsize_t rows = 0;
   H5Sget_simple_extent_dims(space.get(), &rows, nullptr);
   return rows;
@@ -1279,18 +1274,9 @@ void CreateFailureViews(const Where& where, hid_t file, const std::vector<std::s
   }
 }
 
-// A shard an index lists, as ReadStored finds it: InputError unless it is a results file
-// of the index's campaign, of no more samples, keeping the same inputs.
-Stored CheckShard(const Where& index, const fs::path& shard, const Stored& expected) {
-  std::error_code error;
-  if (!fs::exists(shard, error)) {
-    throw InputError(fmt::format("{}: is an index of shards, and its shard {} is missing: put it back beside the "
-                                 "index (the samples it holds are nowhere else)",
-                                 index.file, shard.string()));
-  }
-  const Where opening{shard.string(), true};
-  const FileId file = OpenForReading(shard);
-  Stored stored = ReadStored(opening, file.get());
+// What ReadStored found in a shard (`opening`): InputError unless it is a results file of
+// the index's campaign, of no more samples, keeping the same inputs.
+void CheckShardStored(const Where& index, const Where& opening, const Stored& stored, const Stored& expected) {
   if (stored.index) throw InputError(opening.file + ": is an index of shards, not a shard");
   if (stored.schema_version != expected.schema_version) {
     throw InputError(fmt::format("{}: is a shard of schema {}, not {}", opening.file, stored.schema_version,
@@ -1307,7 +1293,19 @@ Stored CheckShard(const Where& index, const fs::path& shard, const Stored& expec
     throw InputError(fmt::format("{}: keeps the inputs of samples below {}, where {} keeps those below {}",
                                  opening.file, stored.inputs_stored_below, index.file, expected.inputs_stored_below));
   }
-  return stored;
+}
+
+// A shard an index lists: InputError when it is missing, or as CheckShardStored.
+void CheckShard(const Where& index, const fs::path& shard, const Stored& expected) {
+  std::error_code error;
+  if (!fs::exists(shard, error)) {
+    throw InputError(fmt::format("{}: is an index of shards, and its shard {} is missing: put it back beside the "
+                                 "index (the samples it holds are nowhere else)",
+                                 index.file, shard.string()));
+  }
+  const Where opening{shard.string(), true};
+  const FileId file = OpenForReading(shard);
+  CheckShardStored(index, opening, ReadStored(opening, file.get()), expected);
 }
 
 // The shards of an index, each checked.
@@ -1323,10 +1321,6 @@ std::vector<fs::path> ListedShards(const Where& where, hid_t file, const fs::pat
   }
   return shards;
 }
-
-}  // namespace
-
-namespace {
 
 // `rows` without the samples of `owned` (both ascending, disjoint).
 std::vector<SampleRange> Without(const std::vector<SampleRange>& rows, const std::vector<SampleRange>& owned) {
@@ -1360,12 +1354,6 @@ std::uint32_t IndexDigest(std::int64_t samples, std::int64_t chunk_rows, std::in
   return static_cast<std::uint32_t>(crc);
 }
 
-// The finished samples of a shard's table, as ranges.
-std::vector<SampleRange> FinishedRows(const SampleTable& table) {
-  std::vector<bool> none(static_cast<std::size_t>(table.space().samples), false);
-  return ClaimFinished(table, none);
-}
-
 }  // namespace
 
 ShardContents ReadShardContents(const fs::path& shard, const CampaignIdentity& identity, std::int64_t samples) {
@@ -1378,10 +1366,12 @@ ShardContents ReadShardContents(const fs::path& shard, const CampaignIdentity& i
   const FileId file = OpenForReading(shard);
   const Stored stored = ReadStored(opening, file.get());
   expected.inputs_stored_below = stored.inputs_stored_below;
-  CheckShard(opening, shard, expected);
+  CheckShardStored(opening, opening, stored, expected);
   const SampleTable table = OpenColumns(opening, file.get(), stored);
+  const DatasetId failures(Check(H5Dopen2(file.get(), kFailureSamples, H5P_DEFAULT), opening, "opening dataset",
+                                 kFailureSamples));
   return {shard, stored.samples, table.space().chunk_samples, stored.inputs_stored_below,
-          static_cast<std::int64_t>(FailureRowCount(opening, file.get())), FinishedRows(table)};
+          static_cast<std::int64_t>(FailureRowCount(opening, failures.get())), FinishedRows(table)};
 }
 
 ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentity& identity, std::int64_t samples,
@@ -1471,7 +1461,8 @@ ShardContents CampaignStore::Contents() {
   Commit();
   const QuietErrors quiet;
   File& f = *file_;
-  const auto failures = f.failure_samples.get() >= 0 ? static_cast<std::int64_t>(FailureRowCount(f.where, f.file.get())) : 0;
+  const auto failures =
+      f.failure_samples.get() >= 0 ? static_cast<std::int64_t>(FailureRowCount(f.where, f.failure_samples.get())) : 0;
   return {f.path, f.samples, f.chunk_rows, f.inputs_stored_below, failures, FinishedRows(f.table)};
 }
 
