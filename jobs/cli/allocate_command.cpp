@@ -2,9 +2,11 @@
 
 #include <unistd.h>
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -20,6 +22,28 @@
 
 namespace ringtol::jobs {
 namespace {
+
+// Whether `out` is kept in shards: an index of them, or shards a killed run left (beside a
+// self-contained file, or before its first index). InputError for an index whose shard is
+// missing.
+bool IsSharded(const std::filesystem::path& out) {
+  if (!FindShards(out).empty()) return true;
+  return std::filesystem::exists(out) && !IndexedAllocationShards(out).empty();
+}
+
+// Before a resume in shards (rank 0): a self-contained results file becomes shard 0
+// (renamed: its samples stay where they are on disk), so that an allocation begun in one
+// process continues under mpirun; it is checked and repaired as it is first.
+void MakeShardZero(const std::filesystem::path& out, const AllocationIdentity& identity) {
+  const std::filesystem::path own = ShardPath(out, 0);
+  if (!std::filesystem::exists(out) || !IndexedAllocationShards(out).empty()) return;
+  if (std::filesystem::exists(own)) {
+    throw InputError(fmt::format("{}: keeps samples itself and {} exists beside it: move one of them away",
+                                 out.string(), own.string()));
+  }
+  { const AllocationStore plain = AllocationStore::Resume(out, identity); }
+  std::filesystem::rename(out, own);
+}
 
 // A line per progress interval (redrawn in place on a terminal): rounds, candidates, the
 // round's samples.
@@ -55,13 +79,19 @@ class AllocationProgressPrinter {
 };
 
 nlohmann::json RunJson(const AllocationRunReport& run) {
-  return {{"computed", run.computed},
+  nlohmann::json json = {{"computed", run.computed},
           {"rounds", run.rounds},
           {"wall_time_s", run.wall_time},
           {"samples_per_s", run.wall_time > 0 ? static_cast<double>(run.computed) / run.wall_time : 0.0},
           {"solver_time_s", run.solver_time},
           {"ranks", run.ranks},
           {"computing_ranks", run.computing_ranks}};
+  if (run.shards > 0) {
+    json["shards"] = run.shards;
+    json["shard_mappings"] = run.shard_mappings;
+    json["index_time_s"] = run.index_time;
+  }
+  return json;
 }
 
 // Checks, builds and runs the allocation into `command.out`; rank 0 gets the run's report.
@@ -83,22 +113,56 @@ int Execute(const AllocateCommand& command, std::ostream& progress, AllocationRu
   std::unique_ptr<Allocation> allocation;
   ThrowAgreed(world, Attempt([&] { allocation = std::make_unique<Allocation>(command.file); }));
 
+  // Rank 0's results file, or under mpirun (and when continuing shards) every rank's own
+  // shard, the results file becoming their index.
   std::unique_ptr<AllocationStore> store;
+  std::optional<AllocationShards> shards;
+  std::int32_t sharded = 0;
   std::string error;
   if (rank == 0) {
     error = Attempt([&] {
-      store = std::make_unique<AllocationStore>(
-          command.resume ? AllocationStore::Resume(command.out, allocation->identity())
-                         : AllocationStore::Create(command.out, allocation->identity(), allocation->DesignPoints()));
+      if (!command.resume) {
+        if (const std::vector<std::filesystem::path> left = FindShards(command.out); !left.empty()) {
+          throw InputError(fmt::format("{}: shards of an earlier run of it exist ({}); pass --resume to continue "
+                                       "that run, or remove them to start a new one",
+                                       command.out.string(), left.front().string()));
+        }
+      }
+      sharded = ranks > 1 || (command.resume && IsSharded(command.out)) ? 1 : 0;
+      if (sharded == 0) {
+        store = std::make_unique<AllocationStore>(
+            command.resume ? AllocationStore::Resume(command.out, allocation->identity())
+                           : AllocationStore::Create(command.out, allocation->identity(), allocation->DesignPoints()));
+        return;
+      }
+      if (command.resume) MakeShardZero(command.out, allocation->identity());
+      shards.emplace();
+      shards->results = command.out;
+      for (const std::filesystem::path& path : FindShards(command.out)) {
+        bool own = false;
+        for (int r = 0; r < ranks; ++r) own = own || path == ShardPath(command.out, r);
+        if (!own) shards->stale.push_back(path);
+      }
     });
   }
   ThrowAgreed(world, error);
+  MPI_Bcast(&sharded, 1, MPI_INT32_T, 0, world);
+  if (sharded != 0) {
+    if (rank != 0) shards.emplace(AllocationShards{command.out, {}});
+    error = Attempt([&] {
+      const std::filesystem::path own = ShardPath(command.out, rank);
+      store = std::make_unique<AllocationStore>(std::filesystem::exists(own)
+                                                    ? AllocationStore::Resume(own, allocation->identity())
+                                                    : AllocationStore::CreateShard(own, allocation->identity()));
+    });
+    ThrowAgreed(world, error);
+  }
 
   std::function<void(const AllocationProgress&)> report_progress;
   const bool terminal = isatty(STDERR_FILENO) == 1;
   if (rank == 0 && !command.quiet)
     report_progress = AllocationProgressPrinter(progress, terminal, command.progress_seconds);
-  run = RunAllocation(world, *allocation, store.get(), pool, report_progress);
+  run = RunAllocation(world, *allocation, store.get(), pool, report_progress, shards ? &*shards : nullptr);
   const int stopped = run.stopped != 0 ? run.stopped : signals->received();
   if (rank != 0) return stopped != 0 ? StopSignals::ExitCode(stopped) : 0;
   store.reset();

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "jobs/inputs/input_error.h"
+#include "jobs/store/allocation_store.h"
 #include "jobs/store/campaign_store.h"
 
 namespace ringtol::jobs {
@@ -15,6 +16,12 @@ int RunJoin(const JoinCommand& command, std::ostream& out) {
   const std::filesystem::path target = command.out.value_or(command.results);
   if (command.out && std::filesystem::exists(*command.out)) {
     throw InputError(command.out->string() + ": exists; choose another --out, or remove it");
+  }
+  if (ReadResultsKind(command.results) == ResultsKind::kAllocation) {
+    throw InputError(command.results.string() +
+                     ": is an allocation's results file; ringtol join joins a campaign's shards only: move an "
+                     "allocation's index together with the shards it lists (" +
+                     ShardPath(command.results.filename(), 0).string() + ", ...)");
   }
   const std::size_t shards = IndexedShards(command.results).size();
   if (shards == 0) {

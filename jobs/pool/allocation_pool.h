@@ -13,8 +13,10 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <map>
+#include <vector>
 
 #include "jobs/allocation/allocation.h"
 #include "jobs/pool/campaign_pool.h"
@@ -41,15 +43,36 @@ struct AllocationRunReport {
   int ranks = 0;
   int stopped = 0;            // nonzero: stopped early at this request (PoolOptions::stop)
   AllocationOutcome outcome;  // rank 0: as written last to the file
+  // With shards: how many the index lists, the mappings of its [C, N] datasets of both
+  // roles when last written, and rank 0's time writing it, all writes.
+  std::int64_t shards = 0;
+  std::int64_t shard_mappings = 0;
+  double index_time = 0.0;  // [s]
 };
 
-// Runs on every rank of `communicator`; `store` is rank 0's open results file (null on
-// the others). Commits the outcome with the samples, at the end and whenever the pool
-// commits. Throws std::runtime_error for any failure after the start (MPI, HDF5, a damaged
-// chunk read back), which the caller must treat as fatal to every rank (MPI_Abort).
-// PoolOptions' kill hooks count within one round: a round is one run of the pool.
+// Shards as the results file (jobs/store/allocation_store.h): every rank files what it
+// computes in its own shard, ShardPath(results, rank), and sends it to rank 0 too, which
+// holds every finished sample's outputs in memory for the search (about (Q + 2) x 8 bytes
+// a sample) and writes `results` as the shards' index whenever it writes the outcome: at
+// the start, between rounds at most every commit_seconds, and at the end or stop. At the
+// start each rank reads its shard's finished samples and sends them to rank 0.
+struct AllocationShards {
+  std::filesystem::path results;
+  // Rank 0: shards an earlier run's ranks left that this run has no rank for; rank 0
+  // resumes (repairs) and reads each, and indexes it after the ranks' own.
+  std::vector<std::filesystem::path> stale;
+};
+
+// Runs on every rank of `communicator`; `store` is rank 0's open results file (null on the
+// others), or with `shards` (the same on every rank) each rank's own open shard. Commits
+// the outcome with the samples, at the end and whenever the pool commits (with shards: the
+// samples, and the index between rounds). Throws std::runtime_error for any failure after
+// the start (MPI, HDF5, a damaged chunk read back), which the caller must treat as fatal to
+// every rank (MPI_Abort). PoolOptions' kill hooks count within one round: a round is one
+// run of the pool.
 AllocationRunReport RunAllocation(MPI_Comm communicator, const Allocation& allocation, AllocationStore* store,
                                   const PoolOptions& options,
-                                  const std::function<void(const AllocationProgress&)>& progress);
+                                  const std::function<void(const AllocationProgress&)>& progress,
+                                  const AllocationShards* shards = nullptr);
 
 }  // namespace ringtol::jobs

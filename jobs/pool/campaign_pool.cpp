@@ -35,6 +35,7 @@ constexpr int kTagStopping = 3;
 // The first byte of a results message: what follows.
 constexpr char kRecords = 0;    // packed records, for rank 0 to file
 constexpr char kSummaries = 1;  // summaries of records the worker filed in its shard
+constexpr char kFiled = 2;      // packed records the worker filed in its shard, for rank 0 to learn
 constexpr std::int64_t kPendingBlock = std::int64_t{1} << 16;  // indices read from the file at a time
 // While worker ranks compute, rank 0's main thread looks for their messages this often.
 // Open MPI has no blocking wait that sleeps: MPI_Probe, MPI_Recv and MPI_Waitany spin on
@@ -267,7 +268,8 @@ WorkerCpu RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolR
       return cpu;
     }
     results.Clear();
-    results.Put(shard != nullptr ? kSummaries : kRecords);
+    const bool sends = shard != nullptr && shard->sends_records();
+    results.Put(shard == nullptr ? kRecords : sends ? kFiled : kSummaries);
     Tally tally;
     for (const std::int64_t index : chunk) {
       if (const int stop = StopRequest(options); stop != 0) {
@@ -285,12 +287,15 @@ WorkerCpu RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolR
       cpu.samples += ThreadCpuSeconds() - sample_start;
       if (shard == nullptr) {
         Pack(record, results);
+      } else if (sends) {
+        Pack(record, results);
+        shard->Add(std::move(record));
       } else {
         tally.Count(record);
         shard->Add(std::move(record));
       }
     }
-    if (shard != nullptr) tally.Pack(results);
+    if (shard != nullptr && !sends) tally.Pack(results);
     if (first && rank == options.kill_rank) std::raise(SIGKILL);
     // On disk before rank 0 counts them: a kill after this loses none of them.
     if (shard != nullptr) shard->Commit();
@@ -651,8 +656,15 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
       report.coordinator_messages += 2;
       report.coordinator_bytes += bytes + static_cast<std::int64_t>(chunk.size() * sizeof(std::int64_t));
       if (!in.done()) {
-        if (in.Get<char>() == kSummaries) {
+        const char kind = in.Get<char>();
+        if (kind == kSummaries) {
           absorb_tally(in);
+        } else if (kind == kFiled) {
+          while (!in.done()) {
+            SampleRecord record = Unpack(in, dimension);
+            count(record.status, 1, record.solve_time);
+            store.Learn(std::move(record), status.MPI_SOURCE);
+          }
         } else {
           while (!in.done()) absorb(Unpack(in, dimension));
         }

@@ -51,6 +51,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <stdexcept>
 #include <vector>
 
 #include "jobs/campaign/campaign.h"
@@ -162,6 +163,14 @@ class PoolResults {
   virtual std::size_t buffered() const = 0;
   // Makes every added record durable.
   virtual void Commit() = 0;
+  // A worker's shard whose records rank 0 must see as well (an allocation's search judges
+  // each round by them): the worker files each record here, commits, then sends it, and
+  // rank 0 gets it through Learn instead of Add. false: the worker sends a tally only.
+  virtual bool sends_records() const { return false; }
+  // Rank 0: a record worker rank `rank` filed in its shard and committed (sends_records).
+  virtual void Learn(SampleRecord /*record*/, int /*rank*/) {
+    throw std::logic_error("PoolResults: these results learn no records filed elsewhere");
+  }
 };
 
 // Runs on every rank of `communicator`; `results` is rank 0's file, and on a worker rank

@@ -286,6 +286,7 @@ struct Stored {
   AllocationIdentity identity;
   int schema_version = 0;
   std::int64_t candidates = 0;
+  bool index = false;  // an index of shards (kAllocationIndexSchemaVersion)
 };
 
 template <typename T>
@@ -311,15 +312,16 @@ Stored ReadStored(const Where& where, hid_t file) {
     return Require(where, ReadNumberAttribute<std::int64_t>(where, file, name, H5T_INTEGER, H5T_NATIVE_INT64), name);
   };
   const std::int64_t schema = integer("schema_version");
-  if (schema > kAllocationSchemaVersion) {
-    throw InputError(fmt::format("{}: was written by a newer ringtol (schema {}); this ringtol reads schema {}",
-                                 where.file, schema, kAllocationSchemaVersion));
+  if (schema > kAllocationIndexSchemaVersion) {
+    throw InputError(fmt::format("{}: was written by a newer ringtol (schema {}); this ringtol reads schemas {} and {}",
+                                 where.file, schema, kAllocationSchemaVersion, kAllocationIndexSchemaVersion));
   }
-  if (schema != kAllocationSchemaVersion) {
-    throw InputError(fmt::format("{}: has unknown schema version {}; this ringtol reads schema {}", where.file, schema,
-                                 kAllocationSchemaVersion));
+  if (schema != kAllocationSchemaVersion && schema != kAllocationIndexSchemaVersion) {
+    throw InputError(fmt::format("{}: has unknown schema version {}; this ringtol reads schemas {} and {}",
+                                 where.file, schema, kAllocationSchemaVersion, kAllocationIndexSchemaVersion));
   }
   stored.schema_version = static_cast<int>(schema);
+  stored.index = schema == kAllocationIndexSchemaVersion;
 
   AllocationIdentity& identity = stored.identity;
   const auto text = [&](const char* name) { return Require(where, ReadStringAttribute(where, file, name), name); };
@@ -501,11 +503,12 @@ void CreateOutcome(const Where& where, hid_t file, hsize_t candidates, hsize_t c
   WriteAttribute(where, outcome.get(), "common_random_numbers_gain", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &kNaN);
 }
 
-void WriteSchema(const Where& where, hid_t file, const AllocationIdentity& identity,
-                 const std::vector<double>& design_points, const AllocationStoreOptions& options) {
+// Everything but the samples and /outcome; /inputs/u written unless `design_points` is
+// empty (a shard's).
+void WriteIdentity(const Where& where, hid_t file, const AllocationIdentity& identity,
+                   const std::vector<double>& design_points, bool checksum, std::int32_t schema) {
   const std::int64_t candidates = CandidateCount(identity);
   WriteStringAttribute(where, file, "format", kFormat);
-  const std::int32_t schema = kAllocationSchemaVersion;
   WriteAttribute(where, file, "schema_version", H5T_STD_I32LE, H5T_NATIVE_INT32, &schema);
   WriteStringAttribute(where, file, "ringtol_version", identity.ringtol_version);
   WriteStringAttribute(where, file, "catalogue_version", identity.catalogue_version);
@@ -530,14 +533,13 @@ void WriteSchema(const Where& where, hid_t file, const AllocationIdentity& ident
         "outcome"}) {
     GroupId(Check(H5Gcreate2(file, name, H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group", name));
   }
-  const bool checksum = options.checksums;
   WriteInputDescriptions(where, file, identity.inputs, checksum);
   const auto n = static_cast<hsize_t>(identity.samples);
   const hsize_t d = identity.inputs.size();
   const hsize_t design_rows = std::clamp<hsize_t>(kDesignChunkBytes / (d * sizeof(double)), 1, n);
   CreateArray(where, file, {"/inputs/u", H5T_IEEE_F64LE, {n, d}, design_rows, d, false, 0, &kNaN, H5T_NATIVE_DOUBLE},
               checksum);
-  WriteWhole(where, file, "/inputs/u", H5T_NATIVE_DOUBLE, n, design_points.data());
+  if (!design_points.empty()) WriteWhole(where, file, "/inputs/u", H5T_NATIVE_DOUBLE, n, design_points.data());
 
   WriteStrings(where, file, "/components/name", identity.components, checksum);
   std::vector<std::int32_t> component;
@@ -599,14 +601,20 @@ void WriteSchema(const Where& where, hid_t file, const AllocationIdentity& ident
   WriteWhole(where, file, "/candidates/cost", H5T_NATIVE_DOUBLE, c, cost.data());
   CreateArray(where, file, {"/candidates/relative_cost", H5T_IEEE_F64LE, {c, 0}, rows}, checksum);
   WriteWhole(where, file, "/candidates/relative_cost", H5T_NATIVE_DOUBLE, c, relative.data());
+}
 
+void WriteSchema(const Where& where, hid_t file, const AllocationIdentity& identity,
+                 const std::vector<double>& design_points, const AllocationStoreOptions& options) {
+  const bool checksum = options.checksums;
+  WriteIdentity(where, file, identity, design_points, checksum, kAllocationSchemaVersion);
+  const std::int64_t candidates = CandidateCount(identity);
   const std::vector<std::string> stored = StoredOutputs(identity.constraints);
   const hsize_t chunk = ChunkSamples(options, identity);
   for (const EvaluationRole role : kRoles) {
     SampleTable::Create(where, file, CandidateRows(candidates, identity.samples, static_cast<std::int64_t>(chunk)),
                         RoleSpecs(role, RoleColumns(role, stored)), checksum);
   }
-  CreateOutcome(where, file, c, identity.constraints.size(), checksum);
+  CreateOutcome(where, file, static_cast<hsize_t>(candidates), identity.constraints.size(), checksum);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -926,6 +934,34 @@ std::vector<double> ReadDesignRows(const Where& where, hid_t file, hsize_t input
   return values;
 }
 
+// ---------------------------------------------------------------------------------------
+// Shards and their index
+
+// The shards an index lists, each checked to exist and to be a file of `identity`'s
+// allocation.
+std::vector<fs::path> ListedShards(const Where& where, hid_t file, const fs::path& index,
+                                   const AllocationIdentity& identity) {
+  std::vector<fs::path> shards = ListedShardFiles(where, file, index);
+  for (const fs::path& shard : shards) {
+    const Where opening{shard.string(), true};
+    const FileId reading = OpenForReading(shard);
+    const Stored stored = ReadStored(opening, reading.get());
+    if (stored.index) {
+      throw InputError(fmt::format("{}: lists {}, another index, as its shard", where.file, shard.string()));
+    }
+    if (const std::optional<std::string> difference = IdentityDifference(stored.identity, identity)) {
+      throw InputError(fmt::format("{}: its shard {} was written by another allocation: {}", where.file,
+                                   shard.string(), *difference));
+    }
+  }
+  return shards;
+}
+
+bool IsVirtual(const Where& where, hid_t dataset, const std::string& path) {
+  const PlistId dcpl(Check(H5Dget_create_plist(dataset), where, "reading the creation properties of", path));
+  return H5Pget_layout(dcpl.get()) == H5D_VIRTUAL;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------
@@ -1025,12 +1061,23 @@ AllocationStore& AllocationStore::operator=(AllocationStore&& other) noexcept {
 AllocationStore AllocationStore::Create(const fs::path& path, const AllocationIdentity& identity,
                                         const std::vector<double>& design_points,
                                         const AllocationStoreOptions& options) {
-  const QuietErrors quiet;
-  CheckIdentity(identity, options);
   if (design_points.size() != static_cast<std::size_t>(identity.samples) * identity.inputs.size()) {
     throw std::invalid_argument(fmt::format("AllocationStore: {} design point coordinates for {} samples of {} inputs",
                                             design_points.size(), identity.samples, identity.inputs.size()));
   }
+  return CreateFile(path, identity, design_points, options);
+}
+
+AllocationStore AllocationStore::CreateShard(const fs::path& path, const AllocationIdentity& identity,
+                                             const AllocationStoreOptions& options) {
+  return CreateFile(path, identity, {}, options);
+}
+
+AllocationStore AllocationStore::CreateFile(const fs::path& path, const AllocationIdentity& identity,
+                                            const std::vector<double>& design_points,
+                                            const AllocationStoreOptions& options) {
+  const QuietErrors quiet;
+  CheckIdentity(identity, options);
   const std::string name = path.string();
   // Built under another name and renamed when complete, so that a kill while creating
   // never leaves a half-made file under the allocation's name.
@@ -1072,6 +1119,10 @@ AllocationStore AllocationStore::Resume(const fs::path& path, const AllocationId
   {
     const FileId reading = OpenForReading(path);
     const Stored stored = ReadStored(opening, reading.get());
+    if (stored.index) {
+      throw InputError(name + ": is an index of shards; a run continues its shards (ringtol allocate --resume), "
+                              "not the index itself");
+    }
     if (const std::optional<std::string> difference = IdentityDifference(stored.identity, identity)) {
       throw InputError(name + ": was written by another allocation: " + *difference +
                        "; resume it with the allocation that wrote it, or choose a new results file");
@@ -1153,17 +1204,64 @@ void AllocationStore::Add(EvaluationRole role, std::int64_t candidate, const Sam
     throw std::invalid_argument(fmt::format("AllocationStore::Add: candidate {} sample {} has no final status",
                                             candidate, record.index));
   }
-  const bool ok = record.status == SampleStatus::kOk;
+  AllocationSample kept = KeptSample(role, candidate, record, s.outputs);
   Buffered sample;
   sample.status = record.status;
-  for (const std::string& output : s.outputs) sample.outputs.push_back(ok ? record.outputs[OutputIndex(output)] : kNaN);
-  sample.error_bound = ok ? record.d_trajectory_error : kNaN;
+  sample.outputs = std::move(kept.outputs);
+  sample.error_bound = kept.error_bound;
   sample.steps = record.steps;
   sample.solve_time = record.solve_time;
   file_->buffer[RoleIndex(role)].Put({candidate, record.index}, std::move(sample));
 }
 
 std::size_t AllocationStore::buffered() const { return file_->buffer[0].size() + file_->buffer[1].size(); }
+
+AllocationSample KeptSample(EvaluationRole role, std::int64_t candidate, const SampleRecord& record,
+                            const std::vector<std::string>& outputs) {
+  const bool ok = record.status == SampleStatus::kOk;
+  AllocationSample sample{role, candidate, record.index, record.status, {}, kNaN};
+  for (const std::string& output : outputs) sample.outputs.push_back(ok ? record.outputs[OutputIndex(output)] : kNaN);
+  if (ok && role == EvaluationRole::kScreen) sample.error_bound = record.d_trajectory_error;
+  return sample;
+}
+
+void AllocationStore::CommitSamples() {
+  const QuietErrors quiet;
+  File& f = *file_;
+  f.CommitSamples();
+  CheckStatus(H5Fflush(f.file.get(), H5F_SCOPE_LOCAL), f.where, "flushing", "the file");
+}
+
+const std::vector<std::string>& AllocationStore::outputs() const { return file_->samples.outputs; }
+
+std::vector<AllocationSample> AllocationStore::Finished() const {
+  const QuietErrors quiet;
+  const Samples& s = file_->samples;
+  std::vector<AllocationSample> finished;
+  for (const EvaluationRole role : kRoles) {
+    const std::size_t bound_column = role == EvaluationRole::kScreen ? s.ColumnOf(role, SampleField::kErrorBound) : 0;
+    for (std::int64_t candidate = 0; candidate < s.candidates; ++candidate) {
+      const std::vector<SampleStatus> statuses = s.Statuses(role, candidate, 0, s.samples);
+      if (std::all_of(statuses.begin(), statuses.end(), [](SampleStatus x) { return x == SampleStatus::kPending; })) {
+        continue;
+      }
+      std::vector<std::vector<double>> outputs;
+      for (std::size_t q = 0; q < s.outputs.size(); ++q) {
+        outputs.push_back(s.Row(role, s.ColumnOf(role, SampleField::kOutput, q), candidate, 0, s.samples));
+      }
+      std::vector<double> bounds;
+      if (role == EvaluationRole::kScreen) bounds = s.Row(role, bound_column, candidate, 0, s.samples);
+      for (std::int64_t i = 0; i < s.samples; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        if (statuses[k] == SampleStatus::kPending) continue;
+        AllocationSample sample{role, candidate, i, statuses[k], {}, bounds.empty() ? kNaN : bounds[k]};
+        for (const std::vector<double>& output : outputs) sample.outputs.push_back(output[k]);
+        finished.push_back(std::move(sample));
+      }
+    }
+  }
+  return finished;
+}
 
 void AllocationStore::Commit(const AllocationOutcome& outcome) {
   File& f = *file_;
@@ -1190,7 +1288,10 @@ AllocationReader::AllocationReader(const fs::path& path) : file_(std::make_uniqu
     File& f = *file_;
     f.where = Where{path.string(), true};
     f.file = OpenForReading(path);
-    f.identity = ReadStored(f.where, f.file.get()).identity;
+    const Stored stored = ReadStored(f.where, f.file.get());
+    f.identity = stored.identity;
+    // HDF5 reads a missing shard's rows as fill, silently: every shard is checked first.
+    if (stored.index) ListedShards(f.where, f.file.get(), path, f.identity);
     f.samples.Open(f.where, f.file.get(), f.identity, 0);
     f.where.input = false;
     f.samples.set_where(f.where);
@@ -1260,18 +1361,37 @@ AllocationCheck CheckAllocationResults(const fs::path& path) {
   for (const std::string& dataset_path : check.datasets) {
     const DatasetId dataset(Check(H5Dopen2(file.get(), dataset_path.c_str(), H5P_DEFAULT), where, "opening",
                                   dataset_path));
-    if (!HasChecksum(where, dataset.get(), dataset_path)) check.unchecked.push_back(dataset_path);
+    if (!HasChecksum(where, dataset.get(), dataset_path) && !IsVirtual(where, dataset.get(), dataset_path)) {
+      check.unchecked.push_back(dataset_path);
+    }
   }
-  Samples samples;
-  samples.Open(where, file.get(), stored.identity, 0);
-  std::array<std::int64_t, 2> done{};
-  for (const RoleDamage& damage : ScanSamples(samples, &done)) {
-    const DamagedChunk& chunk = damage.chunk;
-    check.damaged.push_back(
-        {samples.Table(damage.role).spec(chunk.column).path, chunk.group, chunk.samples, chunk.problem});
+  if (stored.index) {
+    // Each sample is in one shard (the coordinator never hands out one a shard holds), so
+    // the shards' counts add up.
+    for (const fs::path& shard : ListedShards(where, file.get(), path, stored.identity)) {
+      const AllocationCheck one = CheckAllocationResults(shard);
+      const std::string name = shard.filename().string();
+      for (AllocationCheck::Damage damage : one.damaged) {
+        if (damage.path == "/inputs/u") continue;  // never written in a shard
+        damage.problem = name + ": " + damage.problem;
+        check.damaged.push_back(std::move(damage));
+      }
+      for (const std::string& unchecked : one.unchecked) check.unchecked.push_back(name + ":" + unchecked);
+      check.done_screen += one.done_screen;
+      check.done_confirm += one.done_confirm;
+    }
+  } else {
+    Samples samples;
+    samples.Open(where, file.get(), stored.identity, 0);
+    std::array<std::int64_t, 2> done{};
+    for (const RoleDamage& damage : ScanSamples(samples, &done)) {
+      const DamagedChunk& chunk = damage.chunk;
+      check.damaged.push_back(
+          {samples.Table(damage.role).spec(chunk.column).path, chunk.group, chunk.samples, chunk.problem});
+    }
+    check.done_screen = done[RoleIndex(EvaluationRole::kScreen)];
+    check.done_confirm = done[RoleIndex(EvaluationRole::kConfirm)];
   }
-  check.done_screen = done[RoleIndex(EvaluationRole::kScreen)];
-  check.done_confirm = done[RoleIndex(EvaluationRole::kConfirm)];
   try {
     ReadDesignRows(where, file.get(), stored.identity.inputs.size(), 0, check.samples);
   } catch (const InputError& error) {
@@ -1283,6 +1403,67 @@ AllocationCheck CheckAllocationResults(const fs::path& path) {
     check.outcome_problem = error.what();
   }
   return check;
+}
+
+std::int64_t WriteAllocationIndex(const fs::path& results, const AllocationIdentity& identity,
+                                  const std::vector<double>& design_points, const AllocationOutcome& outcome,
+                                  const std::vector<AllocationShard>& shards) {
+  const QuietErrors quiet;
+  const std::string name = results.string();
+  CheckIdentity(identity, {});
+  const std::int64_t candidates = CandidateCount(identity);
+  CheckOutcome(outcome, candidates, identity.constraints.size());
+  if (shards.empty()) throw std::invalid_argument("WriteAllocationIndex: no shards");
+  if (design_points.size() != static_cast<std::size_t>(identity.samples) * identity.inputs.size()) {
+    throw std::invalid_argument("WriteAllocationIndex: design points of another shape");
+  }
+  std::error_code error;
+  if (fs::exists(results, error)) {
+    const FileId file = OpenForReading(results);
+    if (!ReadStored(Where{name, true}, file.get()).index) {
+      throw InputError(name + ": keeps samples of its own; an index of shards cannot replace it");
+    }
+  }
+  const auto folder = [](const fs::path& path) {
+    return path.has_parent_path() ? path.parent_path().lexically_normal() : fs::path(".");
+  };
+  std::vector<std::string> names;
+  std::array<std::vector<VirtualSource>, 2> sources;
+  for (const AllocationShard& shard : shards) {
+    if (folder(shard.path) != folder(results)) {
+      throw std::invalid_argument("WriteAllocationIndex: shard " + shard.path.string() + " is not beside " + name);
+    }
+    names.push_back(shard.path.filename().string());
+    for (const EvaluationRole role : kRoles) {
+      VirtualSource source{names.back(), identity.samples, {}, {}};
+      for (const AllocationShard::Rows& rows : shard.rows[RoleIndex(role)]) {
+        source.group_rows.push_back({rows.candidate, rows.samples});
+      }
+      sources[RoleIndex(role)].push_back(std::move(source));
+    }
+  }
+  const Where where{name, false};
+  std::int64_t mappings = 0;
+  ReplaceIndex(where, results, names, [&](hid_t file) {
+    WriteIdentity(where, file, identity, design_points, true, kAllocationIndexSchemaVersion);
+    const std::vector<std::string> stored = StoredOutputs(identity.constraints);
+    for (const EvaluationRole role : kRoles) {
+      mappings += SampleTable::CreateVirtual(where, file, CandidateRows(candidates, identity.samples),
+                                             RoleSpecs(role, RoleColumns(role, stored)), sources[RoleIndex(role)]);
+    }
+    CreateOutcome(where, file, static_cast<hsize_t>(candidates), identity.constraints.size(), true);
+    WriteOutcome(where, file, outcome, identity.constraints.size());
+  });
+  return mappings;
+}
+
+std::vector<fs::path> IndexedAllocationShards(const fs::path& results) {
+  const QuietErrors quiet;
+  const Where where{results.string(), true};
+  const FileId file = OpenForReading(results);
+  const Stored stored = ReadStored(where, file.get());
+  if (!stored.index) return {};
+  return ListedShards(where, file.get(), results, stored.identity);
 }
 
 ResultsKind ReadResultsKind(const fs::path& path) {

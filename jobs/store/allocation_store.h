@@ -1,6 +1,7 @@
 // The results file of a tolerance allocation: one HDF5 file written by the coordinating
-// rank, crash-safe and checksummed as the campaign's (jobs/store/campaign_store.h), with
-// the same conventions. docs/results.md documents the schema for readers.
+// rank (under mpirun: shards of every rank and their index, below), crash-safe and
+// checksummed as the campaign's (jobs/store/campaign_store.h), with the same conventions.
+// docs/results.md documents the schema for readers.
 //
 // Schema version 1 (C = candidates, N = most samples per candidate, d = sampler inputs,
 // K = allocated components, O = options of all components, M = constraints, Q = stored outputs):
@@ -59,6 +60,7 @@
 // std::invalid_argument or std::out_of_range. HDF5 write errors: std::runtime_error.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -73,6 +75,23 @@
 namespace ringtol::jobs {
 
 inline constexpr int kAllocationSchemaVersion = 1;
+// An index of shards (below): schema 1's layout with every [C, N] dataset virtual.
+inline constexpr int kAllocationIndexSchemaVersion = 2;
+
+// One finished sample of an allocation file: what the search judges a candidate by.
+struct AllocationSample {
+  EvaluationRole role = EvaluationRole::kScreen;
+  std::int64_t candidate = 0;
+  std::int64_t sample = 0;
+  SampleStatus status = SampleStatus::kPending;
+  std::vector<double> outputs;  // the stored outputs (AllocationStore::outputs()), NaN unless ok
+  double error_bound = 0.0;     // [mm] the screening rung's bound; NaN unless ok, or confirming
+};
+// What a file keeps of `record` (sample record.index of a candidate): `outputs` by name
+// from record.outputs, the error bound from record.d_trajectory_error (screen only), each
+// NaN unless the sample is ok.
+AllocationSample KeptSample(EvaluationRole role, std::int64_t candidate, const SampleRecord& record,
+                            const std::vector<std::string>& outputs);
 
 struct AllocationStoreOptions {
   // > 0: samples per chunk along N; 0: first_samples clamped to [64, 1024] and to N. The
@@ -95,9 +114,15 @@ class AllocationStore {
   // [C, N] datasets are reset to pending (as CampaignStore::Resume: every allocated chunk
   // is read first, a refused file is never modified). Damage elsewhere (/inputs/u, the
   // descriptions, /outcome) is not repaired: the descriptions are refused when they do
-  // not read, /outcome is rewritten by the next Commit.
+  // not read, /outcome is rewritten by the next Commit. An index of shards is refused
+  // (its shards are resumed instead).
   static AllocationStore Resume(const std::filesystem::path& path, const AllocationIdentity& identity,
                                 const AllocationStoreOptions& options = {});
+  // A new shard of an allocation run under mpirun (ShardPath): the same schema, with
+  // /inputs/u left unwritten (it reads as NaN: the index keeps the design points) and
+  // /outcome as created (CommitSamples; the index keeps the outcome). Resume continues one.
+  static AllocationStore CreateShard(const std::filesystem::path& path, const AllocationIdentity& identity,
+                                     const AllocationStoreOptions& options = {});
   // Commits the buffered samples (as CampaignStore does) but not an outcome, which only
   // Commit has: /outcome may then lag the samples on disk, as it does between two commits,
   // until the next run's first Commit. Never throws (errors go to stderr).
@@ -132,10 +157,22 @@ class AllocationStore {
   // candidate outside [0, C). The outcome's options, cost and relative_cost are not
   // stored (they are /candidates', from the identity).
   void Commit(const AllocationOutcome& outcome);
+  // Writes every buffered sample (statuses last) and flushes, leaving /outcome as it is: a
+  // shard's commit.
+  void CommitSamples();
+
+  // The outputs every sample keeps, in AllocationSample::outputs' order.
+  const std::vector<std::string>& outputs() const;
+  // Every finished sample on disk (buffered ones are not), by role, candidate and sample:
+  // what a shard tells the coordinator when a run resumes. Reads every status (C x N bytes
+  // a role) and the rows of the candidates with finished samples.
+  std::vector<AllocationSample> Finished() const;
 
  private:
   struct File;
   explicit AllocationStore(std::unique_ptr<File> file);
+  static AllocationStore CreateFile(const std::filesystem::path& path, const AllocationIdentity& identity,
+                                    const std::vector<double>& design_points, const AllocationStoreOptions& options);
   std::unique_ptr<File> file_;
 };
 
@@ -162,6 +199,36 @@ class AllocationReader {
   std::unique_ptr<File> file_;
 };
 
+// Shards as the results file, as a campaign's (jobs/store/campaign_store.h): under mpirun
+// every computing rank files its samples in its own shard (AllocationStore::CreateShard,
+// at ShardPath), and the results file becomes their index (schema 2): schema 1's
+// identity, /inputs, /candidates and /outcome, /shards/file [K] (the shards' file names,
+// beside the index), and every [C, N] dataset under /samples a virtual dataset showing
+// each sample from the shard that holds it (fill elsewhere: pending, NaN, 0). h5py and
+// HDF5's tools read it as one file; AllocationReader and CheckAllocationResults open every
+// listed shard first and refuse an index whose shard is missing or of another allocation.
+struct AllocationShard {
+  std::filesystem::path path;  // in the index's folder
+  // Per role (screen, confirm): (candidate, its samples the shard shows), candidates
+  // ascending, each one's samples ascending and disjoint. No sample in two shards.
+  struct Rows {
+    std::int64_t candidate = 0;
+    std::vector<SampleRange> samples;
+  };
+  std::array<std::vector<Rows>, 2> rows;
+};
+// Writes `results` as the index of `shards`, opening none of them, with the design points
+// (row-major [N, d]) and `outcome` (as Commit's). Built beside it and renamed over it, so a
+// kill leaves the old index or the new one. InputError when `results` is an allocation file
+// that keeps samples of its own (they would be lost). Returns the mappings of one dataset.
+std::int64_t WriteAllocationIndex(const std::filesystem::path& results, const AllocationIdentity& identity,
+                                  const std::vector<double>& design_points, const AllocationOutcome& outcome,
+                                  const std::vector<AllocationShard>& shards);
+// The shards an allocation file's index lists, each checked to exist and to be a file of
+// its allocation (InputError naming the missing or wrong one); empty for a self-contained
+// file.
+std::vector<std::filesystem::path> IndexedAllocationShards(const std::filesystem::path& results);
+
 // What `ringtol verify` reports of an allocation file (CheckResults is the campaign's).
 struct AllocationCheck {
   struct Damage {
@@ -174,7 +241,9 @@ struct AllocationCheck {
   std::int64_t samples = 0;  // N
   std::vector<std::string> datasets;   // every dataset of the file
   std::vector<std::string> unchecked;  // those without Fletcher-32
-  std::vector<Damage> damaged;         // [C, N] chunks that fail to read, and /inputs/u's
+  // [C, N] chunks that fail to read, and /inputs/u's; an index's: its shards' (each
+  // problem names the shard) and its own /inputs/u's
+  std::vector<Damage> damaged;
   std::string outcome_problem;         // why /outcome does not read (derived: the next commit rewrites it)
   std::int64_t done_screen = 0;        // finished samples in status chunks that read
   std::int64_t done_confirm = 0;
@@ -183,8 +252,10 @@ struct AllocationCheck {
   bool checksummed() const { return unchecked.empty(); }
 };
 
-// Reads every allocated chunk of an allocation file. InputError when it cannot be opened as
-// one (metadata and description damage included).
+// Reads every allocated chunk of an allocation file (an index: of every shard it lists,
+// and its own /inputs/u and /outcome; its virtual datasets count as checksummed, their
+// shards' datasets being checked). InputError when it cannot be opened as one (metadata and
+// description damage included).
 AllocationCheck CheckAllocationResults(const std::filesystem::path& path);
 
 // What a results file holds, from its root `format` attribute: "ringtol campaign" or

@@ -1209,7 +1209,6 @@ std::vector<fs::path> FindShards(const fs::path& results) {
 
 namespace {
 
-constexpr const char* kShardFiles = "/shards/file";
 
 // The finished samples of a shard's table, as ranges.
 std::vector<SampleRange> FinishedRows(const SampleTable& table) {
@@ -1295,14 +1294,8 @@ void CheckShardStored(const Where& index, const Where& opening, const Stored& st
   }
 }
 
-// A shard an index lists: InputError when it is missing, or as CheckShardStored.
+// A shard an index lists (it exists: ListedShardFiles): InputError as CheckShardStored.
 void CheckShard(const Where& index, const fs::path& shard, const Stored& expected) {
-  std::error_code error;
-  if (!fs::exists(shard, error)) {
-    throw InputError(fmt::format("{}: is an index of shards, and its shard {} is missing: put it back beside the "
-                                 "index (the samples it holds are nowhere else)",
-                                 index.file, shard.string()));
-  }
   const Where opening{shard.string(), true};
   const FileId file = OpenForReading(shard);
   CheckShardStored(index, opening, ReadStored(opening, file.get()), expected);
@@ -1310,15 +1303,8 @@ void CheckShard(const Where& index, const fs::path& shard, const Stored& expecte
 
 // The shards of an index, each checked.
 std::vector<fs::path> ListedShards(const Where& where, hid_t file, const fs::path& index, const Stored& stored) {
-  std::vector<fs::path> shards;
-  const fs::path folder = index.parent_path();
-  for (const std::string& name : ReadStrings(where, file, kShardFiles)) {
-    if (name.empty() || fs::path(name).has_parent_path()) {
-      Fail(where, fmt::format("dataset {} names '{}', not a file beside the index", kShardFiles, name));
-    }
-    shards.push_back(folder / name);
-    CheckShard(where, shards.back(), stored);
-  }
+  std::vector<fs::path> shards = ListedShardFiles(where, file, index);
+  for (const fs::path& shard : shards) CheckShard(where, shard, stored);
   return shards;
 }
 
@@ -1412,7 +1398,7 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
         shard.samples > samples || shard.chunk_rows != chunk_rows || shard.inputs_stored_below != stored_below) {
       throw std::invalid_argument("WriteShardIndex: shard " + shard.path.string() + " is not a shard of " + name);
     }
-    VirtualSource source{shard.path.filename().string(), shard.samples, Without(shard.finished, owned)};
+    VirtualSource source{shard.path.filename().string(), shard.samples, Without(shard.finished, owned), {}};
     for (const SampleRange& range : source.rows) summary.samples += range.end - range.begin;
     summary.most_mappings = std::max(summary.most_mappings, static_cast<std::int64_t>(RegularRuns(source.rows).size()));
     owned.insert(owned.end(), source.rows.begin(), source.rows.end());
@@ -1427,33 +1413,19 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
   const std::uint32_t digest = IndexDigest(samples, chunk_rows, stored_below, sources, failure_rows);
   if (written_digest == digest) return summary;
 
-  fs::path temporary = results;
-  temporary += ".index-new";
-  fs::remove(temporary, error);  // what a kill while writing the last one left
   const Where where{name, false};
-  try {
-    FileId file = CreateExclusive(temporary, results);
+  ReplaceIndex(where, results, names, [&](hid_t file) {
     CampaignStoreOptions options;
     options.inputs_stored_below = stored_below;
-    WriteIdentity(where, file.get(), identity, samples, options, kShardIndexSchemaVersion);
-    WriteAttribute(where, file.get(), "shard_chunk_rows", H5T_STD_I64LE, H5T_NATIVE_INT64, &chunk_rows);
-    WriteAttribute(where, file.get(), "shard_digest", H5T_STD_U32LE, H5T_NATIVE_UINT32, &digest);
-    const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
-    GroupId(Check(H5Gcreate2(file.get(), "shards", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group",
-                  "shards"));
-    WriteStrings(where, file.get(), kShardFiles, names, true);
+    WriteIdentity(where, file, identity, samples, options, kShardIndexSchemaVersion);
+    WriteAttribute(where, file, "shard_chunk_rows", H5T_STD_I64LE, H5T_NATIVE_INT64, &chunk_rows);
+    WriteAttribute(where, file, "shard_digest", H5T_STD_U32LE, H5T_NATIVE_UINT32, &digest);
     summary.mappings = SampleTable::CreateVirtual(
-        where, file.get(), Rows(samples, chunk_rows),
-        Columns(kCampaignSchemaVersion, identity.inputs.size(), 0, stored_below), sources);
-    CreateFailureViews(where, file.get(), names, failure_rows);
-    WriteColumnAttributes(where, file.get(), identity);
-    if (!file.Close()) Fail(where, "closing the new index failed (HDF5: " + Hdf5Detail() + ")");
-    fs::rename(temporary, results, error);
-    if (error) Fail(where, "cannot give the new index its name: " + error.message());
-  } catch (...) {
-    fs::remove(temporary, error);
-    throw;
-  }
+        where, file, Rows(samples, chunk_rows), Columns(kCampaignSchemaVersion, identity.inputs.size(), 0, stored_below),
+        sources);
+    CreateFailureViews(where, file, names, failure_rows);
+    WriteColumnAttributes(where, file, identity);
+  });
   return summary;
 }
 

@@ -519,4 +519,43 @@ std::optional<std::string> TextDifference(std::string_view field, const std::str
   return fmt::format("{} differs (first at line {})", field, FirstDifferingLine(file, now));
 }
 
+std::vector<std::filesystem::path> ListedShardFiles(const Where& where, hid_t file, const std::filesystem::path& index) {
+  std::vector<std::filesystem::path> shards;
+  for (const std::string& name : ReadStrings(where, file, kShardFiles)) {
+    if (name.empty() || std::filesystem::path(name).has_parent_path()) {
+      Fail(where, fmt::format("dataset {} names '{}', not a file beside the index", kShardFiles, name));
+    }
+    shards.push_back(index.parent_path() / name);
+    std::error_code error;
+    if (!std::filesystem::exists(shards.back(), error)) {
+      throw InputError(fmt::format("{}: is an index of shards, and its shard {} is missing: put it back beside the "
+                                   "index (the samples it holds are nowhere else)",
+                                   where.file, shards.back().string()));
+    }
+  }
+  return shards;
+}
+
+void ReplaceIndex(const Where& where, const std::filesystem::path& index, const std::vector<std::string>& shards,
+                  const std::function<void(hid_t file)>& write) {
+  std::filesystem::path temporary = index;
+  temporary += ".index-new";
+  std::error_code error;
+  std::filesystem::remove(temporary, error);  // what a kill while writing the last one left
+  try {
+    FileId file = CreateExclusive(temporary, index);
+    write(file.get());
+    const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
+    GroupId(Check(H5Gcreate2(file.get(), "shards", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group",
+                  "shards"));
+    WriteStrings(where, file.get(), kShardFiles, shards, true);
+    if (!file.Close()) Fail(where, "closing the new index failed (HDF5: " + Hdf5Detail() + ")");
+    std::filesystem::rename(temporary, index, error);
+    if (error) Fail(where, "cannot give the new index its name: " + error.message());
+  } catch (...) {
+    std::filesystem::remove(temporary, error);
+    throw;
+  }
+}
+
 }  // namespace ringtol::jobs::hdf5

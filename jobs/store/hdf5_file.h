@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -195,6 +196,18 @@ FileId OpenForReading(const std::filesystem::path& path);
 FileId OpenForWriting(const std::filesystem::path& path);
 // Its root attribute `format`, if it has one that reads as a string.
 std::optional<std::string> FormatOf(const Where& where, hid_t file);
+
+// Where an index of shards lists them (jobs/store/campaign_store.h, allocation_store.h).
+inline constexpr const char* kShardFiles = "/shards/file";
+// The shards an index at `index` lists, resolved beside it, each one checked to exist:
+// HDF5 would read a missing shard's rows as fill values without an error. InputError
+// naming a missing one, or a name that is not a file beside the index.
+std::vector<std::filesystem::path> ListedShardFiles(const Where& where, hid_t file, const std::filesystem::path& index);
+// Writes an index of shards: a new file beside `index` that `write` fills and that lists
+// `shards` (file names beside it) in kShardFiles, renamed over `index` once closed, so a
+// kill leaves the old index or the new one (and a stale temporary the next call removes).
+void ReplaceIndex(const Where& where, const std::filesystem::path& index, const std::vector<std::string>& shards,
+                  const std::function<void(hid_t file)>& write);
 
 // The path a new results file is built under before Publish gives it its name, so that a
 // kill while creating never leaves a half-made file under that name. InputError

@@ -284,18 +284,52 @@ std::vector<StridedRows> RegularRuns(std::span<const SampleRange> rows) {
   return runs;
 }
 
+namespace {
+
+// Maps `runs` of `source`'s dataset into the same rows of the view: rows of group `group`
+// in a grouped table, whole rows of a flat one (`width` values each, 0 for one). Returns
+// the mappings made.
+std::int64_t MapRuns(const Where& where, hid_t dcpl, hid_t view, hid_t from, const std::string& source,
+                     const ColumnSpec& spec, std::optional<std::int64_t> group, std::span<const StridedRows> runs) {
+  for (const StridedRows& run : runs) {
+    const auto start = static_cast<hsize_t>(run.start);
+    const auto stride = static_cast<hsize_t>(run.stride);
+    const auto count = static_cast<hsize_t>(run.count);
+    const auto block = static_cast<hsize_t>(run.block);
+    const std::array<hsize_t, 2> starts = group ? std::array<hsize_t, 2>{static_cast<hsize_t>(*group), start}
+                                                : std::array<hsize_t, 2>{start, 0};
+    const std::array<hsize_t, 2> strides = group ? std::array<hsize_t, 2>{1, stride} : std::array<hsize_t, 2>{stride, 1};
+    const std::array<hsize_t, 2> counts = group ? std::array<hsize_t, 2>{1, count} : std::array<hsize_t, 2>{count, 1};
+    const std::array<hsize_t, 2> blocks =
+        group ? std::array<hsize_t, 2>{1, block} : std::array<hsize_t, 2>{block, spec.width};
+    for (hid_t selection : {view, from}) {
+      CheckStatus(H5Sselect_hyperslab(selection, H5S_SELECT_SET, starts.data(), strides.data(), counts.data(),
+                                      blocks.data()),
+                  where, "selecting rows of", spec.path);
+    }
+    CheckStatus(H5Pset_virtual(dcpl, view, source.c_str(), spec.stored_path.c_str(), from), where,
+                "mapping " + source + " into", spec.path);
+  }
+  return static_cast<std::int64_t>(runs.size());
+}
+
+}  // namespace
+
 std::int64_t SampleTable::CreateVirtual(const Where& where, hid_t file, const RowSpace& space,
                                         const std::vector<ColumnSpec>& columns,
                                         std::span<const VirtualSource> sources) {
-  if (columns.empty() || columns.back().type != ColumnType::kInt8Enum || space.grouped()) {
-    throw std::logic_error("SampleTable::CreateVirtual: a flat table, its status column last");
+  if (columns.empty() || columns.back().type != ColumnType::kInt8Enum) {
+    throw std::logic_error("SampleTable::CreateVirtual: the status column last");
   }
   std::int64_t mappings = 0;
   for (const ColumnSpec& spec : columns) {
     if (spec.stored_path.empty()) continue;
     const std::string& path = spec.path;
-    const int rank = spec.width > 0 ? 2 : 1;
-    const hsize_t dims[2] = {static_cast<hsize_t>(std::min(space.samples, spec.stored_below)), spec.width};
+    const int rank = space.grouped() || spec.width > 0 ? 2 : 1;
+    const hsize_t dims[2] = {
+        space.grouped() ? static_cast<hsize_t>(space.groups)
+                        : static_cast<hsize_t>(std::min(space.samples, spec.stored_below)),
+        space.grouped() ? static_cast<hsize_t>(space.samples) : spec.width};
     const SpaceId view(Check(H5Screate_simple(rank, dims, nullptr), where, "creating the dataspace of", path));
     const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
     const TypeId type = FileTypeWithFill(where, spec, dcpl);
@@ -303,6 +337,14 @@ std::int64_t SampleTable::CreateVirtual(const Where& where, hid_t file, const Ro
     CheckStatus(H5Pset_layout(dcpl.get(), H5D_VIRTUAL), where, "configuring", path);
     std::int64_t column_mappings = 0;
     for (const VirtualSource& source : sources) {
+      if (space.grouped()) {
+        const SpaceId from(Check(H5Screate_simple(rank, dims, nullptr), where, "creating the dataspace of", path));
+        for (const VirtualSource::GroupRows& group : source.group_rows) {
+          column_mappings += MapRuns(where, dcpl.get(), view.get(), from.get(), source.file, spec, group.group,
+                                     RegularRuns(group.samples));
+        }
+        continue;
+      }
       const hsize_t source_dims[2] = {static_cast<hsize_t>(std::min(source.samples, spec.stored_below)), spec.width};
       // Rows beyond either file's stored rows are not mapped.
       std::vector<SampleRange> shown;
@@ -311,19 +353,8 @@ std::int64_t SampleTable::CreateVirtual(const Where& where, hid_t file, const Ro
         if (range.begin < end) shown.push_back({range.begin, std::min(range.end, end)});
       }
       const SpaceId from(Check(H5Screate_simple(rank, source_dims, nullptr), where, "creating the dataspace of", path));
-      for (const StridedRows& run : RegularRuns(shown)) {
-        const hsize_t start[2] = {static_cast<hsize_t>(run.start), 0};
-        const hsize_t stride[2] = {static_cast<hsize_t>(run.stride), 1};
-        const hsize_t count[2] = {static_cast<hsize_t>(run.count), 1};
-        const hsize_t block[2] = {static_cast<hsize_t>(run.block), spec.width};
-        for (hid_t selection : {view.get(), from.get()}) {
-          CheckStatus(H5Sselect_hyperslab(selection, H5S_SELECT_SET, start, stride, count, block), where,
-                      "selecting rows of", path);
-        }
-        CheckStatus(H5Pset_virtual(dcpl.get(), view.get(), source.file.c_str(), spec.stored_path.c_str(), from.get()),
-                    where, "mapping " + source.file + " into", path);
-        ++column_mappings;
-      }
+      column_mappings +=
+          MapRuns(where, dcpl.get(), view.get(), from.get(), source.file, spec, std::nullopt, RegularRuns(shown));
     }
     CheckStatus(H5Sselect_all(view.get()), where, "selecting", path);
     const DatasetId dataset(Check(H5Dcreate2(file, spec.stored_path.c_str(), type.get(), view.get(), H5P_DEFAULT,

@@ -117,6 +117,13 @@ struct VirtualSource {
   std::string file;               // as the virtual file names it (relative: to its folder)
   std::int64_t samples = 0;       // the source's N: its columns have min(N, stored_below) rows
   std::vector<SampleRange> rows;  // the rows it shows: ascending, disjoint, within [0, samples)
+  // A grouped table's rows instead: each group's samples it shows (ascending, disjoint);
+  // the source has the table's [groups, N] shape.
+  struct GroupRows {
+    std::int64_t group = 0;
+    std::vector<SampleRange> samples;
+  };
+  std::vector<GroupRows> group_rows;
 };
 
 class SampleTable {
@@ -126,10 +133,10 @@ class SampleTable {
   // The last column is the status column (kInt8Enum, fill pending).
   static void Create(const Where& where, hid_t file, const RowSpace& space, const std::vector<ColumnSpec>& columns,
                      bool checksums);
-  // Creates every column with a stored_path as a virtual dataset of `space`'s rows (flat
-  // tables; fixed size): each source's rows read from the same rows of its own column,
-  // every other row as the fill. Each source's rows are mapped as RegularRuns. Returns the
-  // mappings of one column a row (the status column's).
+  // Creates every column with a stored_path as a virtual dataset of `space`'s rows (fixed
+  // size): each source's rows (a grouped table: group_rows) read from the same rows of its
+  // own column, every other row as the fill. Each source's rows (of a group) are mapped as
+  // RegularRuns. Returns the mappings of one column (the status column's).
   static std::int64_t CreateVirtual(const Where& where, hid_t file, const RowSpace& space,
                                     const std::vector<ColumnSpec>& columns, std::span<const VirtualSource> sources);
   // Opens the columns of a file of `space` (at least N rows of a flat table, exactly

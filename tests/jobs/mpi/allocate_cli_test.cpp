@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "jobs/store/allocation_store.h"
+#include "jobs/store/campaign_store.h"
 #include "tests/support/background_run.h"
 #include "tests/support/mpi_environment.h"
 #include "tests/support/shell.h"
@@ -141,6 +142,50 @@ TEST(AllocateUnderMpirun, OneAndTwoRanksAndAKilledThenResumedRunFindTheSame) {
   const Outcome resumed = Allocate(file, folder / "killed.h5", "--resume --json");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   ExpectSameAllocation(folder / "alone.h5", folder / "killed.h5");
+}
+
+TEST(AllocateUnderMpirun, KeepsItsSamplesInShardsThatAnyNumberOfRanksContinue) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "allocation.toml", kAllocation);
+  ASSERT_EQ(Allocate(file, folder / "alone.h5").exit_code, 0);
+  EXPECT_TRUE(IndexedAllocationShards(folder / "alone.h5").empty());
+
+  // Three ranks, rank 0 killed; the results file is the index of every rank's shard.
+  const std::filesystem::path three = folder / "three.h5";
+  constexpr int kKilledBySigkill = 128 + SIGKILL;
+  const Outcome killed = Allocate(file, three, "--chunk 2 --commit-seconds 0 --test-kill-after 10", Mpirun(3));
+  ASSERT_EQ(killed.exit_code, kKilledBySigkill) << killed.err;
+  EXPECT_EQ(IndexedAllocationShards(three).size(), 3u);
+  // Continued alone: the shards stay the results, the third read by rank 0 as it is.
+  const Outcome resumed = Allocate(file, three, "--resume --json");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(nlohmann::json::parse(resumed.out)["run"]["shards"], 3);
+  ExpectSameAllocation(folder / "alone.h5", three);
+  const Outcome verify = testing::RunShell(std::string(RINGTOL_EXECUTABLE) + " verify " + three.string() + " --json",
+                                           TestFolder() / "stderr.txt");
+  ASSERT_EQ(verify.exit_code, 0) << verify.out << verify.err;
+  const nlohmann::json check = nlohmann::json::parse(verify.out);
+  EXPECT_EQ(check["verdict"], "intact");
+  EXPECT_EQ(check["done_screen"].get<std::int64_t>() + check["done_confirm"].get<std::int64_t>(),
+            nlohmann::json::parse(resumed.out)["samples_screen"].get<std::int64_t>() +
+                nlohmann::json::parse(resumed.out)["samples_confirm"].get<std::int64_t>());
+
+  // A file begun alone continues under mpirun as shard 0.
+  const std::filesystem::path begun = folder / "begun.h5";
+  ASSERT_EQ(Allocate(file, begun, "--chunk 2 --commit-seconds 0 --test-kill-after 30").exit_code, kKilledBySigkill);
+  const Outcome continued = Allocate(file, begun, "--resume", Mpirun(2));
+  ASSERT_EQ(continued.exit_code, 0) << continued.err;
+  EXPECT_EQ(IndexedAllocationShards(begun), (std::vector<std::filesystem::path>{ShardPath(begun, 0),
+                                                                                ShardPath(begun, 1)}));
+  ExpectSameAllocation(folder / "alone.h5", begun);
+
+  // A missing shard is named, never read as pending.
+  std::filesystem::rename(ShardPath(begun, 1), folder / "aside.h5");
+  const Outcome report = testing::RunShell(std::string(RINGTOL_EXECUTABLE) + " report " + begun.string() + " --out " +
+                                               (folder / "r.html").string(),
+                                           TestFolder() / "stderr.txt");
+  EXPECT_NE(report.exit_code, 0);
+  EXPECT_THAT(report.err, AllOf(HasSubstr("begun.h5.shard-1"), HasSubstr("is missing")));
 }
 
 TEST(AllocateUnderMpirun, BranchAndBoundFindsWhatExhaustiveSearchFinds) {

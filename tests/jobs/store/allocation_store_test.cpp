@@ -692,5 +692,91 @@ TEST(AllocationStore, TakesSpaceForTheSamplesSimulatedNotForEveryCandidate) {
   EXPECT_LT(empty, data);
 }
 
+// The rows of a shard's index entry, from what the shard itself says it holds.
+AllocationShard ShardOf(const fs::path& path) {
+  const AllocationStore shard = AllocationStore::Resume(path, TestIdentity(), TestOptions());
+  AllocationShard entry{path, {}};
+  for (const AllocationSample& sample : shard.Finished()) {
+    auto& rows = entry.rows[sample.role == EvaluationRole::kScreen ? 0 : 1];
+    if (rows.empty() || rows.back().candidate != sample.candidate) rows.push_back({sample.candidate, {}});
+    std::vector<SampleRange>& samples = rows.back().samples;
+    if (!samples.empty() && samples.back().end == sample.sample) {
+      ++samples.back().end;
+    } else {
+      samples.push_back({sample.sample, sample.sample + 1});
+    }
+  }
+  return entry;
+}
+
+TEST(AllocationShardIndex, ReadsEverySampleFromTheShardThatHoldsItAndChecksEveryShard) {
+  const fs::path folder = TestFolder();
+  const fs::path index = folder / "allocation.h5";
+  const fs::path shards[2] = {ShardPath(index, 0), ShardPath(index, 1)};
+  {
+    AllocationStore zero = AllocationStore::CreateShard(shards[0], TestIdentity(), TestOptions());
+    AllocationStore one = AllocationStore::CreateShard(shards[1], TestIdentity(), TestOptions());
+    AddDeterministic(zero, EvaluationRole::kScreen, 1, 0, kFirstSamples);
+    AddDeterministic(zero, EvaluationRole::kConfirm, kDamagedCandidate, 0, 32);
+    AddDeterministic(one, EvaluationRole::kConfirm, kDamagedCandidate, 32, kSamples);
+    AddDeterministic(one, EvaluationRole::kConfirm, 9, 8, 24);
+    zero.CommitSamples();
+    one.CommitSamples();
+    // What a shard reports is what it holds, each sample's stored outputs and bound as kept.
+    const std::vector<AllocationSample> finished = one.Finished();
+    ASSERT_EQ(finished.size(), static_cast<std::size_t>((kSamples - 32) + 16));
+    const AllocationSample& first = finished.front();
+    EXPECT_EQ(first.candidate, kDamagedCandidate);
+    EXPECT_EQ(first.sample, 32);
+    const SampleRecord expected = DeterministicRecord(EvaluationRole::kConfirm, kDamagedCandidate, 32);
+    ASSERT_EQ(one.outputs().size(), first.outputs.size());
+    for (std::size_t q = 0; q < first.outputs.size(); ++q) {
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(first.outputs[q]),
+                std::bit_cast<std::uint64_t>(StoredOutput(expected, one.outputs()[q])));
+    }
+  }
+  WriteAllocationIndex(index, TestIdentity(), DesignPoints(), TestOutcome(), {ShardOf(shards[0]), ShardOf(shards[1])});
+  EXPECT_EQ(IndexedAllocationShards(index), (std::vector<fs::path>{shards[0], shards[1]}));
+  {
+    const AllocationReader reader(index);
+    EXPECT_EQ(Bits(reader.ReadDesignPoints(0, kSamples)), Bits(DesignPoints()));
+    ExpectDeterministic(reader, EvaluationRole::kScreen, 1, 0, kFirstSamples);
+    ExpectDeterministic(reader, EvaluationRole::kConfirm, kDamagedCandidate, 0, kSamples);
+    ExpectDeterministic(reader, EvaluationRole::kConfirm, 9, 8, 24);
+    EXPECT_EQ(reader.ReadStatus(EvaluationRole::kConfirm, 9, 0, 8), std::vector<SampleStatus>(8, SampleStatus::kPending));
+    ExpectSameOutcome(reader.ReadOutcome(), TestOutcome());
+  }
+  AllocationCheck check = CheckAllocationResults(index);
+  EXPECT_TRUE(check.intact());
+  EXPECT_TRUE(check.checksummed()) << ::testing::PrintToString(check.unchecked);
+  EXPECT_EQ(check.done_screen, kFirstSamples);
+  EXPECT_EQ(check.done_confirm, kSamples + 16);
+
+  // Damage in a shard is the index's, named with its shard.
+  FlipChunk(shards[1], "/samples/confirm/runout_mm", kDamagedCandidate, 40);
+  check = CheckAllocationResults(index);
+  ASSERT_EQ(check.damaged.size(), 1u);
+  EXPECT_EQ(check.damaged[0].candidate, kDamagedCandidate);
+  EXPECT_EQ(check.damaged[0].samples, (SampleRange{32, 48}));
+  EXPECT_THAT(check.damaged[0].problem, HasSubstr("allocation.h5.shard-1"));
+
+  // An index is continued through its shards, never itself; it never replaces a file that
+  // keeps samples; a missing shard is an error, not fill.
+  EXPECT_THAT(InputErrorOf([&] { AllocationStore::Resume(index, TestIdentity(), TestOptions()); }),
+              HasSubstr("is an index of shards"));
+  const fs::path plain = folder / "plain.h5";
+  { AllocationStore store = AllocationStore::Create(plain, TestIdentity(), DesignPoints(), TestOptions()); }
+  EXPECT_THAT(InputErrorOf([&] {
+                WriteAllocationIndex(plain, TestIdentity(), DesignPoints(), TestOutcome(),
+                                     {AllocationShard{folder / "x.h5.shard-0", {}}});
+              }),
+              HasSubstr("keeps samples of its own"));
+  fs::rename(shards[0], folder / "aside.h5");
+  for (const auto& open : std::vector<std::function<void()>>{[&] { AllocationReader reader(index); },
+                                                             [&] { CheckAllocationResults(index); }}) {
+    EXPECT_THAT(InputErrorOf(open), AllOf(HasSubstr("allocation.h5.shard-0"), HasSubstr("is missing")));
+  }
+}
+
 }  // namespace
 }  // namespace ringtol::jobs
