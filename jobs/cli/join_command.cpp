@@ -17,21 +17,25 @@ int RunJoin(const JoinCommand& command, std::ostream& out) {
   if (command.out && std::filesystem::exists(*command.out)) {
     throw InputError(command.out->string() + ": exists; choose another --out, or remove it");
   }
-  if (ReadResultsKind(command.results) == ResultsKind::kAllocation) {
-    throw InputError(command.results.string() +
-                     ": is an allocation's results file; ringtol join joins a campaign's shards only: move an "
-                     "allocation's index together with the shards it lists (" +
-                     ShardPath(command.results.filename(), 0).string() + ", ...)");
-  }
-  const std::size_t shards = IndexedShards(command.results).size();
+  const bool allocation = ReadResultsKind(command.results) == ResultsKind::kAllocation;
+  const std::size_t shards =
+      (allocation ? IndexedAllocationShards(command.results) : IndexedShards(command.results)).size();
   if (shards == 0) {
     throw InputError(command.results.string() + ": keeps its samples itself: there are no shards to join");
   }
   const auto start = std::chrono::steady_clock::now();
+  const auto seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  if (allocation) {
+    const std::int64_t samples = JoinAllocationShards(command.results, target);
+    fmt::print(out, "joined {} shards into {}: {} samples in {:.2f} s\n", shards, target.string(), samples, seconds());
+    return 0;
+  }
   const CampaignStore::Absorbed joined = JoinShards(command.results, target);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fmt::print(out, "joined {} shards into {}: {} samples ({} in whole chunks, {:.1f} MB) in {:.2f} s\n", shards,
-             target.string(), joined.samples, joined.chunk_samples, static_cast<double>(joined.bytes) / 1e6, seconds);
+             target.string(), joined.samples, joined.chunk_samples, static_cast<double>(joined.bytes) / 1e6,
+             seconds());
   return 0;
 }
 

@@ -350,7 +350,7 @@ CLI::App* AddInputs(CLI::App& app, ringtol::jobs::InputsCommand& inputs) {
 CLI::App* AddJoin(CLI::App& app, ringtol::jobs::JoinCommand& join) {
   CLI::App* sub = app.add_subcommand(
       "join", "Join the shards of a results file written under mpirun into one self-contained file");
-  AddInputFile(*sub, "results", join.results, "Results file (HDF5) of ringtol campaign under mpirun: an index of shards");
+  AddInputFile(*sub, "results", join.results, "Results file (HDF5) of ringtol campaign or allocate under mpirun: an index of shards");
   sub->add_option("--out", join.out, "Write the joined file here and keep the index and its shards (default: replace the index)");
   return sub;
 }

@@ -692,6 +692,12 @@ struct Samples {
     return Table(role).Read<double>(column, candidate, begin, end - begin);
   }
 
+  // The screening rung's error bounds [mm] of samples [begin, end) of a candidate.
+  std::vector<double> ErrorBounds(std::int64_t candidate, std::int64_t begin, std::int64_t end) const {
+    const EvaluationRole role = EvaluationRole::kScreen;
+    return Row(role, ColumnOf(role, SampleField::kErrorBound), candidate, begin, end);
+  }
+
   std::vector<SampleStatus> Statuses(EvaluationRole role, std::int64_t candidate, std::int64_t begin,
                                      std::int64_t end) const {
     return Table(role).Statuses(candidate, begin, end - begin);
@@ -1187,9 +1193,8 @@ std::vector<double> AllocationStore::ReadErrorBound(std::int64_t candidate, std:
   const QuietErrors quiet;
   const Samples& s = file_->samples;
   s.CheckRange("AllocationStore::ReadErrorBound", candidate, begin, end);
-  const EvaluationRole role = EvaluationRole::kScreen;
-  std::vector<double> values = s.Row(role, s.ColumnOf(role, SampleField::kErrorBound), candidate, begin, end);
-  file_->buffer[RoleIndex(role)].Overlay(candidate, begin, end, values,
+  std::vector<double> values = s.ErrorBounds(candidate, begin, end);
+  file_->buffer[RoleIndex(EvaluationRole::kScreen)].Overlay(candidate, begin, end, values,
                                          [](const Buffered& sample) { return sample.error_bound; });
   return values;
 }
@@ -1239,7 +1244,6 @@ std::vector<AllocationSample> AllocationStore::Finished() const {
   const Samples& s = file_->samples;
   std::vector<AllocationSample> finished;
   for (const EvaluationRole role : kRoles) {
-    const std::size_t bound_column = role == EvaluationRole::kScreen ? s.ColumnOf(role, SampleField::kErrorBound) : 0;
     for (std::int64_t candidate = 0; candidate < s.candidates; ++candidate) {
       const std::vector<SampleStatus> statuses = s.Statuses(role, candidate, 0, s.samples);
       if (std::all_of(statuses.begin(), statuses.end(), [](SampleStatus x) { return x == SampleStatus::kPending; })) {
@@ -1250,7 +1254,7 @@ std::vector<AllocationSample> AllocationStore::Finished() const {
         outputs.push_back(s.Row(role, s.ColumnOf(role, SampleField::kOutput, q), candidate, 0, s.samples));
       }
       std::vector<double> bounds;
-      if (role == EvaluationRole::kScreen) bounds = s.Row(role, bound_column, candidate, 0, s.samples);
+      if (role == EvaluationRole::kScreen) bounds = s.ErrorBounds(candidate, 0, s.samples);
       for (std::int64_t i = 0; i < s.samples; ++i) {
         const auto k = static_cast<std::size_t>(i);
         if (statuses[k] == SampleStatus::kPending) continue;
@@ -1330,6 +1334,30 @@ std::vector<double> AllocationReader::ReadOutput(EvaluationRole role, std::strin
   const std::size_t column = s.OutputColumn("AllocationReader::ReadOutput", role, output);
   s.CheckRange("AllocationReader::ReadOutput", candidate, begin, end);
   return s.Row(role, column, candidate, begin, end);
+}
+
+std::vector<double> AllocationReader::ReadErrorBound(std::int64_t candidate, std::int64_t begin,
+                                                     std::int64_t end) const {
+  const QuietErrors quiet;
+  const Samples& s = file_->samples;
+  s.CheckRange("AllocationReader::ReadErrorBound", candidate, begin, end);
+  return s.ErrorBounds(candidate, begin, end);
+}
+
+std::vector<std::int32_t> AllocationReader::ReadSteps(EvaluationRole role, std::int64_t candidate,
+                                                      std::int64_t begin, std::int64_t end) const {
+  const QuietErrors quiet;
+  const Samples& s = file_->samples;
+  s.CheckRange("AllocationReader::ReadSteps", candidate, begin, end);
+  return s.Table(role).Read<std::int32_t>(s.ColumnOf(role, SampleField::kSteps), candidate, begin, end - begin);
+}
+
+std::vector<double> AllocationReader::ReadSolveTime(EvaluationRole role, std::int64_t candidate, std::int64_t begin,
+                                                    std::int64_t end) const {
+  const QuietErrors quiet;
+  const Samples& s = file_->samples;
+  s.CheckRange("AllocationReader::ReadSolveTime", candidate, begin, end);
+  return s.Row(role, s.ColumnOf(role, SampleField::kSolveTime), candidate, begin, end);
 }
 
 std::vector<double> AllocationReader::ReadDesignPoints(std::int64_t begin, std::int64_t end) const {
@@ -1455,6 +1483,58 @@ std::int64_t WriteAllocationIndex(const fs::path& results, const AllocationIdent
     WriteOutcome(where, file, outcome, identity.constraints.size());
   });
   return mappings;
+}
+
+std::int64_t JoinAllocationShards(const fs::path& results, const fs::path& out) {
+  const std::vector<fs::path> shards = IndexedAllocationShards(results);
+  if (shards.empty()) throw InputError(results.string() + ": keeps its samples itself: there are no shards to join");
+  const auto [target, in_place] = PrepareJoin(results, out);
+  std::error_code error;
+  std::int64_t joined = 0;
+  {
+    const AllocationReader index(results);
+    const AllocationIdentity& identity = index.identity();
+    const std::int64_t n = identity.samples;
+    AllocationStore store = AllocationStore::Create(target, identity, index.ReadDesignPoints(0, n));
+    const std::vector<std::string> outputs = StoredOutputs(identity.constraints);
+    const std::int64_t candidates = CandidateCount(identity);
+    for (const EvaluationRole role : kRoles) {
+      for (std::int64_t c = 0; c < candidates; ++c) {
+        const std::vector<SampleStatus> status = index.ReadStatus(role, c, 0, n);
+        if (std::all_of(status.begin(), status.end(), [](SampleStatus x) { return x == SampleStatus::kPending; })) {
+          continue;
+        }
+        std::vector<std::vector<double>> values;
+        for (const std::string& output : outputs) values.push_back(index.ReadOutput(role, output, c, 0, n));
+        const std::vector<double> bound =
+            role == EvaluationRole::kScreen ? index.ReadErrorBound(c, 0, n) : std::vector<double>(static_cast<std::size_t>(n), kNaN);
+        const std::vector<std::int32_t> steps = index.ReadSteps(role, c, 0, n);
+        const std::vector<double> times = index.ReadSolveTime(role, c, 0, n);
+        for (std::int64_t i = 0; i < n; ++i) {
+          const auto k = static_cast<std::size_t>(i);
+          if (status[k] == SampleStatus::kPending) continue;
+          SampleRecord record;
+          record.index = i;
+          record.status = status[k];
+          record.outputs.fill(kNaN);
+          for (std::size_t q = 0; q < outputs.size(); ++q) record.outputs[OutputIndex(outputs[q])] = values[q][k];
+          record.d_trajectory_error = bound[k];
+          record.steps = steps[k];
+          record.solve_time = times[k];
+          store.Add(role, c, record);
+          ++joined;
+        }
+        store.CommitSamples();  // a candidate at a time: the buffer stays one candidate's
+      }
+    }
+    store.Commit(index.ReadOutcome());
+  }
+  if (in_place) {
+    fs::rename(target, results, error);
+    if (error) throw InputError(results.string() + ": cannot replace the index by the joined file: " + error.message());
+    for (const fs::path& shard : shards) fs::remove(shard, error);
+  }
+  return joined;
 }
 
 std::vector<fs::path> IndexedAllocationShards(const fs::path& results) {

@@ -191,6 +191,12 @@ class AllocationReader {
                                        std::int64_t end) const;
   std::vector<double> ReadOutput(EvaluationRole role, std::string_view output, std::int64_t candidate,
                                  std::int64_t begin, std::int64_t end) const;
+  // The screening rung's error bound [mm], NaN unless ok.
+  std::vector<double> ReadErrorBound(std::int64_t candidate, std::int64_t begin, std::int64_t end) const;
+  std::vector<std::int32_t> ReadSteps(EvaluationRole role, std::int64_t candidate, std::int64_t begin,
+                                      std::int64_t end) const;
+  std::vector<double> ReadSolveTime(EvaluationRole role, std::int64_t candidate, std::int64_t begin,
+                                    std::int64_t end) const;  // [s]
   // Row-major [end - begin, d].
   std::vector<double> ReadDesignPoints(std::int64_t begin, std::int64_t end) const;
 
@@ -228,6 +234,14 @@ std::int64_t WriteAllocationIndex(const std::filesystem::path& results, const Al
 // its allocation (InputError naming the missing or wrong one); empty for a self-contained
 // file.
 std::vector<std::filesystem::path> IndexedAllocationShards(const std::filesystem::path& results);
+
+// Writes the samples of an index and its shards into `out`, one self-contained allocation
+// file (schema 1) of the same allocation, design points and outcome. `out` may be
+// `results` itself: the joined file then replaces the index, and the shards are removed
+// once it has; a join killed half-way leaves the index and its shards as they were.
+// InputError for a self-contained file (nothing to join) or a missing shard. Returns the
+// finished samples copied.
+std::int64_t JoinAllocationShards(const std::filesystem::path& results, const std::filesystem::path& out);
 
 // What `ringtol verify` reports of an allocation file (CheckResults is the campaign's).
 struct AllocationCheck {

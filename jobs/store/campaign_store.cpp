@@ -1458,13 +1458,8 @@ CampaignStore::Absorbed JoinShards(const fs::path& results, const fs::path& out)
     if (!stored.index) throw InputError(results.string() + ": keeps its samples itself: there are no shards to join");
     shards = ListedShards(where, file.get(), results, stored);
   }
-  const bool in_place = fs::weakly_canonical(out) == fs::weakly_canonical(results);
-  fs::path target = out;
+  const auto [target, in_place] = PrepareJoin(results, out);
   std::error_code error;
-  if (in_place) {
-    target += ".joining";
-    fs::remove(target, error);  // what a killed join left
-  }
   CampaignStoreOptions options;
   options.chunk_samples = stored.chunk_rows;
   options.inputs_stored_below = stored.inputs_stored_below;

@@ -536,6 +536,16 @@ std::vector<std::filesystem::path> ListedShardFiles(const Where& where, hid_t fi
   return shards;
 }
 
+JoinTarget PrepareJoin(const std::filesystem::path& index, const std::filesystem::path& out) {
+  JoinTarget target{out, std::filesystem::weakly_canonical(out) == std::filesystem::weakly_canonical(index)};
+  if (target.in_place) {
+    target.path += ".joining";
+    std::error_code error;
+    std::filesystem::remove(target.path, error);
+  }
+  return target;
+}
+
 void ReplaceIndex(const Where& where, const std::filesystem::path& index, const std::vector<std::string>& shards,
                   const std::function<void(hid_t file)>& write) {
   std::filesystem::path temporary = index;

@@ -206,6 +206,14 @@ std::vector<std::filesystem::path> ListedShardFiles(const Where& where, hid_t fi
 // Writes an index of shards: a new file beside `index` that `write` fills and that lists
 // `shards` (file names beside it) in kShardFiles, renamed over `index` once closed, so a
 // kill leaves the old index or the new one (and a stale temporary the next call removes).
+// Where a join of an index's shards writes: `out` itself, or, when `out` is the index
+// (in place), a temporary beside it (what a killed join left there removed) that replaces
+// the index once complete.
+struct JoinTarget {
+  std::filesystem::path path;
+  bool in_place = false;
+};
+JoinTarget PrepareJoin(const std::filesystem::path& index, const std::filesystem::path& out);
 void ReplaceIndex(const Where& where, const std::filesystem::path& index, const std::vector<std::string>& shards,
                   const std::function<void(hid_t file)>& write);
 

@@ -170,6 +170,14 @@ TEST(AllocateUnderMpirun, KeepsItsSamplesInShardsThatAnyNumberOfRanksContinue) {
             nlohmann::json::parse(resumed.out)["samples_screen"].get<std::int64_t>() +
                 nlohmann::json::parse(resumed.out)["samples_confirm"].get<std::int64_t>());
 
+  // Joined in place, it is one self-contained file again.
+  const Outcome join = testing::RunShell(std::string(RINGTOL_EXECUTABLE) + " join " + three.string(),
+                                         TestFolder() / "stderr.txt");
+  ASSERT_EQ(join.exit_code, 0) << join.err;
+  EXPECT_TRUE(IndexedAllocationShards(three).empty());
+  EXPECT_FALSE(std::filesystem::exists(ShardPath(three, 0)));
+  ExpectSameAllocation(folder / "alone.h5", three);
+
   // A file begun alone continues under mpirun as shard 0.
   const std::filesystem::path begun = folder / "begun.h5";
   ASSERT_EQ(Allocate(file, begun, "--chunk 2 --commit-seconds 0 --test-kill-after 30").exit_code, kKilledBySigkill);

@@ -752,6 +752,29 @@ TEST(AllocationShardIndex, ReadsEverySampleFromTheShardThatHoldsItAndChecksEvery
   EXPECT_EQ(check.done_screen, kFirstSamples);
   EXPECT_EQ(check.done_confirm, kSamples + 16);
 
+  // Joined into one file, every sample, the design points and the outcome are as they were.
+  const fs::path joined = folder / "joined.h5";
+  EXPECT_EQ(JoinAllocationShards(index, joined), kFirstSamples + kSamples + 16);
+  EXPECT_TRUE(IndexedAllocationShards(joined).empty());
+  {
+    const AllocationReader reader(joined);
+    EXPECT_EQ(Bits(reader.ReadDesignPoints(0, kSamples)), Bits(DesignPoints()));
+    ExpectDeterministic(reader, EvaluationRole::kScreen, 1, 0, kFirstSamples);
+    ExpectDeterministic(reader, EvaluationRole::kConfirm, kDamagedCandidate, 0, kSamples);
+    ExpectDeterministic(reader, EvaluationRole::kConfirm, 9, 8, 24);
+    ExpectSameOutcome(reader.ReadOutcome(), TestOutcome());
+    const AllocationReader shown(index);
+    const auto confirm = EvaluationRole::kConfirm;
+    EXPECT_EQ(reader.ReadSteps(confirm, kDamagedCandidate, 0, kSamples),
+              shown.ReadSteps(confirm, kDamagedCandidate, 0, kSamples));
+    EXPECT_EQ(Bits(reader.ReadSolveTime(confirm, kDamagedCandidate, 0, kSamples)),
+              Bits(shown.ReadSolveTime(confirm, kDamagedCandidate, 0, kSamples)));
+    EXPECT_EQ(Bits(reader.ReadErrorBound(1, 0, kFirstSamples)), Bits(shown.ReadErrorBound(1, 0, kFirstSamples)));
+    EXPECT_EQ(shown.ReadSteps(confirm, kDamagedCandidate, 40, 41)[0],
+              DeterministicRecord(confirm, kDamagedCandidate, 40).steps);
+  }
+  EXPECT_TRUE(CheckAllocationResults(joined).intact());
+
   // Damage in a shard is the index's, named with its shard.
   FlipChunk(shards[1], "/samples/confirm/runout_mm", kDamagedCandidate, 40);
   check = CheckAllocationResults(index);
