@@ -28,7 +28,7 @@ namespace ringtol::jobs {
 namespace {
 
 constexpr int kTagResults = 1;  // worker -> rank 0: packed records, also the next request
-constexpr int kTagWork = 2;     // rank 0 -> worker: int64 sample indices; empty means stop
+constexpr int kTagWork = 2;     // rank 0 -> worker: int64 (first, count) runs of indices; empty means stop
 // worker -> rank 0: the stop request's int32 value, then the packed records finished
 // before the worker saw it; also its last request
 constexpr int kTagStopping = 3;
@@ -234,6 +234,21 @@ class CampaignResults final : public PoolResults {
   const std::vector<bool>* finished_;
 };
 
+// Ascending indices as (first, count) runs: a chunk of consecutive samples is one run, so a
+// reply stays a few bytes whatever the chunk's size, below Open MPI's eager limit (a larger
+// send waits, spinning, until the worker is scheduled to take it).
+std::vector<std::int64_t> Runs(const std::vector<std::int64_t>& indices) {
+  std::vector<std::int64_t> runs;
+  for (const std::int64_t index : indices) {
+    if (!runs.empty() && runs[runs.size() - 2] + runs.back() == index) {
+      ++runs.back();
+    } else {
+      runs.insert(runs.end(), {index, 1});
+    }
+  }
+  return runs;
+}
+
 // 0 while the pool goes on; the stop request's value once there is one.
 int StopRequest(const PoolOptions& options) { return options.stop ? options.stop() : 0; }
 
@@ -251,6 +266,7 @@ WorkerCpu RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolR
   const PoolWork::Evaluator evaluate = work.MakeEvaluator();
   Packer results;  // empty: the first request
   int tag = kTagResults;
+  std::vector<std::int64_t> runs;
   std::vector<std::int64_t> chunk;
   for (bool first = true;; first = false) {
     const double wait_start = ThreadCpuSeconds();
@@ -260,8 +276,12 @@ WorkerCpu RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolR
     Check(MPI_Probe(0, kTagWork, communicator, &status), "MPI_Probe");
     int count = 0;
     Check(MPI_Get_count(&status, MPI_INT64_T, &count), "MPI_Get_count");
-    chunk.resize(static_cast<std::size_t>(count));
-    Check(MPI_Recv(chunk.data(), count, MPI_INT64_T, 0, kTagWork, communicator, MPI_STATUS_IGNORE), "MPI_Recv");
+    runs.resize(static_cast<std::size_t>(count));
+    Check(MPI_Recv(runs.data(), count, MPI_INT64_T, 0, kTagWork, communicator, MPI_STATUS_IGNORE), "MPI_Recv");
+    chunk.clear();
+    for (std::size_t k = 0; k + 1 < runs.size(); k += 2) {
+      for (std::int64_t i = 0; i < runs[k + 1]; ++i) chunk.push_back(runs[k] + i);
+    }
     cpu.waiting += ThreadCpuSeconds() - wait_start;
     if (chunk.empty()) {
       cpu.total = ThreadCpuSeconds() - cpu_start;
@@ -648,13 +668,13 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
       Unpacker in(message);
       if (status.MPI_TAG == kTagStopping) stop(in.Get<std::int32_t>());
       // Reply first: the worker computes while rank 0 files what it sent.
-      const std::vector<std::int64_t> chunk = next_chunk(computing_rank(status.MPI_SOURCE));
-      Check(MPI_Send(chunk.data(), static_cast<int>(chunk.size()), MPI_INT64_T, status.MPI_SOURCE, kTagWork,
+      const std::vector<std::int64_t> runs = Runs(next_chunk(computing_rank(status.MPI_SOURCE)));
+      Check(MPI_Send(runs.data(), static_cast<int>(runs.size()), MPI_INT64_T, status.MPI_SOURCE, kTagWork,
                      communicator),
             "MPI_Send");
-      if (chunk.empty()) --active_workers;
+      if (runs.empty()) --active_workers;
       report.coordinator_messages += 2;
-      report.coordinator_bytes += bytes + static_cast<std::int64_t>(chunk.size() * sizeof(std::int64_t));
+      report.coordinator_bytes += bytes + static_cast<std::int64_t>(runs.size() * sizeof(std::int64_t));
       if (!in.done()) {
         const char kind = in.Get<char>();
         if (kind == kSummaries) {

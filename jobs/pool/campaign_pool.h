@@ -2,7 +2,8 @@
 // and the coordinator (rank 0) writes them to the results file as they come. The same code
 // runs alone (one process, no mpirun) and under `mpirun -n K`.
 //
-// Protocol: every worker asks rank 0 for work and gets a chunk of sample indices; it
+// Protocol: every worker asks rank 0 for work and gets a chunk of sample indices (sent as
+// runs of consecutive ones, a few bytes a chunk); it
 // sends back the chunk's records (jobs/campaign/sample_record.h, packed), which is also its next
 // request; an empty chunk tells it to stop. A worker given a shard (a results file of its
 // own, jobs/store/campaign_store.h) files its records there instead, commits them at the end

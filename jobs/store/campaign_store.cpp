@@ -37,7 +37,7 @@ constexpr std::size_t kMessageBytes = 256;
 constexpr std::size_t kMessageChars = kMessageBytes - 1;  // and the terminator
 // Default chunk of /inputs/u: large enough that deflate works well, small enough that the
 // chunks being filled between commits fit the chunk cache many times over.
-constexpr std::size_t kDefaultChunkBytes = 256u << 10;
+constexpr hsize_t kChunkRows = 1024;  // 8 KiB of a float64 column
 // ---------------------------------------------------------------------------------------
 // The per-sample datasets ("columns"), statuses last: Commit writes them in this order.
 
@@ -625,14 +625,15 @@ void CheckArguments(const CampaignIdentity& identity, std::int64_t samples, cons
   }
 }
 
-hsize_t DefaultChunkRows(const CampaignStoreOptions& options, std::int64_t samples, std::size_t inputs) {
+hsize_t DefaultChunkRows(const CampaignStoreOptions& options, std::int64_t samples) {
   if (options.chunk_samples > 0) return static_cast<hsize_t>(options.chunk_samples);
-  // Also bounded by /outputs/message (256 bytes a row): with few inputs its chunks would
-  // outgrow HDF5's default 1 MiB chunk cache, and every read of one message would inflate
-  // a whole chunk.
-  const std::size_t row_bytes = std::max(inputs * sizeof(double), kMessageBytes);
-  const std::size_t rows = std::max<std::size_t>(1, kDefaultChunkBytes / row_bytes);
-  return std::min<hsize_t>(rows, static_cast<hsize_t>(samples));
+  // Sized for the one-value columns, which every sample fills and readers scan whole: a
+  // read through an index of shards pays about 70 us for each chunk it crosses, so a
+  // column of 10^7 samples over 1,000 shards reads in 0.94 s with 1,024 rows a chunk and
+  // 3.37 s with 208 (docs/performance.md, "Campaigns at scale"). The wide rows (u, values:
+  // 1.3 MB a chunk of 157 inputs) are kept for the first samples only, and their chunks
+  // are held in the chunk cache while they fill (CampaignStoreOptions::chunk_cache_bytes).
+  return std::min<hsize_t>(kChunkRows, static_cast<hsize_t>(samples));
 }
 
 // The root's attributes, the groups, the input descriptions and the calibrations: what a
@@ -685,7 +686,7 @@ void WriteColumnAttributes(const Where& where, hid_t file, const CampaignIdentit
 void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identity, std::int64_t samples,
                  const CampaignStoreOptions& options) {
   WriteIdentity(where, file, identity, samples, options, kCampaignSchemaVersion);
-  const auto chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples, identity.inputs.size()));
+  const auto chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples));
   SampleTable::Create(
       where, file, Rows(samples, chunk_rows),
       Columns(kCampaignSchemaVersion, identity.inputs.size(), options.deflate_level, options.inputs_stored_below),
@@ -891,7 +892,7 @@ CampaignStore CampaignStore::Create(const fs::path& path, const CampaignIdentity
   file->samples = samples;
   file->inputs = identity.inputs.size();
   file->identity = identity;
-  file->chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples, file->inputs));
+  file->chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples));
   file->inputs_stored_below = options.inputs_stored_below;
   try {
     file->file = CreateExclusive(temporary, path);

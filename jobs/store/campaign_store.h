@@ -133,8 +133,7 @@ struct ShardContents {
 
 struct CampaignStoreOptions {
   int deflate_level = 0;            // 0..9: zlib level of the floating-point columns; 0 = none
-  // > 0: samples per HDF5 chunk; 0: about 256 KiB per chunk of /inputs/u (of 256 bytes a
-  // row when there are fewer than 32 inputs)
+  // > 0: samples per HDF5 chunk; 0: 1,024 (8 KiB of a float64 column), at most N
   std::int64_t chunk_samples = 0;
   std::size_t chunk_cache_bytes = 32u << 20;  // per 2-D dataset: keeps the chunks being filled in memory
   // false writes datasets without Fletcher-32, as builds before checksums did: for tests of
