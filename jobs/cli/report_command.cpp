@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -90,12 +91,12 @@ int RunReport(const ReportCommand& command, std::ostream& out) {
   // damaged file must not exist, and the replays would otherwise catch a damaged design
   // point as a replay problem.
   if (ReadResultsKind(command.results) == ResultsKind::kAllocation) {
-    if (const AllocationCheck check = CheckAllocationResults(command.results); !check.intact()) {
+    if (const ResultsCheck check = CheckAllocationResults(command.results); !check.intact()) {
+      const auto damaged = std::find_if(check.datasets.begin(), check.datasets.end(),
+                                        [](const DatasetCheck& d) { return !d.damaged.empty(); });
       throw InputError(fmt::format("{}: damaged ({}); `ringtol verify {}` lists what, and `ringtol allocate "
                                    "--resume` recomputes the samples of damaged chunks",
-                                   command.results.string(),
-                                   check.damaged.empty() ? check.outcome_problem : check.damaged.front().problem,
-                                   command.results.string()));
+                                   command.results.string(), damaged->first_problem, command.results.string()));
     }
     AllocationReportOptions allocation;
     allocation.bootstrap_resamples = options.bootstrap_resamples;

@@ -94,38 +94,54 @@ void PrintTable(const VerifyCommand& command, const ResultsCheck& check, std::os
 
 // An allocation file: its damaged chunks by dataset and candidate, and what is done.
 int VerifyAllocation(const VerifyCommand& command, std::ostream& out) {
-  const AllocationCheck check = CheckAllocationResults(command.results);
-  const std::string verdict = !check.intact() ? "damaged" : check.checksummed() ? "intact" : "unchecked";
+  const ResultsCheck check = CheckAllocationResults(command.results);
+  const std::string verdict = Verdict(check);
+  // A damaged range as (candidate, samples) where the dataset has a row per candidate.
+  struct Damage {
+    const DatasetCheck* dataset;
+    std::int64_t candidate;  // -1: not a [C, N] dataset
+    SampleRange samples;
+  };
+  std::vector<Damage> damaged;
+  std::vector<std::string> unchecked;
+  for (const DatasetCheck& dataset : check.datasets) {
+    if (!dataset.checksummed) unchecked.push_back(dataset.path);
+    for (const SampleRange& rows : dataset.damaged) {
+      damaged.push_back(dataset.per_sample ? Damage{&dataset, check.CandidateOf(rows), check.SamplesOf(rows)}
+                                           : Damage{&dataset, -1, rows});
+    }
+  }
   if (command.json) {
-    nlohmann::json damaged = nlohmann::json::array();
-    for (const AllocationCheck::Damage& d : check.damaged) {
-      damaged.push_back({{"path", d.path},
-                         {"candidate", d.candidate},
-                         {"samples", {d.samples.begin, d.samples.end - 1}},
-                         {"problem", d.problem}});
+    nlohmann::json list = nlohmann::json::array();
+    for (const Damage& d : damaged) {
+      list.push_back({{"path", d.dataset->path},
+                      {"candidate", d.candidate},
+                      {"samples", {d.samples.begin, d.samples.end - 1}},
+                      {"problem", d.dataset->first_problem}});
     }
     const nlohmann::json result = {{"file", command.results.string()}, {"kind", "allocation"},
                                    {"verdict", verdict},              {"candidates", check.candidates},
                                    {"samples", check.samples},        {"done_screen", check.done_screen},
-                                   {"done_confirm", check.done_confirm}, {"unchecked_datasets", check.unchecked},
-                                   {"damaged", damaged},              {"outcome_problem", check.outcome_problem}};
+                                   {"done_confirm", check.done_confirm}, {"unchecked_datasets", unchecked},
+                                   {"damaged", list}};
     out << result.dump(1) << "\n";
   } else {
     out << fmt::format("{}: allocation of {} candidates x {} samples, {} datasets\n", command.results.string(),
                        check.candidates, check.samples, check.datasets.size());
-    for (const AllocationCheck::Damage& d : check.damaged) {
-      out << fmt::format("  {}  DAMAGED at candidate {}, samples {} ({})\n", d.path, d.candidate,
-                         FormatRanges({d.samples}), d.problem);
+    for (const Damage& d : damaged) {
+      out << fmt::format("  {}  DAMAGED{} ({})\n", d.dataset->path,
+                         d.candidate >= 0 ? fmt::format(" at candidate {}, samples {}", d.candidate,
+                                                        FormatRanges({d.samples}))
+                                          : std::string(),
+                         d.dataset->first_problem);
     }
-    if (!check.outcome_problem.empty()) out << "  /outcome  DAMAGED (" << check.outcome_problem << ")\n";
-    for (const std::string& path : check.unchecked) out << "  " << path << "  no checksum\n";
+    for (const std::string& path : unchecked) out << "  " << path << "  no checksum\n";
     out << fmt::format("Samples done: {} screened, {} confirmed\n", check.done_screen, check.done_confirm);
     out << "Verdict: " << verdict
         << (check.intact() ? "" : "; --resume computes the samples of damaged chunks again and rewrites /outcome")
         << "\n";
   }
-  if (!check.intact()) return kVerifyDamaged;
-  return check.checksummed() ? kVerifyIntact : kVerifyUnchecked;
+  return ExitStatus(check);
 }
 
 }  // namespace

@@ -1371,40 +1371,53 @@ std::vector<double> AllocationReader::ReadDesignPoints(std::int64_t begin, std::
   return ReadDesignRows(f.where, f.file.get(), f.identity.inputs.size(), begin, end);
 }
 
-AllocationCheck CheckAllocationResults(const fs::path& path) {
+ResultsCheck CheckAllocationResults(const fs::path& path) {
   const QuietErrors quiet;
   const Where where{path.string(), true};
   const FileId file = OpenForReading(path);
   const Stored stored = ReadStored(where, file.get());
-  AllocationCheck check;
+  ResultsCheck check;
   check.candidates = stored.candidates;
   check.samples = stored.identity.samples;
+  std::vector<std::string> paths;
   H5Ovisit2(
       file.get(), H5_INDEX_NAME, H5_ITER_INC,
       [](hid_t, const char* name, const H5O_info_t* info, void* data) -> herr_t {
         if (info->type == H5O_TYPE_DATASET) static_cast<std::vector<std::string>*>(data)->push_back(std::string("/") + name);
         return 0;
       },
-      &check.datasets, H5O_INFO_BASIC);
-  for (const std::string& dataset_path : check.datasets) {
+      &paths, H5O_INFO_BASIC);
+  for (const std::string& dataset_path : paths) {
     const DatasetId dataset(Check(H5Dopen2(file.get(), dataset_path.c_str(), H5P_DEFAULT), where, "opening",
                                   dataset_path));
-    if (!HasChecksum(where, dataset.get(), dataset_path) && !IsVirtual(where, dataset.get(), dataset_path)) {
-      check.unchecked.push_back(dataset_path);
-    }
+    // An index's virtual datasets are as checked as its shards' (below).
+    const bool checksummed =
+        HasChecksum(where, dataset.get(), dataset_path) || IsVirtual(where, dataset.get(), dataset_path);
+    check.datasets.push_back({dataset_path, dataset_path.starts_with("/samples/"), checksummed, {}, {}});
   }
+  const auto dataset = [&](const std::string& dataset_path) -> DatasetCheck& {
+    const auto found = std::find_if(check.datasets.begin(), check.datasets.end(),
+                                    [&](const DatasetCheck& d) { return d.path == dataset_path; });
+    if (found != check.datasets.end()) return *found;
+    check.datasets.push_back({dataset_path, false, true, {}, {}});
+    return check.datasets.back();
+  };
+  const auto damage = [&](const std::string& dataset_path, SampleRange rows, const std::string& problem) {
+    DatasetCheck& d = dataset(dataset_path);
+    if (d.damaged.empty()) d.first_problem = problem;
+    d.damaged.push_back(rows);
+  };
   if (stored.index) {
     // Each sample is in one shard (the coordinator never hands out one a shard holds), so
     // the shards' counts add up.
     for (const fs::path& shard : ListedShards(where, file.get(), path, stored.identity)) {
-      const AllocationCheck one = CheckAllocationResults(shard);
+      const ResultsCheck one = CheckAllocationResults(shard);
       const std::string name = shard.filename().string();
-      for (AllocationCheck::Damage damage : one.damaged) {
-        if (damage.path == "/inputs/u") continue;  // never written in a shard
-        damage.problem = name + ": " + damage.problem;
-        check.damaged.push_back(std::move(damage));
+      for (const DatasetCheck& d : one.datasets) {
+        if (d.path == "/inputs/u") continue;  // never written in a shard
+        if (!d.checksummed) dataset(d.path).checksummed = false;
+        for (const SampleRange& rows : d.damaged) damage(d.path, rows, name + ": " + d.first_problem);
       }
-      for (const std::string& unchecked : one.unchecked) check.unchecked.push_back(name + ":" + unchecked);
       check.done_screen += one.done_screen;
       check.done_confirm += one.done_confirm;
     }
@@ -1412,23 +1425,29 @@ AllocationCheck CheckAllocationResults(const fs::path& path) {
     Samples samples;
     samples.Open(where, file.get(), stored.identity, 0);
     std::array<std::int64_t, 2> done{};
-    for (const RoleDamage& damage : ScanSamples(samples, &done)) {
-      const DamagedChunk& chunk = damage.chunk;
-      check.damaged.push_back(
-          {samples.Table(damage.role).spec(chunk.column).path, chunk.group, chunk.samples, chunk.problem});
+    for (const RoleDamage& role : ScanSamples(samples, &done)) {
+      const DamagedChunk& chunk = role.chunk;
+      const std::int64_t first = chunk.group * check.samples;
+      damage(samples.Table(role.role).spec(chunk.column).path,
+             {first + chunk.samples.begin, first + chunk.samples.end}, chunk.problem);
     }
     check.done_screen = done[RoleIndex(EvaluationRole::kScreen)];
     check.done_confirm = done[RoleIndex(EvaluationRole::kConfirm)];
   }
+  check.done = check.done_screen + check.done_confirm;
   try {
     ReadDesignRows(where, file.get(), stored.identity.inputs.size(), 0, check.samples);
   } catch (const InputError& error) {
-    check.damaged.push_back({"/inputs/u", -1, {0, check.samples}, error.what()});
+    damage("/inputs/u", {0, check.samples}, error.what());
   }
   try {
     ReadOutcomeFrom(where, file.get(), stored.identity);
   } catch (const InputError& error) {
-    check.outcome_problem = error.what();
+    damage("/outcome", {0, check.samples}, error.what());
+  }
+  for (DatasetCheck& d : check.datasets) {
+    std::sort(d.damaged.begin(), d.damaged.end(),
+              [](const SampleRange& x, const SampleRange& y) { return x.begin < y.begin; });
   }
   return check;
 }

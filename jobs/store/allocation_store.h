@@ -243,34 +243,13 @@ std::vector<std::filesystem::path> IndexedAllocationShards(const std::filesystem
 // finished samples copied.
 std::int64_t JoinAllocationShards(const std::filesystem::path& results, const std::filesystem::path& out);
 
-// What `ringtol verify` reports of an allocation file (CheckResults is the campaign's).
-struct AllocationCheck {
-  struct Damage {
-    std::string path;        // e.g. "/samples/confirm/runout_mm"
-    std::int64_t candidate = 0;  // -1 for /inputs/u, which a resume does not repair
-    SampleRange samples;     // the chunk's samples: Resume computes them again
-    std::string problem;     // HDF5's or ringtol's reason
-  };
-  std::int64_t candidates = 0;
-  std::int64_t samples = 0;  // N
-  std::vector<std::string> datasets;   // every dataset of the file
-  std::vector<std::string> unchecked;  // those without Fletcher-32
-  // [C, N] chunks that fail to read, and /inputs/u's; an index's: its shards' (each
-  // problem names the shard) and its own /inputs/u's
-  std::vector<Damage> damaged;
-  std::string outcome_problem;         // why /outcome does not read (derived: the next commit rewrites it)
-  std::int64_t done_screen = 0;        // finished samples in status chunks that read
-  std::int64_t done_confirm = 0;
-
-  bool intact() const { return damaged.empty() && outcome_problem.empty(); }
-  bool checksummed() const { return unchecked.empty(); }
-};
-
 // Reads every allocated chunk of an allocation file (an index: of every shard it lists,
 // and its own /inputs/u and /outcome; its virtual datasets count as checksummed, their
 // shards' datasets being checked). InputError when it cannot be opened as one (metadata and
 // description damage included).
-AllocationCheck CheckAllocationResults(const std::filesystem::path& path);
+// The result is a ResultsCheck of an allocation (jobs/store/campaign_store.h says how its
+// rows are numbered).
+ResultsCheck CheckAllocationResults(const std::filesystem::path& path);
 
 // What a results file holds, from its root `format` attribute: "ringtol campaign" or
 // "ringtol allocation". InputError for a file that is not a ringtol results file.

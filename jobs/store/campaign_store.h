@@ -320,16 +320,34 @@ struct DatasetCheck {
   std::string first_problem;  // HDF5's or ringtol's reason for the first damaged chunk
 };
 
-// What `ringtol verify` reports: every dataset, what is on disk, what a --resume computes.
+// What `ringtol verify` reports of a campaign's or an allocation's results file: every
+// dataset, what is on disk, what a --resume computes.
+//
+// An allocation's [C, N] datasets have a row per (candidate, sample): their damaged rows
+// are numbered candidate x N + sample (CandidateOf and SamplesOf give them back), each
+// range within one candidate. Its /inputs/u counts rows as samples, and a derived /outcome
+// that does not read is a dataset "/outcome" damaged at [0, N) (the next commit rewrites
+// it). What its resume computes is for the search to decide: pending and recompute stay
+// empty, and done_by_role says what each role holds.
 struct ResultsCheck {
-  std::int64_t samples = 0;
+  std::int64_t samples = 0;            // N
+  std::int64_t candidates = 0;         // C of an allocation; 0 for a campaign
   std::vector<DatasetCheck> datasets;  // descriptions first, then the per-sample datasets
   std::int64_t done = 0;               // finished samples in status chunks that read
   std::vector<SampleRange> pending;    // pending samples in status chunks that read
   std::vector<SampleRange> recompute;  // what Resume computes: pending and every damaged chunk's samples
+  std::int64_t done_screen = 0;        // an allocation's finished samples by role
+  std::int64_t done_confirm = 0;
 
   bool intact() const;       // no dataset damaged
   bool checksummed() const;  // every dataset carries Fletcher-32: intact() is then a verdict
+  bool allocation() const { return candidates > 0; }
+  // A damaged range of an allocation's [C, N] dataset: its candidate, and its samples.
+  std::int64_t CandidateOf(const SampleRange& rows) const { return rows.begin / samples; }
+  SampleRange SamplesOf(const SampleRange& rows) const {
+    const std::int64_t first = CandidateOf(rows) * samples;
+    return {rows.begin - first, rows.end - first};
+  }
 };
 
 // Reads every dataset of a results file chunk by chunk. InputError when the file cannot be
