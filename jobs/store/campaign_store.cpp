@@ -1005,6 +1005,13 @@ void CampaignStore::Add(SampleRecord record) {
   if (record.status == SampleStatus::kPending || !IsKnownStatus(static_cast<std::int8_t>(record.status))) {
     throw std::invalid_argument(fmt::format("CampaignStore::Add: sample {} has no final status", record.index));
   }
+  if (record.index >= file_->inputs_stored_below) {
+    // Not kept: the buffer holds the sample's checksum of its draw instead of the draw, so
+    // that thousands of buffered samples take kilobytes, not megabytes.
+    if (!record.draw_checksum) record.draw_checksum = DrawChecksum(record);
+    record.u = std::vector<double>();
+    record.values = std::vector<double>();
+  }
   const RowKey key{0, record.index};
   file_->buffer.Put(key, std::move(record));
 }

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -161,6 +162,11 @@ TEST(AllocateUnderMpirun, KeepsItsSamplesInShardsThatAnyNumberOfRanksContinue) {
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_EQ(nlohmann::json::parse(resumed.out)["run"]["shards"], 3);
   ExpectSameAllocation(folder / "alone.h5", three);
+  // And as h5py reads the index.
+  const std::string python = "/usr/bin/python3 " + std::string(RINGTOL_SOURCE_DIR) + "/tests/jobs/mpi/same_columns.py " +
+                             (folder / "alone.h5").string() + " " + three.string() + " > " +
+                             (folder / "python.txt").string() + " 2>&1";
+  EXPECT_EQ(std::system(python.c_str()), 0) << testing::ReadText(folder / "python.txt");
   const Outcome verify = testing::RunShell(std::string(RINGTOL_EXECUTABLE) + " verify " + three.string() + " --json",
                                            TestFolder() / "stderr.txt");
   ASSERT_EQ(verify.exit_code, 0) << verify.out << verify.err;
