@@ -352,11 +352,19 @@ class PendingCursor {
 // Pending samples handed out block by block (PoolOptions::align_samples), block-cyclically
 // (jobs/pool/block_schedule.h): each computing rank's chunks are cut, in order, from the
 // blocks it took, so that a block is computed by one rank unless the run's last samples
-// are shared out; then a rank with nothing left takes from the back of the rank with most.
+// are shared out; then a rank with nothing left takes the back half of the rank with most,
+// once, and only when that rank has more queued than one chunk's worth of work (about
+// chunk_seconds): each such share is one more mapping in the index for each of the two
+// ranks, and an index's cost grows faster than its mappings (1.7 s instead of 0.23 s for
+// 1,000 shards of five mappings instead of one: build/ringtol_shard_index_benchmark),
+// while a share not taken leaves a rank idle for less than chunk_seconds at the end.
 class BlockHandout {
  public:
   BlockHandout(const PoolResults& store, std::int64_t block, int computing_ranks)
-      : store_(store), block_(block), queues_(static_cast<std::size_t>(computing_ranks)) {
+      : store_(store),
+        block_(block),
+        queues_(static_cast<std::size_t>(computing_ranks)),
+        shared_(static_cast<std::size_t>(computing_ranks), false) {
     std::vector<std::int64_t> blocks;
     for (std::int64_t begin = 0; begin < store.items(); begin += kPendingBlock) {
       for (const std::int64_t index : store.Pending(begin, std::min(store.items(), begin + kPendingBlock))) {
@@ -366,12 +374,13 @@ class BlockHandout {
     schedule_.emplace(blocks, computing_ranks);
   }
 
-  // Up to `size` pending samples for computing rank `who`, ascending.
-  std::vector<std::int64_t> Next(int who, std::int64_t size) {
+  // Up to `size` pending samples for computing rank `who`, ascending; `worth`: the samples
+  // of about chunk_seconds, below which another rank's queue is left to it.
+  std::vector<std::int64_t> Next(int who, std::int64_t size, std::int64_t worth) {
     std::deque<std::int64_t>& own = queues_[static_cast<std::size_t>(who)];
     std::vector<std::int64_t> chunk;
     while (static_cast<std::int64_t>(chunk.size()) < size) {
-      if (own.empty() && !Refill(who)) break;
+      if (own.empty() && !Refill(who, worth)) break;
       const auto n = std::min(static_cast<std::size_t>(size) - chunk.size(), own.size());
       chunk.insert(chunk.end(), own.begin(), own.begin() + static_cast<std::ptrdiff_t>(n));
       own.erase(own.begin(), own.begin() + static_cast<std::ptrdiff_t>(n));
@@ -381,7 +390,7 @@ class BlockHandout {
 
  private:
   // Gives `who` more samples: its next block, or at the end half of another rank's.
-  bool Refill(int who) {
+  bool Refill(int who, std::int64_t worth) {
     std::deque<std::int64_t>& own = queues_[static_cast<std::size_t>(who)];
     for (const std::int64_t block : schedule_->Take(who, 1)) {
       const std::vector<std::int64_t> pending =
@@ -389,9 +398,11 @@ class BlockHandout {
       own.insert(own.end(), pending.begin(), pending.end());
     }
     if (!own.empty()) return true;
+    if (shared_[static_cast<std::size_t>(who)]) return false;
     const auto victim = std::max_element(queues_.begin(), queues_.end(),
                                          [](const auto& a, const auto& b) { return a.size() < b.size(); });
-    if (victim->empty()) return false;
+    if (static_cast<std::int64_t>(victim->size()) <= worth) return false;
+    shared_[static_cast<std::size_t>(who)] = true;
     const std::size_t take = (victim->size() + 1) / 2;
     own.insert(own.end(), victim->end() - static_cast<std::ptrdiff_t>(take), victim->end());
     victim->erase(victim->end() - static_cast<std::ptrdiff_t>(take), victim->end());
@@ -402,6 +413,7 @@ class BlockHandout {
   std::int64_t block_;
   std::optional<BlockSchedule> schedule_;
   std::vector<std::deque<std::int64_t>> queues_;  // per computing rank: taken, not handed out
+  std::vector<bool> shared_;                       // per computing rank: has taken another's samples
 };
 
 // What rank 0's computing threads ring when its main thread has work to do; the main
@@ -571,16 +583,20 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
   auto next_chunk = [&](int who) {
     if (report.stopped != 0) return std::vector<std::int64_t>();
     std::int64_t size = options.chunk_samples;
+    const double fitting = options.chunk_seconds / std::max(mean_time, kShortestSample);
+    // Before a sample is timed, any queue is worth sharing.
+    const std::int64_t worth = options.chunk_samples > 0 ? options.chunk_samples
+                               : report.computed == 0    ? 0
+                                                         : std::llround(std::min(fitting, 1e15));
     if (size <= 0) {
       const std::int64_t share = std::max<std::int64_t>(1, unassigned / (2 * report.computing_ranks));
-      const double fitting = options.chunk_seconds / std::max(mean_time, kShortestSample);
       size = report.computed == 0
                  ? 1
                  : std::clamp<std::int64_t>(std::llround(std::min(fitting, static_cast<double>(share))), 1, share);
     }
     std::vector<std::int64_t> chunk;
     if (blocks) {
-      chunk = blocks->Next(who, size);
+      chunk = blocks->Next(who, size, worth);
     } else {
       while (static_cast<std::int64_t>(chunk.size()) < size) {
         const std::optional<std::int64_t> index = cursor->Next();

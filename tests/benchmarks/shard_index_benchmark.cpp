@@ -1,7 +1,9 @@
 // What the end of a run under mpirun costs rank 0: writing the index of K shards of a
 // 10^7-sample campaign (jobs/store/campaign_store.h, WriteShardIndex), each shard one
 // strided run of blocks of 1,024 samples as the block-cyclic pool leaves it, from the
-// contents the ranks report (no shard is opened, so none has to exist).
+// contents the ranks report (no shard is opened, so none has to exist). The second
+// argument gives each shard that many more mappings: its last block cut into pieces of
+// unequal length, as the pool's tail sharing leaves a few.
 //
 //   build/ringtol_shard_index_benchmark --benchmark_filter=WriteShardIndex
 #include <benchmark/benchmark.h>
@@ -40,6 +42,7 @@ CampaignIdentity Identity() {
 
 void WriteShardIndexOfShards(benchmark::State& state) {
   const auto shards = static_cast<int>(state.range(0));
+  const auto pieces = state.range(1);
   const std::filesystem::path folder = std::filesystem::temp_directory_path() / "ringtol_shard_index_benchmark";
   std::filesystem::create_directories(folder);
   const std::filesystem::path index = folder / "results.h5";
@@ -48,6 +51,14 @@ void WriteShardIndexOfShards(benchmark::State& state) {
     ShardContents shard{ShardPath(index, r), kSamples, kBlock, kStoredInputSamples, 0, {}};
     for (std::int64_t begin = r * kBlock; begin < kSamples; begin += shards * kBlock) {
       shard.finished.push_back({begin, std::min(kSamples, begin + kBlock)});
+    }
+    if (pieces > 0) {
+      const std::int64_t last = shard.finished.back().begin;
+      shard.finished.pop_back();
+      for (std::int64_t k = 0; k < pieces; ++k) {
+        const std::int64_t begin = last + k * (kBlock / pieces);
+        shard.finished.push_back({begin, begin + kBlock / (2 * pieces) + k});
+      }
     }
     contents.push_back(std::move(shard));
   }
@@ -62,7 +73,10 @@ void WriteShardIndexOfShards(benchmark::State& state) {
   }
   std::filesystem::remove_all(folder);
 }
-BENCHMARK(WriteShardIndexOfShards)->Arg(9)->Arg(100)->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK(WriteShardIndexOfShards)
+    ->ArgsProduct({{9, 100, 1000}, {0, 4}})
+    ->ArgNames({"shards", "pieces"})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace ringtol::jobs
