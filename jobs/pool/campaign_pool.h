@@ -13,8 +13,9 @@
 // cyclically (jobs/pool/block_schedule.h): block j of the results file's chunk rows goes
 // to computing rank j mod K, and each rank's chunks are cut from its blocks in order, so
 // that each stored chunk is written by one rank and each shard holds a few strided runs of
-// blocks; a rank with none left takes the back half of the longest queue, and the run's
-// last samples are shared out one chunk at a time. It holds the numbers of the pending
+// blocks; a rank with none left takes the back half of the longest queue, and at the end
+// half of another rank's queued samples once, where they are more than a chunk's worth
+// (each share costs both shards a mapping in the index). It holds the numbers of the pending
 // blocks (8 bytes a block), the records between two commits and one block's pending
 // indices per computing rank. With `coordinator_computes` threads of rank 0 compute too,
 // each fed chunks like a worker (MPI is called from rank 0's main thread only:
