@@ -203,7 +203,11 @@ int RunAllocate(const AllocateCommand& command, std::ostream& out, std::ostream&
     return 0;
   }
   fmt::print(out, "allocation        {}\n", command.file.string());
-  fmt::print(out, "results           {}\n", command.out.string());
+  fmt::print(out, "results           {}{}\n", command.out.string(),
+             run.shards > 0 ? fmt::format(": an index of {} shards beside it (keep them together; `ringtol join` "
+                                          "makes one file)",
+                                          run.shards)
+                            : std::string());
   PrintAllocation(out, results.identity(), outcome);
   const double rate = run.wall_time > 0 ? static_cast<double>(run.computed) / run.wall_time : 0.0;
   fmt::print(out, "\nthis run          {} samples in {} rounds, {:.1f} s: {:.0f} samples/s on {} rank{}\n", run.computed,
