@@ -587,7 +587,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
     // Before a sample is timed, any queue is worth sharing.
     const std::int64_t worth = options.chunk_samples > 0 ? options.chunk_samples
                                : report.computed == 0    ? 0
-                                                         : std::llround(std::min(fitting, 1e15));
+                                                         : std::llround(fitting);
     if (size <= 0) {
       const std::int64_t share = std::max<std::int64_t>(1, unassigned / (2 * report.computing_ranks));
       size = report.computed == 0
