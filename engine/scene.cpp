@@ -103,6 +103,19 @@ double FastestHarmonicRate(const Scene& scene) {
   return rate;
 }
 
+FastestHarmonic FindFastestHarmonic(const Scene& scene) {
+  const int ring_order = scene.ring.inner.max_order();
+  FastestHarmonic fastest{static_cast<double>(ring_order), -1, ring_order};
+  for (int i = 0; i < static_cast<int>(scene.rollers.size()); ++i) {
+    const int order = scene.rollers[static_cast<std::size_t>(i)].outline.max_order();
+    const double rate = order * SpinRatio(scene, i);
+    if (rate > fastest.rate) fastest = {rate, i, order};
+  }
+  return fastest;
+}
+
+int MinimumSteps(double rate) { return static_cast<int>(std::floor(2.0 * rate)) + 1; }
+
 namespace {
 std::string Millimetres(double metres) {
   std::ostringstream out;
@@ -127,14 +140,34 @@ GeometryCheck CheckGeometry(const Scene& scene) {
     const double reach = roller.outline.MaxRadius();
     const double interference = centre + reach - bore;
     if (reach >= bore || interference > roller.outline.radius()) {
-      return {GeometryIssue::kRollerDoesNotFit, i,
+      return {GeometryIssue::kRollerDoesNotFit, i, -1, 0.0,
               "roller " + roller.name + " does not fit in the ring: it reaches " + Millimetres(centre + reach) +
                   " from the ring's centre against a bore of " + Millimetres(bore) +
                   " (overlap may not exceed the roller's radius " + Millimetres(roller.outline.radius()) + ")"};
     }
   }
+  // Rollers are bodies in one plane: two that overlap would have to pass through each
+  // other, and no solver sees it, since each contact is only between a roller and the bore.
+  // Rollers turn, so each one's largest radius faces the other at some point. The
+  // profiles' bounds settle pairs with room to spare; the exact extremes decide the rest.
+  for (int j = 1; j < static_cast<int>(scene.rollers.size()); ++j) {
+    const PolarProfile& outline_j = scene.rollers[static_cast<std::size_t>(j)].outline;
+    for (int i = 0; i < j; ++i) {
+      const PolarProfile& outline_i = scene.rollers[static_cast<std::size_t>(i)].outline;
+      const double distance = (RollerCentre(scene, j) - RollerCentre(scene, i)).norm();
+      if (outline_i.ExtremesBounds().max_radius + outline_j.ExtremesBounds().max_radius <= distance) continue;
+      const double reach = outline_i.MaxRadius() + outline_j.MaxRadius();
+      if (reach <= distance) continue;
+      const Roller& a = scene.rollers[static_cast<std::size_t>(i)];
+      const Roller& b = scene.rollers[static_cast<std::size_t>(j)];
+      return {GeometryIssue::kRollersOverlap, j, i, reach - distance,
+              "rollers " + a.name + " and " + b.name + " overlap by " + Millimetres(reach - distance) +
+                  ": their centres are " + Millimetres(distance) + " apart against radii summing to " +
+                  Millimetres(reach)};
+    }
+  }
   if (!scene.ring.inner.IsConvex()) {
-    return {GeometryIssue::kRingNotConvex, -1,
+    return {GeometryIssue::kRingNotConvex, -1, -1, 0.0,
             "the ring's inner profile is not convex (its curvature reaches " +
                 std::to_string(scene.ring.inner.MinCurvature()) +
                 " 1/m): an inward bump makes contact ambiguous; reduce the amplitude of high orders "
@@ -143,7 +176,7 @@ GeometryCheck CheckGeometry(const Scene& scene) {
   for (int i = 0; i < static_cast<int>(scene.rollers.size()); ++i) {
     const Roller& roller = scene.rollers[static_cast<std::size_t>(i)];
     if (!roller.outline.IsConvex()) {
-      return {GeometryIssue::kRollerNotConvex, i,
+      return {GeometryIssue::kRollerNotConvex, i, -1, 0.0,
               "roller " + roller.name + "'s outline is not convex: reduce its high-order amplitudes"};
     }
   }

@@ -158,17 +158,36 @@ bool HasErrors(const Scene& scene);
 // ring orders pass at their order, roller orders at order * R / r_b.
 double FastestHarmonicRate(const Scene& scene);
 
+// The term FastestHarmonicRate finds, for messages: its rate, and whose highest order it is.
+struct FastestHarmonic {
+  double rate = 0.0;  // [cycles per ring revolution]
+  int roller = -1;    // the roller whose order it is, or -1 for the ring's
+  int order = 0;      // 0 when the scene has no harmonics
+};
+FastestHarmonic FindFastestHarmonic(const Scene& scene);
+
+// The fewest angles per revolution that sample a term of `rate` undulations per revolution
+// more than twice a period (Nyquist): at fewer, the term aliases onto a slower one, and at
+// n angles an order-n ring reads as standing still (D_trajectory 0). A step count a user
+// gives must reach this for the scene's fastest term: it has no error budget. The
+// automatic rule (solvers::ChooseSteps) may leave fast terms unresolved only within its
+// path tolerance, which counts an aliased term at its full size.
+int MinimumSteps(double rate);
+
 // What stops a scene from being simulated at all, found from geometry alone.
 enum class GeometryIssue {
   kNone,
   kRingNotConvex,     // the ring's bore has an inward bump: contact is not unique
   kRollerNotConvex,   // a roller's outline has a dent
   kRollerDoesNotFit,  // a roller reaches beyond the ring's bore or through its own centre
+  kRollersOverlap,    // two rollers' bodies cut through each other
 };
 struct GeometryCheck {
   GeometryIssue issue = GeometryIssue::kNone;
-  int roller = -1;       // the roller concerned, or -1
-  std::string message;   // human-readable reason with numbers in mm
+  int roller = -1;        // the roller concerned, or -1
+  int other_roller = -1;  // kRollersOverlap: the earlier roller of the two, else -1
+  double overlap = 0.0;   // [m] kRollersOverlap: sum of the largest radii less the centres' distance
+  std::string message;    // human-readable reason with numbers in mm
 };
 GeometryCheck CheckGeometry(const Scene& scene);
 

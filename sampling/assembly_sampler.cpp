@@ -459,4 +459,19 @@ SampledAssembly AssemblySampler::Sample(Design& design, std::int64_t index) cons
   return Realise(index, u);
 }
 
+engine::FastestHarmonic FastestDrawnHarmonic(const engine::Scene& base, const AssemblyTolerances& tolerances) {
+  engine::FastestHarmonic fastest = engine::FindFastestHarmonic(base);
+  if (tolerances.ring && tolerances.ring->spectrum.max_order > fastest.rate) {
+    fastest = {static_cast<double>(tolerances.ring->spectrum.max_order), -1, tolerances.ring->spectrum.max_order};
+  }
+  for (std::size_t i = 0; i < tolerances.roller_shapes.size() && i < base.rollers.size(); ++i) {
+    const std::optional<RollerShapeTolerance>& shape = tolerances.roller_shapes[i];
+    if (!shape) continue;
+    const int order = shape->vdsp > 0.0 ? shape->form.max_order : shape->kea > 0.0 ? 1 : 0;
+    const double rate = order * engine::SpinRatio(base, static_cast<int>(i));
+    if (rate > fastest.rate) fastest = {rate, static_cast<int>(i), order};
+  }
+  return fastest;
+}
+
 }  // namespace ringtol::sampling

@@ -181,6 +181,12 @@ struct AssemblySamplerOptions {
   std::vector<ComponentScale> known_scales;
 };
 
+// The fastest term any assembly drawn from (base, tolerances) can have: the base scene's
+// own harmonics, the ring's spectrum up to its cutoff, each roller's form up to its cutoff
+// (its eccentricity where only Kea is toleranced) at the base scene's spin ratios. Drawn
+// sizes move a ratio by parts per million, which this leaves out.
+engine::FastestHarmonic FastestDrawnHarmonic(const engine::Scene& base, const AssemblyTolerances& tolerances);
+
 class AssemblySampler {
  public:
   // Validates the tolerances against the scene and calibrates every spectrum. Throws

@@ -10,7 +10,8 @@ Status CheckSceneGeometry(const engine::Scene& scene, std::string& message) {
     case engine::GeometryIssue::kNone: return Status::kOk;
     case engine::GeometryIssue::kRingNotConvex: return Status::kRingNotConvex;
     case engine::GeometryIssue::kRollerNotConvex: return Status::kRollerNotConvex;
-    case engine::GeometryIssue::kRollerDoesNotFit: return Status::kRollerDoesNotFit;
+    case engine::GeometryIssue::kRollerDoesNotFit:
+    case engine::GeometryIssue::kRollersOverlap: return Status::kRollerDoesNotFit;
   }
   return Status::kOk;
 }

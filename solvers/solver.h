@@ -25,7 +25,7 @@ enum class Status {
   kTwoPointContact,          // a roller touches the bore at two places; the model does not apply
   kRingNotConvex,            // scene cannot be simulated (see message)
   kRollerNotConvex,          // scene cannot be simulated (see message)
-  kRollerDoesNotFit,         // a roller is too large, or a spring roller's travel exceeds its limit
+  kRollerDoesNotFit,         // a roller is too large or overlaps another, or a spring roller's travel exceeds its limit
   kStaticallyIndeterminate,  // rigid contact with more than two fixed rollers: use the penalty law
   kIntegrationFailed,        // the dynamic integrator gave up (step-size collapse, repeated failures; see message)
   kNonFinite,                // the dynamic state or the linearised path turned NaN or infinite

@@ -5,8 +5,10 @@
 #include <string_view>
 
 #include "jobs/inputs/toml_fields.h"
-#include "solvers/solver.h"
+#include "engine/scene.h"
 #include "engine/units.h"
+#include "sampling/assembly_sampler.h"
+#include "solvers/solver.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -15,6 +17,16 @@ namespace {
 struct SpecInput {
   std::array<std::optional<double>, kOutputCount> upper;
 };
+
+// An explicit step count has no error budget (engine::MinimumSteps): it must resolve the
+// fastest term any sample can draw.
+void RequireEnoughSteps(const TableReader& table, int steps, const engine::Scene& base,
+                        const sampling::AssemblyTolerances& tolerances) {
+  if (steps == 0) return;
+  const engine::FastestHarmonic fastest = sampling::FastestDrawnHarmonic(base, tolerances);
+  if (steps >= engine::MinimumSteps(fastest.rate)) return;
+  table.Fail("steps", "too few for the fastest undulation the campaign draws", StepsRule(base, fastest));
+}
 
 }  // namespace
 
@@ -69,7 +81,11 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
   Root unused;
   std::vector<Field<Root>> fields{
       Section<Root>("solver", Presence::kOptional,
-                    [&](const TableReader& t, Root&) { plan.solver = ReadSolverTable(t); }),
+                    [&](const TableReader& t, Root&) {
+                      plan.solver = ReadSolverTable(t);
+                      RequireEnoughSteps(t, plan.solver.simulation.steps, plan.sampling.scene,
+                                         plan.sampling.tolerances);
+                    }),
       Section<Root>("spec", Presence::kOptional, [&](const TableReader& t, Root&) { t.Read(spec_fields, spec); }),
   };
   // The sampling half was read and checked above; here only the campaign's own tables.

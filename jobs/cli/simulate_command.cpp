@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
@@ -15,6 +16,7 @@
 #include "jobs/inputs/input_error.h"
 #include "jobs/inputs/scene_file.h"
 #include "jobs/inputs/sweep_file.h"
+#include "jobs/inputs/toml_fields.h"
 #include "engine/units.h"
 #include "solvers/dynamic.h"
 #include "solvers/life.h"
@@ -30,6 +32,15 @@ std::unique_ptr<solvers::Solver> CheckedSolver(const solvers::SolverSettings& se
                      ": allowed: > 0 and < 1");
   }
   return solvers::MakeSolver(settings);
+}
+
+// A step count the user gives has no error budget: below engine::MinimumSteps of the
+// scene's fastest term it aliases that term, and the metrics read it as slower or still.
+void RequireEnoughSteps(const engine::Scene& scene, int steps, std::string_view scene_name) {
+  if (steps == 0) return;
+  const engine::FastestHarmonic fastest = engine::FindFastestHarmonic(scene);
+  if (steps >= engine::MinimumSteps(fastest.rate)) return;
+  throw InputError(fmt::format("--steps {}: too few for {}: allowed: {}", steps, scene_name, StepsRule(scene, fastest)));
 }
 
 struct Timed {
@@ -108,6 +119,7 @@ void PrintLife(std::ostream& out, const solvers::LifeResult& life) {
 
 int RunSimulate(const SimulateCommand& command, std::ostream& out) {
   const engine::Scene scene = ReadScene(command.scene);
+  RequireEnoughSteps(scene, command.solver.simulation.steps, command.scene.string());
   const auto solver = CheckedSolver(command.solver);
   const auto* dynamic = dynamic_cast<const solvers::DynamicSolver*>(solver.get());
   // Every option is checked before any output file is opened (and so emptied).
@@ -151,6 +163,10 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out) {
 
 int RunSweep(const SweepCommand& command, std::ostream& out) {
   const Sweep sweep = ReadSweep(command.sweep);
+  for (const SweepCase& c : sweep.cases) {
+    RequireEnoughSteps(c.scene, command.solver.simulation.steps,
+                       fmt::format("case \"{}\" of {}", c.name, command.sweep.string()));
+  }
   const auto solver = CheckedSolver(command.solver);
   std::ofstream csv = OpenOptionalOutput(command.csv, "--csv");
   std::vector<nlohmann::json> rows;

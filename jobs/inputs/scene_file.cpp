@@ -510,6 +510,11 @@ engine::Scene SceneFromText(std::string_view toml_text, const std::string& sourc
     roller.Fail(roller.Has(scene_key::kCentreRadiusMm) ? scene_key::kCentreRadiusMm : scene_key::kRadiusMm, check.message,
                 FitRule(scene.ring.inner.radius()));
   }
+  if (check.issue == engine::GeometryIssue::kRollersOverlap) {
+    // The later roller is blamed: it is the one added where another already stands.
+    const TableReader roller = root.Element("rollers", static_cast<std::size_t>(check.roller));
+    roller.Fail(scene_key::kAngleDeg, check.message, ClearanceRule());
+  }
   return scene;
 }
 

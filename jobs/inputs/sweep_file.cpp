@@ -86,6 +86,9 @@ std::optional<Problem> FindProblem(const engine::Scene& scene) {
   if (check.issue == engine::GeometryIssue::kRollerDoesNotFit) {
     return Problem{check.message, FitRule(scene.ring.inner.radius()), Target::kRollerPositions};
   }
+  if (check.issue == engine::GeometryIssue::kRollersOverlap) {
+    return Problem{check.message, ClearanceRule(), Target::kRollerPositions};
+  }
   return std::nullopt;
 }
 

@@ -319,4 +319,18 @@ std::string FitRule(double ring_radius) {
       ShowDerived(ring_radius / units::kMetresPerMillimetre));
 }
 
+std::string ClearanceRule() {
+  return "every two rollers' centres at least their largest radii's sum apart (angle_deg, centre_radius_mm, radius_mm "
+         "and the position errors set them)";
+}
+
+std::string StepsRule(const engine::Scene& scene, const engine::FastestHarmonic& fastest) {
+  const std::string whose =
+      fastest.roller < 0 ? std::string("the ring's")
+                         : fmt::format("roller {}'s", scene.rollers[static_cast<std::size_t>(fastest.roller)].name);
+  return fmt::format(">= {} (more than two angles a period of the fastest undulation, {} order {}, {} per revolution), "
+                     "or 0 to choose from the scene",
+                     engine::MinimumSteps(fastest.rate), whose, fastest.order, ShowDerived(fastest.rate));
+}
+
 }  // namespace ringtol::jobs

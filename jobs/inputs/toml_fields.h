@@ -354,6 +354,11 @@ double AmplitudeSum(const std::vector<engine::Harmonic>& harmonics);
 double DeviationBound(const engine::PolarProfile& profile);
 // What CheckGeometry's fit test allows, for messages (ring_radius in m).
 std::string FitRule(double ring_radius);
+// What CheckGeometry's test that no two rollers overlap allows, for messages.
+std::string ClearanceRule();
+// What a step count given by the user must reach for a scene whose fastest term is
+// `fastest` (engine::MinimumSteps), for messages: the minimum and the term that sets it.
+std::string StepsRule(const engine::Scene& scene, const engine::FastestHarmonic& fastest);
 
 // ---------------------------------------------------------------------------------------
 // Template definitions.

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -82,6 +83,37 @@ TEST(HasErrors, AgreesWithComparingTheSceneWithItselfWithoutErrors) {
     EXPECT_EQ(engine::HasErrors(changed), !(engine::WithoutErrors(changed) == changed)) << change.name;
     EXPECT_EQ(engine::HasErrors(changed), change.error) << change.name;
   }
+}
+
+// Two rollers of radius r on one centre circle of radius rho, an angle apart, have their
+// centres 2 rho sin(angle / 2) apart: they touch at angle* = 2 asin(r / rho).
+TEST(CheckGeometry, FindsTwoRollersThatOverlapFromTheAngleAtWhichTheyTouch) {
+  engine::Scene scene = testing::PaperScene();
+  const engine::Roller& spring = scene.rollers[0];
+  const double rho = spring.centre_radius;
+  const double r = spring.outline.radius();
+  const double touching = 2.0 * std::asin(r / rho);
+  // Well above the angle's rounding (~1e-16 rad) and well below any overlap that matters.
+  constexpr double kAngleStep = 1e-9;
+
+  scene.rollers[1].angle = spring.angle + touching + kAngleStep;
+  EXPECT_EQ(engine::CheckGeometry(scene).issue, engine::GeometryIssue::kNone);
+
+  const double angle = touching - 1e-3;
+  scene.rollers[1].angle = spring.angle + angle;
+  const engine::GeometryCheck check = engine::CheckGeometry(scene);
+  ASSERT_EQ(check.issue, engine::GeometryIssue::kRollersOverlap) << check.message;
+  EXPECT_EQ(check.roller, 1);
+  EXPECT_EQ(check.other_roller, 0);
+  // A sine and a difference of nearby numbers of ~10 mm: a few ulp of 10 mm.
+  constexpr double kRounding = 1e-15;
+  EXPECT_NEAR(check.overlap, 2.0 * r - 2.0 * rho * std::sin(angle / 2.0), kRounding);
+
+  // A roller turns, so its largest radius faces the other roller at some point: a lobe's
+  // amplitude adds to its reach.
+  scene.rollers[1].angle = spring.angle + touching + kAngleStep;
+  scene.rollers[1].outline = engine::PolarProfile(r, 0.0, {{1, 1e-6, 0.0}});
+  EXPECT_EQ(engine::CheckGeometry(scene).issue, engine::GeometryIssue::kRollersOverlap);
 }
 
 }  // namespace

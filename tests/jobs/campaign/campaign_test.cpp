@@ -99,6 +99,11 @@ TEST(CampaignFile, BadKeysNameTheKeyTheValueAndWhatIsAllowed) {
               AllOf(HasSubstr("solver.path_tolerance_um"), HasSubstr(">= 0")));
   EXPECT_THAT(CampaignErrorOf(ReplaceOnce(kSmallCampaign, "zone_diameter_mm = 0.05", "class = \"IT99\"")),
               HasSubstr("IT99"));
+  // The ring is drawn to order 6: 13 angles sample it more than twice a period.
+  EXPECT_THAT(CampaignErrorOf(ReplaceOnce(kSmallCampaign, "[solver]\n", "[solver]\nsteps = 12\n")),
+              AllOf(HasSubstr("solver.steps = 12"), HasSubstr("too few"), HasSubstr(">= 13"),
+                    HasSubstr("the ring's order 6, 6 per revolution")));
+  EXPECT_EQ(CampaignErrorOf(ReplaceOnce(kSmallCampaign, "[solver]\n", "[solver]\nsteps = 13\n")), "no error");
   EXPECT_THAT(CampaignErrorOf(ReplaceOnce(kSmallCampaign, "[solver]\n", "[solver]\nstart = \"at_rest\"\n")),
               AllOf(HasSubstr("solver.start"), HasSubstr("at_rest"), HasSubstr("\"quasistatic_equilibrium\""),
                     HasSubstr("\"article_settle\"")));

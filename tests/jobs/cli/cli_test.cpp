@@ -14,6 +14,7 @@
 
 namespace {
 
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 using Outcome = ringtol::testing::ShellOutcome;
@@ -119,6 +120,21 @@ TEST(Cli, OptionErrorsExitOneNamingTheOption) {
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_THAT(missing.err, HasSubstr("/nonexistent/scene.toml"));
   EXPECT_EQ(Ringtol("").exit_code, 1);  // a command is required
+}
+
+// A step count the user gives must sample the fastest undulation more than twice a period:
+// at 3 angles an order-3 ring reads as standing still (D_trajectory 0 against 0.55 mm).
+TEST(Cli, SimulateAndSweepRefuseTooFewStepsForTheFastestUndulationNamingTheMinimum) {
+  const Outcome three = Ringtol("simulate " + Example("order3.toml") + " --steps 3");
+  EXPECT_EQ(three.exit_code, 1);
+  EXPECT_THAT(three.err, AllOf(HasSubstr("--steps 3: too few for"), HasSubstr("order3.toml"), HasSubstr(">= 7"),
+                               HasSubstr("the ring's order 3, 3 per revolution")));
+  EXPECT_EQ(three.out, "");
+  EXPECT_EQ(Ringtol("simulate " + Example("order3.toml") + " --steps 7").exit_code, 0);
+  // The sweep's orders run to 20: 41 angles.
+  const Outcome sweep = Ringtol("sweep " + Example("orders.toml") + " --solver linear --steps 40");
+  EXPECT_EQ(sweep.exit_code, 1);
+  EXPECT_THAT(sweep.err, AllOf(HasSubstr("--steps 40"), HasSubstr(">= 41"), HasSubstr("order 20")));
 }
 
 // --out naming a folder is a mistake to name, not a results file to resume.

@@ -366,6 +366,20 @@ const std::vector<BadScene> kBadScenes = {
      [] { return PaperSceneWith("name = \"fixed_a\"\n", "name = \"fixed_a\"\ncentre_radius_mm = 400.0\n"); },
      {"bad.toml:", "rollers[1].centre_radius_mm = 400", "fixed_a does not fit in the ring",
       "centre_radius_mm + radial position error <= ring.inner_radius_mm = 302"}},
+    // 1 degree apart at a centre radius of 297 mm, 5 mm rollers' centres are 5.18 mm apart.
+    {"ARollerOneDegreeFromAnother", [] { return FixedAWith("angle_deg = 210.0", "angle_deg = 91.0"); },
+     {"bad.toml:", "rollers[1].angle_deg = 91", "rollers spring and fixed_a overlap by 4.81", "mm apart",
+      "allowed: every two rollers' centres at least their largest radii's sum apart"}},
+    // Three 95 mm rollers in a 100 mm bore stand 5 mm from its centre: each crosses the others.
+    {"ThreeRollersAsLargeAsTheBore",
+     [] {
+       std::string text = kMinimalScene;
+       for (std::size_t at = text.find("radius_mm = 5\n"); at != std::string::npos; at = text.find("radius_mm = 5\n")) {
+         text.replace(at, std::string_view("radius_mm = 5").size(), "radius_mm = 95");
+       }
+       return text;
+     },
+     {"bad.toml:", "rollers[1].angle_deg = 210", "rollers roller1 and roller2 overlap by 181.3"}},
     {"RingAmplitudesLargerThanTheRadius",
      [] {
        return PaperSceneWith(kRingHarmonics,
