@@ -11,6 +11,7 @@
 #include "engine/units.h"
 #include "jobs/campaign/sample_record.h"
 #include "jobs/inputs/toml_fields.h"
+#include "sampling/assembly_sampler.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -452,6 +453,19 @@ AllocationPlan ReadAllocationFile(const std::filesystem::path& file, const Store
   if (plan.components.empty())
     allocation.FailAbout("components", "allocation.components", "no component to allocate",
                          "at least one of " + NameList(kAllocatedComponentNames, "") + ", each with options");
+
+  if (const toml::table* solver = document.get_as<toml::table>("solver")) {
+    // Every option can be drawn: the fastest term is the fastest of any option's.
+    engine::FastestHarmonic fastest = sampling::FastestDrawnHarmonic(sampling.scene, sampling.tolerances);
+    for (const ComponentChoice& choice : plan.components) {
+      for (const AllocationOption& option : choice.options) {
+        const engine::FastestHarmonic drawn = sampling::FastestDrawnHarmonic(sampling.scene, option.tolerances);
+        if (drawn.rate > fastest.rate) fastest = drawn;
+      }
+    }
+    RequireEnoughSteps(TableReader(*solver, "solver", source), plan.campaign.solver.simulation.steps, sampling.scene,
+                       fastest);
+  }
 
   plan.constraints = in.constraints;
   plan.screen = in.screen;

@@ -18,17 +18,13 @@ struct SpecInput {
   std::array<std::optional<double>, kOutputCount> upper;
 };
 
-// An explicit step count has no error budget (engine::MinimumSteps): it must resolve the
-// fastest term any sample can draw.
-void RequireEnoughSteps(const TableReader& table, int steps, const engine::Scene& base,
-                        const sampling::AssemblyTolerances& tolerances) {
-  if (steps == 0) return;
-  const engine::FastestHarmonic fastest = sampling::FastestDrawnHarmonic(base, tolerances);
-  if (steps >= engine::MinimumSteps(fastest.rate)) return;
-  table.Fail("steps", "too few for the fastest undulation the campaign draws", StepsRule(base, fastest));
-}
-
 }  // namespace
+
+void RequireEnoughSteps(const TableReader& solver_table, int steps, const engine::Scene& base,
+                        const engine::FastestHarmonic& fastest) {
+  if (steps == 0 || steps >= engine::MinimumSteps(fastest.rate)) return;
+  solver_table.Fail("steps", "too few for the fastest undulation a sample can draw", StepsRule(base, fastest));
+}
 
 solvers::SolverSettings ReadSolverTable(const TableReader& table) {
   struct SolverInput {
@@ -83,8 +79,9 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
       Section<Root>("solver", Presence::kOptional,
                     [&](const TableReader& t, Root&) {
                       plan.solver = ReadSolverTable(t);
-                      RequireEnoughSteps(t, plan.solver.simulation.steps, plan.sampling.scene,
-                                         plan.sampling.tolerances);
+                      RequireEnoughSteps(
+                          t, plan.solver.simulation.steps, plan.sampling.scene,
+                          sampling::FastestDrawnHarmonic(plan.sampling.scene, plan.sampling.tolerances));
                     }),
       Section<Root>("spec", Presence::kOptional, [&](const TableReader& t, Root&) { t.Read(spec_fields, spec); }),
   };

@@ -48,6 +48,12 @@ inline constexpr std::array<std::string_view, 2> kCampaignTables = {"solver", "s
 class TableReader;
 solvers::SolverSettings ReadSolverTable(const TableReader& table);
 
+// A [solver] steps given by the user has no error budget (engine::MinimumSteps): refuses
+// one that does not resolve `fastest`, the fastest term any sample can draw from `base`
+// (sampling::FastestDrawnHarmonic), naming the minimum. Throws InputError.
+void RequireEnoughSteps(const TableReader& solver_table, int steps, const engine::Scene& base,
+                        const engine::FastestHarmonic& fastest);
+
 // `stored`: see ReadSamplingFile.
 CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSampling* stored = nullptr);
 

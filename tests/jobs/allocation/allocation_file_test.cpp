@@ -227,6 +227,9 @@ const std::string kQuantile = "output = \"d_trajectory_mm\"\nquantile = 0.99\nup
 INSTANTIATE_TEST_SUITE_P(
     EveryRule, AllocationFileRefusal,
     ::testing::Values(
+        // The rollers' lobes to order 8 pass 8 x 302 / 5 = 483.2 times a revolution.
+        Refusal{"StepsTooFewForTheRollersLobes", "path_tolerance_um = 1.0\n", "path_tolerance_um = 1.0\nsteps = 966\n",
+                {"solver.steps = 966", "too few", ">= 967", "order 8, 483.2 per revolution"}},
         Refusal{"UnknownClass", "\"IT6/2\", \"IT5/2\"]", "\"IT6/2\", \"IT4/2\"]",
                 {"allocation.components.ring.options[4]", "IT4/2", "\"waterjet\", \"precise\""}},
         Refusal{"UnknownMode", "\"6\", \"5\", \"4\"]", "\"6\", \"5\", { class = \"4\", mode = \"sorted\" }]",
