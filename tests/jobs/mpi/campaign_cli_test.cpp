@@ -137,6 +137,77 @@ TEST(Campaign, AloneItComputesEverySampleAndSummarisesThem) {
   EXPECT_EQ(Pending(folder / "results.h5"), 0);
 }
 
+// An 800 mm rotary table: a 400 mm-radius bore on three track rollers of 40 mm outside
+// diameter, the size ISO 492's row over 30 up to 50 mm holds.
+const std::string kRotaryTableScene = R"([ring]
+inner_radius_mm = 400.0
+outer_radius_mm = 440.0
+thickness_mm = 10.0
+density_kg_per_m3 = 2700.0
+
+[[rollers]]
+name = "spring"
+angle_deg = 90.0
+radius_mm = 20.0
+mount = "spring"
+spring_stiffness_N_per_m = 2000.0
+spring_preload_N = 40.0
+width_mm = 12.0
+density_kg_per_m3 = 7850.0
+
+[[rollers]]
+name = "left"
+angle_deg = 210.0
+radius_mm = 20.0
+mount = "fixed"
+width_mm = 12.0
+density_kg_per_m3 = 7850.0
+
+[[rollers]]
+name = "right"
+angle_deg = 330.0
+radius_mm = 20.0
+mount = "fixed"
+width_mm = 12.0
+density_kg_per_m3 = 7850.0
+)";
+
+TEST(Campaign, FortyMillimetreRollersRunUnderACatalogueClass) {
+  const std::filesystem::path folder = Folder();
+  const auto scene = Write(folder / "rotary_table.toml", kRotaryTableScene);
+  const auto file = Write(folder / "campaign.toml", "scene = \"" + scene.string() + R"("
+seed = 3
+[design]
+kind = "monte_carlo"
+samples = 8
+[tolerances.ring]
+circularity_mm = 0.1
+max_order = 4
+[tolerances.rollers]
+class = "Normal"
+max_order = 3
+[solver]
+name = "quasistatic"
+[spec]
+d_trajectory_mm = 0.2
+)");
+  const Outcome run = Campaign(file, folder / "results.h5", "--json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(run.out);
+  EXPECT_EQ(summary["samples_done"], 8);
+  EXPECT_EQ(summary["outputs"]["d_trajectory_mm"]["count"], 8);
+  // Each roller's form is calibrated on ISO 492 Normal's VDsp at D = 40 mm, series 9:
+  // 14 um (S1 Table 2, S2 Table 8.2.2, S3 Table 6.4 (2); docs/tolerances.md §1.2).
+  constexpr double kNormalVdspAt40MmSeries9 = 14e-6;  // [m]
+  int roller_forms = 0;
+  for (const sampling::ComponentScale& scale : CampaignReader(folder / "results.h5").identity().calibrations) {
+    if (scale.measure != sampling::FormMeasure::kTwoPointVariation) continue;
+    ++roller_forms;
+    EXPECT_DOUBLE_EQ(scale.tolerance, kNormalVdspAt40MmSeries9) << scale.component;
+  }
+  EXPECT_EQ(roller_forms, 3);
+}
+
 TEST(CampaignUnderMpirun, OneTwoAndThreeRanksAndAnyChunkSizeWriteIdenticalResults) {
   const std::filesystem::path folder = Folder();
   const auto file = Write(folder / "campaign.toml", kCampaign);
