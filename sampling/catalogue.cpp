@@ -1,5 +1,6 @@
 #include "sampling/catalogue.h"
 #include "engine/units.h"
+#include "engine/visible_text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +18,9 @@ std::string Millimetres(double metres) {
   return text;
 }
 
+// A class name in a message: a user's catalogue or file may hide a zero-width space in it.
+std::string Quoted(std::string_view name) { return "'" + VisibleText(name) + "'"; }
+
 std::string Describe(const DiameterRange& r) {
   if (r.over <= 0.0 && std::isinf(r.up_to)) return "any";
   return Millimetres(r.over) + "-" + Millimetres(r.up_to);
@@ -29,8 +33,8 @@ const ToleranceClass<Row>& Find(const std::vector<ToleranceClass<Row>>& classes,
     if (c.name == name || std::find(c.aliases.begin(), c.aliases.end(), name) != c.aliases.end()) return c;
   }
   std::string known;
-  for (const auto& c : classes) known += (known.empty() ? "" : ", ") + c.name;
-  throw std::invalid_argument("unknown " + std::string(kind) + " class '" + std::string(name) + "'; known: " + known);
+  for (const auto& c : classes) known += (known.empty() ? "" : ", ") + VisibleText(c.name);
+  throw std::invalid_argument("unknown " + std::string(kind) + " class " + Quoted(name) + "; known: " + known);
 }
 
 template <typename Row, typename DiameterOf>
@@ -40,7 +44,7 @@ const Row& FindRow(const ToleranceClass<Row>& c, double diameter, std::string_vi
   }
   std::string rows;
   for (const Row& row : c.rows) rows += (rows.empty() ? "" : ", ") + Describe(range_of(row));
-  throw std::invalid_argument(std::string(kind) + " class '" + c.name + "' has no value for diameter " +
+  throw std::invalid_argument(std::string(kind) + " class " + Quoted(c.name) + " has no value for diameter " +
                               Millimetres(diameter) + " mm (its rows cover " + rows +
                               " mm); the catalogue does not extrapolate: choose another class or give "
                               "the "
@@ -50,21 +54,21 @@ const Row& FindRow(const ToleranceClass<Row>& c, double diameter, std::string_vi
 template <typename Row, typename DiameterOf, typename Values>
 void AddClass(std::vector<ToleranceClass<Row>>& classes, ToleranceClass<Row> c, DiameterOf range_of, Values values) {
   if (c.name.empty()) throw std::invalid_argument("a tolerance class needs a name");
-  if (c.rows.empty()) throw std::invalid_argument("tolerance class '" + c.name + "' has no rows");
+  if (c.rows.empty()) throw std::invalid_argument("tolerance class " + Quoted(c.name) + " has no rows");
   for (std::size_t i = 0; i < c.rows.size(); ++i) {
     const DiameterRange& a = range_of(c.rows[i]);
     if (!(a.over >= 0.0 && a.up_to > a.over))
-      throw std::invalid_argument("tolerance class '" + c.name + "': diameter row " + Describe(a) +
+      throw std::invalid_argument("tolerance class " + Quoted(c.name) + ": diameter row " + Describe(a) +
                                   " mm is empty or negative");
     for (const double v : values(c.rows[i])) {
       if (!(v >= 0.0) || !std::isfinite(v))
-        throw std::invalid_argument("tolerance class '" + c.name + "', row " + Describe(a) +
+        throw std::invalid_argument("tolerance class " + Quoted(c.name) + ", row " + Describe(a) +
                                     " mm: tolerances must be finite and >= 0");
     }
     for (std::size_t j = 0; j < i; ++j) {
       const DiameterRange& b = range_of(c.rows[j]);
       if (a.over < b.up_to && b.over < a.up_to)
-        throw std::invalid_argument("tolerance class '" + c.name + "': rows " + Describe(b) + " and " + Describe(a) +
+        throw std::invalid_argument("tolerance class " + Quoted(c.name) + ": rows " + Describe(b) + " and " + Describe(a) +
                                     " mm overlap");
     }
   }

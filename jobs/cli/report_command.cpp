@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/visible_text.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/report/allocation_report.h"
 #include "jobs/store/allocation_store.h"
@@ -65,7 +66,8 @@ void WriteAtomically(const std::filesystem::path& path, const std::string& text)
 
 analysis::SobolEstimator EstimatorNamed(const std::string& name) {
   if (const auto estimator = ValueNamed(analysis::kSobolEstimatorNames, name)) return *estimator;
-  throw InputError(fmt::format("--estimator {}: unknown; allowed: {}", name, NameList(analysis::kSobolEstimatorNames, "")));
+  throw InputError(fmt::format("--estimator {}: unknown; allowed: {}", VisibleText(name),
+                               NameList(analysis::kSobolEstimatorNames, "")));
 }
 
 // The page, and the JSON when asked for; says where they went.

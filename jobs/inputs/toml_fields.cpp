@@ -10,8 +10,10 @@
 
 #include <fmt/format.h>
 
-#include "jobs/inputs/input_error.h"
 #include "engine/units.h"
+#include "engine/visible_text.h"
+#include "jobs/inputs/input_error.h"
+#include "jobs/inputs/text_encoding.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -41,7 +43,7 @@ std::string_view TypeName(toml::node_type type) {
 std::string ShowUncut(const toml::node& node) {
   if (const auto* integer = node.as_integer()) return fmt::format("{}", integer->get());
   if (const auto* number = node.as_floating_point()) return ShowNumber(number->get());
-  if (const auto* text = node.as_string()) return fmt::format("\"{}\"", text->get());
+  if (const auto* text = node.as_string()) return fmt::format("\"{}\"", VisibleText(text->get()));
   if (const auto* boolean = node.as_boolean()) return boolean->get() ? "true" : "false";
   if (const auto* array = node.as_array()) {
     std::string shown;
@@ -51,7 +53,7 @@ std::string ShowUncut(const toml::node& node) {
   if (const auto* table = node.as_table()) {
     std::string shown;
     for (const auto& [key, value] : *table) {
-      shown += fmt::format("{}{} = {}", shown.empty() ? "" : ", ", key.str(), ShowUncut(value));
+      shown += fmt::format("{}{} = {}", shown.empty() ? "" : ", ", VisibleText(key.str()), ShowUncut(value));
     }
     return "{ " + shown + " }";
   }
@@ -267,7 +269,7 @@ void TableReader::RejectUnknownKeys(const std::vector<std::string_view>& valid) 
     std::string listed;
     for (std::string_view name : valid) listed += (listed.empty() ? "" : ", ") + std::string(name);
     throw InputError(fmt::format("{}: unknown key '{}'; valid keys here: {}", Where(*file_, key.source()),
-                                 KeyPath(key.str()), listed));
+                                 VisibleText(KeyPath(key.str())), listed));
   }
 }
 
@@ -295,10 +297,14 @@ std::string ReadTextFile(const std::filesystem::path& file) {
 }
 
 toml::table ParseToml(std::string_view text, const std::string& source_name) {
+  text = Utf8Text(text, source_name);
   try {
     return toml::parse(text, std::string_view(source_name));
   } catch (const toml::parse_error& error) {
-    throw InputError(fmt::format("{}: not valid TOML: {}", Where(source_name, error.source()), error.description()));
+    // toml++ quotes the character it stumbled on as it is: a zero-width space or a stray
+    // byte must be seen.
+    throw InputError(fmt::format("{}: not valid TOML: {}", Where(source_name, error.source()),
+                                 VisibleText(error.description())));
   }
 }
 
