@@ -3,10 +3,13 @@
 #include <malloc.h>
 #include <mpi.h>
 
+#include <charconv>
 #include <cstdlib>
 #include <iostream>
-#include <vector>
+#include <optional>
 #include <string>
+#include <system_error>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -20,8 +23,11 @@
 #include "jobs/cli/simulate_command.h"
 #include "jobs/cli/inputs_command.h"
 #include "jobs/cli/join_command.h"
+#include "jobs/cli/nearest_name.h"
 #include "jobs/cli/verify_command.h"
 #include "jobs/inputs/input_error.h"
+#include "jobs/inputs/sampling_file.h"
+#include "engine/visible_text.h"
 #include "solvers/simulation.h"
 
 namespace {
@@ -84,11 +90,39 @@ void AddInputFile(CLI::App& app, const std::string& name, std::filesystem::path&
   app.add_option(name, file, help)->required()->check(CLI::ExistingFile);
 }
 
-// --samples and --seed, which override a sampling or campaign file's own.
+// --samples and --seed, which override a sampling or campaign file's own. Both are read as
+// decimal here, by transforms (which run before any check), and handed on as the number's
+// plain digits: CLI11 reads integers as strtoll does with base 0, "010" as 8 and "0x10" as
+// 16. The seed takes the file's range (jobs/inputs/sampling_file.h): CLI11 alone wraps -1
+// and 2^64 to 2^64 - 1.
 void AddSamplesAndSeed(CLI::App& app, std::optional<std::int64_t>& samples, std::optional<std::uint64_t>& seed) {
+  const CLI::Validator decimal(
+      [](std::string& text) {
+        std::int64_t value = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (text.empty() || text.front() == '-' || error != std::errc() || end != text.data() + text.size()) {
+          return ringtol::VisibleText(text) + ": not a decimal integer";
+        }
+        text = std::to_string(value);
+        return std::string();
+      },
+      "DECIMAL");
   app.add_option("--samples", samples, "Number of samples (default: the file's design.samples)")
+      ->transform(decimal)
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));
-  app.add_option("--seed", seed, "Campaign seed (default: the file's)");
+  const CLI::Validator seed_range(
+      [](std::string& text) {
+        const std::optional<std::uint64_t> value = ringtol::jobs::SeedOfText(text);
+        if (!value) {
+          return ringtol::VisibleText(text) + ": not a decimal integer in range; allowed: " +
+                 ringtol::jobs::SeedAllowed();
+        }
+        text = std::to_string(*value);
+        return std::string();
+      },
+      "SEED");
+  app.add_option("--seed", seed, "Campaign seed, " + ringtol::jobs::SeedAllowed() + " (default: the file's)")
+      ->transform(seed_range);
 }
 
 // --solver, --steps, --relative-tolerance and --dynamic-start, as simulate and sweep take them.
@@ -355,6 +389,47 @@ CLI::App* AddJoin(CLI::App& app, ringtol::jobs::JoinCommand& join) {
   return sub;
 }
 
+// A command whose arguments name none of its subcommands: `app`'s deepest parsed
+// (sub)command, when that has subcommands of its own, with the first argument left over.
+struct MissedCommand {
+  std::string word;                // the argument where the subcommand should be: as typed, or empty
+  std::string path;                // the commands before it: "" or "bench "
+  std::vector<std::string> known;  // that command's subcommands
+};
+
+std::optional<MissedCommand> FindMissedCommand(const CLI::App& app) {
+  const CLI::App* command = &app;
+  std::string path;
+  for (std::vector<CLI::App*> parsed = app.get_subcommands(); !parsed.empty(); parsed = command->get_subcommands()) {
+    command = parsed.front();
+    path += command->get_name() + " ";
+  }
+  const std::vector<const CLI::App*> subcommands = command->get_subcommands([](const CLI::App*) { return true; });
+  const std::vector<std::string> left = command->remaining();
+  if (subcommands.empty()) return std::nullopt;
+  MissedCommand missed{left.empty() ? std::string() : left.front(), path, {}};
+  for (const CLI::App* sub : subcommands) missed.known.push_back(sub->get_name());
+  return missed;
+}
+
+// "unknown command 'bench campagin'; did you mean 'bench campaign'?; allowed: ...", or
+// "missing command: `ringtol bench COMMAND`; allowed: ...".
+std::string MissedCommandMessage(const MissedCommand& missed) {
+  std::string message = "missing command: `ringtol " + missed.path + "COMMAND`";
+  if (missed.word.starts_with('-')) {
+    message = "unknown option '" + ringtol::VisibleText(missed.word) + "' where a command belongs: `ringtol " +
+              missed.path + "COMMAND`";
+  } else if (!missed.word.empty()) {
+    message = "unknown command '" + missed.path + ringtol::VisibleText(missed.word) + "'";
+    if (const std::optional<std::string> nearest = ringtol::jobs::NearestName(missed.word, missed.known)) {
+      message += "; did you mean '" + missed.path + *nearest + "'?";
+    }
+  }
+  std::string known;
+  for (const std::string& name : missed.known) known += (known.empty() ? "" : ", ") + name;
+  return message + "; allowed: " + known + " (`ringtol " + missed.path + "--help` says what each does)";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -412,8 +487,15 @@ int main(int argc, char** argv) {
     // CLI11 prints help and the version and exits 0 for them; for everything else (an
     // option out of range, a missing file, an unknown option) its own codes (105, 103, ...)
     // would be one more table for a script to know: bad input is 1, as everywhere else.
-    const int code = app.exit(e);
-    return code == static_cast<int>(CLI::ExitCodes::Success) ? 0 : 1;
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    // A mistyped command leaves CLI11 saying only that one is required.
+    if (const std::optional<MissedCommand> missed = FindMissedCommand(app)) {
+      std::cerr << "ringtol: error: " << MissedCommandMessage(*missed) << "\n";
+      return 1;
+    }
+    // CLI11 quotes values as typed: a zero-width space in one must be seen.
+    std::cerr << "ringtol: error: " << ringtol::VisibleText(e.what()) << "\nRun with --help for more information.\n";
+    return 1;
   }
   if (*campaign_app) {
     campaign.arguments.assign(argv, argv + argc);

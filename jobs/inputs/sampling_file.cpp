@@ -1,7 +1,10 @@
 #include "jobs/inputs/sampling_file.h"
 
+#include <charconv>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <system_error>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -351,10 +354,10 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
   const std::vector<Field<ToleranceInputs>> tolerance_fields = ToleranceFields();
   std::vector<Field<FileInput>> fields{
       Text("scene", Presence::kRequired, "a scene file, relative to this file", &FileInput::scene),
-      {"seed", Presence::kOptional, "an integer >= 0",
+      {"seed", Presence::kOptional, SeedAllowed(),
        [](const Site& site, FileInput& f) {
          const auto* value = site.node.as_integer();
-         if (value == nullptr || value->get() < 0) site.Fail("not an integer >= 0", "an integer >= 0");
+         if (value == nullptr || value->get() < 0) site.Fail("not an integer >= 0", SeedAllowed());
          f.seed = value->get();
        },
        {}, {}},
@@ -449,6 +452,17 @@ sampling::AssemblyTolerances ToleranceOfClass(const SamplingPlan& plan, sampling
     }
   }
   return result;
+}
+
+std::string SeedAllowed() { return "an integer >= 0 and <= " + std::to_string(kMaxSeed); }
+
+std::optional<std::uint64_t> SeedOfText(std::string_view text) {
+  // std::from_chars takes a minus sign, which no seed has.
+  if (text.empty() || text.front() == '-') return std::nullopt;
+  std::int64_t seed = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), seed);
+  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return static_cast<std::uint64_t>(seed);
 }
 
 void OverridePlan(SamplingPlan& plan, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed) {

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -63,6 +64,16 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
 // std::invalid_argument for an unknown class or a diameter its rows do not cover.
 sampling::AssemblyTolerances ToleranceOfClass(const SamplingPlan& plan, sampling::ErrorSource component,
                                               const std::string& class_name, sampling::ToleranceMode mode);
+
+// A campaign's seed, as the file's `seed` and the commands' --seed take it: an integer from
+// 0 to kMaxSeed. TOML's integers are signed 64-bit, which bounds the file's; --seed is held
+// to the same range, so that every seed a command takes can be written in a file.
+inline constexpr std::int64_t kMaxSeed = std::numeric_limits<std::int64_t>::max();
+// "an integer >= 0 and <= 9223372036854775807", for messages.
+std::string SeedAllowed();
+// The seed written as `text` (decimal digits only: no sign, no hexadecimal, no spaces);
+// empty when that is not a seed in range.
+std::optional<std::uint64_t> SeedOfText(std::string_view text);
 
 // Command-line overrides of the file's design.samples and seed (a Latin hypercube's size
 // follows the sample count).

@@ -137,6 +137,52 @@ TEST(Cli, SimulateAndSweepRefuseTooFewStepsForTheFastestUndulationNamingTheMinim
   EXPECT_THAT(sweep.err, AllOf(HasSubstr("--steps 40"), HasSubstr(">= 41"), HasSubstr("order 20")));
 }
 
+// A mistyped command is named with the one it most likely meant, at every level, and a
+// missing one with the choices; neither is CLI11's bare "A subcommand is required".
+TEST(Cli, AnUnknownCommandIsNamedWithTheNearestOne) {
+  using ringtol::testing::ExitsWith;
+  EXPECT_THAT(Ringtol("campagin"),
+              ExitsWith(1, AllOf(HasSubstr("unknown command 'campagin'; did you mean 'campaign'?"),
+                                 HasSubstr("allowed: simulate, sweep"))));
+  EXPECT_THAT(Ringtol("bench campagin " + Example("scene.toml")),
+              ExitsWith(1, AllOf(HasSubstr("unknown command 'bench campagin'; did you mean 'bench campaign'?"),
+                                 HasSubstr("allowed: dynamics, ladder, allocate, campaign"))));
+  EXPECT_THAT(Ringtol("xyz"),
+              ExitsWith(1, AllOf(HasSubstr("unknown command 'xyz'; allowed:"), ::testing::Not(HasSubstr("mean")))));
+  EXPECT_THAT(Ringtol(""), ExitsWith(1, HasSubstr("missing command: `ringtol COMMAND`; allowed: simulate")));
+  EXPECT_THAT(Ringtol("bench"), ExitsWith(1, HasSubstr("missing command: `ringtol bench COMMAND`; allowed: dynamics")));
+  EXPECT_THAT(Ringtol("--no-such-option"), ExitsWith(1, HasSubstr("unknown option '--no-such-option'")));
+}
+
+// --seed takes the campaign file's range, stated once (jobs/inputs/sampling_file.h): CLI11
+// alone read -1 and 2^64 both as 2^64 - 1, and 0x10 as 16 (and --samples 016 as 14).
+TEST(Cli, SeedOutsideTheFilesRangeIsRefusedNamingTheRange) {
+  using ringtol::testing::ExitsWith;
+  const std::string sample = std::string("sample ") + RINGTOL_SOURCE_DIR + "/examples/tolerances/normal_waterjet.toml";
+  for (const char* seed : {"-1", "18446744073709551616", "9223372036854775808", "0x10", "1e3"}) {
+    EXPECT_THAT(Ringtol(sample + " --seed " + seed),
+                ExitsWith(1, AllOf(HasSubstr(std::string("--seed: ") + seed + ": not a decimal integer in range"),
+                                   HasSubstr("allowed: an integer >= 0 and <= 9223372036854775807"))))
+        << seed;
+  }
+  // --samples is decimal too: 016 is 16 samples, not 14.
+  const Outcome sixteen = Ringtol(sample + " --samples 016 --seed 010");
+  EXPECT_EQ(sixteen.exit_code, 0) << sixteen.err;
+  EXPECT_THAT(sixteen.out, HasSubstr("16 samples, seed 10,"));
+  EXPECT_THAT(Ringtol(sample + " --samples 0x10"), ExitsWith(1, HasSubstr("--samples: 0x10: not a decimal integer")));
+  const Outcome largest = Ringtol(sample + " --samples 8 --seed 9223372036854775807");
+  EXPECT_EQ(largest.exit_code, 0) << largest.err;
+  EXPECT_THAT(largest.out, HasSubstr("seed 9223372036854775807"));
+}
+
+// A value with a character no one can see is shown with it escaped, here a zero-width
+// space after a solver's name.
+TEST(Cli, OptionValuesShowInvisibleCharactersEscaped) {
+  const Outcome run = Ringtol("simulate " + Example("scene.toml") + " --solver 'linear\xE2\x80\x8B'");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_THAT(run.err, HasSubstr("linear\\u200B not in"));
+}
+
 // --out naming a folder is a mistake to name, not a results file to resume.
 TEST(Cli, CampaignOutNamingAFolderSaysSo) {
   const std::filesystem::path folder = std::filesystem::path(::testing::TempDir()) / "ringtol_out_folder";

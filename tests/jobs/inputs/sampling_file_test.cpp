@@ -3,8 +3,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "jobs/inputs/catalogue_file.h"
@@ -81,6 +83,29 @@ TEST(SamplingFile, TheExampleReadsAndSamples) {
                 static_cast<int>(plan.tolerances.springs[1].has_value()) +
                 static_cast<int>(plan.tolerances.springs[2].has_value()),
             1);
+}
+
+// "IT7" with a zero-width space after it is not the class IT7: both the value and the
+// catalogue's message show the difference.
+TEST(SamplingFile, AClassNameWithAnInvisibleCharacterIsShownEscaped) {
+  const std::string message =
+      ErrorOf(kSceneLine + "[tolerances.roller_positions]\nclass = \"IT7\xE2\x80\x8B\"\n");
+  EXPECT_THAT(message, AllOf(HasSubstr("tolerances.roller_positions.class = \"IT7\\u200B\""),
+                             HasSubstr("unknown roller position class 'IT7\\u200B'; known: "), HasSubstr("IT7")));
+  EXPECT_THAT(message, ::testing::Not(HasSubstr("\xE2\x80\x8B")));
+}
+
+// The file's seed and --seed share one range (the commands' side: tests/jobs/cli/cli_test.cpp).
+TEST(SeedOfText, TakesDecimalIntegersFromZeroToTheLargestTomlInteger) {
+  EXPECT_EQ(SeedOfText("0"), std::optional<std::uint64_t>(0));
+  EXPECT_EQ(SeedOfText("42"), std::optional<std::uint64_t>(42));
+  EXPECT_EQ(SeedOfText("9223372036854775807"), std::optional<std::uint64_t>(kMaxSeed));
+  for (const char* text : {"9223372036854775808", "18446744073709551616", "-1", "+1", "0x10", " 1", "1 ", "1e3", ""}) {
+    EXPECT_EQ(SeedOfText(text), std::nullopt) << text;
+  }
+  EXPECT_EQ(SeedAllowed(), "an integer >= 0 and <= 9223372036854775807");
+  EXPECT_THAT(ErrorOf(kSceneLine + "seed = -1\n"),
+              AllOf(HasSubstr("seed = -1"), HasSubstr("allowed: an integer >= 0 and <= 9223372036854775807")));
 }
 
 TEST(SamplingFile, BadFilesNameKeyValueAndAllowedRange) {
