@@ -41,8 +41,11 @@ struct FitCommand {
 // harmonics = FormHarmonics(fit, keep_eccentricity) in mm and degrees, each number the
 // shortest text that reads back as the same double.
 // Returns 0. Throws InputError for orders outside 1..kMaxHarmonicOrder, a CSV that
-// cannot be read (jobs/inputs/profile_csv.h), a fit the samples cannot support, and a fragment
-// that cannot be opened or written or is the profile itself; the message names the file.
+// cannot be read (jobs/inputs/profile_csv.h), a fit the samples cannot support, numbers
+// that break the rules of FitProfileFile (jobs/inputs/profile_csv.h: angles or deviations
+// in another unit than the columns name, a fit whose residual is outline, not noise), and a
+// fragment that cannot be opened or written or is the profile itself; the message names the
+// file.
 int RunFit(const FitCommand& command, std::ostream& out);
 
 }  // namespace ringtol::jobs

@@ -1,19 +1,24 @@
 #include "jobs/inputs/profile_csv.h"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <stdexcept>
 #include <numbers>
 #include <system_error>
 
 #include <fmt/format.h>
 
-#include "jobs/inputs/input_error.h"
 #include "engine/units.h"
+#include "engine/visible_text.h"
+#include "jobs/inputs/input_error.h"
+#include "jobs/inputs/text_encoding.h"
+#include "jobs/inputs/toml_fields.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -37,6 +42,9 @@ constexpr std::array<ValueColumn, 3> kValueColumns{{{"radius_mm", units::kMetres
 
 constexpr std::string_view kAngleNames = "angle_deg, angle_rad";
 constexpr std::string_view kValueNames = "radius_mm, deviation_mm, deviation_um";
+constexpr std::string_view kSeparatorAllowed =
+    "comma-separated columns and decimal points, e.g. `angle_deg, radius_mm` then `0.5, 302.0012`: export the "
+    "file as CSV with a comma between columns and a point as the decimal separator";
 constexpr std::string_view kHeaderAllowed =
     "a header line before the data, e.g. `angle_deg, radius_mm`: first column angle_deg or angle_rad, second "
     "radius_mm, deviation_mm or deviation_um, any further columns ignored";
@@ -65,11 +73,20 @@ std::vector<std::string_view> SplitFields(std::string_view line) {
   }
 }
 
-// Text from the file as it appears in a message.
+// Text from the file as it appears in a message, invisible characters escaped.
 std::string Shown(std::string_view text) {
   if (text.empty()) return "\"\"";
-  if (text.size() <= kMaxShownLength) return std::string(text);
-  return std::string(text.substr(0, kMaxShownLength)) + "...";
+  if (text.size() <= kMaxShownLength) return VisibleText(text);
+  return VisibleText(text.substr(0, kMaxShownLength)) + "...";
+}
+
+// The separator a header of fewer than two comma-separated columns uses instead, in words;
+// empty when it has none. Spreadsheets where the decimal separator is a comma export
+// semicolons.
+std::string_view ForeignSeparator(std::string_view header) {
+  if (header.find(';') != std::string_view::npos) return "semicolons";
+  if (header.find('\t') != std::string_view::npos) return "tabs";
+  return {};
 }
 
 // A finite double written in full, or the reason it is not one.
@@ -113,8 +130,7 @@ struct Line {
 }  // namespace
 
 MeasuredProfile ParseProfileCsv(std::string_view text, const std::string& source_name) {
-  // Windows tools open UTF-8 files with a byte-order mark.
-  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+  text = Utf8Text(text, source_name);
 
   const AngleColumn* angle = nullptr;
   const ValueColumn* value = nullptr;
@@ -141,7 +157,11 @@ MeasuredProfile ParseProfileCsv(std::string_view text, const std::string& source
         line.Fail(fmt::format("row `{}`", Shown(line.text)), "data before any header line", kHeaderAllowed);
       }
       if (fields.size() < 2) {
-        line.Fail(fmt::format("header `{}`", Shown(line.text)), "fewer than 2 columns", kHeaderAllowed);
+        const std::string header = fmt::format("header `{}`", Shown(line.text));
+        if (const std::string_view separator = ForeignSeparator(line.text); !separator.empty()) {
+          line.Fail(header, fmt::format("columns separated by {}, not commas", separator), kSeparatorAllowed);
+        }
+        line.Fail(header, "fewer than 2 columns", kHeaderAllowed);
       }
       angle = FindColumn(kAngleColumns, fields[0]);
       if (angle == nullptr) line.Fail("column 1 = " + Shown(fields[0]), "unknown column name", kAngleNames);
@@ -151,11 +171,16 @@ MeasuredProfile ParseProfileCsv(std::string_view text, const std::string& source
       header_line = number;
       header_text = line.text;
       profile.quantity = value->quantity;
+      profile.angle_column = angle->name;
+      profile.value_column = value->name;
       continue;
     }
 
     if (fields.size() != header_fields) {
-      line.Fail(fmt::format("row `{}`", Shown(line.text)), fmt::format("{} fields", fields.size()),
+      // "0,5, 302,0012": a spreadsheet's decimal commas split every number in two.
+      const std::string_view decimal_commas =
+          fields.size() > header_fields ? " (decimal commas? numbers take a decimal point)" : "";
+      line.Fail(fmt::format("row `{}`", Shown(line.text)), fmt::format("{} fields{}", fields.size(), decimal_commas),
                 fmt::format("{} fields, one per column of the header on line {}", header_fields, header_line));
     }
     profile.samples.push_back({line.Number(angle->name, fields[0], angle->to_si, false),
@@ -191,13 +216,110 @@ MeasuredProfile ReadProfileCsv(const std::filesystem::path& file) {
   return ParseProfileCsv(text, name);
 }
 
-MeasuredFit FitProfileFile(const std::filesystem::path& file, int orders) {
-  MeasuredProfile profile = ReadProfileCsv(file);
-  try {
-    return {profile.quantity, sampling::FitFourierSeries(profile.samples, orders)};
-  } catch (const std::invalid_argument& error) {
-    throw InputError(fmt::format("{}: {}", file.string(), error.what()));
+namespace {
+
+double Micrometres(double metres) { return metres * units::kMicrometresPerMetre; }
+double Millimetres(double metres) { return metres / units::kMetresPerMillimetre; }
+
+// Largest less smallest angle [rad], as read.
+double AngleSpan(const MeasuredProfile& profile) {
+  const auto [lowest, highest] = std::minmax_element(
+      profile.samples.begin(), profile.samples.end(),
+      [](const sampling::ProfileSample& a, const sampling::ProfileSample& b) { return a.angle < b.angle; });
+  return highest->angle - lowest->angle;
+}
+
+constexpr std::string_view kAngleUnitAllowed =
+    "angles in the unit the column names: angle_deg for degrees (a turn is 360), angle_rad for radians (a turn is "
+    "2 pi)";
+
+// Radians under angle_deg: a turn's worth of numbers, 2 pi, read as degrees. Fewer than half
+// a turn's worth are left to the fit, which says what they support.
+void RequireDegreesUnderAngleDeg(const MeasuredProfile& profile, const std::string& source_name) {
+  if (profile.angle_column != "angle_deg") return;
+  constexpr double kTurn = 2.0 * std::numbers::pi;
+  const double span = AngleSpan(profile) * units::kDegreesPerRadian;  // the numbers as written
+  if (span <= kTurn / 2.0 || span > kTurn * (1.0 + 1e-9)) return;
+  throw InputError(fmt::format("{}: angle_deg: the readings span {:.4g} degrees, a turn in radians (2 pi = 6.283): "
+                               "radians under angle_deg?; allowed: {}",
+                               source_name, span, kAngleUnitAllowed));
+}
+
+// The residuals' correlation between neighbouring readings in the file's order [-].
+double NeighbourCorrelation(const MeasuredProfile& profile, const sampling::FourierFit& fit) {
+  std::vector<double> residuals;
+  residuals.reserve(profile.samples.size());
+  for (const sampling::ProfileSample& sample : profile.samples) {
+    double fitted = fit.mean;
+    for (const engine::Harmonic& h : fit.harmonics) fitted += h.amplitude * std::cos(h.order * sample.angle + h.phase);
+    residuals.push_back(sample.value - fitted);
   }
+  double lagged = 0.0, squares = 0.0;
+  for (std::size_t i = 0; i < residuals.size(); ++i) {
+    squares += residuals[i] * residuals[i];
+    if (i > 0) lagged += residuals[i - 1] * residuals[i];
+  }
+  return squares > 0.0 ? lagged / squares : 0.0;
+}
+
+void RequireTheFitToExplainTheOutline(const MeasuredProfile& profile, const sampling::FourierFit& fit, int orders,
+                                      const std::string& source_name) {
+  if (fit.r_squared >= kMinRSquared) return;
+  const double correlation = NeighbourCorrelation(profile, fit);
+  if (correlation <= kMaxNoiseCorrelation) return;
+  const std::string what = fmt::format(
+      "a fit of orders 0..{} with R^2 = {:.4g}: it leaves most of the readings unexplained (R^2 below {}), and its "
+      "residual of {:.4g} um rms follows the outline, not noise (neighbouring readings' residuals correlate {:.2f}, "
+      "above {})",
+      orders, fit.r_squared, kMinRSquared, Micrometres(fit.residual_rms), correlation, kMaxNoiseCorrelation);
+  const double turns = AngleSpan(profile) / (2.0 * std::numbers::pi);
+  if (profile.angle_column == "angle_rad" && turns > 1.01) {
+    throw InputError(fmt::format("{}: {}; the angles under angle_rad span {:.3g} turns: degrees under angle_rad?; "
+                                 "allowed: {}",
+                                 source_name, what, turns, kAngleUnitAllowed));
+  }
+  throw InputError(fmt::format("{}: {}: form at orders above {}?; allowed: enough orders to take in the outline's "
+                               "form (R^2 >= {}), or readings whose residual is noise",
+                               source_name, what, orders, kMinRSquared));
+}
+
+void RequireAFormOfTheRingsSize(const MeasuredProfile& profile, const sampling::FourierFit& fit,
+                                const std::string& source_name, std::optional<double> ring_radius) {
+  const bool radii = profile.quantity == ProfileQuantity::kRadius;
+  if (radii) ring_radius = ring_radius.value_or(fit.mean);
+  const double form = AmplitudeSum(FormHarmonics(fit, false));
+  // As large as the radius: a fit gone wild, not a unit (the callers blame the orders).
+  if (ring_radius && form >= *ring_radius) return;
+  const double share_limit = ring_radius ? kSameRingShare * *ring_radius : std::numeric_limits<double>::infinity();
+  const double limit = radii ? share_limit : std::min(share_limit, kMaxDeviationForm);
+  if (form <= limit) return;
+  const std::string bound =
+      limit == share_limit ? fmt::format("more than {} % of a ring of {} mm", 100.0 * kSameRingShare,
+                                         ShowDerived(Millimetres(*ring_radius)))
+                           : fmt::format("more than {} mm, five times the loosest circularity class of the catalogue",
+                                         Millimetres(kMaxDeviationForm));
+  throw InputError(fmt::format(
+      "{}: {}: a form of {} mm (sum of the amplitudes of orders 2 and up), {}: deviations in another unit than "
+      "the column names?; allowed: deviation_um for micrometres, deviation_mm for millimetres, radius_mm for "
+      "radii (docs/inputs.md, \"Profile CSV files\")",
+      source_name, profile.value_column, ShowDerived(Millimetres(form)), bound));
+}
+
+}  // namespace
+
+MeasuredFit FitProfileFile(const std::filesystem::path& file, int orders, std::optional<double> ring_radius) {
+  const std::string name = file.string();
+  const MeasuredProfile profile = ReadProfileCsv(file);
+  RequireDegreesUnderAngleDeg(profile, name);
+  MeasuredFit measured{profile.quantity, {}};
+  try {
+    measured.fit = sampling::FitFourierSeries(profile.samples, orders);
+  } catch (const std::invalid_argument& error) {
+    throw InputError(fmt::format("{}: {}", name, error.what()));
+  }
+  RequireTheFitToExplainTheOutline(profile, measured.fit, orders, name);
+  RequireAFormOfTheRingsSize(profile, measured.fit, name, ring_radius);
+  return measured;
 }
 
 std::vector<engine::Harmonic> FormHarmonics(const sampling::FourierFit& fit, bool keep_eccentricity) {

@@ -55,18 +55,13 @@ void RequireDeviationsBelowRadius(const TableReader& table, const engine::PolarP
 // ring.measured_profile: a roundness tester's export, fitted on reading.
 //   reference = "nominal" (the default): the export's own size counts: a radius file's
 //     mean radius less ring.inner_radius_mm, or a deviation file's mean deviation, becomes
-//     the ring's mean deviation. A mean radius more than kSameRingShare from the nominal
-//     one is a profile of another ring, refused as such.
+//     the ring's mean deviation. A mean radius more than kSameRingShare (profile_csv.h) from
+//     the nominal one is a profile of another ring, refused as such.
 //   reference = "own_mean": the form alone, about the export's own mean: its harmonics on
 //     a ring of any nominal size (a measured 302 mm ring's form on a 150 mm design).
 enum class ProfileReference { kNominal, kOwnMean };
 inline constexpr NameTable<ProfileReference, 2> kProfileReferenceNames = {
     {{ProfileReference::kNominal, "nominal"}, {ProfileReference::kOwnMean, "own_mean"}}};
-// A ring's mean radius lies within its size tolerance of the nominal one, a small fraction
-// of a per cent for any ring ringtol models; a measured form is as small against the
-// radius. Beyond this share of the nominal radius the numbers are another ring's, or in
-// another unit.
-constexpr double kSameRingShare = 0.01;
 
 struct MeasuredProfileInput {
   std::filesystem::path file;  // resolved against the scene file's folder
@@ -111,13 +106,14 @@ struct MeasuredRing {
 };
 
 // Errors of the CSV and of the fit come with the key's position and path in front:
-// "scene.toml:5:1: ring.measured_profile: ring.csv:7: radius_mm = abc: ...".
-MeasuredRing ReadMeasuredProfile(const Site& site, const std::filesystem::path& folder) {
+// "scene.toml:5:1: ring.measured_profile: ring.csv:7: radius_mm = abc: ...". ring_radius
+// [m]: the ring's nominal inner radius, which the export's form is held to.
+MeasuredRing ReadMeasuredProfile(const Site& site, const std::filesystem::path& folder, double ring_radius) {
   const TableReader table(ReadTable(site, kMeasuredProfileAllowed), site.key_path, site.file);
   MeasuredProfileInput in;
   table.Read(MeasuredProfileFields(folder), in);
   try {
-    const MeasuredFit measured = FitProfileFile(in.file, in.orders);
+    const MeasuredFit measured = FitProfileFile(in.file, in.orders, ring_radius);
     return {measured.quantity, in.reference, measured.fit.mean, FormHarmonics(measured.fit, in.keep_eccentricity),
             in.file.string()};
   } catch (const InputError& error) {
@@ -148,7 +144,9 @@ std::vector<Field<RingInput>> RingFields(const std::filesystem::path& folder) {
       Number(scene_key::kMeanDeviationMm, Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RingInput::mean_deviation),
       HarmonicList(scene_key::kHarmonics, Presence::kOptional, &RingInput::harmonics),
       Field<RingInput>{"measured_profile", Presence::kOptional, std::string(kMeasuredProfileAllowed),
-                       [folder](const Site& site, RingInput& in) { in.measured = ReadMeasuredProfile(site, folder); },
+                       [folder](const Site& site, RingInput& in) {
+                         in.measured = ReadMeasuredProfile(site, folder, in.inner_radius);
+                       },
                        {}, {}},
   };
 }
@@ -162,7 +160,8 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
     const double limit = kSameRingShare * in.inner_radius;
     const double form = AmplitudeSum(measured.harmonics);
     // A form as large as the ring is a fit gone wild (too many orders across a gap), which
-    // RequireDeviationsBelowRadius blames below; the checks here are for sane fits.
+    // RequireDeviationsBelowRadius blames below; the check here is for sane fits. Their
+    // form's size was checked on reading (FitProfileFile).
     const bool sane = form < in.inner_radius;
     // A measured radius is the nominal radius plus the mean deviation.
     const double offset =
@@ -179,14 +178,6 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
           fmt::format("{}: {}, more than {} %: a profile of another ring (or deviations in another unit)",
                       measured.file, what, 100.0 * kSameRingShare),
           "reference = \"own_mean\" to take its form alone on this ring, or a profile of a ring of this size");
-    }
-    if (sane && form > limit) {
-      table.FailAbout("measured_profile", table.KeyPath("measured_profile"),
-                      fmt::format("{}: a form of {} mm (sum of its amplitudes) on a ring of {} mm, more than {} %: "
-                                  "deviations in another unit than the column names?",
-                                  measured.file, ShowDerived(Millimetres(form)), Millimetres(in.inner_radius),
-                                  100.0 * kSameRingShare),
-                      "deviation_um for micrometres, deviation_mm for millimetres (docs/usage.md, \"Measured profiles\")");
     }
     if (measured.reference == ProfileReference::kNominal) in.mean_deviation += offset;
     in.harmonics.insert(in.harmonics.end(), measured.harmonics.begin(), measured.harmonics.end());

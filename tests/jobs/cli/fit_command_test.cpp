@@ -299,6 +299,23 @@ TEST(RunFit, RefusesMoreOrdersThanThePointsSupportNamingTheFile) {
   EXPECT_EQ(ReadText(fragment), "kept\n") << "a refused fit must leave an existing fragment alone";
 }
 
+// Micrometres under deviation_mm: the scene refuses them against its ring; `ringtol fit`
+// alone, with no ring, against the largest form a deviation export can hold. The fragment
+// is left as it was.
+TEST(RunFit, RefusesMicrometresUnderDeviationMm) {
+  const std::filesystem::path folder = TestFolder();
+  std::vector<Harmonic> in_micrometres = kTruth;
+  for (Harmonic& h : in_micrometres) h.amplitude *= 1e3;  // 20 um written as 20 "mm"
+  const std::filesystem::path profile = WriteProfile(folder / "deviations.csv", "deviation_mm", 1e-3, 0.0, in_micrometres);
+  const std::filesystem::path fragment = folder / "ring.toml";
+  std::ofstream(fragment) << "kept\n";
+  FitCommand command = Command(profile, kOrders);
+  command.fragment = fragment;
+  EXPECT_THAT(ErrorFor(command), AllOf(HasSubstr(profile.string() + ": deviation_mm: a form of 43 mm"),
+                                       HasSubstr("deviation_um for micrometres")));
+  EXPECT_EQ(ReadText(fragment), "kept\n");
+}
+
 TEST(RunFit, RefusesAFragmentThatCannotBeWrittenNamingIt) {
   const std::filesystem::path folder = TestFolder();
   FitCommand command = Command(WriteRadii(folder), kOrders);

@@ -3,6 +3,9 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <optional>
+#include <random>
+#include <sstream>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -120,7 +123,8 @@ TEST(ParseProfileCsv, RejectsRadiiThatAreNotPositive) {
 
 TEST(ParseProfileCsv, RejectsRowsWithTheWrongNumberOfFields) {
   EXPECT_THAT(ErrorFor("angle_deg,radius_mm\n0,100,7\n"),
-              HasSubstr("ring.csv:2: row `0,100,7`: 3 fields; allowed: 2 fields, one per column of the header on line 1"));
+              AllOf(HasSubstr("ring.csv:2: row `0,100,7`: 3 fields"),
+                    HasSubstr("; allowed: 2 fields, one per column of the header on line 1")));
   EXPECT_THAT(ErrorFor("# c\nangle_deg,radius_mm,note\n0,100\n"),
               AllOf(HasSubstr("ring.csv:3: row `0,100`: 2 fields"), HasSubstr("header on line 2")));
 }
@@ -146,6 +150,116 @@ TEST(ParseProfileCsv, RejectsAHeaderWithoutDataRows) {
   EXPECT_THAT(ErrorFor("# export\nangle_deg, radius_mm\n# nothing measured\n"),
               HasSubstr("ring.csv:2: header `angle_deg, radius_mm`: no data rows follow; "
                         "allowed: at least one row of numbers"));
+}
+
+// A spreadsheet's "Unicode text" is UTF-16: named, not quoted as bytes (a message was cut at
+// its first NUL byte).
+TEST(ParseProfileCsv, RefusesUtf16AndUtf32TextNamingTheEncoding) {
+  const std::string utf16le("\xFF\xFE" "a\0n\0g\0", 8);
+  EXPECT_THAT(ErrorFor(utf16le), AllOf(HasSubstr("ring.csv: UTF-16 (little-endian) text"),
+                                       HasSubstr("allowed: UTF-8 text"), HasSubstr("save the file as UTF-8")));
+  EXPECT_THAT(ErrorFor(std::string("\0a\0n\0g\0l", 8)), HasSubstr("ring.csv: UTF-16 (big-endian) text, by its NUL bytes"));
+  EXPECT_THAT(ErrorFor(std::string("\xFF\xFE\0\0a\0\0\0", 8)), HasSubstr("ring.csv: UTF-32 (little-endian) text"));
+  EXPECT_THAT(ErrorFor(std::string("angle_deg, radius_mm\n0, 1\n1, \0\n", 30)),
+              HasSubstr("ring.csv:3: a NUL byte (binary data, not text)"));
+}
+
+// Where the decimal separator is a comma, spreadsheets separate columns with semicolons.
+TEST(ParseProfileCsv, NamesASeparatorOtherThanTheComma) {
+  EXPECT_THAT(ErrorFor("angle_deg;radius_mm\n0,5;302,0012\n"),
+              AllOf(HasSubstr("ring.csv:1: header `angle_deg;radius_mm`: columns separated by semicolons, not commas"),
+                    HasSubstr("allowed: comma-separated columns and decimal points")));
+  EXPECT_THAT(ErrorFor("angle_deg\tradius_mm\n0.5\t302.0012\n"),
+              HasSubstr("header `angle_deg\\tradius_mm`: columns separated by tabs, not commas"));
+  EXPECT_THAT(ErrorFor("angle_deg, radius_mm\n0,5, 302,0012\n"),
+              HasSubstr("ring.csv:2: row `0,5, 302,0012`: 4 fields (decimal commas? numbers take a decimal point)"));
+}
+
+TEST(ParseProfileCsv, ShowsInvisibleCharactersInColumnNamesEscaped) {
+  EXPECT_THAT(ErrorFor("angle_deg, radius_mm\xE2\x80\x8B\n0, 100\n"),
+              HasSubstr("ring.csv:1: column 2 = radius_mm\\u200B: unknown column name"));
+}
+
+// ---- the fit's rules (profile_csv.h)
+
+// `value(theta)` [m] at `points` angles spread evenly over one turn, as a tester exports it:
+// the angle in `angle_column`'s unit, the value in `value_column`'s (metres per unit).
+template <typename Value>
+std::filesystem::path WriteExport(std::string_view angle_column, std::string_view value_column, double metres_per_unit,
+                                  int points, Value value) {
+  const double per_radian = angle_column == "angle_deg" ? 180.0 / std::numbers::pi : 1.0;
+  std::ostringstream text;
+  text.precision(17);
+  text << angle_column << ", " << value_column << "\n";
+  for (int i = 0; i < points; ++i) {
+    const double theta = 2.0 * std::numbers::pi * i / points;
+    text << theta * per_radian << ", " << value(theta) / metres_per_unit << "\n";
+  }
+  return WriteFile(text.str());
+}
+
+constexpr double kRadius = 0.302;  // [m]
+// A bore with 20 um of ovality and 8 um at order 5.
+double Bore(double theta) { return kRadius + 20e-6 * std::cos(2.0 * theta + 0.5) + 8e-6 * std::cos(5.0 * theta - 1.0); }
+
+std::string FitErrorFor(const std::filesystem::path& file, int orders, std::optional<double> ring_radius = {}) {
+  return ringtol::testing::MessageOf<InputError>([&] { FitProfileFile(file, orders, ring_radius); });
+}
+
+// The same readings in degrees under angle_rad: each wrapped to a far-away angle, the fit
+// finds almost nothing, and the ovality would vanish from the ring silently.
+TEST(FitProfileFile, RefusesDegreesUnderAngleRadNamingTheFitsRSquared) {
+  std::ostringstream text;
+  text.precision(17);
+  text << "angle_rad, radius_mm\n";
+  for (int degree = 0; degree < 360; ++degree) text << degree << ", " << Bore(degree * kDeg) * 1e3 << "\n";
+  const std::filesystem::path file = WriteFile(text.str());
+  EXPECT_THAT(FitErrorFor(file, 6),
+              AllOf(HasSubstr(file.string() + ": a fit of orders 0..6 with R^2 = 0.0"),
+                    HasSubstr("leaves most of the readings unexplained"), HasSubstr("span 57.1 turns"),
+                    HasSubstr("degrees under angle_rad?"), HasSubstr("allowed: angles in the unit the column names")));
+}
+
+TEST(FitProfileFile, RefusesRadiansUnderAngleDeg) {
+  const std::filesystem::path file = WriteExport("angle_rad", "radius_mm", 1e-3, 360, Bore);
+  ringtol::testing::WriteText(file, ringtol::testing::ReplaceOnce(ringtol::testing::ReadText(file), "angle_rad", "angle_deg"));
+  EXPECT_THAT(FitErrorFor(file, 6), AllOf(HasSubstr(file.string() + ": angle_deg: the readings span 6.266 degrees"),
+                                          HasSubstr("radians under angle_deg?")));
+}
+
+TEST(FitProfileFile, RefusesAFitThatLeavesOutTheForm) {
+  const std::filesystem::path file = WriteExport("angle_deg", "radius_mm", 1e-3, 360, Bore);
+  // Orders 0..1 hold none of the ovality: the residual is the whole form.
+  EXPECT_THAT(FitErrorFor(file, 1), AllOf(HasSubstr("a fit of orders 0..1 with R^2 = "), HasSubstr("form at orders above 1?")));
+  EXPECT_NO_THROW(FitProfileFile(file, 5));
+}
+
+// A ring as round as the tester's noise: the fit explains little of the readings, but what
+// it leaves is noise, and its numbers stand.
+TEST(FitProfileFile, AcceptsARingAsRoundAsTheTestersNoise) {
+  std::mt19937_64 random(7);
+  std::normal_distribution<double> noise(0.0, 0.1e-6);  // [m]
+  const std::filesystem::path file = WriteExport("angle_deg", "deviation_um", 1e-6, 720, [&](double theta) {
+    return 0.03e-6 * std::cos(3.0 * theta) + noise(random);
+  });
+  const MeasuredFit measured = FitProfileFile(file, 6);
+  EXPECT_LT(measured.fit.r_squared, kMinRSquared) << "the readings must be mostly noise for this test";
+}
+
+// Micrometres under deviation_mm: a form a thousand times too large, refused by `ringtol
+// fit` too, which has no ring to hold it to.
+TEST(FitProfileFile, RefusesAFormTooLargeForTheColumnsUnit) {
+  const auto in_micrometres = [](double theta) { return (Bore(theta) - kRadius) * 1e3; };
+  const std::filesystem::path file = WriteExport("angle_deg", "deviation_mm", 1e-3, 360, in_micrometres);
+  EXPECT_THAT(FitErrorFor(file, 6),
+              AllOf(HasSubstr(file.string() + ": deviation_mm: a form of 28 mm"), HasSubstr("more than 1 mm"),
+                    HasSubstr("deviations in another unit than the column names?"),
+                    HasSubstr("allowed: deviation_um for micrometres")));
+  EXPECT_THAT(FitErrorFor(file, 6, 0.05), HasSubstr("more than 1 % of a ring of 50 mm"));
+  // The loosest class's form, 0.2 mm, in millimetres, stands.
+  const std::filesystem::path loose =
+      WriteExport("angle_deg", "deviation_mm", 1e-3, 360, [](double theta) { return 0.2e-3 * std::cos(2.0 * theta); });
+  EXPECT_NO_THROW(FitProfileFile(loose, 6));
 }
 
 }  // namespace

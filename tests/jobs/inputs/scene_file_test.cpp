@@ -337,6 +337,13 @@ const std::vector<BadScene> kBadScenes = {
     {"NeitherDensityNorMass", [] { return FixedAWith("density_kg_per_m3 = 7850.0\n", ""); },
      {"bad.toml:", "rollers[1].density_kg_per_m3 or mass_kg", "missing required key", "exactly one of"}},
 
+    // text a reader cannot see, shown escaped
+    {"AValueWithANoBreakSpace", [] { return FixedAWith("mount = \"fixed\"", "mount = \"fixed\xC2\xA0\""); },
+     {"bad.toml:", "rollers[1].mount = \"fixed\\u00A0\": unknown value", "allowed: \"fixed\", \"spring\""}},
+    {"AKeyWithAZeroWidthSpace",
+     [] { return FixedAWith("width_mm = 4.0", "\"width_mm\xE2\x80\x8B\" = 4.0"); },
+     {"bad.toml:", "unknown key 'rollers[1].width_mm\\u200B'"}},
+
     // types and values
     {"AStringWhereANumberIsExpected", [] { return FixedAWith("radius_mm = 5.0", "radius_mm = \"5\""); },
      {"bad.toml:", "rollers[1].radius_mm = \"5\"", "wrong type: expected a number, found string", "allowed: > 0"}},
@@ -647,15 +654,43 @@ TEST(SceneFile, AProfileOfAnotherRingSizeIsRefusedAsSuchOrTakenAsItsFormAlone) {
 }
 
 // Micrometres under a deviation_mm column make a form a thousand times too large: named,
-// with the column that was meant.
+// with the column that was meant. A deviation export's form is held to 1 mm, and to 1 % of
+// the ring where that is less.
 TEST(SceneFile, AFormTooLargeForTheRingNamesTheColumnsUnit) {
   const std::filesystem::path folder = MeasuredFolder();
   std::vector<engine::Harmonic> in_micrometres = kMeasuredForm;
   for (engine::Harmonic& h : in_micrometres) h.amplitude *= 1e3;  // 30 um written as 30 "mm"
   WriteText(folder / "ring.csv", MeasuredCsv("deviation_mm", 1e-3, 0.0, in_micrometres));
   EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 6 }"),
-              AllOf(HasSubstr("ring.measured_profile"), HasSubstr("a form of"), HasSubstr("on a ring of 302 mm"),
-                    HasSubstr("deviation_um for micrometres")));
+              AllOf(HasSubstr("ring.measured_profile"), HasSubstr("deviation_mm: a form of 48 mm"),
+                    HasSubstr("more than 1 mm"), HasSubstr("deviation_um for micrometres")));
+  // On a 50 mm ring, 1 % of the radius is the tighter bound: 0.6 mm of form written in
+  // millimetres on a 50 mm ring is named against that ring.
+  for (engine::Harmonic& h : in_micrometres) h.amplitude /= 80.0;
+  WriteText(folder / "ring.csv", MeasuredCsv("deviation_mm", 1e-3, 0.0, in_micrometres));
+  WriteText(folder / "scene.toml", ReplaceOnce(PaperSceneMeasuring("{ file = \"ring.csv\", orders = 6 }"),
+                                               "inner_radius_mm = 302.0", "inner_radius_mm = 50.0"));
+  EXPECT_THAT(ringtol::testing::MessageOf<InputError>([&] { ReadScene(folder / "scene.toml"); }),
+              AllOf(HasSubstr("a form of 0.6 mm"), HasSubstr("more than 1 % of a ring of 50 mm")));
+}
+
+// The export: degrees under angle_rad, whose fit keeps a runout of 5.8 um of a
+// ring's 135.8 um. Refused, naming the export, the fit's R^2 and the likely cause.
+TEST(SceneFile, AMeasuredProfileWithDegreesUnderAngleRadIsRefused) {
+  const std::filesystem::path folder = MeasuredFolder();
+  WriteText(folder / "ring.csv", ReplaceOnce(MeasuredRadii(), "angle_deg", "angle_rad"));
+  EXPECT_THAT(MeasuredErrorFor(folder, "{ file = \"ring.csv\", orders = 6 }"),
+              AllOf(HasSubstr("ring.measured_profile: " + (folder / "ring.csv").string() + ": a fit of orders 0..6 with R^2 = "),
+                    HasSubstr("degrees under angle_rad?")));
+}
+
+// UTF-16 ("Unicode text") is named before toml++ quotes its bytes.
+TEST(SceneFile, RefusesUtf16TextNamingTheEncoding) {
+  std::string utf16 = "\xFF\xFE";
+  for (const char c : PaperSceneText()) utf16 += std::string{c, '\0'};
+  EXPECT_THAT(ErrorFor(utf16), AllOf(HasSubstr("bad.toml: UTF-16 (little-endian) text"), HasSubstr("save the file as UTF-8")));
+  // A UTF-8 byte-order mark, as Windows tools write it, is read past.
+  EXPECT_EQ(ParseScene("\xEF\xBB\xBF" + PaperSceneText(), "bom.toml").rollers.size(), 3u);
 }
 
 TEST(SceneFile, RejectsMeasuredProfileOrdersOutOfRange) {
