@@ -1,5 +1,6 @@
 #include "jobs/inputs/scene_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <filesystem>
@@ -27,10 +28,51 @@ using engine::RollerMount;
 using engine::ShapePhaseReference;
 
 constexpr std::size_t kMinRollers = 3;  // fewer cannot hold the ring's centre in its plane
-constexpr std::string_view kMassAllowed = "exactly one of density_kg_per_m3 > 0 or mass_kg > 0";
+constexpr std::string_view kMassAllowed = "exactly one of density_kg_per_m3 and mass_kg";
 constexpr std::string_view kSpringOnly = "mount = \"spring\"";
 
 double Millimetres(double metres) { return metres / units::kMetresPerMillimetre; }
+
+// What ringtol models: rings from a few millimetres to a few metres across, of metal,
+// ceramic or plastic, on rollers down to a millimetre. A density, mass or spin inertia
+// outside these ranges, given or implied by the dimensions, is a key in another unit (a
+// density in g/cm^3 is a thousand times too small) or a typo (an outer radius of 1e308 mm),
+// which would otherwise surface only as the dynamic solver's failure.
+constexpr Range kDensityRange{100.0, false, 30000.0, false};  // [kg/m^3] foamed plastics' to osmium's
+constexpr Range kMassRange{1e-7, false, 1e5, false};  // [kg] a 1 mm plastic roller to a 100 t ring with its load
+constexpr Range kSpinInertiaRange{1e-15, false, 1e7, false};  // [kg m^2] those masses at 0.5 mm to 10 m
+
+// A body's mass [kg] and spin inertia [kg m^2], each given (and range-checked as read) or
+// implied: the mass by density_kg_per_m3 and `volume_keys`, the spin inertia by the mass and
+// `radius_keys`. An implied one out of range is refused at the first key it comes from,
+// every such key named with its value.
+void RequireModelledInertia(const TableReader& table, double mass, double spin_inertia,
+                            const std::vector<std::string_view>& volume_keys,
+                            const std::vector<std::string_view>& radius_keys) {
+  const auto require = [&table](const std::vector<std::string_view>& keys, std::string_view quantity, double value,
+                                std::string_view unit, const Range& range) {
+    if (range.Contains(value)) return;
+    std::string subject;
+    for (const std::string_view key : keys) {
+      const std::string name = subject.empty() ? table.KeyPath(key) : ", " + std::string(key);
+      subject += fmt::format("{} = {}", name, ShowValue(table.At(key).node));
+    }
+    table.FailAbout(keys.front(), subject, fmt::format("imply a {} of {} {}", quantity, ShowDerived(value), unit),
+                    fmt::format("a {} {} {} (docs/inputs.md, \"Scene files\")", quantity, range.Describe(), unit));
+  };
+  std::vector<std::string_view> mass_keys{scene_key::kMassKg};
+  if (!table.Has(scene_key::kMassKg)) {
+    mass_keys = {"density_kg_per_m3"};
+    mass_keys.insert(mass_keys.end(), volume_keys.begin(), volume_keys.end());
+    require(mass_keys, "mass", mass, "kg", kMassRange);
+  }
+  if (table.Has(scene_key::kSpinInertiaKgM2)) return;
+  std::vector<std::string_view> inertia_keys = mass_keys;
+  for (const std::string_view key : radius_keys) {
+    if (std::find(inertia_keys.begin(), inertia_keys.end(), key) == inertia_keys.end()) inertia_keys.push_back(key);
+  }
+  require(inertia_keys, "spin inertia", spin_inertia, "kg m^2", kSpinInertiaRange);
+}
 
 // The polar form r = r0 + dr0 + sum C_n cos(n theta + phi_n) only describes an outline
 // while every deviation stays below r0; beyond, r can reach zero and the body is not a
@@ -138,9 +180,9 @@ std::vector<Field<RingInput>> RingFields(const std::filesystem::path& folder) {
       Number(scene_key::kInnerRadiusMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::inner_radius),
       Number(scene_key::kOuterRadiusMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::outer_radius),
       Number(scene_key::kThicknessMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::thickness),
-      Number("density_kg_per_m3", Presence::kOptional, kSameUnit, Above(0.0), &RingInput::density),
-      Number(scene_key::kMassKg, Presence::kOptional, kSameUnit, Above(0.0), &RingInput::mass),
-      Number(scene_key::kSpinInertiaKgM2, Presence::kOptional, kSameUnit, Above(0.0), &RingInput::spin_inertia),
+      Number("density_kg_per_m3", Presence::kOptional, kSameUnit, kDensityRange, &RingInput::density),
+      Number(scene_key::kMassKg, Presence::kOptional, kSameUnit, kMassRange, &RingInput::mass),
+      Number(scene_key::kSpinInertiaKgM2, Presence::kOptional, kSameUnit, kSpinInertiaRange, &RingInput::spin_inertia),
       Number(scene_key::kMeanDeviationMm, Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RingInput::mean_deviation),
       HarmonicList(scene_key::kHarmonics, Presence::kOptional, &RingInput::harmonics),
       Field<RingInput>{"measured_profile", Presence::kOptional, std::string(kMeasuredProfileAllowed),
@@ -197,6 +239,9 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
   const double ri2 = in.inner_radius * in.inner_radius;
   ring.mass = in.mass ? *in.mass : *in.density * std::numbers::pi * (ro2 - ri2) * in.thickness;
   ring.spin_inertia = in.spin_inertia.value_or(ring.mass * (ro2 + ri2) / 2.0);
+  RequireModelledInertia(table, ring.mass, ring.spin_inertia,
+                         {scene_key::kOuterRadiusMm, scene_key::kInnerRadiusMm, scene_key::kThicknessMm},
+                         {scene_key::kOuterRadiusMm, scene_key::kInnerRadiusMm});
   RequireDeviationsBelowRadius(table, ring.inner, scene_key::kInnerRadiusMm);
 }
 
@@ -268,9 +313,9 @@ std::vector<Field<RollerInput>> RollerFields() {
              &RollerInput::spring_travel_limit)
           .When(is_spring, kSpringOnly),
       Number(scene_key::kWidthMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RollerInput::width),
-      Number("density_kg_per_m3", Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::density),
-      Number(scene_key::kMassKg, Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::mass),
-      Number(scene_key::kSpinInertiaKgM2, Presence::kOptional, kSameUnit, Above(0.0), &RollerInput::spin_inertia),
+      Number("density_kg_per_m3", Presence::kOptional, kSameUnit, kDensityRange, &RollerInput::density),
+      Number(scene_key::kMassKg, Presence::kOptional, kSameUnit, kMassRange, &RollerInput::mass),
+      Number(scene_key::kSpinInertiaKgM2, Presence::kOptional, kSameUnit, kSpinInertiaRange, &RollerInput::spin_inertia),
       Choice(scene_key::kShapePhaseReference, Presence::kOptional, kShapePhaseReferenceNames,
              &RollerInput::phase_reference),
       Number(scene_key::kSpinPhaseDeg, Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &RollerInput::spin_phase),
@@ -315,6 +360,7 @@ void ReadRoller(const TableReader& table, std::size_t index, engine::Scene& scen
   roller.width = in.width;
   roller.mass = in.mass ? *in.mass : *in.density * std::numbers::pi * r2 * in.width;
   roller.spin_inertia = in.spin_inertia.value_or(roller.mass * r2 / 2.0);
+  RequireModelledInertia(table, roller.mass, roller.spin_inertia, {scene_key::kRadiusMm, scene_key::kWidthMm}, {scene_key::kRadiusMm});
   RequireDeviationsBelowRadius(table, roller.outline, scene_key::kRadiusMm);
   scene.rollers.push_back(std::move(roller));
 }

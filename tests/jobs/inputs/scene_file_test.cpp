@@ -333,9 +333,31 @@ const std::vector<BadScene> kBadScenes = {
       "allowed: > 0"}},
     {"BothDensityAndMass",
      [] { return PaperSceneWith("thickness_mm = 6.0\n", "thickness_mm = 6.0\nmass_kg = 1.2\n"); },
-     {"bad.toml:", "ring.mass_kg = 1.2", "allowed: exactly one of density_kg_per_m3 > 0 or mass_kg > 0"}},
+     {"bad.toml:", "ring.mass_kg = 1.2", "allowed: exactly one of density_kg_per_m3 and mass_kg"}},
     {"NeitherDensityNorMass", [] { return FixedAWith("density_kg_per_m3 = 7850.0\n", ""); },
      {"bad.toml:", "rollers[1].density_kg_per_m3 or mass_kg", "missing required key", "exactly one of"}},
+
+    // masses beyond what ringtol models: given, or implied by the dimensions
+    {"AnOuterRadiusThatImpliesNoFiniteMass",
+     [] { return PaperSceneWith("outer_radius_mm = 339.85", "outer_radius_mm = 1e308"); },
+     {"bad.toml:", "ring.density_kg_per_m3 = 2700, outer_radius_mm = 1e+308, inner_radius_mm = 302, thickness_mm = 6",
+      "imply a mass of inf kg", "allowed: a mass >= 1e-07 and <= 100000 kg"}},
+    {"AnOuterRadiusThatImpliesNoFiniteSpinInertia",
+     [] {
+       return ReplaceOnce(PaperSceneWith("outer_radius_mm = 339.85", "outer_radius_mm = 1e150"),
+                          "density_kg_per_m3 = 2700.0", "mass_kg = 1.2");
+     },
+     {"bad.toml:", "ring.mass_kg = 1.2, outer_radius_mm = 1e+150, inner_radius_mm = 302",
+      "imply a spin inertia of 6e+293 kg m^2", "allowed: a spin inertia >= 1e-15 and <= 10000000 kg m^2"}},
+    {"ADensityInGramsPerCubicCentimetre",
+     [] { return PaperSceneWith("density_kg_per_m3 = 2700.0", "density_kg_per_m3 = 2.7"); },
+     {"bad.toml:", "ring.density_kg_per_m3 = 2.7", "out of range", "allowed: >= 100 and <= 30000"}},
+    {"ARollerWidthThatImpliesNoFiniteMass", [] { return FixedAWith("width_mm = 4.0", "width_mm = 1e300"); },
+     {"bad.toml:", "rollers[1].density_kg_per_m3 = 7850, radius_mm = 5, width_mm = 1e+300", "imply a mass of ",
+      "allowed: a mass >= 1e-07 and <= 100000 kg"}},
+    {"ARollerMassBeyondWhatRingtolModels",
+     [] { return FixedAWith("density_kg_per_m3 = 7850.0", "mass_kg = 1e6"); },
+     {"bad.toml:", "rollers[1].mass_kg = 1000000", "out of range", "allowed: >= 1e-07 and <= 100000"}},
 
     // text a reader cannot see, shown escaped
     {"AValueWithANoBreakSpace", [] { return FixedAWith("mount = \"fixed\"", "mount = \"fixed\xC2\xA0\""); },
