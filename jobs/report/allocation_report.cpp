@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 #include <span>
 #include <stdexcept>
 #include <string_view>
@@ -11,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "engine/units.h"
+#include "jobs/report/allocation_summary.h"
 #include "jobs/report/campaign_summary.h"
 
 namespace ringtol::jobs {
@@ -37,17 +37,6 @@ double Margin(const analysis::Constraint& constraint, const analysis::Constraint
   const double scale = MarginUnit(constraint).second;
   return constraint.kind == analysis::ConstraintKind::kYield ? scale * (judgement.interval.lower - constraint.level)
                                                              : scale * (constraint.upper - judgement.interval.upper);
-}
-
-// Per component, whether its options differ in mode: only then does a class name need it.
-std::vector<bool> ModesDiffer(const AllocationIdentity& identity) {
-  std::vector<bool> differ;
-  for (const std::vector<AllocationIdentity::Option>& options : identity.options) {
-    std::set<std::string> modes;
-    for (const AllocationIdentity::Option& o : options) modes.insert(o.mode);
-    differ.push_back(modes.size() > 1);
-  }
-  return differ;
 }
 
 void Require(bool condition, const std::string& what) {
@@ -88,15 +77,13 @@ void Validate(const AllocationReportInput& input) {
   }
 }
 
-CandidateReport Candidate(const AllocationReportInput& input, std::int64_t index, const std::vector<bool>& modes_differ) {
+CandidateReport Candidate(const AllocationReportInput& input, std::int64_t index) {
   const AllocationIdentity& id = input.identity;
   CandidateReport c;
   c.index = index;
   c.outcome = input.outcome.candidates[static_cast<std::size_t>(index)];
   for (std::size_t k = 0; k < c.outcome.options.size(); ++k) {
-    const AllocationIdentity::Option& o = id.options[k][static_cast<std::size_t>(c.outcome.options[k])];
-    c.classes.push_back(modes_differ[k] && !o.mode.empty() ? fmt::format("{} ({})", o.class_name, o.mode)
-                                                           : o.class_name);
+    c.classes.push_back(ClassWithMode(id.options[k][static_cast<std::size_t>(c.outcome.options[k])]));
   }
   const double loosest = input.outcome.candidates.front().cost;
   if (loosest > 0.0) c.relative_to_loosest = c.outcome.cost / loosest;
@@ -194,9 +181,8 @@ AllocationReport MakeAllocationReport(const AllocationReportInput& input, const 
   report.options = options;
   for (const analysis::Constraint& c : id.constraints) report.margin_units.push_back(MarginUnit(c).first);
 
-  const std::vector<bool> modes_differ = ModesDiffer(id);
   for (std::size_t i = 0; i < outcome.candidates.size(); ++i) {
-    report.candidates.push_back(Candidate(input, static_cast<std::int64_t>(i), modes_differ));
+    report.candidates.push_back(Candidate(input, static_cast<std::int64_t>(i)));
     switch (outcome.candidates[i].settlement) {
       case analysis::Settlement::kSimulated:
         report.simulated.push_back(static_cast<std::int64_t>(i));

@@ -64,8 +64,8 @@ struct AllocationReportInput {
 // A candidate as the report names it.
 struct CandidateReport {
   std::int64_t index = 0;
-  // Per component (identity.components), its option's class, with the mode where the
-  // option has one: "6 (inspected)".
+  // Per component (identity.components), its option's class with its mode (ClassWithMode,
+  // jobs/report/allocation_summary.h): "6 (inspected)".
   std::vector<std::string> classes;
   // cost / the loosest candidate's (candidate 0); NaN when that costs nothing.
   double relative_to_loosest = std::numeric_limits<double>::quiet_NaN();

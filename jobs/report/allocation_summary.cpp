@@ -53,18 +53,15 @@ const char* kIndent = "                  ";
 
 }  // namespace
 
+std::string ClassWithMode(const AllocationIdentity::Option& option) {
+  return option.mode.empty() ? option.class_name : fmt::format("{} ({})", option.class_name, option.mode);
+}
+
 std::string CandidateClasses(const AllocationIdentity& identity, const CandidateOutcome& candidate) {
   std::string text;
   for (std::size_t k = 0; k < identity.components.size() && k < candidate.options.size(); ++k) {
-    const AllocationIdentity::Option& option =
-        identity.options[k][static_cast<std::size_t>(candidate.options[k])];
-    text += fmt::format("{}{} {}", k == 0 ? "" : ", ", identity.components[k], option.class_name);
-    // The mode where it tells candidates apart: always for bought-in rollers, and for any
-    // component whose options differ in it (positions as bored or measured and reworked).
-    const std::vector<AllocationIdentity::Option>& options = identity.options[k];
-    const bool modes_differ = std::any_of(options.begin(), options.end(),
-                                          [&](const AllocationIdentity::Option& o) { return o.mode != options[0].mode; });
-    if (identity.components[k] == "rollers" || modes_differ) text += fmt::format(" ({})", option.mode);
+    text += fmt::format("{}{} {}", k == 0 ? "" : ", ", identity.components[k],
+                        ClassWithMode(identity.options[k][static_cast<std::size_t>(candidate.options[k])]));
   }
   return text;
 }

@@ -13,7 +13,13 @@
 
 namespace ringtol::jobs {
 
-// "ring IT7/2, rollers 5 (inspected), roller_positions IT8, springs pm10".
+// A class as a buyer orders it, with its mode: "5 (inspected)", "IT7/2 (process)". A
+// class means other parts in another mode (inspected parts are sorted, as-made ones are
+// not), so every place that names a class, on the terminal, the page and in JSON, names
+// it through this.
+std::string ClassWithMode(const AllocationIdentity::Option& option);
+// "ring IT7/2 (process), rollers 5 (inspected), roller_positions IT8 (process), springs
+// pm10 (process)".
 std::string CandidateClasses(const AllocationIdentity& identity, const CandidateOutcome& candidate);
 // "25.5 times", or beyond 10^4 a sentence: a ratio that large says the two candidates'
 // values move together, and its digits mean nothing.

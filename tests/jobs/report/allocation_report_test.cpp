@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -175,9 +176,8 @@ std::string CandidateRow(const std::string& html, std::int64_t index) {
   return Between(html, fmt::format("data-candidate=\"{}\"", index), "</tr>");
 }
 
-// Two candidates that differ only in a component's mode read differently: the mode is named
-// wherever a component's options differ in it (positions as bored or reworked), and always
-// for the rollers.
+// Two candidates that differ only in a component's mode read differently: every class is
+// named with its mode.
 TEST(AllocationSummary, CandidatesThatDifferOnlyInAModeReadDifferently) {
   AllocationIdentity identity;
   identity.components = {"rollers", "roller_positions", "springs"};
@@ -187,9 +187,73 @@ TEST(AllocationSummary, CandidatesThatDifferOnlyInAModeReadDifferently) {
   CandidateOutcome bored, reworked;
   bored.options = {0, 0, 0};
   reworked.options = {0, 1, 0};
-  EXPECT_EQ(CandidateClasses(identity, bored), "rollers 5 (inspected), roller_positions IT7 (process), springs pm10");
+  EXPECT_EQ(CandidateClasses(identity, bored),
+            "rollers 5 (inspected), roller_positions IT7 (process), springs pm10 (process)");
   EXPECT_EQ(CandidateClasses(identity, reworked),
-            "rollers 5 (inspected), roller_positions IT7 (inspected), springs pm10");
+            "rollers 5 (inspected), roller_positions IT7 (inspected), springs pm10 (process)");
+}
+
+// Where `text` names a class of `identity`, its mode follows: "RollerSix (inspected)". The
+// count of names found, so that a test can tell it looked at something.
+int ExpectEveryClassCarriesItsMode(const std::string& text, const AllocationIdentity& identity,
+                                   const std::string& where) {
+  int found = 0;
+  for (const std::vector<AllocationIdentity::Option>& options : identity.options) {
+    for (const AllocationIdentity::Option& option : options) {
+      const std::string named = option.class_name + " (" + option.mode + ")";
+      for (std::size_t at = text.find(option.class_name); at != std::string::npos;
+           at = text.find(option.class_name, at + 1)) {
+        ++found;
+        EXPECT_EQ(text.compare(at, named.size(), named), 0)
+            << where << " names " << option.class_name << " without its mode: ..."
+            << text.substr(at < 60 ? 0 : at - 60, 120) << "...";
+      }
+    }
+  }
+  return found;
+}
+
+// The same over every string of a JSON document, except the class and mode of a component's
+// option, which it gives apart.
+int ExpectEveryClassCarriesItsMode(const nlohmann::json& json, const AllocationIdentity& identity,
+                                   const std::string& where) {
+  if (json.is_string()) return ExpectEveryClassCarriesItsMode(json.get<std::string>(), identity, where);
+  if (!json.is_structured()) return 0;
+  int found = 0;
+  const bool option = json.is_object() && json.contains("class") && json.contains("mode");
+  for (auto it = json.begin(); it != json.end(); ++it) {
+    if (option && (it.key() == "class" || it.key() == "mode")) continue;
+    found += ExpectEveryClassCarriesItsMode(*it, identity, where);
+  }
+  return found;
+}
+
+// A buyer orders what the page says: every place the page, its JSON, the terminal summary
+// and the summary's JSON name a class, its mode follows, for a component whose options all
+// share one mode as for one whose options differ. (Class names here are distinctive, so
+// that every place can be found.)
+TEST(AllocationReport, EveryPlaceThatNamesAClassNamesItsMode) {
+  AllocationReportInput input = Input();
+  input.identity.options = {{{"WaterjetCut", "process", 40.0, 1.0},
+                             {"TurnedRing", "process", 20.0, 2.0},
+                             {"GroundRing", "process", 10.0, 4.0}},
+                            {{"RollerSix", "inspected", 15.0, 1.0},
+                             {"RollerFive", "inspected", 8.0, 2.0},
+                             {"RollerFour", "inspected", 4.0, 4.0}}};
+  const AllocationReport report = MakeAllocationReport(input);
+  const std::string html = AllocationReportHtml(report);
+  // The answer, the alternatives, the undecided candidate, the recommendation's table with
+  // the current design, and both tables of the front.
+  EXPECT_GE(ExpectEveryClassCarriesItsMode(html, input.identity, "the page"), 20);
+  EXPECT_THAT(Between(html, "id=\"answer\"", "</div>"), HasSubstr("<b>ring TurnedRing (process), rollers RollerFive "
+                                                                 "(inspected)</b>"));
+  EXPECT_GE(ExpectEveryClassCarriesItsMode(AllocationReportJson(report), input.identity, "the report's JSON"), 10);
+  std::ostringstream terminal;
+  PrintAllocation(terminal, input.identity, input.outcome);
+  EXPECT_GE(ExpectEveryClassCarriesItsMode(terminal.str(), input.identity, "the terminal summary"), 4);
+  EXPECT_GE(ExpectEveryClassCarriesItsMode(AllocationJson(input.identity, input.outcome), input.identity,
+                                           "the summary's JSON"),
+            4);
 }
 
 // A variance ratio of ten million is exact arithmetic on two nearly equal columns, not a
@@ -203,7 +267,7 @@ TEST(AllocationReport, AnswerNamesTheRecommendedClassesTheirCostsAndTheirMargins
   const AllocationReport report = MakeAllocationReport(Input());
   const std::string html = AllocationReportHtml(report);
   const std::string answer = Between(html, "id=\"answer\"", "</div>");
-  EXPECT_THAT(answer, HasSubstr("Recommended (candidate 4): <b>ring turned, rollers 5 (process)</b>"));
+  EXPECT_THAT(answer, HasSubstr("Recommended (candidate 4): <b>ring turned (process), rollers 5 (process)</b>"));
   // Cost 4 against the current design's 4, and twice the loosest's 2.
   EXPECT_THAT(answer, HasSubstr("Cost 1 relative to the current design, 2 times the loosest"));
   // Margins: the quantile's limit 0.1 mm less its interval's upper end 0.094 mm, in µm;
@@ -217,9 +281,10 @@ TEST(AllocationReport, AnswerNamesTheRecommendedClassesTheirCostsAndTheirMargins
   EXPECT_THAT(answer, HasSubstr(fmt::format("{:.4g} µm", chosen.margins[0])));
   EXPECT_THAT(answer, HasSubstr(fmt::format("{:.4g} points", chosen.margins[1])));
   // The next two, and the cheaper one still undecided with the samples that would decide it.
-  EXPECT_THAT(answer, HasSubstr("candidate 2: ring waterjet, rollers 4 (inspected)"));
-  EXPECT_THAT(answer, HasSubstr("candidate 6: ring ground, rollers 6 (process)"));
-  EXPECT_THAT(answer, HasSubstr("candidate 3: ring turned, rollers 6 (process) &#8212; cost 0.75, about 20000 samples"));
+  EXPECT_THAT(answer, HasSubstr("candidate 2: ring waterjet (process), rollers 4 (inspected)"));
+  EXPECT_THAT(answer, HasSubstr("candidate 6: ring ground (process), rollers 6 (process)"));
+  EXPECT_THAT(answer, HasSubstr("candidate 3: ring turned (process), rollers 6 (process) &#8212; cost 0.75, about 20000 "
+                                "samples"));
   EXPECT_THAT(answer, Not(HasSubstr("No candidate is feasible")));
   // The yield and the quantile verdicts answer different questions, and the page says so
   // beside the verdict.
