@@ -400,22 +400,93 @@ void DrawNoData(Svg& svg, const Rect& r) {
 
 // Text over data, on a white halo so that it stays readable. The halo is a copy of the text
 // drawn first rather than paint-order, which older renderers (and PDF converters) lack.
-struct Label {
-  double x = 0.0, y = 0.0;
+//
+// A label has places to go, the one it prefers first; DrawLabels puts each, in order, at
+// the first of its places where its box stays inside the plot and clear of every label put
+// before it, so that no label is drawn over another (the box is measured by TextWidth, an
+// estimate that errs wide). Where no place is clear, the one it overlaps least.
+struct Place {
+  double x = 0.0, y = 0.0;  // of the baseline's anchor [px]
   bool anchor_end = false;
+};
+
+struct Label {
+  std::vector<Place> places;
   std::string text;
 };
 
-void DrawLabels(Svg& svg, const std::vector<Label>& labels) {
+// A label's extent above and below its baseline [em]: capitals and digits reach 0.73 em,
+// most labels have no descender (they reach 0.24 em).
+constexpr double kLabelAscent = 0.8, kLabelDescent = 0.2;
+// Rows of labels stacked beside a vertical line [px]: a box's height and a gap.
+constexpr double kLabelRow = 14.0;
+
+Rect LabelBox(const Place& place, std::string_view text) {
+  const double width = TextWidth(text, kFontSize);
+  const double left = place.anchor_end ? place.x - width : place.x;
+  return {left, place.y - kLabelAscent * kFontSize, left + width, place.y + kLabelDescent * kFontSize};
+}
+
+double OverlapArea(const Rect& a, const Rect& b) {
+  const double w = std::min(a.right, b.right) - std::max(a.left, b.left);
+  const double h = std::min(a.bottom, b.bottom) - std::max(a.top, b.top);
+  return w > 0.0 && h > 0.0 ? w * h : 0.0;
+}
+
+// The area of `box` outside the plot `r`, and over boxes already placed.
+double Clash(const Rect& box, const Rect& r, const std::vector<Rect>& placed) {
+  const double area = box.Width() * box.Height();
+  double clash = area - OverlapArea(box, r);
+  for (const Rect& other : placed) clash += OverlapArea(box, other);
+  return clash;
+}
+
+void DrawLabels(Svg& svg, const std::vector<Label>& labels, const Rect& r) {
+  std::vector<Rect> placed;
   for (const Label& label : labels) {
-    const std::string place = fmt::format("x=\"{}\" y=\"{}\" text-anchor=\"{}\"", Num(label.x), Num(label.y),
-                                          label.anchor_end ? "end" : "start");
+    if (label.places.empty()) continue;
+    const Place* best = &label.places.front();
+    double least = kInfinity;
+    for (const Place& place : label.places) {
+      const double clash = Clash(LabelBox(place, label.text), r, placed);
+      if (clash < least) {
+        least = clash;
+        best = &place;
+      }
+      if (clash <= 0.0) break;
+    }
+    placed.push_back(LabelBox(*best, label.text));
+    const std::string at = fmt::format("x=\"{}\" y=\"{}\" text-anchor=\"{}\"", Num(best->x), Num(best->y),
+                                       best->anchor_end ? "end" : "start");
     const std::string text = EscapeXml(label.text);
     svg.Add(
         "<text {} fill=\"#fff\" stroke=\"#fff\" stroke-width=\"4\" stroke-linejoin=\"round\" "
         "aria-hidden=\"true\">{}</text>\n<text {} fill=\"#000\">{}</text>\n",
-        place, text, place, text);
+        at, text, at, text);
   }
+}
+
+// The places of a vertical line's label: beside the line at the top of the plot, on the
+// side it fits (the right unless it would leave the plot), then row by row down it; then
+// the same on the other side.
+std::vector<Place> VerticalLinePlaces(double p, std::string_view text, const Rect& r) {
+  const bool right_fits = p + 4.0 + TextWidth(text, kFontSize) <= r.right;
+  std::vector<Place> places;
+  for (const bool anchor_end : {!right_fits, right_fits}) {
+    for (double y = r.top + kLabelRow; y + kLabelDescent * kFontSize <= r.bottom; y += kLabelRow) {
+      places.push_back({anchor_end ? p - 4.0 : p + 4.0, y, anchor_end});
+    }
+  }
+  return places;
+}
+
+// The places of a horizontal line's label: above it at the right end, below it, then the
+// same at the left end.
+std::vector<Place> HorizontalLinePlaces(double p, const Rect& r) {
+  return {{r.right - 4.0, p - 4.0, true},
+          {r.right - 4.0, p + kLabelRow, true},
+          {r.left + 4.0, p - 4.0, false},
+          {r.left + 4.0, p + kLabelRow, false}};
 }
 
 // Lines now, their labels appended to `labels` to be drawn over everything. `y` is null for
@@ -423,23 +494,17 @@ void DrawLabels(Svg& svg, const std::vector<Label>& labels) {
 void DrawReferenceLines(Svg& svg, const std::vector<ReferenceLine>& lines, const Rect& r, const Scale& x,
                         const Scale* y, std::vector<Label>& labels) {
   std::string path;
-  int vertical = 0;
   for (const ReferenceLine& line : lines) {
     if (line.direction == ReferenceLine::Direction::kVertical) {
       const double p = x(line.at);
       if (!(p >= r.left - kInsideTolerance && p <= r.right + kInsideTolerance)) continue;
       fmt::format_to(std::back_inserter(path), "M{} {}V{}", Num(p), Num(r.top), Num(r.bottom));
-      if (line.label.empty()) continue;
-      // Labels of neighbouring lines are staggered down so that they do not overlap.
-      const bool right_half = p > r.left + 0.7 * r.Width();
-      labels.push_back(
-          {right_half ? p - 4.0 : p + 4.0, r.top + 14.0 + 14.0 * (vertical++ % 3), right_half, line.label});
+      if (!line.label.empty()) labels.push_back({VerticalLinePlaces(p, line.label, r), line.label});
     } else if (y != nullptr) {
       const double p = (*y)(line.at);
       if (!(p >= r.top - kInsideTolerance && p <= r.bottom + kInsideTolerance)) continue;
       fmt::format_to(std::back_inserter(path), "M{} {}H{}", Num(r.left), Num(p), Num(r.right));
-      if (line.label.empty()) continue;
-      labels.push_back({r.right - 4.0, p - 4.0 < r.top + 12.0 ? p + 14.0 : p - 4.0, true, line.label});
+      if (!line.label.empty()) labels.push_back({HorizontalLinePlaces(p, r), line.label});
     }
   }
   if (path.empty()) return;
@@ -665,13 +730,15 @@ std::string SeriesColour(const Series& s) {
   return s.custom_colour.empty() ? std::string(PaletteColour(s.colour)) : EscapeXml(s.custom_colour);
 }
 
-// Each drawable point's label inside the plot, beside it, to the left near the right edge.
+// Each drawable point's label inside the plot, beside it (DrawLabels keeps it clear of the others).
 void AddPointLabels(const Series& s, const Scale& x, const Scale& y, const Rect& r, std::vector<Label>& labels) {
   for (std::size_t i = 0; i < std::min({s.x.size(), s.y.size(), s.labels.size()}); ++i) {
     const Point p{x(s.x[i]), y(s.y[i])};
     if (s.labels[i].empty() || std::isnan(p.x) || std::isnan(p.y) || !r.Contains(p)) continue;
+    // Above and to the right of the point, or to the left near the right edge; else below.
     const bool left = p.x + 6.0 + TextWidth(s.labels[i], kFontSize) > r.right;
-    labels.push_back({left ? p.x - 6.0 : p.x + 6.0, p.y - 6.0, left, s.labels[i]});
+    const Place beside{left ? p.x - 6.0 : p.x + 6.0, p.y - 6.0, left};
+    labels.push_back({{beside, {beside.x, p.y + 6.0 + kFontSize, left}}, s.labels[i]});
   }
 }
 
@@ -1119,7 +1186,7 @@ std::string RenderChart(const Chart& chart) {
   } else {
     DrawNoData(svg, r);
   }
-  DrawLabels(svg, labels);
+  DrawLabels(svg, labels, r);
   DrawAxisLabels(svg, r, chart.x.label, chart.y.label);
   DrawLegend(svg, legend, legend_places);
   return svg.Finish();
@@ -1237,7 +1304,7 @@ std::string RenderBarChart(const BarChart& chart) {
             Num(r.top + row * (static_cast<double>(i) + 0.5) + 4.0), highlighted(i) ? " font-weight=\"bold\"" : "",
             EscapeXml(chart.categories[i]));
   }
-  DrawLabels(svg, labels);
+  DrawLabels(svg, labels, r);
   DrawAxisLabels(svg, r, chart.value.label, "");
   DrawLegend(svg, legend, legend_places);
   return svg.Finish();
@@ -1300,7 +1367,7 @@ std::string RenderHistogram(const HistogramChart& chart) {
   std::vector<Label> labels;
   DrawReferenceLines(svg, chart.lines, r, xs, &ys, labels);
   if (!has_data) DrawNoData(svg, r);
-  DrawLabels(svg, labels);
+  DrawLabels(svg, labels, r);
   DrawAxisLabels(svg, r, chart.x.label, chart.count_label);
   return svg.Finish();
 }

@@ -608,6 +608,102 @@ TEST(SvgHistogram, DrawsBinsAndALabelledSpecLine) {
   ExpectValidSvg({svg});
 }
 
+// A label's box, estimated as a renderer would lay it out: 0.6 em a glyph (DejaVu Sans's
+// average advance, the widest of the fonts the charts name) at the charts' 12 px, from
+// 0.8 em above its baseline (capitals and digits reach 0.73 em) to 0.2 em below it
+// (descenders reach 0.24 em; a label's digits and most letters have none).
+struct Box {
+  double left = 0.0, top = 0.0, right = 0.0, bottom = 0.0;
+};
+constexpr double kFontPx = 12.0;
+
+Box LabelBox(const std::string& svg, const std::string& label) {
+  // The black copy; a white halo of the same text is drawn under it.
+  const std::size_t at = svg.find("fill=\"#000\">" + EscapeXml(label) + "</text>");
+  if (at == std::string::npos) {
+    ADD_FAILURE() << "no label " << label;
+    return {};
+  }
+  const std::size_t open = svg.rfind("<text", at);
+  const std::string tag = svg.substr(open, svg.find('>', open) - open + 1);
+  std::size_t glyphs = 0;
+  for (const char c : label) glyphs += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+  const double width = 0.6 * kFontPx * static_cast<double>(glyphs);
+  const double x = NumberAttribute(tag, "x"), y = NumberAttribute(tag, "y");
+  const bool end = Attribute(tag, "text-anchor") == "end";
+  return {end ? x - width : x, y - 0.8 * kFontPx, end ? x : x + width, y + 0.2 * kFontPx};
+}
+
+bool Overlap(const Box& a, const Box& b) {
+  return a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom;
+}
+
+void ExpectApartAndInside(const std::string& svg, const std::vector<std::string>& labels) {
+  const Frame f = FrameOf(svg);
+  std::vector<Box> boxes;
+  for (const std::string& label : labels) {
+    boxes.push_back(LabelBox(svg, label));
+    const Box& b = boxes.back();
+    EXPECT_GE(b.left, f.left - kPixel) << label;
+    EXPECT_LE(b.right, f.right + kPixel) << label;
+    EXPECT_GE(b.top, f.top - kPixel) << label;
+    EXPECT_LE(b.bottom, f.bottom + kPixel) << label;
+  }
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    for (std::size_t j = i + 1; j < boxes.size(); ++j) {
+      EXPECT_FALSE(Overlap(boxes[i], boxes[j])) << labels[i] << " overprints " << labels[j];
+    }
+  }
+}
+
+// An empirical CDF whose spec limit lies where the 99 % level is labelled, at the right
+// end: neither label is drawn over the other.
+TEST(SvgChart, TheSpecLabelIsNotDrawnOverTheNinetyNinePercentLabel) {
+  Chart chart;
+  chart.title = "Empirical CDF of asynchronous error motion [mm]";
+  chart.y.min = 0.0;
+  chart.y.max = 1.0;
+  Series cdf{.name = "empirical CDF", .style = Series::Style::kStep};
+  for (int i = 0; i <= 100; ++i) {
+    cdf.x.push_back(0.00405 * i / 100.0);
+    cdf.y.push_back(i / 100.0);
+  }
+  chart.series.push_back(std::move(cdf));
+  chart.lines = {{ReferenceLine::Direction::kVertical, 0.004, "spec 0.004"},
+                 {ReferenceLine::Direction::kHorizontal, 0.99, "99 %"}};
+  const std::string svg = RenderChart(chart);
+  ExpectApartAndInside(svg, {"spec 0.004", "99 %"});
+  ExpectValidSvg({svg});
+}
+
+// Vertical markers closer than their labels' width stack at different heights; one far
+// from both keeps the top row.
+TEST(SvgChart, LabelsOfNearbyVerticalMarkersStackAndAFarOneKeepsTheTop) {
+  Chart chart;
+  chart.title = "spec and q99 nearly coincide";
+  chart.series.push_back({.name = "data", .x = {0.0, 0.005}, .y = {0.0, 1.0}});
+  chart.lines = {{ReferenceLine::Direction::kVertical, 0.0040, "spec 0.004"},
+                 {ReferenceLine::Direction::kVertical, 0.00402, "q99 0.00402"},
+                 {ReferenceLine::Direction::kVertical, 0.0041, "q99.9 0.0041"},
+                 {ReferenceLine::Direction::kVertical, 0.00415, "max 0.00415"},
+                 {ReferenceLine::Direction::kVertical, 0.0005, "q50 0.0005"}};
+  const std::vector<std::string> labels = {"spec 0.004", "q99 0.00402", "q99.9 0.0041", "max 0.00415", "q50 0.0005"};
+  const std::string svg = RenderChart(chart);
+  ExpectApartAndInside(svg, labels);
+  EXPECT_EQ(LabelBox(svg, "q50 0.0005").top, LabelBox(svg, "spec 0.004").top);
+  ExpectValidSvg({svg});
+
+  HistogramChart histogram;
+  histogram.title = "the same on a histogram";
+  histogram.lower = 0.0;
+  histogram.bin_width = 0.001;
+  histogram.counts = {3.0, 5.0, 2.0, 1.0, 1.0};
+  histogram.lines = chart.lines;
+  const std::string bars = RenderHistogram(histogram);
+  ExpectApartAndInside(bars, labels);
+  ExpectValidSvg({bars});
+}
+
 TEST(SvgPolar, TheDivisionIsTheFinestNiceStepThatKeepsEveryValueWithinTheRings) {
   EXPECT_EQ(PolarDivision(-3.0, 7.0), 2.0);  // 7 / 4 = 1.75
   EXPECT_EQ(PolarDivision(-12.0, 3.0), 5.0);  // 12 / 4 = 3
