@@ -13,6 +13,7 @@
 #include "jobs/report/allocation_report.h"
 #include "jobs/report/allocation_summary.h"
 #include "jobs/report/html_parts.h"
+#include "jobs/report/report_text.h"
 #include "jobs/report/svg_chart.h"
 
 namespace ringtol::jobs {
@@ -38,7 +39,9 @@ std::string ConstraintText(const analysis::Constraint& c) {
 std::string Estimate(const analysis::Constraint& c, const analysis::ConstraintJudgement& j) {
   // The screening rung bounds its error in D_trajectory only: it leaves other outputs unjudged.
   if (j.verdict == analysis::Verdict::kUnknown) return "not judged";
-  if (c.kind == analysis::ConstraintKind::kYield) return Percent(j.estimate) + " " + PercentInterval(j.interval);
+  if (c.kind == analysis::ConstraintKind::kYield) {
+    return YieldWithInterval({.trials = j.samples, .value = j.estimate, .interval = j.interval});
+  }
   return Num(j.estimate) + " " + Interval(j.interval);
 }
 
@@ -53,7 +56,7 @@ std::string Classes(const AllocationReport& report, const CandidateReport& c) {
 
 std::string Yield(const CandidateReport& c) {
   if (c.outcome.yield.trials == 0) return "-";
-  return Percent(c.outcome.yield.value) + " " + PercentInterval(c.outcome.yield.interval);
+  return YieldWithInterval(c.outcome.yield);
 }
 
 std::string SettledBy(const CandidateReport& c) {

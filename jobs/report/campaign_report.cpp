@@ -13,6 +13,7 @@
 
 #include "jobs/campaign/campaign.h"
 #include "jobs/report/campaign_summary.h"
+#include "jobs/report/report_text.h"
 #include "jobs/campaign/sample_record.h"
 #include "jobs/report/svg_chart.h"
 #include "solvers/quasistatic.h"
@@ -23,7 +24,7 @@ namespace ringtol::jobs {
 namespace {
 
 // The output whose largest value picks the sample whose error motion is drawn.
-constexpr std::string_view kErrorMotionTotal = "error_motion_total_mm";
+const std::string_view kErrorMotionTotal = ErrorMotionColumn(ErrorMotionValue::kTotal);
 // Drawn values are read 65,536 samples at a time: 8 bytes x inputs each.
 constexpr std::int64_t kValuesBlock = std::int64_t{1} << 16;
 constexpr std::size_t kFailedListed = 20;
@@ -461,9 +462,11 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   }
   if (ranked_by.empty()) ranked_by.emplace_back("d_trajectory_mm");
   std::map<std::string, std::vector<double>, std::less<>> ranking_values;
-  // The used ok samples' values of the life comparisons' columns and of the total error
-  // motion, in used_ok order.
+  // The used ok samples' values of the life comparisons' columns and of the error motion, in
+  // used_ok order.
   std::map<std::string, std::vector<double>, std::less<>> life_values;
+  // Whether each used ok sample is within every spec limit, in used_ok order.
+  std::vector<bool> within_every_limit(used_ok.size(), true);
   std::vector<std::string> screened_names;  // outputs to screen, and their values on the screened samples
   std::vector<std::vector<double>> y_screens;
   for (const char* name : kOutputNames) {
@@ -473,8 +476,12 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
     std::vector<double> values;
     values.reserve(used_ok.size());
     for (const std::int64_t i : used_ok) values.push_back(all[static_cast<std::size_t>(i)]);
-    OutputReport out = DescribeOutput(name, SpecOf(report.identity, name), values, report.done - report.ok,
-                                      kSummaryProbabilities, options);
+    const std::optional<double> limit = SpecOf(report.identity, name);
+    for (std::size_t k = 0; k < values.size() && limit; ++k) {
+      if (!(values[k] <= *limit)) within_every_limit[k] = false;
+    }
+    OutputReport out =
+        DescribeOutput(name, limit, values, report.done - report.ok, kSummaryProbabilities, options);
     // Sensitivities need spread: an output that never varies (or no ok sample) has none.
     if (out.distribution && out.distribution->standard_deviation > 0.0) {
       if (saltelli) {
@@ -487,10 +494,16 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
       }
     }
     report.outputs.push_back(std::move(out));
-    if (name == kErrorMotionTotal || IsLifeColumn(name)) life_values[name] = std::move(values);
+    if (IsErrorMotionColumn(name) || IsLifeColumn(name)) life_values[name] = std::move(values);
     if (std::find(ranked_by.begin(), ranked_by.end(), name) != ranked_by.end()) ranking_values[name] = std::move(all);
   }
   report.life_gaps = LifeGaps(life_values);
+  report.life_error_motion = LifeErrorMotionOf(life_values);
+  if (!report.identity.spec.empty() && !used_ok.empty()) {
+    const auto within = static_cast<std::int64_t>(std::count(within_every_limit.begin(), within_every_limit.end(), true));
+    report.within_every_limit = analysis::EstimateProportion(within, report.ok, options.confidence);
+    report.within_every_limit_counting_failures = analysis::EstimateProportion(within, report.done, options.confidence);
+  }
   // Every output's screening at once: they share the inputs' sorting, decompositions and
   // bootstrap draws.
   if (!screened_names.empty()) {
@@ -732,6 +745,11 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   j["failed_samples"] = std::move(failed);
   if (RungsRan(report.settled_by) > 0) j["rungs"] = RungsJson(report.settled_by);
   j["primary_output"] = report.primary_output;
+  const auto proportion = [](const std::optional<analysis::ProportionEstimate>& p) {
+    return p ? Json(*p) : nlohmann::json(nullptr);
+  };
+  j["within_every_limit"] = proportion(report.within_every_limit);
+  j["within_every_limit_counting_failures"] = proportion(report.within_every_limit_counting_failures);
   nlohmann::json outputs = nlohmann::json::object();
   for (const OutputReport& out : report.outputs) outputs[out.name] = OutputJson(out, report.samples_per_draw);
   j["outputs"] = std::move(outputs);
@@ -766,9 +784,10 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   }
   j["trajectories"] = std::move(trajectories);
   j["replay_problem"] = report.replay_problem ? nlohmann::json(*report.replay_problem) : nlohmann::json(nullptr);
-  if (!report.life_gaps.empty()) {
+  if (!report.life_gaps.empty() || report.life_error_motion) {
     nlohmann::json life = nlohmann::json::object();
     for (const LifeGap& gap : report.life_gaps) life[gap.label] = LifeGapJson(gap);
+    if (report.life_error_motion) life["error_motion"] = LifeErrorMotionJson(*report.life_error_motion);
     j["life"] = std::move(life);
   }
   if (report.error_motion_problem) j["error_motion_problem"] = *report.error_motion_problem;

@@ -1,11 +1,12 @@
 // What a campaign's results file says, for a designer: the distribution of every output
-// with confidence intervals, capability and yield against the spec, how the estimates
-// converged and how many samples a stated precision needs, which tolerances and harmonic
-// orders drive the variance (Sobol' indices from a Saltelli design, or a cheaper screening
-// for other designs), and the orbits of the worst and the median sample by D_trajectory
-// (centre path, enclosing circle, static equilibrium, sensor signal), replayed from their
-// stored design points. Where the file holds the life columns (docs/model.md §9), also how
-// much of the life's D_trajectory and runout one revolution misses, and the ISO 230-7
+// with confidence intervals, capability and yield against each spec limit and within all
+// of them at once, how the estimates converged and how many samples a stated precision
+// needs, which tolerances and harmonic orders drive the variance (Sobol' indices from a
+// Saltelli design, or a cheaper screening for other designs), and the orbits of the worst
+// and the median sample by D_trajectory (centre path, enclosing circle, static
+// equilibrium, sensor signal), replayed from their stored design points. Where the file
+// holds the life columns (docs/model.md §9), also how much of the life's D_trajectory and
+// runout one revolution misses, what the error motion over the life is, and the ISO 230-7
 // polar plot of the sample with the largest total error motion, replayed over several
 // revolutions (jobs/report/error_motion_plot.h). `ringtol report` writes it as one
 // self-contained HTML page (jobs/report/report_html.h) and as JSON (ReportJson).
@@ -187,7 +188,11 @@ struct CampaignReport {
   // schema < 3.
   std::vector<std::int64_t> settled_by;
   std::vector<OutputReport> outputs;             // kOutputNames order
-  std::string primary_output;                    // the spec'd output, else d_trajectory_mm
+  std::string primary_output;                    // the first spec'd output, else d_trajectory_mm
+  // The fraction within every spec limit at once, of the used ok samples, and of the used
+  // done samples with the failed ones counted as outside; none without a spec. Each
+  // limit's own is its output's (OutputReport).
+  std::optional<analysis::ProportionEstimate> within_every_limit, within_every_limit_counting_failures;
   std::vector<OutputSensitivity> sensitivities;  // one per output
   // Per output ranked by (ReplayedTrajectory::by), in kOutputNames order: the worst, then
   // the median (if another sample).
@@ -195,6 +200,7 @@ struct CampaignReport {
   std::optional<std::string> replay_problem;      // why trajectories are missing
   // Over the stage's life, where the file holds the life columns (none otherwise):
   std::vector<LifeGap> life_gaps;  // kLifeColumns order
+  std::optional<LifeErrorMotion> life_error_motion;  // the error motion columns' q50 and q99
   // The sample with the largest error_motion_total_mm among the used ok ones, replayed
   // over options.error_motion_revolutions; or why it is not (error_motion_problem). Both
   // empty for a file without the column.

@@ -10,10 +10,15 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "engine/units.h"
+#include "jobs/report/report_text.h"
+
 namespace ringtol::jobs {
 namespace {
 
 std::string Percent(double probability) { return fmt::format("{:g} %", 100.0 * probability); }
+
+constexpr double kMicrometresPerMillimetre = units::kMicrometresPerMetre / units::kMillimetresPerMetre;
 
 nlohmann::json Bound(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
@@ -25,6 +30,9 @@ constexpr int kLadderRungs = static_cast<int>(solvers::Rung::kAuto);
 std::string RungName(std::size_t rung) { return std::string(NameOf(solvers::kRungNames, static_cast<solvers::Rung>(rung))); }
 
 std::string ShowBound(double value) { return std::isfinite(value) ? fmt::format("{:.5g}", value) : "unbounded"; }
+
+// Where a continued line of the summary starts: under the values of the first.
+constexpr const char* kIndent = "                  ";
 
 double Median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
@@ -91,6 +99,64 @@ nlohmann::json LifeGapJson(const LifeGap& gap) {
           {"one_revolution_mm", {{"q50", gap.one_q50}, {"q99", gap.one_q99}}},
           {"life_mm", {{"q50", gap.life_q50}, {"q99", gap.life_q99}}},
           {"median_excess", Bound(gap.median_excess)}};
+}
+
+bool IsErrorMotionColumn(std::string_view name) { return ErrorMotionOf(name).has_value(); }
+
+std::optional<LifeErrorMotion> LifeErrorMotionOf(
+    const std::map<std::string, std::vector<double>, std::less<>>& ok_values) {
+  LifeErrorMotion motion;
+  bool any = false;
+  for (std::size_t k = 0; k < std::size(kErrorMotionValues); ++k) {
+    motion.q50[k] = motion.q99[k] = std::numeric_limits<double>::quiet_NaN();
+    const auto found = ok_values.find(ErrorMotionColumn(kErrorMotionValues[k]));
+    if (found == ok_values.end()) continue;
+    std::vector<double> values;
+    for (const double v : found->second) {
+      if (std::isfinite(v)) values.push_back(v);
+    }
+    if (values.empty()) continue;
+    std::sort(values.begin(), values.end());
+    motion.q50[k] = analysis::EstimateQuantile(values, 0.5).value;
+    motion.q99[k] = analysis::EstimateQuantile(values, 0.99).value;
+    if (kErrorMotionValues[k] == ErrorMotionValue::kTotal) {
+      motion.count = static_cast<std::int64_t>(values.size());
+      any = true;
+    }
+  }
+  if (!any) return std::nullopt;
+  return motion;
+}
+
+std::string LifeErrorMotionSentence(const LifeErrorMotion& motion) {
+  const auto list = [&](const std::array<double, 3>& mm, bool words) {
+    std::vector<std::string> parts;
+    for (std::size_t k = 0; k < mm.size(); ++k) {
+      if (!std::isfinite(mm[k])) continue;
+      parts.push_back(Micrometres(kMicrometresPerMillimetre * mm[k]) +
+                      (words ? " " + std::string(ErrorMotionWord(kErrorMotionValues[k])) : std::string()));
+    }
+    std::string text;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      text += (k == 0 ? "" : k + 1 == parts.size() ? " and " : ", ") + parts[k];
+    }
+    return text;
+  };
+  return fmt::format(
+      "Over the stage's life, the axis's radial error motion ({}) is at q99 {} (q50 {}). No one-revolution value "
+      "compares with it: the asynchronous part, what differs from one revolution to the next, needs several "
+      "revolutions, and one revolution's indicator reading (runout) holds the bore's form as well as the axis's "
+      "motion.",
+      ErrorMotionConditions(), list(motion.q99, true), list(motion.q50, false));
+}
+
+nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion) {
+  nlohmann::json j = {{"count", motion.count}, {"reading", ErrorMotionConditions()}};
+  for (std::size_t k = 0; k < std::size(kErrorMotionValues); ++k) {
+    j[std::string(ErrorMotionWord(kErrorMotionValues[k])) + "_mm"] = {{"q50", Bound(motion.q50[k])},
+                                                                      {"q99", Bound(motion.q99[k])}};
+  }
+  return j;
 }
 
 std::vector<std::int64_t> CountRungs(const CampaignReader& results, const std::vector<SampleStatus>& status,
@@ -169,7 +235,8 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
 
   std::vector<bool> within(status.size(), true);
   bool any_spec = false;
-  std::map<std::string, std::vector<double>, std::less<>> paired;  // kLifeColumns' ok values, in sample order
+  // kLifeColumns' and the error motion's ok values, in sample order.
+  std::map<std::string, std::vector<double>, std::less<>> paired;
   for (const char* name : kOutputNames) {
     if (!results.HasOutput(name) || !ShowsOutput(results.identity(), name)) continue;
     OutputSummary output;
@@ -182,14 +249,24 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     });
     std::vector<double> values;
     values.reserve(static_cast<std::size_t>(summary.ok));
+    std::int64_t within_limit = 0;
     for (std::size_t i = 0; i < all.size(); ++i) {
       if (!used[i] || status[i] != SampleStatus::kOk) continue;
       values.push_back(all[i]);
-      if (output.upper_spec_limit && !(all[i] <= *output.upper_spec_limit)) within[i] = false;
+      if (!output.upper_spec_limit) continue;
+      if (all[i] <= *output.upper_spec_limit) {
+        ++within_limit;
+      } else {
+        within[i] = false;
+      }
+    }
+    if (output.upper_spec_limit && summary.done > 0) {
+      summary.in_spec_by_limit.push_back(
+          {name, *output.upper_spec_limit, analysis::EstimateProportion(within_limit, summary.done, confidence)});
     }
     any_spec = any_spec || output.upper_spec_limit.has_value();
     output.count = static_cast<std::int64_t>(values.size());
-    if (IsLifeColumn(name)) paired[name] = values;  // before the sort: the pairs are by sample
+    if (IsLifeColumn(name) || IsErrorMotionColumn(name)) paired[name] = values;  // before the sort: pairs are by sample
     if (!values.empty()) {
       std::sort(values.begin(), values.end());
       double sum = 0.0;
@@ -208,6 +285,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     summary.outputs.push_back(std::move(output));
   }
   summary.life_gaps = LifeGaps(paired);
+  summary.life_error_motion = LifeErrorMotionOf(paired);
   if (any_spec && summary.done > 0) {
     std::int64_t good = 0;
     for (std::size_t i = 0; i < status.size(); ++i) {
@@ -234,6 +312,7 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
     fmt::print(out, "rungs             {} (of the {} samples a rung ran on)\n", RungShares(s.settled_by), ran);
   }
   for (const LifeGap& gap : s.life_gaps) fmt::print(out, "life              {}\n", LifeGapSentence(gap));
+  if (s.life_error_motion) fmt::print(out, "life              {}\n", LifeErrorMotionSentence(*s.life_error_motion));
   const int level = static_cast<int>(std::lround(100.0 * s.confidence));
   fmt::print(out, "\n{:<28} {:>10} {:>10}", "output", "mean", "std");
   for (const double p : kSummaryProbabilities) fmt::print(out, " {:>30}", fmt::format("q{} [{} % CI]", Percent(p), level));
@@ -248,12 +327,25 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
     fmt::print(out, " {:>10}\n", o.upper_spec_limit ? fmt::format("{:g}", *o.upper_spec_limit) : "-");
   }
   if (s.in_spec) {
-    fmt::print(out, "\nwithin spec       {:.4f} % [{:.4f}, {:.4f}] ({} of {} done samples; failures count as outside)\n",
-               100 * s.in_spec->value, 100 * s.in_spec->interval.lower, 100 * s.in_spec->interval.upper,
-               s.in_spec->successes, s.in_spec->trials);
+    // One line per limit, then, with more than one, every limit at once: each its yield
+    // over the done samples, failures counted as outside.
+    std::vector<std::pair<std::string, analysis::ProportionEstimate>> lines;
+    for (const LimitYield& limit : s.in_spec_by_limit) {
+      lines.emplace_back(fmt::format("{} <= {:g}", limit.output, limit.limit), limit.within);
+    }
+    const std::string joint = lines.size() == 1 ? lines.front().first : "every limit at once";
+    if (lines.size() != 1) lines.emplace_back(joint, *s.in_spec);
+    std::size_t width = 0;
+    for (const auto& line : lines) width = std::max(width, line.first.size());
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      const analysis::ProportionEstimate& p = lines[k].second;
+      fmt::print(out, "{}{:<{}}  {} ({} of {} done samples{})\n", k == 0 ? "\nwithin spec       " : kIndent,
+                 lines[k].first, width, YieldWithInterval(p), p.successes, p.trials,
+                 k + 1 == lines.size() ? "; failures count as outside" : "");
+    }
     if (s.in_spec_ok) {
-      fmt::print(out, "within spec, ok   {:.4f} % [{:.4f}, {:.4f}] (of the {} ok samples)\n", 100 * s.in_spec_ok->value,
-                 100 * s.in_spec_ok->interval.lower, 100 * s.in_spec_ok->interval.upper, s.in_spec_ok->trials);
+      fmt::print(out, "within spec, ok   {:<{}}  {} (of the {} ok samples)\n", joint, width,
+                 YieldWithInterval(*s.in_spec_ok), s.in_spec_ok->trials);
     }
   }
 }
@@ -290,9 +382,10 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
     outputs[o.name] = x;
   }
   j["outputs"] = outputs;
-  if (!s.life_gaps.empty()) {
+  if (!s.life_gaps.empty() || s.life_error_motion) {
     nlohmann::json life = nlohmann::json::object();
     for (const LifeGap& gap : s.life_gaps) life[gap.label] = LifeGapJson(gap);
+    if (s.life_error_motion) life["error_motion"] = LifeErrorMotionJson(*s.life_error_motion);
     j["life"] = std::move(life);
   }
   auto proportion = [](const std::optional<analysis::ProportionEstimate>& p) {
@@ -302,6 +395,14 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
   };
   j["in_spec"] = proportion(s.in_spec);
   j["in_spec_ok"] = proportion(s.in_spec_ok);
+  nlohmann::json by_limit = nlohmann::json::array();
+  for (const LimitYield& limit : s.in_spec_by_limit) {
+    nlohmann::json entry = proportion(limit.within);
+    entry["output"] = limit.output;
+    entry["limit"] = limit.limit;
+    by_limit.push_back(std::move(entry));
+  }
+  j["in_spec_by_limit"] = std::move(by_limit);
   return j;
 }
 

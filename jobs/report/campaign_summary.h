@@ -9,13 +9,17 @@
 //
 // Within spec: a sample whose status is ok and every output with a limit is <= it. A
 // failed sample counts as outside (the assembly could not be simulated, e.g. it rattles):
-// `in_spec` is over every done sample; `in_spec_ok` only over the ok ones.
+// `in_spec` is over every done sample; `in_spec_ok` only over the ok ones. Each limit's
+// own yield is given too (`in_spec_by_limit`, over every done sample), so that a spec of
+// several limits shows which one costs the yield.
 //
 // Over the stage's life (docs/model.md §9): where a file holds an output's life column
 // beside its one-revolution one, how much of the life's value one revolution misses
-// (LifeGap), stated next to the headline. Older files have no life columns and say nothing.
+// (LifeGap), stated next to the headline; and what the axis's error motion over the life
+// is (LifeErrorMotion). Older files have no life columns and say nothing.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -77,6 +81,38 @@ std::string LifeGapSentence(const LifeGap& gap);
 // {"count", "one_revolution_mm": {"q50", "q99"}, "life_mm": {...}, "median_excess"}.
 nlohmann::json LifeGapJson(const LifeGap& gap);
 
+// The axis's radial error motion over the stage's life, ISO 230-7's three values read from
+// their columns over the same ok samples. There is no one-revolution value to set beside
+// them, as LifeGap does for D_trajectory and runout: what one revolution shows is not an
+// error motion at all, since its asynchronous part needs several revolutions, the
+// synchronous one their average, and what a single revolution's indicator reads (runout)
+// holds the bore's own form as well as the axis's motion.
+struct LifeErrorMotion {
+  std::int64_t count = 0;  // ok samples with a finite total
+  // [mm] q50 and q99 of each value, in kErrorMotionValues order (jobs/report/report_text.h);
+  // NaN for a column the file lacks.
+  std::array<double, 3> q50{}, q99{};
+};
+
+// Whether `name` is an error motion column (ErrorMotionOf, jobs/report/report_text.h).
+bool IsErrorMotionColumn(std::string_view name);
+// The error motion over the life of the columns `ok_values` holds (by output name, the
+// same ok samples in each); none without a finite total.
+std::optional<LifeErrorMotion> LifeErrorMotionOf(
+    const std::map<std::string, std::vector<double>, std::less<>>& ok_values);
+// "Over the stage's life, the axis's radial error motion (ISO 230-7, ...) is at q99 16.86 µm
+// total, ... (q50 ...); no one-revolution value compares: ...". Plain text.
+std::string LifeErrorMotionSentence(const LifeErrorMotion& motion);
+// {"count", "reading", "total_mm": {"q50", "q99"}, "synchronous_mm": ..., "asynchronous_mm": ...}.
+nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion);
+
+// One spec limit's own yield.
+struct LimitYield {
+  std::string output;  // kOutputNames
+  double limit = 0.0;  // upper, in the output's unit
+  analysis::ProportionEstimate within;
+};
+
 struct CampaignSummary {
   std::int64_t samples = 0;  // of the campaign
   std::int64_t used = 0;     // independent draws among them (see above)
@@ -86,6 +122,7 @@ struct CampaignSummary {
   std::vector<OutputSummary> outputs;
   std::optional<analysis::ProportionEstimate> in_spec;     // over done samples; none without a spec
   std::optional<analysis::ProportionEstimate> in_spec_ok;  // over ok samples
+  std::vector<LimitYield> in_spec_by_limit;                // over done samples, kOutputNames order
   double confidence = 0.95;
   // Samples each rung settled (solvers::Rung numbers 0..2: linear, quasistatic, dynamic),
   // among the used, done samples a rung ran on; empty for files of schema < 3.
@@ -93,6 +130,7 @@ struct CampaignSummary {
   // What an older results file's columns are, in its schema's terms; empty for the current.
   std::string schema_note;
   std::vector<LifeGap> life_gaps;  // kLifeColumns order, those the file holds both columns of
+  std::optional<LifeErrorMotion> life_error_motion;  // none for a file without the columns
 };
 
 inline constexpr double kSummaryProbabilities[] = {0.5, 0.9, 0.99, 0.999};

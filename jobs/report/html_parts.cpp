@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "jobs/report/report_text.h"
 #include "jobs/report/svg_chart.h"
 
 namespace ringtol::jobs::html {
@@ -13,6 +14,9 @@ namespace ringtol::jobs::html {
 using svg::EscapeXml;
 
 namespace {
+
+// Sensitivity indices and regression shares: their bootstrap half-widths are hundredths.
+constexpr int kIndexDecimals = 3;
 
 // The page's own styles: system fonts, tables and figures that flow, and a print style
 // sheet that keeps every chart, table and answer box whole on paper.
@@ -36,6 +40,7 @@ figure svg { width: 100%; height: auto; }
 figcaption { font-size: 0.85rem; color: #333; }
 .highlight { font-weight: bold; }
 table.front { font-size: 0.8rem; }
+table.limits td + td { white-space: nowrap; }
 .note { font-size: 0.85rem; color: #333; }
 @media print {
   body { max-width: none; margin: 0; font-size: 10pt; }
@@ -58,11 +63,14 @@ std::string PercentInterval(const analysis::Interval& i) {
 }
 
 std::string Quantity(std::string_view name) {
+  if (const std::optional<ErrorMotionValue> value = ErrorMotionOf(name)) return ErrorMotionName(*value);
   const std::string_view quantity = name.substr(0, name.rfind('_'));
-  std::string text = quantity == "d_trajectory"   ? "D_trajectory"
-                     : quantity == "dist_init"    ? "Dist_init"
-                     : quantity == "runout"       ? "runout (max - min)"
-                                                  : std::string(quantity);
+  std::string text = quantity == "d_trajectory"        ? "D_trajectory"
+                     : quantity == "dist_init"         ? "Dist_init"
+                     : quantity == "runout"            ? "runout (max - min)"
+                     : quantity == "life_d_trajectory" ? "D_trajectory over the life"
+                     : quantity == "life_runout"       ? "runout (max - min) over the life"
+                                                       : std::string(quantity);
   if (text.front() != 'D') std::replace(text.begin(), text.end(), '_', ' ');
   return text;
 }
@@ -161,25 +169,26 @@ void DistributionTable(std::string& html, const OutputReport& out, double confid
   if (out.upper_spec_limit) {
     Row(html, {"upper spec limit", Num(*out.upper_spec_limit), ""});
     const analysis::Capability& c = d.capability;
-    Row(html, {"Cpu = Cpk (normal theory)", c.cpu ? Num(*c.cpu) : "-", ""});
+    Row(html, {"Cpu = Cpk (normal theory)", c.cpu ? CapabilityIndex(*c.cpu) : "-", ""});
     Row(html,
         {"Cpk (percentile method, ISO 22514-2)",
-         c.cpk_percentile ? Num(*c.cpk_percentile) + (c.percentile_extrapolated ? " (too few samples)" : "") : "-",
+         c.cpk_percentile ? CapabilityIndex(*c.cpk_percentile) + (c.percentile_extrapolated ? " (too few samples)" : "")
+                          : "-",
          ""});
     Row(html, {"Cp", "needs two limits", ""});
     if (d.within_spec) {
-      Row(html,
-          {"within spec (failures excluded)", Percent(d.within_spec->value), PercentInterval(d.within_spec->interval)});
+      Row(html, {"within spec (failures excluded)", YieldWithInterval(*d.within_spec), ""});
     }
     if (out.within_spec_counting_failures) {
-      Row(html, {"within spec (failures counted as out)", Percent(out.within_spec_counting_failures->value),
-                 PercentInterval(out.within_spec_counting_failures->interval)});
+      Row(html, {"within spec (failures counted as out)", YieldWithInterval(*out.within_spec_counting_failures), ""});
     }
   }
   html += "</table>\n";
 }
 
-std::string Index(const analysis::SobolIndex& index) { return fmt::format("{:.3f} ± {:.3f}", index.value, index.conf); }
+std::string Index(const analysis::SobolIndex& index) {
+  return fmt::format("{} ± {}", Decimals(index.value, kIndexDecimals), Decimals(index.conf, kIndexDecimals));
+}
 
 // Sensitivity bars of one level: S1 (and ST) with their intervals.
 std::string SensitivitySvg(const SensitivityLevel& level, const std::string& title, bool sobol,
@@ -238,9 +247,10 @@ void SensitivityTable(std::string& html, const SensitivityLevel& level, bool sob
       Row(html, {EscapeXml(SourceLabel(e.name)), Index(e.first_order), Interval(e.first_order.interval),
                  Index(*e.total_order), Interval(e.total_order->interval)});
     } else if (group) {
-      Row(html, {EscapeXml(SourceLabel(e.name)), fmt::format("{:.3f}", e.src), fmt::format("{:.3f}", e.srrc)});
+      Row(html, {EscapeXml(SourceLabel(e.name)), Decimals(e.src, kIndexDecimals), Decimals(e.srrc, kIndexDecimals)});
     } else {
-      Row(html, {EscapeXml(e.name), Index(e.first_order), fmt::format("{:.3f}", e.src), fmt::format("{:.3f}", e.srrc)});
+      Row(html, {EscapeXml(e.name), Index(e.first_order), Decimals(e.src, kIndexDecimals),
+                 Decimals(e.srrc, kIndexDecimals)});
     }
   }
   html += "</table>\n";
@@ -257,9 +267,10 @@ void ContributorsBySource(std::string& html, const SensitivityLevel& by_source, 
     html += fmt::format("<p class=\"answer\">Tighten <b>{}</b> first: it carries {} of the variance{}.</p>\n",
                         EscapeXml(SourceLabel(top.name)),
                         top.total_order ? fmt::format("ST = {}", Index(*top.total_order))
-                                        : fmt::format("a share of {:.3f} in the linear fit (sum of SRC&#178;) "
-                                                      "and {:.3f} in the rank fit (sum of SRRC&#178;)",
-                                                      top.src, top.srrc),
+                                        : fmt::format("a share of {} in the linear fit (sum of SRC&#178;) "
+                                                      "and {} in the rank fit (sum of SRRC&#178;)",
+                                                      Decimals(top.src, kIndexDecimals),
+                                                      Decimals(top.srrc, kIndexDecimals)),
                         sobol && by_source.aggregation == Aggregation::kBounds ? " (a sum over its parts)" : "");
   }
   std::vector<std::string> categories;

@@ -30,8 +30,9 @@ std::string Num(double value);
 std::string Percent(double fraction);  // 0.25 -> "25 %"
 std::string Interval(const analysis::Interval& i);
 std::string PercentInterval(const analysis::Interval& i);
-// An output's column name in words: "d_trajectory_mm" -> "D_trajectory"; its unit, the
-// key's suffix: "mm"; and both as a label: "D_trajectory [mm]".
+// An output's column name in words: "d_trajectory_mm" -> "D_trajectory",
+// "error_motion_total_mm" -> "total error motion" (ErrorMotionName); its unit, the key's
+// suffix: "mm"; and both as a label: "D_trajectory [mm]".
 std::string Quantity(std::string_view name);
 std::string Unit(std::string_view name);
 std::string Label(std::string_view name);

@@ -9,6 +9,7 @@
 #include "engine/units.h"
 #include "jobs/report/campaign_summary.h"
 #include "jobs/report/html_parts.h"
+#include "jobs/report/report_text.h"
 #include "jobs/report/svg_chart.h"
 
 namespace ringtol::jobs {
@@ -283,25 +284,61 @@ void PageHead(std::string& html, const CampaignReport& report) {
   if (!report.schema_note.empty()) html += fmt::format("<p class=\"meta\">Note: {}</p>\n", EscapeXml(report.schema_note));
 }
 
-// The answer first: the spec'd output's 99 % quantile and yield, and how many samples say so.
+// With a spec, each limit with its 99 % quantile, its own yield and its percentile Cpk, then
+// the yield within every limit at once.
+void SpecAnswer(std::string& html, const CampaignReport& report) {
+  const double confidence = report.options.confidence;
+  std::vector<const OutputReport*> limited;
+  for (const OutputReport& out : report.outputs) {
+    if (out.upper_spec_limit && out.distribution && out.distribution->within_spec) limited.push_back(&out);
+  }
+  if (limited.empty()) return;
+  html += fmt::format("<p>Against the spec, of the {} ok assemblies:</p>\n<table class=\"limits\">\n", report.ok);
+  Row(html,
+      {"limit", fmt::format("99 % of assemblies at most [{:g} % interval]", 100 * confidence),
+       fmt::format("within the limit [{:g} % interval]", 100 * confidence), "Cpk (percentile)"},
+      true);
+  bool error_motion = false;
+  for (const OutputReport* out : limited) {
+    const analysis::DistributionSummary& d = *out->distribution;
+    std::string q99 = "-";
+    for (const analysis::QuantileEstimate& q : d.quantiles) {
+      if (q.probability == kReportQuantile) q99 = Num(q.value) + " " + Interval(q.interval);
+    }
+    Row(html, {fmt::format("{} &#8804; {}", EscapeXml(Label(out->name)), Num(*out->upper_spec_limit)), q99,
+               "<b>" + YieldWithInterval(*d.within_spec) + "</b>",
+               d.capability.cpk_percentile ? CapabilityIndex(*d.capability.cpk_percentile) : "-"});
+    error_motion = error_motion || ErrorMotionOf(out->name).has_value();
+  }
+  if (limited.size() > 1 && report.within_every_limit) {
+    Row(html, {"every limit at once", "", "<b>" + YieldWithInterval(*report.within_every_limit) + "</b>", ""});
+  }
+  html += "</table>\n";
+  if (report.done > report.ok && report.within_every_limit_counting_failures) {
+    html += fmt::format("<p>Counting the {} failed samples as outside, {}: <b>{}</b>.</p>\n", report.done - report.ok,
+                        limited.size() > 1 ? "every limit at once" : "within the limit",
+                        YieldWithInterval(*report.within_every_limit_counting_failures));
+  }
+  if (error_motion) {
+    html += fmt::format("<p class=\"note\">Error motion: {}.</p>\n", EscapeXml(ErrorMotionConditions()));
+  }
+}
+
+// The answer first: what 99 % of the assemblies reach, or, with a spec, every limit with
+// its own yield and the yield within all of them; how many samples say so.
 void AnswerSection(std::string& html, const CampaignReport& report, const OutputReport* primary) {
   const double confidence = report.options.confidence;
   html += "<div class=\"answer\" id=\"answer\">\n";
-  if (primary != nullptr && primary->distribution) {
-    const analysis::DistributionSummary& d = *primary->distribution;
-    for (const analysis::QuantileEstimate& q : d.quantiles) {
+  if (primary == nullptr || !primary->distribution) {
+    html += "<p>No sample finished ok: there is no distribution to show.</p>\n";
+  } else if (!primary->upper_spec_limit) {
+    for (const analysis::QuantileEstimate& q : primary->distribution->quantiles) {
       if (q.probability != kReportQuantile) continue;
       html += fmt::format("<p>99 % of assemblies have {} &#8804; <b>{}</b> ({:g} % interval {}).</p>\n",
                           EscapeXml(Label(primary->name)), Num(q.value), 100 * confidence, Interval(q.interval));
     }
-    if (d.within_spec && primary->upper_spec_limit) {
-      html += fmt::format(
-          "<p>Within the spec {} &#8804; {}: <b>{}</b> {}{}.</p>\n", EscapeXml(Label(primary->name)),
-          Num(*primary->upper_spec_limit), Percent(d.within_spec->value), PercentInterval(d.within_spec->interval),
-          d.capability.cpk_percentile ? fmt::format(", Cpk (percentile) {}", Num(*d.capability.cpk_percentile)) : "");
-    }
   } else {
-    html += "<p>No sample finished ok: there is no distribution to show.</p>\n";
+    SpecAnswer(html, report);
   }
   html += fmt::format("<p>{} of {} samples used are ok; {} failed; {} pending.</p>\n", report.ok, report.used,
                       report.done - report.ok, report.pending);
@@ -310,6 +347,9 @@ void AnswerSection(std::string& html, const CampaignReport& report, const Output
                         EscapeXml(RungShares(report.settled_by)), ran);
   }
   for (const LifeGap& gap : report.life_gaps) html += fmt::format("<p>{}</p>\n", EscapeXml(LifeGapSentence(gap)));
+  if (report.life_error_motion) {
+    html += fmt::format("<p>{}</p>\n", EscapeXml(LifeErrorMotionSentence(*report.life_error_motion)));
+  }
   html += "</div>\n";
 }
 
@@ -379,6 +419,15 @@ void ConvergenceSection(std::string& html, const CampaignReport& report, const O
       100 * confidence, primary.count);
 }
 
+constexpr double kUmPerMm = units::kMicrometresPerMetre / units::kMillimetresPerMetre;
+
+// How far a replay's D_trajectory may lie from the stored one: picometres for most
+// solvers, which no one reads; the page states at least the nanometre it resolves.
+std::string ReplayAllowance(const ReplayedTrajectory& t) {
+  constexpr double kFinestStatedUm = 1e-3;
+  return Micrometres(std::max(kUmPerMm * t.tolerance_mm, kFinestStatedUm));
+}
+
 // The orbits of the worst and the median sample, or why there are none.
 void OrbitSection(std::string& html, const CampaignReport& report) {
   html += "<h2 id=\"orbits\">Orbits of the worst and the median assembly</h2>\n";
@@ -404,6 +453,18 @@ void OrbitSection(std::string& html, const CampaignReport& report) {
       "from that centre. Right: the sensor's reading over the same revolution, above its minimum; the total "
       "indicator reading is TIR = max &#8722; min.</p>\n",
       EscapeXml(by_words), report.identity.spec.empty() ? "" : " (what the spec constrains)", report.ok);
+  // Said where the TIR is read, before the error motion's own section: an indicator's
+  // reading and the error motion are different quantities. (A file without the error
+  // motion columns has nothing to set beside it.)
+  const bool error_motion = report.error_motion || report.error_motion_problem;
+  std::string tir_is_not_error_motion =
+      "The TIR is what an indicator reads over one revolution: the bore's own form plus the axis's motion.";
+  if (error_motion) {
+    tir_is_not_error_motion += fmt::format(
+        " An error-motion spec bounds the axis alone: its error motion ({}), which the polar plot below draws for "
+        "the worst assembly, not the TIR.",
+        ErrorMotionConditions());
+  }
   for (const ReplayedTrajectory& t : report.trajectories) {
     const std::string quantity = Quantity(t.by);
     const std::string unit = Unit(t.by);
@@ -415,8 +476,10 @@ void OrbitSection(std::string& html, const CampaignReport& report) {
     if (!t.reproduced) {
       html += fmt::format("<h3>{}: sample {}</h3>\n", which, t.index);
       const std::string replayed =
-          t.status == "ok" ? fmt::format("D_trajectory {} mm against {} mm stored (tolerance {} mm)",
-                                         Num(t.d_trajectory_mm), Num(t.stored_d_trajectory_mm), Num(t.tolerance_mm))
+          t.status == "ok" ? fmt::format("D_trajectory {} mm against {} mm stored, {} apart; allowed: {}",
+                                         Num(t.d_trajectory_mm), Num(t.stored_d_trajectory_mm),
+                                         Micrometres(kUmPerMm * std::abs(t.d_trajectory_mm - t.stored_d_trajectory_mm)),
+                                         ReplayAllowance(t))
                            : fmt::format("status {}{}", t.status, t.message.empty() ? "" : ": " + t.message);
       html += fmt::format(
           "<p class=\"warn\">Sample {} does not replay to its stored result ({}): this ringtol computes it "
@@ -429,13 +492,15 @@ void OrbitSection(std::string& html, const CampaignReport& report) {
                         Num(t.tir_um * units::kMetresPerMicrometre * units::kMillimetresPerMetre));
     html += "<div class=\"charts\">\n";
     html += Figure(OrbitSvg(t), "Dotted: the smallest circle enclosing the path; ring: the static equilibrium.");
-    html += Figure(SensorSvg(t), fmt::format("Ringed: the reading's maximum (at {:.1f}°) and minimum (at {:.1f}°).",
-                                             t.max_angle_deg, t.min_angle_deg));
+    html += Figure(SensorSvg(t), fmt::format("Ringed: the reading's maximum (at {:.1f}°) and minimum (at {:.1f}°). {}",
+                                             t.max_angle_deg, t.min_angle_deg, tir_is_not_error_motion));
     html += "</div>\n";
     html += fmt::format(
-        "<p class=\"note\">Replayed D_trajectory {} mm, stored {} mm (agreement required: {} mm); {} angles "
+        "<p class=\"note\">Replayed, D_trajectory is {} mm against {} mm stored, {} apart (allowed: {}); {} angles "
         "per revolution.</p>\n",
-        Num(t.d_trajectory_mm), Num(t.stored_d_trajectory_mm), Num(t.tolerance_mm), t.steps);
+        Num(t.d_trajectory_mm), Num(t.stored_d_trajectory_mm),
+        EscapeXml(Micrometres(kUmPerMm * std::abs(t.d_trajectory_mm - t.stored_d_trajectory_mm))),
+        EscapeXml(ReplayAllowance(t)), t.steps);
   }
 }
 
@@ -468,31 +533,33 @@ void ErrorMotionSection(std::string& html, const CampaignReport& report) {
   const ErrorMotionPlot& p = *report.error_motion;
   if (p.status != "ok") {
     html += fmt::format(
-        "<p class=\"warn\">Sample {} (the largest total error motion, {} mm stored) does not replay over {} "
+        "<p class=\"warn\">Sample {} (the largest total error motion, {} stored) does not replay over {} "
         "revolutions (status {}{}), so its polar plot is not drawn.</p>\n",
-        p.index, Num(p.stored_total_mm), p.revolutions, EscapeXml(p.status),
+        p.index, EscapeXml(Micrometres(kUmPerMm * p.stored_total_mm)), p.revolutions, EscapeXml(p.status),
         p.message.empty() ? "" : ": " + EscapeXml(p.message));
     return;
   }
   html += fmt::format(
-      "<p>Sample {} has the largest total error motion stored, {} mm over the stage's life, of the {} ok "
+      "<p>Sample {} has the largest total error motion stored, {} over the stage's life, of the {} ok "
       "independent samples. It is replayed from its stored design point with the campaign's solver settings over "
       "{} successive revolutions, each with the rollers turned on by the revolutions before it, and the axis motion "
       "(the centre's component along the sensor's ray) is read as ISO 230-7 reads a radial error motion in a fixed "
-      "sensitive direction: the once-per-revolution part of the synchronous average ({} µm), which a fixed "
+      "sensitive direction: the once-per-revolution part of the synchronous average (here {}), which a fixed "
       "direction cannot tell from the artefact's centring, is removed, and the motion is drawn magnified about a "
       "base circle, its centre the plot's least-squares centre. So few revolutions need not reach every phase of the "
       "rollers, so the values below may fall short of the stored one.</p>\n",
-      p.index, Num(p.stored_total_mm), report.ok, p.revolutions, Num(p.fundamental_um));
+      p.index, EscapeXml(Micrometres(kUmPerMm * p.stored_total_mm)), report.ok, p.revolutions,
+      EscapeXml(Micrometres(p.fundamental_um)));
   const double division = svg::PolarDivision(p.total_inner_um, p.total_outer_um);
   html += "<div class=\"charts\">\n";
   html += Figure(
       ErrorMotionSvg(p, division),
-      fmt::format("Total error motion {} µm (the solid circles just enclose every revolution), synchronous {} µm "
-                  "(the dashed circles just enclose the average over the revolutions), asynchronous {} µm (the "
-                  "widest the shaded band is along one radius); {} revolutions of {} angles. Scale: {:g} µm per "
-                  "division about the base circle; ring angle ψ from +x counter-clockwise.",
-                  Num(p.total_um), Num(p.synchronous_um), Num(p.asynchronous_um), p.revolutions, p.steps, division),
+      fmt::format("Total error motion {} (the solid circles just enclose every revolution), synchronous {} (the "
+                  "dashed circles just enclose the average over the revolutions), asynchronous {} (the widest the "
+                  "shaded band is along one radius); {}, {} angles a revolution. Scale: {:g} µm per division about "
+                  "the base circle; ring angle ψ from +x counter-clockwise.",
+                  Micrometres(p.total_um), Micrometres(p.synchronous_um), Micrometres(p.asynchronous_um),
+                  ErrorMotionConditions({.revolutions = p.revolutions}), p.steps, division),
       FigureWidth::kAlone);
   html += "</div>\n";
 }
@@ -515,7 +582,8 @@ void OutputsSection(std::string& html, const CampaignReport& report) {
     Row(html,
         {EscapeXml(Label(out.name)), fmt::format("{}", d.count), Num(d.mean), Num(d.standard_deviation),
          q.size() > 0 ? q[0] : "-", q.size() > 1 ? q[1] : "-", q99, q.size() > 3 ? q[3] : "-",
-         out.upper_spec_limit ? Num(*out.upper_spec_limit) : "-", d.within_spec ? Percent(d.within_spec->value) : "-"});
+         out.upper_spec_limit ? Num(*out.upper_spec_limit) : "-",
+         d.within_spec ? YieldPercent(d.within_spec->value, d.within_spec->trials) : "-"});
   }
   html += "</table>\n";
   html += "<div class=\"charts\">\n";
@@ -537,8 +605,9 @@ void ContributorsSection(std::string& html, const CampaignReport& report) {
     std::string top;
     for (std::size_t k = 0; k < std::min<std::size_t>(3, level->entries.size()); ++k) {
       const SensitivityEntry& e = level->entries[k];
-      top += fmt::format("{}{} ({} {:.2f})", k == 0 ? "" : "; ", EscapeXml(SourceLabel(e.name)),
-                         e.total_order ? "ST" : (level->level == "input" ? "S1" : "sum of SRC&#178;"), e.ranking);
+      top += fmt::format("{}{} ({} {})", k == 0 ? "" : "; ", EscapeXml(SourceLabel(e.name)),
+                         e.total_order ? "ST" : (level->level == "input" ? "S1" : "sum of SRC&#178;"),
+                         Decimals(e.ranking, 2));
     }
     Row(html, {EscapeXml(Label(s.output)), EscapeXml(s.method), top});
   }

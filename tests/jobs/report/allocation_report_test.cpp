@@ -19,6 +19,7 @@
 
 #include "jobs/report/allocation_report.h"
 #include "jobs/report/allocation_summary.h"
+#include "jobs/report/report_text.h"
 #include "tests/support/chromium.h"
 #include "tests/support/text_files.h"
 
@@ -321,7 +322,8 @@ TEST(AllocationReport, JsonHoldsTheNumbersThePageShows) {
   for (const nlohmann::json& candidate : json["front"]) {
     const std::string row = CandidateRow(front, candidate["index"].get<std::int64_t>());
     EXPECT_THAT(row, HasSubstr(fmt::format("<td>{:.4g}</td>", candidate["relative_cost"].get<double>())));
-    EXPECT_THAT(row, HasSubstr(fmt::format("{:.4g} %", 100 * candidate["yield"]["value"].get<double>())));
+    EXPECT_THAT(row, HasSubstr(YieldPercent(candidate["yield"]["value"].get<double>(),
+                                            candidate["yield"]["trials"].get<std::int64_t>())));
     EXPECT_THAT(row, HasSubstr(fmt::format("{:.4g} [{:.4g}, {:.4g}]", candidate["constraints"][0]["estimate"].get<double>(),
                                            candidate["constraints"][0]["interval"][0].get<double>(),
                                            candidate["constraints"][0]["interval"][1].get<double>())));

@@ -15,8 +15,9 @@
 #include <fmt/format.h>
 
 #include "engine/error_motion.h"
-#include "jobs/report/html_parts.h"
 #include "jobs/report/report_html.h"
+#include "jobs/report/report_text.h"
+#include "jobs/report/svg_chart.h"
 #include "solvers/life.h"
 #include "solvers/linear.h"
 #include "tests/support/paper_scene.h"
@@ -26,6 +27,7 @@ namespace {
 
 using ::testing::HasSubstr;
 using ::testing::Not;
+using svg::EscapeXml;
 
 // The values are differences of micrometre-sized numbers computed in two orders (less the
 // mean here, not in the engine): round-off of ~1e-16 of the axis motion's ~100 um offset,
@@ -134,13 +136,21 @@ TEST(ErrorMotionPlot, TheReportPageDrawsItOnlyWhereTheReportHasIt) {
   EXPECT_THAT(page, HasSubstr("class=\"band\""));
   EXPECT_THAT(page, HasSubstr("class=\"base\""));
   EXPECT_THAT(page, HasSubstr("µm per division"));
-  EXPECT_THAT(page, HasSubstr(fmt::format("Total error motion {} µm", html::Num(plot.total_um))));
-  EXPECT_THAT(page, HasSubstr(fmt::format("synchronous {} µm", html::Num(plot.synchronous_um))));
-  EXPECT_THAT(page, HasSubstr(fmt::format("asynchronous {} µm", html::Num(plot.asynchronous_um))));
+  EXPECT_THAT(page, HasSubstr("Total error motion " + Micrometres(plot.total_um)));
+  EXPECT_THAT(page, HasSubstr("synchronous " + Micrometres(plot.synchronous_um)));
+  EXPECT_THAT(page, HasSubstr("asynchronous " + Micrometres(plot.asynchronous_um)));
+  // Beside them, how they were read: over the replayed revolutions, not the life.
+  EXPECT_THAT(page, HasSubstr(EscapeXml(ErrorMotionConditions({.revolutions = kRevolutions}))));
   const nlohmann::json json = ReportJson(report);
   EXPECT_EQ(json["error_motion"]["index"], 5);
   EXPECT_EQ(json["error_motion"]["total_um"], plot.total_um);
   EXPECT_EQ(json["error_motion"]["angle_deg"].size(), plot.angle_deg.size());
+
+  // A fundamental of a third of a nanometre carries nothing: it reads as below 1 nm.
+  report.error_motion->fundamental_um = 0.0003119;
+  const std::string fundamental = ReportHtml(report);
+  EXPECT_THAT(fundamental, HasSubstr("synchronous average (here &lt; 0.001 µm)"));
+  EXPECT_THAT(fundamental, Not(HasSubstr("0.0003119")));
 
   report.error_motion->status = "lift_off";
   report.error_motion->message = "revolution 3 of 8: the ring lifts off";

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -72,6 +73,20 @@ class ReportTest : public ::testing::Test {
     }
     store.Commit();
     return results;
+  }
+
+  // The report without replays or bootstrap intervals: what the answer and the JSON say.
+  static CampaignReport QuickReport(const std::filesystem::path& results) {
+    ReportOptions options;
+    options.bootstrap_resamples = 0;
+    options.replay = false;
+    return BuildReport(results, options);
+  }
+
+  // The page's answer block.
+  static std::string AnswerOf(const std::string& html) {
+    const std::size_t open = html.find("id=\"answer\"");
+    return open == std::string::npos ? "" : html.substr(open, html.find("</div>", open) - open);
   }
 
   static std::size_t Column(std::string_view name) {
@@ -331,6 +346,171 @@ TEST_F(ReportTest, OrbitsAreTheWorstAndMedianByEachOutputTheSpecConstrains) {
     EXPECT_THAT(html, HasSubstr(fmt::format("Worst runout (max - min): sample {},", worst.index)));
     EXPECT_THAT(html, HasSubstr("(what the spec constrains)"));
     EXPECT_EQ(ReportJson(report)["trajectories"][both ? 2 : 0]["by"], "runout_mm");
+  }
+}
+
+// A yield as the page and the terminal write it: to the resolution its sample count gives,
+// one decimal for the 34 or 40 samples here (1/34 is 2.9 points).
+std::string YieldText(std::int64_t successes, std::int64_t trials) {
+  return fmt::format("{:.1f} %", 100.0 * static_cast<double>(successes) / static_cast<double>(trials));
+}
+
+// Two limits: the answer and the terminal name both, each with its own yield and interval,
+// then the yield within both at once. The limits are the medians of a first run, so each
+// holds for about half the samples and both together for fewer.
+TEST_F(ReportTest, EveryLimitIsNamedWithItsOwnYieldAndThenTheJointOne) {
+  RunWithFailures("first.h5");
+  std::vector<double> trajectory, runout;
+  for (const SampleRecord& r : ok_records_) {
+    trajectory.push_back(r.outputs[Column("d_trajectory_mm")]);
+    runout.push_back(r.outputs[Column("runout_mm")]);
+  }
+  const auto median = [](std::vector<double> values) {
+    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+    return std::stod(fmt::format("{:.3g}", values[values.size() / 2]));
+  };
+  const double trajectory_limit = median(trajectory), runout_limit = median(runout);
+  std::string text = kCampaign;
+  const std::string spec = "d_trajectory_mm = 0.25\n";
+  text.replace(text.find(spec), spec.size(),
+               fmt::format("d_trajectory_mm = {}\nrunout_mm = {}\n", trajectory_limit, runout_limit));
+  std::ofstream(dir_ / "campaign.toml") << text;
+  const std::filesystem::path results = RunWithFailures("two_limits.h5");
+  std::int64_t within_trajectory = 0, within_runout = 0, within_both = 0;
+  for (const SampleRecord& r : ok_records_) {
+    const bool t = r.outputs[Column("d_trajectory_mm")] <= trajectory_limit;
+    const bool u = r.outputs[Column("runout_mm")] <= runout_limit;
+    within_trajectory += t;
+    within_runout += u;
+    within_both += t && u;
+  }
+  const auto ok = static_cast<std::int64_t>(ok_records_.size());
+  const std::int64_t done = 40;
+  ASSERT_LT(within_both, within_trajectory);  // the joint yield is its own number
+  ASSERT_GT(within_both, 0);
+
+  const CampaignReport report = QuickReport(results);
+  const std::string answer = AnswerOf(ReportHtml(report));
+  EXPECT_THAT(answer, HasSubstr(fmt::format("D_trajectory [mm] &#8804; {:g}", trajectory_limit)));
+  EXPECT_THAT(answer, HasSubstr(fmt::format("runout (max - min) [mm] &#8804; {:g}", runout_limit)));
+  EXPECT_THAT(answer, HasSubstr(YieldText(within_trajectory, ok)));
+  EXPECT_THAT(answer, HasSubstr(YieldText(within_runout, ok)));
+  EXPECT_THAT(answer, HasSubstr("every limit at once"));
+  EXPECT_THAT(answer, HasSubstr(YieldText(within_both, ok)));
+  EXPECT_THAT(answer, HasSubstr(YieldText(within_both, done)));  // the failed samples counted as outside
+  const nlohmann::json json = ReportJson(report);
+  ASSERT_TRUE(json.contains("within_every_limit"));
+  EXPECT_EQ(json["within_every_limit"]["successes"], within_both);
+  EXPECT_EQ(json["within_every_limit"]["trials"], ok);
+  EXPECT_EQ(json["within_every_limit_counting_failures"]["trials"], done);
+  EXPECT_EQ(json["outputs"]["runout_mm"]["yield"]["successes"], within_runout);
+
+  // The terminal: each limit over the done samples (failures count as outside), then both.
+  const CampaignSummary summary = Summarise(CampaignReader(results), {});
+  std::ostringstream terminal;
+  PrintSummary(terminal, summary);
+  const std::string printed = terminal.str();
+  const std::string within = printed.substr(printed.find("within spec"));
+  const std::size_t trajectory_line = within.find(fmt::format("d_trajectory_mm <= {:g}", trajectory_limit));
+  const std::size_t runout_line = within.find(fmt::format("runout_mm <= {:g}", runout_limit));
+  const std::size_t joint_line = within.find("every limit at once");
+  ASSERT_NE(trajectory_line, std::string::npos) << printed;
+  ASSERT_NE(runout_line, std::string::npos) << printed;
+  ASSERT_NE(joint_line, std::string::npos) << printed;
+  EXPECT_LT(runout_line, joint_line);
+  EXPECT_THAT(within.substr(trajectory_line, within.find('\n', trajectory_line) - trajectory_line),
+              HasSubstr(YieldText(within_trajectory, done)));
+  EXPECT_THAT(within.substr(runout_line, within.find('\n', runout_line) - runout_line),
+              HasSubstr(YieldText(within_runout, done)));
+  EXPECT_THAT(within.substr(joint_line, within.find('\n', joint_line) - joint_line),
+              HasSubstr(YieldText(within_both, done)));
+  const nlohmann::json summary_json = SummaryJson(summary);
+  ASSERT_TRUE(summary_json.contains("in_spec_by_limit"));
+  ASSERT_EQ(summary_json["in_spec_by_limit"].size(), 2u);
+  EXPECT_EQ(summary_json["in_spec_by_limit"][0]["output"], "d_trajectory_mm");
+  EXPECT_EQ(summary_json["in_spec_by_limit"][0]["limit"], trajectory_limit);
+  EXPECT_EQ(summary_json["in_spec_by_limit"][0]["successes"], within_trajectory);
+  EXPECT_EQ(summary_json["in_spec_by_limit"][1]["successes"], within_runout);
+  EXPECT_EQ(summary_json["in_spec_by_limit"][1]["trials"], done);
+  EXPECT_EQ(summary_json["in_spec"]["successes"], within_both);
+}
+
+// Over the life, error motion has no one-revolution value to stand beside (one revolution
+// has no asynchronous part): the terminal and the answer say what it is instead, its three
+// values at q99 and q50 in µm, how they are read, and that no one-revolution comparison
+// exists.
+TEST_F(ReportTest, TheLifeSectionSaysWhatTheErrorMotionOverTheLifeIs) {
+  const std::filesystem::path results = RunWithFailures();
+  const CampaignSummary summary = Summarise(CampaignReader(results), {});
+  std::ostringstream terminal;
+  PrintSummary(terminal, summary);
+  const std::string printed = terminal.str();
+  const std::size_t at = printed.find("error motion");
+  ASSERT_NE(at, std::string::npos) << printed;
+  const std::size_t line_start = printed.rfind('\n', at) + 1;
+  const std::string line = printed.substr(line_start, printed.find('\n', at) - line_start);
+  EXPECT_EQ(line.rfind("life ", 0), 0u) << line;
+  for (const char* said : {"ISO 230-7", "total", "synchronous", "asynchronous", "fundamental removed", "µm",
+                           "several revolutions"}) {
+    EXPECT_THAT(line, HasSubstr(said)) << said;
+  }
+  // q99 of the total, in µm: the same order statistic the table prints in mm.
+  const OutputSummary* total = nullptr;
+  for (const OutputSummary& o : summary.outputs) {
+    if (o.name == "error_motion_total_mm") total = &o;
+  }
+  ASSERT_NE(total, nullptr);
+  const double q99_um = total->quantiles[2].value * 1e3;
+  ASSERT_GT(q99_um, 1.0);  // the ring's form moves the axis by micrometres
+  EXPECT_THAT(line, HasSubstr(fmt::format("{:.4g} µm", q99_um)));
+  const nlohmann::json json = SummaryJson(summary);
+  ASSERT_TRUE(json.contains("life"));
+  ASSERT_TRUE(json["life"].contains("error_motion"));
+  EXPECT_DOUBLE_EQ(json["life"]["error_motion"]["total_mm"]["q99"].get<double>(), total->quantiles[2].value);
+
+  const CampaignReport report = QuickReport(results);
+  const std::string answer = AnswerOf(ReportHtml(report));
+  EXPECT_THAT(answer, HasSubstr("ISO 230-7"));
+  EXPECT_THAT(answer, HasSubstr(fmt::format("{:.4g} µm", q99_um)));
+  EXPECT_TRUE(ReportJson(report)["life"].contains("error_motion"));
+}
+
+// Beside the TIR of each replayed orbit, the page says what an indicator reads (the bore's
+// form and the axis's motion) and what error motion is (the axis alone, its fundamental
+// removed), and points to the polar plot.
+TEST_F(ReportTest, TheIndicatorReadingIsToldApartFromErrorMotionBesideTheTir) {
+  const std::filesystem::path results = RunWithFailures();
+  ReportOptions options;
+  options.bootstrap_resamples = 0;
+  options.error_motion_revolutions = 2;
+  const std::string html = ReportHtml(BuildReport(results, options));
+  const std::size_t sensor = html.find(": sensor, TIR ");
+  ASSERT_NE(sensor, std::string::npos);
+  const std::size_t caption = html.find("<figcaption>", sensor);
+  const std::string beside = html.substr(caption, html.find("</figcaption>", caption) - caption);
+  EXPECT_THAT(beside, HasSubstr("form"));
+  EXPECT_THAT(beside, HasSubstr("axis"));
+  EXPECT_THAT(beside, HasSubstr("error motion"));
+  EXPECT_THAT(beside, HasSubstr("fundamental removed"));
+  EXPECT_THAT(beside, HasSubstr("polar plot"));
+  EXPECT_LT(caption, html.find("id=\"error-motion\""));  // said before the polar plot, where the TIR is
+}
+
+// Numbers are written to what they mean: the page's text (charts aside) has none in
+// exponent notation, such as a replay tolerance of picometres.
+TEST_F(ReportTest, NoNumberOnThePageIsWrittenInExponentNotation) {
+  const std::filesystem::path results = RunWithFailures();
+  ReportOptions options;
+  options.bootstrap_resamples = 0;
+  options.error_motion_revolutions = 2;
+  std::string text = ReportHtml(BuildReport(results, options));
+  for (std::size_t at = text.find("<svg"); at != std::string::npos; at = text.find("<svg", at)) {
+    text.erase(at, text.find("</svg>", at) + 6 - at);
+  }
+  for (std::size_t at = 0; at + 2 < text.size(); ++at) {
+    const bool exponent = std::isdigit(static_cast<unsigned char>(text[at])) && text[at + 1] == 'e' &&
+                          (text[at + 2] == '-' || text[at + 2] == '+');
+    EXPECT_FALSE(exponent) << "..." << text.substr(at < 80 ? 0 : at - 80, 120) << "...";
   }
 }
 
