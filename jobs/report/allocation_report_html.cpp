@@ -45,6 +45,11 @@ std::string Estimate(const analysis::Constraint& c, const analysis::ConstraintJu
   return Num(j.estimate) + " " + Interval(j.interval);
 }
 
+// A margin in its unit: µm to the nanometre they resolve (Micrometres), others as numbers.
+std::string MarginText(double margin, const std::string& unit) {
+  return EscapeXml(unit == "µm" ? Micrometres(margin) : fmt::format("{} {}", Num(margin), unit));
+}
+
 std::string Classes(const AllocationReport& report, const CandidateReport& c) {
   std::string text;
   for (std::size_t k = 0; k < c.classes.size(); ++k) {
@@ -100,7 +105,7 @@ void RecommendationTable(std::string& html, const AllocationReport& report, cons
   for (std::size_t k = 0; k < c.outcome.constraints.size(); ++k) {
     const analysis::ConstraintJudgement& j = c.outcome.constraints[k];
     Row(html, {ConstraintText(id.constraints[k]), Estimate(id.constraints[k], j),
-               fmt::format("{} {}", Num(c.margins[k]), EscapeXml(report.margin_units[k])),
+               MarginText(c.margins[k], report.margin_units[k]),
                std::string(NameOf(analysis::kVerdictNames, j.verdict))});
   }
   html += "</table>\n";
@@ -155,10 +160,10 @@ void AnswerSection(std::string& html, const AllocationReport& report) {
           const bool judged = static_cast<std::size_t>(k) < t.outcome.constraints.size();
           html += fmt::format(
               "<li class=\"binding\">{}: {}</li>\n", ConstraintText(c),
-              judged ? fmt::format("estimate {}, short by {} {}",
+              judged ? fmt::format("estimate {}, short by {}",
                                    Estimate(c, t.outcome.constraints[static_cast<std::size_t>(k)]),
-                                   Num(-t.margins[static_cast<std::size_t>(k)]),
-                                   EscapeXml(report.margin_units[static_cast<std::size_t>(k)]))
+                                   MarginText(-t.margins[static_cast<std::size_t>(k)],
+                                              report.margin_units[static_cast<std::size_t>(k)]))
                      : std::string("not judged"));
         }
         html += "</ul>\n<p>Loosen these limits, or add tighter classes for the components that dominate them.</p>\n";

@@ -292,6 +292,17 @@ TEST(AllocationReport, AnswerNamesTheRecommendedClassesTheirCostsAndTheirMargins
   EXPECT_THAT(answer, HasSubstr("The yield counts the samples within every limit at once; each quantile constraint"));
 }
 
+// A margin of 0.6054 µm is written to the nanometre a margin means, as the allocation
+// summary's is to the tenth of a micrometre: 0.605 µm, not its tenths of a nanometre.
+TEST(AllocationReport, MarginsAreWrittenToTheNanometre) {
+  AllocationReportInput input = Input();
+  analysis::ConstraintJudgement& quantile = input.outcome.candidates[kCurrent].constraints[0];
+  quantile.interval.upper = kQuantileLimitMm - 0.0006054;
+  const std::string answer = Between(AllocationReportHtml(MakeAllocationReport(input)), "id=\"answer\"", "</div>");
+  EXPECT_THAT(answer, HasSubstr("<td>0.605 µm</td>"));
+  EXPECT_THAT(answer, Not(HasSubstr("0.6054")));
+}
+
 TEST(AllocationReport, FrontTableListsTheFrontInCostOrderWithTheRecommendationMarked) {
   const std::string html = AllocationReportHtml(MakeAllocationReport(Input()));
   const std::string front = Between(html, "The Pareto front, by cost", "<details>");
