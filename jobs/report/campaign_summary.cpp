@@ -144,9 +144,8 @@ std::string LifeErrorMotionSentence(const LifeErrorMotion& motion) {
   };
   return fmt::format(
       "Over the stage's life, the axis's radial error motion ({}) is at q99 {} (q50 {}). No one-revolution value "
-      "compares with it: the asynchronous part, what differs from one revolution to the next, needs several "
-      "revolutions, and one revolution's indicator reading (runout) holds the bore's form as well as the axis's "
-      "motion.",
+      "compares: asynchronous motion, what differs from one revolution to the next, needs several revolutions, and "
+      "one revolution's indicator reading (runout) holds the bore's form too.",
       ErrorMotionConditions(), list(motion.q99, true), list(motion.q50, false));
 }
 

@@ -100,8 +100,8 @@ bool IsErrorMotionColumn(std::string_view name);
 // same ok samples in each); none without a finite total.
 std::optional<LifeErrorMotion> LifeErrorMotionOf(
     const std::map<std::string, std::vector<double>, std::less<>>& ok_values);
-// "Over the stage's life, the axis's radial error motion (ISO 230-7, ...) is at q99 16.86 µm
-// total, ... (q50 ...); no one-revolution value compares: ...". Plain text.
+// "Over the stage's life, the axis's radial error motion (ISO 230-7, ...) is at q99 168.6 µm
+// total, ... (q50 ...). No one-revolution value compares: ...". Plain text.
 std::string LifeErrorMotionSentence(const LifeErrorMotion& motion);
 // {"count", "reading", "total_mm": {"q50", "q99"}, "synchronous_mm": ..., "asynchronous_mm": ...}.
 nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion);

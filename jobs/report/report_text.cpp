@@ -92,7 +92,7 @@ std::string_view ErrorMotionWord(ErrorMotionValue value) { return NamesOf(value)
 std::string ErrorMotionName(ErrorMotionValue value) { return fmt::format("{} error motion", ErrorMotionWord(value)); }
 
 std::string ErrorMotionConditions(const ErrorMotionReading& reading) {
-  return fmt::format("ISO 230-7, radial in the sensor's direction, fundamental removed, unfiltered, over {}",
+  return fmt::format("ISO 230-7, in the sensor's direction, fundamental removed, unfiltered, over {}",
                      reading.revolutions > 0 ? fmt::format("{} revolutions", reading.revolutions)
                                              : std::string("every revolution of the life"));
 }

@@ -57,7 +57,7 @@ struct ErrorMotionReading {
   // over this many successive revolutions (the report's replay for the polar plot).
   int revolutions = 0;
 };
-// "ISO 230-7, radial in the sensor's direction, fundamental removed, unfiltered, over every
+// "ISO 230-7, in the sensor's direction, fundamental removed, unfiltered, over every
 // revolution of the life".
 std::string ErrorMotionConditions(const ErrorMotionReading& reading = {});
 
