@@ -147,14 +147,10 @@ std::string ResumeCommand(const CampaignCommand& command, int ranks) {
   return ResumeLine(std::move(words), ranks);
 }
 
+// Read where the file was written only: a stop does not wait on the samples asked for.
 std::int64_t SamplesOnDisk(const std::filesystem::path& file) {
-  const CampaignReader results(file);
-  constexpr std::int64_t kBlock = std::int64_t{1} << 20;
   std::int64_t done = 0;
-  for (std::int64_t begin = 0; begin < results.samples(); begin += kBlock) {
-    const std::vector<SampleStatus> status = results.ReadStatus(begin, std::min(kBlock, results.samples() - begin));
-    done += std::count_if(status.begin(), status.end(), [](SampleStatus s) { return s != SampleStatus::kPending; });
-  }
+  for (const SampleRange& run : CampaignReader(file).Finished()) done += run.end - run.begin;
   return done;
 }
 
@@ -277,7 +273,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   // included) and `finished`, what the shards already hold.
   std::unique_ptr<CampaignStore> store;
   std::vector<ShardContents> stale;  // shards of ranks this run does not have
-  std::vector<bool> finished;
+  std::vector<SampleRange> finished;  // ascending, disjoint runs
   std::array<std::int64_t, 3> layout = {0, 0, 0};  // sharded, chunk rows, inputs stored below
   std::string error;
   if (rank == 0) {
@@ -359,12 +355,8 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
     if (rank == 0) {
       error = Attempt([&] {
         contents.insert(contents.end(), stale.begin(), stale.end());
-        finished.assign(static_cast<std::size_t>(campaign->samples()), false);
-        for (const ShardContents& one : contents) {
-          for (const SampleRange& range : one.finished) {
-            std::fill(finished.begin() + range.begin, finished.begin() + range.end, true);
-          }
-        }
+        for (const ShardContents& one : contents) finished.insert(finished.end(), one.finished.begin(), one.finished.end());
+        finished = MergeRanges(std::move(finished));
         WriteShardIndex(command.out, campaign->identity(), campaign->samples(), contents);
       });
     }

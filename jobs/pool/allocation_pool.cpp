@@ -175,7 +175,7 @@ class RoundResults final : public PoolResults {
                Ledger* ledger = nullptr)
       : store_(store), index_(index), outcome_(outcome), ledger_(ledger) {}
   std::int64_t items() const override { return index_.size(); }
-  std::vector<std::int64_t> Pending(std::int64_t begin, std::int64_t end) const override;
+  std::vector<SampleRange> Pending(std::int64_t begin, std::int64_t end) const override;
   void Add(SampleRecord record) override;
   std::size_t buffered() const override { return store_.buffered(); }
   void Commit() override {
@@ -203,8 +203,8 @@ class RoundResults final : public PoolResults {
   Ledger* ledger_;
 };
 
-std::vector<std::int64_t> RoundResults::Pending(std::int64_t begin, std::int64_t end) const {
-  std::vector<std::int64_t> pending;
+std::vector<SampleRange> RoundResults::Pending(std::int64_t begin, std::int64_t end) const {
+  std::vector<SampleRange> pending;
   for (std::size_t k = index_.SegmentOf(begin); k < index_.segments().size() && index_.Start(k) < end; ++k) {
     const RoundSegment& s = index_.segments()[k];
     const std::int64_t first = std::max(begin, index_.Start(k));
@@ -213,8 +213,14 @@ std::vector<std::int64_t> RoundResults::Pending(std::int64_t begin, std::int64_t
     const std::vector<SampleStatus> status =
         ledger_ != nullptr ? ledger_->Status(s.role, s.candidate, first + offset, last + offset)
                            : store_.ReadStatus(s.role, s.candidate, first + offset, last + offset);
-    for (std::int64_t item = first; item < last; ++item)
-      if (status[static_cast<std::size_t>(item - first)] == SampleStatus::kPending) pending.push_back(item);
+    for (std::int64_t item = first; item < last; ++item) {
+      if (status[static_cast<std::size_t>(item - first)] != SampleStatus::kPending) continue;
+      if (!pending.empty() && pending.back().end == item) {
+        ++pending.back().end;
+      } else {
+        pending.push_back({item, item + 1});
+      }
+    }
   }
   return pending;
 }

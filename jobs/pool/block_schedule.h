@@ -11,13 +11,16 @@
 // Pure bookkeeping without MPI: the pool (jobs/pool/campaign_pool.h) decides how many
 // blocks a rank takes at a time. Owners depend on the block's number, not its place among
 // the pending ones, so a run resumed with the same number of ranks gives each rank the
-// rest of its own sequence: one run again.
+// rest of its own sequence: one run again. The pending blocks are given, and kept, as
+// runs: its memory grows with the ranges of pending blocks and the ranks, never with the
+// blocks (a campaign of 2^40 samples has 2^30 of them).
 //
-// Failure: std::invalid_argument for blocks that are not ascending and distinct, fewer
-// than one rank, a rank outside [0, ranks) or a count below one.
+// Failure: std::invalid_argument for ranges that are empty, negative or not ascending and
+// disjoint, fewer than one rank, a rank outside [0, ranks) or a count below one.
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <vector>
 
 namespace ringtol::jobs {
@@ -30,14 +33,22 @@ struct BlockRun {
   friend bool operator==(const BlockRun&, const BlockRun&) = default;
 };
 
+// Blocks [begin, end).
+struct BlockRange {
+  std::int64_t begin = 0;
+  std::int64_t end = 0;
+  friend bool operator==(const BlockRange&, const BlockRange&) = default;
+};
+
 // `blocks` in the order a rank took them, cut where the step between one block and the next
 // changes (a run of one block has stride 1); a run taken downwards is given upwards.
 std::vector<BlockRun> BlockRuns(const std::vector<std::int64_t>& blocks);
 
 class BlockSchedule {
  public:
-  // `pending`: the blocks with samples still to compute, ascending; `ranks` >= 1.
-  BlockSchedule(const std::vector<std::int64_t>& pending, int ranks);
+  // `pending`: the blocks with samples still to compute, as ascending, disjoint ranges;
+  // `ranks` >= 1.
+  BlockSchedule(const std::vector<BlockRange>& pending, int ranks);
 
   // Up to `count` blocks for `rank`, the next of its own. When it has none left, it first
   // adopts the back half (rounded up) of the untaken blocks of the rank with the most left
@@ -51,10 +62,8 @@ class BlockSchedule {
 
  private:
   struct Queue {
-    std::vector<std::int64_t> blocks;  // ascending: its own, or those it adopted last
-    std::size_t front = 0;             // the next to take
-    std::size_t back = 0;              // blocks [back, size) were adopted by another rank
-    std::size_t left() const { return back - front; }
+    std::deque<BlockRun> runs;  // untaken, ascending: its own, or those it adopted last
+    std::int64_t left = 0;      // blocks in runs
   };
   void CheckRank(int rank) const;
 

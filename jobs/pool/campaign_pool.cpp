@@ -36,7 +36,6 @@ constexpr int kTagStopping = 3;
 constexpr char kRecords = 0;    // packed records, for rank 0 to file
 constexpr char kSummaries = 1;  // summaries of records the worker filed in its shard
 constexpr char kFiled = 2;      // packed records the worker filed in its shard, for rank 0 to learn
-constexpr std::int64_t kPendingBlock = std::int64_t{1} << 16;  // indices read from the file at a time
 // While worker ranks compute, rank 0's main thread looks for their messages this often.
 // Open MPI has no blocking wait that sleeps: MPI_Probe, MPI_Recv and MPI_Waitany spin on
 // a core until the message comes (measured: 0.43 s of CPU in a 1 s MPI_Probe on a loaded
@@ -215,13 +214,20 @@ class CampaignWork final : public PoolWork {
 // A campaign's results file, or rank 0's shard with what every shard held at the start.
 class CampaignResults final : public PoolResults {
  public:
-  CampaignResults(CampaignStore& store, const std::vector<bool>* finished) : store_(store), finished_(finished) {}
+  CampaignResults(CampaignStore& store, const std::vector<SampleRange>* finished)
+      : store_(store), finished_(finished) {}
   std::int64_t items() const override { return store_.samples(); }
-  std::vector<std::int64_t> Pending(std::int64_t begin, std::int64_t end) const override {
+  std::vector<SampleRange> Pending(std::int64_t begin, std::int64_t end) const override {
     if (finished_ == nullptr) return store_.Pending(begin, end);
-    std::vector<std::int64_t> pending;
-    for (std::int64_t index = begin; index < end; ++index) {
-      if (!(*finished_)[static_cast<std::size_t>(index)]) pending.push_back(index);
+    // [begin, end) less the finished runs that meet it.
+    std::vector<SampleRange> pending;
+    auto run = std::upper_bound(finished_->begin(), finished_->end(), begin,
+                                [](std::int64_t sample, const SampleRange& r) { return sample < r.end; });
+    for (std::int64_t at = begin; at < end; ++run) {
+      const std::int64_t stop = run == finished_->end() ? end : std::min(end, run->begin);
+      if (at < stop) pending.push_back({at, stop});
+      if (run == finished_->end()) break;
+      at = std::max(at, run->end);
     }
     return pending;
   }
@@ -231,7 +237,7 @@ class CampaignResults final : public PoolResults {
 
  private:
   CampaignStore& store_;
-  const std::vector<bool>* finished_;
+  const std::vector<SampleRange>* finished_;  // ascending, disjoint
 };
 
 // Ascending indices as (first, count) runs: a chunk of consecutive samples is one run, so a
@@ -322,31 +328,23 @@ WorkerCpu RunWorker(MPI_Comm communicator, int rank, const PoolWork& work, PoolR
   }
 }
 
-// Pending indices of the results in ascending order, read a block at a time.
+// Pending indices of the results in ascending order, from their runs.
 class PendingCursor {
  public:
-  explicit PendingCursor(const PoolResults& store) : store_(store) {}
-  std::optional<std::int64_t> Peek() {
-    while (at_ == block_.size()) {
-      if (begin_ >= store_.items()) return std::nullopt;
-      const std::int64_t end = std::min(store_.items(), begin_ + kPendingBlock);
-      block_ = store_.Pending(begin_, end);
-      at_ = 0;
-      begin_ = end;
-    }
-    return block_[at_];
-  }
+  explicit PendingCursor(const PoolResults& store) : runs_(store.Pending(0, store.items())) {}
   std::optional<std::int64_t> Next() {
-    const std::optional<std::int64_t> index = Peek();
-    if (index) ++at_;
-    return index;
+    while (run_ < runs_.size() && at_ >= runs_[run_].end) {
+      if (++run_ < runs_.size()) at_ = runs_[run_].begin;
+    }
+    if (run_ == runs_.size()) return std::nullopt;
+    at_ = std::max(at_, runs_[run_].begin);
+    return at_++;
   }
 
  private:
-  const PoolResults& store_;
-  std::int64_t begin_ = 0;
-  std::vector<std::int64_t> block_;
-  std::size_t at_ = 0;
+  std::vector<SampleRange> runs_;
+  std::size_t run_ = 0;
+  std::int64_t at_ = 0;
 };
 
 // Pending samples handed out block by block (PoolOptions::align_samples), block-cyclically
@@ -360,15 +358,21 @@ class PendingCursor {
 // while a share not taken leaves a rank idle for less than chunk_seconds at the end.
 class BlockHandout {
  public:
-  BlockHandout(const PoolResults& store, std::int64_t block, int computing_ranks)
+  // `pending`: the store's pending samples, as runs.
+  BlockHandout(const PoolResults& store, const std::vector<SampleRange>& pending, std::int64_t block,
+               int computing_ranks)
       : store_(store),
         block_(block),
         queues_(static_cast<std::size_t>(computing_ranks)),
         shared_(static_cast<std::size_t>(computing_ranks), false) {
-    std::vector<std::int64_t> blocks;
-    for (std::int64_t begin = 0; begin < store.items(); begin += kPendingBlock) {
-      for (const std::int64_t index : store.Pending(begin, std::min(store.items(), begin + kPendingBlock))) {
-        if (blocks.empty() || blocks.back() != index / block) blocks.push_back(index / block);
+    // The blocks that hold a pending sample, as ranges.
+    std::vector<BlockRange> blocks;
+    for (const SampleRange& run : pending) {
+      const BlockRange range{run.begin / block, (run.end - 1) / block + 1};
+      if (!blocks.empty() && range.begin <= blocks.back().end) {
+        blocks.back().end = std::max(blocks.back().end, range.end);
+      } else {
+        blocks.push_back(range);
       }
     }
     schedule_.emplace(blocks, computing_ranks);
@@ -393,9 +397,9 @@ class BlockHandout {
   bool Refill(int who, std::int64_t worth) {
     std::deque<std::int64_t>& own = queues_[static_cast<std::size_t>(who)];
     for (const std::int64_t block : schedule_->Take(who, 1)) {
-      const std::vector<std::int64_t> pending =
-          store_.Pending(block * block_, std::min(store_.items(), (block + 1) * block_));
-      own.insert(own.end(), pending.begin(), pending.end());
+      for (const SampleRange& run : store_.Pending(block * block_, std::min(store_.items(), (block + 1) * block_))) {
+        for (std::int64_t index = run.begin; index < run.end; ++index) own.push_back(index);
+      }
     }
     if (!own.empty()) return true;
     if (shared_[static_cast<std::size_t>(who)]) return false;
@@ -560,10 +564,11 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
                                             : 1;
   report.computing_ranks = (ranks - 1) + threads;
 
+  // The statuses are read where the results were written, and everything beyond is one
+  // run: the start does not grow with the items.
+  const std::vector<SampleRange> pending_runs = store.Pending(0, store.items());
   std::int64_t pending = 0;
-  for (std::int64_t begin = 0; begin < store.items(); begin += kPendingBlock) {
-    pending += static_cast<std::int64_t>(store.Pending(begin, std::min(store.items(), begin + kPendingBlock)).size());
-  }
+  for (const SampleRange& run : pending_runs) pending += run.end - run.begin;
   report.already_done = store.items() - pending;
   std::int64_t unassigned = pending;
   // Computing rank numbers for the block schedule: rank 0's threads first, then the workers.
@@ -571,7 +576,7 @@ PoolReport RunCoordinator(MPI_Comm communicator, int ranks, const PoolWork& work
   std::optional<PendingCursor> cursor;
   std::optional<BlockHandout> blocks;
   if (options.align_samples > 0) {
-    blocks.emplace(store, options.align_samples, report.computing_ranks);
+    blocks.emplace(store, pending_runs, options.align_samples, report.computing_ranks);
   } else {
     cursor.emplace(store);
   }
@@ -793,7 +798,8 @@ PoolReport RunPool(MPI_Comm communicator, const PoolWork& work, PoolResults* res
 }
 
 PoolReport RunPool(MPI_Comm communicator, const Campaign& campaign, CampaignStore* store, const PoolOptions& options,
-                   const std::function<void(const PoolProgress&)>& progress, const std::vector<bool>* finished) {
+                   const std::function<void(const PoolProgress&)>& progress,
+                   const std::vector<SampleRange>* finished) {
   const CampaignWork work(campaign, options.test_sample_seconds);
   std::optional<CampaignResults> results;
   if (store != nullptr) results.emplace(*store, finished);

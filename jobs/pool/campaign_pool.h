@@ -15,9 +15,10 @@
 // that each stored chunk is written by one rank and each shard holds a few strided runs of
 // blocks; a rank with none left takes the back half of the longest queue, and at the end
 // half of another rank's queued samples once, where they are more than a chunk's worth
-// (each share costs both shards a mapping in the index). It holds the numbers of the pending
-// blocks (8 bytes a block), the records between two commits and one block's pending
-// indices per computing rank. With `coordinator_computes` threads of rank 0 compute too,
+// (each share costs both shards a mapping in the index). It holds the pending blocks as
+// runs (a few per range of pending samples and computing rank, whatever N), the records
+// between two commits and one block's pending indices per computing rank, so that neither
+// its start nor its stop grows with the samples asked for. With `coordinator_computes` threads of rank 0 compute too,
 // each fed chunks like a worker (MPI is called from rank 0's main thread only:
 // MPI_THREAD_FUNNELED).
 //
@@ -159,8 +160,9 @@ class PoolResults {
  public:
   virtual ~PoolResults() = default;
   virtual std::int64_t items() const = 0;
-  // The pending items in [begin, end), ascending.
-  virtual std::vector<std::int64_t> Pending(std::int64_t begin, std::int64_t end) const = 0;
+  // The pending items in [begin, end) as ascending runs: a campaign of 2^40 samples, all
+  // pending, is one run, so that starting the pool does not grow with the items.
+  virtual std::vector<SampleRange> Pending(std::int64_t begin, std::int64_t end) const = 0;
   virtual void Add(SampleRecord record) = 0;
   virtual std::size_t buffered() const = 0;
   // Makes every added record durable.
@@ -188,10 +190,10 @@ double ThreadCpuSeconds();
 
 // A campaign's pending samples into its results file (`store`: rank 0's; on a worker rank
 // its shard, or null). With `finished` (rank 0; jobs/store/campaign_store.h: shards as the
-// results file) `store` is rank 0's own shard and the samples to compute are those
-// `finished` does not hold, instead of the store's pending ones.
+// results file; ascending, disjoint runs) `store` is rank 0's own shard and the samples to
+// compute are those `finished` does not hold, instead of the store's pending ones.
 PoolReport RunPool(MPI_Comm communicator, const Campaign& campaign, CampaignStore* store, const PoolOptions& options,
                    const std::function<void(const PoolProgress&)>& progress,
-                   const std::vector<bool>* finished = nullptr);
+                   const std::vector<SampleRange>* finished = nullptr);
 
 }  // namespace ringtol::jobs

@@ -562,7 +562,8 @@ std::vector<std::int64_t> LostMessages(const SampleTable& table, const FailureRo
   const std::int64_t samples = table.space().samples;
   std::vector<std::int8_t> statuses(static_cast<std::size_t>(chunk));
   // Chunk by chunk: a status chunk that does not read is damage of its own, computed again.
-  for (std::int64_t begin = 0; begin < samples; begin += chunk) {
+  // Beyond the written rows every sample is pending.
+  for (std::int64_t begin = 0; begin < std::min(samples, table.written_end()); begin += chunk) {
     const std::int64_t count = std::min(chunk, samples - begin);
     if (table.TryRead(table.status_column(), 0, begin, count, statuses.data())) continue;
     for (std::int64_t i = 0; i < count; ++i) {
@@ -739,19 +740,6 @@ void RepairFailures(const Where& where, hid_t file, const SampleTable& table) {
 constexpr std::array<const char*, 6> kDescriptions = {"/inputs/name",   "/inputs/quantity", "/inputs/component",
                                                       "/inputs/source", "/inputs/roller",   "/inputs/order"};
 
-std::vector<SampleRange> Merged(std::vector<SampleRange> ranges) {
-  std::sort(ranges.begin(), ranges.end(), [](const SampleRange& a, const SampleRange& b) { return a.begin < b.begin; });
-  std::vector<SampleRange> merged;
-  for (const SampleRange& range : ranges) {
-    if (!merged.empty() && range.begin <= merged.back().end) {
-      merged.back().end = std::max(merged.back().end, range.end);
-    } else {
-      merged.push_back(range);
-    }
-  }
-  return merged;
-}
-
 // What `ringtol verify` reports, from the table's scan: every dataset (descriptions first,
 // the statuses last), their damaged samples merged, and what a resume computes.
 ResultsCheck Check(const Where& where, hid_t file, const SampleTable& table, const TableScan& scan) {
@@ -771,7 +759,7 @@ ResultsCheck Check(const Where& where, hid_t file, const SampleTable& table, con
   if (table.stored(kDrawChecksum)) {
     const FailureRows rows = ReadFailureRows(where, file);
     for (const std::int64_t sample : LostMessages(table, rows)) lost.push_back({sample, sample + 1});
-    lost = Merged(std::move(lost));
+    lost = MergeRanges(std::move(lost));
     for (const char* path : {kFailureSamples, kFailureMessages}) {
       const DatasetId dataset(hdf5::Check(H5Dopen2(file, path, H5P_DEFAULT), where, "opening dataset", path));
       DatasetCheck failures;
@@ -798,7 +786,7 @@ ResultsCheck Check(const Where& where, hid_t file, const SampleTable& table, con
       if (dataset.damaged.empty()) dataset.first_problem = chunk.problem;
       dataset.damaged.push_back(chunk.samples);
     }
-    dataset.damaged = Merged(std::move(dataset.damaged));
+    dataset.damaged = MergeRanges(std::move(dataset.damaged));
     check.datasets.push_back(std::move(dataset));
   }
   check.done = scan.done;
@@ -806,7 +794,7 @@ ResultsCheck Check(const Where& where, hid_t file, const SampleTable& table, con
   std::vector<SampleRange> recompute = check.pending;
   for (const DamagedChunk& chunk : scan.damaged) recompute.push_back(chunk.samples);
   recompute.insert(recompute.end(), lost.begin(), lost.end());
-  check.recompute = Merged(std::move(recompute));
+  check.recompute = MergeRanges(std::move(recompute));
   return check;
 }
 
@@ -987,7 +975,7 @@ std::int64_t CampaignStore::samples() const { return file_->samples; }
 
 const fs::path& CampaignStore::path() const { return file_->path; }
 
-std::vector<std::int64_t> CampaignStore::Pending(std::int64_t begin, std::int64_t end) const {
+std::vector<SampleRange> CampaignStore::Pending(std::int64_t begin, std::int64_t end) const {
   const QuietErrors quiet;
   CheckRange("CampaignStore::Pending", begin, end, file_->samples);
   return file_->table.Pending(0, begin, end);
@@ -1365,7 +1353,7 @@ ShardContents ReadShardContents(const fs::path& shard, const CampaignIdentity& i
   const DatasetId failures(Check(H5Dopen2(file.get(), kFailureSamples, H5P_DEFAULT), opening, "opening dataset",
                                  kFailureSamples));
   return {shard, stored.samples, table.space().chunk_samples, stored.inputs_stored_below,
-          static_cast<std::int64_t>(FailureRowCount(opening, failures.get())), FinishedRows(table)};
+          static_cast<std::int64_t>(FailureRowCount(opening, failures.get())), table.Finished()};
 }
 
 ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentity& identity, std::int64_t samples,
@@ -1410,7 +1398,7 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
     for (const SampleRange& range : source.rows) summary.samples += range.end - range.begin;
     summary.most_mappings = std::max(summary.most_mappings, static_cast<std::int64_t>(RegularRuns(source.rows).size()));
     owned.insert(owned.end(), source.rows.begin(), source.rows.end());
-    owned = Merged(std::move(owned));
+    owned = MergeRanges(std::move(owned));
     names.push_back(source.file);
     failure_rows.push_back(static_cast<hsize_t>(shard.failure_rows));
     sources.push_back(std::move(source));
@@ -1443,7 +1431,7 @@ ShardContents CampaignStore::Contents() {
   File& f = *file_;
   const auto failures =
       f.failure_samples.get() >= 0 ? static_cast<std::int64_t>(FailureRowCount(f.where, f.failure_samples.get())) : 0;
-  return {f.path, f.samples, f.chunk_rows, f.inputs_stored_below, failures, FinishedRows(f.table)};
+  return {f.path, f.samples, f.chunk_rows, f.inputs_stored_below, failures, f.table.Finished()};
 }
 
 std::vector<fs::path> IndexedShards(const fs::path& results) {
@@ -1599,6 +1587,11 @@ std::vector<SampleStatus> CampaignReader::ReadStatus(std::int64_t begin, std::in
   return file_->table.Statuses(0, begin, count);
 }
 
+std::vector<SampleRange> CampaignReader::Finished() const {
+  const QuietErrors quiet;
+  return file_->table.Finished();
+}
+
 bool CampaignReader::HasOutput(std::string_view name) const {
   const auto* found = std::find(kOutputNames.begin(), kOutputNames.end(), name);
   if (found == kOutputNames.end()) return false;
@@ -1748,7 +1741,7 @@ ResultsCheck CheckIndex(const Where& where, hid_t file, const fs::path& path, co
         found->first_problem = shard.filename().string() + ": " + dataset.first_problem;
       }
       found->damaged.insert(found->damaged.end(), damaged.begin(), damaged.end());
-      found->damaged = Merged(std::move(found->damaged));
+      found->damaged = MergeRanges(std::move(found->damaged));
     }
     for (std::size_t i = 0; i < n; ++i) {
       claimed[i] = claimed[i] | static_cast<std::uint8_t>(answers[i] != 0);
@@ -1772,6 +1765,20 @@ ResultsCheck CheckResults(const fs::path& path) {
   if (stored.index) return CheckIndex(where, file.get(), path, stored);
   const SampleTable table = OpenColumns(where, file.get(), stored);
   return Check(where, file.get(), table, table.Scan());
+}
+
+std::vector<SampleRange> MergeRanges(std::vector<SampleRange> ranges) {
+  std::sort(ranges.begin(), ranges.end(), [](const SampleRange& a, const SampleRange& b) { return a.begin < b.begin; });
+  std::vector<SampleRange> merged;
+  for (const SampleRange& range : ranges) {
+    if (range.begin >= range.end) continue;
+    if (!merged.empty() && range.begin <= merged.back().end) {
+      merged.back().end = std::max(merged.back().end, range.end);
+    } else {
+      merged.push_back(range);
+    }
+  }
+  return merged;
 }
 
 std::string FormatRanges(const std::vector<SampleRange>& ranges) {

@@ -167,8 +167,10 @@ class CampaignStore {
   std::int64_t samples() const;
   const std::filesystem::path& path() const;
 
-  // The pending indices in [begin, end), read from the file: what a run still has to do.
-  std::vector<std::int64_t> Pending(std::int64_t begin, std::int64_t end) const;
+  // The pending samples in [begin, end) as ascending runs, read from the file: what a run
+  // still has to do. Statuses are read only below the farthest chunk the file has, so its
+  // cost follows what was computed, not N.
+  std::vector<SampleRange> Pending(std::int64_t begin, std::int64_t end) const;
 
   // Buffers one finished sample (any order; index < samples(), u and values of size d).
   void Add(SampleRecord record);
@@ -176,7 +178,8 @@ class CampaignStore {
   // Writes and flushes every buffered sample, statuses last (see the header comment).
   void Commit();
 
-  // Commits, and reports what the file holds (its statuses read: N bytes), for its index.
+  // Commits, and reports what the file holds (its statuses read where it was written), for
+  // its index.
   ShardContents Contents();
 
   // Samples per HDF5 chunk of every per-sample dataset. A shard made with this many
@@ -230,7 +233,7 @@ struct ShardIndexSummary {
   std::int64_t mappings = 0;      // of one per-sample dataset, all shards
   std::int64_t most_mappings = 0;  // of one shard
 };
-// Reads a shard's contents (its statuses: N bytes). InputError unless it is a results file
+// Reads a shard's contents (its statuses where it was written). InputError unless it is a results file
 // of `identity`'s campaign of at most `samples` samples, whose status chunks read.
 ShardContents ReadShardContents(const std::filesystem::path& shard, const CampaignIdentity& identity,
                                 std::int64_t samples);
@@ -285,6 +288,10 @@ class CampaignReader {
   int schema_version() const;
 
   std::vector<SampleStatus> ReadStatus(std::int64_t begin, std::int64_t count) const;
+  // The finished samples as ascending runs, statuses read only where the file (an index:
+  // its shards) was written: a campaign of 2^40 samples stopped early reads in the time of
+  // what it computed.
+  std::vector<SampleRange> Finished() const;
   // Whether the file holds this output (a file of an older schema may not).
   bool HasOutput(std::string_view name) const;
   // One output over [begin, begin + count), by its name in kOutputNames; NaN for an output
@@ -354,6 +361,9 @@ struct ResultsCheck {
 // opened as a ringtol campaign (metadata damage included: HDF5 checksums its metadata); an
 // allocation's results file is named as one (its resume scans it instead).
 ResultsCheck CheckResults(const std::filesystem::path& path);
+
+// `ranges` sorted, with those that overlap or touch joined and empty ones left out.
+std::vector<SampleRange> MergeRanges(std::vector<SampleRange> ranges);
 
 // "0 to 99, 250, 300 to 399": samples as a reader counts them, both ends included.
 std::string FormatRanges(const std::vector<SampleRange>& ranges);

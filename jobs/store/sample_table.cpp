@@ -21,7 +21,7 @@ namespace {
 // capped, since HDF5 allocates and scans every slot (small chunks would ask for millions).
 constexpr std::size_t kSlotsPerCachedChunk = 100;
 constexpr std::size_t kMaxSlots = 1u << 17;
-// Pending() reads statuses in blocks of this many samples to bound its memory.
+// Pending() and Finished() read statuses in blocks of this many samples to bound their memory.
 constexpr std::int64_t kStatusBlock = std::int64_t{1} << 20;
 
 std::size_t NextPrime(std::size_t n) {
@@ -204,6 +204,60 @@ std::vector<Run> RunsOf(std::span<const RowKey> rows) {
     }
   }
   return runs;
+}
+
+// Rows [0, end) of `dataset` hold every row ever written to it; rows from `end` on read as
+// the fill. A chunked dataset: the end of its farthest chunk (HDF5's chunk indexes list
+// chunks in ascending order, so it is the last one: two walks of the index, in time
+// proportional to the chunks up to it, never to the dataset's rows). A virtual one: the end
+// of its farthest mapped row.
+std::int64_t WrittenRows(const Where& where, hid_t dataset, const std::string& path) {
+  const PlistId dcpl(Check(H5Dget_create_plist(dataset), where, "reading the layout of", path));
+  const SpaceId space(Check(H5Dget_space(dataset), where, "reading the shape of", path));
+  hsize_t dims[2] = {0, 0};
+  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+  switch (H5Pget_layout(dcpl.get())) {
+    case H5D_CHUNKED: {
+      hsize_t chunks = 0;
+      CheckStatus(H5Dget_num_chunks(dataset, space.get(), &chunks), where, "counting the chunks of", path);
+      if (chunks == 0) return 0;
+      hsize_t offset[2] = {0, 0};
+      unsigned mask = 0;
+      haddr_t address = 0;
+      hsize_t bytes = 0;
+      CheckStatus(H5Dget_chunk_info(dataset, space.get(), chunks - 1, offset, &mask, &address, &bytes), where,
+                  "reading the chunk index of", path);
+      hsize_t chunk[2] = {0, 0};
+      if (H5Pget_chunk(dcpl.get(), 2, chunk) < 1) Fail(where, fmt::format("reading the chunks of {} failed", path));
+      return static_cast<std::int64_t>(std::min(dims[0], offset[0] + chunk[0]));
+    }
+    case H5D_VIRTUAL: {
+      std::size_t mappings = 0;
+      CheckStatus(H5Pget_virtual_count(dcpl.get(), &mappings), where, "reading the mappings of", path);
+      hsize_t end = 0;
+      for (std::size_t i = 0; i < mappings; ++i) {
+        const SpaceId rows(Check(H5Pget_virtual_vspace(dcpl.get(), i), where, "reading a mapping of", path));
+        hsize_t first[2] = {0, 0};
+        hsize_t last[2] = {0, 0};
+        if (H5Sget_select_npoints(rows.get()) <= 0) continue;
+        CheckStatus(H5Sget_select_bounds(rows.get(), first, last), where, "reading a mapping of", path);
+        end = std::max(end, last[0] + 1);
+      }
+      return static_cast<std::int64_t>(end);
+    }
+    default:
+      return static_cast<std::int64_t>(dims[0]);
+  }
+}
+
+// Appends samples [begin, end) to ascending runs, joining the last where they touch.
+void AppendRun(std::vector<SampleRange>& runs, std::int64_t begin, std::int64_t end) {
+  if (begin >= end) return;
+  if (!runs.empty() && runs.back().end == begin) {
+    runs.back().end = end;
+  } else {
+    runs.push_back({begin, end});
+  }
 }
 
 }  // namespace
@@ -446,6 +500,13 @@ SampleTable SampleTable::Open(const Where& where, hid_t file, RowSpace space, st
   }
   table.space_ = space;
   table.specs_ = std::move(columns);
+  table.written_end_ = space.grouped() ? space.samples : 0;
+  for (std::size_t c = 0; c < table.specs_.size() && !space.grouped(); ++c) {
+    if (!table.stored(c)) continue;
+    table.written_end_ =
+        std::max(table.written_end_, WrittenRows(where, table.datasets_[c].get(), table.specs_[c].stored_path));
+  }
+  table.written_end_ = std::min(table.written_end_, space.samples);
   return table;
 }
 
@@ -455,9 +516,14 @@ std::string SampleTable::Rows(std::int64_t group, std::int64_t first, std::int64
   return space_.grouped() ? fmt::format("{} {}, {}", space_.group_name, group, samples) : samples;
 }
 
-void SampleTable::Write(std::span<const RowKey> rows, std::span<const void* const> values) const {
+void SampleTable::Write(std::span<const RowKey> rows, std::span<const void* const> values) {
   if (rows.empty()) return;
   if (values.size() != specs_.size()) throw std::logic_error("SampleTable::Write: one value array per column");
+  if (!space_.grouped()) {
+    // Rows are sorted: the last is the farthest, and its chunk ends the written rows.
+    const std::int64_t chunk = std::max<std::int64_t>(1, space_.chunk_samples);
+    written_end_ = std::max(written_end_, std::min(space_.samples, (rows.back().sample / chunk + 1) * chunk));
+  }
   // Statuses last, after everything else is flushed: a status on disk vouches for its sample.
   for (std::size_t c = 0; c < specs_.size(); ++c) {
     const ColumnSpec& spec = specs_[c];
@@ -577,17 +643,31 @@ std::vector<SampleStatus> SampleTable::Statuses(std::int64_t group, std::int64_t
   return statuses;
 }
 
-std::vector<std::int64_t> SampleTable::Pending(std::int64_t group, std::int64_t begin, std::int64_t end) const {
-  std::vector<std::int64_t> pending;
+std::vector<SampleRange> SampleTable::Pending(std::int64_t group, std::int64_t begin, std::int64_t end) const {
+  std::vector<SampleRange> pending;
   const auto code = static_cast<std::int8_t>(SampleStatus::kPending);
-  for (std::int64_t first = begin; first < end; first += kStatusBlock) {
-    const std::int64_t count = std::min(kStatusBlock, end - first);
+  const std::int64_t read_end = std::clamp(written_end_, begin, std::max(begin, end));
+  for (std::int64_t first = begin; first < read_end; first += kStatusBlock) {
+    const std::int64_t count = std::min(kStatusBlock, read_end - first);
     const std::vector<std::int8_t> block = Read<std::int8_t>(status_column(), group, first, count);
     for (std::int64_t i = 0; i < count; ++i) {
-      if (block[static_cast<std::size_t>(i)] == code) pending.push_back(first + i);
+      if (block[static_cast<std::size_t>(i)] == code) AppendRun(pending, first + i, first + i + 1);
     }
   }
+  AppendRun(pending, read_end, end);
   return pending;
+}
+
+std::vector<SampleRange> SampleTable::Finished() const {
+  std::vector<SampleRange> finished;
+  for (std::int64_t first = 0; first < written_end_; first += kStatusBlock) {
+    const std::int64_t count = std::min(kStatusBlock, written_end_ - first);
+    const std::vector<SampleStatus> block = Statuses(0, first, count);
+    for (std::int64_t i = 0; i < count; ++i) {
+      if (block[static_cast<std::size_t>(i)] != SampleStatus::kPending) AppendRun(finished, first + i, first + i + 1);
+    }
+  }
+  return finished;
 }
 
 TableScan SampleTable::Scan() const {
@@ -598,7 +678,8 @@ TableScan SampleTable::Scan() const {
   const auto chunks_of = [&](std::size_t column) {
     std::vector<RowKey> firsts;
     if (!space_.grouped()) {
-      for (std::int64_t first = 0; first < StoredRows(column); first += chunk) firsts.push_back({0, first});
+      const std::int64_t end = std::min(StoredRows(column), written_end_);
+      for (std::int64_t first = 0; first < end; first += chunk) firsts.push_back({0, first});
       return firsts;
     }
     const std::string& path = specs_[column].path;
@@ -646,15 +727,12 @@ TableScan SampleTable::Scan() const {
       if (value != SampleStatus::kPending) {
         ++scan.done;
       } else if (!space_.grouped()) {
-        const std::int64_t sample = first.sample + i;
-        if (!scan.pending.empty() && scan.pending.back().end == sample) {
-          ++scan.pending.back().end;
-        } else {
-          scan.pending.push_back({sample, sample + 1});
-        }
+        AppendRun(scan.pending, first.sample + i, first.sample + i + 1);
       }
     }
   }
+  // Rows never written are pending, unread.
+  if (!space_.grouped()) AppendRun(scan.pending, written_end_, space_.samples);
 
   std::vector<unsigned char> buffer;
   for (std::size_t c = 0; c < status; ++c) {
@@ -808,8 +886,11 @@ bool SampleTable::SameStorage(const SampleTable& other) const {
   return true;
 }
 
-std::int64_t SampleTable::CopyChunks(const SampleTable& other, std::span<const std::int64_t> firsts) const {
+std::int64_t SampleTable::CopyChunks(const SampleTable& other, std::span<const std::int64_t> firsts) {
   if (firsts.empty()) return 0;
+  for (const std::int64_t first : firsts) {
+    written_end_ = std::max(written_end_, std::min(space_.samples, first + space_.chunk_samples));
+  }
   std::int64_t copied = 0;
   std::vector<unsigned char> buffer;
   // Every column before the statuses, flushed, so that a status copied vouches for its sample.

@@ -165,7 +165,7 @@ class SampleTable {
   // Writes `rows` (sorted, unique) of every column this file stores, `values[c]` holding
   // rows.size() values of column c's C++ type (times its width; those of samples beyond
   // stored_below are not written), every column flushed before the statuses.
-  void Write(std::span<const RowKey> rows, std::span<const void* const> values) const;
+  void Write(std::span<const RowKey> rows, std::span<const void* const> values);
 
   // Samples [begin, begin + count) of a group's row of a column (text: text_bytes a row). `statuses`, when given,
   // are those samples' statuses (saving a read for FiniteRule's check). InputError naming
@@ -186,10 +186,23 @@ class SampleTable {
   }
   // Statuses of samples [begin, begin + count); InputError for one no ringtol writes.
   std::vector<SampleStatus> Statuses(std::int64_t group, std::int64_t begin, std::int64_t count) const;
-  // The pending samples of [begin, end) of a group, read in blocks.
-  std::vector<std::int64_t> Pending(std::int64_t group, std::int64_t begin, std::int64_t end) const;
+  // The pending samples of [begin, end) of a group as ascending runs, their statuses read
+  // in blocks below written_end() only.
+  std::vector<SampleRange> Pending(std::int64_t group, std::int64_t begin, std::int64_t end) const;
+  // The finished samples of a flat table as ascending runs, read below written_end() only.
+  std::vector<SampleRange> Finished() const;
 
-  // Reads every chunk (a grouped table: every chunk that exists), statuses first.
+  // Rows from here on hold their fill values (pending) in every column, so that what reads
+  // statuses or chunks (Scan, Pending, Finished) reads no further: its cost follows what
+  // was written, not N, and a campaign of 2^40 samples opens, scans and resumes at once.
+  // A flat stored table has no chunk there: the end of the farthest chunk of any column,
+  // found in the chunk indexes when opened (in time proportional to the chunks up to it)
+  // and moved on by Write and CopyChunks. A virtual table maps no source row there. A
+  // grouped table: N (its scans read the chunks that exist).
+  std::int64_t written_end() const { return written_end_; }
+
+  // Reads every chunk (a flat table: every one below written_end(); a grouped table: every
+  // one that exists), statuses first.
   TableScan Scan() const;
   // Gives every damaged chunk its fill values, then marks the samples of the damaged chunks
   // of other columns pending, and reopens the columns it rewrote. Reports each chunk on
@@ -207,7 +220,7 @@ class SampleTable {
   // Copies the chunk of `other` starting at sample `first` (flat tables) of every column,
   // its filtered bytes and filter mask as stored, flushing each column, the statuses last.
   // Returns the bytes copied.
-  std::int64_t CopyChunks(const SampleTable& other, std::span<const std::int64_t> firsts) const;
+  std::int64_t CopyChunks(const SampleTable& other, std::span<const std::int64_t> firsts);
 
  private:
   template <typename T>
@@ -233,6 +246,7 @@ class SampleTable {
   std::vector<ColumnSpec> specs_;
   std::vector<DatasetId> datasets_;
   std::vector<TypeId> memory_types_;  // per column: what Write and Read move its values as
+  std::int64_t written_end_ = 0;
 };
 
 template <>

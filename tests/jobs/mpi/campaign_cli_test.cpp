@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <set>
 #include <string>
@@ -542,8 +543,9 @@ std::int64_t Done(const std::filesystem::path& file) {
   try {
     if (!FindShards(file).empty()) return DoneInShards(file);
     if (!std::filesystem::exists(file)) return 0;
-    const CampaignReader results(file);
-    return results.samples() - Pending(file);
+    std::int64_t done = 0;
+    for (const SampleRange& run : CampaignReader(file).Finished()) done += run.end - run.begin;
+    return done;
   } catch (const std::exception&) {
     return 0;  // caught between creation and its name appearing
   }
@@ -700,6 +702,67 @@ TEST(Campaign, ASecondSignalDuringTheStopEndsTheRunAtOnceAndResumeStillCompletes
   const Outcome resumed = Campaign(file, out, "--resume");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   ExpectSameResults(folder / "whole.h5", out);
+}
+
+// How `run` ended, if it did within `seconds`; otherwise it is killed with SIGKILL, so that
+// a run that ignores its stop fails the test instead of hanging it.
+std::optional<Ended> WaitWithin(const Running& run, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int status = 0;
+  while (waitpid(run.pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(run.pid, SIGKILL);
+      Wait(run);
+      return std::nullopt;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return Ended{WIFSIGNALED(status), WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status),
+               testing::ReadText(run.out), testing::ReadText(run.err)};
+}
+
+// --samples allows up to 2^40 (jobs/cli/main.cpp). Nothing at a run's start or stop may
+// grow with the count asked for: such a run puts its first samples on disk at once, stops
+// within a second of SIGTERM and is continued at once by --resume. Before, 2^40 samples
+// computed nothing in 10 minutes and ignored SIGTERM, and 2^31 took 106 s to the first
+// sample and 187 s to stop (two busy cores). A Release build here takes about 3 s to its
+// first sample (the calibration, mostly) and 0.1 s to stop (the samples in hand and a
+// commit): the bounds leave ten times that and more for the sanitizer build on CI's two
+// cores, and the old code misses them even at 2^31.
+constexpr double kFirstSampleSeconds = 60.0;
+constexpr double kStopSeconds = 5.0;
+
+TEST(Campaign, TwoToTheFortySamplesStartAtOnceStopWithinSecondsOfSigtermAndResumeAtOnce) {
+  const std::filesystem::path folder = Folder();
+  const std::filesystem::path out = folder / "huge.h5";
+  constexpr std::int64_t kMostSamples = std::int64_t{1} << 40;
+  const std::string command = std::string(RINGTOL_EXECUTABLE) + " campaign " + RINGTOL_SOURCE_DIR +
+                              "/examples/campaigns/default.toml --samples " + std::to_string(kMostSamples) +
+                              " --out " + out.string() + " --quiet --commit-seconds 0.05";
+  std::int64_t on_disk = 0;
+  for (const std::string resume : {"", " --resume"}) {
+    const Running run = Start(command + resume, resume.empty() ? "huge" : "huge_resumed");
+    const auto start = std::chrono::steady_clock::now();
+    const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+    while (Done(out) <= on_disk && seconds() < kFirstSampleSeconds) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    EXPECT_GT(Done(out), on_disk) << "no sample on disk after " << kFirstSampleSeconds << " s" << resume;
+    kill(run.pid, SIGTERM);
+    const std::optional<Ended> ended = WaitWithin(run, kStopSeconds);
+    ASSERT_TRUE(ended) << "SIGTERM did not stop the run" << resume << " within " << kStopSeconds << " s";
+    EXPECT_FALSE(ended->killed) << ended->err;
+    EXPECT_EQ(ended->code, 128 + SIGTERM) << ended->err;
+    const StopReport stop = ParseStop(ended->err, "SIGTERM");
+    EXPECT_EQ(stop.total, kMostSamples);
+    EXPECT_GT(stop.computed, 0) << resume;
+    EXPECT_EQ(stop.on_disk, on_disk + stop.computed) << resume;
+    EXPECT_EQ(stop.on_disk, Done(out)) << resume;
+    on_disk = stop.on_disk;
+  }
+  const ResultsCheck check = CheckResults(out);
+  EXPECT_TRUE(check.intact());
+  EXPECT_EQ(check.done, on_disk);
 }
 
 // A real kill -9 while samples are being written, several times over, then a resume.

@@ -21,6 +21,19 @@ std::vector<std::int64_t> Range(std::int64_t begin, std::int64_t end) {
   return blocks;
 }
 
+// Ascending, distinct blocks as the ranges BlockSchedule takes.
+std::vector<BlockRange> Ranges(const std::vector<std::int64_t>& blocks) {
+  std::vector<BlockRange> ranges;
+  for (const std::int64_t block : blocks) {
+    if (!ranges.empty() && ranges.back().end == block) {
+      ++ranges.back().end;
+    } else {
+      ranges.push_back({block, block + 1});
+    }
+  }
+  return ranges;
+}
+
 struct Simulated {
   BlockSchedule schedule;
   double makespan = 0.0;      // [s] when the last rank finished
@@ -33,7 +46,7 @@ struct Simulated {
 Simulated Simulate(const std::vector<std::int64_t>& pending, const std::vector<double>& seconds_per_block,
                    std::int64_t lease) {
   const int ranks = static_cast<int>(seconds_per_block.size());
-  Simulated run{BlockSchedule(pending, ranks), 0.0, 0.0, {}};
+  Simulated run{BlockSchedule(Ranges(pending), ranks), 0.0, 0.0, {}};
   std::vector<double> idle_at(seconds_per_block.size(), 0.0);
   std::vector<std::pair<double, std::int64_t>> ends;  // (finish time, block)
   while (true) {
@@ -132,7 +145,7 @@ TEST(BlockSchedule, AResumeWithTheSameRanksGivesEachTheRestOfItsOwnSequence) {
   for (std::int64_t block = 0; block < 100; ++block) {
     if (block >= done_up_to[block % kRanks]) pending.push_back(block);
   }
-  BlockSchedule schedule(pending, kRanks);
+  BlockSchedule schedule(Ranges(pending), kRanks);
   for (int rank = 0; rank < kRanks; ++rank) {
     const std::vector<std::int64_t> first = schedule.Take(rank, 2);
     ASSERT_FALSE(first.empty());
@@ -142,16 +155,43 @@ TEST(BlockSchedule, AResumeWithTheSameRanksGivesEachTheRestOfItsOwnSequence) {
 }
 
 TEST(BlockSchedule, RefusesUnorderedBlocksAndRanksOutsideTheSchedule) {
-  EXPECT_THROW(BlockSchedule({3, 2}, 2), std::invalid_argument);
-  EXPECT_THROW(BlockSchedule({1, 1}, 2), std::invalid_argument);
-  EXPECT_THROW(BlockSchedule({0}, 0), std::invalid_argument);
-  BlockSchedule schedule(Range(0, 4), 2);
+  EXPECT_THROW(BlockSchedule({{3, 4}, {2, 3}}, 2), std::invalid_argument);
+  EXPECT_THROW(BlockSchedule({{1, 3}, {2, 4}}, 2), std::invalid_argument);
+  EXPECT_THROW(BlockSchedule({{2, 2}}, 2), std::invalid_argument);
+  EXPECT_THROW(BlockSchedule({{-1, 2}}, 2), std::invalid_argument);
+  EXPECT_THROW(BlockSchedule({{0, 1}}, 0), std::invalid_argument);
+  BlockSchedule schedule({{0, 4}}, 2);
   EXPECT_THROW(schedule.Take(2, 1), std::invalid_argument);
   EXPECT_THROW(schedule.Take(0, 0), std::invalid_argument);
   EXPECT_EQ(schedule.Take(0, 5), (std::vector<std::int64_t>{0, 2}));
   EXPECT_EQ(schedule.Take(0, 5), (std::vector<std::int64_t>{3}));  // the back half of rank 1's two
   EXPECT_EQ(schedule.Take(1, 5), (std::vector<std::int64_t>{1}));
   EXPECT_TRUE(schedule.Take(1, 5).empty());
+}
+
+// A campaign of 2^40 samples has 2^30 blocks: the schedule holds runs of them, so that it
+// is made and taken from at once, and its ranks adopt from each other as they would with
+// few blocks.
+TEST(BlockSchedule, HoldsTwoToTheThirtyBlocksAsRunsAndHandsThemOutInTurn) {
+  constexpr std::int64_t kBlocks = std::int64_t{1} << 30;
+  constexpr int kRanks = 3;
+  BlockSchedule schedule({{0, 7}, {9, kBlocks}}, kRanks);
+  EXPECT_EQ(schedule.untaken(), kBlocks - 2);
+  EXPECT_EQ(schedule.Take(0, 4), (std::vector<std::int64_t>{0, 3, 6, 9}));
+  EXPECT_EQ(schedule.Take(1, 3), (std::vector<std::int64_t>{1, 4, 10}));
+  EXPECT_EQ(schedule.Take(2, 2), (std::vector<std::int64_t>{2, 5}));
+  EXPECT_EQ(schedule.Take(2, 2), (std::vector<std::int64_t>{11, 14}));
+  EXPECT_EQ(schedule.untaken(), kBlocks - 2 - 11);
+}
+
+TEST(BlockSchedule, AdoptsTheBackHalfOfTheLongestQueueAcrossItsRanges) {
+  // Rank 0 has blocks 0 and 2; rank 1 has 1, 3, 5, 7 and 9, in two ranges.
+  BlockSchedule schedule({{0, 4}, {5, 6}, {7, 8}, {9, 10}}, 2);
+  EXPECT_EQ(schedule.Take(0, 5), (std::vector<std::int64_t>{0, 2}));
+  EXPECT_EQ(schedule.Take(0, 5), (std::vector<std::int64_t>{5, 7, 9}));  // the back 3 of rank 1's 5
+  EXPECT_EQ(schedule.Take(1, 5), (std::vector<std::int64_t>{1, 3}));
+  EXPECT_TRUE(schedule.Take(1, 5).empty());
+  EXPECT_EQ(schedule.untaken(), 0);
 }
 
 }  // namespace

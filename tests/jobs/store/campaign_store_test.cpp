@@ -47,6 +47,15 @@ constexpr std::size_t kStoredMessageChars = 255;  // /failures/message: 256 byte
 
 fs::path TestFolder() { return ringtol::testing::FreshTestFolder("campaign_store_test"); }
 
+// The samples of runs, one by one.
+std::vector<std::int64_t> Indices(const std::vector<SampleRange>& runs) {
+  std::vector<std::int64_t> indices;
+  for (const SampleRange& run : runs) {
+    for (std::int64_t index = run.begin; index < run.end; ++index) indices.push_back(index);
+  }
+  return indices;
+}
+
 std::string ReadBytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -174,7 +183,7 @@ void WriteDeterministic(
   CampaignStore store = fs::exists(path) ? CampaignStore::Resume(path, TestIdentity(), samples)
                                          : CampaignStore::Create(path, TestIdentity(), samples, options);
   opened();
-  const std::vector<std::int64_t> pending = store.Pending(0, samples);
+  const std::vector<std::int64_t> pending = Indices(store.Pending(0, samples));
   for (std::size_t i = 0; i < pending.size(); ++i) {
     const std::size_t first = i / batch * batch;
     const std::size_t last = std::min(first + batch, pending.size()) - 1;
@@ -341,14 +350,14 @@ TEST(CampaignStore, TruncatesMessagesTo255BytesWithoutSplittingACharacter) {
 TEST(CampaignStore, ReportsSamplesPendingUntilTheirCommit) {
   const fs::path path = TestFolder() / "results.h5";
   CampaignStore store = CampaignStore::Create(path, TestIdentity(), 6);
-  EXPECT_EQ(store.Pending(0, 6), (std::vector<std::int64_t>{0, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(Indices(store.Pending(0, 6)), (std::vector<std::int64_t>{0, 1, 2, 3, 4, 5}));
   store.Add(DeterministicRecord(4));
   store.Add(DeterministicRecord(1));
-  EXPECT_EQ(store.Pending(0, 6), (std::vector<std::int64_t>{0, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(Indices(store.Pending(0, 6)), (std::vector<std::int64_t>{0, 1, 2, 3, 4, 5}));
   store.Commit();
-  EXPECT_EQ(store.Pending(0, 6), (std::vector<std::int64_t>{0, 2, 3, 5}));
-  EXPECT_EQ(store.Pending(1, 4), (std::vector<std::int64_t>{2, 3}));
-  EXPECT_EQ(store.Pending(3, 3), (std::vector<std::int64_t>{}));
+  EXPECT_EQ(Indices(store.Pending(0, 6)), (std::vector<std::int64_t>{0, 2, 3, 5}));
+  EXPECT_EQ(Indices(store.Pending(1, 4)), (std::vector<std::int64_t>{2, 3}));
+  EXPECT_EQ(Indices(store.Pending(3, 3)), (std::vector<std::int64_t>{}));
   EXPECT_THROW(store.Pending(2, 7), std::out_of_range);
 }
 
@@ -501,7 +510,7 @@ TEST(CampaignStore, ResumesTheSameCampaignKeepingItsSamples) {
   {
     CampaignStore store = CampaignStore::Resume(path, moved, 10);
     EXPECT_EQ(store.samples(), 10);
-    EXPECT_EQ(store.Pending(0, 3), (std::vector<std::int64_t>{0, 1}));
+    EXPECT_EQ(Indices(store.Pending(0, 3)), (std::vector<std::int64_t>{0, 1}));
     store.Add(DeterministicRecord(7));
   }
   const CampaignReader reader(path);
@@ -519,7 +528,7 @@ TEST(CampaignStore, ResumeGrowsTheCampaignWithTheNewSamplesPending) {
   {
     CampaignStore store = CampaignStore::Resume(path, TestIdentity(), 12);
     EXPECT_EQ(store.samples(), 12);
-    EXPECT_EQ(store.Pending(0, 12), (std::vector<std::int64_t>{5, 6, 7, 8, 9, 10, 11}));
+    EXPECT_EQ(Indices(store.Pending(0, 12)), (std::vector<std::int64_t>{5, 6, 7, 8, 9, 10, 11}));
     store.Add(DeterministicRecord(11));
   }
   const CampaignReader reader(path);
@@ -647,7 +656,7 @@ TEST(CampaignStore, ResumeRefusesAFileThatAnotherStoreIsWriting) {
   EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), 4); }),
               AllOf(HasSubstr(path.string()), HasSubstr("is being written by another ringtol run")));
   writing.Commit();
-  EXPECT_EQ(writing.Pending(0, 4), (std::vector<std::int64_t>{1, 2, 3}));
+  EXPECT_EQ(Indices(writing.Pending(0, 4)), (std::vector<std::int64_t>{1, 2, 3}));
 }
 
 TEST(CampaignReader, RefusesAFileOfANewerSchema) {
@@ -789,7 +798,7 @@ TEST(CampaignStore, ResumesASchemaFourFileInItsOwnSchema) {
   const fs::path path = OlderFile(kSamples, 4, {});
   {
     CampaignStore store = CampaignStore::Resume(path, TestIdentity(), kGrown);
-    for (const std::int64_t index : store.Pending(0, kGrown)) store.Add(DeterministicRecord(index));
+    for (const std::int64_t index : Indices(store.Pending(0, kGrown))) store.Add(DeterministicRecord(index));
   }
   const CampaignReader reader(path);
   EXPECT_EQ(reader.schema_version(), 4);
@@ -1055,7 +1064,7 @@ TEST(CampaignStore, AResumeComputesAgainTheFailedSamplesWhoseMessagesADamagedChu
                 AllOf(HasSubstr(path.string()), HasSubstr("damaged")));
     {
       CampaignStore store = CampaignStore::Resume(path, TestIdentity(), kDamageSamples);
-      const std::vector<std::int64_t> pending = store.Pending(0, kDamageSamples);
+      const std::vector<std::int64_t> pending = Indices(store.Pending(0, kDamageSamples));
       std::vector<std::int64_t> expected;
       for (const SampleRange& range : failed) {
         for (std::int64_t index = range.begin; index < range.end; ++index) expected.push_back(index);
@@ -1098,7 +1107,7 @@ TEST(CampaignStore, ResumeComputesTheSamplesOfADamagedChunkAgainToTheSameBits) {
     {
       CampaignStoreOptions options;
       CampaignStore store = CampaignStore::Resume(path, TestIdentity(), kDamageSamples, options);
-      const std::vector<std::int64_t> pending = store.Pending(0, kDamageSamples);
+      const std::vector<std::int64_t> pending = Indices(store.Pending(0, kDamageSamples));
       ASSERT_EQ(pending.size(), static_cast<std::size_t>(kDamageChunk));
       EXPECT_EQ(pending.front(), 16);
       for (const std::int64_t index : pending) store.Add(DeterministicRecord(index));

@@ -89,7 +89,7 @@ SampleTable Open(const TestFile& test, const RowSpace& space) {
 }
 
 // Rows `keys`: point (k, k, k) with k the sample, count = 10 x group + sample, status ok.
-void WriteRows(const SampleTable& table, const std::vector<RowKey>& keys) {
+void WriteRows(SampleTable& table, const std::vector<RowKey>& keys) {
   std::vector<double> points;
   std::vector<std::int32_t> counts;
   std::vector<std::int8_t> statuses;
@@ -115,7 +115,7 @@ class SampleTableTest : public ::testing::Test {
 
 TEST_F(SampleTableTest, AFlatTableReadsItsRunsBackAndUnwrittenRowsAsTheirFill) {
   const TestFile test = Create(TestFolder() / "flat.h5", Flat(), Specs());
-  const SampleTable table = Open(test, Flat());
+  SampleTable table = Open(test, Flat());
   EXPECT_EQ(table.space().chunk_samples, kChunk);
   WriteRows(table, {{0, 3}, {0, 4}, {0, 9}});  // two runs, across a chunk boundary
 
@@ -124,12 +124,38 @@ TEST_F(SampleTableTest, AFlatTableReadsItsRunsBackAndUnwrittenRowsAsTheirFill) {
   ASSERT_EQ(points.size(), 2 * kWidth);
   EXPECT_EQ(points[0], 9.0);
   EXPECT_TRUE(std::isnan(points[kWidth]));  // sample 10 is pending: NaN is its fill
-  EXPECT_EQ(table.Pending(0, 0, 10), (std::vector<std::int64_t>{0, 1, 2, 5, 6, 7, 8}));
+  EXPECT_EQ(table.Pending(0, 0, 10), (std::vector<SampleRange>{{0, 3}, {5, 9}}));
+}
+
+// A campaign of 2^40 samples: only what was written is read, wherever the writes landed,
+// so that opening, scanning and listing its pending samples take no longer than for 40.
+TEST_F(SampleTableTest, AFlatTableOfTwoToTheFortyRowsReadsNoFurtherThanItsFarthestChunk) {
+  constexpr std::int64_t kHuge = std::int64_t{1} << 40;
+  RowSpace huge = Flat();
+  huge.samples = kHuge;
+  const TestFile test = Create(TestFolder() / "huge.h5", huge, Specs());
+  {
+    SampleTable table = Open(test, huge);
+    EXPECT_EQ(table.written_end(), 0);
+    EXPECT_EQ(table.Pending(0, 0, kHuge), (std::vector<SampleRange>{{0, kHuge}}));
+    WriteRows(table, {{0, 3 * kChunk + 1}});  // the farthest chunk first
+    WriteRows(table, {{0, 1}});
+    EXPECT_EQ(table.written_end(), 4 * kChunk);
+  }
+  const SampleTable table = Open(test, huge);  // found again in the chunk indexes
+  EXPECT_EQ(table.written_end(), 4 * kChunk);
+  const std::vector<SampleRange> rest = {{0, 1}, {2, 3 * kChunk + 1}, {3 * kChunk + 2, kHuge}};
+  EXPECT_EQ(table.Pending(0, 0, kHuge), rest);
+  EXPECT_EQ(table.Finished(), (std::vector<SampleRange>{{1, 2}, {3 * kChunk + 1, 3 * kChunk + 2}}));
+  const TableScan scan = table.Scan();
+  EXPECT_TRUE(scan.damaged.empty());
+  EXPECT_EQ(scan.done, 2);
+  EXPECT_EQ(scan.pending, rest);
 }
 
 TEST_F(SampleTableTest, AGroupedTableKeepsEachGroupsRowApartAndScansOnlyChunksThatExist) {
   const TestFile test = Create(TestFolder() / "grouped.h5", Grouped(4), Specs());
-  const SampleTable table = Open(test, Grouped(4));
+  SampleTable table = Open(test, Grouped(4));
   WriteRows(table, {{1, 0}, {1, 1}, {3, 0}});
 
   EXPECT_THAT(table.Read<std::int32_t>(1, 1, 0, 3), ElementsAre(10, 11, -1));
@@ -166,7 +192,7 @@ TEST_F(SampleTableTest, AFinishedRowHoldingANonFiniteNumberIsDamageThatRepairMak
   EXPECT_EQ(scan.done, 2);
 
   table.Repair(scan.damaged);
-  EXPECT_EQ(table.Pending(0, 16, 24).size(), 8u);  // sample 17 too: its chunk is computed again
+  EXPECT_EQ(table.Pending(0, 16, 24), (std::vector<SampleRange>{{16, 24}}));  // sample 17 too: its chunk is computed again
   EXPECT_TRUE(table.Scan().damaged.empty());
 }
 
@@ -191,7 +217,7 @@ TEST_F(SampleTableTest, AColumnTheFileLacksReadsAsItsFillAndGrowKeepsWhatIsWritt
 
 TEST_F(SampleTableTest, ReadingAColumnAsAnotherTypeIsTheCallersMistake) {
   const TestFile test = Create(TestFolder() / "types.h5", Flat(), Specs());
-  const SampleTable table = Open(test, Flat());
+  SampleTable table = Open(test, Flat());
   EXPECT_THROW(table.Read<double>(1, 0, 0, 1), std::logic_error);
   EXPECT_THROW(table.Read<float>(0, 0, 0, 1), std::logic_error);
   EXPECT_THROW(table.Read<std::int32_t>(1, 0, kSamples, 1), std::out_of_range);
