@@ -1507,6 +1507,15 @@ std::int64_t WriteAllocationIndex(const fs::path& results, const AllocationIdent
 std::int64_t JoinAllocationShards(const fs::path& results, const fs::path& out) {
   const std::vector<fs::path> shards = IndexedAllocationShards(results);
   if (shards.empty()) throw InputError(results.string() + ": keeps its samples itself: there are no shards to join");
+  // A damaged chunk would stop the join half-way, or a damaged /outcome be carried into the
+  // joined file: the shards that --resume repairs are kept instead.
+  if (const ResultsCheck check = CheckAllocationResults(results); !check.intact()) {
+    throw InputError(fmt::format(
+        "{}: cannot be joined: {}; the index and its shards are left as they are: `ringtol allocate {} --out {} "
+        "--resume` computes those samples again, then join",
+        results.string(), DamagedDatasets(check), AllocationReader(results).identity().allocation_path,
+        results.string()));
+  }
   const auto [target, in_place] = PrepareJoin(results, out);
   std::error_code error;
   std::int64_t joined = 0;

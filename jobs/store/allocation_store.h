@@ -239,7 +239,9 @@ std::vector<std::filesystem::path> IndexedAllocationShards(const std::filesystem
 // file (schema 1) of the same allocation, design points and outcome. `out` may be
 // `results` itself: the joined file then replaces the index, and the shards are removed
 // once it has; a join killed half-way leaves the index and its shards as they were.
-// InputError for a self-contained file (nothing to join) or a missing shard. Returns the
+// InputError for a self-contained file (nothing to join), a missing shard, or a damaged
+// chunk anywhere (CheckAllocationResults, read first: named with its shard, candidate and
+// samples, and the --resume that repairs it; nothing is written or removed). Returns the
 // finished samples copied.
 std::int64_t JoinAllocationShards(const std::filesystem::path& results, const std::filesystem::path& out);
 

@@ -1453,6 +1453,14 @@ CampaignStore::Absorbed JoinShards(const fs::path& results, const fs::path& out)
     stored = ReadStored(where, file.get());
     if (!stored.index) throw InputError(results.string() + ": keeps its samples itself: there are no shards to join");
     shards = ListedShards(where, file.get(), results, stored);
+    // Whole chunks are copied as stored: a damaged one would be carried into the joined
+    // file, and the shards that could repair it removed.
+    if (const ResultsCheck check = CheckResults(results); !check.intact()) {
+      throw InputError(fmt::format(
+          "{}: cannot be joined: {}; the index and its shards are left as they are: `ringtol campaign {} --out {} "
+          "--resume` computes those samples again, then join",
+          results.string(), DamagedDatasets(check), stored.identity.campaign_path, results.string()));
+    }
   }
   const auto [target, in_place] = PrepareJoin(results, out);
   std::error_code error;
@@ -1790,17 +1798,30 @@ std::string FormatRanges(const std::vector<SampleRange>& ranges) {
   return fmt::format("{}", fmt::join(parts, ", "));
 }
 
-std::string DamageMessage(const fs::path& path, const ResultsCheck& check) {
+std::string DamagedDatasets(const ResultsCheck& check) {
   std::vector<std::string> damaged;
   for (const DatasetCheck& dataset : check.datasets) {
     if (dataset.damaged.empty()) continue;
-    damaged.push_back(fmt::format("dataset {} is damaged at samples {} ({})", dataset.path,
-                                  FormatRanges(dataset.damaged), dataset.first_problem));
+    std::vector<std::string> rows;
+    if (check.allocation() && dataset.per_sample) {
+      for (const SampleRange& range : dataset.damaged) {
+        rows.push_back(fmt::format("candidate {}, samples {}", check.CandidateOf(range),
+                                   FormatRanges({check.SamplesOf(range)})));
+      }
+    } else {
+      rows.push_back("samples " + FormatRanges(dataset.damaged));
+    }
+    damaged.push_back(fmt::format("dataset {} is damaged at {} ({})", dataset.path, fmt::join(rows, "; "),
+                                  dataset.first_problem));
   }
+  return fmt::format("{}", fmt::join(damaged, "; "));
+}
+
+std::string DamageMessage(const fs::path& path, const ResultsCheck& check) {
   return fmt::format(
       "{}: {}; `ringtol campaign CAMPAIGN --out {} --resume` computes those samples again, `ringtol verify {}` "
       "lists what is intact",
-      path.string(), fmt::join(damaged, "; "), path.string(), path.string());
+      path.string(), DamagedDatasets(check), path.string(), path.string());
 }
 
 }  // namespace ringtol::jobs

@@ -254,7 +254,9 @@ std::vector<std::filesystem::path> IndexedShards(const std::filesystem::path& re
 // Writes the samples of an index and its shards into `out`, one self-contained results
 // file of the same campaign (chunks copied as stored where they can be: Absorb). `out`
 // may be `results` itself: the joined file then replaces the index, and the shards are
-// removed once it has. Returns what was copied.
+// removed once it has. Returns what was copied. Every shard is checked first
+// (CheckResults): a damaged chunk is an InputError naming its dataset, rows and shard and
+// the --resume that computes them again, and nothing is written or removed.
 CampaignStore::Absorbed JoinShards(const std::filesystem::path& results, const std::filesystem::path& out);
 
 // Read-only access for summaries, reports, replays and tests. Opens a file a killed run
@@ -368,8 +370,11 @@ std::vector<SampleRange> MergeRanges(std::vector<SampleRange> ranges);
 // "0 to 99, 250, 300 to 399": samples as a reader counts them, both ends included.
 std::string FormatRanges(const std::vector<SampleRange>& ranges);
 
-// "file: dataset /inputs/u is damaged (samples 0 to 99: <problem>)...", naming every damaged
-// dataset, for the commands that refuse such a file.
+// "dataset /inputs/u is damaged at samples 0 to 99 (<problem>); ...", naming every damaged
+// dataset and its rows (an allocation's by candidate and samples).
+std::string DamagedDatasets(const ResultsCheck& check);
+// "file: dataset /inputs/u is damaged at samples 0 to 99 (<problem>)...", naming every
+// damaged dataset, for the commands that refuse such a file.
 std::string DamageMessage(const std::filesystem::path& path, const ResultsCheck& check);
 
 }  // namespace ringtol::jobs

@@ -804,6 +804,12 @@ TEST(AllocationShardIndex, ReadsEverySampleFromTheShardThatHoldsItAndChecksEvery
   EXPECT_EQ(damaged[0].candidate, kDamagedCandidate);
   EXPECT_EQ(damaged[0].samples, (SampleRange{32, 48}));
   EXPECT_THAT(damaged[0].problem, HasSubstr("allocation.h5.shard-1"));
+  // A join refuses it, keeping the index and every shard for the resume it names.
+  EXPECT_THAT(InputErrorOf([&] { JoinAllocationShards(index, index); }),
+              AllOf(HasSubstr("cannot be joined"), HasSubstr("/samples/confirm/runout_mm"),
+                    HasSubstr("candidate " + std::to_string(kDamagedCandidate) + ", samples 32 to 47"),
+                    HasSubstr("allocation.h5.shard-1"), HasSubstr("--out " + index.string() + " --resume")));
+  EXPECT_EQ(IndexedAllocationShards(index), (std::vector<fs::path>{shards[0], shards[1]}));
 
   // An index is continued through its shards, never itself; it never replaces a file that
   // keeps samples; a missing shard is an error, not fill.

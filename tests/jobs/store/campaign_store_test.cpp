@@ -1410,6 +1410,27 @@ TEST(ShardIndex, VerifyFindsADamagedShardChunkOnlyWhereThatShardHoldsSamples) {
   EXPECT_EQ(check.done, kShardedSamples);
 }
 
+// A join copies whole chunks as stored: a damaged one would be carried into the joined
+// file, and the shards that --resume repairs it from removed.
+TEST(ShardIndex, JoinRefusesADamagedShardChunkNamingItsRowsAndResumeAndKeepsEveryFile) {
+  const fs::path path = TestFolder() / "results.h5";
+  const std::vector<fs::path> shards = BlockCyclicShards(path);
+  WriteShardIndex(path, TestIdentity(), kShardedSamples, shards);
+  const ChunkPlace chunk = ChunkOf(shards[1], "/outputs/d_trajectory_mm", 9);
+  FlipBytes(shards[1], chunk.address + chunk.bytes / 2 - kFlippedBytes / 2, kFlippedBytes);
+  std::vector<std::string> before;
+  for (const fs::path& file : {path, shards[0], shards[1], shards[2]}) before.push_back(ReadBytes(file));
+  for (const fs::path& out : {path, path.parent_path() / "copy.h5"}) {
+    EXPECT_THAT(InputErrorOf([&] { JoinShards(path, out); }),
+                AllOf(HasSubstr("cannot be joined"), HasSubstr("/outputs/d_trajectory_mm"), HasSubstr("8 to 15"),
+                      HasSubstr("results.h5.shard-1"),
+                      HasSubstr("ringtol campaign campaigns/demo.toml --out " + path.string() + " --resume")));
+    EXPECT_FALSE(fs::exists(path.parent_path() / "copy.h5"));
+  }
+  std::size_t k = 0;
+  for (const fs::path& file : {path, shards[0], shards[1], shards[2]}) EXPECT_EQ(ReadBytes(file), before[k++]) << file;
+}
+
 TEST(ShardIndex, JoinWritesOneSelfContainedFileOfTheSameSamples) {
   const fs::path folder = TestFolder();
   const fs::path path = folder / "results.h5";
