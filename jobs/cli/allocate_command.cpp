@@ -122,6 +122,7 @@ int Execute(const AllocateCommand& command, std::ostream& progress, AllocationRu
   if (rank == 0) {
     error = Attempt([&] {
       if (!command.resume) {
+        RefuseLiveOutput(command.out);  // one may have started since CheckBeforeWork
         if (const std::vector<std::filesystem::path> left = FindShards(command.out); !left.empty()) {
           throw InputError(fmt::format("{}: shards of an earlier run of it exist ({}); pass --resume to continue "
                                        "that run, or remove them to start a new one",

@@ -282,6 +282,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
       CampaignStoreOptions options;
       if (command.store_inputs) options.inputs_stored_below = std::numeric_limits<std::int64_t>::max();
       if (!command.resume) {
+        RefuseLiveOutput(command.out);  // one may have started since CheckBeforeWork
         if (const std::vector<std::filesystem::path> shards = FindShards(command.out); !shards.empty()) {
           throw InputError(fmt::format("{}: shards of an earlier run of it exist ({}); pass --resume to continue "
                                        "that run, or remove them to start a new one",

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <string_view>
 
 #include <fmt/format.h>
@@ -47,12 +48,22 @@ void CheckBeforeWork(MPI_Comm communicator, const PoolOptions& pool, double prog
                                       : std::string());
 }
 
+void RefuseLiveOutput(const std::filesystem::path& out) {
+  if (const std::optional<std::filesystem::path> written = BeingWritten(out)) {
+    throw InputError(fmt::format("{}: another ringtol run is writing it ({} is open for writing); let that run finish, "
+                                 "or stop it with Ctrl-C or SIGTERM and continue it with --resume, or choose another "
+                                 "--out",
+                                 out.string(), written->string()));
+  }
+}
+
 void CheckOutput(const std::filesystem::path& out, bool resume) {
   const std::string name = out.string();
   if (std::filesystem::is_directory(out)) {
     throw InputError(name + ": --out names a folder; name the results file to write, e.g. " +
                      (out / "results.h5").string());
   }
+  RefuseLiveOutput(out);
   if (resume) {
     // A run under mpirun killed before it first indexed its shards left only them.
     if (!std::filesystem::exists(out) && FindShards(out).empty())

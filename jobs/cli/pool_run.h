@@ -38,8 +38,12 @@ void CheckBeforeWork(MPI_Comm communicator, const PoolOptions& pool, double prog
                      const std::filesystem::path& out, bool resume);
 
 // InputError unless `out` can be created (new: the path is free and its folder writable)
-// or continued (resume: the file exists).
+// or continued (resume: the file exists), and while another run writes it (RefuseLiveOutput).
 void CheckOutput(const std::filesystem::path& out, bool resume);
+// InputError when a running ringtol writes `out` or one of its shards (BeingWritten,
+// jobs/store/campaign_store.h), saying so: the advice for files a killed run left (resume
+// them, or remove them) must never reach a live run's.
+void RefuseLiveOutput(const std::filesystem::path& out);
 // InputError naming the option for a pool option or progress interval out of range.
 void CheckPoolOptions(const PoolOptions& pool, double progress_seconds);
 

@@ -1200,6 +1200,14 @@ std::vector<fs::path> FindShards(const fs::path& results) {
   return shards;
 }
 
+std::optional<fs::path> BeingWritten(const fs::path& results) {
+  if (FileLock::Held(results)) return results;
+  for (const fs::path& shard : FindShards(results)) {
+    if (FileLock::Held(shard)) return shard;
+  }
+  return std::nullopt;
+}
+
 // ---------------------------------------------------------------------------------------
 // Shard indexes
 

@@ -85,6 +85,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -217,6 +218,11 @@ class CampaignStore {
 // index (below). ShardPath: "<results>.shard-<rank>". FindShards: those that exist, by rank.
 std::filesystem::path ShardPath(const std::filesystem::path& results, int rank);
 std::vector<std::filesystem::path> FindShards(const std::filesystem::path& results);
+// The results file `results` (a campaign's or an allocation's) or one of its shards that a
+// running ringtol writes now, if any: every writer holds an open file description lock on
+// its file while it runs (released when it ends, however it ends), so a second run can
+// tell a live run's files from a killed one's and never advise removing them.
+std::optional<std::filesystem::path> BeingWritten(const std::filesystem::path& results);
 
 // Shards as the results file: under mpirun every computing rank keeps its shard, and the
 // results file becomes their index (schema 6): the root's attributes, /inputs descriptions

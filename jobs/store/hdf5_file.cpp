@@ -509,6 +509,17 @@ FileLock FileLock::Acquire(const fs::path& path, const std::string& name) {
   return lock;
 }
 
+bool FileLock::Held(const fs::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  struct flock region {};
+  region.l_type = F_WRLCK;
+  region.l_whence = SEEK_SET;
+  const bool held = ::fcntl(fd, F_OFD_GETLK, &region) == 0 && region.l_type != F_UNLCK;
+  ::close(fd);
+  return held;
+}
+
 std::size_t FirstDifferingLine(const std::string& a, const std::string& b) {
   const auto [at, unused] = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
   return 1 + static_cast<std::size_t>(std::count(a.begin(), at, '\n'));

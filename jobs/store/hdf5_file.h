@@ -243,6 +243,9 @@ class FileLock {
   }
   // InputError when another run holds it.
   static FileLock Acquire(const std::filesystem::path& path, const std::string& name);
+  // Whether a writer holds the lock of the file at `path` now (false for a missing file, or
+  // on a file system without locks).
+  static bool Held(const std::filesystem::path& path);
 
  private:
   int fd_ = -1;

@@ -765,6 +765,36 @@ TEST(Campaign, TwoToTheFortySamplesStartAtOnceStopWithinSecondsOfSigtermAndResum
   EXPECT_EQ(check.done, on_disk);
 }
 
+// A second run started on the --out of a running one: told that another run writes it,
+// never to remove it (a killed run's files get that advice, and only they).
+void ExpectASecondRunToldAnotherRunWritesIt(const std::string& prefix) {
+  const std::filesystem::path folder = Folder();
+  const auto file = SlowCampaign(folder, 4000);
+  const std::filesystem::path out = folder / "running.h5";
+  const Running run = Start(prefix + RINGTOL_EXECUTABLE + " campaign " + file.string() + " --out " + out.string() +
+                                " --quiet --commit-seconds 0.05",
+                            "running");
+  ASSERT_TRUE(WaitFor([&] { return Done(out) > 0; }));
+  for (const char* resume : {"", "--resume"}) {
+    EXPECT_THAT(Campaign(file, out, resume),
+                ExitsWith(1, AllOf(HasSubstr(out.string() + ": another ringtol run is writing it"),
+                                   HasSubstr("open for writing"), ::testing::Not(HasSubstr("remove")))))
+        << resume;
+  }
+  kill(run.pid, SIGTERM);
+  Wait(run);
+  // Stopped, its files are a stopped run's: continue them, or remove them.
+  EXPECT_THAT(Campaign(file, out), ExitsWith(1, AllOf(HasSubstr("--resume"), HasSubstr("remove"))));
+}
+
+TEST(Campaign, ASecondRunOnTheOutOfARunningOneIsToldAnotherRunWritesItNeverToRemoveIt) {
+  ExpectASecondRunToldAnotherRunWritesIt("");
+}
+
+TEST(CampaignUnderMpirun, ASecondRunOnTheShardsOfARunningOneIsToldAnotherRunWritesThem) {
+  ExpectASecondRunToldAnotherRunWritesIt(Mpirun(2));
+}
+
 // A real kill -9 while samples are being written, several times over, then a resume.
 TEST(CampaignSlow, SigkillWhileWritingThenResumeMatchesAnUninterruptedRun) {
   const std::filesystem::path folder = Folder();
