@@ -161,7 +161,7 @@ std::int64_t SamplesOnDisk(const std::filesystem::path& file) {
 // missing.
 bool IsSharded(const std::filesystem::path& out) {
   if (!FindShards(out).empty()) return true;
-  return std::filesystem::exists(out) && !IndexedShards(out).empty();
+  return std::filesystem::exists(out) && IsShardIndex(out);
 }
 
 // Before a resume under mpirun (rank 0): a self-contained results file becomes shard 0
@@ -169,7 +169,7 @@ bool IsSharded(const std::filesystem::path& out) {
 // process continues in shards; it is checked and repaired as it is first.
 void MakeShardZero(const std::filesystem::path& out, const CampaignIdentity& identity, std::int64_t samples) {
   const std::filesystem::path own = ShardPath(out, 0);
-  if (!std::filesystem::exists(out) || !IndexedShards(out).empty()) return;
+  if (!std::filesystem::exists(out) || IsShardIndex(out)) return;
   if (const int schema = CampaignReader(out).schema_version(); schema < kCampaignSchemaVersion) {
     throw InputError(fmt::format("{}: was written by an older ringtol (schema {}), which keeps it in one file: "
                                  "resume it without mpirun",
@@ -245,6 +245,17 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
 
   // Cheap checks first, so a wrong option fails before a second of calibration.
   CheckBeforeWork(world, command.pool, command.progress_seconds, command.out, command.resume);
+  // A shard that cannot be read holds nothing to continue: renamed aside, its samples are
+  // computed again, like those no shard holds.
+  if (command.resume) {
+    ThrowAgreed(world, rank == 0 ? Attempt([&] {
+      for (const UnreadableShard& shard : SetAsideUnreadableShards(command.out)) {
+        fmt::print(progress, "ringtol: {} cannot be read ({}); set aside as {}: its samples are computed again\n",
+                   shard.shard.string(), shard.why, shard.aside.string());
+      }
+    })
+                                  : std::string());
+  }
 
   // A resume without --samples never asks a file grown by an earlier --samples to shrink:
   // the larger of the campaign file's count and the file's own. A file that does not read

@@ -1200,6 +1200,60 @@ std::vector<fs::path> FindShards(const fs::path& results) {
   return shards;
 }
 
+fs::path SetAsidePath(const fs::path& shard) {
+  fs::path aside = shard;
+  aside += ".unreadable";
+  std::error_code error;
+  for (int k = 2; fs::exists(aside, error); ++k) {
+    aside = shard;
+    aside += fmt::format(".unreadable-{}", k);
+  }
+  return aside;
+}
+
+std::vector<UnreadableShard> SetAsideUnreadableShards(const fs::path& results) {
+  const QuietErrors quiet;
+  std::vector<UnreadableShard> aside;
+  for (const fs::path& shard : FindShards(results)) {
+    const Where opening{shard.string(), true};
+    std::string why;
+    try {
+      const FileId file = OpenForReading(shard);
+      const Stored stored = ReadStored(opening, file.get());
+      // Its columns open and their chunk indexes read (SampleTable::written_end); damaged
+      // chunks are Resume's to repair.
+      if (!stored.index) OpenColumns(opening, file.get(), stored);
+      continue;
+    } catch (const InputError& error) {
+      why = error.what();
+    }
+    const fs::path to = SetAsidePath(shard);
+    std::error_code error;
+    fs::rename(shard, to, error);
+    if (error) throw InputError(fmt::format("{}: cannot be read ({}) nor set aside: {}", shard.string(), why, error.message()));
+    aside.push_back({shard, to, why});
+  }
+  // A shard the index lists that is missing, and was never set aside, is refused as
+  // readers refuse it.
+  std::error_code error;
+  if (fs::exists(results, error) && IsShardIndex(results)) {
+    const FileId file = OpenForReading(results);
+    ListedShardFiles(Where{results.string(), true}, file.get(), results, [](const fs::path& shard) {
+      fs::path first_aside = shard;
+      first_aside += ".unreadable";
+      std::error_code missing;
+      return fs::exists(first_aside, missing);
+    });
+  }
+  return aside;
+}
+
+bool IsShardIndex(const fs::path& results) {
+  const QuietErrors quiet;
+  const FileId file = OpenForReading(results);
+  return ReadStored(Where{results.string(), true}, file.get()).index;
+}
+
 std::optional<fs::path> BeingWritten(const fs::path& results) {
   if (FileLock::Held(results)) return results;
   for (const fs::path& shard : FindShards(results)) {
@@ -1213,27 +1267,6 @@ std::optional<fs::path> BeingWritten(const fs::path& results) {
 
 namespace {
 
-
-// The finished samples of a shard's table, as ranges.
-std::vector<SampleRange> FinishedRows(const SampleTable& table) {
-  std::vector<SampleRange> rows;
-  const std::int64_t samples = table.space().samples;
-  constexpr std::int64_t kBlock = std::int64_t{1} << 20;
-  for (std::int64_t begin = 0; begin < samples; begin += kBlock) {
-    const std::int64_t count = std::min(kBlock, samples - begin);
-    const std::vector<SampleStatus> statuses = table.Statuses(0, begin, count);
-    for (std::int64_t i = 0; i < count; ++i) {
-      const std::int64_t sample = begin + i;
-      if (statuses[static_cast<std::size_t>(i)] == SampleStatus::kPending) continue;
-      if (!rows.empty() && rows.back().end == sample) {
-        ++rows.back().end;
-      } else {
-        rows.push_back({sample, sample + 1});
-      }
-    }
-  }
-  return rows;
-}
 
 // Rows of /failures/sample, open as `dataset`.
 hsize_t FailureRowCount(const Where& where, hid_t dataset) {
@@ -1298,11 +1331,30 @@ void CheckShardStored(const Where& index, const Where& opening, const Stored& st
   }
 }
 
-// A shard an index lists (it exists: ListedShardFiles): InputError as CheckShardStored.
+// What a reader says of a shard that cannot be read at all, and how to recover.
+std::string UnreadableShardMessage(const std::string& index, const fs::path& shard, const std::string& why,
+                                   const std::string& campaign_path) {
+  return fmt::format(
+      "{}: its shard {} cannot be read ({}); `ringtol campaign {} --out {} --resume` sets it aside (renamed {}, "
+      "never deleted) and computes its samples again",
+      index, shard.string(), why, campaign_path, index, SetAsidePath(shard).string());
+}
+
+// A shard an index lists (it exists: ListedShardFiles): InputError as CheckShardStored, or
+// naming the shard and the resume that recovers its samples when it cannot be read.
 void CheckShard(const Where& index, const fs::path& shard, const Stored& expected) {
   const Where opening{shard.string(), true};
-  const FileId file = OpenForReading(shard);
-  CheckShardStored(index, opening, ReadStored(opening, file.get()), expected);
+  const auto readable = [&](const auto& read) {
+    try {
+      return read();
+    } catch (const InputError& error) {
+      throw InputError(UnreadableShardMessage(index.file, shard, error.what(), expected.identity.campaign_path));
+    }
+  };
+  const FileId file = readable([&] { return OpenForReading(shard); });
+  const Stored stored = readable([&] { return ReadStored(opening, file.get()); });
+  CheckShardStored(index, opening, stored, expected);
+  readable([&] { return OpenColumns(opening, file.get(), stored); });
 }
 
 // The shards of an index, each checked.

@@ -224,6 +224,25 @@ std::vector<std::filesystem::path> FindShards(const std::filesystem::path& resul
 // tell a live run's files from a killed one's and never advise removing them.
 std::optional<std::filesystem::path> BeingWritten(const std::filesystem::path& results);
 
+// Shards that cannot be read at all (truncated, not HDF5, their metadata, descriptions or
+// chunk indexes damaged) hold nothing a resume can use; every reader refuses them, naming
+// the shard and the resume below. Before a resume continues `results` in shards, each such
+// shard is set aside: renamed to SetAsidePath(shard), never deleted (nothing computed is
+// ever lost), so that its samples are computed again. A shard of another campaign reads,
+// and is refused for what it is; a shard with damaged chunks reads, and the resume repairs
+// it (CampaignStore::Resume). Then InputError, as readers give, for a shard the index lists
+// that is missing and was never set aside. Returns the shards set aside.
+struct UnreadableShard {
+  std::filesystem::path shard;
+  std::filesystem::path aside;  // its new name
+  std::string why;              // what reading it said
+};
+std::vector<UnreadableShard> SetAsideUnreadableShards(const std::filesystem::path& results);
+// "<shard>.unreadable", or "<shard>.unreadable-2", -3, ...: the first name that is free.
+std::filesystem::path SetAsidePath(const std::filesystem::path& shard);
+// Whether `results` is an index of shards: its root only is read, its shards not opened.
+bool IsShardIndex(const std::filesystem::path& results);
+
 // Shards as the results file: under mpirun every computing rank keeps its shard, and the
 // results file becomes their index (schema 6): the root's attributes, /inputs descriptions
 // and /calibration of a results file, /shards/file [K] (the shards' file names, beside the

@@ -530,7 +530,8 @@ std::optional<std::string> TextDifference(std::string_view field, const std::str
   return fmt::format("{} differs (first at line {})", field, FirstDifferingLine(file, now));
 }
 
-std::vector<std::filesystem::path> ListedShardFiles(const Where& where, hid_t file, const std::filesystem::path& index) {
+std::vector<std::filesystem::path> ListedShardFiles(const Where& where, hid_t file, const std::filesystem::path& index,
+                                                    bool (*may_be_missing)(const std::filesystem::path& shard)) {
   std::vector<std::filesystem::path> shards;
   for (const std::string& name : ReadStrings(where, file, kShardFiles)) {
     if (name.empty() || std::filesystem::path(name).has_parent_path()) {
@@ -539,6 +540,10 @@ std::vector<std::filesystem::path> ListedShardFiles(const Where& where, hid_t fi
     shards.push_back(index.parent_path() / name);
     std::error_code error;
     if (!std::filesystem::exists(shards.back(), error)) {
+      if (may_be_missing != nullptr && may_be_missing(shards.back())) {
+        shards.pop_back();
+        continue;
+      }
       throw InputError(fmt::format("{}: is an index of shards, and its shard {} is missing: put it back beside the "
                                    "index (the samples it holds are nowhere else)",
                                    where.file, shards.back().string()));

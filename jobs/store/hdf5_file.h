@@ -202,7 +202,9 @@ inline constexpr const char* kShardFiles = "/shards/file";
 // The shards an index at `index` lists, resolved beside it, each one checked to exist:
 // HDF5 would read a missing shard's rows as fill values without an error. InputError
 // naming a missing one, or a name that is not a file beside the index.
-std::vector<std::filesystem::path> ListedShardFiles(const Where& where, hid_t file, const std::filesystem::path& index);
+// `may_be_missing`, when given, names the missing shards to leave out instead.
+std::vector<std::filesystem::path> ListedShardFiles(const Where& where, hid_t file, const std::filesystem::path& index,
+                                                    bool (*may_be_missing)(const std::filesystem::path& shard) = nullptr);
 // Writes an index of shards: a new file beside `index` that `write` fills and that lists
 // `shards` (file names beside it) in kShardFiles, renamed over `index` once closed, so a
 // kill leaves the old index or the new one (and a stale temporary the next call removes).

@@ -795,6 +795,34 @@ TEST(CampaignUnderMpirun, ASecondRunOnTheShardsOfARunningOneIsToldAnotherRunWrit
   ExpectASecondRunToldAnotherRunWritesIt(Mpirun(2));
 }
 
+// A truncated shard holds nothing to continue: verify, report and join name it and the
+// resume that recovers it, and that resume (alone, of a run under mpirun) sets it aside,
+// keeping its bytes, and computes its samples again, to the file an uninterrupted run writes.
+TEST(CampaignUnderMpirun, ATruncatedShardIsNamedByEveryCommandAndAResumeComputesItsSamplesAgain) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "campaign.toml", kCampaign);
+  ASSERT_EQ(Campaign(file, folder / "whole.h5").exit_code, 0);
+  const std::filesystem::path out = folder / "sharded.h5";
+  ASSERT_EQ(Campaign(file, out, "", Mpirun(2)).exit_code, 0);
+  const std::filesystem::path shard = ShardPath(out, 1);
+  const std::string truncate = "truncate -s " + std::to_string(std::filesystem::file_size(shard) / 2) + " " +
+                               shard.string();
+  ASSERT_EQ(std::system(truncate.c_str()), 0);
+  const std::string truncated = testing::ReadText(shard);
+  const auto names_it = AllOf(HasSubstr("sharded.h5.shard-1 cannot be read"), HasSubstr("--out " + out.string() + " --resume"),
+                              HasSubstr("sharded.h5.shard-1.unreadable"));
+  EXPECT_THAT(RunRingtol("", "verify " + out.string()), ExitsWith(1, names_it));
+  EXPECT_THAT(RunRingtol("", "report " + out.string() + " --out " + (folder / "report.html").string()),
+              ExitsWith(1, names_it));
+  EXPECT_THAT(RunRingtol("", "join " + out.string()), ExitsWith(1, names_it));
+  const Outcome resumed = Campaign(file, out, "--resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_THAT(resumed.err, HasSubstr("set aside as " + shard.string() + ".unreadable"));
+  EXPECT_EQ(testing::ReadText(ShardPath(out, 1).string() + ".unreadable"), truncated);
+  ExpectSameResults(folder / "whole.h5", out);
+  EXPECT_TRUE(CheckResults(out).intact());
+}
+
 // A real kill -9 while samples are being written, several times over, then a resume.
 TEST(CampaignSlow, SigkillWhileWritingThenResumeMatchesAnUninterruptedRun) {
   const std::filesystem::path folder = Folder();

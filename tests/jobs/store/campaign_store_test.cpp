@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -1429,6 +1430,38 @@ TEST(ShardIndex, JoinRefusesADamagedShardChunkNamingItsRowsAndResumeAndKeepsEver
   }
   std::size_t k = 0;
   for (const fs::path& file : {path, shards[0], shards[1], shards[2]}) EXPECT_EQ(ReadBytes(file), before[k++]) << file;
+}
+
+// A truncated shard: every reader names it and the resume that recovers its samples, and
+// that resume sets it aside under a new name (nothing is deleted) before it starts.
+TEST(ShardIndex, ATruncatedShardIsNamedByEveryReaderAndSetAsideBeforeAResume) {
+  const fs::path path = TestFolder() / "results.h5";
+  const std::vector<fs::path> shards = BlockCyclicShards(path);
+  WriteShardIndex(path, TestIdentity(), kShardedSamples, shards);
+  const auto half = fs::file_size(shards[1]) / 2;
+  ASSERT_EQ(std::system(("truncate -s " + std::to_string(half) + " " + shards[1].string()).c_str()), 0);
+  const auto names_it = AllOf(HasSubstr("results.h5.shard-1 cannot be read"),
+                              HasSubstr("ringtol campaign campaigns/demo.toml --out " + path.string() + " --resume"),
+                              HasSubstr("results.h5.shard-1.unreadable"));
+  EXPECT_THAT(InputErrorOf([&] { CampaignReader reader(path); }), names_it);
+  EXPECT_THAT(InputErrorOf([&] { CheckResults(path); }), names_it);
+  EXPECT_THAT(InputErrorOf([&] { JoinShards(path, path); }), names_it);
+  EXPECT_EQ(FindShards(path).size(), 3u);
+
+  const std::string truncated = ReadBytes(shards[1]);
+  const std::vector<UnreadableShard> aside = SetAsideUnreadableShards(path);
+  ASSERT_EQ(aside.size(), 1u);
+  EXPECT_EQ(aside[0].shard, shards[1]);
+  EXPECT_EQ(aside[0].aside, path.parent_path() / "results.h5.shard-1.unreadable");
+  EXPECT_EQ(ReadBytes(aside[0].aside), truncated);
+  EXPECT_EQ(FindShards(path), (std::vector<fs::path>{shards[0], shards[2]}));
+  // Set aside once, it is not taken for a shard that went missing; the next name is free.
+  EXPECT_TRUE(SetAsideUnreadableShards(path).empty());
+  EXPECT_EQ(SetAsidePath(shards[1]), path.parent_path() / "results.h5.shard-1.unreadable-2");
+  // A shard that went missing without being set aside is still refused.
+  fs::rename(shards[2], path.parent_path() / "moved.h5");
+  EXPECT_THAT(InputErrorOf([&] { SetAsideUnreadableShards(path); }),
+              AllOf(HasSubstr("results.h5.shard-2"), HasSubstr("missing")));
 }
 
 TEST(ShardIndex, JoinWritesOneSelfContainedFileOfTheSameSamples) {
