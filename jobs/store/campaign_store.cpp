@@ -1744,57 +1744,35 @@ bool ResultsCheck::checksummed() const {
 
 namespace {
 
-// The rows of `mask` that hold `value`, as ranges.
-std::vector<SampleRange> RangesOf(const std::vector<std::uint8_t>& mask, std::uint8_t value) {
-  std::vector<SampleRange> ranges;
-  for (std::size_t i = 0; i < mask.size(); ++i) {
-    if (mask[i] != value) continue;
-    const auto sample = static_cast<std::int64_t>(i);
-    if (!ranges.empty() && ranges.back().end == sample) {
-      ++ranges.back().end;
-    } else {
-      ranges.push_back({sample, sample + 1});
-    }
-  }
-  return ranges;
+// The samples of both (each ascending, disjoint).
+std::vector<SampleRange> Intersect(const std::vector<SampleRange>& a, const std::vector<SampleRange>& b) {
+  return Without(a, Without(a, b));
 }
 
-void Mark(std::vector<std::uint8_t>& mask, const std::vector<SampleRange>& ranges, std::uint8_t value) {
-  for (const SampleRange& range : ranges) {
-    std::fill(mask.begin() + range.begin, mask.begin() + range.end, value);
-  }
+std::int64_t Count(const std::vector<SampleRange>& ranges) {
+  std::int64_t count = 0;
+  for (const SampleRange& range : ranges) count += range.end - range.begin;
+  return count;
 }
 
 // An index's check: every shard's, each shard answering for the samples it does not hold
 // pending, merged by dataset. A sample is to be computed again when no shard holds it
-// whole.
+// whole. In runs throughout, so that it costs what the shards hold, not N.
 ResultsCheck CheckIndex(const Where& where, hid_t file, const fs::path& path, const Stored& stored) {
   ResultsCheck merged;
   merged.samples = stored.samples;
-  const auto n = static_cast<std::size_t>(stored.samples);
-  std::vector<std::uint8_t> claimed(n, 0);
-  std::vector<std::uint8_t> done(n, 0);
-  std::vector<std::uint8_t> whole(n, 0);
+  std::vector<SampleRange> claimed;  // some shard answers for them
+  std::vector<SampleRange> done;     // and its status chunk reads
+  std::vector<SampleRange> whole;    // and no dataset of that shard is damaged there
   for (const fs::path& shard : ListedShards(where, file, path, stored)) {
     const ResultsCheck one = CheckResults(shard);
-    std::vector<std::uint8_t> answers(n, 0);  // 1: the shard answers for the sample; 2: and it is damaged there
-    std::fill_n(answers.begin(), static_cast<std::size_t>(one.samples), 1);
-    Mark(answers, one.pending, 0);
-    std::vector<std::uint8_t> status_read = answers;
+    const std::vector<SampleRange> answers = Without({{0, one.samples}}, one.pending);
+    std::vector<SampleRange> damaged_here;
+    std::vector<SampleRange> status_damaged;
     for (const DatasetCheck& dataset : one.datasets) {
-      std::vector<SampleRange> damaged;
-      for (const SampleRange& range : dataset.damaged) {
-        for (std::int64_t i = range.begin; i < range.end; ++i) {
-          if (answers[static_cast<std::size_t>(i)] == 0) continue;
-          answers[static_cast<std::size_t>(i)] = 2;
-          if (dataset.path == "/outputs/status") status_read[static_cast<std::size_t>(i)] = 0;
-          if (!damaged.empty() && damaged.back().end == i) {
-            ++damaged.back().end;
-          } else {
-            damaged.push_back({i, i + 1});
-          }
-        }
-      }
+      const std::vector<SampleRange> damaged = Intersect(MergeRanges(dataset.damaged), answers);
+      if (dataset.path == "/outputs/status") status_damaged = damaged;
+      damaged_here.insert(damaged_here.end(), damaged.begin(), damaged.end());
       auto found = std::find_if(merged.datasets.begin(), merged.datasets.end(),
                                 [&](const DatasetCheck& d) { return d.path == dataset.path; });
       if (found == merged.datasets.end()) {
@@ -1811,15 +1789,15 @@ ResultsCheck CheckIndex(const Where& where, hid_t file, const fs::path& path, co
       found->damaged.insert(found->damaged.end(), damaged.begin(), damaged.end());
       found->damaged = MergeRanges(std::move(found->damaged));
     }
-    for (std::size_t i = 0; i < n; ++i) {
-      claimed[i] = claimed[i] | static_cast<std::uint8_t>(answers[i] != 0);
-      done[i] = done[i] | static_cast<std::uint8_t>(answers[i] != 0 && status_read[i] != 0);
-      whole[i] = whole[i] | static_cast<std::uint8_t>(answers[i] == 1);
-    }
+    claimed.insert(claimed.end(), answers.begin(), answers.end());
+    const std::vector<SampleRange> readable = Without(answers, status_damaged);
+    done.insert(done.end(), readable.begin(), readable.end());
+    const std::vector<SampleRange> intact = Without(answers, MergeRanges(std::move(damaged_here)));
+    whole.insert(whole.end(), intact.begin(), intact.end());
   }
-  merged.done = std::count(done.begin(), done.end(), std::uint8_t{1});
-  merged.pending = RangesOf(claimed, 0);
-  merged.recompute = RangesOf(whole, 0);
+  merged.done = Count(MergeRanges(std::move(done)));
+  merged.pending = Without({{0, stored.samples}}, MergeRanges(std::move(claimed)));
+  merged.recompute = Without({{0, stored.samples}}, MergeRanges(std::move(whole)));
   return merged;
 }
 

@@ -1372,6 +1372,24 @@ TEST(ShardIndex, ShowsRowsNoShardFinishedAsPending) {
   EXPECT_EQ(check.recompute, check.pending);
 }
 
+// A campaign of 2^40 samples stopped early, as mpirun leaves it: its index is read and
+// checked in runs, in the time of what its shards hold.
+TEST(ShardIndex, AnIndexOfTwoToTheFortySamplesIsReadAndCheckedInTheTimeOfWhatItHolds) {
+  const fs::path path = TestFolder() / "results.h5";
+  constexpr std::int64_t kHuge = std::int64_t{1} << 40;
+  {
+    CampaignStore shard = CampaignStore::Create(ShardPath(path, 0), TestIdentity(), kHuge, ShardChunks());
+    WriteRange(shard, 0, 10);
+  }
+  WriteShardIndex(path, TestIdentity(), kHuge, {ShardPath(path, 0)});
+  EXPECT_EQ(CampaignReader(path).Finished(), (std::vector<SampleRange>{{0, 10}}));
+  const ResultsCheck check = CheckResults(path);
+  EXPECT_TRUE(check.intact());
+  EXPECT_EQ(check.done, 10);
+  EXPECT_EQ(check.pending, (std::vector<SampleRange>{{10, kHuge}}));
+  EXPECT_EQ(check.recompute, check.pending);
+}
+
 TEST(ShardIndex, ReadersRefuseAnIndexWhoseShardIsMissingInsteadOfReadingItsRowsAsPending) {
   const fs::path path = TestFolder() / "results.h5";
   WriteShardIndex(path, TestIdentity(), kShardedSamples, BlockCyclicShards(path));
