@@ -62,22 +62,23 @@ bool SameWithoutErrors(const Scene& a, const Scene& b) {
   // WithoutErrors and HasErrors) or a nominal field (compared).
   const auto& [ring_a, rollers_a, positions_a, contact_a, friction_a, sensor_a, swing_a, motion_a, dynamics_a] = a;
   const auto& [ring_b, rollers_b, positions_b, contact_b, friction_b, sensor_b, swing_b, motion_b, dynamics_b] = b;
-  const auto& [inner_a, outer_a, thickness_a, mass_a, inertia_a] = ring_a;
-  const auto& [inner_b, outer_b, thickness_b, mass_b, inertia_b] = ring_b;
+  const auto& [inner_a, outer_a, thickness_a, mass_a, inertia_a, material_a] = ring_a;
+  const auto& [inner_b, outer_b, thickness_b, mass_b, inertia_b, material_b] = ring_b;
   if (!(inner_a.radius() == inner_b.radius() && outer_a == outer_b && thickness_a == thickness_b &&
-        mass_a == mass_b && inertia_a == inertia_b)) {
+        mass_a == mass_b && inertia_a == inertia_b && material_a == material_b)) {
     return false;
   }
   if (rollers_a.size() != rollers_b.size()) return false;
   for (std::size_t i = 0; i < rollers_a.size(); ++i) {
     const auto& [name_a, angle_a, centre_a, radial_a, tangential_a, outline_a, reference_a, phase_a, mount_a,
-                 spring_a, roller_mass_a, roller_inertia_a, width_a] = rollers_a[i];
+                 spring_a, roller_mass_a, roller_inertia_a, width_a, roller_material_a] = rollers_a[i];
     const auto& [name_b, angle_b, centre_b, radial_b, tangential_b, outline_b, reference_b, phase_b, mount_b,
-                 spring_b, roller_mass_b, roller_inertia_b, width_b] = rollers_b[i];
+                 spring_b, roller_mass_b, roller_inertia_b, width_b, roller_material_b] = rollers_b[i];
     // The radial and tangential offsets are errors: not compared.
     if (!(name_a == name_b && angle_a == angle_b && centre_a == centre_b && outline_a.radius() == outline_b.radius() &&
           reference_a == reference_b && phase_a == phase_b && mount_a == mount_b && spring_a == spring_b &&
-          roller_mass_a == roller_mass_b && roller_inertia_a == roller_inertia_b && width_a == width_b)) {
+          roller_mass_a == roller_mass_b && roller_inertia_a == roller_inertia_b && width_a == width_b &&
+          roller_material_a == roller_material_b)) {
       return false;
     }
   }

@@ -15,12 +15,23 @@
 
 namespace ringtol::engine {
 
+// What a body is made of, as its contact needs it. Only the contact law a scene file
+// derives when it states none reads it (engine/line_contact.h, docs/model.md §4); the
+// solvers never do. The defaults are steel.
+struct Material {
+  double youngs_modulus = 210e9;  // [Pa] E > 0
+  double poisson_ratio = 0.3;     // [-] nu in [0, 0.5]
+
+  bool operator==(const Material&) const = default;
+};
+
 struct Ring {
   PolarProfile inner;          // inner (running) surface in the ring frame; radius() = R [m]
   double outer_radius = 0.0;   // [m]
   double thickness = 0.0;      // [m] axial
   double mass = 0.0;           // [kg]
   double spin_inertia = 0.0;   // [kg m^2] about z through the centre
+  Material material;
 
   bool operator==(const Ring&) const = default;
 };
@@ -52,11 +63,15 @@ struct Roller {
   // [m] axial length as the scene file gives it: only a mass computed from density uses
   // it, and a scene written back keeps it; 0 where no file gave one.
   double width = 0.0;
+  Material material;
 
   bool operator==(const Roller&) const = default;
 };
 
 // Normal contact law, docs/model.md §4: F = k delta^e + STEP(delta, 0, 0, d, c_max) delta'.
+// The defaults are the article's (its Table 4, Adams IMPACT), which a scene built in code
+// keeps; a scene file that states neither k nor e gets the Hertzian line-contact law of
+// its materials instead (engine/line_contact.h).
 struct ContactLaw {
   enum class Model { kRigid, kPenalty };
   Model model = Model::kPenalty;

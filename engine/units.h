@@ -15,5 +15,7 @@ inline constexpr double kMicrometresPerMetre = 1e6;   // m -> um
 inline constexpr double kMicrometresPerMillimetre = 1e3;  // mm -> um (output files in mm, errors in um)
 inline constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;  // deg -> rad
 inline constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;  // rad -> deg
+inline constexpr double kPascalsPerGigapascal = 1e9;  // GPa -> Pa (Young's moduli)
+inline constexpr double kPascalsPerMegapascal = 1e6;  // N/mm^2 -> Pa
 
 }  // namespace ringtol::units
