@@ -19,6 +19,7 @@
 #include "jobs/inputs/input_error.h"
 #include "jobs/inputs/scene_keys.h"
 #include "jobs/inputs/toml_fields.h"
+#include "engine/line_contact.h"
 #include "engine/units.h"
 
 namespace ringtol::jobs {
@@ -30,6 +31,20 @@ using engine::ShapePhaseReference;
 constexpr std::size_t kMinRollers = 3;  // fewer cannot hold the ring's centre in its plane
 constexpr std::string_view kMassAllowed = "exactly one of density_kg_per_m3 and mass_kg";
 constexpr std::string_view kSpringOnly = "mount = \"spring\"";
+
+// A body's material keys, on [ring] and each [[rollers]]: only the contact law of a file
+// that states none reads them (docs/model.md §4). The stiffest solids (diamond, about
+// 1,100 GPa) stay below the modulus' bound, so a modulus in MPa or Pa is refused; nu <=
+// 0.5 is incompressible.
+const Range kYoungsModulusRange{0.0, true, 1500.0, false};
+const Range kPoissonRatioRange = Between(0.0, 0.5);
+
+template <typename T>
+void AddMaterialFields(std::vector<Field<T>>& fields) {
+  fields.push_back(Number(scene_key::kYoungsModulusGPa, Presence::kOptional, units::kPascalsPerGigapascal,
+                          kYoungsModulusRange, &T::youngs_modulus));
+  fields.push_back(Number(scene_key::kPoissonRatio, Presence::kOptional, kSameUnit, kPoissonRatioRange, &T::poisson_ratio));
+}
 
 double Millimetres(double metres) { return metres / units::kMetresPerMillimetre; }
 
@@ -173,10 +188,12 @@ struct RingInput {
   double mean_deviation = 0.0;         // [m]
   std::vector<engine::Harmonic> harmonics;
   std::optional<MeasuredRing> measured;
+  double youngs_modulus = engine::Material{}.youngs_modulus;  // [Pa]
+  double poisson_ratio = engine::Material{}.poisson_ratio;    // [-]
 };
 
 std::vector<Field<RingInput>> RingFields(const std::filesystem::path& folder) {
-  return {
+  std::vector<Field<RingInput>> fields = {
       Number(scene_key::kInnerRadiusMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::inner_radius),
       Number(scene_key::kOuterRadiusMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::outer_radius),
       Number(scene_key::kThicknessMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RingInput::thickness),
@@ -191,6 +208,8 @@ std::vector<Field<RingInput>> RingFields(const std::filesystem::path& folder) {
                        },
                        {}, {}},
   };
+  AddMaterialFields(fields);
+  return fields;
 }
 
 // folder: the scene file's, against which ring.measured_profile.file is resolved.
@@ -242,6 +261,7 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
   RequireModelledInertia(table, ring.mass, ring.spin_inertia,
                          {scene_key::kOuterRadiusMm, scene_key::kInnerRadiusMm, scene_key::kThicknessMm},
                          {scene_key::kOuterRadiusMm, scene_key::kInnerRadiusMm});
+  ring.material = {in.youngs_modulus, in.poisson_ratio};
   RequireDeviationsBelowRadius(table, ring.inner, scene_key::kInnerRadiusMm);
 }
 
@@ -289,12 +309,14 @@ struct RollerInput {
   double spin_phase = 0.0;                // [rad]
   double mean_deviation = 0.0;            // [m]
   std::vector<engine::Harmonic> harmonics;
+  double youngs_modulus = engine::Material{}.youngs_modulus;  // [Pa]
+  double poisson_ratio = engine::Material{}.poisson_ratio;    // [-]
 };
 
 std::vector<Field<RollerInput>> RollerFields() {
   const auto is_spring = [](const RollerInput& roller) { return roller.mount == RollerMount::kSpring; };
   // mount comes before the spring keys: whether they are allowed depends on it.
-  return {
+  std::vector<Field<RollerInput>> fields = {
       Text(scene_key::kName, Presence::kOptional, "a non-empty string, unique among the rollers", &RollerInput::name),
       Number(scene_key::kAngleDeg, Presence::kRequired, units::kRadiansPerDegree, AnyFinite(), &RollerInput::angle),
       Number(scene_key::kRadiusMm, Presence::kRequired, units::kMetresPerMillimetre, Above(0.0), &RollerInput::radius),
@@ -322,6 +344,8 @@ std::vector<Field<RollerInput>> RollerFields() {
       Number(scene_key::kMeanDeviationMm, Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RollerInput::mean_deviation),
       HarmonicList(scene_key::kHarmonics, Presence::kOptional, &RollerInput::harmonics),
   };
+  AddMaterialFields(fields);
+  return fields;
 }
 
 void ReadRoller(const TableReader& table, std::size_t index, engine::Scene& scene) {
@@ -361,23 +385,45 @@ void ReadRoller(const TableReader& table, std::size_t index, engine::Scene& scen
   roller.mass = in.mass ? *in.mass : *in.density * std::numbers::pi * r2 * in.width;
   roller.spin_inertia = in.spin_inertia.value_or(roller.mass * r2 / 2.0);
   RequireModelledInertia(table, roller.mass, roller.spin_inertia, {scene_key::kRadiusMm, scene_key::kWidthMm}, {scene_key::kRadiusMm});
+  roller.material = {in.youngs_modulus, in.poisson_ratio};
   RequireDeviationsBelowRadius(table, roller.outline, scene_key::kRadiusMm);
   scene.rollers.push_back(std::move(roller));
 }
 
 // ---- [contact], [friction], [sensor]: straight into the engine's structs, whose in-class
-// defaults are the documented defaults.
+// defaults are the documented defaults, except the penalty law's k and e: a file that
+// states neither gets the law of its materials (StatesPenaltyLaw).
 
 std::vector<Field<engine::ContactLaw>> ContactFields() {
   using Law = engine::ContactLaw;
   return {
       Choice(scene_key::kLaw, Presence::kOptional, kContactModelNames, &Law::model),
-      Number(scene_key::kStiffnessNPerME, Presence::kOptional, kSameUnit, Above(0.0), &Law::stiffness),
-      Number(scene_key::kExponent, Presence::kOptional, kSameUnit, Between(1.0, 3.0), &Law::exponent),
+      Number(scene_key::kStiffnessNPerME, Presence::kOptional, kSameUnit, Above(0.0), &Law::stiffness).WithoutDefault(),
+      Number(scene_key::kExponent, Presence::kOptional, kSameUnit, Between(1.0, 3.0), &Law::exponent).WithoutDefault(),
       Number(scene_key::kMaxDampingNSPerM, Presence::kOptional, kSameUnit, AtLeast(0.0), &Law::max_damping),
       Number(scene_key::kFullDampingPenetrationMm, Presence::kOptional, units::kMetresPerMillimetre, Above(0.0),
              &Law::full_damping_penetration),
   };
+}
+
+// k's unit, N/m^e, depends on e: one without the other is a law half stated.
+void ReadContact(const TableReader& table, engine::Scene& scene) {
+  table.Read(ContactFields(), scene.contact);
+  constexpr std::string_view kStiffness = scene_key::kStiffnessNPerME;
+  constexpr std::string_view kExponent = scene_key::kExponent;
+  if (table.Has(kStiffness) == table.Has(kExponent)) return;
+  const std::string_view given = table.Has(kStiffness) ? kStiffness : kExponent;
+  const std::string_view missing = table.Has(kStiffness) ? kExponent : kStiffness;
+  table.Fail(given, fmt::format("given without {}: k's unit, N/m^e, depends on e", table.KeyPath(missing)),
+             fmt::format("both {} and {}, or neither for the law of the ring's and rollers' materials "
+                         "(docs/model.md §4)",
+                         kStiffness, kExponent));
+}
+
+// Whether the file states the penalty law's k and e (ReadContact allows both or neither).
+bool StatesPenaltyLaw(const toml::table& document) {
+  const toml::table* contact = document["contact"].as_table();
+  return contact != nullptr && contact->contains(scene_key::kStiffnessNPerME);
 }
 
 std::vector<Field<engine::Friction>> FrictionFields() {
@@ -522,8 +568,7 @@ std::vector<Field<engine::Scene>> SceneFields(const std::filesystem::path& folde
                      [folder](const TableReader& table, Scene& scene) { ReadRing(table, folder, scene); }),
       Section<Scene>("roller_positions", Presence::kOptional, ReadRollerPositions),
       Sections<Scene>("rollers", Presence::kRequired, kMinRollers, ReadRoller),
-      Section<Scene>("contact", Presence::kOptional,
-                     [](const TableReader& table, Scene& scene) { table.Read(ContactFields(), scene.contact); }),
+      Section<Scene>("contact", Presence::kOptional, ReadContact),
       Section<Scene>(scene_key::kFriction, Presence::kOptional, ReadFriction),
       Section<Scene>("sensor", Presence::kOptional,
                      [](const TableReader& table, Scene& scene) { table.Read(SensorFields(), scene); }),
@@ -539,6 +584,7 @@ engine::Scene SceneFromText(std::string_view toml_text, const std::string& sourc
   const TableReader root(document, "", source_name);
   engine::Scene scene;
   root.Read(SceneFields(folder), scene);
+  if (!StatesPenaltyLaw(document)) scene.contact = engine::MaterialContactLaw(scene, scene.contact);
   // Non-convex outlines are left to the solvers, which report them as a status.
   const engine::GeometryCheck check = engine::CheckGeometry(scene);
   if (check.issue == engine::GeometryIssue::kRollerDoesNotFit) {

@@ -42,6 +42,7 @@ inline constexpr std::string_view kMeanDeviationMm = "mean_deviation_mm";
 inline constexpr std::string_view kMount = "mount";
 inline constexpr std::string_view kName = "name";
 inline constexpr std::string_view kOuterRadiusMm = "outer_radius_mm";
+inline constexpr std::string_view kPoissonRatio = "poisson_ratio";
 inline constexpr std::string_view kRadialOffsetMm = "radial_offset_mm";
 inline constexpr std::string_view kRadiusMm = "radius_mm";
 inline constexpr std::string_view kRateDegPerS = "rate_deg_per_s";
@@ -64,6 +65,7 @@ inline constexpr std::string_view kTangentialOffsetMm = "tangential_offset_mm";
 inline constexpr std::string_view kThicknessMm = "thickness_mm";
 inline constexpr std::string_view kTransitionVelocityMmPerS = "transition_velocity_mm_per_s";
 inline constexpr std::string_view kWidthMm = "width_mm";
+inline constexpr std::string_view kYoungsModulusGPa = "youngs_modulus_GPa";
 }  // namespace scene_key
 
 }  // namespace ringtol::jobs

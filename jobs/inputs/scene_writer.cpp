@@ -95,6 +95,10 @@ class Writer {
     Key(scene_key::kMeanDeviationMm, Mm(profile.mean_deviation()));
     Key(scene_key::kHarmonics, Harmonics(profile.harmonics()));
   }
+  void Material(const engine::Material& material) {
+    Key(scene_key::kYoungsModulusGPa, Float(InUnit(material.youngs_modulus, units::kPascalsPerGigapascal)));
+    Key(scene_key::kPoissonRatio, Float(material.poisson_ratio));
+  }
   std::string Text() && { return std::move(text_); }
 
  private:
@@ -179,6 +183,7 @@ void WriteRoller(Writer& out, const engine::Roller& roller, const engine::Ring& 
   out.Key(scene_key::kSpinInertiaKgM2, Float(roller.spin_inertia));
   out.Key(scene_key::kShapePhaseReference, Quoted(NameOf(kShapePhaseReferenceNames, roller.phase_reference)));
   out.Key(scene_key::kSpinPhaseDeg, Deg(roller.spin_phase));
+  out.Material(roller.material);
   out.Profile(roller.outline);
 }
 
@@ -197,6 +202,7 @@ std::string WriteScene(const engine::Scene& scene) {
   out.Key(scene_key::kThicknessMm, Mm(ring.thickness));
   out.Key(scene_key::kMassKg, Float(ring.mass));
   out.Key(scene_key::kSpinInertiaKgM2, Float(ring.spin_inertia));
+  out.Material(ring.material);
   out.Profile(ring.inner);
 
   if (scene.roller_positions.mean_deviation() != 0.0 || !scene.roller_positions.harmonics().empty()) {

@@ -26,7 +26,9 @@
 //     rate: settle_s, rate_deg_per_s, revolutions = span * |rate| / 2 pi), and otherwise
 //     as "piecewise" segments; each is the same law;
 //   - a fixed roller's spring is not written (the format forbids it) and reads back as
-//     the default Spring.
+//     the default Spring;
+//   - [contact] always states the penalty law's k and e, so the materials written beside
+//     them (which derive a law only for a file that states none) never change it.
 //
 // Precondition: a scene the format can express, as ReadScene returns it or a sampler
 // derives from one (values in the ranges of jobs/inputs/scene_file.h, unique non-empty roller

@@ -96,6 +96,19 @@ mass_kg = 0.002
 
 std::string MinimalSceneWith(const std::string& tables) { return std::string(kMinimalScene) + "\n" + tables; }
 
+// The paper scene's stated law, which a scene of one's own leaves out.
+constexpr std::string_view kPaperLaw =
+    "stiffness_N_per_m_e = 1.0e7       # k in F = k delta^e, units N/m^e\nexponent = 1.5\n";
+
+// k [N/m^(10/9)] of Palmgren's steel-on-steel fit delta = 3.84e-5 Q^0.9 / l^0.8 (mm, N),
+// written through the contact modulus (docs/model.md §4): for bodies of E* [Pa] touching
+// over `length` [m].
+double PalmgrenStiffness(double contact_modulus, double length) {
+  const double steel_mpa = 207e3 / (2.0 * (1.0 - 0.3 * 0.3));  // E* of Palmgren's steel [N/mm^2]
+  const double c = 3.84e-5 * std::pow(steel_mpa, 0.9);
+  return contact_modulus * std::pow(length, 8.0 / 9.0) / std::pow(c, 10.0 / 9.0);
+}
+
 // ---- valid input
 
 TEST(SceneFile, ParsesThePaperSceneInSiUnits) {
@@ -175,8 +188,12 @@ TEST(SceneFile, FillsDefaultsForEverythingOptional) {
   EXPECT_DOUBLE_EQ(scene.rollers[1].centre_radius, 0.095);
   EXPECT_DOUBLE_EQ(scene.rollers[1].spin_inertia, 0.002 * 0.005 * 0.005 / 2.0);
   EXPECT_EQ(scene.contact.model, engine::ContactLaw::Model::kPenalty);
-  EXPECT_DOUBLE_EQ(scene.contact.stiffness, 1e7);
-  EXPECT_DOUBLE_EQ(scene.contact.exponent, 1.5);
+  // Steel on steel over the rollers' 4 mm (the ring is 5 mm thick): the law of the materials.
+  EXPECT_EQ(scene.ring.material, engine::Material({210e9, 0.3}));
+  EXPECT_EQ(scene.rollers[2].material, engine::Material({210e9, 0.3}));
+  const double steel = 210e9 / (2.0 * (1.0 - 0.3 * 0.3));
+  EXPECT_NEAR(scene.contact.stiffness, PalmgrenStiffness(steel, 0.004), kRoundingRelative * scene.contact.stiffness);
+  EXPECT_DOUBLE_EQ(scene.contact.exponent, 10.0 / 9.0);
   EXPECT_DOUBLE_EQ(scene.contact.max_damping, 1e5);
   EXPECT_DOUBLE_EQ(scene.contact.full_damping_penetration, 1e-6);
   EXPECT_DOUBLE_EQ(scene.friction.static_coefficient, 0.61);
@@ -214,6 +231,33 @@ TEST(SceneFile, ReadsRollerErrorsAndOptionalSettings) {
   ASSERT_EQ(scene.roller_positions.harmonics().size(), 1u);
   EXPECT_EQ(scene.roller_positions.harmonics()[0].order, 7);
   EXPECT_DOUBLE_EQ(scene.sensor_angle, std::numbers::pi);
+}
+
+TEST(SceneFile, KeepsTheLawAFileStates) {
+  const engine::Scene scene = ParseScene(PaperSceneText(), "scene.toml");
+  EXPECT_EQ(scene.ring.material, engine::Material({70e9, 0.33}));
+  EXPECT_DOUBLE_EQ(scene.contact.stiffness, 1e7);
+  EXPECT_DOUBLE_EQ(scene.contact.exponent, 1.5);
+}
+
+TEST(SceneFile, DerivesTheLawOfTheMaterialsWhenTheFileStatesNone) {
+  // The paper's aluminium ring on steel rollers, touching over the rollers' 4 mm.
+  const engine::Scene scene = ParseScene(PaperSceneWith(kPaperLaw, ""), "scene.toml");
+  const double aluminium_on_steel = 1.0 / ((1.0 - 0.33 * 0.33) / 70e9 + (1.0 - 0.3 * 0.3) / 210e9);
+  const double expected = PalmgrenStiffness(aluminium_on_steel, 0.004);
+  EXPECT_NEAR(scene.contact.stiffness, expected, kRoundingRelative * expected);
+  EXPECT_DOUBLE_EQ(scene.contact.exponent, 10.0 / 9.0);
+  EXPECT_DOUBLE_EQ(scene.contact.max_damping, 1e5);
+
+  // A roller of another material or narrower than the others: the softest contact sets the law.
+  const engine::Scene softer = ParseScene(
+      ReplaceOnce(PaperSceneWith(kPaperLaw, ""), kFixedA,
+                  ReplaceOnce(std::string(kFixedA), "width_mm = 4.0\n", "width_mm = 2.0\nyoungs_modulus_GPa = 70\n")),
+      "scene.toml");
+  EXPECT_EQ(softer.rollers[1].material, engine::Material({70e9, 0.3}));
+  const double aluminium_on_aluminium = 1.0 / ((1.0 - 0.33 * 0.33) / 70e9 + (1.0 - 0.3 * 0.3) / 70e9);
+  const double softest = PalmgrenStiffness(aluminium_on_aluminium, 0.002);
+  EXPECT_NEAR(softer.contact.stiffness, softest, kRoundingRelative * softest);
 }
 
 TEST(SceneFile, ReadsTheExampleFileFromDisk) {
@@ -388,6 +432,16 @@ const std::vector<BadScene> kBadScenes = {
      {"bad.toml:", "ring.outer_radius_mm = 300", "allowed: > 302 (ring.inner_radius_mm)"}},
     {"AnExponentAboveThree", [] { return PaperSceneWith("exponent = 1.5", "exponent = 3.5"); },
      {"bad.toml:", "contact.exponent = 3.5", "allowed: >= 1 and <= 3"}},
+    {"AStiffnessWithoutAnExponent", [] { return PaperSceneWith("exponent = 1.5\n", ""); },
+     {"bad.toml:", "contact.stiffness_N_per_m_e = 10000000", "given without contact.exponent",
+      "allowed: both stiffness_N_per_m_e and exponent, or neither for the law of the ring's and rollers' materials"}},
+    {"AnExponentWithoutAStiffness", [] { return MinimalSceneWith("[contact]\nexponent = 1.5\n"); },
+     {"bad.toml:", "contact.exponent = 1.5", "given without contact.stiffness_N_per_m_e", "or neither"}},
+    {"AYoungsModulusInMegapascals",
+     [] { return PaperSceneWith("youngs_modulus_GPa = 70.0", "youngs_modulus_GPa = 70000"); },
+     {"bad.toml:", "ring.youngs_modulus_GPa = 70000", "out of range", "allowed: > 0 and <= 1500"}},
+    {"APoissonRatioAboveAHalf", [] { return FixedAWith("width_mm = 4.0\n", "width_mm = 4.0\npoisson_ratio = 0.6\n"); },
+     {"bad.toml:", "rollers[1].poisson_ratio = 0.6", "allowed: >= 0 and <= 0.5"}},
     {"ARollerLargerThanTheRing", [] { return FixedAWith("radius_mm = 5.0", "radius_mm = 400"); },
      {"bad.toml:", "rollers[1].radius_mm = 400", "not smaller than the ring's inner radius",
       "allowed: > 0 and < 302"}},

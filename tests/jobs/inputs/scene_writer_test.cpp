@@ -62,6 +62,11 @@ void ExpectSameProfile(const PolarProfile& read, const PolarProfile& written, co
   ExpectSameHarmonics(read.harmonics(), written.harmonics(), where + ".harmonics");
 }
 
+void ExpectSameMaterial(const engine::Material& read, const engine::Material& written, const std::string& where) {
+  ExpectClose(read.youngs_modulus, written.youngs_modulus, where + ".youngs_modulus");
+  ExpectClose(read.poisson_ratio, written.poisson_ratio, where + ".poisson_ratio");
+}
+
 void ExpectSameRoller(const engine::Roller& read, const engine::Roller& written, const std::string& where) {
   EXPECT_EQ(read.name, written.name) << where;
   ExpectClose(read.angle, written.angle, where + ".angle");
@@ -78,6 +83,7 @@ void ExpectSameRoller(const engine::Roller& read, const engine::Roller& written,
   ExpectClose(read.spring.travel_limit, written.spring.travel_limit, where + ".spring.travel_limit");
   ExpectClose(read.mass, written.mass, where + ".mass");
   ExpectClose(read.spin_inertia, written.spin_inertia, where + ".spin_inertia");
+  ExpectSameMaterial(read.material, written.material, where + ".material");
 }
 
 void ExpectSameMotion(const engine::MotionLaw& read, const engine::MotionLaw& written) {
@@ -100,6 +106,7 @@ void ExpectSameScene(const engine::Scene& read, const engine::Scene& written) {
   ExpectClose(read.ring.thickness, written.ring.thickness, "ring.thickness");
   ExpectClose(read.ring.mass, written.ring.mass, "ring.mass");
   ExpectClose(read.ring.spin_inertia, written.ring.spin_inertia, "ring.spin_inertia");
+  ExpectSameMaterial(read.ring.material, written.ring.material, "ring.material");
   ASSERT_EQ(read.rollers.size(), written.rollers.size());
   for (std::size_t i = 0; i < read.rollers.size(); ++i) {
     ExpectSameRoller(read.rollers[i], written.rollers[i], fmt::format("rollers[{}]", i));
@@ -142,6 +149,8 @@ engine::Scene ErrorScene() {
   fixed.spin_phase = 33.0 * kDeg / e;
   fixed.mass = 2.47e-3 * e;
   fixed.spin_inertia = 3.08e-8 / e;
+  fixed.material = {193e9 * e, 0.29 / e};
+  scene.ring.material = {68.9e9 / e, 0.33 * e / 3.0};
   scene.rollers[2].outline = PolarProfile(0.005, 0.0, {{3, 0.002e-3, -0.5}});
   scene.contact = {engine::ContactLaw::Model::kRigid, 2.5e8 * e, 1.3, 1234.5 / e, 2.5e-7 * e};
   scene.friction = {0.3 * e, 0.25 / e, 0.002 * e, 0.02 * e};
@@ -193,9 +202,18 @@ TEST(SceneWriter, WritesBackTheNumbersOfTheFileItRead) {
   for (const char* line : {"inner_radius_mm = 302.0", "outer_radius_mm = 339.85", "angle_deg = 210.0",
                            "amplitude_mm = 0.14, phase_deg = 45.0", "full_damping_penetration_mm = 0.001",
                            "rate_deg_per_s = 270.0", "revolutions = 3.0", "spring_travel_limit_mm = 5.0",
-                           "width_mm = 4.0"}) {
+                           "width_mm = 4.0", "youngs_modulus_GPa = 70.0", "poisson_ratio = 0.33"}) {
     EXPECT_THAT(text, HasSubstr(line));
   }
+  EXPECT_EQ(ReadBack(scene), scene);
+}
+
+TEST(SceneWriter, StatesTheLawOfTheMaterialsSoItReadsBackEqual) {
+  // A file without k and e: its law comes from its materials, and the written file states it.
+  const engine::Scene scene = ReadScene(RINGTOL_SOURCE_DIR "/examples/rotary_table/scene.toml");
+  const std::string text = WriteScene(scene);
+  EXPECT_THAT(text, HasSubstr(fmt::format("\nstiffness_N_per_m_e = {}\nexponent = {}\n", scene.contact.stiffness,
+                                          scene.contact.exponent)));
   EXPECT_EQ(ReadBack(scene), scene);
 }
 
@@ -233,7 +251,8 @@ TEST(SceneWriter, WritesEveryKeyOfTheFormat) {
        {"inner_radius_mm", "outer_radius_mm", "thickness_mm", "mass_kg", "spin_inertia_kg_m2", "mean_deviation_mm",
         "harmonics", "name", "angle_deg", "radius_mm", "centre_radius_mm", "radial_offset_mm", "tangential_offset_mm",
         "mount", "spring_stiffness_N_per_m", "spring_preload_N", "spring_axis_deg", "spring_travel_limit_mm",
-        "width_mm", "shape_phase_reference", "spin_phase_deg", "law", "stiffness_N_per_m_e", "exponent",
+        "width_mm", "shape_phase_reference", "spin_phase_deg", "youngs_modulus_GPa", "poisson_ratio", "law",
+        "stiffness_N_per_m_e", "exponent",
         "max_damping_N_s_per_m", "full_damping_penetration_mm", "static_coefficient", "dynamic_coefficient",
         "stiction_velocity_mm_per_s", "transition_velocity_mm_per_s", "segments", "friction",
         "rolling_without_slip", "massless_spring_rollers"}) {
