@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "jobs/campaign/campaign.h"
+#include "jobs/cli/contact_warning.h"
 #include "jobs/cli/pool_run.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/pool/stop_signals.h"
@@ -279,6 +280,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
     if (stored_samples && *stored_samples > ReadCampaignFile(command.file).sampling.samples) samples = stored_samples;
     campaign = std::make_unique<Campaign>(command.file, samples, command.seed);
   }));
+  if (rank == 0) WarnAboutContactLaw(campaign->plan().sampling.scene, progress);
 
   // Rank 0's results file, or under mpirun the shard of every computing rank (rank 0's
   // included) and `finished`, what the shards already hold.

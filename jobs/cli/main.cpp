@@ -509,8 +509,8 @@ int main(int argc, char** argv) {
     return RunMpiCommand([&] { return ringtol::jobs::RunBenchAllocate(bench_allocate, std::cout, std::cerr); });
   }
   try {
-    if (*simulate_app) return ringtol::jobs::RunSimulate(simulate, std::cout);
-    if (*sweep_app) return ringtol::jobs::RunSweep(sweep, std::cout);
+    if (*simulate_app) return ringtol::jobs::RunSimulate(simulate, std::cout, std::cerr);
+    if (*sweep_app) return ringtol::jobs::RunSweep(sweep, std::cout, std::cerr);
     if (*sample_app) return ringtol::jobs::RunSample(sample, std::cout);
     if (*fit_app) return ringtol::jobs::RunFit(fit, std::cout);
     if (*classes_app) return ringtol::jobs::RunClasses(classes_toml, std::cout);

@@ -12,6 +12,7 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
+#include "jobs/cli/contact_warning.h"
 #include "jobs/cli/results_output.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/inputs/scene_file.h"
@@ -117,7 +118,7 @@ void PrintLife(std::ostream& out, const solvers::LifeResult& life) {
 
 }  // namespace
 
-int RunSimulate(const SimulateCommand& command, std::ostream& out) {
+int RunSimulate(const SimulateCommand& command, std::ostream& out, std::ostream& warnings) {
   const engine::Scene scene = ReadScene(command.scene);
   RequireEnoughSteps(scene, command.solver.simulation.steps, command.scene.string());
   const auto solver = CheckedSolver(command.solver);
@@ -134,6 +135,7 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out) {
   }
   std::ofstream trajectory = OpenOptionalOutput(command.trajectory_csv, "--trajectory");
   std::ofstream history_file = OpenOptionalOutput(command.history_csv, "--history");
+  WarnAboutContactLaw(scene, warnings);
   const Timed run = SimulateTimed(scene, *solver, command.solver.simulation);
   nlohmann::json json = ResultJson(scene, run.result, command.solver, run.seconds);
   if (!command.json) PrintResult(out, scene, run.result, command.solver, run.seconds);
@@ -161,7 +163,7 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out) {
   return 0;
 }
 
-int RunSweep(const SweepCommand& command, std::ostream& out) {
+int RunSweep(const SweepCommand& command, std::ostream& out, std::ostream& warnings) {
   const Sweep sweep = ReadSweep(command.sweep);
   for (const SweepCase& c : sweep.cases) {
     RequireEnoughSteps(c.scene, command.solver.simulation.steps,
@@ -169,6 +171,8 @@ int RunSweep(const SweepCommand& command, std::ostream& out) {
   }
   const auto solver = CheckedSolver(command.solver);
   std::ofstream csv = OpenOptionalOutput(command.csv, "--csv");
+  // The cases differ in their errors only: one error-free assembly, one law.
+  WarnAboutContactLaw(sweep.cases.front().scene, warnings);
   std::vector<nlohmann::json> rows;
   for (const SweepCase& c : sweep.cases) {
     const Timed run = SimulateTimed(c.scene, *solver, command.solver.simulation);

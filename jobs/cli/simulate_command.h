@@ -25,8 +25,9 @@ struct SimulateCommand {
   // in closed form. 0: one revolution only.
   int revolutions = 0;
 };
-// Returns the process exit code (0).
-int RunSimulate(const SimulateCommand& command, std::ostream& out);
+// Returns the process exit code (0). `warnings` (stderr) receives the contact law's warning
+// (jobs/cli/contact_warning.h) before the simulation.
+int RunSimulate(const SimulateCommand& command, std::ostream& out, std::ostream& warnings);
 
 struct SweepCommand {
   std::filesystem::path sweep;          // sweep TOML file
@@ -34,6 +35,7 @@ struct SweepCommand {
   bool json = false;                    // a JSON array instead of a table
   std::filesystem::path csv;            // empty: no CSV file
 };
-int RunSweep(const SweepCommand& command, std::ostream& out);
+// The contact law's warning, from the base scene, goes to `warnings` once.
+int RunSweep(const SweepCommand& command, std::ostream& out, std::ostream& warnings);
 
 }  // namespace ringtol::jobs

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/support/shell.h"
+#include "tests/support/text_files.h"
 
 namespace {
 
@@ -276,6 +277,36 @@ TEST(Cli, SweepTableAndCsvOutput) {
   int lines = 0;
   while (std::getline(in, line)) ++lines;
   EXPECT_EQ(lines, 1 + 20);  // header + one row per case
+}
+
+// How many times `text` holds `piece`.
+int Occurrences(const std::string& text, const std::string& piece) {
+  int count = 0;
+  for (std::size_t at = text.find(piece); at != std::string::npos; at = text.find(piece, at + 1)) ++count;
+  return count;
+}
+
+TEST(Cli, SimulateWarnsOnStderrWhenTheContactLawShapesTheAnswer) {
+  const std::string table = std::string(RINGTOL_SOURCE_DIR) + "/examples/rotary_table/scene.toml";
+  const std::filesystem::path article_law = std::filesystem::path(::testing::TempDir()) / "ringtol_cli_table_article.toml";
+  ringtol::testing::WriteText(
+      article_law, ringtol::testing::ReplaceOnce(ringtol::testing::ReadText(table), "law = \"penalty\"",
+                                                 "law = \"penalty\"\nstiffness_N_per_m_e = 1.0e7\nexponent = 1.5"));
+  const Outcome warned = Ringtol("simulate " + article_law.string() + " --steps 90 --json");
+  EXPECT_EQ(warned.exit_code, 0) << warned.err;
+  EXPECT_THAT(warned.err, HasSubstr("ringtol: warning: the contact law F = 1e+07 delta^1.5"));
+  EXPECT_THAT(warned.err, HasSubstr(" um at "));
+  EXPECT_TRUE(nlohmann::json::accept(warned.out));  // stdout stays the result alone
+
+  const Outcome materials = Ringtol("simulate " + table + " --steps 90");
+  EXPECT_EQ(materials.exit_code, 0);
+  EXPECT_EQ(materials.err, "");
+}
+
+TEST(Cli, SweepWarnsOnceForAllItsCases) {
+  const Outcome run = Ringtol("sweep " + Example("orders.toml") + " --json --solver linear --steps 90");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Occurrences(run.err, "ringtol: warning: the contact law"), 1) << run.err;
 }
 
 TEST(Cli, TrajectoryCsvHasOneRowPerStep) {
