@@ -128,6 +128,11 @@ struct Scene {
   // dynamic solver reads them (the others follow psi quasi-statically).
   MotionLaw motion = ArticleLaw();
   DynamicModel dynamics;
+  // Over the stage's life (docs/model.md §9): whether the rollers keep the relative phases
+  // their spin ratios give them (geared together, say), so that the revolutions repeat
+  // where the ratios are commensurate. False: each roller's phase is its own, set at
+  // assembly and moved by slip, and the life takes every phase of each.
+  bool phase_locked_rollers = false;
 
   bool operator==(const Scene&) const = default;
 };

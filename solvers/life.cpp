@@ -24,13 +24,16 @@ constexpr double kCurveStraying = 2e-4;
 // The most samples a curve's hull takes per order of its fastest term: (2 pi / 128)^2 / 8,
 // 3e-4 of the term's amplitude.
 constexpr int kMostCurveSamplesPerOrder = 128;
-// Spin ratios this close (relative) are one: the rollers turn in step (equal diameters).
+// Spin ratios this close (relative) are one: phase-locked rollers of equal diameters turn
+// in step.
 constexpr double kSameRatio = 1e-12;
 
-// The lobes of the rollers that turn in step, as one closed curve in their common phase
-// u = ratio psi: sum over terms of cosine cos(order u) + sine sin(order u) [m].
+// The lobes of the rollers whose phases move together, as one closed curve in their common
+// phase u = ratio psi: sum over terms of cosine cos(order u) + sine sin(order u) [m]. One
+// roller's unless the scene locks the rollers' phases.
 struct PhaseCurve {
   double ratio = 0.0;  // engine::SpinRatio of its rollers
+  int roller = 0;      // its (first) roller
   std::vector<int> order;
   std::vector<Eigen::Vector2d> cosine, sine;
   int max_order = 0;
@@ -80,15 +83,17 @@ struct PhaseCurve {
   }
 };
 
-std::vector<PhaseCurve> PhaseCurves(const PhasorSum& sum) {
+// Each roller's lobes as a curve in its own phase; with `locked`, the rollers of one spin
+// ratio as one curve, since they keep the relative phase they were assembled at.
+std::vector<PhaseCurve> PhaseCurves(const PhasorSum& sum, bool locked) {
   std::vector<PhaseCurve> curves;
   for (std::size_t p = 0; p < sum.rates.size(); ++p) {
     if (sum.roller[p] < 0) continue;
     const double ratio = sum.rates[p] / sum.order[p];
     auto curve = std::find_if(curves.begin(), curves.end(), [&](const PhaseCurve& c) {
-      return std::abs(c.ratio - ratio) <= kSameRatio * ratio;
+      return locked ? std::abs(c.ratio - ratio) <= kSameRatio * ratio : c.roller == sum.roller[p];
     });
-    if (curve == curves.end()) curve = curves.insert(curves.end(), PhaseCurve{ratio, {}, {}, {}, 0});
+    if (curve == curves.end()) curve = curves.insert(curves.end(), PhaseCurve{ratio, sum.roller[p], {}, {}, {}, 0});
     curve->order.push_back(sum.order[p]);
     curve->cosine.push_back(sum.cosine.col(static_cast<Eigen::Index>(p)).head<2>());
     curve->sine.push_back(sum.sine.col(static_cast<Eigen::Index>(p)).head<2>());
@@ -99,7 +104,7 @@ std::vector<PhaseCurve> PhaseCurves(const PhasorSum& sum) {
     std::vector<std::size_t> by_order(curve.order.size());
     for (std::size_t q = 0; q < by_order.size(); ++q) by_order[q] = q;
     std::ranges::sort(by_order, {}, [&](std::size_t q) { return curve.order[q]; });
-    PhaseCurve sorted{curve.ratio, {}, {}, {}, curve.max_order};
+    PhaseCurve sorted{curve.ratio, curve.roller, {}, {}, {}, curve.max_order};
     for (const std::size_t q : by_order) {
       sorted.order.push_back(curve.order[q]);
       sorted.cosine.push_back(curve.cosine[q]);
@@ -111,6 +116,7 @@ std::vector<PhaseCurve> PhaseCurves(const PhasorSum& sum) {
 }
 
 // Revolutions after which every curve's phase repeats, or 0 (never within kLongestCycle).
+// Only phase-locked rollers repeat: slip and assembly set the phases of the others.
 int CycleOf(const std::vector<PhaseCurve>& curves) {
   long cycle = 1;
   for (const PhaseCurve& curve : curves) {
@@ -300,7 +306,7 @@ LifeValues EveryRevolutionOf(const engine::Scene& scene, const std::vector<Phase
                              std::vector<Eigen::Vector2d> rest, std::vector<double> signal_rest, int& cycle) {
   const std::size_t steps = rest.size();
   const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
-  cycle = CycleOf(curves);
+  cycle = scene.phase_locked_rollers ? CycleOf(curves) : 0;
   if (cycle > 0) return OverRevolutions(curves, rest, signal_rest, ray, cycle);
   // Every phase: the hull of the sum is the sum of the hulls.
   std::vector<Eigen::Vector2d> hull = PathHull(rest);
@@ -413,7 +419,7 @@ LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& o
     throw std::invalid_argument("EveryRevolution: needs a valid revolution at its dense angles");
   }
   if (!sum.usable) throw std::invalid_argument("EveryRevolution: needs the scene's phasors");
-  const std::vector<PhaseCurve> curves = PhaseCurves(sum);
+  const std::vector<PhaseCurve> curves = PhaseCurves(sum, scene.phase_locked_rollers);
   const std::vector<Eigen::Vector2d> lobes = LobesAt(curves, steps);
   const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
   std::vector<Eigen::Vector2d> rest(steps);
@@ -432,7 +438,8 @@ LifeValues EveryRevolutionFromRest(const engine::Scene& scene, std::span<const E
     throw std::invalid_argument("EveryRevolutionFromRest: needs the path and the signal at the same 3 or more angles");
   }
   if (!sum.usable) throw std::invalid_argument("EveryRevolutionFromRest: needs the scene's phasors");
-  return EveryRevolutionOf(scene, PhaseCurves(sum), std::vector<Eigen::Vector2d>(rest.begin(), rest.end()),
+  return EveryRevolutionOf(scene, PhaseCurves(sum, scene.phase_locked_rollers),
+                           std::vector<Eigen::Vector2d>(rest.begin(), rest.end()),
                            std::vector<double>(signal_rest.begin(), signal_rest.end()), cycle);
 }
 
@@ -461,7 +468,8 @@ LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, co
     return life;
   }
   const auto steps = static_cast<std::size_t>(one.steps);
-  const std::vector<Eigen::Vector2d> lobes = LobesAt(PhaseCurves(sum), steps);
+  // The lobes at their drawn phases: the same sum however the curves are grouped.
+  const std::vector<Eigen::Vector2d> lobes = LobesAt(PhaseCurves(sum, false), steps);
   for (std::size_t j = 0; j < steps; ++j) {
     life.correction =
         std::max(life.correction, (one.trajectory.centre[j] - lobes[j] - plain.trajectory.centre[j]).norm());

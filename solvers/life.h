@@ -32,8 +32,9 @@ struct LifeResult {
   int revolutions = 0;   // simulated
   LifeValues values;     // over the revolutions
   // Over every revolution the assembly will ever turn (LinearLife only): over every phase
-  // of the rollers when their spin ratios are not all rational with small denominators
-  // (kLongestCycle), else over the cycle after which the revolutions repeat.
+  // of each roller, unless the scene locks the rollers' phases (Scene::
+  // phase_locked_rollers) and their spin ratios are all rational with small denominators
+  // (kLongestCycle); then over the cycle after which the revolutions repeat.
   std::optional<LifeValues> asymptotic;
   int cycle = 0;  // revolutions after which they repeat; 0 when they never do
   // [m] LinearLife: the largest share of the second-order correction that the rollers'
@@ -63,27 +64,29 @@ engine::Scene AtRevolution(const engine::Scene& scene, int k);
 LifeResult SimulateLife(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options,
                         int revolutions);
 
-// Revolutions after which rollers with rational spin ratios repeat, at most: a longer
-// cycle is counted as never repeating, since its revolutions already cover every phase
-// to within (pi m / cycle)^2 / 2 of a lobe's amplitude.
+// Revolutions after which phase-locked rollers with rational spin ratios repeat, at most:
+// a longer cycle is counted as never repeating, since its revolutions already cover every
+// phase to within (pi m / cycle)^2 / 2 of a lobe's amplitude.
 inline constexpr int kLongestCycle = 1000;
 
 // The linear rung's life. The `revolutions` values are SimulateLife's with the linear
 // rung (each revolution its own path, second order included). The asymptotic ones come
 // from its phasors: its first-order path is a sum of terms, and a roller's terms turn
 // with that roller's own phase alone, so the centre is
-//   c(psi) = s(psi) + sum_g G_g(theta_g),   theta_g = SpinRatio psi,
-// s the bore's terms, the constant and the second-order correction, G_g the lobes of the
-// rollers of one spin ratio g as a closed curve in their common phase. Over every phase
-// the union of the paths is the Minkowski sum of s's path and each curve, whose convex
-// hull (and so its enclosing circle) is the sum of their hulls, and the signal's range
-// and the error motion add the curves' ranges along the sensor's ray:
-//   runout = TIR of the signal less its lobes + sum_g range(e_s . G_g),
-//   asynchronous = sum_g range(e_s . G_g),  synchronous = that of e_s . s,
+//   c(psi) = s(psi) + sum_i G_i(theta_i),
+// s the bore's terms, the constant and the second-order correction, G_i roller i's lobes
+// as a closed curve in its own phase theta_i. Slip and assembly set each roller's phase,
+// whatever its size, so over the life every theta_i occurs at every psi: the union of
+// the paths is the Minkowski sum of s's path and each curve, whose convex hull (and so
+// its enclosing circle) is the sum of their hulls, and the signal's range and the error
+// motion add the curves' ranges along the sensor's ray:
+//   runout = TIR of the signal less its lobes + sum_i range(e_s . G_i),
+//   asynchronous = sum_i range(e_s . G_i),  synchronous = that of e_s . s,
 //   total = synchronous + asynchronous.
-// Where the spin ratios repeat within kLongestCycle revolutions, the asymptotic values
-// are those revolutions' (the lobes summed at their phases, no solve). Statuses as
-// SimulateLife.
+// Phase-locked rollers (Scene::phase_locked_rollers) turn at SpinRatio psi from their
+// drawn phases: the rollers of one ratio are one curve, and where every ratio repeats
+// within kLongestCycle revolutions the asymptotic values are those revolutions' (the lobes
+// summed at their phases, no solve). Statuses as SimulateLife.
 LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, const SimulationOptions& options,
                       int revolutions);
 

@@ -560,6 +560,12 @@ std::vector<Field<engine::Scene>> SensorFields() {
            {}}};
 }
 
+// ---- [life]: how the rollers' phases go over the stage's life (docs/model.md §9).
+
+std::vector<Field<engine::Scene>> LifeFields() {
+  return {Flag(scene_key::kPhaseLockedRollers, Presence::kOptional, &engine::Scene::phase_locked_rollers)};
+}
+
 std::vector<Field<engine::Scene>> SceneFields(const std::filesystem::path& folder) {
   using engine::Scene;
   // The ring comes first: the rollers' limits depend on its radius.
@@ -575,6 +581,8 @@ std::vector<Field<engine::Scene>> SceneFields(const std::filesystem::path& folde
       Section<Scene>("motion", Presence::kOptional, ReadMotion),
       Section<Scene>("dynamics", Presence::kOptional,
                      [](const TableReader& table, Scene& scene) { table.Read(DynamicsFields(), scene.dynamics); }),
+      Section<Scene>("life", Presence::kOptional,
+                     [](const TableReader& table, Scene& scene) { table.Read(LifeFields(), scene); }),
   };
 }
 

@@ -42,6 +42,7 @@ inline constexpr std::string_view kMeanDeviationMm = "mean_deviation_mm";
 inline constexpr std::string_view kMount = "mount";
 inline constexpr std::string_view kName = "name";
 inline constexpr std::string_view kOuterRadiusMm = "outer_radius_mm";
+inline constexpr std::string_view kPhaseLockedRollers = "phase_locked_rollers";
 inline constexpr std::string_view kPoissonRatio = "poisson_ratio";
 inline constexpr std::string_view kRadialOffsetMm = "radial_offset_mm";
 inline constexpr std::string_view kRadiusMm = "radius_mm";

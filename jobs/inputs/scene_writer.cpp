@@ -239,6 +239,9 @@ std::string WriteScene(const engine::Scene& scene) {
   out.Key(scene_key::kFriction, flag(scene.dynamics.friction));
   out.Key(scene_key::kRollingWithoutSlip, flag(scene.dynamics.rolling_without_slip));
   out.Key(scene_key::kMasslessSpringRollers, flag(scene.dynamics.massless_spring_rollers));
+
+  out.Table("[life]");
+  out.Key(scene_key::kPhaseLockedRollers, flag(scene.phase_locked_rollers));
   return std::move(out).Text();
 }
 

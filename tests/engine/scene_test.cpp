@@ -59,6 +59,7 @@ std::vector<Change> EveryField() {
       {"sensor swing", false, [](engine::Scene& s) { s.sensor_swing.cutoff_upr = 50.0; }},
       {"motion", false, [](engine::Scene& s) { s.motion = engine::TestBenchLaw(); }},
       {"dynamics", false, [](engine::Scene& s) { s.dynamics.friction = false; }},
+      {"phase-locked rollers", false, [](engine::Scene& s) { s.phase_locked_rollers = true; }},
   };
 }
 

@@ -1,17 +1,21 @@
 // Life metrics (solvers/life.h) against what is known exactly: without roller lobes every
 // revolution is the first; the union of revolutions only grows with their number and
-// never passes the closed form's every-phase envelope; revolutions repeat after the cycle
-// rational spin ratios give; and the linear rung's phasor-summed revolutions agree with
-// the quasistatic rung solving each revolution afresh.
+// never passes the closed form's every-phase envelope; rollers of independent phases fill
+// it whatever their sizes, and the values are continuous in the sizes; phase-locked
+// rollers repeat after the cycle rational spin ratios give; and the linear rung's
+// phasor-summed revolutions agree with the quasistatic rung solving each revolution
+// afresh.
 #include "solvers/life.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
+#include "engine/enclosing_circle.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
 #include "solvers/simulation.h"
@@ -131,13 +135,14 @@ TEST(Life, OneLobedRollerFillsItsEnvelope) {
               0.01 * life.asymptotic->error_motion.asynchronous + life.error_estimate);
 }
 
-// Equal rollers in the paper's 302 mm bore turn 60.4 times a revolution: every fifth
-// revolution is the first again, and the life is those five.
-TEST(Life, RationalSpinRatiosRepeatAfterTheirCycle) {
+// Equal rollers in the paper's 302 mm bore turn 60.4 times a revolution: geared together,
+// every fifth revolution is the first again, and the life is those five.
+TEST(Life, PhaseLockedRollersOfEqualSizeRepeatAfterTheirCycle) {
   engine::Scene scene = DriftingScene();
   for (engine::Roller& roller : scene.rollers) {
     roller.outline = engine::PolarProfile(roller.outline.radius(), 0.0, roller.outline.harmonics());
   }
+  scene.phase_locked_rollers = true;
   const solvers::LinearSolver linear;
   const solvers::LifeResult five = solvers::LinearLife(scene, linear, Options(), 5);
   const solvers::LifeResult fifty = solvers::LinearLife(scene, linear, Options(), 50);
@@ -150,6 +155,129 @@ TEST(Life, RationalSpinRatiosRepeatAfterTheirCycle) {
   EXPECT_NEAR(five.asymptotic->d_trajectory, five.values.d_trajectory, five.error_estimate);
   EXPECT_NEAR(five.asymptotic->error_motion.asynchronous, five.values.error_motion.asynchronous,
               five.error_estimate);
+}
+
+// The article's combination case 4 (docs/model.md §6.3: the bore's order 2 of 140 um, each
+// roller's order 2 of 14 um, all at 45 deg), the rollers assembled at phases of their own
+// and their radii `apart` from one to the next.
+engine::Scene CombinationCase4(double apart) {
+  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
+  testing::SetRing(scene, {{2, 0.14e-3, 45.0 * testing::kDeg}});
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    engine::Roller& roller = scene.rollers[i];
+    const double step = static_cast<double>(i);
+    roller.outline = engine::PolarProfile(roller.outline.radius(), apart * step, {{2, 14e-6, 45.0 * testing::kDeg}});
+    roller.spin_phase = 2.1 * step;
+  }
+  return scene;
+}
+
+// Rollers of equal size keep their relative phase only as long as nothing slips, and
+// rollers a micrometre apart drift through every one within a few hundred revolutions: the
+// every-revolution values take every phase of each roller whatever the sizes, so they do
+// not jump where the sizes meet.
+TEST(Life, EveryRevolutionValuesAreContinuousInTheRollerSizes) {
+  const solvers::LinearSolver linear;
+  const solvers::LifeResult equal = solvers::LinearLife(CombinationCase4(0.0), linear, Options(), 5);
+  ASSERT_EQ(equal.status, solvers::Status::kOk) << equal.message;
+  ASSERT_TRUE(equal.asymptotic.has_value());
+  EXPECT_EQ(equal.cycle, 0) << "independent phases never repeat";
+  // Not the five revolutions after which the equal rollers' phases would repeat if they
+  // never slipped: those are one assembly's relative phases, of which every other occurs.
+  EXPECT_GT(equal.asymptotic->d_trajectory, equal.values.d_trajectory + equal.error_estimate);
+  EXPECT_GT(equal.asymptotic->error_motion.asynchronous,
+            equal.values.error_motion.asynchronous + equal.error_estimate);
+  // [m] what may change between sizes: each curve's sampling, widened by at most
+  // kCurveStraying (2e-4) of its amplitudes (~20 um here), in a diameter or a range twice,
+  // for three curves (0.024 um); and the geometry, in which a roller's radius enters at
+  // first order: a relative change of its radius moves the values by as much relative.
+  constexpr double kSampling = 0.025e-6;
+  constexpr double kRollerRadius = 5e-3;  // [m] the paper's
+  for (const double apart : {1e-12, 1e-9, 1e-6}) {  // [m]: 1e-9, 1e-6, 1e-3 mm
+    const solvers::LifeResult life = solvers::LinearLife(CombinationCase4(apart), linear, Options(), 1);
+    ASSERT_EQ(life.status, solvers::Status::kOk) << life.message;
+    const solvers::LifeValues& every = *life.asymptotic;
+    const solvers::LifeValues& reference = *equal.asymptotic;
+    const double geometry = 2.0 * apart / kRollerRadius;  // the largest relative change of a radius
+    const auto allowed = [&](double value) { return kSampling + geometry * value; };
+    EXPECT_NEAR(every.d_trajectory, reference.d_trajectory, allowed(reference.d_trajectory)) << apart;
+    EXPECT_NEAR(every.runout, reference.runout, allowed(reference.runout)) << apart;
+    EXPECT_NEAR(every.error_motion.total, reference.error_motion.total, allowed(reference.error_motion.total))
+        << apart;
+    EXPECT_NEAR(every.error_motion.synchronous, reference.error_motion.synchronous,
+                allowed(reference.error_motion.synchronous))
+        << apart;
+    EXPECT_NEAR(every.error_motion.asynchronous, reference.error_motion.asynchronous,
+                allowed(reference.error_motion.asynchronous))
+        << apart;
+  }
+}
+
+// The every-phase envelope against its definition: two lobed rollers of equal size, each
+// turned on its own through a grid of phases, every combination solved by the quasistatic
+// rung. The union lies inside the closed form within its allowance, and comes within what
+// the grid can miss of it. Rollers geared together keep one assembly's phases instead.
+TEST(Life, RollersOfEqualSizeAtIndependentPhasesFillTheEnvelope) {
+  engine::Scene scene = CombinationCase4(0.0);
+  scene.rollers[0].outline = engine::PolarProfile(scene.rollers[0].outline.radius(), 0.0, {});
+  const solvers::LinearSolver linear;
+  solvers::SimulationOptions options;
+  options.steps = 256;
+  const solvers::LifeResult closed = solvers::LinearLife(scene, linear, options, 1);
+  ASSERT_EQ(closed.status, solvers::Status::kOk) << closed.message;
+  const solvers::LifeValues& every = *closed.asymptotic;
+
+  constexpr int kGrid = 24;  // phases a roller
+  const solvers::QuasistaticSolver quasistatic;
+  const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
+  std::vector<Eigen::Vector2d> centres;
+  std::vector<double> motion;
+  for (int a = 0; a < kGrid; ++a) {
+    for (int b = 0; b < kGrid; ++b) {
+      engine::Scene turned = scene;
+      turned.rollers[1].spin_phase += 2.0 * std::numbers::pi * a / kGrid;
+      turned.rollers[2].spin_phase += 2.0 * std::numbers::pi * b / kGrid;
+      const solvers::SimulationResult one = solvers::Simulate(turned, quasistatic, options);
+      ASSERT_EQ(one.status, solvers::Status::kOk) << one.message;
+      for (int j = 0; j < one.steps; ++j) {
+        centres.push_back(one.trajectory.centre[static_cast<std::size_t>(j)]);
+        motion.push_back(ray.dot(centres.back()));
+      }
+    }
+  }
+  const double d_trajectory = 2.0 * engine::MinimumEnclosingCircle(centres).radius;
+  const engine::ErrorMotion solved = engine::MeasureErrorMotion(motion, options.steps);
+
+  // What the grid misses: a roller's phase is within delta = pi / kGrid of any other, and a
+  // curve sum_p c_p cos(o_p u) + s_p sin(o_p u) falls from its extreme in any direction by
+  // at most sum_p A_p o_p^2 delta^2 / 2 within delta of it (A_p = sqrt(|c_p|^2 + |s_p|^2),
+  // the lobes' amplitudes in the centre from the phasors); a diameter or a range, twice.
+  const solvers::PhasorSum sum = linear.Phasors(scene);
+  const double delta = std::numbers::pi / kGrid;
+  double missed = 0.0;
+  for (std::size_t p = 0; p < sum.rates.size(); ++p) {
+    if (sum.roller[p] < 0) continue;
+    const auto column = static_cast<Eigen::Index>(p);
+    const double amplitude = std::hypot(sum.cosine.col(column).head<2>().norm(), sum.sine.col(column).head<2>().norm());
+    missed += amplitude * sum.order[p] * sum.order[p] * delta * delta / 2.0;
+  }
+  const double allowance = closed.error_estimate;
+  EXPECT_LE(d_trajectory, every.d_trajectory + allowance);
+  EXPECT_GE(d_trajectory, every.d_trajectory - allowance - 2.0 * missed);
+  EXPECT_LE(solved.asynchronous, every.error_motion.asynchronous + allowance);
+  EXPECT_GE(solved.asynchronous, every.error_motion.asynchronous - allowance - 2.0 * missed);
+  EXPECT_NEAR(solved.synchronous, every.error_motion.synchronous, allowance);
+  RecordProperty("grid_misses_um", std::to_string(2.0 * missed * 1e6));
+  RecordProperty("gap_d_um", std::to_string((every.d_trajectory - d_trajectory) * 1e6));
+  RecordProperty("gap_asynchronous_um", std::to_string((every.error_motion.asynchronous - solved.asynchronous) * 1e6));
+
+  // Geared, the same rollers keep their assembled phases: the life is five revolutions'.
+  scene.phase_locked_rollers = true;
+  const solvers::LifeResult locked = solvers::LinearLife(scene, linear, options, 5);
+  ASSERT_EQ(locked.status, solvers::Status::kOk) << locked.message;
+  EXPECT_EQ(locked.cycle, 5);
+  EXPECT_NEAR(locked.asymptotic->d_trajectory, locked.values.d_trajectory, locked.error_estimate);
+  EXPECT_LT(locked.asymptotic->d_trajectory, d_trajectory - allowance);
 }
 
 // The reference: the quasistatic rung solves every revolution from the rollers' turned

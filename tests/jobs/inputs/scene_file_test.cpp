@@ -327,6 +327,14 @@ TEST(SceneFile, ReadsTheDynamicModelSwitches) {
   EXPECT_TRUE(scene.dynamics.massless_spring_rollers);
 }
 
+// ---- [life]
+
+TEST(SceneFile, ReadsWhetherTheRollersArePhaseLocked) {
+  EXPECT_FALSE(ParseScene(PaperSceneText(), "scene.toml").phase_locked_rollers);
+  EXPECT_FALSE(SceneWith("[life]\n").phase_locked_rollers);
+  EXPECT_TRUE(SceneWith("[life]\nphase_locked_rollers = true\n").phase_locked_rollers);
+}
+
 // ---- bad input: one key or value
 //
 // Each case is a scene with one thing wrong, and the pieces its InputError must contain:
@@ -530,6 +538,12 @@ const std::vector<BadScene> kBadScenes = {
      {"dynamics.friction = \"yes\"", "true or false"}},
     {"AnUnknownDynamicsSwitch", [] { return MinimalSceneWith("[dynamics]\ninertia = false\n"); },
      {"unknown key 'dynamics.inertia'"}},
+
+    // [life]
+    {"ANumberForPhaseLockedRollers", [] { return MinimalSceneWith("[life]\nphase_locked_rollers = 1\n"); },
+     {"bad.toml:", "life.phase_locked_rollers = 1", "true or false"}},
+    {"AnUnknownLifeKey", [] { return MinimalSceneWith("[life]\nphase_locked = true\n"); },
+     {"unknown key 'life.phase_locked'"}},
     // Values in range whose law still overflows a double: refused as input, not thrown
     // from the engine or passed on as infinities.
     {"ARateSoSlowTheLawOverflows", [] { return MinimalSceneWith("[motion]\nrate_deg_per_s = 1e-320\n"); },

@@ -125,6 +125,7 @@ void ExpectSameScene(const engine::Scene& read, const engine::Scene& written) {
   ExpectClose(read.sensor_angle, written.sensor_angle, "sensor_angle");
   ExpectSameMotion(read.motion, written.motion);
   EXPECT_EQ(read.dynamics, written.dynamics);
+  EXPECT_EQ(read.phase_locked_rollers, written.phase_locked_rollers);
 }
 
 engine::Scene ReadBack(const engine::Scene& scene) { return ParseScene(WriteScene(scene), "written.toml"); }
@@ -160,6 +161,7 @@ engine::Scene ErrorScene() {
                                     {2.0 * e, 0.0, std::nullopt},
                                     {0.1, -5.0 * e, 3.0 / e}});
   scene.dynamics = {false, true, true};
+  scene.phase_locked_rollers = true;
   return scene;
 }
 
@@ -255,7 +257,7 @@ TEST(SceneWriter, WritesEveryKeyOfTheFormat) {
         "stiffness_N_per_m_e", "exponent",
         "max_damping_N_s_per_m", "full_damping_penetration_mm", "static_coefficient", "dynamic_coefficient",
         "stiction_velocity_mm_per_s", "transition_velocity_mm_per_s", "segments", "friction",
-        "rolling_without_slip", "massless_spring_rollers"}) {
+        "rolling_without_slip", "massless_spring_rollers", "phase_locked_rollers"}) {
     EXPECT_THAT(text, HasSubstr(fmt::format("\n{} = ", key)));
   }
   for (const char* key : {"duration_s", "acceleration_deg_per_s2", "start_rate_deg_per_s"}) {
