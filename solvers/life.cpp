@@ -1,8 +1,9 @@
 #include "solvers/life.h"
 
 #include <algorithm>
-#include <complex>
 #include <cmath>
+#include <complex>
+#include <iterator>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -115,21 +116,44 @@ std::vector<PhaseCurve> PhaseCurves(const PhasorSum& sum, bool locked) {
   return curves;
 }
 
-// Revolutions after which every curve's phase repeats, or 0 (never within kLongestCycle).
-// Only phase-locked rollers repeat: slip and assembly set the phases of the others.
-int CycleOf(const std::vector<PhaseCurve>& curves) {
+// The curves whose phases repeat after `cycle` revolutions, and those that take every
+// phase. Only phase-locked rollers repeat: a curve whose spin ratio is p/q with q <=
+// kLongestCycle turns on by the same q phases for ever, as long as the rational curves'
+// common cycle stays within kLongestCycle (else they all count as filling). Every other
+// curve's phase, at any angle and in any revolution of that cycle, takes every value
+// (Kronecker's theorem): independent rollers because slip and assembly set their phases,
+// locked ones because their ratios are irrational.
+struct CurveCycle {
+  std::vector<PhaseCurve> repeating, filling;
+  int cycle = 1;
+};
+CurveCycle SplitByCycle(std::vector<PhaseCurve> curves, bool locked) {
+  CurveCycle split;
+  if (!locked) {
+    split.filling = std::move(curves);
+    return split;
+  }
   long cycle = 1;
-  for (const PhaseCurve& curve : curves) {
+  for (PhaseCurve& curve : curves) {
     int denominator = 0;
     for (int d = 1; d <= kLongestCycle && denominator == 0; ++d) {
       const double turns = curve.ratio * d;
       if (std::abs(turns - std::round(turns)) <= kSameRatio * turns) denominator = d;
     }
-    if (denominator == 0) return 0;
-    cycle = std::lcm(cycle, static_cast<long>(denominator));
-    if (cycle > kLongestCycle) return 0;
+    if (denominator > 0) {
+      cycle = std::lcm(cycle, static_cast<long>(denominator));
+      split.repeating.push_back(std::move(curve));
+    } else {
+      split.filling.push_back(std::move(curve));
+    }
   }
-  return static_cast<int>(cycle);
+  if (cycle > kLongestCycle) {
+    std::ranges::move(split.repeating, std::back_inserter(split.filling));
+    split.repeating.clear();
+    cycle = 1;
+  }
+  split.cycle = static_cast<int>(cycle);
+  return split;
 }
 
 double Cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -260,38 +284,6 @@ CurveSamples SampleCurve(const PhaseCurve& curve) {
   return samples;
 }
 
-// Reads the life values over `revolutions` revolutions of the phase curves on top of the
-// path `rest` (the centre less its curves) and `signal_rest`.
-LifeValues OverRevolutions(const std::vector<PhaseCurve>& curves, const std::vector<Eigen::Vector2d>& rest,
-                           const std::vector<double>& signal_rest, const Eigen::Vector2d& ray, int revolutions) {
-  const std::size_t steps = rest.size();
-  const double dpsi = kTwoPi / static_cast<double>(steps);
-  std::vector<Eigen::Vector2d> points;
-  points.reserve(steps * static_cast<std::size_t>(revolutions));
-  std::vector<double> motion;
-  motion.reserve(points.capacity());
-  double low = std::numeric_limits<double>::infinity(), high = -low;
-  for (int k = 0; k < revolutions; ++k) {
-    for (std::size_t j = 0; j < steps; ++j) {
-      Eigen::Vector2d lobes = Eigen::Vector2d::Zero();
-      for (const PhaseCurve& curve : curves) {
-        const double turns = std::fmod(curve.ratio * k, 1.0);
-        lobes += curve.At(curve.ratio * dpsi * static_cast<double>(j) + kTwoPi * turns);
-      }
-      points.push_back(rest[j] + lobes);
-      motion.push_back(ray.dot(points.back()));
-      const double reading = signal_rest[j] + ray.dot(lobes);
-      low = std::min(low, reading);
-      high = std::max(high, reading);
-    }
-  }
-  LifeValues values;
-  values.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(points).radius;
-  values.runout = high - low;
-  values.error_motion = engine::MeasureErrorMotion(motion, static_cast<int>(steps));
-  return values;
-}
-
 // The lobes' first order at psi_j = 2 pi j / steps, j < steps, at the drawn phases [m].
 std::vector<Eigen::Vector2d> LobesAt(const std::vector<PhaseCurve>& curves, std::size_t steps) {
   const double dpsi = kTwoPi / static_cast<double>(steps);
@@ -300,37 +292,77 @@ std::vector<Eigen::Vector2d> LobesAt(const std::vector<PhaseCurve>& curves, std:
   return lobes;
 }
 
+// The centre, the axis motion and the signal over the revolutions of a cycle, with the
+// curves that repeat at their phases on top of the path `rest` (the centre less every
+// curve) and `signal_rest`; revolution-major at psi_j = 2 pi j / steps.
+struct CycleRevolutions {
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> motion;
+  double low = 0.0, high = 0.0;  // [m] the signal's extremes
+};
+CycleRevolutions OverCycle(const std::vector<PhaseCurve>& curves, std::span<const Eigen::Vector2d> rest,
+                           std::span<const double> signal_rest, const Eigen::Vector2d& ray, int revolutions) {
+  const std::size_t steps = rest.size();
+  const double dpsi = kTwoPi / static_cast<double>(steps);
+  CycleRevolutions cycle;
+  cycle.points.reserve(steps * static_cast<std::size_t>(revolutions));
+  cycle.motion.reserve(cycle.points.capacity());
+  cycle.low = std::numeric_limits<double>::infinity();
+  cycle.high = -cycle.low;
+  for (int k = 0; k < revolutions; ++k) {
+    for (std::size_t j = 0; j < steps; ++j) {
+      Eigen::Vector2d lobes = Eigen::Vector2d::Zero();
+      for (const PhaseCurve& curve : curves) {
+        const double turns = std::fmod(curve.ratio * k, 1.0);
+        lobes += curve.At(curve.ratio * dpsi * static_cast<double>(j) + kTwoPi * turns);
+      }
+      cycle.points.push_back(rest[j] + lobes);
+      cycle.motion.push_back(ray.dot(cycle.points.back()));
+      const double reading = signal_rest[j] + ray.dot(lobes);
+      cycle.low = std::min(cycle.low, reading);
+      cycle.high = std::max(cycle.high, reading);
+    }
+  }
+  return cycle;
+}
+
 // What EveryRevolution and EveryRevolutionFromRest share: the path less its lobes and the
 // signal less them at the same angles.
-LifeValues EveryRevolutionOf(const engine::Scene& scene, const std::vector<PhaseCurve>& curves,
-                             std::vector<Eigen::Vector2d> rest, std::vector<double> signal_rest, int& cycle) {
+LifeValues EveryRevolutionOf(const engine::Scene& scene, std::vector<PhaseCurve> curves,
+                             std::span<const Eigen::Vector2d> rest, std::span<const double> signal_rest, int& cycle) {
   const std::size_t steps = rest.size();
   const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
-  cycle = scene.phase_locked_rollers ? CycleOf(curves) : 0;
-  if (cycle > 0) return OverRevolutions(curves, rest, signal_rest, ray, cycle);
-  // Every phase: the hull of the sum is the sum of the hulls.
-  std::vector<Eigen::Vector2d> hull = PathHull(rest);
-  double asynchronous = 0.0, straying = 0.0;
-  for (const PhaseCurve& curve : curves) {
+  const CurveCycle split = SplitByCycle(std::move(curves), scene.phase_locked_rollers);
+  cycle = split.filling.empty() ? split.cycle : 0;
+  const CycleRevolutions revolutions = OverCycle(split.repeating, rest, signal_rest, ray, split.cycle);
+  LifeValues every;
+  every.error_motion = engine::MeasureErrorMotion(revolutions.motion, static_cast<int>(steps));
+  every.runout = revolutions.high - revolutions.low;
+  if (split.filling.empty()) {
+    every.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(revolutions.points).radius;
+    return every;
+  }
+  // Every phase of the curves that fill, at every angle of every revolution of the cycle:
+  // the hull of the sum is the sum of the hulls, and each curve's range along the ray adds
+  // to every range, at one angle or over all, while the average over the revolutions
+  // (the synchronous motion) keeps none of it.
+  std::vector<Eigen::Vector2d> hull = PathHull(revolutions.points);
+  double filled = 0.0, straying = 0.0;
+  for (const PhaseCurve& curve : split.filling) {
     const CurveSamples samples = SampleCurve(curve);
     hull = MinkowskiSum(hull, ConvexHull(samples.points));
     const auto [low, high] = std::ranges::minmax(samples.points | std::views::transform([&](const Eigen::Vector2d& g) {
                                                    return ray.dot(g);
                                                  }));
-    asynchronous += high - low + 2.0 * samples.straying;
+    filled += high - low + 2.0 * samples.straying;
     straying += samples.straying;
   }
-  LifeValues every;
   // The sampled curves' hulls lie inside the curves' and within `straying` of them: widened
   // by it, the circle encloses every revolution and is at most 2 straying too wide.
   every.d_trajectory = 2.0 * (engine::MinimumEnclosingCircle(hull).radius + straying);
-  const auto [signal_low, signal_high] = std::ranges::minmax(signal_rest);
-  every.runout = signal_high - signal_low + asynchronous;
-  std::vector<double> motion(steps);
-  for (std::size_t j = 0; j < steps; ++j) motion[j] = ray.dot(rest[j]);
-  every.error_motion = engine::MeasureErrorMotion(motion, static_cast<int>(steps));
-  every.error_motion.asynchronous = asynchronous;
-  every.error_motion.total = every.error_motion.synchronous + asynchronous;
+  every.runout += filled;
+  every.error_motion.asynchronous += filled;
+  every.error_motion.total += filled;
   return every;
 }
 
@@ -419,7 +451,7 @@ LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& o
     throw std::invalid_argument("EveryRevolution: needs a valid revolution at its dense angles");
   }
   if (!sum.usable) throw std::invalid_argument("EveryRevolution: needs the scene's phasors");
-  const std::vector<PhaseCurve> curves = PhaseCurves(sum, scene.phase_locked_rollers);
+  std::vector<PhaseCurve> curves = PhaseCurves(sum, scene.phase_locked_rollers);
   const std::vector<Eigen::Vector2d> lobes = LobesAt(curves, steps);
   const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
   std::vector<Eigen::Vector2d> rest(steps);
@@ -428,7 +460,7 @@ LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& o
     rest[j] = one.trajectory.centre[j] - lobes[j];
     signal_rest[j] = one.sensor[j] - ray.dot(lobes[j]);
   }
-  return EveryRevolutionOf(scene, curves, std::move(rest), std::move(signal_rest), cycle);
+  return EveryRevolutionOf(scene, std::move(curves), rest, signal_rest, cycle);
 }
 
 LifeValues EveryRevolutionFromRest(const engine::Scene& scene, std::span<const Eigen::Vector2d> rest,
@@ -438,9 +470,7 @@ LifeValues EveryRevolutionFromRest(const engine::Scene& scene, std::span<const E
     throw std::invalid_argument("EveryRevolutionFromRest: needs the path and the signal at the same 3 or more angles");
   }
   if (!sum.usable) throw std::invalid_argument("EveryRevolutionFromRest: needs the scene's phasors");
-  return EveryRevolutionOf(scene, PhaseCurves(sum, scene.phase_locked_rollers),
-                           std::vector<Eigen::Vector2d>(rest.begin(), rest.end()),
-                           std::vector<double>(signal_rest.begin(), signal_rest.end()), cycle);
+  return EveryRevolutionOf(scene, PhaseCurves(sum, scene.phase_locked_rollers), rest, signal_rest, cycle);
 }
 
 LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, const SimulationOptions& options,

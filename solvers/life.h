@@ -33,8 +33,9 @@ struct LifeResult {
   LifeValues values;     // over the revolutions
   // Over every revolution the assembly will ever turn (LinearLife only): over every phase
   // of each roller, unless the scene locks the rollers' phases (Scene::
-  // phase_locked_rollers) and their spin ratios are all rational with small denominators
-  // (kLongestCycle); then over the cycle after which the revolutions repeat.
+  // phase_locked_rollers); then the rollers whose spin ratios are rational with small
+  // denominators (kLongestCycle) over the cycle after which their phases repeat, with
+  // every phase of the others.
   std::optional<LifeValues> asymptotic;
   int cycle = 0;  // revolutions after which they repeat; 0 when they never do
   // [m] LinearLife: the largest share of the second-order correction that the rollers'
@@ -84,9 +85,10 @@ inline constexpr int kLongestCycle = 1000;
 //   asynchronous = sum_i range(e_s . G_i),  synchronous = that of e_s . s,
 //   total = synchronous + asynchronous.
 // Phase-locked rollers (Scene::phase_locked_rollers) turn at SpinRatio psi from their
-// drawn phases: the rollers of one ratio are one curve, and where every ratio repeats
-// within kLongestCycle revolutions the asymptotic values are those revolutions' (the lobes
-// summed at their phases, no solve). Statuses as SimulateLife.
+// drawn phases: the rollers of one ratio are one curve, and those whose ratios repeat
+// within kLongestCycle revolutions are summed at their phases over that cycle (no solve),
+// the other curves added as above around each of its revolutions. Statuses as
+// SimulateLife.
 LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, const SimulationOptions& options,
                       int revolutions);
 

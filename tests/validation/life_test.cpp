@@ -2,9 +2,9 @@
 // revolution is the first; the union of revolutions only grows with their number and
 // never passes the closed form's every-phase envelope; rollers of independent phases fill
 // it whatever their sizes, and the values are continuous in the sizes; phase-locked
-// rollers repeat after the cycle rational spin ratios give; and the linear rung's
-// phasor-summed revolutions agree with the quasistatic rung solving each revolution
-// afresh.
+// rollers repeat after the cycle rational spin ratios give, also beside rollers that
+// drift; and the linear rung's phasor-summed revolutions agree with the quasistatic rung
+// solving each revolution afresh.
 #include "solvers/life.h"
 
 #include <gtest/gtest.h>
@@ -278,6 +278,42 @@ TEST(Life, RollersOfEqualSizeAtIndependentPhasesFillTheEnvelope) {
   EXPECT_EQ(locked.cycle, 5);
   EXPECT_NEAR(locked.asymptotic->d_trajectory, locked.values.d_trajectory, locked.error_estimate);
   EXPECT_LT(locked.asymptotic->d_trajectory, d_trajectory - allowance);
+}
+
+// Phase-locked rollers, one at its nominal size (60.4 = 302/5 turns a revolution: its
+// phases repeat after five revolutions, and its fifth-order lobes turn a whole 302 times a
+// revolution, so they repeat every revolution) and two drawn (their phases drift through
+// every value): the life is the five revolutions of the first with every phase of the
+// others. Against the quasistatic rung's successive revolutions, which the union of 512
+// comes close to.
+TEST(Life, ALockedRollerOfNominalSizeKeepsItsCycleBesideDriftingOnes) {
+  engine::Scene scene = testing::CampaignLikeScene();
+  const double sizes[] = {-2.2e-6, 0.0, -3.1e-6};
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    engine::Roller& roller = scene.rollers[i];
+    std::vector<engine::Harmonic> lobes = roller.outline.harmonics();
+    if (sizes[i] == 0.0) lobes.push_back({5, 3e-6, 0.3});
+    roller.outline = engine::PolarProfile(roller.outline.radius(), sizes[i], std::move(lobes));
+  }
+  scene.phase_locked_rollers = true;
+  solvers::SimulationOptions options;
+  options.steps = 256;
+  const solvers::LifeResult closed = solvers::LinearLife(scene, solvers::LinearSolver(), options, 1);
+  ASSERT_EQ(closed.status, solvers::Status::kOk) << closed.message;
+  EXPECT_EQ(closed.cycle, 0) << "the drawn rollers never repeat";
+  const solvers::LifeValues& every = *closed.asymptotic;
+  constexpr int kRevolutions = 512;
+  const solvers::LifeResult solved = solvers::SimulateLife(scene, solvers::QuasistaticSolver(), options, kRevolutions);
+  ASSERT_EQ(solved.status, solvers::Status::kOk) << solved.message;
+  const double allowance = closed.error_estimate;
+  EXPECT_NEAR(solved.values.error_motion.asynchronous, every.error_motion.asynchronous, allowance);
+  EXPECT_NEAR(solved.values.error_motion.synchronous, every.error_motion.synchronous, allowance);
+  EXPECT_LE(solved.values.d_trajectory, every.d_trajectory + allowance);
+  // [m] how far the union may stay inside the envelope: life_envelope_test's kConverged.
+  constexpr double kConverged = 1e-6;
+  EXPECT_LE(every.d_trajectory - solved.values.d_trajectory, kConverged);
+  RecordProperty("gap_d_um", std::to_string((every.d_trajectory - solved.values.d_trajectory) * 1e6));
+  RecordProperty("allowance_um", std::to_string(allowance * 1e6));
 }
 
 // The reference: the quasistatic rung solves every revolution from the rollers' turned
