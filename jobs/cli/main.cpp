@@ -172,7 +172,8 @@ CLI::App* AddSimulate(CLI::App& app, ringtol::jobs::SimulateCommand& simulate) {
   sub->add_option("--trajectory", simulate.trajectory_csv, "Write the path to this CSV file");
   sub->add_option("--revolutions", simulate.revolutions,
                   "Also the life metrics over this many revolutions, roller phases turning (docs/model.md §9); "
-                  "with --solver linear also over every revolution")
+                  "with --solver linear also over every revolution: every phase of each roller, or the cycle of "
+                  "rollers the scene's [life] phase_locked_rollers gears together")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--history", simulate.history_csv,
                   "Dynamic solver: write the time history over the motion law's span to this CSV file");

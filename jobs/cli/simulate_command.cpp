@@ -67,7 +67,7 @@ nlohmann::json ValuesJson(const solvers::LifeValues& values) {
           {"error_motion_fundamental_mm", mm(values.error_motion.fundamental)}};
 }
 
-nlohmann::json LifeJson(const solvers::LifeResult& life) {
+nlohmann::json LifeJson(const engine::Scene& scene, const solvers::LifeResult& life) {
   nlohmann::json json = {{"status", std::string(solvers::StatusName(life.status))}, {"revolutions", life.revolutions}};
   if (life.status != solvers::Status::kOk) {
     json["message"] = life.message;
@@ -77,22 +77,26 @@ nlohmann::json LifeJson(const solvers::LifeResult& life) {
   json["artefact_mm"] = life.artefact * units::kMillimetresPerMetre;
   if (life.asymptotic) {
     json["every_revolution"] = ValuesJson(*life.asymptotic);
+    json["phase_locked_rollers"] = scene.phase_locked_rollers;
     json["cycle"] = life.cycle;
     json["allowance_um"] = life.error_estimate * units::kMicrometresPerMetre;
   }
   return json;
 }
 
-void PrintLife(std::ostream& out, const solvers::LifeResult& life) {
+void PrintLife(std::ostream& out, const engine::Scene& scene, const solvers::LifeResult& life) {
   if (life.status != solvers::Status::kOk) {
     fmt::print(out, "life              {}: {}\n", solvers::StatusName(life.status), life.message);
     return;
   }
   const auto um = [](double metres) { return metres * units::kMicrometresPerMetre; };
-  // Revolutions that repeat after a cycle of a few are those few; otherwise every phase.
-  const std::string every = !life.asymptotic ? std::string()
-                            : life.cycle > 1 ? fmt::format("{:>16}", fmt::format("every ({} repeat)", life.cycle))
-                                             : fmt::format("{:>16}", "every");
+  // Which life the every-revolution column is (docs/model.md §9): every phase of each
+  // roller, or phase-locked rollers' revolutions, which repeat after a cycle where their
+  // spin ratios are commensurate and otherwise drift through every phase.
+  const std::string heading = !scene.phase_locked_rollers ? std::string("every phase")
+                              : life.cycle > 0            ? fmt::format("locked: cycle {}", life.cycle)
+                                                          : std::string("locked: drifts");
+  const std::string every = life.asymptotic ? fmt::format("{:>16}", heading) : std::string();
   fmt::print(out, "life              {:>16}{}   revolutions (docs/model.md §9)\n", life.revolutions, every);
   const auto row = [&](const char* name, double over, std::optional<double> asymptotic) {
     fmt::print(out, "  {:<16}{:>16.3f}{}   um\n", name, um(over),
@@ -156,8 +160,8 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out, std::ostream&
     const solvers::LifeResult life =
         linear != nullptr ? solvers::LinearLife(scene, *linear, command.solver.simulation, command.revolutions)
                           : solvers::SimulateLife(scene, *solver, command.solver.simulation, command.revolutions);
-    json["life"] = LifeJson(life);
-    if (!command.json) PrintLife(out, life);
+    json["life"] = LifeJson(scene, life);
+    if (!command.json) PrintLife(out, scene, life);
   }
   if (command.json) out << json.dump(2) << "\n";
   return 0;

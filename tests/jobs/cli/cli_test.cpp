@@ -256,6 +256,50 @@ TEST(Cli, SimulateReportsTheLifeOverRevolutions) {
   EXPECT_THAT(refused.err, HasSubstr("--revolutions"));
 }
 
+// The order-3 example with an order-2 lobe of 14 um on each roller (rollers of one size),
+// their phases geared together or not ([life] phase_locked_rollers).
+std::filesystem::path LobedRollersScene(bool locked) {
+  const std::filesystem::path scene =
+      std::filesystem::path(::testing::TempDir()) / (locked ? "ringtol_locked_scene.toml" : "ringtol_free_scene.toml");
+  std::ifstream in(Example("order3.toml"));
+  std::stringstream read;
+  read << in.rdbuf();
+  std::string text = read.str();
+  const std::string round = "harmonics = []";
+  for (std::size_t at = text.find(round, text.find("[[rollers]]")); at != std::string::npos; at = text.find(round, at)) {
+    text.replace(at, round.size(), "harmonics = [{ order = 2, amplitude_mm = 0.014, phase_deg = 45.0 }]");
+  }
+  std::ofstream(scene) << text << "\n[life]\nphase_locked_rollers = " << (locked ? "true" : "false") << "\n";
+  return scene;
+}
+
+// The every-revolution column says which life it is: every phase of each roller, or the
+// cycle after which phase-locked rollers repeat. The N-revolution values are the same.
+TEST(Cli, SimulateSaysWhichLifeItsEveryRevolutionColumnIs) {
+  const std::string options = " --solver linear --steps 360 --revolutions 5";
+  const Outcome free = Ringtol("simulate " + LobedRollersScene(false).string() + options);
+  const Outcome locked = Ringtol("simulate " + LobedRollersScene(true).string() + options);
+  ASSERT_EQ(free.exit_code, 0) << free.err;
+  ASSERT_EQ(locked.exit_code, 0) << locked.err;
+  EXPECT_THAT(free.out, HasSubstr("every phase"));
+  EXPECT_THAT(locked.out, HasSubstr("locked: cycle 5"));
+  const Outcome free_json = Ringtol("simulate " + LobedRollersScene(false).string() + options + " --json");
+  const Outcome locked_json = Ringtol("simulate " + LobedRollersScene(true).string() + options + " --json");
+  ASSERT_EQ(free_json.exit_code, 0) << free_json.err;
+  ASSERT_EQ(locked_json.exit_code, 0) << locked_json.err;
+  const nlohmann::json a = nlohmann::json::parse(free_json.out)["life"];
+  const nlohmann::json b = nlohmann::json::parse(locked_json.out)["life"];
+  EXPECT_EQ(a["phase_locked_rollers"], false);
+  EXPECT_EQ(a["cycle"], 0);
+  EXPECT_EQ(b["phase_locked_rollers"], true);
+  EXPECT_EQ(b["cycle"], 5);
+  EXPECT_EQ(a["over_revolutions"], b["over_revolutions"]);
+  // Every phase of three lobes of 14 um passes the one assembly's five revolutions by far
+  // more than the linear rung's allowance.
+  EXPECT_GT(a["every_revolution"]["d_trajectory_mm"].get<double>(),
+            b["every_revolution"]["d_trajectory_mm"].get<double>() + 1e-3 * b["allowance_um"].get<double>());
+}
+
 TEST(Cli, SweepPrintsOneObjectPerCaseWithItsName) {
   const Outcome run = Ringtol("sweep " + Example("orders.toml") + " --json --solver linear --steps 360");
   ASSERT_EQ(run.exit_code, 0) << run.err;
