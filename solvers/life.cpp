@@ -201,13 +201,13 @@ bool InHull(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p) 
 // then of that hull's vertices and the points outside it. Exact (a point in the hull of
 // some points is in the hull of all), and cheaper than sorting every point wherever the
 // path wanders inside its own hull.
-std::vector<Eigen::Vector2d> PathHull(const std::vector<Eigen::Vector2d>& path) {
+std::vector<Eigen::Vector2d> PathHull(std::span<const Eigen::Vector2d> path) {
   constexpr std::size_t kFirstStride = 8;
   std::vector<Eigen::Vector2d> first;
   first.reserve(path.size() / kFirstStride + 1);
   for (std::size_t j = 0; j < path.size(); j += kFirstStride) first.push_back(path[j]);
   const std::vector<Eigen::Vector2d> inner = ConvexHull(std::move(first));
-  if (inner.size() < 3) return ConvexHull(path);
+  if (inner.size() < 3) return ConvexHull(std::vector<Eigen::Vector2d>(path.begin(), path.end()));
   std::vector<Eigen::Vector2d> candidates = inner;
   for (std::size_t j = 0; j < path.size(); ++j) {
     if (j % kFirstStride != 0 && !InHull(inner, path[j])) candidates.push_back(path[j]);
@@ -296,17 +296,26 @@ std::vector<Eigen::Vector2d> LobesAt(const std::vector<PhaseCurve>& curves, std:
 // curves that repeat at their phases on top of the path `rest` (the centre less every
 // curve) and `signal_rest`; revolution-major at psi_j = 2 pi j / steps.
 struct CycleRevolutions {
-  std::vector<Eigen::Vector2d> points;
-  std::vector<double> motion;
-  double low = 0.0, high = 0.0;  // [m] the signal's extremes
+  std::vector<Eigen::Vector2d> turned;  // [m] the centre; empty where no curve repeats: `rest`
+  std::vector<double> motion;           // [m]
+  double low = 0.0, high = 0.0;         // [m] the signal's extremes
 };
 CycleRevolutions OverCycle(const std::vector<PhaseCurve>& curves, std::span<const Eigen::Vector2d> rest,
                            std::span<const double> signal_rest, const Eigen::Vector2d& ray, int revolutions) {
   const std::size_t steps = rest.size();
-  const double dpsi = kTwoPi / static_cast<double>(steps);
   CycleRevolutions cycle;
-  cycle.points.reserve(steps * static_cast<std::size_t>(revolutions));
-  cycle.motion.reserve(cycle.points.capacity());
+  if (curves.empty()) {
+    // One revolution, the path as it is: no copy of it on the campaigns' hot path.
+    cycle.motion.resize(steps);
+    for (std::size_t j = 0; j < steps; ++j) cycle.motion[j] = ray.dot(rest[j]);
+    const auto [low, high] = std::ranges::minmax(signal_rest);
+    cycle.low = low;
+    cycle.high = high;
+    return cycle;
+  }
+  const double dpsi = kTwoPi / static_cast<double>(steps);
+  cycle.turned.reserve(steps * static_cast<std::size_t>(revolutions));
+  cycle.motion.reserve(cycle.turned.capacity());
   cycle.low = std::numeric_limits<double>::infinity();
   cycle.high = -cycle.low;
   for (int k = 0; k < revolutions; ++k) {
@@ -316,8 +325,8 @@ CycleRevolutions OverCycle(const std::vector<PhaseCurve>& curves, std::span<cons
         const double turns = std::fmod(curve.ratio * k, 1.0);
         lobes += curve.At(curve.ratio * dpsi * static_cast<double>(j) + kTwoPi * turns);
       }
-      cycle.points.push_back(rest[j] + lobes);
-      cycle.motion.push_back(ray.dot(cycle.points.back()));
+      cycle.turned.push_back(rest[j] + lobes);
+      cycle.motion.push_back(ray.dot(cycle.turned.back()));
       const double reading = signal_rest[j] + ray.dot(lobes);
       cycle.low = std::min(cycle.low, reading);
       cycle.high = std::max(cycle.high, reading);
@@ -335,18 +344,20 @@ LifeValues EveryRevolutionOf(const engine::Scene& scene, std::vector<PhaseCurve>
   const CurveCycle split = SplitByCycle(std::move(curves), scene.phase_locked_rollers);
   cycle = split.filling.empty() ? split.cycle : 0;
   const CycleRevolutions revolutions = OverCycle(split.repeating, rest, signal_rest, ray, split.cycle);
+  const std::span<const Eigen::Vector2d> points =
+      revolutions.turned.empty() ? rest : std::span<const Eigen::Vector2d>(revolutions.turned);
   LifeValues every;
   every.error_motion = engine::MeasureErrorMotion(revolutions.motion, static_cast<int>(steps));
   every.runout = revolutions.high - revolutions.low;
   if (split.filling.empty()) {
-    every.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(revolutions.points).radius;
+    every.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(points).radius;
     return every;
   }
   // Every phase of the curves that fill, at every angle of every revolution of the cycle:
   // the hull of the sum is the sum of the hulls, and each curve's range along the ray adds
   // to every range, at one angle or over all, while the average over the revolutions
   // (the synchronous motion) keeps none of it.
-  std::vector<Eigen::Vector2d> hull = PathHull(revolutions.points);
+  std::vector<Eigen::Vector2d> hull = PathHull(points);
   double filled = 0.0, straying = 0.0;
   for (const PhaseCurve& curve : split.filling) {
     const CurveSamples samples = SampleCurve(curve);
