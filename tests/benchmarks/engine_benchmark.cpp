@@ -105,11 +105,12 @@ BENCHMARK_CAPTURE(CampaignSample, quasistatic_10nm, solvers::Rung::kQuasistatic,
 
 // What the life over every revolution adds to a campaign-like sample on the linear rung
 // (solvers::EveryRevolution with the phasors it reads), against CampaignSample/linear: the
-// same scene, its rollers of three sizes so that their phases drift apart.
-void LifeEveryRevolution(benchmark::State& state) {
+// same scene, its rollers of three sizes so that their phases drift apart (`drawn_sizes`),
+// or of one size, each roller's lobes then a curve in its own phase (`equal_sizes`).
+void LifeEveryRevolution(benchmark::State& state, bool drawn) {
   engine::Scene scene = testing::CampaignLikeScene();
   const double sizes[] = {-1.3e-6, 0.4e-6, -0.2e-6};
-  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+  for (std::size_t i = 0; i < scene.rollers.size() && drawn; ++i) {
     engine::Roller& roller = scene.rollers[i];
     roller.outline = engine::PolarProfile(roller.outline.radius(), sizes[i], roller.outline.harmonics());
   }
@@ -125,7 +126,8 @@ void LifeEveryRevolution(benchmark::State& state) {
   }
   state.counters["steps"] = one.steps;
 }
-BENCHMARK(LifeEveryRevolution)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(LifeEveryRevolution, drawn_sizes, true)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(LifeEveryRevolution, equal_sizes, false)->Unit(benchmark::kMicrosecond);
 
 void EnclosingCircle(benchmark::State& state) {
   const engine::Scene scene = EightHarmonics(engine::ContactLaw::Model::kPenalty);
