@@ -238,6 +238,42 @@ TEST(SpectralAngles, LifeValuesAreTheDenseOnes) {
   RecordProperty("largest_d_trajectory_difference_um", std::to_string(largest_difference * 1e6));
 }
 
+// Rollers of the article's nominal size, their phases free and then geared together
+// ([life] phase_locked_rollers): the spectral evaluation reads the scene's key as the dense
+// path's life does, every phase of each roller or the five revolutions of their cycle.
+TEST(SpectralAngles, LifeValuesAreTheDenseOnesForPhaseLockedRollersToo) {
+  std::mt19937_64 random(31);
+  const solvers::LinearSolver linear;
+  for (int draw = 0; draw < 4; ++draw) {
+    engine::Scene scene = testing::RandomCampaignLikeScene(random, 1.0);
+    for (engine::Roller& roller : scene.rollers) {
+      roller.outline = engine::PolarProfile(roller.outline.radius(), 0.0, roller.outline.harmonics());
+    }
+    std::optional<double> free_d;
+    for (const bool locked : {false, true}) {
+      scene.phase_locked_rollers = locked;
+      const solvers::SimulationResult dense = solvers::Simulate(scene, linear, Options(solvers::AngleMode::kDense));
+      const std::optional<solvers::SpectralResult> spectral = solvers::SimulateSpectral(
+          scene, linear, dense.steps, Options({}).refine_stride, std::numeric_limits<double>::infinity(), true);
+      ASSERT_EQ(dense.status, solvers::Status::kOk) << draw;
+      ASSERT_TRUE(spectral && spectral->life) << draw;
+      int cycle = 0;
+      const solvers::LifeValues reference = solvers::EveryRevolution(scene, dense, linear.Phasors(scene), cycle);
+      EXPECT_EQ(cycle, locked ? 5 : 0) << draw;
+      EXPECT_EQ(spectral->life_cycle, cycle) << draw;
+      const double centre = 2.0 * spectral->centre_error + kRoundOff;
+      EXPECT_NEAR(spectral->life->d_trajectory, reference.d_trajectory, centre) << draw << " locked " << locked;
+      EXPECT_NEAR(spectral->life->error_motion.asynchronous, reference.error_motion.asynchronous, centre)
+          << draw << " locked " << locked;
+      if (locked) {
+        EXPECT_LT(reference.d_trajectory, *free_d) << draw << ": one assembly's phases reach less than every phase";
+      } else {
+        free_d = reference.d_trajectory;
+      }
+    }
+  }
+}
+
 // Large spring-roller lobes and a weak spring: the assembly lifts off for some draws, at
 // angles the coarse grid need not contain; the statuses and messages are the dense grid's.
 TEST(SpectralAngles, StatusesAreTheDenseGridsWhereTheAssemblyLiftsOff) {
