@@ -99,14 +99,6 @@ bool HasErrors(const Scene& scene) {
   });
 }
 
-double FastestHarmonicRate(const Scene& scene) {
-  double rate = scene.ring.inner.max_order();
-  for (int i = 0; i < static_cast<int>(scene.rollers.size()); ++i) {
-    rate = std::max(rate, scene.rollers[static_cast<std::size_t>(i)].outline.max_order() * SpinRatio(scene, i));
-  }
-  return rate;
-}
-
 FastestHarmonic FindFastestHarmonic(const Scene& scene) {
   const int ring_order = scene.ring.inner.max_order();
   FastestHarmonic fastest{static_cast<double>(ring_order), -1, ring_order};
@@ -117,6 +109,8 @@ FastestHarmonic FindFastestHarmonic(const Scene& scene) {
   }
   return fastest;
 }
+
+double FastestHarmonicRate(const Scene& scene) { return FindFastestHarmonic(scene).rate; }
 
 int MinimumSteps(double rate) { return static_cast<int>(std::floor(2.0 * rate)) + 1; }
 
