@@ -203,8 +203,9 @@ d_trajectory_mm = 0.2
   // Each roller's form is calibrated on ISO 492 Normal's VDsp at D = 40 mm, series 9:
   // 14 um (S1 Table 2, S2 Table 8.2.2, S3 Table 6.4 (2); docs/tolerances.md §1.2).
   constexpr double kNormalVdspAt40MmSeries9 = 14e-6;  // [m]
+  const CampaignReader results(folder / "results.h5");
   int roller_forms = 0;
-  for (const sampling::ComponentScale& scale : CampaignReader(folder / "results.h5").identity().calibrations) {
+  for (const sampling::ComponentScale& scale : results.identity().calibrations) {
     if (scale.measure != sampling::FormMeasure::kTwoPointVariation) continue;
     ++roller_forms;
     EXPECT_DOUBLE_EQ(scale.tolerance, kNormalVdspAt40MmSeries9) << scale.component;
