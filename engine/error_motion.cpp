@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/sensor.h"
+
 namespace ringtol::engine {
 
 namespace {
@@ -31,7 +33,45 @@ void ForEachAngle(std::size_t steps, At at) {
   }
 }
 
+std::size_t RevolutionsOf(std::span<const double> motion, int steps) {
+  if (steps < 3) throw std::invalid_argument("error motion: a revolution needs at least 3 samples");
+  const auto n = static_cast<std::size_t>(steps);
+  if (motion.empty() || motion.size() % n != 0) {
+    throw std::invalid_argument("error motion: the samples are not whole revolutions of " + std::to_string(steps));
+  }
+  return motion.size() / n;
+}
+
 }  // namespace
+
+double ErrorMotionFilter::Transmission(double undulations) const {
+  return filtered() ? GaussianTransmission(undulations, cutoff_upr) : 1.0;
+}
+
+int ErrorMotionFilter::MarginRevolutions() const {
+  if (!filtered()) return 0;
+  // The weighting function exp(-pi (x / (alpha / cutoff))^2) keeps erfc(6) < 1e-16 of its
+  // weight beyond x = 6 alpha / (sqrt(pi) cutoff) revolutions.
+  const double alpha = std::sqrt(std::numbers::ln2 / std::numbers::pi);
+  return static_cast<int>(std::ceil(6.0 * alpha / (std::sqrt(std::numbers::pi) * cutoff_upr)));
+}
+
+std::vector<double> FilterErrorMotion(std::span<const double> motion, int steps, const ErrorMotionFilter& filter) {
+  const std::size_t revolutions = RevolutionsOf(motion, steps);
+  const auto margin = static_cast<std::size_t>(filter.MarginRevolutions());
+  if (revolutions <= 2 * margin) {
+    throw std::invalid_argument("error motion: " + std::to_string(revolutions) + " revolutions leave none to read beside the filter's " +
+                                std::to_string(margin) + " on either side");
+  }
+  if (!filter.filtered()) return {motion.begin(), motion.end()};
+  // The record closed on itself: its join lies in the margins, which the weighting
+  // function does not reach from the revolutions read. Harmonic m of the record is m /
+  // revolutions undulations a revolution.
+  const std::vector<double> filtered = GaussianFilterClosed(motion, filter.cutoff_upr * static_cast<double>(revolutions));
+  const auto n = static_cast<std::ptrdiff_t>(steps);
+  return {filtered.begin() + static_cast<std::ptrdiff_t>(margin) * n,
+          filtered.end() - static_cast<std::ptrdiff_t>(margin) * n};
+}
 
 double Fundamental::At(double psi) const { return cosine * std::cos(psi) + sine * std::sin(psi); }
 
@@ -51,12 +91,8 @@ Fundamental FundamentalOf(std::span<const double> revolution) {
 }
 
 ErrorMotionBand ErrorMotionBandOf(std::span<const double> motion, int steps) {
-  if (steps < 3) throw std::invalid_argument("error motion: a revolution needs at least 3 samples");
+  const std::size_t revolutions = RevolutionsOf(motion, steps);
   const auto n = static_cast<std::size_t>(steps);
-  if (motion.empty() || motion.size() % n != 0) {
-    throw std::invalid_argument("error motion: the samples are not whole revolutions of " + std::to_string(steps));
-  }
-  const std::size_t revolutions = motion.size() / n;
   ErrorMotionBand band{std::vector<double>(n, std::numeric_limits<double>::infinity()),
                        std::vector<double>(n, -std::numeric_limits<double>::infinity()), std::vector<double>(n, 0.0),
                        0.0};

@@ -19,6 +19,28 @@
 
 namespace ringtol::engine {
 
+// The low-pass filter the axis motion passes before its values are read. ISO 230-7 asks a
+// measurement to state its filter and its revolutions, and a spindle analyser filters the
+// motion it records as one signal over all of them: an unfiltered value and an analyser's
+// are different quantities, the more so here, where a roller's lobes pass at R/r times
+// their order a revolution (docs/model.md §9).
+struct ErrorMotionFilter {
+  // [undulations per revolution] >= 0: cutoff of the ISO 16610-21 Gaussian low-pass; 0:
+  // unfiltered. 50, the roundness analysers' long-standing default (ISO 12181-2 lists 15,
+  // 50, 150 and 500), passes a ring's form orders and takes most of a roller's lobes out.
+  double cutoff_upr = 50.0;
+
+  bool filtered() const { return cutoff_upr > 0.0; }
+  // The share of a sinusoid of `undulations` per revolution that passes: 1 unfiltered.
+  double Transmission(double undulations) const;
+  // Whole revolutions of motion the filter reads on either side of those it returns: its
+  // weighting function (of width 1 / cutoff_upr revolutions) weighs less than 1e-16 beyond
+  // them. 0 unfiltered.
+  int MarginRevolutions() const;
+
+  bool operator==(const ErrorMotionFilter&) const = default;
+};
+
 struct ErrorMotion {
   double total = 0.0;         // [m] total error motion value
   double synchronous = 0.0;   // [m] synchronous error motion value, fundamental removed
@@ -31,6 +53,14 @@ struct ErrorMotion {
 // not repeated) [m]. Requires steps >= 3 and motion.size() a positive multiple of steps;
 // throws std::invalid_argument otherwise. One revolution has no asynchronous part.
 ErrorMotion MeasureErrorMotion(std::span<const double> motion, int steps);
+
+// `motion` through `filter`, as an analyser filters the signal it records: `motion` holds
+// filter.MarginRevolutions() revolutions, then those to read, then as many again, each of
+// `steps` samples (laid out as MeasureErrorMotion's), and the revolutions to read come
+// back filtered as if the record went on for ever either side. Unfiltered: a copy.
+// Requires steps >= 3 and at least one revolution to read; throws std::invalid_argument
+// otherwise.
+std::vector<double> FilterErrorMotion(std::span<const double> motion, int steps, const ErrorMotionFilter& filter);
 
 // The polar plot the values are read from, at psi_j [m]: each angle's least and greatest
 // value over the revolutions (the band) and their average (the synchronous plot), all less

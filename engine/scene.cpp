@@ -60,10 +60,10 @@ bool SameWithoutErrors(const Scene& a, const Scene& b) {
   // Structured bindings name every field of Scene, Ring and Roller: one added to them does
   // not compile here until it is sorted into an error (left out, and cleared by
   // WithoutErrors and HasErrors) or a nominal field (compared).
-  const auto& [ring_a, rollers_a, positions_a, contact_a, friction_a, sensor_a, swing_a, motion_a, dynamics_a,
-               locked_a] = a;
-  const auto& [ring_b, rollers_b, positions_b, contact_b, friction_b, sensor_b, swing_b, motion_b, dynamics_b,
-               locked_b] = b;
+  const auto& [ring_a, rollers_a, positions_a, contact_a, friction_a, sensor_a, swing_a, filter_a, motion_a,
+               dynamics_a, locked_a] = a;
+  const auto& [ring_b, rollers_b, positions_b, contact_b, friction_b, sensor_b, swing_b, filter_b, motion_b,
+               dynamics_b, locked_b] = b;
   const auto& [inner_a, outer_a, thickness_a, mass_a, inertia_a, material_a] = ring_a;
   const auto& [inner_b, outer_b, thickness_b, mass_b, inertia_b, material_b] = ring_b;
   if (!(inner_a.radius() == inner_b.radius() && outer_a == outer_b && thickness_a == thickness_b &&
@@ -85,7 +85,8 @@ bool SameWithoutErrors(const Scene& a, const Scene& b) {
     }
   }
   return positions_a.radius() == positions_b.radius() && contact_a == contact_b && friction_a == friction_b &&
-         sensor_a == sensor_b && swing_a == swing_b && motion_a == motion_b && dynamics_a == dynamics_b &&
+         sensor_a == sensor_b && swing_a == swing_b && filter_a == filter_b && motion_a == motion_b &&
+         dynamics_a == dynamics_b &&
          locked_a == locked_b;
 }
 

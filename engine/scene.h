@@ -11,6 +11,7 @@
 #include "engine/conventions.h"
 #include "engine/motion_law.h"
 #include "engine/profile.h"
+#include "engine/error_motion.h"
 #include "engine/sensor.h"
 
 namespace ringtol::engine {
@@ -124,6 +125,8 @@ struct Scene {
   Friction friction;
   double sensor_angle = 0.0;  // [rad] global direction in which the runout sensor looks
   SwingRule sensor_swing;     // how that sensor's peak-to-valley swing is read
+  // How the axis's error motion is filtered before its values are read.
+  ErrorMotionFilter error_motion_filter;
   // The imposed rotation psi(t) and what of the bodies' dynamics to keep; only the
   // dynamic solver reads them (the others follow psi quasi-statically).
   MotionLaw motion = ArticleLaw();

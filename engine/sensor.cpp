@@ -116,17 +116,20 @@ double Swing(std::span<const double> signal, double resolution) {
   return swing;
 }
 
+double GaussianTransmission(double undulations, double cutoff_upr) {
+  static const double alpha = std::sqrt(std::numbers::ln2 / std::numbers::pi);
+  const double ratio = alpha * undulations / cutoff_upr;
+  return std::exp(-std::numbers::pi * ratio * ratio);
+}
+
 std::vector<double> GaussianFilterClosed(std::span<const double> period, double cutoff_upr) {
   const std::size_t n = period.size();
   if (n == 0) return {};
   Eigen::FFT<double> fft;
   std::vector<std::complex<double>> spectrum;
   fft.fwd(spectrum, std::vector<double>(period.begin(), period.end()));
-  const double alpha = std::sqrt(std::numbers::ln2 / std::numbers::pi);
   for (std::size_t k = 0; k < n; ++k) {
-    const double undulations = static_cast<double>(std::min(k, n - k));
-    const double ratio = alpha * undulations / cutoff_upr;
-    spectrum[k] *= std::exp(-std::numbers::pi * ratio * ratio);
+    spectrum[k] *= GaussianTransmission(static_cast<double>(std::min(k, n - k)), cutoff_upr);
   }
   std::vector<double> filtered;
   fft.inv(filtered, spectrum);

@@ -71,9 +71,14 @@ Runout MeasureRunout(std::span<const double> signal, const SwingRule& rule = {})
 // resolution: O(extremes^2), a few dozen for a real part.
 double Swing(std::span<const double> signal, double resolution);
 
-// ISO 16610-21 Gaussian profile filter of a closed profile: harmonic k of the periodic
-// signal is kept by exp(-pi (alpha k / cutoff_upr)^2), alpha = sqrt(ln 2 / pi), so 50 %
-// of an undulation at the cutoff passes. cutoff_upr > 0 [undulations per revolution].
+// The ISO 16610-21 Gaussian low-pass's transmission of a sinusoid of `undulations` per
+// revolution (any real number, a roller's lobes pass at fractional ones):
+// exp(-pi (alpha undulations / cutoff_upr)^2), alpha = sqrt(ln 2 / pi), so 50 % of an
+// undulation at the cutoff passes. cutoff_upr > 0 [undulations per revolution].
+double GaussianTransmission(double undulations, double cutoff_upr);
+
+// That filter on a closed profile: harmonic k of the periodic signal kept by
+// GaussianTransmission(k, cutoff_upr).
 std::vector<double> GaussianFilterClosed(std::span<const double> period, double cutoff_upr);
 
 }  // namespace ringtol::engine

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "engine/enclosing_circle.h"
+#include "engine/sensor.h"
 
 namespace ringtol::solvers {
 namespace {
@@ -114,6 +115,17 @@ std::vector<PhaseCurve> PhaseCurves(const PhasorSum& sum, bool locked) {
     curve = std::move(sorted);
   }
   return curves;
+}
+
+// The curve as the error motion's filter passes it: a term of order o turns o ratio times
+// a revolution of the ring.
+PhaseCurve Filtered(PhaseCurve curve, const engine::ErrorMotionFilter& filter) {
+  for (std::size_t p = 0; p < curve.order.size(); ++p) {
+    const double transmission = filter.Transmission(curve.order[p] * curve.ratio);
+    curve.cosine[p] *= transmission;
+    curve.sine[p] *= transmission;
+  }
+  return curve;
 }
 
 // The curves whose phases repeat after `cycle` revolutions, and those that take every
@@ -292,22 +304,31 @@ std::vector<Eigen::Vector2d> LobesAt(const std::vector<PhaseCurve>& curves, std:
   return lobes;
 }
 
-// The centre, the axis motion and the signal over the revolutions of a cycle, with the
-// curves that repeat at their phases on top of the path `rest` (the centre less every
-// curve) and `signal_rest`; revolution-major at psi_j = 2 pi j / steps.
+// What the revolutions of a cycle are made of, revolution-major at psi_j = 2 pi j / steps:
+// the curves that repeat, at their phases, on top of the centre less every curve (`rest`)
+// and the signal less them; the axis motion from the same curves and rest through the
+// error motion's filter.
+struct CycleParts {
+  const std::vector<PhaseCurve>& curves;
+  std::span<const Eigen::Vector2d> rest;    // [m]
+  std::span<const double> signal_rest;      // [m]
+  const std::vector<PhaseCurve>& filtered;  // the curves through the filter
+  std::span<const double> motion_rest;      // [m] the ray's component of `rest`, filtered
+};
 struct CycleRevolutions {
   std::vector<Eigen::Vector2d> turned;  // [m] the centre; empty where no curve repeats: `rest`
-  std::vector<double> motion;           // [m]
+  std::vector<double> motion;           // [m] filtered
   double low = 0.0, high = 0.0;         // [m] the signal's extremes
 };
-CycleRevolutions OverCycle(const std::vector<PhaseCurve>& curves, std::span<const Eigen::Vector2d> rest,
-                           std::span<const double> signal_rest, const Eigen::Vector2d& ray, int revolutions) {
+CycleRevolutions OverCycle(const CycleParts& parts, const Eigen::Vector2d& ray, int revolutions) {
+  const std::vector<PhaseCurve>& curves = parts.curves;
+  const std::span<const Eigen::Vector2d> rest = parts.rest;
+  const std::span<const double> signal_rest = parts.signal_rest;
   const std::size_t steps = rest.size();
   CycleRevolutions cycle;
   if (curves.empty()) {
     // One revolution, the path as it is: no copy of it on the campaigns' hot path.
-    cycle.motion.resize(steps);
-    for (std::size_t j = 0; j < steps; ++j) cycle.motion[j] = ray.dot(rest[j]);
+    cycle.motion.assign(parts.motion_rest.begin(), parts.motion_rest.end());
     const auto [low, high] = std::ranges::minmax(signal_rest);
     cycle.low = low;
     cycle.high = high;
@@ -320,13 +341,15 @@ CycleRevolutions OverCycle(const std::vector<PhaseCurve>& curves, std::span<cons
   cycle.high = -cycle.low;
   for (int k = 0; k < revolutions; ++k) {
     for (std::size_t j = 0; j < steps; ++j) {
-      Eigen::Vector2d lobes = Eigen::Vector2d::Zero();
-      for (const PhaseCurve& curve : curves) {
-        const double turns = std::fmod(curve.ratio * k, 1.0);
-        lobes += curve.At(curve.ratio * dpsi * static_cast<double>(j) + kTwoPi * turns);
+      Eigen::Vector2d lobes = Eigen::Vector2d::Zero(), filtered = Eigen::Vector2d::Zero();
+      for (std::size_t c = 0; c < curves.size(); ++c) {
+        const double turns = std::fmod(curves[c].ratio * k, 1.0);
+        const double u = curves[c].ratio * dpsi * static_cast<double>(j) + kTwoPi * turns;
+        lobes += curves[c].At(u);
+        filtered += parts.filtered[c].At(u);
       }
       cycle.turned.push_back(rest[j] + lobes);
-      cycle.motion.push_back(ray.dot(cycle.turned.back()));
+      cycle.motion.push_back(parts.motion_rest[j] + ray.dot(filtered));
       const double reading = signal_rest[j] + ray.dot(lobes);
       cycle.low = std::min(cycle.low, reading);
       cycle.high = std::max(cycle.high, reading);
@@ -343,7 +366,19 @@ LifeValues EveryRevolutionOf(const engine::Scene& scene, std::vector<PhaseCurve>
   const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
   const CurveCycle split = SplitByCycle(std::move(curves), scene.phase_locked_rollers);
   cycle = split.filling.empty() ? split.cycle : 0;
-  const CycleRevolutions revolutions = OverCycle(split.repeating, rest, signal_rest, ray, split.cycle);
+  const engine::ErrorMotionFilter& filter = scene.error_motion_filter;
+  const auto through_filter = [&](const std::vector<PhaseCurve>& unfiltered) {
+    std::vector<PhaseCurve> filtered;
+    filtered.reserve(unfiltered.size());
+    for (const PhaseCurve& curve : unfiltered) filtered.push_back(Filtered(curve, filter));
+    return filtered;
+  };
+  // The rest repeats every revolution: one closed revolution through the filter is exact.
+  std::vector<double> motion_rest(steps);
+  for (std::size_t j = 0; j < steps; ++j) motion_rest[j] = ray.dot(rest[j]);
+  if (filter.filtered()) motion_rest = engine::GaussianFilterClosed(motion_rest, filter.cutoff_upr);
+  const CycleRevolutions revolutions = OverCycle(
+      {split.repeating, rest, signal_rest, through_filter(split.repeating), motion_rest}, ray, split.cycle);
   const std::span<const Eigen::Vector2d> points =
       revolutions.turned.empty() ? rest : std::span<const Eigen::Vector2d>(revolutions.turned);
   LifeValues every;
@@ -357,23 +392,28 @@ LifeValues EveryRevolutionOf(const engine::Scene& scene, std::vector<PhaseCurve>
   // the hull of the sum is the sum of the hulls, and each curve's range along the ray adds
   // to every range, at one angle or over all, while the average over the revolutions
   // (the synchronous motion) keeps none of it.
-  std::vector<Eigen::Vector2d> hull = PathHull(points);
-  double filled = 0.0, straying = 0.0;
-  for (const PhaseCurve& curve : split.filling) {
-    const CurveSamples samples = SampleCurve(curve);
-    hull = MinkowskiSum(hull, ConvexHull(samples.points));
+  // The axis motion reads the curves through the error motion's filter.
+  const auto range_along_ray = [&](const CurveSamples& samples) {
     const auto [low, high] = std::ranges::minmax(samples.points | std::views::transform([&](const Eigen::Vector2d& g) {
                                                    return ray.dot(g);
                                                  }));
-    filled += high - low + 2.0 * samples.straying;
+    return high - low + 2.0 * samples.straying;
+  };
+  std::vector<Eigen::Vector2d> hull = PathHull(points);
+  double filled = 0.0, filled_motion = 0.0, straying = 0.0;
+  for (const PhaseCurve& curve : split.filling) {
+    const CurveSamples samples = SampleCurve(curve);
+    hull = MinkowskiSum(hull, ConvexHull(samples.points));
+    filled += range_along_ray(samples);
+    filled_motion += filter.filtered() ? range_along_ray(SampleCurve(Filtered(curve, filter))) : range_along_ray(samples);
     straying += samples.straying;
   }
   // The sampled curves' hulls lie inside the curves' and within `straying` of them: widened
   // by it, the circle encloses every revolution and is at most 2 straying too wide.
   every.d_trajectory = 2.0 * (engine::MinimumEnclosingCircle(hull).radius + straying);
   every.runout += filled;
-  every.error_motion.asynchronous += filled;
-  every.error_motion.total += filled;
+  every.error_motion.asynchronous += filled_motion;
+  every.error_motion.total += filled_motion;
   return every;
 }
 
@@ -420,31 +460,42 @@ LifeResult SolveRevolutions(const engine::Scene& scene, const Solver& solver, co
   std::vector<Eigen::Vector2d> points;
   std::vector<double> motion;
   double low = std::numeric_limits<double>::infinity(), high = -low;
-  for (int k = 0; k < revolutions; ++k) {
+  // The filter reads the motion of the revolutions either side of those read, as an
+  // analyser recording on does; they are solved for that alone.
+  const int margin = scene.error_motion_filter.MarginRevolutions();
+  int steps = 0;
+  for (int k = -margin; k < revolutions + margin; ++k) {
     const SimulationResult one = Simulate(AtRevolution(scene, k), solver, dense);
     if (one.status != Status::kOk) {
       life.status = one.status;
-      life.message = "revolution " + std::to_string(k + 1) + " of " + std::to_string(revolutions) + ": " + one.message;
+      life.message = (k < 0 || k >= revolutions ? "revolution " + std::to_string(k + 1) +
+                                                      " (beside those read, for the error motion's filter)"
+                                                : "revolution " + std::to_string(k + 1) + " of " +
+                                                      std::to_string(revolutions)) +
+                     ": " + one.message;
       return life;
     }
-    if (k == 0) life.steps = one.steps;
-    const auto steps = static_cast<std::size_t>(life.steps);
-    if (one.steps != life.steps || one.trajectory.centre.size() < steps || one.sensor.size() < steps) {
+    if (k == -margin) steps = dense.steps = one.steps;
+    const auto n = static_cast<std::size_t>(steps);
+    if (one.steps != steps || one.trajectory.centre.size() < n || one.sensor.size() < n) {
       throw std::logic_error("SimulateLife: a revolution came back at other angles than the first");
     }
+    for (std::size_t j = 0; j < n; ++j) motion.push_back(ray.dot(one.trajectory.centre[j]));
+    if (k < 0 || k >= revolutions) continue;
     if (k == 0 && first != nullptr) *first = one;
-    for (std::size_t j = 0; j < steps; ++j) {
+    for (std::size_t j = 0; j < n; ++j) {
       points.push_back(one.trajectory.centre[j]);
-      motion.push_back(ray.dot(one.trajectory.centre[j]));
       low = std::min(low, one.sensor[j]);
       high = std::max(high, one.sensor[j]);
     }
     life.revolutions = k + 1;
   }
+  life.steps = steps;
   life.values.d_trajectory = 2.0 * engine::MinimumEnclosingCircle(points).radius;
   life.values.runout = high - low;
-  life.values.error_motion = engine::MeasureErrorMotion(motion, life.steps);
-  life.artefact = ArtefactForm(scene, life.steps);
+  life.motion = engine::FilterErrorMotion(motion, steps, scene.error_motion_filter);
+  life.values.error_motion = engine::MeasureErrorMotion(life.motion, steps);
+  life.artefact = ArtefactForm(scene, steps);
   return life;
 }
 

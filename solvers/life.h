@@ -16,6 +16,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "engine/error_motion.h"
 #include "engine/scene.h"
@@ -49,6 +50,10 @@ struct LifeResult {
   // revolution's.
   double correction = 0.0;
   double error_estimate = 0.0;
+  // [m] the axis motion the error motion was read from: the centre's component along the
+  // sensor's ray through the scene's filter, at the `steps` angles of each of the
+  // `revolutions`, revolution-major (engine::MeasureErrorMotion's layout).
+  std::vector<double> motion;
   // [m] the bore's own form as the sensor reads it, fundamental removed: max - min of
   // r(theta_s - psi) - R less its once-per-revolution part (the artefact's roundness as a
   // reversal would report it).
@@ -61,7 +66,10 @@ engine::Scene AtRevolution(const engine::Scene& scene, int k);
 // Simulates `revolutions` >= 1 successive revolutions with `solver`, each at the dense
 // angles of options' step rule (the same for every revolution: it does not depend on
 // phases), and reads the life values over them. Any rung; the reference the linear
-// rung's closed form is tested against. Never throws for numerical outcomes.
+// rung's closed form is tested against. A filtered error motion also solves the
+// filter's margin of revolutions before and after them
+// (engine::ErrorMotionFilter::MarginRevolutions), whose motion the filter reads, as an
+// analyser recording on would. Never throws for numerical outcomes.
 LifeResult SimulateLife(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options,
                         int revolutions);
 

@@ -64,24 +64,35 @@ std::string SolverDescription(const SolverSettings& settings) {
   return description;
 }
 
+int FourierFriendlySteps(int at_least) {
+  for (int n = 8 * std::max(1, (at_least + 7) / 8);; n += 8) {
+    int rest = n / 8;
+    for (const int factor : {2, 3, 5}) {
+      while (rest % factor == 0) rest /= factor;
+    }
+    if (rest == 1) return n;
+  }
+}
+
 int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options) {
   if (options.steps > 0) return options.steps;
+  const auto friendly = [&](int steps) { return std::min(FourierFriendlySteps(steps), options.max_steps); };
   const double fastest = 2.0 * engine::FastestHarmonicRate(scene);
   const double wanted = std::ceil(options.samples_per_undulation * fastest);
   const int undulation_rule = static_cast<int>(
       std::clamp(wanted, static_cast<double>(options.min_steps), static_cast<double>(options.max_steps)));
-  if (!(options.path_tolerance > 0.0)) return undulation_rule;
+  if (!(options.path_tolerance > 0.0)) return friendly(undulation_rule);
   // The bound falls monotonically with steps: bisect for the fewest that meet the budget,
-  // never more than the undulation rule, which resolves every term.
-  if (SamplingErrorBound(scene, options.min_steps) <= options.path_tolerance) return options.min_steps;
+  // never more than the undulation rule, which resolves every term; rounding up keeps it.
+  if (SamplingErrorBound(scene, options.min_steps) <= options.path_tolerance) return friendly(options.min_steps);
   int low = options.min_steps;
   int high = undulation_rule;
-  if (SamplingErrorBound(scene, high) > options.path_tolerance) return high;
+  if (SamplingErrorBound(scene, high) > options.path_tolerance) return friendly(high);
   while (high - low > 1) {
     const int middle = low + (high - low) / 2;
     (SamplingErrorBound(scene, middle) <= options.path_tolerance ? high : low) = middle;
   }
-  return high;
+  return friendly(high);
 }
 
 double SamplingErrorBounds::Largest() const { return std::max({d_trajectory, runout, 0.5 * swing}); }

@@ -106,8 +106,16 @@ std::unique_ptr<Solver> MakeSolver(const SolverSettings& settings);
 // Steps for one revolution: options.steps if set, else enough that the fastest term of
 // the path (ring order n passes n times, roller order m passes m R/r_b times per
 // revolution, and the exact model's second-order products twice as fast) is sampled
-// `samples_per_undulation` times per period, so no harmonic aliases.
+// `samples_per_undulation` times per period, so no harmonic aliases; with a
+// path_tolerance, the fewest that meet it. Either count is rounded up to
+// FourierFriendlySteps (within max_steps).
 int ChooseSteps(const engine::Scene& scene, const SimulationOptions& options);
+
+// The smallest count >= at_least (>= 1) that is 8 times a product of 2s, 3s and 5s: a
+// revolution of it passes the error motion's filter (a Fourier transform of the
+// revolution, engine::GaussianFilterClosed) in n log n time, where a count with a large
+// prime factor p takes n p (a prime 3,253 angles: 0.12 s against 0.1 ms).
+int FourierFriendlySteps(int at_least);
 
 // Upper bounds [m] on how far each metric of a revolution sampled at `steps` angles can be
 // from the continuous revolution's, to first order in the error amplitudes. The path and

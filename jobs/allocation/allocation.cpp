@@ -57,6 +57,7 @@ Allocation::Allocation(const std::filesystem::path& file)
   identity_.allocation_path = file.string();
   identity_.allocation_file = plan_.text;
   identity_.base_scene = WriteScene(plan_.campaign.sampling.scene);
+  identity_.error_motion_filter = plan_.campaign.sampling.scene.error_motion_filter;
   identity_.design = sampling::DesignName(plan_.campaign.sampling.design.kind);
   identity_.solver = solvers::SolverDescription(plan_.campaign.solver);
   identity_.screen = plan_.screen ? std::string(NameOf(solvers::kRungNames, *plan_.screen)) : "none";

@@ -11,6 +11,7 @@
 #include "analysis/allocation.h"
 #include "analysis/order_statistics.h"
 #include "engine/enum_names.h"
+#include "engine/error_motion.h"
 #include "sampling/assembly_sampler.h"
 
 namespace ringtol::jobs {
@@ -29,6 +30,9 @@ struct AllocationIdentity {
   std::string allocation_path;  // provenance only
   std::string allocation_file;  // the allocation file's text
   std::string base_scene;       // the base scene as a scene file
+  // How the error motion was filtered: the base scene's, so compared through it; the
+  // results file states it beside each error-motion column it keeps.
+  engine::ErrorMotionFilter error_motion_filter;
   std::string design;           // sampling::DesignName
   std::string solver;           // the confirming rung, solvers::SolverDescription
   std::string screen;           // the screening rung's name, or "none"

@@ -64,6 +64,7 @@ Campaign::Campaign(CampaignPlan plan, const std::string& source_name,
   identity_.campaign_file = plan_.sampling.text;
   identity_.base_scene = WriteScene(plan_.sampling.scene);
   identity_.swing = plan_.sampling.scene.sensor_swing;
+  identity_.error_motion_filter = plan_.sampling.scene.error_motion_filter;
   identity_.design = sampling::DesignName(plan_.sampling.design.kind);
   identity_.solver = solvers::SolverDescription(plan_.solver);
   identity_.seed = plan_.sampling.seed;

@@ -34,6 +34,8 @@ struct CampaignIdentity {
   // How the sensor's swing was read: the base scene's [sensor] table, so already compared
   // through base_scene; the results file states it beside /outputs/swing_mm.
   engine::SwingRule swing;
+  // How the error motion was filtered, likewise: stated beside each error_motion_* column.
+  engine::ErrorMotionFilter error_motion_filter;
   // What the sampler's calibration of the form spectra came to (AssemblySampler::scales()):
   // not compared, since it follows from the fields above, but stored, so that a campaign
   // rebuilt from its results file draws with the same scales without calibrating again.

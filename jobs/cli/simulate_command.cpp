@@ -18,6 +18,7 @@
 #include "jobs/inputs/scene_file.h"
 #include "jobs/inputs/sweep_file.h"
 #include "jobs/inputs/toml_fields.h"
+#include "jobs/report/report_text.h"
 #include "engine/units.h"
 #include "solvers/dynamic.h"
 #include "solvers/life.h"
@@ -73,10 +74,15 @@ nlohmann::json LifeJson(const engine::Scene& scene, const solvers::LifeResult& l
     json["message"] = life.message;
     return json;
   }
+  const engine::ErrorMotionFilter& filter = scene.error_motion_filter;
+  json["error_motion_filter_cutoff_upr"] = filter.filtered() ? filter.cutoff_upr : 0.0;
   json["over_revolutions"] = ValuesJson(life.values);
+  json["over_revolutions"]["error_motion_reading"] =
+      ErrorMotionConditions({.filter = filter, .revolutions = life.revolutions});
   json["artefact_mm"] = life.artefact * units::kMillimetresPerMetre;
   if (life.asymptotic) {
     json["every_revolution"] = ValuesJson(*life.asymptotic);
+    json["every_revolution"]["error_motion_reading"] = ErrorMotionConditions({.filter = filter});
     json["phase_locked_rollers"] = scene.phase_locked_rollers;
     json["cycle"] = life.cycle;
     json["allowance_um"] = life.error_estimate * units::kMicrometresPerMetre;
@@ -115,6 +121,8 @@ void PrintLife(std::ostream& out, const engine::Scene& scene, const solvers::Lif
       of([](const solvers::LifeValues& v) { return v.error_motion.asynchronous; }));
   fmt::print(out, "  {:<16}{:>16.3f}   um, the bore's own form at the sensor, fundamental removed\n", "artefact",
              um(life.artefact));
+  fmt::print(out, "  error motion: ISO 230-7 in the sensor's direction, fundamental removed, {}\n",
+             ErrorMotionFilterName(scene.error_motion_filter));
   if (life.asymptotic) {
     fmt::print(out, "  {:<16}{:>16.3f}   um on the every-revolution values\n", "allowance", um(life.error_estimate));
   }

@@ -557,6 +557,12 @@ std::vector<Field<engine::Scene>> SensorFields() {
           {scene_key::kCutoffUpr, Presence::kOptional, cutoff.Describe(),
            [cutoff](const Site& site, Scene& scene) { scene.sensor_swing.cutoff_upr = ReadNumber(site, cutoff); },
            {},
+           {}},
+          {scene_key::kErrorMotionCutoffUpr, Presence::kOptional, cutoff.Describe(),
+           [cutoff](const Site& site, Scene& scene) {
+             scene.error_motion_filter.cutoff_upr = ReadNumber(site, cutoff);
+           },
+           {},
            {}}};
 }
 

@@ -29,6 +29,7 @@ inline constexpr std::string_view kAngleDeg = "angle_deg";
 inline constexpr std::string_view kCentreRadiusMm = "centre_radius_mm";
 inline constexpr std::string_view kCutoffUpr = "cutoff_upr";
 inline constexpr std::string_view kDynamicCoefficient = "dynamic_coefficient";
+inline constexpr std::string_view kErrorMotionCutoffUpr = "error_motion_cutoff_upr";
 inline constexpr std::string_view kExponent = "exponent";
 inline constexpr std::string_view kFriction = "friction";
 inline constexpr std::string_view kFullDampingPenetrationMm = "full_damping_penetration_mm";

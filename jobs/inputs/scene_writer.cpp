@@ -231,6 +231,7 @@ std::string WriteScene(const engine::Scene& scene) {
   out.Key(scene_key::kAngleDeg, Deg(scene.sensor_angle));
   out.Key(scene_key::kResolutionUm, Float(InUnit(scene.sensor_swing.resolution, units::kMetresPerMicrometre)));
   out.Key(scene_key::kCutoffUpr, Float(scene.sensor_swing.cutoff_upr));
+  out.Key(scene_key::kErrorMotionCutoffUpr, Float(scene.error_motion_filter.cutoff_upr));
 
   WriteMotion(out, scene.motion);
 

@@ -109,6 +109,9 @@ void RecommendationTable(std::string& html, const AllocationReport& report, cons
                std::string(NameOf(analysis::kVerdictNames, j.verdict))});
   }
   html += "</table>\n";
+  if (const std::optional<std::string> reading = ConstrainedErrorMotionReading(id)) {
+    html += fmt::format("<p class=\"note\">Error motion: {}.</p>\n", EscapeXml(*reading));
+  }
 }
 
 void AnswerSection(std::string& html, const AllocationReport& report) {

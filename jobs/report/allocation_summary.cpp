@@ -1,10 +1,13 @@
 #include "jobs/report/allocation_summary.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string_view>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
+
+#include "jobs/report/report_text.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -105,6 +108,9 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
                identity.samples);
   for (std::size_t j = 0; j < identity.constraints.size(); ++j)
     fmt::print(out, "{}{}. {}\n", j == 0 ? "constraints       " : kIndent, j + 1, ConstraintText(identity.constraints[j]));
+  if (const std::optional<std::string> reading = ConstrainedErrorMotionReading(identity)) {
+    fmt::print(out, "{}error motion read {}\n", kIndent, *reading);
+  }
   fmt::print(out, "{}judged at {:g} % confidence\n\n", kIndent, 100 * identity.confidence);
 
   if (!outcome.complete) fmt::print(out, "(the search has not finished: what follows is what it knows so far)\n");
@@ -177,6 +183,13 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
   }
 }
 
+std::optional<std::string> ConstrainedErrorMotionReading(const AllocationIdentity& identity) {
+  const bool any = std::any_of(identity.constraints.begin(), identity.constraints.end(),
+                               [](const analysis::Constraint& c) { return ErrorMotionOf(c.output).has_value(); });
+  if (!any) return std::nullopt;
+  return ErrorMotionConditions({.filter = identity.error_motion_filter});
+}
+
 nlohmann::json AllocationJson(const AllocationIdentity& identity, const AllocationOutcome& outcome) {
   auto candidate_json = [&](std::int64_t index) {
     const CandidateOutcome& c = outcome.candidates[static_cast<std::size_t>(index)];
@@ -221,6 +234,11 @@ nlohmann::json AllocationJson(const AllocationIdentity& identity, const Allocati
   for (const std::int64_t u : outcome.undecided_cheaper) json["undecided_cheaper"].push_back(candidate_json(u));
   json["front"] = nlohmann::json::array();
   for (const std::int64_t f : outcome.front) json["front"].push_back(candidate_json(f));
+  if (const std::optional<std::string> reading = ConstrainedErrorMotionReading(identity)) {
+    json["error_motion_reading"] = *reading;
+    json["error_motion_filter_cutoff_upr"] =
+        identity.error_motion_filter.filtered() ? identity.error_motion_filter.cutoff_upr : 0.0;
+  }
   json["binding"] = nlohmann::json::array();
   for (const int j : outcome.binding)
     json["binding"].push_back(ConstraintText(identity.constraints[static_cast<std::size_t>(j)]));

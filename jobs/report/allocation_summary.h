@@ -4,6 +4,7 @@
 // the report (jobs/report/allocation_report.h) draws the same numbers.
 #pragma once
 
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -30,6 +31,10 @@ std::string ConstraintText(const analysis::Constraint& constraint);
 // interval's upper end (quantile, in the output's unit), or the interval's lower end less
 // the least yield (yield, as a fraction).
 double Margin(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& judgement);
+
+// How the error motion that a constraint names was read (ErrorMotionConditions,
+// jobs/report/report_text.h); none when no constraint names one.
+std::optional<std::string> ConstrainedErrorMotionReading(const AllocationIdentity& identity);
 
 void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, const AllocationOutcome& outcome);
 nlohmann::json AllocationJson(const AllocationIdentity& identity, const AllocationOutcome& outcome);

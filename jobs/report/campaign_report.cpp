@@ -498,7 +498,7 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
     if (std::find(ranked_by.begin(), ranked_by.end(), name) != ranked_by.end()) ranking_values[name] = std::move(all);
   }
   report.life_gaps = LifeGaps(life_values);
-  report.life_error_motion = LifeErrorMotionOf(life_values);
+  report.life_error_motion = LifeErrorMotionOf(life_values, report.identity.error_motion_filter);
   if (!report.identity.spec.empty() && !used_ok.empty()) {
     const auto within = static_cast<std::int64_t>(std::count(within_every_limit.begin(), within_every_limit.end(), true));
     report.within_every_limit = analysis::EstimateProportion(within, report.ok, options.confidence);

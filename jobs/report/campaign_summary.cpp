@@ -104,8 +104,9 @@ nlohmann::json LifeGapJson(const LifeGap& gap) {
 bool IsErrorMotionColumn(std::string_view name) { return ErrorMotionOf(name).has_value(); }
 
 std::optional<LifeErrorMotion> LifeErrorMotionOf(
-    const std::map<std::string, std::vector<double>, std::less<>>& ok_values) {
+    const std::map<std::string, std::vector<double>, std::less<>>& ok_values, const engine::ErrorMotionFilter& filter) {
   LifeErrorMotion motion;
+  motion.filter = filter;
   bool any = false;
   for (std::size_t k = 0; k < std::size(kErrorMotionValues); ++k) {
     motion.q50[k] = motion.q99[k] = std::numeric_limits<double>::quiet_NaN();
@@ -146,11 +147,14 @@ std::string LifeErrorMotionSentence(const LifeErrorMotion& motion) {
       "Over the stage's life, the axis's radial error motion ({}) is at q99 {} (q50 {}). No one-revolution value "
       "compares: asynchronous motion, what differs from one revolution to the next, needs several revolutions, and "
       "one revolution's indicator reading (runout) holds the bore's form too.",
-      ErrorMotionConditions(), list(motion.q99, true), list(motion.q50, false));
+      ErrorMotionConditions({.filter = motion.filter}), list(motion.q99, true), list(motion.q50, false));
 }
 
 nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion) {
-  nlohmann::json j = {{"count", motion.count}, {"reading", ErrorMotionConditions()}};
+  nlohmann::json j = {{"count", motion.count},
+                      {"reading", ErrorMotionConditions({.filter = motion.filter})},
+                      {"filter_cutoff_upr", motion.filter.filtered() ? motion.filter.cutoff_upr : 0.0},
+                      {"revolutions", "every revolution of the life"}};
   for (std::size_t k = 0; k < std::size(kErrorMotionValues); ++k) {
     j[std::string(ErrorMotionWord(kErrorMotionValues[k])) + "_mm"] = {{"q50", Bound(motion.q50[k])},
                                                                       {"q99", Bound(motion.q99[k])}};
@@ -284,7 +288,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     summary.outputs.push_back(std::move(output));
   }
   summary.life_gaps = LifeGaps(paired);
-  summary.life_error_motion = LifeErrorMotionOf(paired);
+  summary.life_error_motion = LifeErrorMotionOf(paired, results.identity().error_motion_filter);
   if (any_spec && summary.done > 0) {
     std::int64_t good = 0;
     for (std::size_t i = 0; i < status.size(); ++i) {

@@ -92,6 +92,7 @@ struct LifeErrorMotion {
   // [mm] q50 and q99 of each value, in kErrorMotionValues order (jobs/report/report_text.h);
   // NaN for a column the file lacks.
   std::array<double, 3> q50{}, q99{};
+  engine::ErrorMotionFilter filter;  // the campaign's, through which they were read
 };
 
 // Whether `name` is an error motion column (ErrorMotionOf, jobs/report/report_text.h).
@@ -99,7 +100,7 @@ bool IsErrorMotionColumn(std::string_view name);
 // The error motion over the life of the columns `ok_values` holds (by output name, the
 // same ok samples in each); none without a finite total.
 std::optional<LifeErrorMotion> LifeErrorMotionOf(
-    const std::map<std::string, std::vector<double>, std::less<>>& ok_values);
+    const std::map<std::string, std::vector<double>, std::less<>>& ok_values, const engine::ErrorMotionFilter& filter);
 // "Over the stage's life, the axis's radial error motion (ISO 230-7, ...) is at q99 168.6 µm
 // total, ... (q50 ...). No one-revolution value compares: ...". Plain text.
 std::string LifeErrorMotionSentence(const LifeErrorMotion& motion);

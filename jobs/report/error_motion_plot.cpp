@@ -17,32 +17,18 @@ namespace ringtol::jobs {
 ErrorMotionPlot PlotErrorMotion(const engine::Scene& scene, const solvers::Solver& solver,
                                 solvers::SimulationOptions options, int revolutions) {
   if (revolutions < 1) throw std::invalid_argument("PlotErrorMotion: revolutions must be at least 1");
-  options.angles = solvers::AngleMode::kDense;
   ErrorMotionPlot plot;
   plot.revolutions = revolutions;
-  const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
-  std::vector<double> motion;  // revolution-major, as engine::MeasureErrorMotion reads it
-  for (int k = 0; k < revolutions; ++k) {
-    const solvers::SimulationResult result = solvers::Simulate(solvers::AtRevolution(scene, k), solver, options);
-    if (result.status != solvers::Status::kOk) {
-      plot.status = solvers::StatusName(result.status);
-      plot.message =
-          "revolution " + std::to_string(k + 1) + " of " + std::to_string(revolutions) + ": " + result.message;
-      return plot;
-    }
-    // Every revolution at the first one's angles, as the error motion is read: the step
-    // rule would choose the same count (it reads amplitudes and orders, not phases), and
-    // fixing it makes sure.
-    if (k == 0) options.steps = plot.steps = result.steps;
-    const auto steps = static_cast<std::size_t>(plot.steps);
-    if (result.steps != plot.steps || result.trajectory.centre.size() < steps) {
-      throw std::logic_error("PlotErrorMotion: a revolution came back at other angles than the first");
-    }
-    for (std::size_t j = 0; j < steps; ++j) motion.push_back(ray.dot(result.trajectory.centre[j]));
+  const solvers::LifeResult life = solvers::SimulateLife(scene, solver, options, revolutions);
+  if (life.status != solvers::Status::kOk) {
+    plot.status = solvers::StatusName(life.status);
+    plot.message = life.message;
+    return plot;
   }
-
+  plot.steps = life.steps;
   const auto n = static_cast<std::size_t>(plot.steps);
-  engine::ErrorMotionBand band = engine::ErrorMotionBandOf(motion, plot.steps);
+  plot.filter = scene.error_motion_filter;
+  engine::ErrorMotionBand band = engine::ErrorMotionBandOf(life.motion, plot.steps);
   std::vector<double>& lowest = band.lowest;
   std::vector<double>& highest = band.highest;
   std::vector<double>& average = band.average;
@@ -52,6 +38,7 @@ ErrorMotionPlot PlotErrorMotion(const engine::Scene& scene, const solvers::Solve
 
   constexpr double um = units::kMicrometresPerMetre;
   std::vector<double> angle_deg(n);
+  std::size_t widest = 0;
   plot.total_inner_um = plot.synchronous_inner_um = std::numeric_limits<double>::infinity();
   plot.total_outer_um = plot.synchronous_outer_um = -std::numeric_limits<double>::infinity();
   for (std::size_t j = 0; j < n; ++j) {
@@ -63,8 +50,12 @@ ErrorMotionPlot PlotErrorMotion(const engine::Scene& scene, const solvers::Solve
     plot.total_outer_um = std::max(plot.total_outer_um, highest[j]);
     plot.synchronous_inner_um = std::min(plot.synchronous_inner_um, average[j]);
     plot.synchronous_outer_um = std::max(plot.synchronous_outer_um, average[j]);
-    plot.asynchronous_um = std::max(plot.asynchronous_um, highest[j] - lowest[j]);
+    if (highest[j] - lowest[j] > plot.asynchronous_um) {
+      plot.asynchronous_um = highest[j] - lowest[j];
+      widest = j;
+    }
   }
+  plot.asynchronous_angle_deg = angle_deg[widest];
   plot.total_um = plot.total_outer_um - plot.total_inner_um;
   plot.synchronous_um = plot.synchronous_outer_um - plot.synchronous_inner_um;
 
@@ -73,6 +64,7 @@ ErrorMotionPlot PlotErrorMotion(const engine::Scene& scene, const solvers::Solve
   for (const std::vector<double>* curve : {&lowest, &highest, &average}) {
     for (const std::size_t j : svg::DecimateCurve(angle_deg, *curve, kDrawnPoints / 3)) keep[j] = true;
   }
+  keep[widest] = true;
   for (std::size_t j = 0; j < n; ++j) {
     if (!keep[j]) continue;
     plot.angle_deg.push_back(angle_deg[j]);

@@ -14,7 +14,12 @@
 //                  the least value over all revolutions, outer at the greatest;
 //   synchronous    the two that just enclose the synchronous average;
 //   asynchronous   the widest the band of revolutions is along one radial line.
-// These are engine::MeasureErrorMotion's values of the same revolutions.
+// These are engine::MeasureErrorMotion's values of the same revolutions, through the
+// scene's error-motion filter (engine::FilterErrorMotion: the revolutions as one record).
+//
+// The plot's revolutions read at most the stored value, and usually less: a results file
+// stores the limit over every revolution of the life, every phase of each roller, and a
+// few successive revolutions meet only a few of those phases.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +42,7 @@ struct ErrorMotionPlot {
   std::string message;        // why, when status is not ok; nothing below is drawn then
   int revolutions = 0;        // asked for
   int steps = 0;              // angles per revolution
+  engine::ErrorMotionFilter filter;  // the scene's, through which the motion was read
   double total_um = 0.0, synchronous_um = 0.0, asynchronous_um = 0.0;  // the error motion values [µm]
   double fundamental_um = 0.0;  // amplitude of the once-per-revolution part removed [µm]
   // The curves about the base circle [µm], at ring angles psi [deg]: each angle's least
@@ -47,6 +53,9 @@ struct ErrorMotionPlot {
   // total_inner_um = total_um, and the same for the synchronous ones.
   double total_inner_um = 0.0, total_outer_um = 0.0;
   double synchronous_inner_um = 0.0, synchronous_outer_um = 0.0;
+  // [deg] the angle at which the band is widest, where asynchronous_um is read (kept
+  // among the drawn angles).
+  double asynchronous_angle_deg = 0.0;
 };
 
 // Solves `revolutions` >= 1 revolutions of `scene` with `solver` (options' step rule and

@@ -320,7 +320,8 @@ void SpecAnswer(std::string& html, const CampaignReport& report) {
                         YieldWithInterval(*report.within_every_limit_counting_failures));
   }
   if (error_motion) {
-    html += fmt::format("<p class=\"note\">Error motion: {}.</p>\n", EscapeXml(ErrorMotionConditions()));
+    html += fmt::format("<p class=\"note\">Error motion: {}.</p>\n",
+                        EscapeXml(ErrorMotionConditions({.filter = report.identity.error_motion_filter})));
   }
 }
 
@@ -463,7 +464,7 @@ void OrbitSection(std::string& html, const CampaignReport& report) {
     tir_is_not_error_motion += fmt::format(
         " An error-motion spec bounds the axis alone: its error motion ({}), which the polar plot below draws for "
         "the worst assembly, not the TIR.",
-        ErrorMotionConditions());
+        ErrorMotionConditions({.filter = report.identity.error_motion_filter}));
   }
   for (const ReplayedTrajectory& t : report.trajectories) {
     const std::string quantity = Quantity(t.by);
@@ -517,7 +518,29 @@ std::string ErrorMotionSvg(const ErrorMotionPlot& p, double units_per_division) 
                    {.value = p.total_outer_um, .colour = 2},
                    {.value = p.synchronous_inner_um, .name = "synchronous", .colour = 1, .dashed = true},
                    {.value = p.synchronous_outer_um, .colour = 1, .dashed = true}};
+  chart.spokes.push_back({.angle_deg = p.asynchronous_angle_deg, .name = "asynchronous read here", .colour = 3});
   chart.curves.push_back({.name = "synchronous average", .angle_deg = p.angle_deg, .value = p.average_um, .colour = 1});
+  return svg::RenderPolarChart(chart);
+}
+
+// The band of revolutions about their average, at its own scale: beside the total's
+// circles a band a tenth as wide is a hairline.
+std::string AsynchronousBandSvg(const ErrorMotionPlot& p) {
+  std::vector<double> below(p.angle_deg.size()), above(p.angle_deg.size());
+  double lowest = 0.0, highest = 0.0;
+  for (std::size_t j = 0; j < p.angle_deg.size(); ++j) {
+    below[j] = p.lowest_um[j] - p.average_um[j];
+    above[j] = p.highest_um[j] - p.average_um[j];
+    lowest = std::min(lowest, below[j]);
+    highest = std::max(highest, above[j]);
+  }
+  svg::PolarChart chart;
+  chart.title = fmt::format("Sample {}: the band of revolutions about their average", p.index);
+  chart.unit = "µm";
+  chart.units_per_division = svg::PolarDivision(lowest, highest);
+  chart.bands.push_back({.name = "revolutions less their average", .angle_deg = p.angle_deg, .lower = below,
+                         .upper = above, .colour = 0});
+  chart.spokes.push_back({.angle_deg = p.asynchronous_angle_deg, .name = "asynchronous read here", .colour = 3});
   return svg::RenderPolarChart(chart);
 }
 
@@ -546,21 +569,34 @@ void ErrorMotionSection(std::string& html, const CampaignReport& report) {
       "(the centre's component along the sensor's ray) is read as ISO 230-7 reads a radial error motion in a fixed "
       "sensitive direction: the once-per-revolution part of the synchronous average (here {}), which a fixed "
       "direction cannot tell from the artefact's centring, is removed, and the motion is drawn magnified about a "
-      "base circle, its centre the plot's least-squares centre. So few revolutions need not reach every phase of the "
-      "rollers, so the values below may fall short of the stored one.</p>\n",
+      "base circle, its centre the plot's least-squares centre.</p>\n",
       p.index, EscapeXml(Micrometres(kUmPerMm * p.stored_total_mm)), report.ok, p.revolutions,
       EscapeXml(Micrometres(p.fundamental_um)));
+  html += fmt::format(
+      "<p>The replay reads a total of {} against the {} stored. The stored value is the limit over every revolution "
+      "the stage will turn: every roller turns R/r times a revolution, a ratio no assembly makes whole, so over its "
+      "life each roller's lobes meet every angle of the ring at every phase, and the stored value is read at the "
+      "worst of them. {} successive revolutions meet only {} phases of each roller, so their band is narrower, and more "
+      "revolutions widen it towards the stored value.</p>\n",
+      EscapeXml(Micrometres(p.total_um)), EscapeXml(Micrometres(kUmPerMm * p.stored_total_mm)), p.revolutions,
+      p.revolutions);
   const double division = svg::PolarDivision(p.total_inner_um, p.total_outer_um);
+  const std::string conditions = ErrorMotionConditions({.filter = p.filter, .revolutions = p.revolutions});
   html += "<div class=\"charts\">\n";
   html += Figure(
       ErrorMotionSvg(p, division),
       fmt::format("Total error motion {} (the solid circles just enclose every revolution), synchronous {} (the "
                   "dashed circles just enclose the average over the revolutions), asynchronous {} (the widest the "
-                  "shaded band is along one radius); {}, {} angles a revolution. Scale: {:g} µm per division about "
-                  "the base circle; ring angle ψ from +x counter-clockwise.",
+                  "shaded band is along one radius, at ψ = {:.1f}°, the marked radius); {}, {} angles a revolution. "
+                  "Scale: {:g} µm per division about the base circle; ring angle ψ from +x counter-clockwise.",
                   Micrometres(p.total_um), Micrometres(p.synchronous_um), Micrometres(p.asynchronous_um),
-                  ErrorMotionConditions({.revolutions = p.revolutions}), p.steps, division),
-      FigureWidth::kAlone);
+                  p.asynchronous_angle_deg, conditions, p.steps, division),
+      FigureWidth::kShare);
+  html += Figure(AsynchronousBandSvg(p),
+                 fmt::format("The same revolutions less their average, at the band's own scale: its widest, {} at ψ "
+                             "= {:.1f}° (the marked radius), is the asynchronous error motion; {}.",
+                             Micrometres(p.asynchronous_um), p.asynchronous_angle_deg, conditions),
+                 FigureWidth::kShare);
   html += "</div>\n";
 }
 

@@ -91,8 +91,14 @@ std::string_view ErrorMotionWord(ErrorMotionValue value) { return NamesOf(value)
 
 std::string ErrorMotionName(ErrorMotionValue value) { return fmt::format("{} error motion", ErrorMotionWord(value)); }
 
+std::string ErrorMotionFilterName(const engine::ErrorMotionFilter& filter) {
+  return filter.filtered() ? fmt::format("Gaussian filter at {:g} UPR (ISO 16610-21)", filter.cutoff_upr)
+                           : std::string("unfiltered");
+}
+
 std::string ErrorMotionConditions(const ErrorMotionReading& reading) {
-  return fmt::format("ISO 230-7, in the sensor's direction, fundamental removed, unfiltered, over {}",
+  return fmt::format("ISO 230-7, in the sensor's direction, fundamental removed, {}, over {}",
+                     ErrorMotionFilterName(reading.filter),
                      reading.revolutions > 0 ? fmt::format("{} revolutions", reading.revolutions)
                                              : std::string("every revolution of the life"));
 }

@@ -4,8 +4,8 @@
 //
 // Error motion (docs/model.md §9) is named by ErrorMotionName and read as
 // ErrorMotionConditions says; every error-motion number the summary or a report shows
-// carries them, so that what the reading is (its revolutions now, a filter later) is stated
-// in one function.
+// carries them, so that what the reading is (its filter and its revolutions) is stated in
+// one function.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "analysis/order_statistics.h"
+#include "engine/error_motion.h"
 
 namespace ringtol::jobs {
 
@@ -53,12 +54,15 @@ std::string ErrorMotionName(ErrorMotionValue value);
 
 // How an error motion was read.
 struct ErrorMotionReading {
+  engine::ErrorMotionFilter filter;  // the base scene's
   // 0: over every revolution of the stage's life (a results file's columns); otherwise
   // over this many successive revolutions (the report's replay for the polar plot).
   int revolutions = 0;
 };
-// "ISO 230-7, in the sensor's direction, fundamental removed, unfiltered, over every
-// revolution of the life".
-std::string ErrorMotionConditions(const ErrorMotionReading& reading = {});
+// "ISO 230-7, in the sensor's direction, fundamental removed, Gaussian filter at 50 UPR
+// (ISO 16610-21), over every revolution of the life".
+std::string ErrorMotionConditions(const ErrorMotionReading& reading);
+// "Gaussian filter at 50 UPR (ISO 16610-21)" or "unfiltered".
+std::string ErrorMotionFilterName(const engine::ErrorMotionFilter& filter);
 
 }  // namespace ringtol::jobs

@@ -924,6 +924,7 @@ std::string RenderPolarChart(const PolarChart& chart) {
   for (const PolarCircle& circle : chart.circles) {
     add_entry(LegendEntry::Swatch::kLine, circle.name, circle.colour, circle.dashed);
   }
+  for (const PolarSpoke& spoke : chart.spokes) add_entry(LegendEntry::Swatch::kLine, spoke.name, spoke.colour, false);
   std::vector<Point> legend_places;
   const int legend_rows = PlaceLegend(legend, width, legend_places);
 
@@ -997,6 +998,13 @@ std::string RenderPolarChart(const PolarChart& chart) {
         "stroke-width=\"1.2\"{}/>\n",
         Num(polar.centre.x), Num(polar.centre.y), Num(polar.Radius(circle.value)), PaletteColour(circle.colour),
         Dash(circle.dashed));
+  }
+  for (const PolarSpoke& spoke : chart.spokes) {
+    if (!std::isfinite(spoke.angle_deg)) continue;
+    const double rad = spoke.angle_deg * std::numbers::pi / 180.0;
+    svg.Add("<path class=\"spoke\" d=\"M{} {}L{} {}\" fill=\"none\" stroke=\"{}\" stroke-width=\"1.5\"/>\n",
+            Num(polar.centre.x), Num(polar.centre.y), Num(polar.centre.x + outer * std::cos(rad)),
+            Num(polar.centre.y - outer * std::sin(rad)), PaletteColour(spoke.colour));
   }
   for (const PolarCurve& curve : chart.curves) {
     const std::string d = PolarLoop(polar, curve.angle_deg, curve.value);

@@ -182,6 +182,13 @@ struct PolarCircle {
   bool dashed = false;
 };
 
+// A radius from the centre to the plot's edge at one angle: where a value is read.
+struct PolarSpoke {
+  double angle_deg = 0.0;
+  std::string name{};
+  int colour = 3;
+};
+
 struct PolarChart {
   std::string title{};
   std::string unit{};  // of the values, for the scale's label ("µm")
@@ -189,6 +196,7 @@ struct PolarChart {
   double units_per_division = 0.0;
   std::vector<PolarBand> bands{};  // drawn first
   std::vector<PolarCircle> circles{};
+  std::vector<PolarSpoke> spokes{};
   std::vector<PolarCurve> curves{};  // drawn last, in order
   double width = 440.0, height = 480.0;  // of the viewBox [px]
 };

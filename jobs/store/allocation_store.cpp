@@ -69,6 +69,25 @@ std::string ColumnPath(EvaluationRole role, const RoleColumn& column) {
   return "/samples/" + RoleName(role) + "/" + column.name;
 }
 
+// The error-motion columns the samples keep, with the filter they were read through.
+std::vector<std::string> ErrorMotionColumnPaths(const std::vector<std::string>& outputs) {
+  std::vector<std::string> paths;
+  for (const EvaluationRole role : kRoles) {
+    for (const std::string& output : outputs) {
+      if (output.starts_with("error_motion_")) paths.push_back(ColumnPath(role, {output}));
+    }
+  }
+  return paths;
+}
+
+void WriteErrorMotionColumnAttributes(const Where& where, hid_t file, const AllocationIdentity& identity,
+                                      const std::vector<std::string>& outputs) {
+  for (const std::string& path : ErrorMotionColumnPaths(outputs)) {
+    const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
+    WriteErrorMotionAttributes(where, dataset.get(), identity.error_motion_filter);
+  }
+}
+
 // A role's columns as the sample table keeps them (jobs/store/sample_table.h).
 std::vector<ColumnSpec> RoleSpecs(EvaluationRole role, const std::vector<RoleColumn>& columns) {
   std::vector<ColumnSpec> specs;
@@ -375,6 +394,15 @@ Stored ReadStored(const Where& where, hid_t file) {
     if (!kind) Fail(where, fmt::format("/constraints/kind[{}] = '{}' is unknown", j, kinds[j]));
     identity.constraints.push_back({outputs[j], *kind, levels[j], uppers[j]});
   }
+  // Unfiltered where no error-motion column is kept: nothing is then read through it.
+  if (const std::vector<std::string> paths = ErrorMotionColumnPaths(StoredOutputs(identity.constraints));
+      !paths.empty()) {
+    const DatasetId dataset(
+        Check(H5Dopen2(file, paths.front().c_str(), H5P_DEFAULT), where, "opening dataset", paths.front()));
+    identity.error_motion_filter = ReadErrorMotionFilter(where, dataset.get());
+  } else {
+    identity.error_motion_filter.cutoff_upr = 0.0;
+  }
   try {
     CheckIdentity(identity, {});
   } catch (const std::invalid_argument& error) {
@@ -614,6 +642,7 @@ void WriteSchema(const Where& where, hid_t file, const AllocationIdentity& ident
     SampleTable::Create(where, file, CandidateRows(candidates, identity.samples, static_cast<std::int64_t>(chunk)),
                         RoleSpecs(role, RoleColumns(role, stored)), checksum);
   }
+  WriteErrorMotionColumnAttributes(where, file, identity, stored);
   CreateOutcome(where, file, static_cast<hsize_t>(candidates), identity.constraints.size(), checksum);
 }
 
@@ -1498,6 +1527,7 @@ std::int64_t WriteAllocationIndex(const fs::path& results, const AllocationIdent
       mappings += SampleTable::CreateVirtual(where, file, CandidateRows(candidates, identity.samples),
                                              RoleSpecs(role, RoleColumns(role, stored)), sources[RoleIndex(role)]);
     }
+    WriteErrorMotionColumnAttributes(where, file, identity, stored);
     CreateOutcome(where, file, static_cast<hsize_t>(candidates), identity.constraints.size(), true);
     WriteOutcome(where, file, outcome, identity.constraints.size());
   });

@@ -83,6 +83,15 @@ std::string ColumnPath(std::size_t column) {
   }
 }
 
+// The error_motion_* columns.
+std::vector<std::size_t> ErrorMotionColumns() {
+  std::vector<std::size_t> columns;
+  for (std::size_t k = 0; k < kOutputCount; ++k) {
+    if (std::string_view(kOutputNames[k]).starts_with("error_motion_")) columns.push_back(kFirstOutput + k);
+  }
+  return columns;
+}
+
 constexpr const char* kRunoutDefinition =
     "total indicator reading: max - min of the sensor signal over one revolution";
 constexpr const char* kSwingDefinition =
@@ -284,6 +293,11 @@ Stored ReadStored(const Where& where, hid_t file) {
     };
     identity.swing.resolution = number("resolution_um") * units::kMetresPerMicrometre;
     identity.swing.cutoff_upr = number("cutoff_upr");
+  }
+  if (stored.schema_version >= kFirstSchemaWithLife) {
+    const std::string path = ColumnPath(ErrorMotionColumns().front());
+    const DatasetId total(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
+    identity.error_motion_filter = ReadErrorMotionFilter(where, total.get());
   }
   return stored;
 }
@@ -682,6 +696,11 @@ void WriteColumnAttributes(const Where& where, hid_t file, const CampaignIdentit
   const double resolution_um = identity.swing.resolution * units::kMicrometresPerMetre;
   WriteAttribute(where, swing.get(), "resolution_um", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &resolution_um);
   WriteAttribute(where, swing.get(), "cutoff_upr", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &identity.swing.cutoff_upr);
+  for (const std::size_t column : ErrorMotionColumns()) {
+    const std::string path = ColumnPath(column);
+    const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
+    WriteErrorMotionAttributes(where, dataset.get(), identity.error_motion_filter);
+  }
 }
 
 void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identity, std::int64_t samples,

@@ -172,6 +172,17 @@ H5T_class_t AttributeClass(const Where& where, const AttributeId& attribute, con
   return H5Tget_class(type.get());
 }
 
+void WriteErrorMotionAttributes(const Where& where, hid_t dataset, const engine::ErrorMotionFilter& filter) {
+  const double cutoff_upr = filter.filtered() ? filter.cutoff_upr : 0.0;
+  WriteStringAttribute(where, dataset, "filter", filter.filtered() ? "ISO 16610-21 Gaussian" : "none");
+  WriteAttribute(where, dataset, "cutoff_upr", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &cutoff_upr);
+  WriteStringAttribute(where, dataset, "revolutions", "every revolution of the life");
+}
+
+engine::ErrorMotionFilter ReadErrorMotionFilter(const Where& where, hid_t dataset) {
+  return {ReadNumberAttribute<double>(where, dataset, "cutoff_upr", H5T_FLOAT, H5T_NATIVE_DOUBLE).value_or(0.0)};
+}
+
 std::optional<std::string> ReadStringAttribute(const Where& where, hid_t location, const char* name) {
   const std::optional<AttributeId> attribute = OpenAttribute(where, location, name);
   if (!attribute) return std::nullopt;

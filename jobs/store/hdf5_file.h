@@ -23,6 +23,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/error_motion.h"
 #include "sampling/assembly_sampler.h"
 
 namespace ringtol::jobs::hdf5 {
@@ -128,6 +129,14 @@ void UpdateAttribute(const Where& where, hid_t location, const char* name, hid_t
 std::optional<AttributeId> OpenAttribute(const Where& where, hid_t location, const char* name);
 H5T_class_t AttributeClass(const Where& where, const AttributeId& attribute, const char* name);
 std::optional<std::string> ReadStringAttribute(const Where& where, hid_t location, const char* name);
+
+// What an error-motion dataset states beside its values, as ISO 230-7 asks a measurement
+// to (docs/results.md): `filter` ("ISO 16610-21 Gaussian" or "none"), `cutoff_upr` (0:
+// none) and `revolutions` ("every revolution of the life").
+void WriteErrorMotionAttributes(const Where& where, hid_t dataset, const engine::ErrorMotionFilter& filter);
+// The filter a dataset states: unfiltered where it states none, as files written before
+// the filter were.
+engine::ErrorMotionFilter ReadErrorMotionFilter(const Where& where, hid_t dataset);
 
 template <typename T>
 std::optional<T> ReadNumberAttribute(const Where& where, hid_t location, const char* name, H5T_class_t wanted,

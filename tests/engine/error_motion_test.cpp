@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -82,6 +83,51 @@ TEST(ErrorMotion, RefusesPartialRevolutions) {
   EXPECT_THROW(MeasureErrorMotion(motion, kSteps), std::invalid_argument);
   EXPECT_THROW(MeasureErrorMotion(std::vector<double>{}, kSteps), std::invalid_argument);
   EXPECT_THROW(MeasureErrorMotion(std::vector<double>(2, 0.0), 2), std::invalid_argument);
+}
+
+// A term that drifts through the revolutions at a fractional rate, as a roller's lobe does,
+// comes out of the filter scaled by ISO 16610-21's transmission at that rate, in every
+// revolution read: the record's own ends, beyond the margins, do not reach them.
+TEST(FilterErrorMotion, PassesADriftingTermByTheGaussianTransmissionAtItsRate) {
+  constexpr double kAmplitude = 1e-6;  // [m]
+  constexpr double kRate = 7.3;        // undulations per revolution
+  constexpr int kRead = 8;
+  const ErrorMotionFilter filter{5.0};
+  const int margin = filter.MarginRevolutions();
+  ASSERT_GE(margin, 1);
+  std::vector<double> motion;
+  for (int k = -margin; k < kRead + margin; ++k) {
+    for (int j = 0; j < kSteps; ++j) motion.push_back(kAmplitude * std::cos(kRate * (2.0 * std::numbers::pi * k + Psi(j))));
+  }
+  const std::vector<double> filtered = FilterErrorMotion(motion, kSteps, filter);
+  ASSERT_EQ(filtered.size(), static_cast<std::size_t>(kRead * kSteps));
+  // exp(-pi (alpha 7.3 / 5)^2), alpha^2 = ln 2 / pi: exp(-ln 2 (7.3 / 5)^2).
+  const double transmission = std::exp(-std::numbers::ln2 * (kRate / 5.0) * (kRate / 5.0));
+  EXPECT_NEAR(filter.Transmission(kRate), transmission, 1e-15);
+  double worst = 0.0;
+  for (int k = 0; k < kRead; ++k) {
+    for (int j = 0; j < kSteps; ++j) {
+      const double expected = transmission * kAmplitude * std::cos(kRate * (2.0 * std::numbers::pi * k + Psi(j)));
+      worst = std::max(worst, std::abs(filtered[static_cast<std::size_t>(k * kSteps + j)] - expected));
+    }
+  }
+  EXPECT_LT(worst, 1e-12 * kAmplitude);
+}
+
+TEST(FilterErrorMotion, UnfilteredIsTheMotionAsItIs) {
+  const ErrorMotionFilter unfiltered{0.0};
+  EXPECT_EQ(unfiltered.MarginRevolutions(), 0);
+  EXPECT_EQ(unfiltered.Transmission(1000.0), 1.0);
+  std::vector<double> motion(2 * kSteps);
+  for (int j = 0; j < 2 * kSteps; ++j) motion[static_cast<std::size_t>(j)] = 1e-6 * std::sin(13.7 * Psi(j));
+  EXPECT_EQ(FilterErrorMotion(motion, kSteps, unfiltered), motion);
+}
+
+TEST(FilterErrorMotion, RefusesARecordWithNoRevolutionBesideItsMargins) {
+  const ErrorMotionFilter filter{50.0};
+  const auto margins = static_cast<std::size_t>(2 * filter.MarginRevolutions());
+  EXPECT_THROW(FilterErrorMotion(std::vector<double>(margins * kSteps, 0.0), kSteps, filter), std::invalid_argument);
+  EXPECT_NO_THROW(FilterErrorMotion(std::vector<double>((margins + 1) * kSteps, 0.0), kSteps, filter));
 }
 
 }  // namespace

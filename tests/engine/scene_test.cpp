@@ -57,6 +57,7 @@ std::vector<Change> EveryField() {
       {"friction", false, [](engine::Scene& s) { s.friction.static_coefficient += 0.01; }},
       {"sensor angle", false, [](engine::Scene& s) { s.sensor_angle += 0.1; }},
       {"sensor swing", false, [](engine::Scene& s) { s.sensor_swing.cutoff_upr = 50.0; }},
+      {"error motion filter", false, [](engine::Scene& s) { s.error_motion_filter.cutoff_upr = 15.0; }},
       {"motion", false, [](engine::Scene& s) { s.motion = engine::TestBenchLaw(); }},
       {"dynamics", false, [](engine::Scene& s) { s.dynamics.friction = false; }},
       {"phase-locked rollers", false, [](engine::Scene& s) { s.phase_locked_rollers = true; }},

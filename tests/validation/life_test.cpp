@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "engine/enclosing_circle.h"
+#include "engine/sensor.h"
 #include "solvers/linear.h"
 #include "solvers/quasistatic.h"
 #include "solvers/simulation.h"
@@ -157,11 +158,67 @@ TEST(Life, PhaseLockedRollersOfEqualSizeRepeatAfterTheirCycle) {
               five.error_estimate);
 }
 
+// A roller's lobe of order o passes the contact o R/r times a revolution: through the error
+// motion's filter its share of the asynchronous value is the Gaussian's transmission at
+// that rate, and the filter reads nothing but the error motion.
+TEST(Life, TheFilterPassesARollersLobeByItsTransmissionAtTheLobesRate) {
+  engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
+  testing::SetRing(scene, {{2, 40e-6, 0.3}});
+  // A fixed roller: a spring roller's form moves its spring, not the ring.
+  engine::Roller& lobed = scene.rollers[1];
+  lobed.outline = engine::PolarProfile(lobed.outline.radius(), 0.0, {{2, 3e-6, 0.5}});
+  const solvers::LinearSolver linear;
+  scene.error_motion_filter.cutoff_upr = 0.0;
+  const solvers::LifeResult unfiltered = solvers::LinearLife(scene, linear, Options(), 1);
+  constexpr double kCutoff = 150.0;  // [UPR] passes about 2/3 of an order-2 lobe at R/r = 60.4
+  scene.error_motion_filter.cutoff_upr = kCutoff;
+  const solvers::LifeResult filtered = solvers::LinearLife(scene, linear, Options(), 1);
+  ASSERT_EQ(unfiltered.status, solvers::Status::kOk) << unfiltered.message;
+  ASSERT_EQ(filtered.status, solvers::Status::kOk) << filtered.message;
+  ASSERT_TRUE(unfiltered.asymptotic && filtered.asymptotic);
+  const double rate = 2.0 * engine::SpinRatio(scene, 1);
+  const double transmission = engine::GaussianTransmission(rate, kCutoff);
+  ASSERT_GT(unfiltered.asymptotic->error_motion.asynchronous, 0.1e-6);
+  EXPECT_NEAR(filtered.asymptotic->error_motion.asynchronous / unfiltered.asymptotic->error_motion.asynchronous,
+              transmission, 1e-9);
+  EXPECT_EQ(filtered.asymptotic->d_trajectory, unfiltered.asymptotic->d_trajectory);
+  EXPECT_EQ(filtered.asymptotic->runout, unfiltered.asymptotic->runout);
+}
+
+// Through the filter, the cycle of phase-locked rollers solved revolution by revolution
+// (with the filter's margins of revolutions either side) reads what the closed form reads
+// from its phasors: the filter is applied to the same motion both ways.
+TEST(Life, FilteredRevolutionsOfACycleAreTheClosedFormsCycle) {
+  engine::Scene scene = DriftingScene();
+  for (engine::Roller& roller : scene.rollers) {
+    roller.outline = engine::PolarProfile(roller.outline.radius(), 0.0, roller.outline.harmonics());
+  }
+  scene.phase_locked_rollers = true;
+  const solvers::LinearSolver linear;
+  scene.error_motion_filter.cutoff_upr = 0.0;
+  const solvers::LifeResult unfiltered = solvers::LinearLife(scene, linear, Options(), 5);
+  scene.error_motion_filter.cutoff_upr = 100.0;  // keeps a third of the order-2 lobes at 120.8 UPR
+  const solvers::LifeResult five = solvers::LinearLife(scene, linear, Options(), 5);
+  ASSERT_EQ(five.status, solvers::Status::kOk) << five.message;
+  ASSERT_EQ(five.cycle, 5);
+  ASSERT_TRUE(five.asymptotic.has_value());
+  const engine::ErrorMotion& solved = five.values.error_motion;
+  const engine::ErrorMotion& closed = five.asymptotic->error_motion;
+  EXPECT_GT(unfiltered.values.error_motion.asynchronous - solved.asynchronous, 4.0 * five.error_estimate)
+      << "the filter takes out no more than the allowance: the test shows nothing";
+  EXPECT_NEAR(closed.asynchronous, solved.asynchronous, five.error_estimate);
+  EXPECT_NEAR(closed.synchronous, solved.synchronous, five.error_estimate);
+  EXPECT_NEAR(closed.total, solved.total, five.error_estimate);
+}
+
 // The article's combination case 4 (docs/model.md §6.3: the bore's order 2 of 140 um, each
 // roller's order 2 of 14 um, all at 45 deg), the rollers assembled at phases of their own
-// and their radii `apart` from one to the next.
+// and their radii `apart` from one to the next. Its error motion is read unfiltered: what
+// the tests below check of it holds whatever the filter, and unfiltered the rollers'
+// lobes, at 120.8 UPR, keep their whole size, which the checks need to show something.
 engine::Scene CombinationCase4(double apart) {
   engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
+  scene.error_motion_filter.cutoff_upr = 0.0;
   testing::SetRing(scene, {{2, 0.14e-3, 45.0 * testing::kDeg}});
   for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
     engine::Roller& roller = scene.rollers[i];
@@ -296,6 +353,11 @@ TEST(Life, ALockedRollerOfNominalSizeKeepsItsCycleBesideDriftingOnes) {
     roller.outline = engine::PolarProfile(roller.outline.radius(), sizes[i], std::move(lobes));
   }
   scene.phase_locked_rollers = true;
+  // 256 angles a revolution alias the fifth-order lobe's 302 UPR to 46 UPR in the solved
+  // revolutions, which a filter would pass where the closed form, filtering at the true
+  // rate, does not: read unfiltered (filtered revolutions against the closed form, at
+  // enough angles: FilteredRevolutionsOfACycleAreTheClosedFormsCycle).
+  scene.error_motion_filter.cutoff_upr = 0.0;
   solvers::SimulationOptions options;
   options.steps = 256;
   const solvers::LifeResult closed = solvers::LinearLife(scene, solvers::LinearSolver(), options, 1);

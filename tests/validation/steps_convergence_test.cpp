@@ -40,6 +40,26 @@ double Diameter(const engine::Scene& scene, const solvers::Solver& solver, int s
   return result.d_trajectory;
 }
 
+// Against its definition, by brute force: the smallest count at least as large that is 8
+// times a product of 2s, 3s and 5s.
+TEST(FourierFriendlySteps, IsTheSmallestEightTimesAFiveSmoothCountAtLeastAsLarge) {
+  const auto friendly = [](int n) {
+    if (n % 8 != 0) return false;
+    int rest = n / 8;
+    for (const int factor : {2, 3, 5}) {
+      while (rest % factor == 0) rest /= factor;
+    }
+    return rest == 1;
+  };
+  for (int at_least = 1; at_least <= 5000; ++at_least) {
+    int expected = at_least;
+    while (!friendly(expected)) ++expected;
+    ASSERT_EQ(solvers::FourierFriendlySteps(at_least), expected) << at_least;
+  }
+  EXPECT_EQ(solvers::FourierFriendlySteps(3253), 3456);  // a prime count, at 3,456 = 8 x 2^4 x 3^3
+  EXPECT_EQ(solvers::FourierFriendlySteps(360), 360);    // the automatic rule's floor is one
+}
+
 TEST(StepConvergence, DiameterErrorStaysWithinTheSamplingBoundAndShrinksQuadratically) {
   engine::Scene scene = testing::PaperScene();
   testing::SetRing(scene, {{5, 0.14e-3, 45.0 * kDeg}, {2, 0.05e-3, 0.0}});
@@ -122,9 +142,13 @@ TEST(StepConvergence, PathToleranceStepsKeepTheDiameterWithinTheirBudget) {
     const int steps = solvers::ChooseSteps(scene, options);
     EXPECT_LT(steps, resolved) << budget;
     EXPECT_LE(solvers::SamplingErrorBound(scene, steps), budget);
+    // The fewest Fourier-friendly count that meets the budget: the one before it does not.
     if (steps > options.min_steps) {
-      EXPECT_GT(solvers::SamplingErrorBound(scene, steps - 1), budget);
+      int previous = steps - 8;
+      while (solvers::FourierFriendlySteps(previous) != previous) previous -= 8;
+      EXPECT_GT(solvers::SamplingErrorBound(scene, previous), budget);
     }
+    EXPECT_EQ(solvers::FourierFriendlySteps(steps), steps);
     EXPECT_LE(std::abs(reference - Diameter(scene, solver, steps)), budget) << steps;
   }
 }

@@ -300,6 +300,46 @@ TEST(Cli, SimulateSaysWhichLifeItsEveryRevolutionColumnIs) {
             b["every_revolution"]["d_trajectory_mm"].get<double>() + 1e-3 * b["allowance_um"].get<double>());
 }
 
+// Every error-motion number says through which filter and over which revolutions it was
+// read, and unfiltered is a choice the scene states: the rollers' order-2 lobes pass at
+// about 120 undulations a revolution, which the default 50 UPR filter all but removes.
+TEST(Cli, SimulateStatesTheErrorMotionFilterAndReadsUnfilteredWhereTheSceneSaysSo) {
+  const std::filesystem::path filtered = LobedRollersScene(false);
+  const std::filesystem::path unfiltered = std::filesystem::path(::testing::TempDir()) / "ringtol_unfiltered.toml";
+  {
+    std::ifstream in(filtered);
+    std::stringstream read;
+    read << in.rdbuf();
+    std::string text = read.str();
+    const std::size_t sensor = text.find("[sensor]\n");
+    ASSERT_NE(sensor, std::string::npos);
+    text.insert(sensor + 9, "error_motion_cutoff_upr = 0\n");
+    std::ofstream(unfiltered) << text;
+  }
+  const std::string options = " --solver linear --steps 360 --revolutions 3 --json";
+  const Outcome a = Ringtol("simulate " + filtered.string() + options);
+  const Outcome b = Ringtol("simulate " + unfiltered.string() + options);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const nlohmann::json with = nlohmann::json::parse(a.out)["life"];
+  const nlohmann::json without = nlohmann::json::parse(b.out)["life"];
+  EXPECT_EQ(with["error_motion_filter_cutoff_upr"], 50.0);
+  EXPECT_THAT(with["over_revolutions"]["error_motion_reading"].get<std::string>(),
+              AllOf(HasSubstr("Gaussian filter at 50 UPR"), HasSubstr("over 3 revolutions")));
+  EXPECT_THAT(with["every_revolution"]["error_motion_reading"].get<std::string>(),
+              AllOf(HasSubstr("Gaussian filter at 50 UPR"), HasSubstr("every revolution of the life")));
+  EXPECT_EQ(without["error_motion_filter_cutoff_upr"], 0.0);
+  EXPECT_THAT(without["every_revolution"]["error_motion_reading"].get<std::string>(), HasSubstr("unfiltered"));
+  const auto asynchronous = [](const nlohmann::json& life) {
+    return life["every_revolution"]["error_motion_asynchronous_mm"].get<double>();
+  };
+  EXPECT_LT(asynchronous(with), 0.1 * asynchronous(without));
+  EXPECT_EQ(with["every_revolution"]["d_trajectory_mm"], without["every_revolution"]["d_trajectory_mm"]);
+  const Outcome text = Ringtol("simulate " + filtered.string() + " --solver linear --steps 360 --revolutions 3");
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_THAT(text.out, HasSubstr("Gaussian filter at 50 UPR (ISO 16610-21)"));
+}
+
 TEST(Cli, SweepPrintsOneObjectPerCaseWithItsName) {
   const Outcome run = Ringtol("sweep " + Example("orders.toml") + " --json --solver linear --steps 360");
   ASSERT_EQ(run.exit_code, 0) << run.err;

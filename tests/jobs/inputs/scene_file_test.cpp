@@ -510,6 +510,9 @@ const std::vector<BadScene> kBadScenes = {
     {"ATableWhereANumberIsExpected", [] { return PaperSceneWith("angle_deg = 0.0 ", "angle_deg = { value = 0 } "); },
      {"bad.toml:", "sensor.angle_deg = { value = 0 }", "expected a number, found table"}},
 
+    {"ANegativeErrorMotionCutoff", [] { return MinimalSceneWith("[sensor]\nerror_motion_cutoff_upr = -1\n"); },
+     {"bad.toml:", "sensor.error_motion_cutoff_upr = -1", "allowed: >= 0 and <= 100000"}},
+
     // [motion] and [dynamics]
     {"ARateForTheTestBenchLaw",
      [] { return MinimalSceneWith("[motion]\nlaw = \"test_bench\"\nrate_deg_per_s = 100\n"); },

@@ -123,6 +123,10 @@ void ExpectSameScene(const engine::Scene& read, const engine::Scene& written) {
   ExpectClose(read.friction.stiction_velocity, written.friction.stiction_velocity, "friction.stiction_velocity");
   ExpectClose(read.friction.transition_velocity, written.friction.transition_velocity, "friction.transition_velocity");
   ExpectClose(read.sensor_angle, written.sensor_angle, "sensor_angle");
+  ExpectClose(read.sensor_swing.resolution, written.sensor_swing.resolution, "sensor_swing.resolution");
+  ExpectClose(read.sensor_swing.cutoff_upr, written.sensor_swing.cutoff_upr, "sensor_swing.cutoff_upr");
+  ExpectClose(read.error_motion_filter.cutoff_upr, written.error_motion_filter.cutoff_upr,
+              "error_motion_filter.cutoff_upr");
   ExpectSameMotion(read.motion, written.motion);
   EXPECT_EQ(read.dynamics, written.dynamics);
   EXPECT_EQ(read.phase_locked_rollers, written.phase_locked_rollers);
@@ -156,6 +160,8 @@ engine::Scene ErrorScene() {
   scene.contact = {engine::ContactLaw::Model::kRigid, 2.5e8 * e, 1.3, 1234.5 / e, 2.5e-7 * e};
   scene.friction = {0.3 * e, 0.25 / e, 0.002 * e, 0.02 * e};
   scene.sensor_angle = 37.5 * kDeg * e;
+  scene.sensor_swing = {0.07e-6 * e, 40.0 / e};
+  scene.error_motion_filter.cutoff_upr = 150.0 / e;
   scene.motion = engine::MotionLaw({{0.25, 0.0, 0.0},
                                     {1.0 / 3.0, 810.0 * kDeg, std::nullopt},
                                     {2.0 * e, 0.0, std::nullopt},
@@ -257,7 +263,8 @@ TEST(SceneWriter, WritesEveryKeyOfTheFormat) {
         "stiffness_N_per_m_e", "exponent",
         "max_damping_N_s_per_m", "full_damping_penetration_mm", "static_coefficient", "dynamic_coefficient",
         "stiction_velocity_mm_per_s", "transition_velocity_mm_per_s", "segments", "friction",
-        "rolling_without_slip", "massless_spring_rollers", "phase_locked_rollers"}) {
+        "rolling_without_slip", "massless_spring_rollers", "phase_locked_rollers", "resolution_um", "cutoff_upr",
+        "error_motion_cutoff_upr"}) {
     EXPECT_THAT(text, HasSubstr(fmt::format("\n{} = ", key)));
   }
   for (const char* key : {"duration_s", "acceleration_deg_per_s2", "start_rate_deg_per_s"}) {

@@ -55,4 +55,8 @@ with h5py.File(sys.argv[1], "r") as f:
                                         for part in ("total", "synchronous", "asynchronous"))
     assert np.all(asynchronous >= 0.0) and np.all(total <= synchronous + asynchronous + 1e-9)
     assert np.all(total >= synchronous - 1e-9) and np.all(np.isnan(life[~ok]))
+    for part in ("total", "synchronous", "asynchronous"):
+        attrs = f["outputs/error_motion_" + part + "_mm"].attrs
+        assert attrs["filter"] == "ISO 16610-21 Gaussian" and attrs["cutoff_upr"] == 50.0, dict(attrs)
+        assert attrs["revolutions"] == "every revolution of the life", dict(attrs)
     print(f"{int(ok.sum())} samples ok of {n}, {d} inputs")

@@ -41,14 +41,15 @@ solvers::SimulationOptions Options() {
   return options;
 }
 
-// The axis motion of `revolutions` revolutions, solved here on their own, revolution-major.
-std::vector<double> AxisMotion(const engine::Scene& scene, const solvers::Solver& solver, int steps,
-                               int revolutions) {
+// The axis motion of revolutions first .. last - 1, solved here on their own,
+// revolution-major.
+std::vector<double> AxisMotion(const engine::Scene& scene, const solvers::Solver& solver, int steps, int first,
+                               int last) {
   solvers::SimulationOptions options = Options();
   options.steps = steps;
   const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
   std::vector<double> motion;
-  for (int k = 0; k < revolutions; ++k) {
+  for (int k = first; k < last; ++k) {
     const solvers::SimulationResult one = solvers::Simulate(solvers::AtRevolution(scene, k), solver, options);
     EXPECT_EQ(one.status, solvers::Status::kOk) << one.message;
     for (int j = 0; j < steps; ++j) motion.push_back(ray.dot(one.trajectory.centre[static_cast<std::size_t>(j)]));
@@ -56,21 +57,24 @@ std::vector<double> AxisMotion(const engine::Scene& scene, const solvers::Solver
   return motion;
 }
 
+void ExpectTheValuesOf(const ErrorMotionPlot& plot, const engine::ErrorMotion& expected) {
+  constexpr double um = 1e6;
+  EXPECT_NEAR(plot.total_um, expected.total * um, kRoundOffUm);
+  EXPECT_NEAR(plot.synchronous_um, expected.synchronous * um, kRoundOffUm);
+  EXPECT_NEAR(plot.asynchronous_um, expected.asynchronous * um, kRoundOffUm);
+  EXPECT_NEAR(plot.fundamental_um, expected.fundamental * um, kRoundOffUm);
+}
+
 TEST(ErrorMotionPlot, ValuesAndCirclesAreTheEnginesReadingOfTheSameRevolutions) {
-  const engine::Scene scene = testing::CampaignLikeScene();
+  engine::Scene scene = testing::CampaignLikeScene();
+  scene.error_motion_filter.cutoff_upr = 0.0;
   const solvers::LinearSolver linear;
   const ErrorMotionPlot plot = PlotErrorMotion(scene, linear, Options(), kRevolutions);
   ASSERT_EQ(plot.status, "ok") << plot.message;
   EXPECT_EQ(plot.revolutions, kRevolutions);
   EXPECT_EQ(plot.steps, Options().steps);
 
-  const engine::ErrorMotion expected =
-      engine::MeasureErrorMotion(AxisMotion(scene, linear, plot.steps, kRevolutions), plot.steps);
-  constexpr double um = 1e6;
-  EXPECT_NEAR(plot.total_um, expected.total * um, kRoundOffUm);
-  EXPECT_NEAR(plot.synchronous_um, expected.synchronous * um, kRoundOffUm);
-  EXPECT_NEAR(plot.asynchronous_um, expected.asynchronous * um, kRoundOffUm);
-  EXPECT_NEAR(plot.fundamental_um, expected.fundamental * um, kRoundOffUm);
+  ExpectTheValuesOf(plot, engine::MeasureErrorMotion(AxisMotion(scene, linear, plot.steps, 0, kRevolutions), plot.steps));
   // The rollers' drifting phases make a band worth drawing, not round-off.
   EXPECT_GT(plot.asynchronous_um, 0.01);
 
@@ -92,6 +96,31 @@ TEST(ErrorMotionPlot, ValuesAndCirclesAreTheEnginesReadingOfTheSameRevolutions) 
   // The synchronous circles lie within the total ones: the average is within the band.
   EXPECT_LE(plot.total_inner_um, plot.synchronous_inner_um);
   EXPECT_GE(plot.total_outer_um, plot.synchronous_outer_um);
+}
+
+// Through the scene's filter, the plot reads the revolutions as an analyser recording on
+// does: with the filter's margin of revolutions either side, and the band's widest radius
+// is where it says the asynchronous value is read.
+TEST(ErrorMotionPlot, FilteredItReadsTheRevolutionsWithTheFiltersMarginsAroundThem) {
+  engine::Scene scene = testing::CampaignLikeScene();
+  scene.error_motion_filter.cutoff_upr = 15.0;
+  const solvers::LinearSolver linear;
+  const ErrorMotionPlot plot = PlotErrorMotion(scene, linear, Options(), kRevolutions);
+  ASSERT_EQ(plot.status, "ok") << plot.message;
+  EXPECT_EQ(plot.filter, scene.error_motion_filter);
+  const int margin = scene.error_motion_filter.MarginRevolutions();
+  ExpectTheValuesOf(plot, engine::MeasureErrorMotion(
+                              engine::FilterErrorMotion(AxisMotion(scene, linear, plot.steps, -margin,
+                                                                   kRevolutions + margin),
+                                                        plot.steps, scene.error_motion_filter),
+                              plot.steps));
+  scene.error_motion_filter.cutoff_upr = 0.0;
+  const ErrorMotionPlot unfiltered = PlotErrorMotion(scene, linear, Options(), kRevolutions);
+  EXPECT_LT(plot.asynchronous_um, 0.9 * unfiltered.asynchronous_um) << "the filter takes nothing out";
+  const auto at = std::find(plot.angle_deg.begin(), plot.angle_deg.end(), plot.asynchronous_angle_deg);
+  ASSERT_NE(at, plot.angle_deg.end()) << "the angle the value is read at is drawn";
+  const auto j = static_cast<std::size_t>(at - plot.angle_deg.begin());
+  EXPECT_DOUBLE_EQ(plot.highest_um[j] - plot.lowest_um[j], plot.asynchronous_um);
 }
 
 TEST(ErrorMotionPlot, WithRoundRollersTheBandCollapsesOntoTheSynchronousAverage) {
@@ -139,8 +168,19 @@ TEST(ErrorMotionPlot, TheReportPageDrawsItOnlyWhereTheReportHasIt) {
   EXPECT_THAT(page, HasSubstr("Total error motion " + Micrometres(plot.total_um)));
   EXPECT_THAT(page, HasSubstr("synchronous " + Micrometres(plot.synchronous_um)));
   EXPECT_THAT(page, HasSubstr("asynchronous " + Micrometres(plot.asynchronous_um)));
-  // Beside them, how they were read: over the replayed revolutions, not the life.
-  EXPECT_THAT(page, HasSubstr(EscapeXml(ErrorMotionConditions({.revolutions = kRevolutions}))));
+  // Beside them, how they were read: through the scene's filter, over the replayed
+  // revolutions, not the life.
+  EXPECT_THAT(page, HasSubstr(EscapeXml(
+                        ErrorMotionConditions({.filter = plot.filter, .revolutions = kRevolutions}))));
+  EXPECT_THAT(page, HasSubstr("Gaussian filter at 50 UPR"));
+  // The band at its own scale, the radius where the asynchronous value is read marked on
+  // both, and why the replay reads less than the stored value.
+  EXPECT_THAT(page, HasSubstr("Sample 5: the band of revolutions about their average"));
+  EXPECT_THAT(page, HasSubstr("class=\"spoke\""));
+  EXPECT_THAT(page, HasSubstr(fmt::format("at ψ = {:.1f}°", plot.asynchronous_angle_deg)));
+  EXPECT_THAT(page, HasSubstr("The replay reads a total of " + Micrometres(plot.total_um) + " against the " +
+                              Micrometres(2.1) + " stored"));
+  EXPECT_THAT(page, HasSubstr("meet only 8 phases of each roller"));
   const nlohmann::json json = ReportJson(report);
   EXPECT_EQ(json["error_motion"]["index"], 5);
   EXPECT_EQ(json["error_motion"]["total_um"], plot.total_um);

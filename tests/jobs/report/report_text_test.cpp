@@ -13,6 +13,7 @@
 namespace ringtol::jobs {
 namespace {
 
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 // Four significant digits, never finer than a nanometre, never in exponent notation.
@@ -60,11 +61,13 @@ TEST(ReportText, ErrorMotionValuesAreTheStoredColumnsAndSayHowTheyWereRead) {
     EXPECT_THAT(ErrorMotionName(value), HasSubstr(std::string(ErrorMotionWord(value)) + " error motion"));
   }
   EXPECT_FALSE(ErrorMotionOf("runout_mm").has_value());
-  const std::string life = ErrorMotionConditions();
-  for (const char* said : {"ISO 230-7", "sensor", "fundamental removed", "unfiltered", "every revolution"}) {
+  const std::string life = ErrorMotionConditions({.filter = {50.0}});
+  for (const char* said : {"ISO 230-7", "sensor", "fundamental removed", "Gaussian filter at 50 UPR (ISO 16610-21)",
+                           "every revolution"}) {
     EXPECT_THAT(life, HasSubstr(said)) << said;
   }
-  EXPECT_THAT(ErrorMotionConditions({.revolutions = 16}), HasSubstr("over 16 revolutions"));
+  EXPECT_THAT(ErrorMotionConditions({.filter = {0.0}, .revolutions = 16}),
+              AllOf(HasSubstr("unfiltered"), HasSubstr("over 16 revolutions")));
 }
 
 }  // namespace
