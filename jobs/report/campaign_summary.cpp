@@ -288,7 +288,8 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     summary.outputs.push_back(std::move(output));
   }
   summary.life_gaps = LifeGaps(paired);
-  summary.life_error_motion = LifeErrorMotionOf(paired, results.identity().error_motion_filter);
+  summary.error_motion_filter = results.identity().error_motion_filter;
+  summary.life_error_motion = LifeErrorMotionOf(paired, summary.error_motion_filter);
   if (any_spec && summary.done > 0) {
     std::int64_t good = 0;
     for (std::size_t i = 0; i < status.size(); ++i) {
@@ -328,6 +329,10 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
                  fmt::format("{:.5g} [{}, {}]", q.value, ShowBound(q.interval.lower), ShowBound(q.interval.upper)));
     }
     fmt::print(out, " {:>10}\n", o.upper_spec_limit ? fmt::format("{:g}", *o.upper_spec_limit) : "-");
+  }
+  if (std::any_of(s.outputs.begin(), s.outputs.end(),
+                  [](const OutputSummary& o) { return o.count > 0 && IsErrorMotionColumn(o.name); })) {
+    fmt::print(out, "{:<28} {}\n", "error_motion_*", ErrorMotionConditions({.filter = s.error_motion_filter}));
   }
   if (s.in_spec) {
     // One line per limit, then, with more than one, every limit at once: each its yield
@@ -382,6 +387,7 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
       x["quantiles"] = quantiles;
     }
     x["upper_spec_limit"] = o.upper_spec_limit ? nlohmann::json(*o.upper_spec_limit) : nlohmann::json(nullptr);
+    if (IsErrorMotionColumn(o.name)) x["reading"] = ErrorMotionConditions({.filter = s.error_motion_filter});
     outputs[o.name] = x;
   }
   j["outputs"] = outputs;

@@ -132,6 +132,7 @@ struct CampaignSummary {
   std::string schema_note;
   std::vector<LifeGap> life_gaps;  // kLifeColumns order, those the file holds both columns of
   std::optional<LifeErrorMotion> life_error_motion;  // none for a file without the columns
+  engine::ErrorMotionFilter error_motion_filter;     // the campaign's, which the error_motion_* outputs passed
 };
 
 inline constexpr double kSummaryProbabilities[] = {0.5, 0.9, 0.99, 0.999};

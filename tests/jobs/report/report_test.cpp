@@ -24,6 +24,7 @@
 #include "jobs/inputs/input_error.h"
 #include "jobs/cli/report_command.h"
 #include "jobs/report/report_html.h"
+#include "jobs/report/report_text.h"
 #include "tests/support/older_results.h"
 #include "tests/support/small_campaign.h"
 #include "tests/support/text_files.h"
@@ -467,6 +468,16 @@ TEST_F(ReportTest, TheLifeSectionSaysWhatTheErrorMotionOverTheLifeIs) {
   ASSERT_TRUE(json.contains("life"));
   ASSERT_TRUE(json["life"].contains("error_motion"));
   EXPECT_DOUBLE_EQ(json["life"]["error_motion"]["total_mm"]["q99"].get<double>(), total->quantiles[2].value);
+  // Beside every error-motion number, its filter and its revolutions: on the life line, under
+  // the table and with each error-motion output in JSON.
+  const std::string reading = ErrorMotionConditions({.filter = summary.error_motion_filter});
+  EXPECT_THAT(reading, HasSubstr("Gaussian filter at 50 UPR"));
+  EXPECT_THAT(line, HasSubstr(reading));
+  EXPECT_THAT(printed, HasSubstr("error_motion_*               " + reading));
+  for (const char* output : {"error_motion_total_mm", "error_motion_synchronous_mm", "error_motion_asynchronous_mm"}) {
+    EXPECT_EQ(json["outputs"][output]["reading"], reading) << output;
+  }
+  EXPECT_FALSE(json["outputs"]["d_trajectory_mm"].contains("reading"));
 
   const CampaignReport report = QuickReport(results);
   const std::string answer = AnswerOf(ReportHtml(report));
