@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <string>
 #include <system_error>
@@ -27,6 +28,7 @@
 #include "jobs/cli/verify_command.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/inputs/sampling_file.h"
+#include "jobs/inputs/toml_fields.h"
 #include "engine/visible_text.h"
 #include "solvers/simulation.h"
 
@@ -90,26 +92,43 @@ void AddInputFile(CLI::App& app, const std::string& name, std::filesystem::path&
   app.add_option(name, file, help)->required()->check(CLI::ExistingFile);
 }
 
-// --samples and --seed, which override a sampling or campaign file's own. Both are read as
-// decimal here, by transforms (which run before any check), and handed on as the number's
-// plain digits: CLI11 reads integers as strtoll does with base 0, "010" as 8 and "0x10" as
-// 16. The seed takes the file's range (jobs/inputs/sampling_file.h): CLI11 alone wraps -1
-// and 2^64 to 2^64 - 1.
-void AddSamplesAndSeed(CLI::App& app, std::optional<std::int64_t>& samples, std::optional<std::uint64_t>& seed) {
-  const CLI::Validator decimal(
-      [](std::string& text) {
+// Integer options are read as decimal by this transform (it runs before any check) and handed
+// on as the number's plain digits, within [min, max]: CLI11 reads integers as strtoll does
+// with base 0, "0360" as 240 and "0x10" as 16. Leading zeros are decimal, "0360" is 360.
+CLI::Validator DecimalIn(std::int64_t min, std::int64_t max) {
+  const std::string allowed = "; allowed: an integer >= " + std::to_string(min) + " and <= " + std::to_string(max);
+  return CLI::Validator(
+      [min, max, allowed](std::string& text) {
         std::int64_t value = 0;
-        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-        if (text.empty() || text.front() == '-' || error != std::errc() || end != text.data() + text.size()) {
-          return ringtol::VisibleText(text) + ": not a decimal integer";
+        const char* const last = text.data() + text.size();
+        const auto [end, error] = std::from_chars(text.data(), last, value);
+        if (text.empty() || end != last || (error != std::errc() && error != std::errc::result_out_of_range)) {
+          return ringtol::VisibleText(text) + ": not a decimal integer" + allowed;
+        }
+        if (error == std::errc::result_out_of_range || value < min || value > max) {
+          return ringtol::VisibleText(text) + ": out of range" + allowed;
         }
         text = std::to_string(value);
         return std::string();
       },
-      "DECIMAL");
+      "[" + std::to_string(min) + " - " + std::to_string(max) + "]");
+}
+
+// DecimalIn over the range of an int.
+CLI::Validator DecimalIn(int min) { return DecimalIn(min, std::numeric_limits<int>::max()); }
+
+// A count of samples, as --samples, --chunk and --index take it: at most 2^40.
+constexpr std::int64_t kMostSamples = std::int64_t{1} << 40;
+
+// Computing threads a --threads option takes.
+constexpr int kMostThreads = 4096;
+
+// --samples and --seed, which override a sampling or campaign file's own. The seed takes the
+// file's range (jobs/inputs/sampling_file.h), read as decimal by the file's own rule: CLI11
+// alone wraps -1 and 2^64 to 2^64 - 1.
+void AddSamplesAndSeed(CLI::App& app, std::optional<std::int64_t>& samples, std::optional<std::uint64_t>& seed) {
   app.add_option("--samples", samples, "Number of samples (default: the file's design.samples)")
-      ->transform(decimal)
-      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));
+      ->transform(DecimalIn(1, kMostSamples));
   const CLI::Validator seed_range(
       [](std::string& text) {
         const std::optional<std::uint64_t> value = ringtol::jobs::SeedOfText(text);
@@ -137,7 +156,7 @@ void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings,
       ->check(CLI::IsMember(names))
       ->default_str(std::string(NameOf(ringtol::solvers::kRungNames, settings.rung)));
   app.add_option("--steps", settings.simulation.steps, steps_help)
-      ->check(CLI::Range(1, ringtol::solvers::kMaxSteps));
+      ->transform(DecimalIn(1, ringtol::solvers::kMaxSteps));
   std::vector<std::string> angle_modes;
   for (const auto& [mode, name] : ringtol::solvers::kAngleModeNames) angle_modes.emplace_back(name);
   app.add_option_function<std::string>(
@@ -174,7 +193,7 @@ CLI::App* AddSimulate(CLI::App& app, ringtol::jobs::SimulateCommand& simulate) {
                   "Also the life metrics over this many revolutions, roller phases turning (docs/model.md §9); "
                   "with --solver linear also over every revolution: every phase of each roller, or the cycle of "
                   "rollers the scene's [life] phase_locked_rollers gears together")
-      ->check(CLI::NonNegativeNumber);
+      ->transform(DecimalIn(0));
   sub->add_option("--history", simulate.history_csv,
                   "Dynamic solver: write the time history over the motion law's span to this CSV file");
   sub->add_option("--history-interval-ms", simulate.history_interval_ms,
@@ -198,7 +217,8 @@ CLI::App* AddSample(CLI::App& app, ringtol::jobs::SampleCommand& sample) {
   AddInputFile(*sub, "file", sample.file, "Sampling file (TOML)");
   AddSamplesAndSeed(*sub, sample.samples, sample.seed);
   sub->add_option("--csv", sample.csv, "Write every sample's drawn inputs to this CSV file");
-  sub->add_option("--index", sample.index, "With --scene: the sample to write (0-based)");
+  sub->add_option("--index", sample.index, "With --scene: the sample to write (0-based)")
+      ->transform(DecimalIn(0, kMostSamples - 1));
   sub->add_option("--scene", sample.scene, "Write sample --index as a standalone scene file, to replay it");
   return sub;
 }
@@ -207,7 +227,9 @@ CLI::App* AddFit(CLI::App& app, ringtol::jobs::FitCommand& fit) {
   CLI::App* sub = app.add_subcommand(
       "fit", "Fit a Fourier series to a roundness tester's export (angle, radius or deviation CSV)");
   AddInputFile(*sub, "profile", fit.profile, "Profile CSV: angle_deg, radius_mm | deviation_mm | deviation_um");
-  sub->add_option("--orders", fit.orders, "Highest order fitted (1..1000)")->required();
+  sub->add_option("--orders", fit.orders, "Highest order fitted")
+      ->required()
+      ->transform(DecimalIn(1, ringtol::jobs::kMaxHarmonicOrder));
   sub->add_flag("--keep-eccentricity", fit.keep_eccentricity,
                 "Keep order 1 in the fragment (by default it is the tester's set-up eccentricity)");
   sub->add_option("--fragment", fit.fragment, "Write the [ring] keys of a scene file to this TOML file");
@@ -220,7 +242,7 @@ CLI::App* AddBenchDynamics(CLI::App& bench, ringtol::jobs::BenchDynamicsCommand&
       "dynamics", "Start transient and speed: where the quasistatic answer stops being within 1 um of the dynamic one");
   AddInputFile(*sub, "scene", dynamics.scene, "Scene file (TOML); its ring errors are replaced per order");
   sub->add_option("--orders", dynamics.orders, "Ring orders to study (default: the article's)")
-      ->check(CLI::Range(1, 1000));
+      ->transform(DecimalIn(1, ringtol::jobs::kMaxHarmonicOrder));
   sub->add_option("--rates-deg-per-s", dynamics.rates_deg_per_s, "Steady speeds to compare (default: 1 3 10 30 90 270)")
       ->check(CLI::PositiveNumber);
   sub->add_option("--svg", dynamics.svg, "Write the start table as a chart (D_trajectory against order) to this SVG file");
@@ -235,7 +257,7 @@ CLI::App* AddBenchLadder(CLI::App& bench, ringtol::jobs::BenchLadderCommand& lad
       ->check(CLI::IsMember({"orders", "amplitudes", "all"}))
       ->capture_default_str();
   sub->add_option("--repeats", ladder.repeats, "Timing repetitions per method and case (median)")
-      ->check(CLI::Range(1, 1000))
+      ->transform(DecimalIn(1, 1000))
       ->capture_default_str();
   sub->add_flag("--explicit-full-model", ladder.explicit_full_model,
                 "Also run explicit RK4 on the full model at 65 ns (order-2 case only, about 3 minutes)");
@@ -248,9 +270,9 @@ CLI::App* AddBenchCampaign(CLI::App& bench, ringtol::jobs::BenchCampaignCommand&
   CLI::App* sub = bench.add_subcommand(
       "campaign", "Samples per second against the largest per-sample error of each solver mode on a campaign's samples");
   AddInputFile(*sub, "file", command.file, "Campaign file (TOML)");
-  sub->add_option("--samples", command.samples, "Override design.samples")->check(CLI::PositiveNumber);
+  sub->add_option("--samples", command.samples, "Override design.samples")->transform(DecimalIn(1, kMostSamples));
   sub->add_option("--threads", command.threads, "Computing threads (default 0: one per core)")
-      ->check(CLI::Range(0, 4096))
+      ->transform(DecimalIn(0, kMostThreads))
       ->capture_default_str();
   sub->add_flag("!--no-report", command.report, "Do not time `ringtol report` on the campaign mode's results");
   sub->add_option("--results", command.results, "Keep the campaign mode's results in this new HDF5 file");
@@ -269,6 +291,7 @@ void AddProgressOptions(CLI::App& app, bool& quiet, double& progress_seconds) {
 // The pool's options, as campaign and allocate take them.
 void AddPoolOptions(CLI::App& app, ringtol::jobs::PoolOptions& pool) {
   app.add_option("--chunk", pool.chunk_samples, "Samples per chunk handed to a rank (default 0: adaptive)")
+      ->transform(DecimalIn(0, kMostSamples))
       ->capture_default_str();
   app.add_option("--chunk-seconds", pool.chunk_seconds, "Adaptive chunks' target duration [s]")->capture_default_str();
   app.add_option("--commit-seconds", pool.commit_seconds,
@@ -276,14 +299,14 @@ void AddPoolOptions(CLI::App& app, ringtol::jobs::PoolOptions& pool) {
       ->capture_default_str();
   app.add_option("--coordinator-computes", pool.coordinator_computes,
                   "Whether rank 0 also computes: 1 yes, 0 no, -1 below 16 ranks")
-      ->check(CLI::Range(-1, 1))
+      ->transform(DecimalIn(-1, 1))
       ->capture_default_str();
   app.add_option("--threads", pool.threads, "Computing threads of rank 0 (default 0: every core alone, one under mpirun)")
-      ->check(CLI::Range(0, 4096))
+      ->transform(DecimalIn(0, kMostThreads))
       ->capture_default_str();
   // Test hooks standing in for kill -9 (tests/jobs/mpi/campaign_cli_test.cpp); not for users.
-  app.add_option("--test-kill-after", pool.kill_after_committed)->group("");
-  app.add_option("--test-kill-rank", pool.kill_rank)->group("");
+  app.add_option("--test-kill-after", pool.kill_after_committed)->transform(DecimalIn(-1, kMostSamples))->group("");
+  app.add_option("--test-kill-rank", pool.kill_rank)->transform(DecimalIn(-1))->group("");
 }
 
 constexpr double kSecondsPerMicrosecond = 1e-6;
@@ -349,7 +372,7 @@ CLI::App* AddReport(CLI::App& app, ringtol::jobs::ReportCommand& report) {
   sub->add_option("--estimator", report.estimator, "Sobol' estimators: saltelli2010-jansen, janon or martinez")
       ->capture_default_str();
   sub->add_option("--bootstrap", options.bootstrap_resamples, "Bootstrap resamples of the Sobol' intervals (0: none)")
-      ->check(CLI::Range(0, 100000))
+      ->transform(DecimalIn(0, 100000))
       ->capture_default_str();
   sub->add_option("--quantile-precision", options.quantile_precision,
                   "Wanted half-width of the 99 % quantile's interval, as a fraction of it")
@@ -361,7 +384,7 @@ CLI::App* AddReport(CLI::App& app, ringtol::jobs::ReportCommand& report) {
       ->capture_default_str();
   sub->add_option("--screening-samples", options.screening_samples,
                   "Samples read for the screening of non-Saltelli designs")
-      ->check(CLI::Range(std::int64_t{16}, std::int64_t{1} << 30))
+      ->transform(DecimalIn(16, std::int64_t{1} << 30))
       ->capture_default_str();
   return sub;
 }

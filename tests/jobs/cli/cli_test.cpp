@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -174,6 +175,62 @@ TEST(Cli, SeedOutsideTheFilesRangeIsRefusedNamingTheRange) {
   const Outcome largest = Ringtol(sample + " --samples 8 --seed 9223372036854775807");
   EXPECT_EQ(largest.exit_code, 0) << largest.err;
   EXPECT_THAT(largest.out, HasSubstr("seed 9223372036854775807"));
+}
+
+// Every integer option is read as decimal, as --seed and --samples are: CLI11 alone reads
+// integers with base detection, "0360" as 240 and "0x10" as 16. Leading zeros are decimal;
+// anything else is refused naming the option, the value and the allowed range.
+TEST(Cli, EveryIntegerOptionIsReadAsDecimalAndRefusedOutsideItsRange) {
+  using ringtol::testing::ExitsWith;
+  const std::string source = RINGTOL_SOURCE_DIR;
+  const std::string scene = Example("scene.toml"), campaign = source + "/examples/campaigns/default.toml";
+  const std::string allocation = source + "/examples/allocation/default.toml";
+  const std::string tolerances = source + "/examples/tolerances/normal_waterjet.toml";
+  const std::string profile = source + "/examples/measured/ring_profile.csv";
+  const std::string out = (std::filesystem::path(::testing::TempDir()) / "ringtol_decimal_options.h5").string();
+  struct Option {
+    std::string command;  // everything before the option
+    std::string option;
+    std::string allowed;  // the range the message states
+  };
+  const std::vector<Option> options = {
+      {"simulate " + scene, "--steps", ">= 1 and <= 2000000"},
+      {"sweep " + Example("orders.toml"), "--steps", ">= 1 and <= 2000000"},
+      {"simulate " + scene, "--revolutions", ">= 0 and <= 2147483647"},
+      {"sample " + tolerances + " --scene " + out, "--index", ">= 0 and <= 1099511627775"},
+      {"sample " + tolerances, "--samples", ">= 1 and <= 1099511627776"},
+      {"fit " + profile, "--orders", ">= 1 and <= 1000"},
+      {"bench dynamics " + scene, "--orders", ">= 1 and <= 1000"},
+      {"bench ladder " + scene, "--repeats", ">= 1 and <= 1000"},
+      {"bench campaign " + campaign, "--samples", ">= 1 and <= 1099511627776"},
+      {"bench campaign " + campaign, "--threads", ">= 0 and <= 4096"},
+      {"bench allocate " + allocation, "--threads", ">= 0 and <= 4096"},
+      {"campaign " + campaign + " --out " + out, "--samples", ">= 1 and <= 1099511627776"},
+      {"campaign " + campaign + " --out " + out, "--chunk", ">= 0 and <= 1099511627776"},
+      {"campaign " + campaign + " --out " + out, "--coordinator-computes", ">= -1 and <= 1"},
+      {"allocate " + allocation + " --out " + out, "--threads", ">= 0 and <= 4096"},
+      {"allocate " + allocation + " --out " + out, "--chunk", ">= 0 and <= 1099511627776"},
+      {"report " + profile + " --out " + out, "--bootstrap", ">= 0 and <= 100000"},
+      {"report " + profile + " --out " + out, "--screening-samples", ">= 16 and <= 1073741824"},
+  };
+  for (const Option& o : options) {
+    const std::string allowed = "; allowed: an integer " + o.allowed;
+    EXPECT_THAT(Ringtol(o.command + " " + o.option + " 0x10"),
+                ExitsWith(1, HasSubstr(o.option + ": 0x10: not a decimal integer" + allowed)))
+        << o.command << " " << o.option;
+    EXPECT_THAT(Ringtol(o.command + " " + o.option + " 99999999999999999999"),
+                ExitsWith(1, HasSubstr(o.option + ": 99999999999999999999: out of range" + allowed)))
+        << o.command << " " << o.option;
+  }
+  EXPECT_THAT(Ringtol("campaign " + campaign + " --out " + out + " --threads 4097"),
+              ExitsWith(1, HasSubstr("--threads: 4097: out of range; allowed: an integer >= 0 and <= 4096")));
+  // Leading zeros are decimal: 0360 steps are 360, and sample 010 is the tenth after the first.
+  const Outcome steps = Ringtol("simulate " + Example("order3.toml") + " --steps 0360 --json");
+  ASSERT_EQ(steps.exit_code, 0) << steps.err;
+  EXPECT_EQ(nlohmann::json::parse(steps.out).at("steps"), 360);
+  const Outcome index = Ringtol("sample " + tolerances + " --index 010 --scene " + out + ".toml");
+  ASSERT_EQ(index.exit_code, 0) << index.err;
+  EXPECT_THAT(index.out, HasSubstr("sample 10 "));
 }
 
 // A value with a character no one can see is shown with it escaped, here a zero-width
