@@ -24,11 +24,9 @@ namespace ringtol::jobs {
 namespace {
 
 // Whether `out` is kept in shards: an index of them, or shards a killed run left (beside a
-// self-contained file, or before its first index). InputError for an index whose shard is
-// missing.
+// self-contained file, or before its first index).
 bool IsSharded(const std::filesystem::path& out) {
-  if (!FindShards(out).empty()) return true;
-  return std::filesystem::exists(out) && !IndexedAllocationShards(out).empty();
+  return !FindShards(out).empty() || (std::filesystem::exists(out) && IsShardIndex(out));
 }
 
 // Before a resume in shards (rank 0): a self-contained results file becomes shard 0
@@ -36,7 +34,7 @@ bool IsSharded(const std::filesystem::path& out) {
 // process continues under mpirun; it is checked and repaired as it is first.
 void MakeShardZero(const std::filesystem::path& out, const AllocationIdentity& identity) {
   const std::filesystem::path own = ShardPath(out, 0);
-  if (!std::filesystem::exists(out) || !IndexedAllocationShards(out).empty()) return;
+  if (!std::filesystem::exists(out) || IsShardIndex(out)) return;
   if (std::filesystem::exists(own)) {
     throw InputError(fmt::format("{}: keeps samples itself and {} exists beside it: move one of them away",
                                  out.string(), own.string()));
@@ -109,6 +107,11 @@ int Execute(const AllocateCommand& command, std::ostream& progress, AllocationRu
   pool.stop = [&signals] { return signals->received(); };
 
   CheckBeforeWork(world, command.pool, command.progress_seconds, command.out, command.resume);
+  // A shard that cannot be read holds nothing to continue: renamed aside, its samples are
+  // computed again, like those no shard holds.
+  if (command.resume) {
+    SetAsideUnreadable(world, progress, [&] { return SetAsideUnreadableAllocationShards(command.out); });
+  }
 
   std::unique_ptr<Allocation> allocation;
   ThrowAgreed(world, Attempt([&] { allocation = std::make_unique<Allocation>(command.file); }));

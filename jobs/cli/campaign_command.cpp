@@ -248,15 +248,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   CheckBeforeWork(world, command.pool, command.progress_seconds, command.out, command.resume);
   // A shard that cannot be read holds nothing to continue: renamed aside, its samples are
   // computed again, like those no shard holds.
-  if (command.resume) {
-    ThrowAgreed(world, rank == 0 ? Attempt([&] {
-      for (const UnreadableShard& shard : SetAsideUnreadableShards(command.out)) {
-        fmt::print(progress, "ringtol: {} cannot be read ({}); set aside as {}: its samples are computed again\n",
-                   shard.shard.string(), shard.why, shard.aside.string());
-      }
-    })
-                                  : std::string());
-  }
+  if (command.resume) SetAsideUnreadable(world, progress, [&] { return SetAsideUnreadableShards(command.out); });
 
   // A resume without --samples never asks a file grown by an earlier --samples to shrink:
   // the larger of the campaign file's count and the file's own. A file that does not read

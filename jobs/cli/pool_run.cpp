@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include <fmt/format.h>
+#include <fmt/ostream.h>
 
 #include "jobs/inputs/input_error.h"
 #include "jobs/store/campaign_store.h"
@@ -35,6 +36,19 @@ std::string Agree(MPI_Comm communicator, const std::string& error) {
 
 void ThrowAgreed(MPI_Comm communicator, const std::string& error) {
   if (const std::string agreed = Agree(communicator, error); !agreed.empty()) throw InputError(agreed);
+}
+
+void SetAsideUnreadable(MPI_Comm communicator, std::ostream& progress,
+                        const std::function<std::vector<UnreadableShard>()>& set_aside) {
+  int rank = 0;
+  MPI_Comm_rank(communicator, &rank);
+  ThrowAgreed(communicator, rank == 0 ? Attempt([&] {
+    for (const UnreadableShard& shard : set_aside()) {
+      fmt::print(progress, "ringtol: {} cannot be read ({}); set aside as {}: its samples are computed again\n",
+                 shard.shard.string(), shard.why, shard.aside.string());
+    }
+  })
+                                      : std::string());
 }
 
 void CheckBeforeWork(MPI_Comm communicator, const PoolOptions& pool, double progress_seconds,

@@ -7,10 +7,13 @@
 
 #include <exception>
 #include <filesystem>
+#include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
 #include "jobs/pool/campaign_pool.h"
+#include "jobs/store/campaign_store.h"
 
 namespace ringtol::jobs {
 
@@ -46,6 +49,12 @@ void CheckOutput(const std::filesystem::path& out, bool resume);
 void RefuseLiveOutput(const std::filesystem::path& out);
 // InputError naming the option for a pool option or progress interval out of range.
 void CheckPoolOptions(const PoolOptions& pool, double progress_seconds);
+
+// Before a resume, on rank 0: `set_aside` (SetAsideUnreadableShards, or the allocation's)
+// renames the shards of the results file that cannot be read aside, and each one is said on
+// `progress`; its InputError is thrown on every rank (ThrowAgreed). Collective.
+void SetAsideUnreadable(MPI_Comm communicator, std::ostream& progress,
+                        const std::function<std::vector<UnreadableShard>()>& set_aside);
 
 // "m:ss" or "h:mm:ss".
 std::string Clock(double seconds);

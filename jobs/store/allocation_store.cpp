@@ -972,15 +972,28 @@ std::vector<double> ReadDesignRows(const Where& where, hid_t file, hsize_t input
 // ---------------------------------------------------------------------------------------
 // Shards and their index
 
-// The shards an index lists, each checked to exist and to be a file of `identity`'s
-// allocation.
+// Reads a shard as readers do: its identity, and its sample tables opened with their chunk
+// indexes (damaged chunks are for a resume to repair). InputError when it cannot be read.
+Stored ReadShard(const fs::path& shard) {
+  const Where opening{shard.string(), true};
+  const FileId file = OpenForReading(shard);
+  Stored stored = ReadStored(opening, file.get());
+  if (!stored.index) Samples().Open(opening, file.get(), stored.identity, 0);
+  return stored;
+}
+
+// The shards an index lists, each checked to exist, to read (InputError naming the resume
+// that recovers an unreadable one's samples) and to be a file of `identity`'s allocation.
 std::vector<fs::path> ListedShards(const Where& where, hid_t file, const fs::path& index,
                                    const AllocationIdentity& identity) {
   std::vector<fs::path> shards = ListedShardFiles(where, file, index);
   for (const fs::path& shard : shards) {
-    const Where opening{shard.string(), true};
-    const FileId reading = OpenForReading(shard);
-    const Stored stored = ReadStored(opening, reading.get());
+    Stored stored;
+    try {
+      stored = ReadShard(shard);
+    } catch (const InputError& error) {
+      throw InputError(UnreadableShardMessage(where.file, shard, error.what(), "allocate", identity.allocation_path));
+    }
     if (stored.index) {
       throw InputError(fmt::format("{}: lists {}, another index, as its shard", where.file, shard.string()));
     }
@@ -1593,6 +1606,10 @@ std::int64_t JoinAllocationShards(const fs::path& results, const fs::path& out) 
     for (const fs::path& shard : shards) fs::remove(shard, error);
   }
   return joined;
+}
+
+std::vector<UnreadableShard> SetAsideUnreadableAllocationShards(const fs::path& results) {
+  return SetAsideUnreadableShards(results, [](const fs::path& shard) { ReadShard(shard); });
 }
 
 std::vector<fs::path> IndexedAllocationShards(const fs::path& results) {

@@ -235,6 +235,11 @@ std::int64_t WriteAllocationIndex(const std::filesystem::path& results, const Al
 // file.
 std::vector<std::filesystem::path> IndexedAllocationShards(const std::filesystem::path& results);
 
+// SetAsideUnreadableShards (jobs/store/campaign_store.h) for an allocation's results file:
+// before a resume continues it in shards, each shard that cannot be read is renamed aside,
+// never deleted, so that its samples are computed again.
+std::vector<UnreadableShard> SetAsideUnreadableAllocationShards(const std::filesystem::path& results);
+
 // Writes the samples of an index and its shards into `out`, one self-contained allocation
 // file (schema 1) of the same allocation, design points and outcome. `out` may be
 // `results` itself: the joined file then replaces the index, and the shards are removed

@@ -1230,18 +1230,22 @@ fs::path SetAsidePath(const fs::path& shard) {
   return aside;
 }
 
-std::vector<UnreadableShard> SetAsideUnreadableShards(const fs::path& results) {
+std::string UnreadableShardMessage(const std::string& index, const fs::path& shard, const std::string& why,
+                                   std::string_view command, const std::string& input) {
+  return fmt::format(
+      "{}: its shard {} cannot be read ({}); `ringtol {} {} --out {} --resume` sets it aside (renamed {}, never "
+      "deleted) and computes its samples again",
+      index, shard.string(), why, command, input, index, SetAsidePath(shard).string());
+}
+
+std::vector<UnreadableShard> SetAsideUnreadableShards(const fs::path& results,
+                                                      const std::function<void(const fs::path&)>& read_shard) {
   const QuietErrors quiet;
   std::vector<UnreadableShard> aside;
   for (const fs::path& shard : FindShards(results)) {
-    const Where opening{shard.string(), true};
     std::string why;
     try {
-      const FileId file = OpenForReading(shard);
-      const Stored stored = ReadStored(opening, file.get());
-      // Its columns open and their chunk indexes read (SampleTable::written_end); damaged
-      // chunks are Resume's to repair.
-      if (!stored.index) OpenColumns(opening, file.get(), stored);
+      read_shard(shard);
       continue;
     } catch (const InputError& error) {
       why = error.what();
@@ -1255,22 +1259,34 @@ std::vector<UnreadableShard> SetAsideUnreadableShards(const fs::path& results) {
   // A shard the index lists that is missing, and was never set aside, is refused as
   // readers refuse it.
   std::error_code error;
-  if (fs::exists(results, error) && IsShardIndex(results)) {
+  if (fs::exists(results, error)) {
     const FileId file = OpenForReading(results);
-    ListedShardFiles(Where{results.string(), true}, file.get(), results, [](const fs::path& shard) {
-      fs::path first_aside = shard;
-      first_aside += ".unreadable";
-      std::error_code missing;
-      return fs::exists(first_aside, missing);
-    });
+    if (ListsShards(file.get())) {
+      ListedShardFiles(Where{results.string(), true}, file.get(), results, [](const fs::path& shard) {
+        fs::path first_aside = shard;
+        first_aside += ".unreadable";
+        std::error_code missing;
+        return fs::exists(first_aside, missing);
+      });
+    }
   }
   return aside;
 }
 
+std::vector<UnreadableShard> SetAsideUnreadableShards(const fs::path& results) {
+  return SetAsideUnreadableShards(results, [](const fs::path& shard) {
+    const Where opening{shard.string(), true};
+    const FileId file = OpenForReading(shard);
+    const Stored stored = ReadStored(opening, file.get());
+    // Its columns open and their chunk indexes read (SampleTable::written_end); damaged
+    // chunks are Resume's to repair.
+    if (!stored.index) OpenColumns(opening, file.get(), stored);
+  });
+}
+
 bool IsShardIndex(const fs::path& results) {
   const QuietErrors quiet;
-  const FileId file = OpenForReading(results);
-  return ReadStored(Where{results.string(), true}, file.get()).index;
+  return ListsShards(OpenForReading(results).get());
 }
 
 std::optional<fs::path> BeingWritten(const fs::path& results) {
@@ -1350,15 +1366,6 @@ void CheckShardStored(const Where& index, const Where& opening, const Stored& st
   }
 }
 
-// What a reader says of a shard that cannot be read at all, and how to recover.
-std::string UnreadableShardMessage(const std::string& index, const fs::path& shard, const std::string& why,
-                                   const std::string& campaign_path) {
-  return fmt::format(
-      "{}: its shard {} cannot be read ({}); `ringtol campaign {} --out {} --resume` sets it aside (renamed {}, "
-      "never deleted) and computes its samples again",
-      index, shard.string(), why, campaign_path, index, SetAsidePath(shard).string());
-}
-
 // A shard an index lists (it exists: ListedShardFiles): InputError as CheckShardStored, or
 // naming the shard and the resume that recovers its samples when it cannot be read.
 void CheckShard(const Where& index, const fs::path& shard, const Stored& expected) {
@@ -1367,7 +1374,8 @@ void CheckShard(const Where& index, const fs::path& shard, const Stored& expecte
     try {
       return read();
     } catch (const InputError& error) {
-      throw InputError(UnreadableShardMessage(index.file, shard, error.what(), expected.identity.campaign_path));
+      throw InputError(
+          UnreadableShardMessage(index.file, shard, error.what(), "campaign", expected.identity.campaign_path));
     }
   };
   const FileId file = readable([&] { return OpenForReading(shard); });

@@ -84,6 +84,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -238,9 +239,19 @@ struct UnreadableShard {
   std::string why;              // what reading it said
 };
 std::vector<UnreadableShard> SetAsideUnreadableShards(const std::filesystem::path& results);
+// As above, for shards of any results file: `read_shard` reads one as its readers would,
+// throwing InputError when it cannot (an allocation's: SetAsideUnreadableAllocationShards,
+// jobs/store/allocation_store.h).
+std::vector<UnreadableShard> SetAsideUnreadableShards(const std::filesystem::path& results,
+                                                      const std::function<void(const std::filesystem::path&)>& read_shard);
+// What a reader of `index` says of its shard that cannot be read (`why`), with the resume
+// that recovers its samples: `ringtol <command> <input> --out <index> --resume`.
+std::string UnreadableShardMessage(const std::string& index, const std::filesystem::path& shard, const std::string& why,
+                                   std::string_view command, const std::string& input);
 // "<shard>.unreadable", or "<shard>.unreadable-2", -3, ...: the first name that is free.
 std::filesystem::path SetAsidePath(const std::filesystem::path& shard);
-// Whether `results` is an index of shards: its root only is read, its shards not opened.
+// Whether `results` is an index of shards, a campaign's or an allocation's: its root only is
+// read, its shards not opened. InputError when it cannot be opened.
 bool IsShardIndex(const std::filesystem::path& results);
 
 // Shards as the results file: under mpirun every computing rank keeps its shard, and the

@@ -541,6 +541,10 @@ std::optional<std::string> TextDifference(std::string_view field, const std::str
   return fmt::format("{} differs (first at line {})", field, FirstDifferingLine(file, now));
 }
 
+bool ListsShards(hid_t file) {
+  return H5Lexists(file, "/shards", H5P_DEFAULT) > 0 && H5Lexists(file, kShardFiles, H5P_DEFAULT) > 0;
+}
+
 std::vector<std::filesystem::path> ListedShardFiles(const Where& where, hid_t file, const std::filesystem::path& index,
                                                     bool (*may_be_missing)(const std::filesystem::path& shard)) {
   std::vector<std::filesystem::path> shards;

@@ -208,6 +208,9 @@ std::optional<std::string> FormatOf(const Where& where, hid_t file);
 
 // Where an index of shards lists them (jobs/store/campaign_store.h, allocation_store.h).
 inline constexpr const char* kShardFiles = "/shards/file";
+// Whether `file` lists shards in kShardFiles: it is an index of shards (a campaign's or an
+// allocation's), whatever its schema says.
+bool ListsShards(hid_t file);
 // The shards an index at `index` lists, resolved beside it, each one checked to exist:
 // HDF5 would read a missing shard's rows as fill values without an error. InputError
 // naming a missing one, or a name that is not a file beside the index.

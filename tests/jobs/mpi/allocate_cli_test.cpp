@@ -202,6 +202,39 @@ TEST(AllocateUnderMpirun, KeepsItsSamplesInShardsThatAnyNumberOfRanksContinue) {
   EXPECT_THAT(report.err, AllOf(HasSubstr("begun.h5.shard-1"), HasSubstr("is missing")));
 }
 
+// A truncated shard holds nothing to continue, as a campaign's: verify, report and join name
+// it and the resume that recovers it, and that resume (alone, of a run under mpirun) sets
+// it aside, keeping its bytes, and computes its samples again, to what an uninterrupted run finds.
+TEST(AllocateUnderMpirun, ATruncatedShardIsNamedByEveryCommandAndAResumeComputesItsSamplesAgain) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "allocation.toml", kAllocation);
+  ASSERT_EQ(Allocate(file, folder / "whole.h5").exit_code, 0);
+  const std::filesystem::path out = folder / "sharded.h5";
+  const Outcome two = Allocate(file, out, "--chunk 3", Mpirun(2));
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  const std::filesystem::path shard = ShardPath(out, 1);
+  const std::string truncate = "truncate -s " + std::to_string(std::filesystem::file_size(shard) / 2) + " " +
+                               shard.string();
+  ASSERT_EQ(std::system(truncate.c_str()), 0);
+  const std::string truncated = testing::ReadText(shard);
+  const auto names_it = AllOf(HasSubstr("sharded.h5.shard-1 cannot be read"),
+                              HasSubstr("ringtol allocate " + file.string() + " --out " + out.string() + " --resume"),
+                              HasSubstr("sharded.h5.shard-1.unreadable"));
+  const auto ringtol = [&](const std::string& arguments) {
+    return testing::RunShell(std::string(RINGTOL_EXECUTABLE) + " " + arguments, TestFolder() / "stderr.txt");
+  };
+  EXPECT_THAT(ringtol("verify " + out.string()), testing::ExitsWith(1, names_it));
+  EXPECT_THAT(ringtol("report " + out.string() + " --out " + (folder / "report.html").string()),
+              testing::ExitsWith(1, names_it));
+  EXPECT_THAT(ringtol("join " + out.string()), testing::ExitsWith(1, names_it));
+  const Outcome resumed = Allocate(file, out, "--resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_THAT(resumed.err, HasSubstr("set aside as " + shard.string() + ".unreadable"));
+  EXPECT_EQ(testing::ReadText(shard.string() + ".unreadable"), truncated);
+  ExpectSameAllocation(folder / "whole.h5", out);
+  EXPECT_TRUE(CheckAllocationResults(out).intact());
+}
+
 TEST(AllocateUnderMpirun, BranchAndBoundFindsWhatExhaustiveSearchFinds) {
   const std::filesystem::path folder = Folder();
   const auto exhaustive = Write(folder / "exhaustive.toml", kAllocation);
