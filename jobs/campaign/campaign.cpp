@@ -78,6 +78,14 @@ bool Campaign::IndependentDraw(std::int64_t index) const {
   return design.options().kind != sampling::DesignKind::kSaltelli || design.Locate(index).matrix < 2;
 }
 
+std::int64_t Campaign::IndependentDraws(std::int64_t end) const {
+  const sampling::Design& design = sampling_.design;
+  if (design.options().kind != sampling::DesignKind::kSaltelli) return end;
+  // A and B lead each row: the first two of its samples_per_row.
+  const std::int64_t per_row = design.samples_per_row();
+  return 2 * (end / per_row) + std::min<std::int64_t>(end % per_row, 2);
+}
+
 std::unique_ptr<solvers::Solver> Campaign::MakeSolver() const { return solvers::MakeSolver(plan_.solver); }
 
 SampleDrawer::SampleDrawer(const Campaign& campaign)

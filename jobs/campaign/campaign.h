@@ -44,6 +44,8 @@ class Campaign {
   // Whether sample `index` is an independent draw, usable for distributions: every sample,
   // except the AB matrices of a Saltelli design, which re-use the A and B coordinates.
   bool IndependentDraw(std::int64_t index) const;
+  // How many of samples [0, end) are independent draws, in constant time.
+  std::int64_t IndependentDraws(std::int64_t end) const;
   // A solver of the campaign's settings (each thread makes its own): solvers::MakeSolver.
   std::unique_ptr<solvers::Solver> MakeSolver() const;
 

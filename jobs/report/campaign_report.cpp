@@ -136,8 +136,11 @@ void AddAggregates(OutputSensitivity& out, const std::vector<SensitivityEntry>& 
   }
 }
 
+// `y` and `status` cover the first whole rows of the campaign's `samples`; the rows beyond
+// are pending.
 OutputSensitivity SobolSensitivity(const std::string& output, const std::vector<double>& y,
-                                   const std::vector<SampleStatus>& status, const sampling::Design& design,
+                                   const std::vector<SampleStatus>& status, std::int64_t samples,
+                                   const sampling::Design& design,
                                    const sampling::InputGroups& groups,
                                    const std::vector<sampling::SampledInput>& inputs, const ReportOptions& options) {
   const int per_row = design.samples_per_row();
@@ -146,7 +149,7 @@ OutputSensitivity SobolSensitivity(const std::string& output, const std::vector<
   analysis::PickFreezeOutputs pick;
   pick.ab.resize(group_count);
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  std::int64_t pending_rows = 0;
+  std::int64_t pending_rows = samples / per_row - rows;
   for (std::int64_t row = 0; row < rows; ++row) {
     const auto at = [&](int matrix) {
       const auto i = static_cast<std::size_t>(row * per_row + matrix);
@@ -390,13 +393,21 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   const std::vector<sampling::SampledInput>& inputs = report.identity.inputs;
   const int d = static_cast<int>(inputs.size());
 
+  // Samples are read up to the file's written end only, rounded up to whole Saltelli rows:
+  // every one beyond is pending, so a campaign of 2^40 samples stopped early reads in the
+  // time of what it finished.
+  const std::int64_t per_row = design.samples_per_row();
+  const std::int64_t read_end = std::min(report.samples, (reader.written_end() + per_row - 1) / per_row * per_row);
   const std::vector<SampleStatus> status = ReadInBlocks<SampleStatus>(
-      report.samples, [&](std::int64_t begin, std::int64_t count) { return reader.ReadStatus(begin, count); });
+      read_end, [&](std::int64_t begin, std::int64_t count) { return reader.ReadStatus(begin, count); });
   const std::vector<std::int32_t> redraws = ReadInBlocks<std::int32_t>(
-      report.samples, [&](std::int64_t begin, std::int64_t count) { return reader.ReadRedraws(begin, count); });
+      read_end, [&](std::int64_t begin, std::int64_t count) { return reader.ReadRedraws(begin, count); });
+  const std::int64_t unread = campaign.IndependentDraws(report.samples) - campaign.IndependentDraws(read_end);
+  report.used = unread;
+  report.pending = unread;
   std::vector<std::int64_t> used_ok;  // independent ok samples, in design order
   std::vector<bool> used(status.size());
-  for (std::int64_t i = 0; i < report.samples; ++i) {
+  for (std::int64_t i = 0; i < read_end; ++i) {
     const auto s = static_cast<std::size_t>(i);
     used[s] = campaign.IndependentDraw(i);
     if (!used[s]) continue;
@@ -472,7 +483,7 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   for (const char* name : kOutputNames) {
     if (!reader.HasOutput(name) || !ShowsOutput(report.identity, name)) continue;
     std::vector<double> all = ReadInBlocks<double>(
-        report.samples, [&](std::int64_t begin, std::int64_t count) { return reader.ReadOutput(name, begin, count); });
+        read_end, [&](std::int64_t begin, std::int64_t count) { return reader.ReadOutput(name, begin, count); });
     std::vector<double> values;
     values.reserve(used_ok.size());
     for (const std::int64_t i : used_ok) values.push_back(all[static_cast<std::size_t>(i)]);
@@ -485,7 +496,7 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
     // Sensitivities need spread: an output that never varies (or no ok sample) has none.
     if (out.distribution && out.distribution->standard_deviation > 0.0) {
       if (saltelli) {
-        report.sensitivities.push_back(SobolSensitivity(name, all, status, design, groups, inputs, options));
+        report.sensitivities.push_back(SobolSensitivity(name, all, status, report.samples, design, groups, inputs, options));
       } else if (screened.size() >= 2) {
         screened_names.emplace_back(name);
         std::vector<double>& y_screen = y_screens.emplace_back();

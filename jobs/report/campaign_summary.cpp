@@ -166,7 +166,8 @@ std::vector<std::int64_t> CountRungs(const CampaignReader& results, const std::v
                                      const std::vector<bool>& used) {
   if (results.schema_version() < kCampaignSchemaVersion) return {};
   const std::vector<std::int8_t> rungs = ReadInBlocks<std::int8_t>(
-      results.samples(), [&](std::int64_t begin, std::int64_t count) { return results.ReadRungs(begin, count); });
+      static_cast<std::int64_t>(status.size()),
+      [&](std::int64_t begin, std::int64_t count) { return results.ReadRungs(begin, count); });
   std::vector<std::int64_t> settled_by(kLadderRungs, 0);
   for (std::size_t i = 0; i < rungs.size(); ++i) {
     if (used[i] && status[i] != SampleStatus::kPending && rungs[i] >= 0 && rungs[i] < kLadderRungs) {

@@ -141,7 +141,8 @@ inline constexpr double kSummaryProbabilities[] = {0.5, 0.9, 0.99, 0.999};
 std::string SchemaNote(const CampaignReader& results);
 
 // Samples each rung settled (CampaignSummary::settled_by) among the samples `used` whose
-// status is done, from /outputs/rung; empty for files of schema < 3.
+// status is done, from /outputs/rung; empty for files of schema < 3. `status` and `used`
+// cover the first samples of the file, those its rungs are read for.
 std::vector<std::int64_t> CountRungs(const CampaignReader& results, const std::vector<SampleStatus>& status,
                                      const std::vector<bool>& used);
 // "linear 93.2 %, quasistatic 6.8 %, dynamic 0.0 %" of the samples a rung ran on; empty

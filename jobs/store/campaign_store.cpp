@@ -1141,7 +1141,9 @@ CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
     const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
     std::vector<std::int64_t> whole;  // first samples of the chunks copied as stored
     std::vector<std::int8_t> theirs(static_cast<std::size_t>(rows));
-    for (std::int64_t first = 0; first < stored.samples; first += rows) {
+    // Beyond written_end every sample is pending: a shard of 2^40 samples stopped early is
+    // read in the time of what it holds.
+    for (std::int64_t first = 0; first < from.written_end(); first += rows) {
       const std::int64_t count = std::min(rows, stored.samples - first);
       // A status chunk that does not read vouches for nothing: its samples stay pending.
       if (from.TryRead(kStatus, 0, first, count, theirs.data())) continue;
@@ -1675,6 +1677,8 @@ const CampaignIdentity& CampaignReader::identity() const { return file_->stored.
 std::int64_t CampaignReader::samples() const { return file_->stored.samples; }
 
 int CampaignReader::schema_version() const { return file_->stored.schema_version; }
+
+std::int64_t CampaignReader::written_end() const { return file_->table.written_end(); }
 
 std::vector<SampleStatus> CampaignReader::ReadStatus(std::int64_t begin, std::int64_t count) const {
   const QuietErrors quiet;

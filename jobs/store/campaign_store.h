@@ -324,6 +324,10 @@ class CampaignReader {
   const CampaignIdentity& identity() const;
   std::int64_t samples() const;
   int schema_version() const;
+  // Samples from here on are pending (SampleTable::written_end): a reader of what the file
+  // holds reads no further, so a campaign of 2^40 samples stopped early reads in the time
+  // of what it computed.
+  std::int64_t written_end() const;
 
   std::vector<SampleStatus> ReadStatus(std::int64_t begin, std::int64_t count) const;
   // The finished samples as ascending runs, statuses read only where the file (an index:

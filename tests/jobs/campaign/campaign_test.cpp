@@ -375,5 +375,19 @@ TEST(StoredCalibration, AStoredCalibrationOfAnotherToleranceIsIgnoredAndTheClass
   EXPECT_TRUE(SameCalibration(rebuilt.sampling().sampler.scales().front(), fresh.sampling().sampler.scales().front()));
 }
 
+// A report counts the independent draws of samples it does not read (those beyond a file's
+// written end) by this count: on a Saltelli design, the A and B leading each row of
+// 4 groups + 2.
+TEST(Campaign, IndependentDrawsCountsWhatIndependentDrawSaysOfEachSample) {
+  const Campaign campaign(std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/campaigns/sensitivity.toml",
+                          std::nullopt, std::nullopt);
+  std::int64_t counted = 0;
+  for (std::int64_t end = 0; end <= 20; ++end) {
+    EXPECT_EQ(campaign.IndependentDraws(end), counted) << end;
+    counted += campaign.IndependentDraw(end) ? 1 : 0;
+  }
+  EXPECT_EQ(campaign.IndependentDraws(campaign.samples()), campaign.samples() / 3);
+}
+
 }  // namespace
 }  // namespace ringtol::jobs
