@@ -257,6 +257,12 @@ TEST(Cli, ClassesListsTheCatalogueAndItsSources) {
   EXPECT_EQ(list.exit_code, 0);
   EXPECT_THAT(list.out, HasSubstr("Normal, P0"));
   EXPECT_THAT(list.out, HasSubstr("waterjet"));
+  // Each class by the diameters it covers (ISO's "over ... up to"), where its row count
+  // said nothing a designer could use; a gap between rows shows.
+  EXPECT_THAT(list.out, HasSubstr("ISO 492 normal tolerance class: over 2.5 up to 800 mm\n"));
+  EXPECT_THAT(list.out, HasSubstr("ISO 492 tolerance class 2: over 2.5 up to 400 mm\n"));
+  EXPECT_THAT(list.out, HasSubstr("IT7 of the centre-circle diameter: over 250 up to 400, over 500 up to 800 mm\n"));
+  EXPECT_THAT(list.out, ::testing::Not(HasSubstr("rows)")));
   const Outcome toml = Ringtol("classes --toml");
   EXPECT_THAT(toml.out, HasSubstr("source = "));
 }
