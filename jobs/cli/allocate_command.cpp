@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "jobs/allocation/allocation.h"
+#include "jobs/cli/contact_warning.h"
 #include "jobs/cli/pool_run.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/pool/allocation_pool.h"
@@ -115,6 +116,8 @@ int Execute(const AllocateCommand& command, std::ostream& progress, AllocationRu
 
   std::unique_ptr<Allocation> allocation;
   ThrowAgreed(world, Attempt([&] { allocation = std::make_unique<Allocation>(command.file); }));
+  const SamplingPlan& sampling = allocation->plan().campaign.sampling;
+  if (rank == 0) WarnAboutContactLaw(sampling.scene, sampling.scene_file, progress);
 
   // Rank 0's results file, or under mpirun (and when continuing shards) every rank's own
   // shard, the results file becoming their index.

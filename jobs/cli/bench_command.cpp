@@ -10,6 +10,7 @@
 
 #include "engine/units.h"
 #include "jobs/campaign/campaign.h"
+#include "jobs/cli/contact_warning.h"
 #include "jobs/cli/report_command.h"
 #include "jobs/cli/results_output.h"
 #include "jobs/inputs/input_error.h"
@@ -76,6 +77,7 @@ double TimeReport(const Campaign& campaign, const std::vector<SampleRecord>& rec
 
 int RunBenchCampaign(const BenchCampaignCommand& command, std::ostream& out, std::ostream& progress) {
   const Campaign campaign(command.file, command.samples, std::nullopt);
+  WarnAboutContactLaw(campaign.plan().sampling.scene, campaign.plan().sampling.scene_file, progress);
   if (!command.results.empty() && std::filesystem::exists(command.results)) {
     throw InputError(fmt::format("--results {}: the file exists; a results file is never overwritten",
                                  command.results.string()));

@@ -272,7 +272,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
     if (stored_samples && *stored_samples > ReadCampaignFile(command.file).sampling.samples) samples = stored_samples;
     campaign = std::make_unique<Campaign>(command.file, samples, command.seed);
   }));
-  if (rank == 0) WarnAboutContactLaw(campaign->plan().sampling.scene, progress);
+  if (rank == 0) WarnAboutContactLaw(campaign->plan().sampling.scene, campaign->plan().sampling.scene_file, progress);
 
   // Rank 0's results file, or under mpirun the shard of every computing rank (rank 0's
   // included) and `finished`, what the shards already hold.

@@ -147,7 +147,7 @@ int RunSimulate(const SimulateCommand& command, std::ostream& out, std::ostream&
   }
   std::ofstream trajectory = OpenOptionalOutput(command.trajectory_csv, "--trajectory");
   std::ofstream history_file = OpenOptionalOutput(command.history_csv, "--history");
-  WarnAboutContactLaw(scene, warnings);
+  WarnAboutContactLaw(scene, command.scene, warnings);
   const Timed run = SimulateTimed(scene, *solver, command.solver.simulation);
   nlohmann::json json = ResultJson(scene, run.result, command.solver, run.seconds);
   if (!command.json) PrintResult(out, scene, run.result, command.solver, run.seconds);
@@ -184,7 +184,7 @@ int RunSweep(const SweepCommand& command, std::ostream& out, std::ostream& warni
   const auto solver = CheckedSolver(command.solver);
   std::ofstream csv = OpenOptionalOutput(command.csv, "--csv");
   // The cases differ in their errors only: one error-free assembly, one law.
-  WarnAboutContactLaw(sweep.cases.front().scene, warnings);
+  WarnAboutContactLaw(sweep.cases.front().scene, sweep.scene_file, warnings);
   std::vector<nlohmann::json> rows;
   for (const SweepCase& c : sweep.cases) {
     const Timed run = SimulateTimed(c.scene, *solver, command.solver.simulation);

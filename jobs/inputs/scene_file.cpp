@@ -625,4 +625,8 @@ engine::Scene ReadScene(const std::filesystem::path& file) {
   return SceneFromText(ReadTextFile(file), file.string(), file.parent_path());
 }
 
+bool StatesContactLaw(const std::filesystem::path& file) {
+  return StatesPenaltyLaw(ParseToml(ReadTextFile(file), file.string()));
+}
+
 }  // namespace ringtol::jobs

@@ -24,6 +24,11 @@ namespace ringtol::jobs {
 // (ring.measured_profile.file) are resolved against its folder.
 engine::Scene ReadScene(const std::filesystem::path& file);
 
+// Whether a scene file states its penalty contact law ([contact] stiffness_N_per_m_e and
+// exponent) rather than taking its materials' (ReadScene). InputError as ReadScene for a
+// file that does not read as TOML.
+bool StatesContactLaw(const std::filesystem::path& file);
+
 // The same for TOML text already in memory; source_name stands for the file in messages.
 // Files the text names are resolved against the current directory.
 engine::Scene ParseScene(std::string_view toml_text, const std::string& source_name);

@@ -433,27 +433,57 @@ int Occurrences(const std::string& text, const std::string& piece) {
   return count;
 }
 
-TEST(Cli, SimulateWarnsOnStderrWhenTheContactLawShapesTheAnswer) {
+// A contact law the scene file states shapes the answer by the user's choice: a one-line
+// note naming the file and keys; one from the defaults (its materials') a warning. Before,
+// both were a warning of two lines, which the quick start's first run printed.
+TEST(Cli, SimulateNotesALawTheSceneStatesAndWarnsOfOneFromTheDefaults) {
   const std::string table = std::string(RINGTOL_SOURCE_DIR) + "/examples/rotary_table/scene.toml";
   const std::filesystem::path article_law = std::filesystem::path(::testing::TempDir()) / "ringtol_cli_table_article.toml";
   ringtol::testing::WriteText(
       article_law, ringtol::testing::ReplaceOnce(ringtol::testing::ReadText(table), "law = \"penalty\"",
                                                  "law = \"penalty\"\nstiffness_N_per_m_e = 1.0e7\nexponent = 1.5"));
-  const Outcome warned = Ringtol("simulate " + article_law.string() + " --steps 90 --json");
-  EXPECT_EQ(warned.exit_code, 0) << warned.err;
-  EXPECT_THAT(warned.err, HasSubstr("ringtol: warning: the contact law F = 1e+07 delta^1.5"));
-  EXPECT_THAT(warned.err, HasSubstr(" um at "));
-  EXPECT_TRUE(nlohmann::json::accept(warned.out));  // stdout stays the result alone
+  const Outcome noted = Ringtol("simulate " + article_law.string() + " --steps 90 --json");
+  EXPECT_EQ(noted.exit_code, 0) << noted.err;
+  EXPECT_THAT(noted.err, AllOf(::testing::StartsWith("ringtol: note: the contact law F = 1e+07 delta^1.5"),
+                               HasSubstr("that " + article_law.string() + " states ([contact] stiffness_N_per_m_e and "
+                                         "exponent)"),
+                               HasSubstr(" um at ")));
+  EXPECT_EQ(Occurrences(noted.err, "\n"), 1) << noted.err;
+  EXPECT_TRUE(nlohmann::json::accept(noted.out));  // stdout stays the result alone
 
   const Outcome materials = Ringtol("simulate " + table + " --steps 90");
   EXPECT_EQ(materials.exit_code, 0);
   EXPECT_EQ(materials.err, "");
+
+  // Rubber-soft materials (10 MPa) under the paper's rig: the default law sinks 0.6 mm.
+  const std::filesystem::path soft = std::filesystem::path(::testing::TempDir()) / "ringtol_cli_soft.toml";
+  std::string text = ringtol::testing::ReadText(Example("scene.toml"));
+  text = ringtol::testing::ReplaceOnce(text, "stiffness_N_per_m_e = 1.0e7", "");
+  text = ringtol::testing::ReplaceOnce(text, "exponent = 1.5", "");
+  text = ringtol::testing::ReplaceOnce(text, "youngs_modulus_GPa = 70.0", "youngs_modulus_GPa = 0.01");
+  ringtol::testing::WriteText(soft, text);
+  const Outcome warned = Ringtol("simulate " + soft.string() + " --steps 90");
+  EXPECT_EQ(warned.exit_code, 0) << warned.err;
+  EXPECT_THAT(warned.err, AllOf(::testing::StartsWith("ringtol: warning: the contact law"),
+                                HasSubstr("It is the law of the ring's and rollers' materials")));
 }
 
-TEST(Cli, SweepWarnsOnceForAllItsCases) {
+TEST(Cli, SweepNotesTheLawOnceForAllItsCases) {
   const Outcome run = Ringtol("sweep " + Example("orders.toml") + " --json --solver linear --steps 90");
   EXPECT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_EQ(Occurrences(run.err, "ringtol: warning: the contact law"), 1) << run.err;
+  EXPECT_EQ(Occurrences(run.err, "ringtol: note: the contact law"), 1) << run.err;
+  EXPECT_THAT(run.err, HasSubstr("paper/scene.toml states"));
+}
+
+// bench campaign runs the campaign's scene, so it says what a campaign says of its law.
+TEST(Cli, BenchCampaignNotesTheLawItsSceneStates) {
+  const std::filesystem::path file = std::filesystem::path(::testing::TempDir()) / "ringtol_cli_bench_campaign.toml";
+  ringtol::testing::WriteText(file, "scene = \"" + Example("scene.toml") +
+                                        "\"\nseed = 1\n[design]\nkind = \"monte_carlo\"\nsamples = 8\n"
+                                        "[tolerances.ring]\nclass = \"precise\"\n");
+  const Outcome run = Ringtol("bench campaign " + file.string() + " --no-report");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Occurrences(run.err, "ringtol: note: the contact law F = 1e+07 delta^1.5"), 1) << run.err;
 }
 
 TEST(Cli, TrajectoryCsvHasOneRowPerStep) {

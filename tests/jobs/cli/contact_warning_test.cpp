@@ -55,7 +55,7 @@ double Understatement(const engine::Scene& scene) {
 TEST(ContactLawWarning, NamesThePenetrationTheLawAndWhatToSetOnTheTableUnderTheArticlesLaw) {
   const engine::Scene scene = TableUnderTheArticlesLaw();
   const solvers::ContactCompliance compliance = solvers::AssessContactCompliance(scene);
-  const std::optional<std::string> warning = ContactLawWarning(scene);
+  const std::optional<std::string> warning = ContactLawWarning(scene, std::nullopt);
   ASSERT_TRUE(warning.has_value());
   EXPECT_THAT(*warning,
               AllOf(HasSubstr("ringtol: warning: the contact law F = 1e+07 delta^1.5"),
@@ -69,13 +69,30 @@ TEST(ContactLawWarning, NamesThePenetrationTheLawAndWhatToSetOnTheTableUnderTheA
 }
 
 TEST(ContactLawWarning, SaysNothingOfTheTablesLawOfTheMaterialsOrOfRigidContact) {
-  EXPECT_EQ(ContactLawWarning(Table()), std::nullopt);
-  EXPECT_EQ(ContactLawWarning(Rigid(TableUnderTheArticlesLaw())), std::nullopt);
+  EXPECT_EQ(ContactLawWarning(Table(), std::nullopt), std::nullopt);
+  EXPECT_EQ(ContactLawWarning(Rigid(TableUnderTheArticlesLaw()), std::nullopt), std::nullopt);
 }
 
 TEST(ContactLawWarning, WarnsOnTheArticlesOwnRig) {
-  EXPECT_THAT(ContactLawWarning(ReadScene(kExamples + "paper/order3.toml")),
+  EXPECT_THAT(ContactLawWarning(ReadScene(kExamples + "paper/order3.toml"), std::nullopt),
               ::testing::Optional(HasSubstr("ringtol: warning: the contact law F = 1e+07 delta^1.5")));
+}
+
+// A law the scene file states is the user's choice: one line, a note, naming the file and
+// its keys, the penetration and the share, and the materials' law beside it.
+TEST(ContactLawWarning, ALawTheSceneFileStatesIsANoteOfOneLineNamingTheFileAndItsKeys) {
+  const engine::Scene scene = TableUnderTheArticlesLaw();
+  const solvers::ContactCompliance compliance = solvers::AssessContactCompliance(scene);
+  const std::optional<std::string> note = ContactLawWarning(scene, "table_article_law.toml");
+  ASSERT_TRUE(note.has_value());
+  EXPECT_THAT(*note, AllOf(::testing::StartsWith("ringtol: note: the contact law F = 1e+07 delta^1.5"),
+                           HasSubstr("that table_article_law.toml states ([contact] stiffness_N_per_m_e and exponent)"),
+                           HasSubstr(fmt::format("{:.3g} um at {:.4g} N",
+                                                 compliance.penetration * units::kMicrometresPerMetre, compliance.force)),
+                           HasSubstr(fmt::format("by up to {:.3g} %", 100.0 * compliance.response_change)),
+                           HasSubstr("the materials' law, F = "), ::testing::Not(HasSubstr("warning"))));
+  EXPECT_EQ(note->find('\n'), note->size() - 1) << *note;
+  EXPECT_EQ(ContactLawWarning(Table(), "scene.toml"), std::nullopt);
 }
 
 TEST(ContactLawWarning, TheTablesLawOfTheMaterialsKeepsDTrajectoryWithinATenthOfAPercentOfRigid) {

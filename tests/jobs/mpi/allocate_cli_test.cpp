@@ -91,6 +91,10 @@ TEST(Allocate, AloneItRecommendsTheCheapestFeasibleCandidate) {
   const auto file = Write(folder / "allocation.toml", kAllocation);
   const Outcome run = Allocate(file, folder / "a.h5", "--json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
+  // As a campaign says: the article's law, which the base scene states, is worth one note.
+  EXPECT_THAT(run.err, AllOf(::testing::StartsWith("ringtol: note: the contact law F = 1e+07 delta^1.5"),
+                             HasSubstr("paper/scene.toml states")));
+  EXPECT_EQ(run.err.find('\n'), run.err.size() - 1) << run.err;
   const nlohmann::json summary = nlohmann::json::parse(run.out);
   EXPECT_EQ(summary["candidates"], 6);
   EXPECT_TRUE(summary["complete"].get<bool>());
@@ -107,6 +111,16 @@ TEST(Allocate, AloneItRecommendsTheCheapestFeasibleCandidate) {
       EXPECT_GE(c.cost, r["cost"].get<double>());
     }
   }
+}
+
+TEST(Allocate, ItsBenchNotesTheContactLawAsItDoes) {
+  const std::filesystem::path folder = Folder();
+  const auto file = Write(folder / "allocation.toml", kAllocation);
+  const Outcome bench = testing::RunShell(kMpiEnvironment + "timeout 300 " + RINGTOL_EXECUTABLE + " bench allocate " +
+                                              file.string() + " --quiet",
+                                          TestFolder() / "stderr.txt");
+  ASSERT_EQ(bench.exit_code, 0) << bench.err;
+  EXPECT_THAT(bench.err, ::testing::StartsWith("ringtol: note: the contact law F = 1e+07 delta^1.5"));
 }
 
 TEST(Allocate, ReportDrawsTheAllocationFromItsResultsFile) {
