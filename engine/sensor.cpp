@@ -100,6 +100,11 @@ double Swing(std::span<const double> signal, double resolution) {
   for (std::size_t a = 0; a + 1 < m; ++a) {
     const bool from_valley = a % 2 == 1;
     const double sign = from_valley ? 1.0 : -1.0;  // rises from valleys, falls from peaks
+    // No arc from e_a reaches past the signal's own extremes, and its charge only grows
+    // along the walk: once that reach less the charge cannot beat the best swing, no later
+    // arc can, and skipping them leaves the maximum as it is, to the bit.
+    const double reach_bound = from_valley ? *max_it - extremes[a] : extremes[a] - *min_it;
+    if (reach_bound <= swing) continue;
     double farthest = -std::numeric_limits<double>::infinity();  // signed, beyond e_a
     double counter_move = 0.0;
     for (std::size_t b = a + 1; b < m; ++b) {
@@ -110,7 +115,7 @@ double Swing(std::span<const double> signal, double resolution) {
       } else {
         counter_move = std::max(counter_move, farthest - reach);
       }
-      if (charge(counter_move) >= total) break;
+      if (charge(counter_move) >= total || reach_bound - charge(counter_move) <= swing) break;
     }
   }
   return swing;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/enclosing_circle.h"
+#include "engine/sensor.h"
 #include "sampling/assembly_sampler.h"
 #include "sampling/design.h"
 #include "solvers/dynamic.h"
@@ -128,6 +129,21 @@ void LifeEveryRevolution(benchmark::State& state, bool drawn) {
 }
 BENCHMARK_CAPTURE(LifeEveryRevolution, drawn_sizes, true)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(LifeEveryRevolution, equal_sizes, false)->Unit(benchmark::kMicrosecond);
+
+// The sensor's swing (engine::Swing) over a campaign-like sample's signal at the default
+// 0.1 um resolution: the one-revolution signal of the linear rung, roller ripple and all.
+void SensorSwing(benchmark::State& state) {
+  const engine::Scene scene = testing::CampaignLikeScene();
+  solvers::SimulationOptions options;
+  options.path_tolerance = 1e-6;
+  const solvers::SimulationResult one = solvers::Simulate(scene, solvers::LinearSolver(), options);
+  for (auto _ : state) {
+    const double swing = engine::Swing(one.sensor, scene.sensor_swing.resolution);
+    benchmark::DoNotOptimize(swing);
+  }
+  state.counters["steps"] = one.steps;
+}
+BENCHMARK(SensorSwing)->Unit(benchmark::kMicrosecond);
 
 void EnclosingCircle(benchmark::State& state) {
   const engine::Scene scene = EightHarmonics(engine::ContactLaw::Model::kPenalty);

@@ -286,8 +286,11 @@ TEST(Swing, ConstantShortAndEmptySignalsGiveTheirRange) {
 TEST(Swing, MatchesTheDefinitionOnRandomSignalsWithPlateaus) {
   std::mt19937_64 rng(271828);
   for (int trial = 0; trial < 3000; ++trial) {
-    const auto size = static_cast<std::size_t>(1 + rng() % 40);
-    const auto levels = 2 + rng() % 8;  // few levels: plenty of plateaus and equal extremes
+    // Short signals with few levels (plenty of plateaus and equal extremes), and long ones
+    // with many extremes, where the walk stops early once no arc can beat the best.
+    const bool long_signal = trial % 10 == 0;
+    const auto size = static_cast<std::size_t>(long_signal ? 200 + rng() % 400 : 1 + rng() % 40);
+    const auto levels = long_signal ? 64 + rng() % 64 : 2 + rng() % 8;
     std::vector<double> signal;
     for (std::size_t i = 0; i < size; ++i) signal.push_back(0.125 * static_cast<double>(rng() % levels));
     const double resolution = 0.125 * static_cast<double>(rng() % 4);
