@@ -53,10 +53,12 @@ struct PhaseCurve {
     return sum;
   }
 
-  // At(u0 + q du) for q = 0 .. count - 1, added to out[q]: each order's phasor turned by
-  // its step from one angle to the next, from libm again every kAnchor angles so the
-  // recurrence's round-off stays near 1e-14 of the amplitudes.
-  void AddAlong(double u0, double du, std::size_t count, std::vector<Eigen::Vector2d>& out) const {
+  // Calls visit(q, cos, sin) for u = u0 + q du, q = 0 .. count - 1, with the cosines and
+  // sines of order[p] u for every term: each order's phasor turned by its step from one
+  // angle to the next, from libm again every kAnchor angles so the recurrence's round-off
+  // stays near 1e-14 of the amplitudes.
+  template <typename Visit>
+  void ForEachAngle(double u0, double du, std::size_t count, Visit visit) const {
     constexpr std::size_t kAnchor = 256;
     const std::size_t terms = order.size();
     // Cosine and sine parts apart: std::complex's product checks for infinities per call.
@@ -73,15 +75,22 @@ struct PhaseCurve {
           now_sin[p] = std::sin(phase);
         }
       }
-      Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+      visit(q, now_cos, now_sin);
       for (std::size_t p = 0; p < terms; ++p) {
-        sum += cosine[p] * now_cos[p] + sine[p] * now_sin[p];
         const double turned = now_cos[p] * step_cos[p] - now_sin[p] * step_sin[p];
         now_sin[p] = now_sin[p] * step_cos[p] + now_cos[p] * step_sin[p];
         now_cos[p] = turned;
       }
-      out[q] += sum;
     }
+  }
+
+  // At(u0 + q du) for q = 0 .. count - 1, added to out[q].
+  void AddAlong(double u0, double du, std::size_t count, std::vector<Eigen::Vector2d>& out) const {
+    ForEachAngle(u0, du, count, [&](std::size_t q, const std::vector<double>& c, const std::vector<double>& s) {
+      Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+      for (std::size_t p = 0; p < order.size(); ++p) sum += cosine[p] * c[p] + sine[p] * s[p];
+      out[q] += sum;
+    });
   }
 };
 
@@ -271,14 +280,22 @@ std::vector<Eigen::Vector2d> MinkowskiSum(std::vector<Eigen::Vector2d> a, std::v
 struct CurveSamples {
   std::vector<Eigen::Vector2d> points;
   double straying = 0.0;  // [m]
+  // [m] the curve's range along the sensor's ray through the error motion's filter (each
+  // term scaled by its transmission at order x ratio turns a revolution), widened by
+  // twice what the filtered curve may stray from the samples: an upper bound on it.
+  double motion_range = 0.0;
 };
-CurveSamples SampleCurve(const PhaseCurve& curve) {
+CurveSamples SampleCurve(const PhaseCurve& curve, const Eigen::Vector2d& ray, const engine::ErrorMotionFilter& filter) {
+  const std::size_t terms = curve.order.size();
   double amplitude = 0.0, weighted = 0.0;
-  std::vector<double> amplitudes(curve.order.size());
-  for (std::size_t p = 0; p < curve.order.size(); ++p) {
+  std::vector<double> amplitudes(terms), along_cos(terms), along_sin(terms), transmissions(terms);
+  for (std::size_t p = 0; p < terms; ++p) {
     amplitudes[p] = std::hypot(curve.cosine[p].norm(), curve.sine[p].norm());
     amplitude += amplitudes[p];
     weighted += amplitudes[p] * curve.order[p] * curve.order[p];
+    transmissions[p] = filter.Transmission(curve.order[p] * curve.ratio);
+    along_cos[p] = transmissions[p] * ray.dot(curve.cosine[p]);
+    along_sin[p] = transmissions[p] * ray.dot(curve.sine[p]);
   }
   constexpr int kFewest = 16;
   const int most = kMostCurveSamplesPerOrder * std::max(curve.max_order, 1);
@@ -287,12 +304,28 @@ CurveSamples SampleCurve(const PhaseCurve& curve) {
                                   kFewest, most)
                      : kFewest;
   const double du = kTwoPi / count;
-  CurveSamples samples{std::vector<Eigen::Vector2d>(static_cast<std::size_t>(count), Eigen::Vector2d::Zero()), 0.0};
-  curve.AddAlong(0.0, du, samples.points.size(), samples.points);
-  for (std::size_t p = 0; p < curve.order.size(); ++p) {
+  CurveSamples samples{std::vector<Eigen::Vector2d>(static_cast<std::size_t>(count)), 0.0, 0.0};
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  curve.ForEachAngle(0.0, du, samples.points.size(),
+                     [&](std::size_t q, const std::vector<double>& c, const std::vector<double>& s) {
+                       Eigen::Vector2d point = Eigen::Vector2d::Zero();
+                       double motion = 0.0;
+                       for (std::size_t p = 0; p < terms; ++p) {
+                         point += curve.cosine[p] * c[p] + curve.sine[p] * s[p];
+                         motion += along_cos[p] * c[p] + along_sin[p] * s[p];
+                       }
+                       samples.points[q] = point;
+                       low = std::min(low, motion);
+                       high = std::max(high, motion);
+                     });
+  double filtered_straying = 0.0;
+  for (std::size_t p = 0; p < terms; ++p) {
     const double chord = curve.order[p] * du;
-    samples.straying += amplitudes[p] * std::min(2.0, chord * chord / 8.0);
+    const double strays = amplitudes[p] * std::min(2.0, chord * chord / 8.0);
+    samples.straying += strays;
+    filtered_straying += transmissions[p] * strays;
   }
+  samples.motion_range = high - low + 2.0 * filtered_straying;
   return samples;
 }
 
@@ -392,20 +425,17 @@ LifeValues EveryRevolutionOf(const engine::Scene& scene, std::vector<PhaseCurve>
   // the hull of the sum is the sum of the hulls, and each curve's range along the ray adds
   // to every range, at one angle or over all, while the average over the revolutions
   // (the synchronous motion) keeps none of it.
-  // The axis motion reads the curves through the error motion's filter.
-  const auto range_along_ray = [&](const CurveSamples& samples) {
-    const auto [low, high] = std::ranges::minmax(samples.points | std::views::transform([&](const Eigen::Vector2d& g) {
-                                                   return ray.dot(g);
-                                                 }));
-    return high - low + 2.0 * samples.straying;
-  };
   std::vector<Eigen::Vector2d> hull = PathHull(points);
   double filled = 0.0, filled_motion = 0.0, straying = 0.0;
   for (const PhaseCurve& curve : split.filling) {
-    const CurveSamples samples = SampleCurve(curve);
+    const CurveSamples samples = SampleCurve(curve, ray, filter);
     hull = MinkowskiSum(hull, ConvexHull(samples.points));
-    filled += range_along_ray(samples);
-    filled_motion += filter.filtered() ? range_along_ray(SampleCurve(Filtered(curve, filter))) : range_along_ray(samples);
+    const auto [low, high] = std::ranges::minmax(samples.points | std::views::transform([&](const Eigen::Vector2d& g) {
+                                                   return ray.dot(g);
+                                                 }));
+    filled += high - low + 2.0 * samples.straying;
+    // The axis motion reads the curve through the error motion's filter.
+    filled_motion += samples.motion_range;
     straying += samples.straying;
   }
   // The sampled curves' hulls lie inside the curves' and within `straying` of them: widened

@@ -107,9 +107,11 @@ BENCHMARK_CAPTURE(CampaignSample, quasistatic_10nm, solvers::Rung::kQuasistatic,
 // What the life over every revolution adds to a campaign-like sample on the linear rung
 // (solvers::EveryRevolution with the phasors it reads), against CampaignSample/linear: the
 // same scene, its rollers of three sizes so that their phases drift apart (`drawn_sizes`),
-// or of one size, each roller's lobes then a curve in its own phase (`equal_sizes`).
-void LifeEveryRevolution(benchmark::State& state, bool drawn) {
+// or of one size, each roller's lobes then a curve in its own phase (`equal_sizes`); its
+// error motion through the default 50 UPR filter, or unfiltered (`unfiltered`).
+void LifeEveryRevolution(benchmark::State& state, bool drawn, double cutoff_upr) {
   engine::Scene scene = testing::CampaignLikeScene();
+  scene.error_motion_filter.cutoff_upr = cutoff_upr;
   const double sizes[] = {-1.3e-6, 0.4e-6, -0.2e-6};
   for (std::size_t i = 0; i < scene.rollers.size() && drawn; ++i) {
     engine::Roller& roller = scene.rollers[i];
@@ -127,8 +129,9 @@ void LifeEveryRevolution(benchmark::State& state, bool drawn) {
   }
   state.counters["steps"] = one.steps;
 }
-BENCHMARK_CAPTURE(LifeEveryRevolution, drawn_sizes, true)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(LifeEveryRevolution, equal_sizes, false)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(LifeEveryRevolution, drawn_sizes, true, 50.0)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(LifeEveryRevolution, equal_sizes, false, 50.0)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(LifeEveryRevolution, drawn_sizes_unfiltered, true, 0.0)->Unit(benchmark::kMicrosecond);
 
 // The sensor's swing (engine::Swing) over a campaign-like sample's signal at the default
 // 0.1 um resolution: the one-revolution signal of the linear rung, roller ripple and all.
