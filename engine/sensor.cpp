@@ -130,7 +130,14 @@ double GaussianTransmission(double undulations, double cutoff_upr) {
 std::vector<double> GaussianFilterClosed(std::span<const double> period, double cutoff_upr) {
   const std::size_t n = period.size();
   if (n == 0) return {};
-  Eigen::FFT<double> fft;
+  // A revolution's plan (its twiddle factors, n sines and cosines, two thirds of a
+  // filtered revolution's cost) is kept per thread and made once per size: a campaign's
+  // samples share a few sizes. A record of many revolutions plans afresh, so that its
+  // plan does not stay in memory for the rest of the run.
+  constexpr std::size_t kLargestKeptPlan = std::size_t{1} << 16;
+  thread_local Eigen::FFT<double> kept;
+  Eigen::FFT<double> fresh;
+  Eigen::FFT<double>& fft = n <= kLargestKeptPlan ? kept : fresh;
   std::vector<std::complex<double>> spectrum;
   fft.fwd(spectrum, std::vector<double>(period.begin(), period.end()));
   for (std::size_t k = 0; k < n; ++k) {
