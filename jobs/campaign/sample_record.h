@@ -57,6 +57,9 @@ inline constexpr std::array<const char*, 14> kOutputNames = {
 // Where the life outputs start in kOutputNames: files of schema 3 and before end there.
 inline constexpr std::size_t kFirstLifeOutput = 9;
 inline constexpr std::size_t kOutputCount = kOutputNames.size();
+// Whether `output` is one of the three error-motion values, which the error motion's filter
+// reads (engine::ErrorMotionFilter) and whose datasets state it.
+inline bool IsErrorMotionOutput(std::string_view output) { return output.starts_with("error_motion_"); }
 
 inline constexpr std::int8_t kNoRung = -1;
 

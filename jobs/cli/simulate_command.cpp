@@ -75,7 +75,7 @@ nlohmann::json LifeJson(const engine::Scene& scene, const solvers::LifeResult& l
     return json;
   }
   const engine::ErrorMotionFilter& filter = scene.error_motion_filter;
-  json["error_motion_filter_cutoff_upr"] = filter.filtered() ? filter.cutoff_upr : 0.0;
+  json["error_motion_filter_cutoff_upr"] = filter.cutoff_upr;
   json["over_revolutions"] = ValuesJson(life.values);
   json["over_revolutions"]["error_motion_reading"] =
       ErrorMotionConditions({.filter = filter, .revolutions = life.revolutions});

@@ -236,8 +236,7 @@ nlohmann::json AllocationJson(const AllocationIdentity& identity, const Allocati
   for (const std::int64_t f : outcome.front) json["front"].push_back(candidate_json(f));
   if (const std::optional<std::string> reading = ConstrainedErrorMotionReading(identity)) {
     json["error_motion_reading"] = *reading;
-    json["error_motion_filter_cutoff_upr"] =
-        identity.error_motion_filter.filtered() ? identity.error_motion_filter.cutoff_upr : 0.0;
+    json["error_motion_filter_cutoff_upr"] = identity.error_motion_filter.cutoff_upr;
   }
   json["binding"] = nlohmann::json::array();
   for (const int j : outcome.binding)

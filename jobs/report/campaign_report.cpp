@@ -509,7 +509,7 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
     if (std::find(ranked_by.begin(), ranked_by.end(), name) != ranked_by.end()) ranking_values[name] = std::move(all);
   }
   report.life_gaps = LifeGaps(life_values);
-  report.life_error_motion = LifeErrorMotionOf(life_values, report.identity.error_motion_filter);
+  report.life_error_motion = LifeErrorMotionOf(life_values);
   if (!report.identity.spec.empty() && !used_ok.empty()) {
     const auto within = static_cast<std::int64_t>(std::count(within_every_limit.begin(), within_every_limit.end(), true));
     report.within_every_limit = analysis::EstimateProportion(within, report.ok, options.confidence);
@@ -798,7 +798,7 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   if (!report.life_gaps.empty() || report.life_error_motion) {
     nlohmann::json life = nlohmann::json::object();
     for (const LifeGap& gap : report.life_gaps) life[gap.label] = LifeGapJson(gap);
-    if (report.life_error_motion) life["error_motion"] = LifeErrorMotionJson(*report.life_error_motion);
+    if (report.life_error_motion) life["error_motion"] = LifeErrorMotionJson(*report.life_error_motion, report.identity.error_motion_filter);
     j["life"] = std::move(life);
   }
   if (report.error_motion_problem) j["error_motion_problem"] = *report.error_motion_problem;

@@ -104,9 +104,8 @@ nlohmann::json LifeGapJson(const LifeGap& gap) {
 bool IsErrorMotionColumn(std::string_view name) { return ErrorMotionOf(name).has_value(); }
 
 std::optional<LifeErrorMotion> LifeErrorMotionOf(
-    const std::map<std::string, std::vector<double>, std::less<>>& ok_values, const engine::ErrorMotionFilter& filter) {
+    const std::map<std::string, std::vector<double>, std::less<>>& ok_values) {
   LifeErrorMotion motion;
-  motion.filter = filter;
   bool any = false;
   for (std::size_t k = 0; k < std::size(kErrorMotionValues); ++k) {
     motion.q50[k] = motion.q99[k] = std::numeric_limits<double>::quiet_NaN();
@@ -129,7 +128,7 @@ std::optional<LifeErrorMotion> LifeErrorMotionOf(
   return motion;
 }
 
-std::string LifeErrorMotionSentence(const LifeErrorMotion& motion) {
+std::string LifeErrorMotionSentence(const LifeErrorMotion& motion, const engine::ErrorMotionFilter& filter) {
   const auto list = [&](const std::array<double, 3>& mm, bool words) {
     std::vector<std::string> parts;
     for (std::size_t k = 0; k < mm.size(); ++k) {
@@ -147,13 +146,13 @@ std::string LifeErrorMotionSentence(const LifeErrorMotion& motion) {
       "Over the stage's life, the axis's radial error motion ({}) is at q99 {} (q50 {}). No one-revolution value "
       "compares: asynchronous motion, what differs from one revolution to the next, needs several revolutions, and "
       "one revolution's indicator reading (runout) holds the bore's form too.",
-      ErrorMotionConditions({.filter = motion.filter}), list(motion.q99, true), list(motion.q50, false));
+      ErrorMotionConditions({.filter = filter}), list(motion.q99, true), list(motion.q50, false));
 }
 
-nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion) {
+nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion, const engine::ErrorMotionFilter& filter) {
   nlohmann::json j = {{"count", motion.count},
-                      {"reading", ErrorMotionConditions({.filter = motion.filter})},
-                      {"filter_cutoff_upr", motion.filter.filtered() ? motion.filter.cutoff_upr : 0.0},
+                      {"reading", ErrorMotionConditions({.filter = filter})},
+                      {"filter_cutoff_upr", filter.cutoff_upr},
                       {"revolutions", "every revolution of the life"}};
   for (std::size_t k = 0; k < std::size(kErrorMotionValues); ++k) {
     j[std::string(ErrorMotionWord(kErrorMotionValues[k])) + "_mm"] = {{"q50", Bound(motion.q50[k])},
@@ -290,7 +289,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
   }
   summary.life_gaps = LifeGaps(paired);
   summary.error_motion_filter = results.identity().error_motion_filter;
-  summary.life_error_motion = LifeErrorMotionOf(paired, summary.error_motion_filter);
+  summary.life_error_motion = LifeErrorMotionOf(paired);
   if (any_spec && summary.done > 0) {
     std::int64_t good = 0;
     for (std::size_t i = 0; i < status.size(); ++i) {
@@ -317,7 +316,7 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
     fmt::print(out, "rungs             {} (of the {} samples a rung ran on)\n", RungShares(s.settled_by), ran);
   }
   for (const LifeGap& gap : s.life_gaps) fmt::print(out, "life              {}\n", LifeGapSentence(gap));
-  if (s.life_error_motion) fmt::print(out, "life              {}\n", LifeErrorMotionSentence(*s.life_error_motion));
+  if (s.life_error_motion) fmt::print(out, "life              {}\n", LifeErrorMotionSentence(*s.life_error_motion, s.error_motion_filter));
   const int level = static_cast<int>(std::lround(100.0 * s.confidence));
   fmt::print(out, "\n{:<28} {:>10} {:>10}", "output", "mean", "std");
   for (const double p : kSummaryProbabilities) fmt::print(out, " {:>30}", fmt::format("q{} [{} % CI]", Percent(p), level));
@@ -395,7 +394,7 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
   if (!s.life_gaps.empty() || s.life_error_motion) {
     nlohmann::json life = nlohmann::json::object();
     for (const LifeGap& gap : s.life_gaps) life[gap.label] = LifeGapJson(gap);
-    if (s.life_error_motion) life["error_motion"] = LifeErrorMotionJson(*s.life_error_motion);
+    if (s.life_error_motion) life["error_motion"] = LifeErrorMotionJson(*s.life_error_motion, s.error_motion_filter);
     j["life"] = std::move(life);
   }
   auto proportion = [](const std::optional<analysis::ProportionEstimate>& p) {

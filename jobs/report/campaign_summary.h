@@ -92,7 +92,6 @@ struct LifeErrorMotion {
   // [mm] q50 and q99 of each value, in kErrorMotionValues order (jobs/report/report_text.h);
   // NaN for a column the file lacks.
   std::array<double, 3> q50{}, q99{};
-  engine::ErrorMotionFilter filter;  // the campaign's, through which they were read
 };
 
 // Whether `name` is an error motion column (ErrorMotionOf, jobs/report/report_text.h).
@@ -100,12 +99,14 @@ bool IsErrorMotionColumn(std::string_view name);
 // The error motion over the life of the columns `ok_values` holds (by output name, the
 // same ok samples in each); none without a finite total.
 std::optional<LifeErrorMotion> LifeErrorMotionOf(
-    const std::map<std::string, std::vector<double>, std::less<>>& ok_values, const engine::ErrorMotionFilter& filter);
+    const std::map<std::string, std::vector<double>, std::less<>>& ok_values);
 // "Over the stage's life, the axis's radial error motion (ISO 230-7, ...) is at q99 168.6 µm
-// total, ... (q50 ...). No one-revolution value compares: ...". Plain text.
-std::string LifeErrorMotionSentence(const LifeErrorMotion& motion);
-// {"count", "reading", "total_mm": {"q50", "q99"}, "synchronous_mm": ..., "asynchronous_mm": ...}.
-nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion);
+// total, ... (q50 ...). No one-revolution value compares: ...". Plain text; `filter` is the
+// campaign's (CampaignIdentity::error_motion_filter).
+std::string LifeErrorMotionSentence(const LifeErrorMotion& motion, const engine::ErrorMotionFilter& filter);
+// {"count", "reading", "filter_cutoff_upr", "revolutions", "total_mm": {"q50", "q99"},
+// "synchronous_mm": ..., "asynchronous_mm": ...}.
+nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion, const engine::ErrorMotionFilter& filter);
 
 // One spec limit's own yield.
 struct LimitYield {

@@ -349,7 +349,7 @@ void AnswerSection(std::string& html, const CampaignReport& report, const Output
   }
   for (const LifeGap& gap : report.life_gaps) html += fmt::format("<p>{}</p>\n", EscapeXml(LifeGapSentence(gap)));
   if (report.life_error_motion) {
-    html += fmt::format("<p>{}</p>\n", EscapeXml(LifeErrorMotionSentence(*report.life_error_motion)));
+    html += fmt::format("<p>{}</p>\n", EscapeXml(LifeErrorMotionSentence(*report.life_error_motion, report.identity.error_motion_filter)));
   }
   html += "</div>\n";
 }

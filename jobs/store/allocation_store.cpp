@@ -74,7 +74,7 @@ std::vector<std::string> ErrorMotionColumnPaths(const std::vector<std::string>& 
   std::vector<std::string> paths;
   for (const EvaluationRole role : kRoles) {
     for (const std::string& output : outputs) {
-      if (output.starts_with("error_motion_")) paths.push_back(ColumnPath(role, {output}));
+      if (IsErrorMotionOutput(output)) paths.push_back(ColumnPath(role, {output}));
     }
   }
   return paths;

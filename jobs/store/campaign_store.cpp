@@ -87,7 +87,7 @@ std::string ColumnPath(std::size_t column) {
 std::vector<std::size_t> ErrorMotionColumns() {
   std::vector<std::size_t> columns;
   for (std::size_t k = 0; k < kOutputCount; ++k) {
-    if (std::string_view(kOutputNames[k]).starts_with("error_motion_")) columns.push_back(kFirstOutput + k);
+    if (IsErrorMotionOutput(kOutputNames[k])) columns.push_back(kFirstOutput + k);
   }
   return columns;
 }

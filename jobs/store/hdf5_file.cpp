@@ -173,9 +173,8 @@ H5T_class_t AttributeClass(const Where& where, const AttributeId& attribute, con
 }
 
 void WriteErrorMotionAttributes(const Where& where, hid_t dataset, const engine::ErrorMotionFilter& filter) {
-  const double cutoff_upr = filter.filtered() ? filter.cutoff_upr : 0.0;
   WriteStringAttribute(where, dataset, "filter", filter.filtered() ? "ISO 16610-21 Gaussian" : "none");
-  WriteAttribute(where, dataset, "cutoff_upr", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &cutoff_upr);
+  WriteAttribute(where, dataset, "cutoff_upr", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &filter.cutoff_upr);
   WriteStringAttribute(where, dataset, "revolutions", "every revolution of the life");
 }
 
