@@ -70,6 +70,7 @@ Campaign::Campaign(CampaignPlan plan, const std::string& source_name,
   identity_.seed = plan_.sampling.seed;
   identity_.inputs = sampling_.sampler.inputs();
   identity_.spec = plan_.spec;
+  identity_.life = plan_.solver.simulation.life;
   identity_.calibrations = sampling_.sampler.scales();
 }
 
@@ -144,8 +145,9 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
       if (record.status == SampleStatus::kOk) {
         double max_force = -std::numeric_limits<double>::infinity();
         for (const solvers::RollerForceRange& range : result.contact_force) max_force = std::max(max_force, range.max);
-        // A campaign reads the life unless told not to (an allocation whose constraints name
-        // none of its outputs): its outputs are NaN then, and only then.
+        // A campaign reads the life unless told not to ([outputs] life = false, or an
+        // allocation whose constraints name none of its outputs): its outputs are NaN then,
+        // and only then.
         const bool reads_life = campaign_->simulation().life;
         const solvers::LifeValues life = result.life.value_or(
             solvers::LifeValues{kNaN, kNaN, {kNaN, kNaN, kNaN, kNaN}});

@@ -13,6 +13,8 @@
 namespace ringtol::jobs {
 namespace {
 
+// The condition of a limit on a life output, as messages and docs/inputs.md word it.
+constexpr std::string_view kLifeOn = "outputs.life = true";
 
 struct SpecInput {
   std::array<std::optional<double>, kOutputCount> upper;
@@ -66,12 +68,25 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
   const toml::table document = ParseToml(plan.sampling.text, source);
   const TableReader root(document, "", source);
 
+  // [outputs]: the life outputs add 40 % to a default sample's cost; a campaign that asks
+  // nothing of them leaves them out, as an allocation whose constraints name none does.
+  struct OutputsInput {
+    bool life = CampaignSolverDefaults().simulation.life;
+  };
+  const std::vector<Field<OutputsInput>> outputs_fields{
+      Flag("life", Presence::kOptional, &OutputsInput::life),
+  };
+  bool& life = plan.solver.simulation.life;
+
   SpecInput spec;
   std::vector<Field<SpecInput>> spec_fields;
   for (std::size_t k = 0; k < kOutputCount; ++k) {
-    spec_fields.push_back({kOutputNames[k], Presence::kOptional, "> 0", [k](const Site& site, SpecInput& target) {
+    Field<SpecInput> field{kOutputNames[k], Presence::kOptional, "> 0", [k](const Site& site, SpecInput& target) {
                              target.upper[k] = ReadNumber(site, Above(0));
-                           }, {}, {}});
+                           }, {}, {}};
+    // [outputs] is read first (the fields below are in that order).
+    if (k >= kFirstLifeOutput) field = std::move(field).When([&life](const SpecInput&) { return life; }, kLifeOn);
+    spec_fields.push_back(std::move(field));
   }
   struct Root {};
   Root unused;
@@ -83,11 +98,17 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
                           t, plan.solver.simulation.steps, plan.sampling.scene,
                           sampling::FastestDrawnHarmonic(plan.sampling.scene, plan.sampling.tolerances));
                     }),
+      Section<Root>("outputs", Presence::kOptional,
+                    [&](const TableReader& t, Root&) {
+                      OutputsInput outputs;
+                      t.Read(outputs_fields, outputs);
+                      life = outputs.life;
+                    }),
       Section<Root>("spec", Presence::kOptional, [&](const TableReader& t, Root&) { t.Read(spec_fields, spec); }),
   };
   // The sampling half was read and checked above; here only the campaign's own tables.
   for (const auto& [key, node] : document) {
-    if (key.str() != "solver" && key.str() != "spec") {
+    if (key.str() != "solver" && key.str() != "outputs" && key.str() != "spec") {
       fields.push_back({key.str(), Presence::kOptional, "", [](const Site&, Root&) {}, {}, {}});
     }
   }

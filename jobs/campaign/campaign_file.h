@@ -1,9 +1,10 @@
 // Campaign files: a sampling file (jobs/inputs/sampling_file.h) plus how to simulate each
-// sample ([solver]) and what counts as good ([spec]). The format, key by key, is
+// sample ([solver]), which outputs to compute ([outputs]) and what counts as good ([spec]). The format, key by key, is
 // docs/inputs.md, "Campaign files"; examples/campaigns/default.toml is the default campaign.
 //
 // Failure: InputError naming the file, key, value and allowed range, for everything
-// ReadSamplingFile refuses and for the keys of [solver] and [spec].
+// ReadSamplingFile refuses and for the keys of [solver], [outputs] and [spec] (a limit on an
+// output the campaign does not compute among them).
 #pragma once
 
 #include <array>
@@ -22,8 +23,8 @@ namespace ringtol::jobs {
 // A campaign's defaults differ from a single run's in three fields: the auto rung, a
 // sampling budget of 1 um (path_tolerance_um), where `ringtol simulate` runs the
 // quasistatic rung and resolves every undulation, and the life values, which every
-// campaign's sample reads (the life outputs of kOutputNames) and a single run only when
-// asked (--revolutions).
+// campaign's sample reads (the life outputs of kOutputNames) unless its file says
+// `[outputs] life = false`, and a single run only when asked (--revolutions).
 inline constexpr double kCampaignPathTolerance = 1e-6;  // [m]
 inline solvers::SolverSettings CampaignSolverDefaults() {
   solvers::SolverSettings settings;
@@ -36,12 +37,13 @@ inline solvers::SolverSettings CampaignSolverDefaults() {
 struct CampaignPlan {
   std::filesystem::path file;
   SamplingPlan sampling;
+  // [solver], and in `simulation.life` the [outputs] table's choice of the life outputs.
   solvers::SolverSettings solver = CampaignSolverDefaults();
   std::vector<SpecLimit> spec;  // in the order of kOutputNames
 };
 
 // The root tables a campaign file adds to a sampling file.
-inline constexpr std::array<std::string_view, 2> kCampaignTables = {"solver", "spec"};
+inline constexpr std::array<std::string_view, 3> kCampaignTables = {"solver", "outputs", "spec"};
 
 // The keys of a [solver] table (above), read from the table's reader: a campaign's and an
 // allocation file's (jobs/allocation/allocation_file.h). Throws InputError.

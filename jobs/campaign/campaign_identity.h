@@ -31,6 +31,9 @@ struct CampaignIdentity {
   std::uint64_t seed = 0;
   std::vector<sampling::SampledInput> inputs;  // the design's coordinates, in order
   std::vector<SpecLimit> spec;
+  // Whether the samples computed the life outputs (kFirstLifeOutput on): the campaign file's
+  // [outputs] life. A results file without them holds none of their columns.
+  bool life = true;
   // How the sensor's swing was read: the base scene's [sensor] table, so already compared
   // through base_scene; the results file states it beside /outputs/swing_mm.
   engine::SwingRule swing;

@@ -795,10 +795,9 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   }
   j["trajectories"] = std::move(trajectories);
   j["replay_problem"] = report.replay_problem ? nlohmann::json(*report.replay_problem) : nlohmann::json(nullptr);
-  if (!report.life_gaps.empty() || report.life_error_motion) {
-    nlohmann::json life = nlohmann::json::object();
-    for (const LifeGap& gap : report.life_gaps) life[gap.label] = LifeGapJson(gap);
-    if (report.life_error_motion) life["error_motion"] = LifeErrorMotionJson(*report.life_error_motion, report.identity.error_motion_filter);
+  if (nlohmann::json life = LifeJson(report.identity.life, report.life_gaps, report.life_error_motion,
+                                     report.identity.error_motion_filter);
+      !life.is_null()) {
     j["life"] = std::move(life);
   }
   if (report.error_motion_problem) j["error_motion_problem"] = *report.error_motion_problem;

@@ -161,6 +161,16 @@ nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion, const engine::
   return j;
 }
 
+nlohmann::json LifeJson(bool computed, const std::vector<LifeGap>& gaps, const std::optional<LifeErrorMotion>& motion,
+                        const engine::ErrorMotionFilter& filter) {
+  if (!computed) return {{"computed", false}};
+  if (gaps.empty() && !motion) return nullptr;
+  nlohmann::json life = {{"computed", true}};
+  for (const LifeGap& gap : gaps) life[gap.label] = LifeGapJson(gap);
+  if (motion) life["error_motion"] = LifeErrorMotionJson(*motion, filter);
+  return life;
+}
+
 std::vector<std::int64_t> CountRungs(const CampaignReader& results, const std::vector<SampleStatus>& status,
                                      const std::vector<bool>& used) {
   if (results.schema_version() < kCampaignSchemaVersion) return {};
@@ -287,6 +297,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     }
     summary.outputs.push_back(std::move(output));
   }
+  summary.life = results.identity().life;
   summary.life_gaps = LifeGaps(paired);
   summary.error_motion_filter = results.identity().error_motion_filter;
   summary.life_error_motion = LifeErrorMotionOf(paired);
@@ -315,6 +326,7 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
   if (const std::int64_t ran = RungsRan(s.settled_by); ran > 0) {
     fmt::print(out, "rungs             {} (of the {} samples a rung ran on)\n", RungShares(s.settled_by), ran);
   }
+  if (!s.life) fmt::print(out, "life              {}\n", kLifeNotComputed);
   for (const LifeGap& gap : s.life_gaps) fmt::print(out, "life              {}\n", LifeGapSentence(gap));
   if (s.life_error_motion) fmt::print(out, "life              {}\n", LifeErrorMotionSentence(*s.life_error_motion, s.error_motion_filter));
   const int level = static_cast<int>(std::lround(100.0 * s.confidence));
@@ -391,10 +403,7 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
     outputs[o.name] = x;
   }
   j["outputs"] = outputs;
-  if (!s.life_gaps.empty() || s.life_error_motion) {
-    nlohmann::json life = nlohmann::json::object();
-    for (const LifeGap& gap : s.life_gaps) life[gap.label] = LifeGapJson(gap);
-    if (s.life_error_motion) life["error_motion"] = LifeErrorMotionJson(*s.life_error_motion, s.error_motion_filter);
+  if (nlohmann::json life = LifeJson(s.life, s.life_gaps, s.life_error_motion, s.error_motion_filter); !life.is_null()) {
     j["life"] = std::move(life);
   }
   auto proportion = [](const std::optional<analysis::ProportionEstimate>& p) {

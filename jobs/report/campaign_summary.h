@@ -94,6 +94,12 @@ struct LifeErrorMotion {
   std::array<double, 3> q50{}, q99{};
 };
 
+// What the summary and the report say of a campaign that left the life out
+// (CampaignIdentity::life false), in place of its numbers.
+inline constexpr std::string_view kLifeNotComputed =
+    "The life outputs (life_d_trajectory_mm, life_runout_mm, error_motion_*) were not computed: the campaign file "
+    "sets [outputs] life = false.";
+
 // Whether `name` is an error motion column (ErrorMotionOf, jobs/report/report_text.h).
 bool IsErrorMotionColumn(std::string_view name);
 // The error motion over the life of the columns `ok_values` holds (by output name, the
@@ -107,6 +113,12 @@ std::string LifeErrorMotionSentence(const LifeErrorMotion& motion, const engine:
 // {"count", "reading", "filter_cutoff_upr", "revolutions", "total_mm": {"q50", "q99"},
 // "synchronous_mm": ..., "asynchronous_mm": ...}.
 nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion, const engine::ErrorMotionFilter& filter);
+// The "life" object of the summary's and the report's JSON: {"computed": false} for a
+// campaign that left the life out; else {"computed": true, <label>: LifeGapJson, ...,
+// "error_motion": LifeErrorMotionJson}; null when there is nothing to say (a file of a
+// schema before the life outputs, or without ok samples).
+nlohmann::json LifeJson(bool computed, const std::vector<LifeGap>& gaps, const std::optional<LifeErrorMotion>& motion,
+                        const engine::ErrorMotionFilter& filter);
 
 // One spec limit's own yield.
 struct LimitYield {
@@ -131,6 +143,7 @@ struct CampaignSummary {
   std::vector<std::int64_t> settled_by;
   // What an older results file's columns are, in its schema's terms; empty for the current.
   std::string schema_note;
+  bool life = true;  // CampaignIdentity::life: whether the samples computed the life outputs
   std::vector<LifeGap> life_gaps;  // kLifeColumns order, those the file holds both columns of
   std::optional<LifeErrorMotion> life_error_motion;  // none for a file without the columns
   engine::ErrorMotionFilter error_motion_filter;     // the campaign's, which the error_motion_* outputs passed

@@ -33,6 +33,9 @@ namespace fs = std::filesystem;
 
 constexpr const char* kFormat = "ringtol campaign";
 constexpr const char* kAllocationFormat = "ringtol allocation";
+// The root attribute `life`: whether the samples computed the life outputs.
+constexpr const char* kLifeComputed = "computed";
+constexpr const char* kLifeNotComputed = "not computed";
 constexpr std::size_t kMessageBytes = 256;
 constexpr std::size_t kMessageChars = kMessageBytes - 1;  // and the terminator
 // Default chunk of /inputs/u: large enough that deflate works well, small enough that the
@@ -101,16 +104,18 @@ constexpr const char* kSwingDefinition =
 // Where a file of `schema` keeps column `column`; empty when it has no such dataset. Schema
 // 1 named the ill-posed "peak to nearest valley" runout_mm and the max - min that runout_mm
 // is now runout_total_mm; it had no swing. Schemas 1 and 2 had no rung and error bound,
-// schemas 1 to 3 no life outputs. Schema 5 keeps failure messages in /failures instead of
+// schemas 1 to 3 no life outputs, nor has a file of a campaign that left the life out
+// (`life`: CampaignIdentity::life). Schema 5 keeps failure messages in /failures instead of
 // a message per sample, and a draw checksum per sample.
 constexpr int kFirstSchemaWithRungs = 3;
 constexpr int kFirstSchemaWithLife = 4;
 constexpr int kFirstSchemaWithSlimRows = 5;
-std::string StoredColumnPath(std::size_t column, int schema) {
+bool IsLifeOutputColumn(std::size_t column) { return column >= kFirstOutput + kFirstLifeOutput && column < kStatus; }
+std::string StoredColumnPath(std::size_t column, int schema, bool life) {
   if (column == kMessage && schema >= kFirstSchemaWithSlimRows) return {};
   if (column == kDrawChecksum && schema < kFirstSchemaWithSlimRows) return {};
   if ((column == kRung || column == kErrorBound) && schema < kFirstSchemaWithRungs) return {};
-  if (column >= kFirstOutput + kFirstLifeOutput && column < kStatus && schema < kFirstSchemaWithLife) return {};
+  if (IsLifeOutputColumn(column) && (schema < kFirstSchemaWithLife || !life)) return {};
   if (schema >= 2 || column < kFirstOutput || column >= kStatus) return ColumnPath(column);
   const std::string_view output = kOutputNames[column - kFirstOutput];
   if (output == "runout_mm") return "/outputs/runout_total_mm";
@@ -258,6 +263,14 @@ Stored ReadStored(const Where& where, hid_t file) {
   identity.base_scene = text("base_scene");
   identity.design = text("design");
   identity.solver = text("solver");
+  // Files written before the choice computed the life wherever their schema has it.
+  if (const std::optional<std::string> life = ReadStringAttribute(where, file, "life")) {
+    if (*life != kLifeComputed && *life != kLifeNotComputed) {
+      Fail(where, fmt::format("attribute life = \"{}\" is neither \"{}\" nor \"{}\"", *life, kLifeComputed,
+                              kLifeNotComputed));
+    }
+    identity.life = *life == kLifeComputed;
+  }
   identity.seed =
       Require(where, ReadNumberAttribute<std::uint64_t>(where, file, "seed", H5T_INTEGER, H5T_NATIVE_UINT64), "seed");
   stored.samples = Require(
@@ -277,7 +290,7 @@ Stored ReadStored(const Where& where, hid_t file) {
   identity.calibrations = ReadCalibrations(where, file);
 
   for (std::size_t k = 0; k < kOutputCount; ++k) {
-    const std::string path = StoredColumnPath(kFirstOutput + k, stored.schema_version);
+    const std::string path = StoredColumnPath(kFirstOutput + k, stored.schema_version, identity.life);
     if (path.empty()) continue;
     const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
     if (const auto upper =
@@ -294,7 +307,7 @@ Stored ReadStored(const Where& where, hid_t file) {
     identity.swing.resolution = number("resolution_um") * units::kMetresPerMicrometre;
     identity.swing.cutoff_upr = number("cutoff_upr");
   }
-  if (stored.schema_version >= kFirstSchemaWithLife) {
+  if (stored.schema_version >= kFirstSchemaWithLife && identity.life) {
     const std::string path = ColumnPath(ErrorMotionColumns().front());
     const DatasetId total(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
     identity.error_motion_filter = ReadErrorMotionFilter(where, total.get());
@@ -325,6 +338,8 @@ std::optional<std::string> SpecDifference(const std::vector<SpecLimit>& file, co
 
 // The first identity field in which `now` differs from the file, or nothing.
 std::optional<std::string> IdentityDifference(const CampaignIdentity& file, const CampaignIdentity& now) {
+  // Before the campaign file's text, which says it too, but only by a line number.
+  if (auto d = WordDifference("outputs.life", file.life, now.life)) return d;
   using Text = std::string CampaignIdentity::*;
   for (const auto& [field, member, multiline] :
        {std::tuple<const char*, Text, bool>{"ringtol_version", &CampaignIdentity::ringtol_version, false},
@@ -365,13 +380,15 @@ TypeId RungType(const Where& where) {
 constexpr int kSmallColumnDeflateLevel = 1;
 
 // `inputs_stored_below`: the first sample whose u and values are not stored.
-std::vector<ColumnSpec> Columns(int schema, std::size_t inputs, int deflate_level, std::int64_t inputs_stored_below) {
+// `life`: CampaignIdentity::life.
+std::vector<ColumnSpec> Columns(int schema, bool life, std::size_t inputs, int deflate_level,
+                                std::int64_t inputs_stored_below) {
   std::vector<ColumnSpec> columns(kColumnCount);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t c = 0; c < kColumnCount; ++c) {
     ColumnSpec& spec = columns[c];
     spec.path = ColumnPath(c);
-    spec.stored_path = StoredColumnPath(c, schema);
+    spec.stored_path = StoredColumnPath(c, schema, life);
     spec.fill = nan;
     // The floating-point columns barely compress (design points are random bits below the
     // exponent) and, in SWMR mode, every rewrite of a compressed chunk that grows leaves its
@@ -442,7 +459,8 @@ RowSpace Rows(std::int64_t samples, std::int64_t chunk_samples = 1) {
 SampleTable OpenColumns(const Where& where, hid_t file, const Stored& stored, std::size_t cache_bytes = 0) {
   return SampleTable::Open(
       where, file, Rows(stored.samples, stored.chunk_rows),
-      Columns(stored.schema_version, stored.identity.inputs.size(), 0, stored.inputs_stored_below), cache_bytes);
+      Columns(stored.schema_version, stored.identity.life, stored.identity.inputs.size(), 0, stored.inputs_stored_below),
+      cache_bytes);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -666,6 +684,7 @@ void WriteIdentity(const Where& where, hid_t file, const CampaignIdentity& ident
   WriteStringAttribute(where, file, "campaign_path", identity.campaign_path);
   WriteStringAttribute(where, file, "campaign_file", identity.campaign_file);
   WriteStringAttribute(where, file, "base_scene", identity.base_scene);
+  WriteStringAttribute(where, file, "life", identity.life ? kLifeComputed : kLifeNotComputed);
 
   const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
   for (const char* name : {"inputs", "outputs", "timing"}) {
@@ -696,6 +715,7 @@ void WriteColumnAttributes(const Where& where, hid_t file, const CampaignIdentit
   const double resolution_um = identity.swing.resolution * units::kMicrometresPerMetre;
   WriteAttribute(where, swing.get(), "resolution_um", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &resolution_um);
   WriteAttribute(where, swing.get(), "cutoff_upr", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &identity.swing.cutoff_upr);
+  if (!identity.life) return;
   for (const std::size_t column : ErrorMotionColumns()) {
     const std::string path = ColumnPath(column);
     const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
@@ -709,7 +729,8 @@ void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identit
   const auto chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples));
   SampleTable::Create(
       where, file, Rows(samples, chunk_rows),
-      Columns(kCampaignSchemaVersion, identity.inputs.size(), options.deflate_level, options.inputs_stored_below),
+      Columns(kCampaignSchemaVersion, identity.life, identity.inputs.size(), options.deflate_level,
+              options.inputs_stored_below),
       options.checksums);
   CreateFailures(where, file, options.checksums);
   WriteColumnAttributes(where, file, identity);
@@ -839,7 +860,7 @@ struct CampaignStore::File {
   // (entering SWMR reopens open datasets with default access, losing the chunk cache).
   void StartWriting(const CampaignStoreOptions& options) {
     CheckStatus(H5Fstart_swmr_write(file.get()), where, "starting", "SWMR writing");
-    table = SampleTable::Open(where, file.get(), Rows(samples), Columns(schema, inputs, 0, inputs_stored_below),
+    table = SampleTable::Open(where, file.get(), Rows(samples), Columns(schema, identity.life, inputs, 0, inputs_stored_below),
                               options.chunk_cache_bytes);
     if (schema >= kFirstSchemaWithSlimRows) {
       failure_samples = DatasetId(
@@ -1506,7 +1527,7 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
     WriteAttribute(where, file, "shard_chunk_rows", H5T_STD_I64LE, H5T_NATIVE_INT64, &chunk_rows);
     WriteAttribute(where, file, "shard_digest", H5T_STD_U32LE, H5T_NATIVE_UINT32, &digest);
     summary.mappings = SampleTable::CreateVirtual(
-        where, file, Rows(samples, chunk_rows), Columns(kCampaignSchemaVersion, identity.inputs.size(), 0, stored_below),
+        where, file, Rows(samples, chunk_rows), Columns(kCampaignSchemaVersion, identity.life, identity.inputs.size(), 0, stored_below),
         sources);
     CreateFailureViews(where, file, names, failure_rows);
     WriteColumnAttributes(where, file, identity);

@@ -6,13 +6,18 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "jobs/report/campaign_summary.h"
 #include "jobs/inputs/input_error.h"
@@ -62,6 +67,12 @@ std::string CampaignErrorOf(const std::string& text) {
 }
 
 bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
+
+// The identity a results file of `campaign` at `path` reads back with.
+CampaignIdentity StoredIdentityOf(const Campaign& campaign, const std::filesystem::path& path) {
+  CampaignStore::Create(path, campaign.identity(), campaign.samples());
+  return CampaignReader(path).identity();
+}
 
 TEST(CampaignFile, ReadsSolverAndSpecBesideTheSamplingTables) {
   const TempFile file(kSmallCampaign + "[catalogue]\n");
@@ -120,6 +131,136 @@ TEST(CampaignFile, TheDynamicStartDefaultsToTheQuasistaticEquilibriumAndIsRecord
   EXPECT_EQ(campaign.identity().solver, "dynamic, start quasistatic_equilibrium");
   const TempFile article(ReplaceOnce(dynamic, "[solver]\n", "[solver]\nstart = \"article_settle\"\n"));
   EXPECT_EQ(ReadCampaignFile(article.path()).solver.dynamic_start, solvers::DynamicStart::kArticleSettle);
+}
+
+// [outputs] life: on unless the file says false; the choice is the campaign's identity.
+const std::string kLifeOff = kSmallCampaign + "[outputs]\nlife = false\n";
+
+TEST(CampaignFile, TheLifeIsComputedUnlessOutputsLifeIsFalse) {
+  const TempFile by_default(kSmallCampaign, "_default.toml");
+  EXPECT_TRUE(ReadCampaignFile(by_default.path()).solver.simulation.life);
+  const TempFile on(kSmallCampaign + "[outputs]\nlife = true\n", "_on.toml");
+  EXPECT_TRUE(ReadCampaignFile(on.path()).solver.simulation.life);
+  const TempFile off(kLifeOff);
+  EXPECT_FALSE(ReadCampaignFile(off.path()).solver.simulation.life);
+  EXPECT_FALSE(Campaign(off.path(), std::nullopt, std::nullopt).identity().life);
+  EXPECT_TRUE(Campaign(on.path(), std::nullopt, std::nullopt).identity().life);
+}
+
+TEST(CampaignFile, ABadOutputsKeyOrALimitOnAnOutputLeftOutNamesTheKeyTheValueAndWhatIsAllowed) {
+  using testing::ReplaceOnce;
+  EXPECT_THAT(CampaignErrorOf(kSmallCampaign + "[outputs]\nlife = \"no\"\n"),
+              AllOf(HasSubstr("outputs.life = \"no\""), HasSubstr("true or false")));
+  EXPECT_THAT(CampaignErrorOf(kSmallCampaign + "[outputs]\nlife = 0\n"),
+              AllOf(HasSubstr("outputs.life = 0"), HasSubstr("true or false")));
+  EXPECT_THAT(CampaignErrorOf(kSmallCampaign + "[outputs]\nswing = false\n"),
+              AllOf(HasSubstr("unknown key 'outputs.swing'"), HasSubstr("life")));
+  EXPECT_THAT(CampaignErrorOf("outputs = false\n" + kSmallCampaign),
+              AllOf(HasSubstr("outputs = false"), HasSubstr("a table [outputs]")));
+  // A limit on a life output the campaign does not compute, whichever table comes first.
+  for (const std::string& text :
+       {ReplaceOnce(kLifeOff, "d_trajectory_mm = 0.25", "error_motion_total_mm = 0.01"),
+        ReplaceOnce(ReplaceOnce(kSmallCampaign, "[solver]\n", "[outputs]\nlife = false\n[solver]\n"),
+                    "d_trajectory_mm = 0.25", "life_runout_mm = 0.05")}) {
+    const std::string error = CampaignErrorOf(text);
+    EXPECT_THAT(error, AllOf(HasSubstr(".toml:"), HasSubstr("spec."), HasSubstr("only when outputs.life = true")));
+    EXPECT_THAT(error, ::testing::AnyOf(HasSubstr("spec.error_motion_total_mm = 0.01"),
+                                        HasSubstr("spec.life_runout_mm = 0.05")));
+  }
+  // The one-revolution outputs keep their limits.
+  EXPECT_EQ(CampaignErrorOf(ReplaceOnce(kLifeOff, "d_trajectory_mm = 0.25", "runout_mm = 0.05")), "no error");
+}
+
+// With the life off the solver never computes it (not merely drops it), the one-revolution
+// outputs are the same bits, the results file holds no life column and the summary says
+// the life was not computed instead of showing numbers.
+TEST(SampleEvaluator, WithTheLifeOffTheSolverSkipsItAndTheSummarySaysItWasNotComputed) {
+  const TempFile on_file(kSmallCampaign, "_on.toml");
+  const TempFile off_file(kLifeOff, "_off.toml");
+  const TempFile results("", ".h5");
+  const Campaign on(on_file.path(), std::nullopt, std::nullopt);
+  const Campaign off(off_file.path(), std::nullopt, std::nullopt);
+  int computed_life = 0;
+  EvaluatorFaults watch;
+  watch.after_simulate = [&computed_life](std::int64_t, solvers::SimulationResult& result) {
+    computed_life += result.life.has_value() ? 1 : 0;
+  };
+  SampleEvaluator with_life(on);
+  SampleEvaluator without_life(off, watch);
+  {
+    CampaignStore store = CampaignStore::Create(results.path(), off.identity(), off.samples());
+    for (std::int64_t i = 0; i < off.samples(); ++i) {
+      SampleRecord record = without_life.Evaluate(i);
+      const SampleRecord reference = with_life.Evaluate(i);
+      ASSERT_EQ(record.status, SampleStatus::kOk) << record.message;
+      ASSERT_EQ(reference.status, SampleStatus::kOk) << reference.message;
+      for (std::size_t k = 0; k < kOutputCount; ++k) {
+        if (k < kFirstLifeOutput) {
+          EXPECT_TRUE(SameBits(record.outputs[k], reference.outputs[k])) << kOutputNames[k];
+        } else {
+          EXPECT_TRUE(std::isnan(record.outputs[k])) << kOutputNames[k];
+          EXPECT_TRUE(std::isfinite(reference.outputs[k])) << kOutputNames[k];
+        }
+      }
+      store.Add(std::move(record));
+    }
+    store.Commit();
+  }
+  EXPECT_EQ(computed_life, 0);
+
+  const CampaignReader reader(results.path());
+  EXPECT_FALSE(reader.identity().life);
+  for (std::size_t k = 0; k < kOutputCount; ++k) EXPECT_EQ(reader.HasOutput(kOutputNames[k]), k < kFirstLifeOutput) << k;
+  EXPECT_TRUE(CheckResults(results.path()).intact());
+  const CampaignSummary summary = Summarise(reader, {});
+  EXPECT_EQ(summary.ok, off.samples());
+  EXPECT_FALSE(summary.life);
+  EXPECT_TRUE(summary.life_gaps.empty());
+  EXPECT_FALSE(summary.life_error_motion.has_value());
+  for (const OutputSummary& output : summary.outputs) {
+    EXPECT_EQ(std::find(kOutputNames.begin() + kFirstLifeOutput, kOutputNames.end(), output.name), kOutputNames.end())
+        << output.name;
+  }
+  std::ostringstream printed;
+  PrintSummary(printed, summary);
+  EXPECT_THAT(printed.str(), HasSubstr("life              " + std::string(kLifeNotComputed)));
+  const nlohmann::json json = SummaryJson(summary);
+  EXPECT_EQ(json["life"], nlohmann::json({{"computed", false}}));
+  EXPECT_FALSE(json["outputs"].contains("life_d_trajectory_mm"));
+}
+
+// Resume compares the choice: a file of the life's outputs is not continued without them,
+// nor the other way round, and the refusal names the key.
+TEST(CampaignStore, ResumeRefusesAChangedLifeChoiceNamingIt) {
+  const TempFile on_file(kSmallCampaign, "_on.toml");
+  const TempFile off_file(kLifeOff, "_off.toml");
+  const Campaign on(on_file.path(), std::nullopt, std::nullopt);
+  const Campaign off(off_file.path(), std::nullopt, std::nullopt);
+  for (const auto& [written, resumed] : {std::pair{&on, &off}, std::pair{&off, &on}}) {
+    const TempFile results("", ".h5");
+    CampaignStore::Create(results.path(), written->identity(), written->samples());
+    try {
+      CampaignStore::Resume(results.path(), resumed->identity(), resumed->samples());
+      ADD_FAILURE() << "resumed a file of life = " << written->identity().life << " with life = "
+                    << resumed->identity().life;
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), AllOf(HasSubstr("another campaign"),
+                                  HasSubstr(fmt::format("outputs.life differs ('{}' in the file, '{}' now)",
+                                                        written->identity().life, resumed->identity().life))));
+    }
+    EXPECT_NO_THROW(CampaignStore::Resume(results.path(), written->identity(), written->samples()));
+  }
+}
+
+// A campaign rebuilt from its results file (the report's and `ringtol inputs`'s replays)
+// keeps the stored choice.
+TEST(Campaign, ACampaignRebuiltFromItsResultsFileKeepsItsLifeChoice) {
+  const TempFile off_file(kLifeOff);
+  const TempFile results("", ".h5");
+  const Campaign off(off_file.path(), std::nullopt, std::nullopt);
+  const Campaign rebuilt(StoredIdentityOf(off, results.path()), off.samples());
+  EXPECT_FALSE(rebuilt.simulation().life);
+  EXPECT_FALSE(rebuilt.identity().life);
 }
 
 TEST(SampleEvaluator, ASampleIsTheSameWhereverAndWheneverItIsComputed) {
@@ -296,19 +437,13 @@ void ExpectSameProfile(const engine::PolarProfile& a, const engine::PolarProfile
   }
 }
 
-// The identity a results file of `campaign` at `results` reads back with.
-CampaignIdentity StoredIdentity(const Campaign& campaign, const std::filesystem::path& results) {
-  CampaignStore::Create(results, campaign.identity(), campaign.samples());
-  return CampaignReader(results).identity();
-}
-
 TEST(StoredCalibration, TheResultsFileKeepsEveryCalibrationBitForBit) {
   const TempFile file(kCalibratedCampaign);
   const TempFile results("", ".h5");
   const Campaign campaign(file.path(), std::nullopt, std::nullopt);
   const std::vector<sampling::ComponentScale>& made = campaign.sampling().sampler.scales();
   ASSERT_EQ(made.size(), 4u);  // the ring, and the three rollers' one class
-  const CampaignIdentity stored = StoredIdentity(campaign, results.path());
+  const CampaignIdentity stored = StoredIdentityOf(campaign, results.path());
   ASSERT_EQ(stored.calibrations.size(), made.size());
   for (std::size_t k = 0; k < made.size(); ++k) EXPECT_TRUE(SameCalibration(stored.calibrations[k], made[k])) << k;
 }
@@ -317,7 +452,7 @@ TEST(StoredCalibration, ACampaignBuiltFromStoredScalesRealisesTheSameAssembliesA
   const TempFile file(kCalibratedCampaign);
   const TempFile results("", ".h5");
   const Campaign fresh(file.path(), std::nullopt, std::nullopt);
-  const CampaignIdentity stored = StoredIdentity(fresh, results.path());
+  const CampaignIdentity stored = StoredIdentityOf(fresh, results.path());
   CampaignIdentity older = stored;  // as a file written before calibrations were stored
   older.calibrations.clear();
   const Campaign from_scales(stored, fresh.samples());
@@ -355,7 +490,7 @@ TEST(StoredCalibration, AStoredScaleIsDrawnWithAsStoredWithoutCalibratingAgain) 
   const TempFile file(kCalibratedCampaign);
   const TempFile results("", ".h5");
   const Campaign fresh(file.path(), std::nullopt, std::nullopt);
-  CampaignIdentity stored = StoredIdentity(fresh, results.path());
+  CampaignIdentity stored = StoredIdentityOf(fresh, results.path());
   ASSERT_EQ(stored.calibrations.front().component, "ring");
   // Twice the scale: no calibration gives it, so the sampler must have taken it as stored.
   stored.calibrations.front().calibration.scale *= 2.0;
@@ -368,7 +503,7 @@ TEST(StoredCalibration, AStoredCalibrationOfAnotherToleranceIsIgnoredAndTheClass
   const TempFile file(kCalibratedCampaign);
   const TempFile results("", ".h5");
   const Campaign fresh(file.path(), std::nullopt, std::nullopt);
-  CampaignIdentity stored = StoredIdentity(fresh, results.path());
+  CampaignIdentity stored = StoredIdentityOf(fresh, results.path());
   stored.calibrations.front().tolerance *= 2.0;
   stored.calibrations.front().calibration.scale *= 2.0;
   const Campaign rebuilt(stored, fresh.samples());
