@@ -626,16 +626,6 @@ void FillEquilibrium(const Linearisation& lin, const Eigen::VectorXd& y, Equilib
 // forces whose response the nominal solve gives too. Keeping the curvatures and slopes that
 // are known at the angle (they are products of first-order terms) leaves a remainder of
 // third order in what is not known there; At bounds it term by term below.
-struct SecondOrderTerms::Contact {
-  Eigen::Vector2d shift = Eigen::Vector2d::Zero();   // [m] the roller centre's position error
-  Eigen::Vector2d axis = Eigen::Vector2d::Zero();    // its spring axis
-  double travel0 = 0.0;          // [m] nominal travel (spring rollers)
-  double force0 = 0.0;           // [N] nominal contact force
-  double gap_gain = 0.0;         // [-] |centre response to a unit gap change|
-  double roller_value = 0.0;      // [m] |dr0| + sum |c_m| of the roller: bounds |dr|
-  double roller_jerk = 0.0;       // [m] sum m^3 |c_m|: bounds dr'''
-  double law_scale = 0.0;         // [m^(e-1)] delta^(e - 1) at the nominal penetration (penalty law)
-};
 
 namespace {
 
@@ -675,9 +665,9 @@ SupportRemainder SupportRemainderOf(const OutlineAtContact& ring, const OutlineA
 }  // namespace
 
 void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) const {
-  const NominalResponse& nominal = *nominal_;
-  const std::vector<Contact>& contacts = *contacts_;
-  const int z = nominal.rollers;
+  const SecondOrderScene& scene = *scene_;
+  const std::vector<SecondOrderScene::Contact>& contacts = scene.contacts;
+  const int z = static_cast<int>(contacts.size());
   const auto zs = static_cast<std::size_t>(z);
   const double infinite = std::numeric_limits<double>::infinity();
   out.travel.assign(zs, 0.0);
@@ -693,67 +683,66 @@ void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) c
   double* curvature = slope + zs;
   double* penetration_change = curvature + zs;
   double* linear_slope = penetration_change + zs;
-  const Eigen::Vector2d moved = first.centre - nominal.y0.head<2>();
-  const double ring_radius = nominal.ring_radius;
+  const Eigen::Vector2d moved = first.centre - scene.centre0;
+  const double ring_radius = scene.ring_radius;
   for (std::size_t i = 0; i < zs; ++i) {
-    const engine::Contact& c = nominal.contacts[i];
-    const Contact& k = contacts[i];
+    const SecondOrderScene::Contact& k = contacts[i];
     const double a = first.slopes[i];
     const double b = first.slopes[zs + i];
     const double q = first.curvatures[i];
     const double p = first.curvatures[zs + i];
     Eigen::Vector2d relative = moved - k.shift;
-    if (nominal.travel_row[i] >= 0) relative -= (first.travel[i] - k.travel0) * k.axis;
+    if (k.spring) relative -= (first.travel[i] - k.travel0) * k.axis;
     const double ring_reach = ring_radius - q;  // r + dr - dr'' of the bore, dr left out
-    const double roller_reach = nominal.roller_radius[i] + p;
-    linear_slope[i] = a + b + relative.dot(c.tangent);
-    curvature[i] = c.gap_curvature + q + p - relative.dot(c.normal);
+    const double roller_reach = k.roller_radius + p;
+    linear_slope[i] = a + b + relative.dot(k.tangent);
+    curvature[i] = k.gap_curvature + q + p - relative.dot(k.normal);
     if (!(ring_reach > 0.0 && roller_reach > 0.0 && curvature[i] > 0.0)) {
       bounded = false;  // beyond any expansion: the first-order curvatures stand in
       slope[i] = linear_slope[i];
-      curvature[i] = c.gap_curvature;
-      gamma[i] = a * a / (2.0 * ring_radius) - b * b / (2.0 * nominal.roller_radius[i]);
+      curvature[i] = k.gap_curvature;
+      gamma[i] = a * a / (2.0 * ring_radius) - b * b / (2.0 * k.roller_radius);
     } else {
       slope[i] = linear_slope[i] + a * q / ring_reach - b * p / roller_reach;
       gamma[i] = a * a / (2.0 * ring_reach) - b * b / (2.0 * roller_reach);
     }
     gamma[i] -= slope[i] * slope[i] / (2.0 * curvature[i]);
     penetration_change[i] = 0.0;
-    if (nominal.penetration[i] > 0.0) {
-      penetration_change[i] = (first.contact_force[i] - k.force0) / nominal.force_stiffness[i];
-      gamma[i] -= (nominal.exponent - 1.0) * penetration_change[i] * penetration_change[i] / (2.0 * nominal.penetration[i]);
+    if (k.penetration > 0.0) {
+      penetration_change[i] = (first.contact_force[i] - k.force0) / k.force_stiffness;
+      gamma[i] -= (scene.exponent - 1.0) * penetration_change[i] * penetration_change[i] / (2.0 * k.penetration);
     }
   }
-  const auto add = [&](double weight, Eigen::Index column, const Eigen::MatrixXd& response) {
+  const Eigen::MatrixXd& response = scene.response;
+  const auto add = [&](double weight, Eigen::Index column) {
     out.centre += weight * response.block<2, 1>(0, column);
     for (std::size_t j = 0; j < zs; ++j) {
-      const int travel_row = nominal.travel_row[j];
-      if (travel_row >= 0) out.travel[j] += weight * response(travel_row, column);
-      out.contact_force[j] += weight * response(nominal.first_force_row + static_cast<Eigen::Index>(j), column);
+      const auto row = static_cast<Eigen::Index>(2 + j);
+      if (contacts[j].spring) out.travel[j] += weight * response(row, column);
+      out.contact_force[j] += weight * response(row + z, column);
     }
   };
-  for (std::size_t i = 0; i < zs; ++i) add(gamma[i], static_cast<Eigen::Index>(i), nominal.response);
+  for (std::size_t i = 0; i < zs; ++i) add(gamma[i], static_cast<Eigen::Index>(i));
   // The turn the correction itself gives each normal, which the response followed.
   thread_local std::vector<double> feedback;
   feedback.resize(zs);
   for (std::size_t i = 0; i < zs; ++i) {
     Eigen::Vector2d moved_correction = out.centre;
-    if (nominal.travel_row[i] >= 0) moved_correction -= out.travel[i] * contacts[i].axis;
-    feedback[i] = moved_correction.dot(nominal.contacts[i].tangent);
+    if (contacts[i].spring) moved_correction -= out.travel[i] * contacts[i].axis;
+    feedback[i] = moved_correction.dot(contacts[i].tangent);
   }
   double correction = 0.0;  // the correction's size at the centre, each term by its gain
   for (std::size_t i = 0; i < zs; ++i) {
-    const engine::Contact& c = nominal.contacts[i];
-    const Contact& k = contacts[i];
+    const SecondOrderScene::Contact& k = contacts[i];
     const double force = first.contact_force[i];
     const double turn = -(slope[i] + feedback[i]) / curvature[i];
-    const double linear_turn = -(linear_slope[i] + feedback[i]) / c.gap_curvature;
+    const double linear_turn = -(linear_slope[i] + feedback[i]) / k.gap_curvature;
     const double normal_force = -force * turn * turn / 2.0;
     const double tangent_force = force * turn - k.force0 * linear_turn;
-    add(normal_force, static_cast<Eigen::Index>(i), nominal.force_response);
-    add(tangent_force, static_cast<Eigen::Index>(zs + i), nominal.force_response);
-    correction += k.gap_gain * std::abs(gamma[i]) + nominal.normal_force_gain[i] * std::abs(normal_force) +
-                  nominal.tangent_force_gain[i] * std::abs(tangent_force);
+    add(normal_force, static_cast<Eigen::Index>(zs + i));
+    add(tangent_force, static_cast<Eigen::Index>(2 * zs + i));
+    correction += k.gap_gain * std::abs(gamma[i]) + k.normal_force_gain * std::abs(normal_force) +
+                  k.tangent_force_gain * std::abs(tangent_force);
   }
   if (!bounded) {
     out.remainder = infinite;
@@ -792,23 +781,22 @@ void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) c
   double remainder = 0.0;
   double drift = 0.0;  // the largest relative change of the response's entries
   for (std::size_t i = 0; i < zs; ++i) {
-    const engine::Contact& c = nominal.contacts[i];
-    const Contact& k = contacts[i];
+    const SecondOrderScene::Contact& k = contacts[i];
     const double a = std::abs(first.slopes[i]);
     const double b = std::abs(first.slopes[zs + i]);
     const double q = std::abs(first.curvatures[i]);
     const double p = std::abs(first.curvatures[zs + i]);
-    const double r = nominal.roller_radius[i];
+    const double r = k.roller_radius;
     const double ring_reach = ring_radius - first.curvatures[i];
     const double roller_reach = r + first.curvatures[zs + i];
-    const double ring_allowance = ring_reach - ring_value_;
+    const double ring_allowance = ring_reach - scene.ring_value;
     const double roller_allowance = roller_reach - k.roller_value;
     if (!(ring_allowance > 0.0 && roller_allowance > 0.0)) {
       out.remainder = infinite;
       return;
     }
     // 1. The support functions.
-    const SupportRemainder support_bound = SupportRemainderOf({a, q, ring_reach, ring_allowance, ring_value_, ring_jerk_},
+    const SupportRemainder support_bound = SupportRemainderOf({a, q, ring_reach, ring_allowance, scene.ring_value, scene.ring_jerk},
                                                               {b, p, roller_reach, roller_allowance, k.roller_value, k.roller_jerk});
     const double support = support_bound.value;
     const double support_slope = support_bound.slope;
@@ -823,15 +811,15 @@ void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) c
     const double bound_slope = g1 + std::abs(feedback[i]) + support_slope;
     const double phi = bound_slope / curvature_allowance;
     const double turning = bound_slope * bound_slope / (2.0 * curvature_allowance) - g1 * g1 / (2.0 * curvature[i]) +
-                           (ring_jerk_ + k.roller_jerk + bound_slope) * phi * phi * phi / 3.0;
+                           (scene.ring_jerk + k.roller_jerk + bound_slope) * phi * phi * phi / 3.0;
     // 3. The penalty law.
     double law = 0.0;
     double law_drift = 0.0;
-    if (nominal.penetration[i] > 0.0) {
-      const double e = nominal.exponent;
-      const double delta = nominal.penetration[i];
+    if (k.penetration > 0.0) {
+      const double e = scene.exponent;
+      const double delta = k.penetration;
       const double d = std::abs(penetration_change[i]);
-      const double reach = d + std::abs(out.contact_force[i] / nominal.force_stiffness[i]);
+      const double reach = d + std::abs(out.contact_force[i] / k.force_stiffness);
       const double lowest = delta - reach;
       if (!(lowest > 0.0)) {
         out.remainder = infinite;
@@ -850,12 +838,12 @@ void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) c
     const double phi2 = phi * phi;
     const double normal_force = std::abs(out.contact_force[i]) * phi2 / 2.0 + force * ((phi2 - turn * turn) / 2.0 + phi2 * phi2 / 24.0);
     const double tangent_force = std::abs(out.contact_force[i]) * phi + force * (phi - turn + phi2 * phi / 6.0);
-    remainder += k.gap_gain * (support + turning + law) + nominal.normal_force_gain[i] * normal_force +
-                 nominal.tangent_force_gain[i] * tangent_force;
+    remainder += k.gap_gain * (support + turning + law) + k.normal_force_gain * normal_force +
+                 k.tangent_force_gain * tangent_force;
     // 5. The response's drift.
     const double force_change = std::abs(first.contact_force[i] - k.force0) + std::abs(out.contact_force[i]);
-    const double geometric = nominal.force_stiffness[i] > 0.0
-                                 ? force_change / (c.gap_curvature * nominal.force_stiffness[i])
+    const double geometric = k.force_stiffness > 0.0
+                                 ? force_change / (k.gap_curvature * k.force_stiffness)
                                  : 0.0;
     drift = std::max(drift, 2.0 * phi + law_drift + geometric);
   }
@@ -905,9 +893,9 @@ constexpr double kRoundingAllowance = 1.0 + 1e-9;
 // as the sums of second-order parts they equal, so that the bound stays of second order
 // (of third for the remainder) rather than of first.
 void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out) const {
-  const NominalResponse& nominal = *nominal_;
-  const std::vector<Contact>& contacts = *contacts_;
-  const auto zs = static_cast<std::size_t>(nominal.rollers);
+  const SecondOrderScene& scene = *scene_;
+  const std::vector<SecondOrderScene::Contact>& contacts = scene.contacts;
+  const auto zs = contacts.size();
   const double infinite = std::numeric_limits<double>::infinity();
   out.travel.assign(zs, 0.0);
   out.contact_force.assign(zs, 0.0);
@@ -915,7 +903,7 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
     out.centre = infinite;
     out.remainder = infinite;
     for (std::size_t j = 0; j < zs; ++j) {
-      if (nominal.travel_row[j] >= 0) out.travel[j] = infinite;
+      if (contacts[j].spring) out.travel[j] = infinite;
       out.contact_force[j] = infinite;
     }
   };
@@ -924,11 +912,10 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
   // the force's change from the nominal, and the reaches.
   std::vector<Interval> gamma(zs), linear_slope(zs), slope_extra(zs), slope(zs), kappa(zs), curvature(zs),
       force_change(zs), ring_reach(zs), roller_reach(zs);
-  const double ring_radius = nominal.ring_radius;
-  const Eigen::Vector2d moved = range.centre - nominal.y0.head<2>();
+  const double ring_radius = scene.ring_radius;
+  const Eigen::Vector2d moved = range.centre - scene.centre0;
   for (std::size_t i = 0; i < zs; ++i) {
-    const engine::Contact& c = nominal.contacts[i];
-    const Contact& k = contacts[i];
+    const SecondOrderScene::Contact& k = contacts[i];
     const Interval a{range.slope_low[i], range.slope_high[i]};
     const Interval b{range.slope_low[zs + i], range.slope_high[zs + i]};
     const Interval q{range.curvature_low[i], range.curvature_high[i]};
@@ -938,16 +925,16 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
     const auto relative_along = [&](const Eigen::Vector2d& u) {
       const double middle = (moved - k.shift).dot(u);
       Interval along{middle - range.centre_radius, middle + range.centre_radius};
-      if (nominal.travel_row[i] >= 0) {
+      if (k.spring) {
         along = along - k.axis.dot(u) * Interval{range.travel_low[i] - k.travel0, range.travel_high[i] - k.travel0};
       }
       return along;
     };
     ring_reach[i] = Interval::Point(ring_radius) - q;
-    roller_reach[i] = Interval::Point(nominal.roller_radius[i]) + p;
-    linear_slope[i] = a + b + relative_along(c.tangent);
-    kappa[i] = q + p - relative_along(c.normal);
-    curvature[i] = Interval::Point(c.gap_curvature) + kappa[i];
+    roller_reach[i] = Interval::Point(k.roller_radius) + p;
+    linear_slope[i] = a + b + relative_along(k.tangent);
+    kappa[i] = q + p - relative_along(k.normal);
+    curvature[i] = Interval::Point(k.gap_curvature) + kappa[i];
     // At's premises: where one may fail, At falls back to first-order curvatures and an
     // infinite remainder, which this does not follow: every bound is infinite.
     if (!(ring_reach[i].lo > 0.0 && roller_reach[i].lo > 0.0 && curvature[i].lo > 0.0)) {
@@ -959,9 +946,9 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
     gamma[i] = 0.5 * (Square(a) / ring_reach[i]) - 0.5 * (Square(b) / roller_reach[i]) -
                0.5 * (Square(slope[i]) / curvature[i]);
     force_change[i] = Interval{range.force_low[i] - k.force0, range.force_high[i] - k.force0};
-    if (nominal.penetration[i] > 0.0) {
-      const Interval d = (1.0 / nominal.force_stiffness[i]) * force_change[i];
-      gamma[i] = gamma[i] - ((nominal.exponent - 1.0) / (2.0 * nominal.penetration[i])) * Square(d);
+    if (k.penetration > 0.0) {
+      const Interval d = (1.0 / k.force_stiffness) * force_change[i];
+      gamma[i] = gamma[i] - ((scene.exponent - 1.0) / (2.0 * k.penetration)) * Square(d);
     }
   }
   // The outputs' corrections as intervals, summed column by column like At's `add`; the
@@ -977,29 +964,30 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
     directions[static_cast<std::size_t>(m)] = Eigen::Vector2d(std::cos(angle), std::sin(angle));
   }
   std::vector<Interval> travel(zs), force(zs);
-  const auto add = [&](Interval weight, Eigen::Index column, const Eigen::MatrixXd& response) {
+  const Eigen::MatrixXd& response = scene.response;
+  const auto add = [&](Interval weight, Eigen::Index column) {
     const Eigen::Vector2d moves = response.block<2, 1>(0, column);
     for (int m = 0; m < kDirections; ++m) {
       Interval& along = centre_along[static_cast<std::size_t>(m)];
       along = along + moves.dot(directions[static_cast<std::size_t>(m)]) * weight;
     }
     for (std::size_t j = 0; j < zs; ++j) {
-      const int travel_row = nominal.travel_row[j];
-      if (travel_row >= 0) travel[j] = travel[j] + response(travel_row, column) * weight;
-      force[j] = force[j] + response(nominal.first_force_row + static_cast<Eigen::Index>(j), column) * weight;
+      const auto row = static_cast<Eigen::Index>(2 + j);
+      if (contacts[j].spring) travel[j] = travel[j] + response(row, column) * weight;
+      force[j] = force[j] + response(row + static_cast<Eigen::Index>(zs), column) * weight;
     }
   };
-  for (std::size_t i = 0; i < zs; ++i) add(gamma[i], static_cast<Eigen::Index>(i), nominal.response);
+  for (std::size_t i = 0; i < zs; ++i) add(gamma[i], static_cast<Eigen::Index>(i));
   // The feedback of contact i, (centre - travel_i axis_i) . t_i after the gammas, is linear
   // in them: summed gamma by gamma, not from the centre's and travel's intervals, which
   // would forget that one gamma moves both.
   std::vector<Interval> feedback(zs);
   for (std::size_t i = 0; i < zs; ++i) {
-    const Eigen::Vector2d& t = nominal.contacts[i].tangent;
+    const Eigen::Vector2d& t = contacts[i].tangent;
     for (std::size_t m = 0; m < zs; ++m) {
       const auto column = static_cast<Eigen::Index>(m);
-      double weight = nominal.response(0, column) * t.x() + nominal.response(1, column) * t.y();
-      if (nominal.travel_row[i] >= 0) weight -= nominal.response(nominal.travel_row[i], column) * contacts[i].axis.dot(t);
+      double weight = response(0, column) * t.x() + response(1, column) * t.y();
+      if (contacts[i].spring) weight -= response(static_cast<Eigen::Index>(2 + i), column) * contacts[i].axis.dot(t);
       feedback[i] = feedback[i] + weight * gamma[m];
     }
   }
@@ -1010,18 +998,17 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
   // second order: bounding F and turn apart would leave a first-order bound.
   std::vector<Interval> turn(zs), normal_force(zs), tangent_force(zs);
   for (std::size_t i = 0; i < zs; ++i) {
-    const engine::Contact& c = nominal.contacts[i];
-    const Contact& k = contacts[i];
+    const SecondOrderScene::Contact& k = contacts[i];
     const Interval force_first{range.force_low[i], range.force_high[i]};
     turn[i] = Interval::Point(0.0) - (slope[i] + feedback[i]) / curvature[i];
-    const Interval turn_change = (linear_slope[i] + feedback[i]) * kappa[i] / (c.gap_curvature * curvature[i]) -
+    const Interval turn_change = (linear_slope[i] + feedback[i]) * kappa[i] / (k.gap_curvature * curvature[i]) -
                                  slope_extra[i] / curvature[i];
     normal_force[i] = -0.5 * (force_first * Square(turn[i]));
     tangent_force[i] = force_change[i] * turn[i] + k.force0 * turn_change;
   }
   for (std::size_t i = 0; i < zs; ++i) {
-    add(normal_force[i], static_cast<Eigen::Index>(i), nominal.force_response);
-    add(tangent_force[i], static_cast<Eigen::Index>(zs + i), nominal.force_response);
+    add(normal_force[i], static_cast<Eigen::Index>(zs + i));
+    add(tangent_force[i], static_cast<Eigen::Index>(2 * zs + i));
   }
   double centre_along_max = 0.0;
   for (const Interval& along : centre_along) centre_along_max = std::max(centre_along_max, along.Magnitude());
@@ -1033,8 +1020,8 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
   // At's `correction`: each term's magnitude by its gain.
   double correction = 0.0;
   for (std::size_t i = 0; i < zs; ++i) {
-    correction += contacts[i].gap_gain * gamma[i].Magnitude() + nominal.normal_force_gain[i] * normal_force[i].Magnitude() +
-                  nominal.tangent_force_gain[i] * tangent_force[i].Magnitude();
+    correction += contacts[i].gap_gain * gamma[i].Magnitude() + contacts[i].normal_force_gain * normal_force[i].Magnitude() +
+                  contacts[i].tangent_force_gain * tangent_force[i].Magnitude();
   }
 
   // The remainder, At's five terms. Each is a sum of products and quotients of
@@ -1046,22 +1033,21 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
   double remainder = 0.0;
   double drift = 0.0;
   for (std::size_t i = 0; i < zs; ++i) {
-    const engine::Contact& c = nominal.contacts[i];
-    const Contact& k = contacts[i];
+    const SecondOrderScene::Contact& k = contacts[i];
     const double a = std::max(std::abs(range.slope_low[i]), std::abs(range.slope_high[i]));
     const double b = std::max(std::abs(range.slope_low[zs + i]), std::abs(range.slope_high[zs + i]));
     const double q = std::max(std::abs(range.curvature_low[i]), std::abs(range.curvature_high[i]));
     const double p = std::max(std::abs(range.curvature_low[zs + i]), std::abs(range.curvature_high[zs + i]));
     const double ring_low = ring_reach[i].lo;      // <= R - q at every angle
     const double roller_low = roller_reach[i].lo;  // <= r + p
-    const double ring_allowance = ring_low - ring_value_;
+    const double ring_allowance = ring_low - scene.ring_value;
     const double roller_allowance = roller_low - k.roller_value;
     if (!(ring_allowance > 0.0 && roller_allowance > 0.0)) {
       out.remainder = infinite;
       return;
     }
     // 1. The support functions: increasing in a, b, q, p, decreasing in the reaches.
-    const SupportRemainder support = SupportRemainderOf({a, q, ring_low, ring_allowance, ring_value_, ring_jerk_},
+    const SupportRemainder support = SupportRemainderOf({a, q, ring_low, ring_allowance, scene.ring_value, scene.ring_jerk},
                                                         {b, p, roller_low, roller_allowance, k.roller_value, k.roller_jerk});
     // 2. The turn. With g1 = |slope|, x = |feedback| + support.slope (At's bound_slope is
     // g1 + x), K' = support.curvature and G = curvature, At's
@@ -1080,18 +1066,18 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
     const double phi = bound_slope / curvature_allowance;  // >= At's phi
     const double turning = (2.0 * g1 * x + x * x) / (2.0 * curvature_allowance) +
                            g1 * g1 * support.curvature / (2.0 * curvature_low * curvature_allowance) +
-                           (ring_jerk_ + k.roller_jerk + bound_slope) * phi * phi * phi / 3.0;
+                           (scene.ring_jerk + k.roller_jerk + bound_slope) * phi * phi * phi / 3.0;
     // 3. The penalty law. At's reach^2 - d^2 with reach = d + |dd| is 2 d |dd| + dd^2,
     // increasing in d and |dd|; x^(e - 3) is monotone, so its largest over
     // [delta - reach, delta + reach] is at an end, and it grows as reach does.
     const double force_correction = force[i].Magnitude();  // >= |At's out.contact_force|
     double law = 0.0;
     double law_drift = 0.0;
-    if (nominal.penetration[i] > 0.0) {
-      const double e = nominal.exponent;
-      const double delta = nominal.penetration[i];
-      const double d = force_change[i].Magnitude() / nominal.force_stiffness[i];
-      const double dd = force_correction / nominal.force_stiffness[i];
+    if (k.penetration > 0.0) {
+      const double e = scene.exponent;
+      const double delta = k.penetration;
+      const double d = force_change[i].Magnitude() / k.force_stiffness;
+      const double dd = force_correction / k.force_stiffness;
       const double reach = d + dd;
       const double lowest = delta - reach;
       if (!(lowest > 0.0)) {
@@ -1118,12 +1104,12 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
     const double normal = force_correction * phi2 / 2.0 +
                           force_bound * (phi_excess * (phi + turn_bound) / 2.0 + phi2 * phi2 / 24.0);
     const double tangent = force_correction * phi + force_bound * (phi_excess + phi2 * phi / 6.0);
-    remainder += k.gap_gain * (support.value + turning + law) + nominal.normal_force_gain[i] * normal +
-                 nominal.tangent_force_gain[i] * tangent;
+    remainder += k.gap_gain * (support.value + turning + law) + k.normal_force_gain * normal +
+                 k.tangent_force_gain * tangent;
     // 5. The response's drift: increasing in phi, reach and the force's change.
     const double change = force_change[i].Magnitude() + force_correction;
     const double geometric =
-        nominal.force_stiffness[i] > 0.0 ? change / (c.gap_curvature * nominal.force_stiffness[i]) : 0.0;
+        k.force_stiffness > 0.0 ? change / (k.gap_curvature * k.force_stiffness) : 0.0;
     drift = std::max(drift, 2.0 * phi + law_drift + geometric);
   }
   out.remainder = kRoundingAllowance * (remainder + drift * correction);
@@ -1133,15 +1119,31 @@ double SecondOrderTerms::EstimateFrom(double largest_remainder, double farthest)
   // The sensor reads the centre along its ray, plus its tangential offset c_t times the
   // bore's slope over R and c_t^2 / (2 R) (docs/model.md §5): a centre error moves the
   // reading by at most (1 + (|c| + max |dr'|) / R) times itself.
-  const double sensor_gain = 1.0 + (farthest + ring_slope_sum_) / nominal_->ring_radius;
+  const double sensor_gain = 1.0 + (farthest + scene_->ring_slope_sum) / scene_->ring_radius;
   return 2.0 * sensor_gain * largest_remainder;
 }
 
+SecondOrderTerms::SecondOrderTerms(SecondOrderScene scene)
+    : scene_(std::make_shared<const SecondOrderScene>(std::move(scene))) {}
+
 SecondOrderTerms LinearSolver::SecondOrderOf(const Scene& scene, std::shared_ptr<const NominalResponse> nominal) {
-  SecondOrderTerms terms;
-  if (nominal == nullptr || nominal->equilibrium.status != Status::kOk) return terms;
-  const auto zs = static_cast<std::size_t>(nominal->rollers);
-  auto contacts = std::make_shared<std::vector<SecondOrderTerms::Contact>>(zs);
+  if (nominal == nullptr || nominal->equilibrium.status != Status::kOk) return {};
+  const int z = nominal->rollers;
+  const auto zs = static_cast<std::size_t>(z);
+  SecondOrderScene second;
+  second.contacts.resize(zs);
+  second.centre0 = nominal->y0.head<2>();
+  second.ring_radius = nominal->ring_radius;
+  second.exponent = nominal->exponent;
+  // The nominal's outputs (its travel rows for spring rollers only) in the second order's
+  // rows, and its force responses beside the gap responses.
+  second.response = Eigen::MatrixXd::Zero(2 + 2 * z, 3 * z);
+  const auto copy_rows = [&](Eigen::Index from, Eigen::Index to) {
+    second.response.block(to, 0, 1, z) = nominal->response.block(from, 0, 1, z);
+    second.response.block(to, z, 1, 2 * z) = nominal->force_response.row(from);
+  };
+  copy_rows(0, 0);
+  copy_rows(1, 1);
   // |dr| <= |dr0| + sum |C_n|, |dr'| <= sum n |C_n|, |dr'''| <= sum n^3 |C_n|.
   const auto moments = [](const engine::PolarProfile& profile, double& value, double& jerk, double& slope) {
     value = std::abs(profile.mean_deviation());
@@ -1156,21 +1158,33 @@ SecondOrderTerms LinearSolver::SecondOrderOf(const Scene& scene, std::shared_ptr
     }
   };
   double unused = 0.0;
-  moments(scene.ring.inner, terms.ring_value_, terms.ring_jerk_, terms.ring_slope_sum_);
+  moments(scene.ring.inner, second.ring_value, second.ring_jerk, second.ring_slope_sum);
   for (std::size_t i = 0; i < zs; ++i) {
     const int index = static_cast<int>(i);
-    SecondOrderTerms::Contact& k = (*contacts)[i];
-    k.shift = engine::RollerCentre(scene, index) - engine::RollerCentre(nominal->perfect, index);
-    k.axis = engine::SpringAxis(scene, index);
-    if (nominal->travel_row[i] >= 0) k.travel0 = nominal->y0[nominal->travel_row[i]];
+    const engine::Contact& c = nominal->contacts[i];
+    SecondOrderScene::Contact& k = second.contacts[i];
+    k.normal = c.normal;
+    k.tangent = c.tangent;
+    k.gap_curvature = c.gap_curvature;
+    k.roller_radius = nominal->roller_radius[i];
+    k.spring = nominal->travel_row[i] >= 0;
+    if (k.spring) {
+      k.travel0 = nominal->y0[nominal->travel_row[i]];
+      copy_rows(nominal->travel_row[i], 2 + index);
+    }
     k.force0 = nominal->y0[nominal->first_force_row + index];
-    k.gap_gain = nominal->response.block<2, 1>(0, index).norm();
-    moments(scene.rollers[i].outline, k.roller_value, k.roller_jerk, unused);
+    copy_rows(nominal->first_force_row + index, 2 + z + index);
+    k.penetration = nominal->penetration[i];
+    k.force_stiffness = nominal->force_stiffness[i];
     k.law_scale = std::pow(nominal->penetration[i], nominal->exponent - 1.0);
+    k.gap_gain = nominal->response.block<2, 1>(0, index).norm();
+    k.normal_force_gain = nominal->normal_force_gain[i];
+    k.tangent_force_gain = nominal->tangent_force_gain[i];
+    k.axis = engine::SpringAxis(scene, index);
+    k.shift = engine::RollerCentre(scene, index) - engine::RollerCentre(nominal->perfect, index);
+    moments(scene.rollers[i].outline, k.roller_value, k.roller_jerk, unused);
   }
-  terms.nominal_ = std::move(nominal);
-  terms.contacts_ = std::move(contacts);
-  return terms;
+  return SecondOrderTerms(std::move(second));
 }
 
 SecondOrderTerms LinearSolver::SecondOrder(const Scene& scene) const { return SecondOrderOf(scene, Nominal(scene)); }

@@ -115,11 +115,52 @@ struct SecondOrderRange {
   double remainder = 0.0;             // [m] >= SecondOrderAngle::remainder
 };
 
+// One scene as the second-order terms read it: its error-free assembly's static
+// equilibrium and first-order response (LinearSolver's linearisation), and the sizes of
+// the scene's errors that the remainder bound needs. Z contacts, one per roller.
+struct SecondOrderScene {
+  struct Contact {
+    // At the error-free assembly's equilibrium.
+    Eigen::Vector2d normal = Eigen::Vector2d::Zero();   // [-] unit, outward from the ring's centre
+    Eigen::Vector2d tangent = Eigen::Vector2d::Zero();  // [-] the normal turned by +90 deg
+    double gap_curvature = 0.0;       // [m] g'' of the gap along the normal's angle (> 0: isolated)
+    double roller_radius = 0.0;       // [m] r_i, nominal
+    bool spring = false;              // a spring roller (travels along axis), else fixed
+    double travel0 = 0.0;             // [m] nominal travel (spring rollers)
+    double force0 = 0.0;              // [N] nominal contact force
+    double penetration = 0.0;         // [m] delta (penalty law; 0 for the rigid law)
+    double force_stiffness = 0.0;     // [N/m] dF/d delta there (penalty law; 0 rigid)
+    double law_scale = 0.0;           // [m^(e-1)] delta^(e - 1) (penalty law)
+    double gap_gain = 0.0;            // [-] |the centre's response to a unit gap change|
+    double normal_force_gain = 0.0;   // [m/N] |the centre's response to a unit force along the normal|
+    double tangent_force_gain = 0.0;  // [m/N] likewise along the tangent
+    // The scene's own.
+    Eigen::Vector2d axis = Eigen::Vector2d::Zero();   // [-] unit spring axis (spring rollers)
+    Eigen::Vector2d shift = Eigen::Vector2d::Zero();  // [m] the roller centre's position error
+    double roller_value = 0.0;        // [m] |dr0| + sum |c_m| of the roller: bounds |dr|
+    double roller_jerk = 0.0;         // [m] sum m^3 |c_m|: bounds |dr'''|
+  };
+  std::vector<Contact> contacts;
+  Eigen::Vector2d centre0 = Eigen::Vector2d::Zero();  // [m] the ring centre at the equilibrium
+  double ring_radius = 0.0;         // [m] R, the bore's nominal
+  double exponent = 1.0;            // [-] e of the penalty law
+  // The first-order response of the outputs, rows centre x, y [m], travel [m] per roller
+  // (zero rows for fixed rollers), contact force [N] per roller (2 + 2Z rows), to each
+  // contact's gap change [m] (columns 0 .. Z-1), to an extra force [N] there along its
+  // normal (Z .. 2Z-1) and along its tangent (2Z .. 3Z-1).
+  Eigen::MatrixXd response;
+  double ring_value = 0.0;          // [m] |dr0| + sum |C_n| of the bore: bounds |dr|
+  double ring_jerk = 0.0;           // [m] sum n^3 |C_n|: bounds |dr'''|
+  double ring_slope_sum = 0.0;      // [m] sum n |C_n|: bounds |dr'|
+};
+
 // The second-order correction of one scene, angle by angle (solvers/linear.cpp
-// SecondOrderTerms::At). Cheap to copy; thread-safe; holds the linearisation it came from.
+// SecondOrderTerms::At). Cheap to copy; thread-safe; shares the scene it was made from.
 class SecondOrderTerms {
  public:
-  bool usable() const { return nominal_ != nullptr; }
+  SecondOrderTerms() = default;  // not usable()
+  explicit SecondOrderTerms(SecondOrderScene scene);
+  bool usable() const { return scene_ != nullptr; }
   // `first` one angle of this scene's first-order path (LinearSolver::Phasors summed there,
   // or SolveRevolution's path before correction); `out` is resized to the scene's rollers
   // (allocates only the first time: reuse it across angles). Requires usable().
@@ -135,13 +176,7 @@ class SecondOrderTerms {
   double EstimateFrom(double largest_remainder, double reach) const;
 
  private:
-  friend class LinearSolver;
-  struct Contact;  // per contact constants
-  std::shared_ptr<const NominalResponse> nominal_;
-  std::shared_ptr<const std::vector<Contact>> contacts_;
-  double ring_value_ = 0.0;      // [m] |dr0| + sum |C_n| of the bore: bounds |dr|
-  double ring_jerk_ = 0.0;       // [m] sum n^3 |C_n|: bounds |dr'''|
-  double ring_slope_sum_ = 0.0;  // [m] sum n |C_n|: bounds |dr'|
+  std::shared_ptr<const SecondOrderScene> scene_;
 };
 
 // First-order bounds on how far a revolution's outputs stray from the chord through their
