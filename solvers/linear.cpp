@@ -761,9 +761,9 @@ struct LinearPath::Parts {
   std::vector<double> dense_cos, dense_sin;  // per term: the turn by one angle
   std::vector<double> coarse_table;          // TurnRun's rows at the coarse angles
   std::size_t coarse_stride = 0;             // the coarse table's row stride
-  std::vector<double> now_cos, now_sin, turn_cos, turn_sin, table, sums, derivatives;
+  std::vector<double> now_cos, now_sin, turn_cos, turn_sin, table, sums;
+  std::vector<double> first_block, correction_block;  // FirstOrderAngles' and SecondOrderAngles' rows
   Eigen::VectorXd values, y;
-  SecondOrderAngle correction;
   path_kernels::Isa kernels = path_kernels::Isa::kBest;
 
   // Appends the outputs of the table's first `count` lanes (row stride `stride`), which
@@ -777,41 +777,42 @@ struct LinearPath::Parts {
     path_kernels::KernelsFor(kernels).sum_rows(group.View(), table_data, stride, stride, sums.data(), stride);
     const Eigen::Index outputs = nominal.response.rows();
     const std::size_t gap_series = 5 * zs;
+    const std::size_t count = index.size();
+    const std::size_t width = 2 + 6 * zs;  // FirstOrderAngles' rows
     values.resize(static_cast<Eigen::Index>(gap_series));
-    derivatives.resize(4 * zs);
-    for (std::size_t j = 0; j < index.size(); ++j) {
+    // The first-order outputs, angle by angle into At's inputs (the block, and the samples'
+    // own angle-major copy); the gap derivatives are series rows Z .. 5Z - 1 as they stand.
+    first_block.resize(width * stride);
+    for (std::size_t j = 0; j < count; ++j) {
       for (std::size_t s = 0; s < gap_series; ++s) values[static_cast<Eigen::Index>(s)] = sums[s * stride + j];
       y.noalias() = nominal.series_response * values;
       y += lin.offset.head(outputs);
-      // The first-order outputs, then the second order SolveRevolution adds at every angle.
-      const std::size_t at = samples.travel.size();
+      first_block[j] = y[0];
+      first_block[stride + j] = y[1];
       for (std::size_t i = 0; i < zs; ++i) {
         const int row = nominal.travel_row[i];
-        samples.travel.push_back(row >= 0 ? y[row] : 0.0);
-        samples.contact_force.push_back(y[nominal.first_force_row + static_cast<Eigen::Index>(i)]);
+        first_block[(2 + i) * stride + j] = row >= 0 ? y[row] : 0.0;
+        first_block[(2 + zs + i) * stride + j] = y[nominal.first_force_row + static_cast<Eigen::Index>(i)];
       }
-      for (std::size_t s = 0; s < 4 * zs; ++s) derivatives[s] = sums[(zs + s) * stride + j];
-      samples.first_order.push_back(y[0]);
-      samples.first_order.push_back(y[1]);
-      samples.first_order.insert(samples.first_order.end(), samples.travel.begin() + static_cast<std::ptrdiff_t>(at),
-                                 samples.travel.end());
-      samples.first_order.insert(samples.first_order.end(),
-                                 samples.contact_force.begin() + static_cast<std::ptrdiff_t>(at),
-                                 samples.contact_force.end());
-      samples.first_order.insert(samples.first_order.end(), derivatives.begin(), derivatives.end());
-      const std::span<double> travel(samples.travel.data() + at, zs);
-      const std::span<double> force(samples.contact_force.data() + at, zs);
-      second.At({y.head<2>(), travel, force, std::span<const double>(derivatives.data(), 2 * zs),
-                 std::span<const double>(derivatives.data() + 2 * zs, 2 * zs)},
-                correction);
-      const Eigen::Vector2d centre = y.head<2>() + correction.centre;
-      for (std::size_t i = 0; i < zs; ++i) {
-        travel[i] += correction.travel[i];
-        force[i] += correction.contact_force[i];
-      }
+    }
+    std::copy_n(sums.begin() + static_cast<std::ptrdiff_t>(zs * stride), 4 * zs * stride,
+                first_block.begin() + static_cast<std::ptrdiff_t>((2 + 2 * zs) * stride));
+    for (std::size_t j = 0; j < count; ++j) {
+      for (std::size_t f = 0; f < width; ++f) samples.first_order.push_back(first_block[f * stride + j]);
+    }
+    // The second order SolveRevolution adds at every angle, for the whole block at once.
+    correction_block.resize((3 + 2 * zs) * stride);
+    second.AtEach({first_block.data(), stride, count}, {correction_block.data(), stride});
+    const auto first = [&](std::size_t f, std::size_t j) { return first_block[f * stride + j]; };
+    const auto correction = [&](std::size_t f, std::size_t j) { return correction_block[f * stride + j]; };
+    for (std::size_t j = 0; j < count; ++j) {
+      const Eigen::Vector2d centre =
+          Eigen::Vector2d(first(0, j), first(1, j)) + Eigen::Vector2d(correction(0, j), correction(1, j));
+      for (std::size_t i = 0; i < zs; ++i) samples.travel.push_back(first(2 + i, j) + correction(2 + i, j));
+      for (std::size_t i = 0; i < zs; ++i) samples.contact_force.push_back(first(2 + zs + i, j) + correction(2 + zs + i, j));
       samples.index.push_back(index[j]);
       samples.centre.push_back(centre);
-      samples.remainder.push_back(correction.remainder);
+      samples.remainder.push_back(correction(2 + 2 * zs, j));
       const double form = sums[gap_series * stride + j];
       const double form_slope = sums[(gap_series + 1) * stride + j];
       const double form_curvature = sums[(gap_series + 2) * stride + j];
@@ -1181,26 +1182,41 @@ Trajectory LinearSolver::SolveRevolution(const Scene& scene, int steps) const {
     path.stride[static_cast<std::size_t>(nominal.first_slope_row) + j] = 4 * z;
   }
   EvaluatePath(lin, steps, path_kernels::KernelsFor(options_.kernels), path);
-  // The second order at every angle; what it leaves bounds the estimate.
+  // The second order at every angle, a block of angles at a time (AtEach, At's bits); what
+  // it leaves bounds the estimate.
   const SecondOrderTerms second = SecondOrderOf(scene, lin.nominal);
-  thread_local SecondOrderAngle correction;
+  constexpr std::size_t kBlock = 64;
+  thread_local std::vector<double> first_block, correction_block;
+  first_block.resize((2 + 6 * zs) * kBlock);
+  correction_block.resize((3 + 2 * zs) * kBlock);
   double largest_remainder = 0.0;
   double farthest = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::span<double> travel(trajectory.travel.data() + k * zs, zs);
-    const std::span<double> force(trajectory.contact_force.data() + k * zs, zs);
-    const double* derivatives = slopes.data() + k * 4 * zs;
-    second.At({trajectory.centre[k], travel, force, std::span<const double>(derivatives, 2 * zs),
-               std::span<const double>(derivatives + 2 * zs, 2 * zs)},
-              correction);
-    trajectory.centre[k] += correction.centre;
-    for (std::size_t i = 0; i < zs; ++i) {
-      travel[i] += correction.travel[i];
-      force[i] += correction.contact_force[i];
+  for (std::size_t from = 0; from < n; from += kBlock) {
+    const std::size_t count = std::min(kBlock, n - from);
+    for (std::size_t j = 0; j < count; ++j) {
+      const std::size_t k = from + j;
+      first_block[j] = trajectory.centre[k].x();
+      first_block[kBlock + j] = trajectory.centre[k].y();
+      for (std::size_t i = 0; i < zs; ++i) {
+        first_block[(2 + i) * kBlock + j] = trajectory.travel[k * zs + i];
+        first_block[(2 + zs + i) * kBlock + j] = trajectory.contact_force[k * zs + i];
+      }
+      for (std::size_t r = 0; r < 4 * zs; ++r) first_block[(2 + 2 * zs + r) * kBlock + j] = slopes[k * 4 * zs + r];
     }
-    // max() would drop a NaN: the estimate must carry it.
-    if (!(correction.remainder <= largest_remainder)) largest_remainder = correction.remainder;
-    farthest = std::max(farthest, trajectory.centre[k].norm());
+    second.AtEach({first_block.data(), kBlock, count}, {correction_block.data(), kBlock});
+    const auto correction = [&](std::size_t f, std::size_t j) { return correction_block[f * kBlock + j]; };
+    for (std::size_t j = 0; j < count; ++j) {
+      const std::size_t k = from + j;
+      trajectory.centre[k] += Eigen::Vector2d(correction(0, j), correction(1, j));
+      for (std::size_t i = 0; i < zs; ++i) {
+        trajectory.travel[k * zs + i] += correction(2 + i, j);
+        trajectory.contact_force[k * zs + i] += correction(2 + zs + i, j);
+      }
+      // max() would drop a NaN: the estimate must carry it.
+      const double remainder = correction(2 + 2 * zs, j);
+      if (!(remainder <= largest_remainder)) largest_remainder = remainder;
+      farthest = std::max(farthest, trajectory.centre[k].norm());
+    }
   }
   trajectory.initial.centre = trajectory.centre.front();
   trajectory.initial.travel.assign(trajectory.travel.begin(), trajectory.travel.begin() + z);

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
+
+#include <boost/container/small_vector.hpp>
 
 namespace ringtol::solvers {
 
@@ -32,30 +35,83 @@ namespace ringtol::solvers {
 
 namespace {
 
+// The kernel below runs on one angle (Lane = double: At) or on two side by side (Lane =
+// Pair: AtEach), a GCC vector of two doubles, an SSE2 register on every x86-64. Each lane
+// of a Pair operation is the IEEE operation a double would do (the file is compiled without
+// contraction into fused multiply-adds, solvers/CMakeLists.txt), so both give the same bits.
+using Pair = double __attribute__((vector_size(16)));
+using PairMask = long long __attribute__((vector_size(16)));  // a comparison's lanes: all ones or zero
+
+template <class Lane>
+struct LaneOps;
+
+template <>
+struct LaneOps<double> {
+  using Mask = bool;
+  static double Splat(double x) { return x; }
+  static double Abs(double x) { return std::abs(x); }
+  static double Sqrt(double x) { return std::sqrt(x); }
+  static double Select(bool m, double a, double b) { return m ? a : b; }
+  static bool And(bool a, bool b) { return a && b; }
+  static bool Any(bool m) { return m; }
+  template <class F>
+  static double EachLane(double x, F f) { return f(x); }
+};
+
+template <>
+struct LaneOps<Pair> {
+  using Mask = PairMask;
+  static Pair Splat(double x) { return Pair{x, x}; }
+  static Pair Abs(Pair x) {
+    constexpr long long kMagnitude = 0x7fffffffffffffffLL;  // every bit but the sign
+    return std::bit_cast<Pair>(std::bit_cast<PairMask>(x) & PairMask{kMagnitude, kMagnitude});
+  }
+  static Pair Sqrt(Pair x) { return Pair{std::sqrt(x[0]), std::sqrt(x[1])}; }
+  static Pair Select(PairMask m, Pair a, Pair b) { return m ? a : b; }
+  static PairMask And(PairMask a, PairMask b) { return a & b; }
+  static bool Any(PairMask m) { return m[0] != 0 || m[1] != 0; }
+  template <class F>
+  static Pair EachLane(Pair x, F f) { return Pair{f(x[0]), f(x[1])}; }
+};
+
+// x^(e - 3) [m^(e-3)], the penalty law's third derivative's factor, at x > 0. For the
+// article's e = 1.5 it is 1 / (x sqrt(x)): three correctly rounded operations against pow's
+// one, within a few ulp of it (tests/solvers/second_order_test.cpp), and it vectorises,
+// where pow was a sixth of At's time.
+template <class Lane>
+Lane LawPower(Lane x, double e) {
+  using Ops = LaneOps<Lane>;
+  if (e == 1.5) return 1.0 / (x * Ops::Sqrt(x));
+  return Ops::EachLane(x, [e](double w) { return std::pow(w, e - 3.0); });
+}
+
 // Remainder term 1 of SecondOrderTerms::At (the support functions), shared with Over: per
 // outline its slope's and curvature's magnitudes at the contact, its reach (R - q, r + p)
 // and allowance (the reach less U >= |dr|, > 0), U and J >= |dr'''|. The operations and
 // their order are At's own from before Over existed, so its results keep their bits.
+template <class Lane>
 struct OutlineAtContact {
-  double slope = 0.0;      // [m/rad] |a| or |b|
-  double curvature = 0.0;  // [m/rad^2] |q| or |p|
-  double reach = 0.0;      // [m]
-  double allowance = 0.0;  // [m]
+  Lane slope;              // [m/rad] |a| or |b|
+  Lane curvature;          // [m/rad^2] |q| or |p|
+  Lane reach;              // [m]
+  Lane allowance;          // [m]
   double value = 0.0;      // [m] U
   double jerk = 0.0;       // [m] J
 };
+template <class Lane>
 struct SupportRemainder {
-  double value = 0.0;      // [m] of the gap
-  double slope = 0.0;      // [m/rad]
-  double curvature = 0.0;  // [m/rad^2]
+  Lane value;      // [m] of the gap
+  Lane slope;      // [m/rad]
+  Lane curvature;  // [m/rad^2]
 };
-SupportRemainder SupportRemainderOf(const OutlineAtContact& ring, const OutlineAtContact& roller) {
-  const double a = ring.slope, q = ring.curvature, b = roller.slope, p = roller.curvature;
-  const double ring_slide = a / ring.allowance;
-  const double roller_slide = b / roller.allowance;
-  const double ring_cubic = ring.jerk + 3.0 * a;
-  const double roller_cubic = roller.jerk + 3.0 * b;
-  SupportRemainder out;
+template <class Lane>
+SupportRemainder<Lane> SupportRemainderOf(const OutlineAtContact<Lane>& ring, const OutlineAtContact<Lane>& roller) {
+  const Lane a = ring.slope, q = ring.curvature, b = roller.slope, p = roller.curvature;
+  const Lane ring_slide = a / ring.allowance;
+  const Lane roller_slide = b / roller.allowance;
+  const Lane ring_cubic = ring.jerk + 3.0 * a;
+  const Lane roller_cubic = roller.jerk + 3.0 * b;
+  SupportRemainder<Lane> out;
   out.value = a * a * ring.value / (2.0 * ring.allowance * ring.reach) + ring_cubic * ring_slide * ring_slide * ring_slide / 3.0 +
               b * b * roller.value / (2.0 * roller.allowance * roller.reach) +
               roller_cubic * roller_slide * roller_slide * roller_slide / 3.0;
@@ -65,90 +121,107 @@ SupportRemainder SupportRemainderOf(const OutlineAtContact& ring, const OutlineA
   return out;
 }
 
-}  // namespace
+// Per contact, what the kernel carries from one pass over the contacts to the next: gamma,
+// the turn g'_i with its known second-order slopes, the gap's curvature, the penetration
+// change d_i, the first-order turn's slope, the correction's own turn, and the corrections
+// of the roller's travel and contact force.
+template <class Lane>
+struct ContactLanes {
+  Lane gamma, slope, curvature, penetration_change, linear_slope, feedback, travel, force;
+};
 
-void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) const {
-  const SecondOrderScene& scene = *scene_;
+// One angle's (Lane = double) or two angles' (Pair) second order: At's computation, written
+// once for both. `first` gives the lanes of FirstOrderAngle's fields: centre(0 or 1),
+// travel(i), force(i), slope(r), curvature(r) (r < 2Z, the bore's then the roller's).
+// Writes each contact's corrections to per[i], the centre's to centre[0, 1], and the
+// remainder, infinite in every lane where a premise of the expansion or of its bound fails.
+template <class Lane, class Input>
+void SecondOrderKernel(const SecondOrderScene& scene, const Input& first, ContactLanes<Lane>* per, Lane* centre,
+                       Lane& remainder_out) {
+  using Ops = LaneOps<Lane>;
+  using Mask = typename Ops::Mask;
   const std::vector<SecondOrderScene::Contact>& contacts = scene.contacts;
-  const int z = static_cast<int>(contacts.size());
-  const auto zs = static_cast<std::size_t>(z);
-  const double infinite = std::numeric_limits<double>::infinity();
-  out.travel.assign(zs, 0.0);
-  out.contact_force.assign(zs, 0.0);
-  out.centre.setZero();
-  bool bounded = true;
-  // Per contact: gamma, the turn g'_i with its known second-order slopes, the gap's
-  // curvature, the penetration change d_i, and the first-order turn.
-  thread_local std::vector<double> scratch;
-  scratch.resize(5 * zs);
-  double* gamma = scratch.data();
-  double* slope = gamma + zs;
-  double* curvature = slope + zs;
-  double* penetration_change = curvature + zs;
-  double* linear_slope = penetration_change + zs;
-  const Eigen::Vector2d moved = first.centre - scene.centre0;
+  const std::size_t zs = contacts.size();
+  const Lane zero = Ops::Splat(0.0);
+  Mask bounded = zero == zero;  // true in every lane
+  const Lane moved_x = first.centre(0) - scene.centre0.x();
+  const Lane moved_y = first.centre(1) - scene.centre0.y();
   const double ring_radius = scene.ring_radius;
   for (std::size_t i = 0; i < zs; ++i) {
     const SecondOrderScene::Contact& k = contacts[i];
-    const double a = first.slopes[i];
-    const double b = first.slopes[zs + i];
-    const double q = first.curvatures[i];
-    const double p = first.curvatures[zs + i];
-    Eigen::Vector2d relative = moved - k.shift;
-    if (k.spring) relative -= (first.travel[i] - k.travel0) * k.axis;
-    const double ring_reach = ring_radius - q;  // r + dr - dr'' of the bore, dr left out
-    const double roller_reach = k.roller_radius + p;
-    linear_slope[i] = a + b + relative.dot(k.tangent);
-    curvature[i] = k.gap_curvature + q + p - relative.dot(k.normal);
-    if (!(ring_reach > 0.0 && roller_reach > 0.0 && curvature[i] > 0.0)) {
-      bounded = false;  // beyond any expansion: the first-order curvatures stand in
-      slope[i] = linear_slope[i];
-      curvature[i] = k.gap_curvature;
-      gamma[i] = a * a / (2.0 * ring_radius) - b * b / (2.0 * k.roller_radius);
-    } else {
-      slope[i] = linear_slope[i] + a * q / ring_reach - b * p / roller_reach;
-      gamma[i] = a * a / (2.0 * ring_reach) - b * b / (2.0 * roller_reach);
+    ContactLanes<Lane>& c = per[i];
+    const Lane a = first.slope(i);
+    const Lane b = first.slope(zs + i);
+    const Lane q = first.curvature(i);
+    const Lane p = first.curvature(zs + i);
+    Lane relative_x = moved_x - k.shift.x();
+    Lane relative_y = moved_y - k.shift.y();
+    if (k.spring) {
+      const Lane travel = first.travel(i) - k.travel0;
+      relative_x = relative_x - travel * k.axis.x();
+      relative_y = relative_y - travel * k.axis.y();
     }
-    gamma[i] -= slope[i] * slope[i] / (2.0 * curvature[i]);
-    penetration_change[i] = 0.0;
+    const Lane ring_reach = ring_radius - q;  // r + dr - dr'' of the bore, dr left out
+    const Lane roller_reach = k.roller_radius + p;
+    c.linear_slope = a + b + (relative_x * k.tangent.x() + relative_y * k.tangent.y());
+    const Lane curvature = k.gap_curvature + q + p - (relative_x * k.normal.x() + relative_y * k.normal.y());
+    const Mask expands = Ops::And(Ops::And(ring_reach > zero, roller_reach > zero), curvature > zero);
+    bounded = Ops::And(bounded, expands);
+    // Beyond any expansion the first-order curvatures stand in.
+    c.slope = Ops::Select(expands, c.linear_slope + a * q / ring_reach - b * p / roller_reach, c.linear_slope);
+    c.curvature = Ops::Select(expands, curvature, Ops::Splat(k.gap_curvature));
+    c.gamma = Ops::Select(expands, a * a / (2.0 * ring_reach) - b * b / (2.0 * roller_reach),
+                          a * a / (2.0 * ring_radius) - b * b / (2.0 * k.roller_radius));
+    c.gamma = c.gamma - c.slope * c.slope / (2.0 * c.curvature);
+    c.penetration_change = zero;
     if (k.penetration > 0.0) {
-      penetration_change[i] = (first.contact_force[i] - k.force0) / k.force_stiffness;
-      gamma[i] -= (scene.exponent - 1.0) * penetration_change[i] * penetration_change[i] / (2.0 * k.penetration);
+      c.penetration_change = (first.force(i) - k.force0) / k.force_stiffness;
+      c.gamma = c.gamma - (scene.exponent - 1.0) * c.penetration_change * c.penetration_change / (2.0 * k.penetration);
     }
+    c.travel = zero;
+    c.force = zero;
   }
+  centre[0] = zero;
+  centre[1] = zero;
   const Eigen::MatrixXd& response = scene.response;
-  const auto add = [&](double weight, Eigen::Index column) {
-    out.centre += weight * response.block<2, 1>(0, column);
+  const auto add = [&](Lane weight, Eigen::Index column) {
+    centre[0] = centre[0] + weight * response(0, column);
+    centre[1] = centre[1] + weight * response(1, column);
     for (std::size_t j = 0; j < zs; ++j) {
       const auto row = static_cast<Eigen::Index>(2 + j);
-      if (contacts[j].spring) out.travel[j] += weight * response(row, column);
-      out.contact_force[j] += weight * response(row + z, column);
+      if (contacts[j].spring) per[j].travel = per[j].travel + weight * response(row, column);
+      per[j].force = per[j].force + weight * response(row + static_cast<Eigen::Index>(zs), column);
     }
   };
-  for (std::size_t i = 0; i < zs; ++i) add(gamma[i], static_cast<Eigen::Index>(i));
+  for (std::size_t i = 0; i < zs; ++i) add(per[i].gamma, static_cast<Eigen::Index>(i));
   // The turn the correction itself gives each normal, which the response followed.
-  thread_local std::vector<double> feedback;
-  feedback.resize(zs);
-  for (std::size_t i = 0; i < zs; ++i) {
-    Eigen::Vector2d moved_correction = out.centre;
-    if (contacts[i].spring) moved_correction -= out.travel[i] * contacts[i].axis;
-    feedback[i] = moved_correction.dot(contacts[i].tangent);
-  }
-  double correction = 0.0;  // the correction's size at the centre, each term by its gain
   for (std::size_t i = 0; i < zs; ++i) {
     const SecondOrderScene::Contact& k = contacts[i];
-    const double force = first.contact_force[i];
-    const double turn = -(slope[i] + feedback[i]) / curvature[i];
-    const double linear_turn = -(linear_slope[i] + feedback[i]) / k.gap_curvature;
-    const double normal_force = -force * turn * turn / 2.0;
-    const double tangent_force = force * turn - k.force0 * linear_turn;
+    Lane moved_correction_x = centre[0];
+    Lane moved_correction_y = centre[1];
+    if (k.spring) {
+      moved_correction_x = moved_correction_x - per[i].travel * k.axis.x();
+      moved_correction_y = moved_correction_y - per[i].travel * k.axis.y();
+    }
+    per[i].feedback = moved_correction_x * k.tangent.x() + moved_correction_y * k.tangent.y();
+  }
+  Lane correction = zero;  // the correction's size at the centre, each term by its gain
+  for (std::size_t i = 0; i < zs; ++i) {
+    const SecondOrderScene::Contact& k = contacts[i];
+    const ContactLanes<Lane>& c = per[i];
+    const Lane force = first.force(i);
+    const Lane turn = -(c.slope + c.feedback) / c.curvature;
+    const Lane linear_turn = -(c.linear_slope + c.feedback) / k.gap_curvature;
+    const Lane normal_force = -force * turn * turn / 2.0;
+    const Lane tangent_force = force * turn - k.force0 * linear_turn;
     add(normal_force, static_cast<Eigen::Index>(zs + i));
     add(tangent_force, static_cast<Eigen::Index>(2 * zs + i));
-    correction += k.gap_gain * std::abs(gamma[i]) + k.normal_force_gain * std::abs(normal_force) +
-                  k.tangent_force_gain * std::abs(tangent_force);
+    correction = correction + (k.gap_gain * Ops::Abs(c.gamma) + k.normal_force_gain * Ops::Abs(normal_force) +
+                               k.tangent_force_gain * Ops::Abs(tangent_force));
   }
-  if (!bounded) {
-    out.remainder = infinite;
+  const Lane infinite = Ops::Splat(std::numeric_limits<double>::infinity());
+  if (!Ops::Any(bounded)) {
+    remainder_out = infinite;
     return;
   }
 
@@ -180,79 +253,134 @@ void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) c
   //     k_c), and so does their product with the correction.
   // Each term is bounded by its magnitude and carried to the centre by the norm of its
   // response, so their sum bounds |exact - corrected| up to terms of fourth order and
-  // products of the bounds (docs/model.md §7).
-  double remainder = 0.0;
-  double drift = 0.0;  // the largest relative change of the response's entries
+  // products of the bounds (docs/model.md §7). A lane where a premise fails computes on
+  // (its numbers are not used) and ends infinite.
+  Lane remainder = zero;
+  Lane drift = zero;  // the largest relative change of the response's entries
   for (std::size_t i = 0; i < zs; ++i) {
     const SecondOrderScene::Contact& k = contacts[i];
-    const double a = std::abs(first.slopes[i]);
-    const double b = std::abs(first.slopes[zs + i]);
-    const double q = std::abs(first.curvatures[i]);
-    const double p = std::abs(first.curvatures[zs + i]);
-    const double r = k.roller_radius;
-    const double ring_reach = ring_radius - first.curvatures[i];
-    const double roller_reach = r + first.curvatures[zs + i];
-    const double ring_allowance = ring_reach - scene.ring_value;
-    const double roller_allowance = roller_reach - k.roller_value;
-    if (!(ring_allowance > 0.0 && roller_allowance > 0.0)) {
-      out.remainder = infinite;
-      return;
-    }
+    const ContactLanes<Lane>& c = per[i];
+    const Lane a = Ops::Abs(first.slope(i));
+    const Lane b = Ops::Abs(first.slope(zs + i));
+    const Lane q = Ops::Abs(first.curvature(i));
+    const Lane p = Ops::Abs(first.curvature(zs + i));
+    const Lane ring_reach = ring_radius - first.curvature(i);
+    const Lane roller_reach = k.roller_radius + first.curvature(zs + i);
+    const Lane ring_allowance = ring_reach - scene.ring_value;
+    const Lane roller_allowance = roller_reach - k.roller_value;
+    bounded = Ops::And(bounded, Ops::And(ring_allowance > zero, roller_allowance > zero));
     // 1. The support functions.
-    const SupportRemainder support_bound = SupportRemainderOf({a, q, ring_reach, ring_allowance, scene.ring_value, scene.ring_jerk},
-                                                              {b, p, roller_reach, roller_allowance, k.roller_value, k.roller_jerk});
-    const double support = support_bound.value;
-    const double support_slope = support_bound.slope;
-    const double support_curvature = support_bound.curvature;
+    const SupportRemainder<Lane> support =
+        SupportRemainderOf<Lane>({a, q, ring_reach, ring_allowance, scene.ring_value, scene.ring_jerk},
+                                 {b, p, roller_reach, roller_allowance, k.roller_value, k.roller_jerk});
     // 2. The turn.
-    const double curvature_allowance = curvature[i] - support_curvature;
-    if (!(curvature_allowance > 0.0)) {
-      out.remainder = infinite;
-      return;
-    }
-    const double g1 = std::abs(slope[i]);
-    const double bound_slope = g1 + std::abs(feedback[i]) + support_slope;
-    const double phi = bound_slope / curvature_allowance;
-    const double turning = bound_slope * bound_slope / (2.0 * curvature_allowance) - g1 * g1 / (2.0 * curvature[i]) +
-                           (scene.ring_jerk + k.roller_jerk + bound_slope) * phi * phi * phi / 3.0;
+    const Lane curvature_allowance = c.curvature - support.curvature;
+    bounded = Ops::And(bounded, curvature_allowance > zero);
+    const Lane g1 = Ops::Abs(c.slope);
+    const Lane bound_slope = g1 + Ops::Abs(c.feedback) + support.slope;
+    const Lane phi = bound_slope / curvature_allowance;
+    const Lane turning = bound_slope * bound_slope / (2.0 * curvature_allowance) - g1 * g1 / (2.0 * c.curvature) +
+                         (scene.ring_jerk + k.roller_jerk + bound_slope) * phi * phi * phi / 3.0;
     // 3. The penalty law.
-    double law = 0.0;
-    double law_drift = 0.0;
+    Lane law = zero;
+    Lane law_drift = zero;
     if (k.penetration > 0.0) {
       const double e = scene.exponent;
       const double delta = k.penetration;
-      const double d = std::abs(penetration_change[i]);
-      const double reach = d + std::abs(out.contact_force[i] / k.force_stiffness);
-      const double lowest = delta - reach;
-      if (!(lowest > 0.0)) {
-        out.remainder = infinite;
-        return;
-      }
+      const Lane d = Ops::Abs(c.penetration_change);
+      const Lane reach = d + Ops::Abs(c.force / k.force_stiffness);
+      const Lane lowest = delta - reach;
+      bounded = Ops::And(bounded, lowest > zero);
       // x^(e - 3) is monotone, so its largest over [lowest, delta + reach] sits at one end:
-      // one pow per contact and angle instead of three (they were a sixth of a linear sample).
-      const double worst_point = e < 3.0 ? lowest : delta + reach;
-      const double third = (e - 1.0) * std::abs(e - 2.0) * std::pow(worst_point, e - 3.0) / k.law_scale;
+      // one power per contact and angle instead of three.
+      const Lane worst_point = e < 3.0 ? lowest : delta + reach;
+      const Lane third = (e - 1.0) * std::abs(e - 2.0) * LawPower(worst_point, e) / k.law_scale;
       law = (e - 1.0) * (reach * reach - d * d) / (2.0 * delta) + third * reach * reach * reach / 6.0;
       law_drift = (e - 1.0) * reach / lowest;
     }
     // 4. The forces' turn.
-    const double force = std::abs(first.contact_force[i]) + std::abs(out.contact_force[i]);
-    const double turn = std::abs(slope[i] + feedback[i]) / curvature[i];
-    const double phi2 = phi * phi;
-    const double normal_force = std::abs(out.contact_force[i]) * phi2 / 2.0 + force * ((phi2 - turn * turn) / 2.0 + phi2 * phi2 / 24.0);
-    const double tangent_force = std::abs(out.contact_force[i]) * phi + force * (phi - turn + phi2 * phi / 6.0);
-    remainder += k.gap_gain * (support + turning + law) + k.normal_force_gain * normal_force +
-                 k.tangent_force_gain * tangent_force;
+    const Lane force = Ops::Abs(first.force(i)) + Ops::Abs(c.force);
+    const Lane turn = Ops::Abs(c.slope + c.feedback) / c.curvature;
+    const Lane phi2 = phi * phi;
+    const Lane normal_force = Ops::Abs(c.force) * phi2 / 2.0 + force * ((phi2 - turn * turn) / 2.0 + phi2 * phi2 / 24.0);
+    const Lane tangent_force = Ops::Abs(c.force) * phi + force * (phi - turn + phi2 * phi / 6.0);
+    remainder = remainder + (k.gap_gain * (support.value + turning + law) + k.normal_force_gain * normal_force +
+                             k.tangent_force_gain * tangent_force);
     // 5. The response's drift.
-    const double force_change = std::abs(first.contact_force[i] - k.force0) + std::abs(out.contact_force[i]);
-    const double geometric = k.force_stiffness > 0.0
-                                 ? force_change / (k.gap_curvature * k.force_stiffness)
-                                 : 0.0;
-    drift = std::max(drift, 2.0 * phi + law_drift + geometric);
+    const Lane force_change = Ops::Abs(first.force(i) - k.force0) + Ops::Abs(c.force);
+    const Lane geometric = k.force_stiffness > 0.0 ? force_change / (k.gap_curvature * k.force_stiffness) : zero;
+    const Lane growth = 2.0 * phi + law_drift + geometric;
+    drift = Ops::Select(drift < growth, growth, drift);  // std::max's rule, lane by lane
   }
-  out.remainder = remainder + drift * correction;
+  remainder_out = Ops::Select(bounded, remainder + drift * correction, infinite);
 }
 
+// FirstOrderAngle's fields as the kernel reads them, one angle.
+struct AngleInput {
+  const FirstOrderAngle& angle;
+  double centre(int axis) const { return angle.centre[axis]; }
+  double travel(std::size_t i) const { return angle.travel[i]; }
+  double force(std::size_t i) const { return angle.contact_force[i]; }
+  double slope(std::size_t r) const { return angle.slopes[r]; }
+  double curvature(std::size_t r) const { return angle.curvatures[r]; }
+};
+
+// FirstOrderAngles' rows as the kernel reads them, angles j and j + 1 (j again past the
+// block's last angle, so a lane that is not stored computes on real inputs).
+struct PairInput {
+  const FirstOrderAngles& block;
+  std::size_t zs;
+  std::size_t j;
+  Pair Row(std::size_t row) const {
+    const double* at = block.rows + row * block.stride + j;
+    return Pair{at[0], j + 1 < block.count ? at[1] : at[0]};
+  }
+  Pair centre(int axis) const { return Row(static_cast<std::size_t>(axis)); }
+  Pair travel(std::size_t i) const { return Row(2 + i); }
+  Pair force(std::size_t i) const { return Row(2 + zs + i); }
+  Pair slope(std::size_t r) const { return Row(2 + 2 * zs + r); }
+  Pair curvature(std::size_t r) const { return Row(2 + 4 * zs + r); }
+};
+
+}  // namespace
+
+void SecondOrderTerms::At(const FirstOrderAngle& first, SecondOrderAngle& out) const {
+  const std::size_t zs = scene_->contacts.size();
+  thread_local std::vector<ContactLanes<double>> per;
+  per.resize(zs);
+  double centre[2];
+  SecondOrderKernel<double>(*scene_, AngleInput{first}, per.data(), centre, out.remainder);
+  out.centre = Eigen::Vector2d(centre[0], centre[1]);
+  out.travel.resize(zs);
+  out.contact_force.resize(zs);
+  for (std::size_t i = 0; i < zs; ++i) {
+    out.travel[i] = per[i].travel;
+    out.contact_force[i] = per[i].force;
+  }
+}
+
+void SecondOrderTerms::AtEach(const FirstOrderAngles& first, const SecondOrderAngles& out) const {
+  const std::size_t zs = scene_->contacts.size();
+  thread_local std::vector<ContactLanes<Pair>> per;
+  per.resize(zs);
+  Pair centre[2];
+  Pair remainder;
+  for (std::size_t j = 0; j < first.count; j += 2) {
+    SecondOrderKernel<Pair>(*scene_, PairInput{first, zs, j}, per.data(), centre, remainder);
+    const std::size_t lanes = std::min<std::size_t>(2, first.count - j);
+    const auto store = [&](std::size_t row, Pair value) {
+      double* at = out.rows + row * out.stride + j;
+      for (std::size_t l = 0; l < lanes; ++l) at[l] = value[l];
+    };
+    store(0, centre[0]);
+    store(1, centre[1]);
+    for (std::size_t i = 0; i < zs; ++i) {
+      store(2 + i, per[i].travel);
+      store(2 + zs + i, per[i].force);
+    }
+    store(2 + 2 * zs, remainder);
+  }
+}
 namespace {
 
 // A closed interval [lo, hi] of reals, for SecondOrderTerms::Over. Its operations enclose
@@ -286,6 +414,30 @@ Interval Square(Interval x) {
 // Over's bounds are widened by 1e-9 relative to cover both.
 constexpr double kRoundingAllowance = 1.0 + 1e-9;
 
+// Per-contact intervals of one Over call, on the stack for up to kInlineRollers rollers
+// (Over runs a few hundred times a sample, and a heap vector each was most of its cost);
+// a scene with more spills to the heap and gets the same numbers.
+constexpr std::size_t kInlineRollers = 8;
+using Intervals = boost::container::small_vector<Interval, kInlineRollers>;
+
+// The centre's bound from its projections on kDirections directions
+// u_m = (cos, sin)(m pi / kDirections): a vector is within pi / (2 kDirections) of one of
+// them or of its opposite, so |v| <= max_m |v . u_m| / cos(pi / (2 kDirections)), where
+// the two axes alone would give sqrt(2) where the terms' extremes fall in different
+// directions. Computed once, not on every call.
+constexpr int kDirections = 16;
+const std::array<Eigen::Vector2d, kDirections>& Directions() {
+  static const std::array<Eigen::Vector2d, kDirections> directions = [] {
+    std::array<Eigen::Vector2d, kDirections> u;
+    for (int m = 0; m < kDirections; ++m) {
+      const double angle = std::numbers::pi * m / kDirections;
+      u[static_cast<std::size_t>(m)] = Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    }
+    return u;
+  }();
+  return directions;
+}
+
 }  // namespace
 
 // At, mirrored term by term over intervals: every quantity At forms at one angle is
@@ -313,8 +465,8 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
   // Per contact, as in At: gamma, the slope g'_i with its support terms (linear_slope + its
   // second-order part slope_extra), the curvature's change kappa (curvature = g'' + kappa),
   // the force's change from the nominal, and the reaches.
-  std::vector<Interval> gamma(zs), linear_slope(zs), slope_extra(zs), slope(zs), kappa(zs), curvature(zs),
-      force_change(zs), ring_reach(zs), roller_reach(zs);
+  Intervals gamma(zs), linear_slope(zs), slope_extra(zs), slope(zs), kappa(zs), curvature(zs), force_change(zs),
+      ring_reach(zs), roller_reach(zs);
   const double ring_radius = scene.ring_radius;
   const Eigen::Vector2d moved = range.centre - scene.centre0;
   for (std::size_t i = 0; i < zs; ++i) {
@@ -355,18 +507,10 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
     }
   }
   // The outputs' corrections as intervals, summed column by column like At's `add`; the
-  // centre's along kDirections directions u_m = (cos, sin)(m pi / kDirections): a vector
-  // is within pi / (2 kDirections) of one of them or of its opposite, so
-  // |v| <= max_m |v . u_m| / cos(pi / (2 kDirections)), where the two axes alone would
-  // give sqrt(2) where the terms' extremes fall in different directions.
-  constexpr int kDirections = 16;
+  // centre's along Directions().
   std::array<Interval, kDirections> centre_along{};
-  std::array<Eigen::Vector2d, kDirections> directions;
-  for (int m = 0; m < kDirections; ++m) {
-    const double angle = std::numbers::pi * m / kDirections;
-    directions[static_cast<std::size_t>(m)] = Eigen::Vector2d(std::cos(angle), std::sin(angle));
-  }
-  std::vector<Interval> travel(zs), force(zs);
+  const std::array<Eigen::Vector2d, kDirections>& directions = Directions();
+  Intervals travel(zs), force(zs);
   const Eigen::MatrixXd& response = scene.response;
   const auto add = [&](Interval weight, Eigen::Index column) {
     const Eigen::Vector2d moves = response.block<2, 1>(0, column);
@@ -384,7 +528,7 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
   // The feedback of contact i, (centre - travel_i axis_i) . t_i after the gammas, is linear
   // in them: summed gamma by gamma, not from the centre's and travel's intervals, which
   // would forget that one gamma moves both.
-  std::vector<Interval> feedback(zs);
+  Intervals feedback(zs);
   for (std::size_t i = 0; i < zs; ++i) {
     const Eigen::Vector2d& t = contacts[i].tangent;
     for (std::size_t m = 0; m < zs; ++m) {
@@ -399,7 +543,7 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
   //   turn - turn_linear = (linear_slope + feedback) kappa / (g'' curvature) - slope_extra / curvature,
   // (curvature = g'' + kappa, slope = linear_slope + slope_extra), whose parts are each of
   // second order: bounding F and turn apart would leave a first-order bound.
-  std::vector<Interval> turn(zs), normal_force(zs), tangent_force(zs);
+  Intervals turn(zs), normal_force(zs), tangent_force(zs);
   for (std::size_t i = 0; i < zs; ++i) {
     const SecondOrderScene::Contact& k = contacts[i];
     const Interval force_first{range.force_low[i], range.force_high[i]};
@@ -415,7 +559,8 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
   }
   double centre_along_max = 0.0;
   for (const Interval& along : centre_along) centre_along_max = std::max(centre_along_max, along.Magnitude());
-  out.centre = kRoundingAllowance * centre_along_max / std::cos(std::numbers::pi / (2.0 * kDirections));
+  static const double direction_cosine = std::cos(std::numbers::pi / (2.0 * kDirections));
+  out.centre = kRoundingAllowance * centre_along_max / direction_cosine;
   for (std::size_t j = 0; j < zs; ++j) {
     out.travel[j] = kRoundingAllowance * travel[j].Magnitude();
     out.contact_force[j] = kRoundingAllowance * force[j].Magnitude();
@@ -450,7 +595,7 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
       return;
     }
     // 1. The support functions: increasing in a, b, q, p, decreasing in the reaches.
-    const SupportRemainder support = SupportRemainderOf({a, q, ring_low, ring_allowance, scene.ring_value, scene.ring_jerk},
+    const SupportRemainder<double> support = SupportRemainderOf<double>({a, q, ring_low, ring_allowance, scene.ring_value, scene.ring_jerk},
                                                         {b, p, roller_low, roller_allowance, k.roller_value, k.roller_jerk});
     // 2. The turn. With g1 = |slope|, x = |feedback| + support.slope (At's bound_slope is
     // g1 + x), K' = support.curvature and G = curvature, At's

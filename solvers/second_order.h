@@ -6,7 +6,9 @@
 //
 // Units SI: lengths [m], forces [N], angles [rad]. LinearSolver makes SecondOrderTerms from
 // a scene's linearisation (LinearSolver::SecondOrder, LinearPath::second_order); it shares
-// an immutable SecondOrderScene, so copies are cheap and every method is thread-safe.
+// an immutable SecondOrderScene, so copies are cheap and every method is thread-safe. At
+// evaluates one angle, AtEach a block of angles in SIMD lanes, with the same bits; neither
+// nor Over touches the heap once a thread has called it, for up to 8 rollers.
 // Failure modes, none thrown: where a premise of the expansion fails at an angle (a reach
 // or the gap's curvature not positive) At keeps the first-order curvatures and its
 // remainder is infinite; where only a premise of the remainder bound fails, only the
@@ -14,6 +16,7 @@
 // may fail anywhere in its range, and its remainder where one of the bound's may.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <span>
 #include <vector>
@@ -62,6 +65,26 @@ struct SecondOrderRange {
   std::vector<double> travel;         // [m] per roller, >= |SecondOrderAngle::travel| (0 for fixed)
   std::vector<double> contact_force;  // [N] per roller, >= |SecondOrderAngle::contact_force|
   double remainder = 0.0;             // [m] >= SecondOrderAngle::remainder
+};
+
+// A block of angles of the first-order path, structure of arrays (what SecondOrderTerms::
+// AtEach vectorises over): field f of angle j at rows[f * stride + j], j < count <= stride,
+// fields in FirstOrderAngle's order: centre x, y [m]; travel [m] (Z, 0 for fixed rollers);
+// contact force [N] (Z); slopes [m/rad] (2Z); curvatures [m/rad^2] (2Z): 2 + 6Z rows.
+// A view: the caller owns the rows.
+struct FirstOrderAngles {
+  const double* rows = nullptr;
+  std::size_t stride = 0;
+  std::size_t count = 0;
+};
+
+// SecondOrderAngle for a block of angles, likewise: rows centre x, y [m] to add; travel [m]
+// to add (Z, 0 for fixed rollers); contact force [N] to add (Z); remainder [m]: 3 + 2Z rows
+// of a FirstOrderAngles' count angles at rows[f * stride + j]. A view: the caller owns the
+// rows.
+struct SecondOrderAngles {
+  double* rows = nullptr;
+  std::size_t stride = 0;
 };
 
 // One scene as the second-order terms read it: its error-free assembly's static
@@ -114,6 +137,11 @@ class SecondOrderTerms {
   // or SolveRevolution's path before correction); `out` is resized to the scene's rollers
   // (allocates only the first time: reuse it across angles). Requires usable().
   void At(const FirstOrderAngle& first, SecondOrderAngle& out) const;
+  // At at every angle of a block, two angles at a time in SIMD lanes: the same operations
+  // in the same order, so the same bits as At angle by angle. For a caller with many
+  // angles (a revolution's, a coarse grid's); `out` spans first.count angles of 3 + 2Z
+  // rows. Allocates only the first time on a thread. Requires usable().
+  void AtEach(const FirstOrderAngles& first, const SecondOrderAngles& out) const;
   // Bounds At's results over every angle whose inputs lie in `range` (vectors sized as
   // At's): At mirrored term by term in interval arithmetic (solvers/second_order.cpp). `out` is
   // resized to the scene's rollers. Requires usable().

@@ -128,6 +128,18 @@ double Median(std::vector<double> values) {
 constexpr int kSteps = 3200;
 constexpr int kStride = 8;
 
+// At's inputs at `points_per_step` points per dense angle of stretch s of `stretches`
+// spread over the revolution, each kStride angles long.
+std::vector<Inputs> StretchInputs(const solvers::PhasorSum& phasors, int s, int stretches, int points_per_step) {
+  const int first = (s * kSteps / stretches) / kStride * kStride;
+  std::vector<Inputs> inputs;
+  for (int m = 0; m <= kStride * points_per_step; ++m) {
+    const double psi = 2.0 * std::numbers::pi * (first + static_cast<double>(m) / points_per_step) / kSteps;
+    inputs.push_back(InputsOf(phasors, FirstOrderAt(phasors, psi)));
+  }
+  return inputs;
+}
+
 // At every stretch of 8 angles of random campaign-like scenes (lobes 1x to 9x the default
 // campaign's, out to where the remainder turns infinite), Over's bounds, from a range that
 // covers At's inputs at 4 points per angle with 10 % slack, are at least At's values at all
@@ -159,12 +171,7 @@ TEST(SecondOrderTermsOver, BoundsAtsValuesAtEveryAngleOfTheRange) {
     const solvers::SecondOrderTerms terms = solver.SecondOrder(scene);
     ASSERT_TRUE(terms.usable());
     for (int s = 0; s < kStretches; ++s) {
-      const int first = (s * kSteps / kStretches) / kStride * kStride;
-      std::vector<Inputs> inputs;
-      for (int m = 0; m <= kStride * kPointsPerStep; ++m) {
-        const double psi = 2.0 * std::numbers::pi * (first + static_cast<double>(m) / kPointsPerStep) / kSteps;
-        inputs.push_back(InputsOf(phasors, FirstOrderAt(phasors, psi)));
-      }
+      const std::vector<Inputs> inputs = StretchInputs(phasors, s, kStretches, kPointsPerStep);
       solvers::SecondOrderRange bound;
       terms.Over(RangeOf(inputs, kSlack), bound);
       const Largest at = LargestOf(terms, inputs);
@@ -190,6 +197,43 @@ TEST(SecondOrderTermsOver, BoundsAtsValuesAtEveryAngleOfTheRange) {
                 kLobeScales[j], centre_ratio[j].size(), stretches[j], Median(centre_ratio[j]),
                 *std::max_element(centre_ratio[j].begin(), centre_ratio[j].end()), Median(remainder_ratio[j]),
                 *std::max_element(remainder_ratio[j].begin(), remainder_ratio[j].end()));
+  }
+}
+
+// Over's bound is a property, not a number to keep: at 4, 8 and 9 rollers (past the
+// per-contact intervals' stack capacity of 8) under each contact law, from ranges covering
+// At's inputs with 10 % slack, it is at least At's values at every angle of the range.
+TEST(SecondOrderTermsOver, BoundsAtsValuesForEveryRollerCountAndLaw) {
+  constexpr int kStretches = 12;
+  constexpr int kPointsPerStep = 2;
+  constexpr double kSlack = 0.1;  // [-] as above
+  struct Case {
+    std::size_t rollers;
+    engine::ContactLaw::Model law;
+    double exponent;  // [-]
+  };
+  constexpr std::array<Case, 4> kCases = {{{4, engine::ContactLaw::Model::kPenalty, 10.0 / 9.0},
+                                           {8, engine::ContactLaw::Model::kRigid, 1.5},
+                                           {8, engine::ContactLaw::Model::kPenalty, 1.5},
+                                           {9, engine::ContactLaw::Model::kPenalty, 1.5}}};
+  std::mt19937_64 random(99);
+  const solvers::LinearSolver solver;
+  for (const Case& c : kCases) {
+    engine::Scene scene = testing::WithSpringRollers(testing::RandomCampaignLikeScene(random, 5.0), c.rollers);
+    scene.contact.model = c.law;
+    scene.contact.exponent = c.exponent;
+    const solvers::PhasorSum phasors = solver.Phasors(scene);
+    ASSERT_TRUE(phasors.usable) << c.rollers;
+    const solvers::SecondOrderTerms terms = solver.SecondOrder(scene);
+    int finite = 0;
+    for (int s = 0; s < kStretches; ++s) {
+      const std::vector<Inputs> inputs = StretchInputs(phasors, s, kStretches, kPointsPerStep);
+      solvers::SecondOrderRange bound;
+      terms.Over(RangeOf(inputs, kSlack), bound);
+      ExpectCovers(bound, LargestOf(terms, inputs), static_cast<int>(c.rollers), s);
+      finite += std::isfinite(bound.remainder) ? 1 : 0;
+    }
+    EXPECT_GT(finite, 0) << c.rollers << " rollers: no finite bound to check";
   }
 }
 

@@ -2,8 +2,10 @@
 // so physics tests do not depend on the input reader.
 #pragma once
 
+#include <array>
 #include <numbers>
 #include <random>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -89,6 +91,23 @@ inline engine::Scene RandomCampaignLikeScene(std::mt19937_64& random, double lob
     roller.outline = engine::PolarProfile(roller.outline.radius(), -1.5e-6, std::move(lobes));
     roller.radial_offset = 6e-6 * (unit(random) - 0.5);
     roller.tangential_offset = 6e-6 * (unit(random) - 0.5);
+  }
+  return scene;
+}
+
+// `scene` with spring rollers added until it has `count` (at most 9): copies of its first
+// roller (the spring at 90 deg, lobes and offsets included) at 30, 150, 60, 120, 10 and
+// 170 deg, each pushing along its own radius, so the assembly still rests on the two fixed
+// rollers below.
+inline engine::Scene WithSpringRollers(engine::Scene scene, std::size_t count) {
+  constexpr std::array<double, 6> kAnglesDeg = {30.0, 150.0, 60.0, 120.0, 10.0, 170.0};
+  const engine::Roller model = scene.rollers.front();
+  for (std::size_t j = 0; scene.rollers.size() < count; ++j) {
+    engine::Roller roller = model;
+    roller.name = "spring_" + std::to_string(j);
+    roller.angle = kAnglesDeg.at(j) * kDeg;
+    roller.spring.axis_angle = roller.angle;
+    scene.rollers.push_back(std::move(roller));
   }
   return scene;
 }
