@@ -528,6 +528,7 @@ void ReadLife(const engine::Scene& scene, const Solver& solver, SimulationResult
 struct SpectralOutcome {
   std::optional<SimulationResult> settled;
   std::optional<Trajectory> escalated;
+  const LinearSolver* rung = nullptr;  // the linear rung that gave `settled`
 };
 
 SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options,
@@ -541,8 +542,9 @@ SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& s
   const double target = automatic != nullptr       ? automatic->budget()
                         : options.path_tolerance > 0.0 ? kAutoShareOfPathTolerance * options.path_tolerance
                                                        : std::numeric_limits<double>::infinity();
-  std::optional<SpectralResult> spectral = SimulateSpectral(scene, linear != nullptr ? *linear : automatic->linear(),
-                                                            steps, options.refine_stride, target, options.life);
+  const LinearSolver& rung = linear != nullptr ? *linear : automatic->linear();
+  std::optional<SpectralResult> spectral =
+      SimulateSpectral(scene, rung, steps, options.refine_stride, target, options.life);
   if (!spectral) return outcome;
   if (automatic != nullptr &&
       (spectral->result.status != Status::kOk || !automatic->LinearVerdict(scene, spectral->margins).empty())) {
@@ -550,6 +552,7 @@ SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& s
     return outcome;
   }
   outcome.settled = std::move(spectral->result);
+  outcome.rung = &rung;
   outcome.settled->life = spectral->life;
   outcome.settled->life_cycle = spectral->life_cycle;
   return outcome;
@@ -573,7 +576,10 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
     if (outcome.settled) {
       SimulationResult& settled = *outcome.settled;
       if (settled.status != Status::kOk) return std::move(settled);
-      const Equilibrium nominal = solver.SolveStatic(engine::WithoutErrors(scene));
+      // The rung's own static equilibrium of the error-free assembly: the one it linearised
+      // at and kept, read back without a second search (the quasistatic rung's would find
+      // it again to its Newton tolerance).
+      const Equilibrium nominal = outcome.rung->SolveStatic(engine::WithoutErrors(scene));
       if (nominal.status != Status::kOk) {
         result.status = nominal.status;
         result.message = "the error-free assembly has no valid static equilibrium: " + nominal.message;

@@ -150,5 +150,36 @@ TEST(AutoRung, GoesToTheDynamicRungWhereTheDynamicRungShowsTheRingLeavingItsRoll
   }
 }
 
+// Settled on the spectral linear rung, a sample's static offset is measured from the
+// equilibrium that rung linearised at, not from a second static solve of the same
+// error-free assembly; the quasistatic rung's own solve finds it again to its Newton
+// tolerance.
+TEST(AutoRung, MeasuresTheSpectralStaticOffsetFromTheLinearRungsNominal) {
+  engine::Scene scene = OrderThree(0.05e-3);
+  scene.rollers[0].spring.preload *= 1.07;  // a drawn spring
+  scene.rollers[0].spring.stiffness *= 0.95;
+  solvers::AutoOptions settings;
+  settings.budget = 1e-4;  // [m] as above: the linear rung settles
+  // As a campaign's auto solves its exact rung: to 1 % of a 1 um path tolerance.
+  settings.quasistatic.position_tolerance = solvers::kAngleShareOfPathTolerance * 1e-6;
+  const solvers::AutoSolver automatic(settings);
+  solvers::SimulationOptions options;
+  options.steps = kSteps;
+  options.angles = solvers::AngleMode::kSpectral;
+  const solvers::SimulationResult result = solvers::Simulate(scene, automatic, options);
+  ASSERT_EQ(result.status, Status::kOk) << result.message;
+  ASSERT_EQ(result.trajectory.rung, Rung::kLinear);
+  const solvers::Equilibrium nominal = automatic.linear().SolveStatic(engine::WithoutErrors(scene));
+  EXPECT_TRUE(SameBits(result.static_offset, (result.trajectory.initial.centre - nominal.centre).norm()));
+  const engine::Scene perfect = engine::WithoutErrors(scene);
+  const solvers::EquilibriumSystem system(perfect);
+  Eigen::VectorXd x;
+  std::vector<solvers::TrackedContact> contacts;
+  const solvers::Equilibrium searched = solvers::QuasistaticSolver().SolveStatic(system, x, contacts);
+  ASSERT_EQ(searched.status, Status::kOk) << searched.message;
+  EXPECT_NEAR(result.static_offset, (result.trajectory.initial.centre - searched.centre).norm(),
+              solvers::QuasistaticOptions{}.position_tolerance);
+}
+
 }  // namespace
 }  // namespace ringtol
