@@ -335,6 +335,22 @@ double SpectrumShape::RelativeScale(int order) const {
   return std::pow(static_cast<double>(order), -exponent);
 }
 
+std::span<const TabulatedCalibration> TabulatedCalibrations() {
+  // erf(3 / sqrt 2), as Capability::Coverage computes it at Cp 1.
+  constexpr double kCoverageAtCp1 = 0x1.fe9e21e067a4ap-1;
+  static const std::array<TabulatedCalibration, 2> kRows = {{
+      {{2, 50, 1.0, {}},
+       FormMeasure::kRoundness,
+       kCoverageAtCp1,
+       {0x1.5f6844ecbed8ep-3, 0x1.74fddec5bea5p+2, 0x1.6fac427600297p+2, 0x1.7bc28dad398c5p+2, 16384}},
+      {{2, 8, 1.0, {}},
+       FormMeasure::kTwoPointVariation,
+       kCoverageAtCp1,
+       {0x1.05efd1a0ca02ep-3, 0x1.f465416fc53a2p+2, 0x1.ec9f8a0086846p+2, 0x1.fd98d95bb941ap+2, 16384}},
+  }};
+  return kRows;
+}
+
 void CheckSpectrumShape(const SpectrumShape& shape) {
   if (shape.min_order < 1)
     throw std::invalid_argument("lowest harmonic order " + std::to_string(shape.min_order) + ": allowed: >= 1");
@@ -426,6 +442,18 @@ SpectrumCalibration CalibrateSpectrum(const SpectrumShape& shape, FormMeasure me
                                 std::to_string(options.max_draws) + " (capability Cp <= about 1.33)");
   const int draws = std::max(options.min_draws, static_cast<int>(wanted));
 
+  if (options.tabulated) {
+    const CalibrationOptions defaults;
+    for (const TabulatedCalibration& row : TabulatedCalibrations()) {
+      if (row.shape == shape && row.measure == measure && row.coverage == coverage &&
+          options.min_draws == defaults.min_draws && options.max_draws == defaults.max_draws &&
+          options.seed == defaults.seed) {
+        SpectrumCalibration result = row.calibration;
+        result.scale = tolerance / result.unit_quantile;
+        return result;
+      }
+    }
+  }
   const auto orders = static_cast<std::size_t>(shape.order_count());
   std::vector<double> u(orders), v(orders);
   const std::vector<double> relative_scales = RelativeScales(shape);

@@ -113,6 +113,13 @@ struct CalibrationOptions {
   // sorts them all: the same calibration bit for bit, several times slower; kept as the
   // reference the selection is tested against.
   bool exact_every_draw = false;
+  // Take the calibration from TabulatedCalibrations() when its shape, measure, coverage
+  // and these options (min_draws, max_draws, seed) are one of its rows, instead of
+  // drawing. The rows are CalibrateSpectrum's own results with tabulated = false, bit for
+  // bit (a test recomputes each): the spectra every campaign file draws unless it says
+  // otherwise, so that a run starts without drawing 16,384 profiles a class. false: the
+  // Monte Carlo always, the reference the rows are held to.
+  bool tabulated = true;
 };
 
 struct SpectrumCalibration {
@@ -132,6 +139,20 @@ struct SpectrumCalibration {
 // max_draws cannot place 40 draws beyond the quantile.
 SpectrumCalibration CalibrateSpectrum(const SpectrumShape& shape, FormMeasure measure, double tolerance,
                                       double coverage, const CalibrationOptions& options = {});
+
+// A calibration at unit tolerance (scale = 1 / unit_quantile), which holds for every
+// tolerance: the unit quantile does not depend on it.
+struct TabulatedCalibration {
+  SpectrumShape shape;
+  FormMeasure measure;
+  double coverage;  // [-]
+  SpectrumCalibration calibration;
+};
+
+// The default spectra at the default capability (Cp 1, coverage erf(3 / sqrt 2)) and
+// CalibrationOptions: the ring's orders 2..50, n^-1, on RONt; the rollers' 2..8, n^-1, on
+// VDsp (jobs/inputs/sampling_file.cpp's defaults).
+std::span<const TabulatedCalibration> TabulatedCalibrations();
 
 // Validates a shape as CalibrateSpectrum does; throws std::invalid_argument.
 void CheckSpectrumShape(const SpectrumShape& shape);

@@ -9,10 +9,12 @@
 #include <complex>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
+#include "sampling/assembly_sampler.h"
 #include "sampling/random.h"
 #include "tests/support/statistics.h"
 
@@ -309,6 +311,40 @@ TEST(CalibrateSpectrum, SelectionByBoundsEqualsSortingEveryExactMeasure) {
   full_exact.exact_every_draw = true;
   EXPECT_TRUE(same(CalibrateSpectrum(ring, FormMeasure::kRoundness, 200e-6, 0.9973),
                    CalibrateSpectrum(ring, FormMeasure::kRoundness, 200e-6, 0.9973, full_exact)));
+}
+
+// A tabulated calibration is the Monte Carlo's own, bit for bit, at any tolerance: every
+// row drawn again.
+TEST(CalibrateSpectrum, EveryTabulatedCalibrationIsTheMonteCarlosBitForBit) {
+  CalibrationOptions drawn;
+  drawn.tabulated = false;
+  ASSERT_FALSE(TabulatedCalibrations().empty());
+  for (const TabulatedCalibration& row : TabulatedCalibrations()) {
+    for (const double tolerance : {1.0, 200e-6, 10e-6}) {
+      const SpectrumCalibration a = CalibrateSpectrum(row.shape, row.measure, tolerance, row.coverage);
+      const SpectrumCalibration b = CalibrateSpectrum(row.shape, row.measure, tolerance, row.coverage, drawn);
+      SCOPED_TRACE(::testing::Message() << row.shape.min_order << ".." << row.shape.max_order << " "
+                                        << FormMeasureName(row.measure) << " t " << tolerance);
+      EXPECT_EQ(a.scale, b.scale);
+      EXPECT_EQ(a.unit_quantile, b.unit_quantile);
+      EXPECT_EQ(a.unit_quantile_low, b.unit_quantile_low);
+      EXPECT_EQ(a.unit_quantile_high, b.unit_quantile_high);
+      EXPECT_EQ(a.draws, b.draws);
+    }
+  }
+}
+
+// The table's rows are what a campaign file draws unless it says otherwise: the default
+// spectra at the default capability.
+TEST(CalibrateSpectrum, TheDefaultSpectraAtTheDefaultCapabilityAreTabulated) {
+  const auto tabulated = [](const SpectrumShape& shape, FormMeasure measure) {
+    const std::span<const TabulatedCalibration> rows = TabulatedCalibrations();
+    return std::any_of(rows.begin(), rows.end(), [&](const TabulatedCalibration& row) {
+      return row.shape == shape && row.measure == measure && row.coverage == Capability{}.Coverage();
+    });
+  };
+  EXPECT_TRUE(tabulated(RingFormTolerance{}.spectrum, FormMeasure::kRoundness));
+  EXPECT_TRUE(tabulated(RollerShapeTolerance{}.form, FormMeasure::kTwoPointVariation));
 }
 
 TEST(DrawHarmonics, AmplitudesAreRayleighAndPhasesUniform) {
