@@ -485,6 +485,7 @@ LifeResult SolveRevolutions(const engine::Scene& scene, const Solver& solver, co
   if (revolutions < 1) throw std::invalid_argument("SimulateLife: revolutions must be at least 1");
   SimulationOptions dense = options;
   dense.angles = AngleMode::kDense;
+  dense.keep_trajectory = true;  // the revolutions' points are what is read
   LifeResult life;
   const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
   std::vector<Eigen::Vector2d> points;
@@ -572,6 +573,7 @@ LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, co
   if (life.status != Status::kOk) return life;
   SimulationOptions dense = options;
   dense.angles = AngleMode::kDense;
+  dense.keep_trajectory = true;
   const PhasorSum sum = linear.Phasors(scene);
   life.asymptotic = EveryRevolution(scene, one, sum, life.cycle);
 

@@ -543,8 +543,8 @@ SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& s
                         : options.path_tolerance > 0.0 ? kAutoShareOfPathTolerance * options.path_tolerance
                                                        : std::numeric_limits<double>::infinity();
   const LinearSolver& rung = linear != nullptr ? *linear : automatic->linear();
-  std::optional<SpectralResult> spectral =
-      SimulateSpectral(scene, rung, steps, options.refine_stride, target, options.life);
+  std::optional<SpectralResult> spectral = SimulateSpectral(scene, rung, steps, options.refine_stride, target,
+                                                            options.life, options.keep_trajectory);
   if (!spectral) return outcome;
   if (automatic != nullptr &&
       (spectral->result.status != Status::kOk || !automatic->LinearVerdict(scene, spectral->margins).empty())) {
@@ -558,9 +558,9 @@ SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& s
   return outcome;
 }
 
-}  // namespace
-
-SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options) {
+// Simulate's result with every point kept, whatever keep_trajectory says.
+SimulationResult SimulateKeepingPoints(const engine::Scene& scene, const Solver& solver,
+                                       const SimulationOptions& options) {
   SimulationResult result;
   result.steps = ChooseSteps(scene, options);
   result.status = CheckSceneGeometry(scene, result.message);
@@ -619,6 +619,22 @@ SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, cons
     result.steady = std::move(steady);
   }
   if (options.life) ReadLife(scene, solver, result);
+  return result;
+}
+
+}  // namespace
+
+SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options) {
+  SimulationResult result = SimulateKeepingPoints(scene, solver, options);
+  if (!options.keep_trajectory) {
+    // The spectral evaluation kept none; the other modes measured theirs.
+    Trajectory& path = result.trajectory;
+    path.psi.clear();
+    path.centre.clear();
+    path.travel.clear();
+    path.contact_force.clear();
+    result.sensor.clear();
+  }
   return result;
 }
 

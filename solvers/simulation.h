@@ -71,6 +71,12 @@ struct SimulationOptions {
   // curves and a hull, no solve. kRefined angles then run dense: the stretches they skip
   // are chosen for one revolution's extremes, not for the life's.
   bool life = false;
+  // Keep the path's points in SimulationResult: trajectory.psi, centre, travel and
+  // contact_force, and sensor (the angles evaluated, or every angle). false leaves them
+  // empty (the metrics, the rung, the error estimate, the initial equilibrium and the
+  // steady and life values stay): a campaign reads no point, and with spectral angles
+  // copying them is a share of a sample's cost. Single runs, replays and plots keep them.
+  bool keep_trajectory = true;
 };
 
 // Which solver runs a simulation and how, as a campaign file's [solver] table, the command

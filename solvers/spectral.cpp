@@ -52,7 +52,8 @@ void AddInterpolated(const std::vector<std::size_t>& order, const std::vector<in
 }  // namespace
 
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
-                                               int stride, double estimate_target, bool life) {
+                                               int stride, double estimate_target, bool life,
+                                               bool keep_trajectory) {
   const ValidityCheck validity(scene);
   const std::size_t z = scene.rollers.size();
   if (stride < 2 || steps < 4 * stride) return std::nullopt;
@@ -277,16 +278,20 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   std::vector<RollerForceRange> forces(z, {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()});
   std::vector<double> largest_travel(z, 0.0);
   for (const std::size_t s : order) {
-    kept.psi.push_back(dpsi * samples.index[s]);
-    kept.centre.push_back(samples.centre[s]);
+    if (keep_trajectory) {
+      kept.psi.push_back(dpsi * samples.index[s]);
+      kept.centre.push_back(samples.centre[s]);
+      kept.travel.insert(kept.travel.end(), samples.travel.begin() + static_cast<std::ptrdiff_t>(s * z),
+                         samples.travel.begin() + static_cast<std::ptrdiff_t>((s + 1) * z));
+      kept.contact_force.insert(kept.contact_force.end(), samples.contact_force.begin() + static_cast<std::ptrdiff_t>(s * z),
+                                samples.contact_force.begin() + static_cast<std::ptrdiff_t>((s + 1) * z));
+      result.sensor.push_back(samples.signal[s]);
+    }
     for (std::size_t i = 0; i < z; ++i) {
-      kept.travel.push_back(samples.travel[s * z + i]);
-      kept.contact_force.push_back(samples.contact_force[s * z + i]);
       forces[i].min = std::min(forces[i].min, samples.contact_force[s * z + i]);
       forces[i].max = std::max(forces[i].max, samples.contact_force[s * z + i]);
       largest_travel[i] = std::max(largest_travel[i], std::abs(samples.travel[s * z + i]));
     }
-    result.sensor.push_back(samples.signal[s]);
   }
 
   const std::string refusal = LinearRangeRefusal(linear.options(), kept.error_estimate, reach);

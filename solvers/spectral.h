@@ -72,9 +72,12 @@ struct SpectralResult {
 // With `life`, also the every-revolution life values (solvers/life.h) from the centre and
 // the signal less their lobes at every angle (LinearPath::FirstOrderWithoutLobes), each
 // plus its second order interpolated between the evaluated angles.
+//
+// keep_trajectory false: result.trajectory's points and result.sensor stay empty
+// (SimulationOptions::keep_trajectory).
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
                                                int stride,
                                                double estimate_target = std::numeric_limits<double>::infinity(),
-                                               bool life = false);
+                                               bool life = false, bool keep_trajectory = true);
 
 }  // namespace ringtol::solvers

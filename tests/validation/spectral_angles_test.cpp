@@ -355,5 +355,64 @@ TEST(SpectralAngles, EvaluatesAFractionOfTheDenseGridsAnglesOnCampaignDraws) {
   EXPECT_LT(evaluated, dense / 2);
 }
 
+// SimulationOptions::keep_trajectory false: no point and no reading kept, in every angle
+// mode with and without the life, and every value what the kept run gives, bit for bit.
+TEST(SpectralAngles, DroppingTheTrajectoryChangesNoValue) {
+  std::mt19937_64 random(43);
+  const solvers::LinearSolver linear;
+  for (int draw = 0; draw < 3; ++draw) {
+    const engine::Scene scene = testing::RandomCampaignLikeScene(random, 1.0 + 4.0 * draw);
+    for (const solvers::AngleMode angles :
+         {solvers::AngleMode::kDense, solvers::AngleMode::kRefined, solvers::AngleMode::kSpectral}) {
+      for (const bool life : {false, true}) {
+        solvers::SimulationOptions options = Options(angles);
+        options.life = life;
+        const solvers::SimulationResult kept = solvers::Simulate(scene, linear, options);
+        options.keep_trajectory = false;
+        const solvers::SimulationResult dropped = solvers::Simulate(scene, linear, options);
+        const std::string what = "draw " + std::to_string(draw) + " mode " +
+                                 std::string(NameOf(solvers::kAngleModeNames, angles)) + (life ? " life" : "");
+        ASSERT_EQ(kept.status, solvers::Status::kOk) << what << ": " << kept.message;
+        EXPECT_FALSE(kept.trajectory.centre.empty()) << what;
+        EXPECT_FALSE(kept.sensor.empty()) << what;
+        EXPECT_TRUE(dropped.trajectory.psi.empty() && dropped.trajectory.centre.empty() &&
+                    dropped.trajectory.travel.empty() && dropped.trajectory.contact_force.empty() &&
+                    dropped.sensor.empty())
+            << what;
+        EXPECT_EQ(dropped.status, kept.status) << what;
+        EXPECT_EQ(dropped.steps, kept.steps) << what;
+        EXPECT_EQ(dropped.d_trajectory, kept.d_trajectory) << what;
+        EXPECT_EQ(dropped.dist_init, kept.dist_init) << what;
+        EXPECT_EQ(dropped.static_offset, kept.static_offset) << what;
+        EXPECT_EQ(dropped.runout, kept.runout) << what;
+        EXPECT_EQ(dropped.swing, kept.swing) << what;
+        EXPECT_EQ(dropped.min_contact_force, kept.min_contact_force) << what;
+        for (std::size_t i = 0; i < kept.contact_force.size(); ++i) {
+          EXPECT_EQ(dropped.contact_force[i].min, kept.contact_force[i].min) << what;
+          EXPECT_EQ(dropped.contact_force[i].max, kept.contact_force[i].max) << what;
+        }
+        EXPECT_EQ(dropped.trajectory.error_estimate, kept.trajectory.error_estimate) << what;
+        EXPECT_EQ(dropped.trajectory.rung, kept.trajectory.rung) << what;
+        EXPECT_EQ(dropped.trajectory.initial.centre, kept.trajectory.initial.centre) << what;
+        ASSERT_EQ(dropped.life.has_value(), life) << what;
+        ASSERT_EQ(kept.life.has_value(), life) << what;
+        if (life) {
+          EXPECT_EQ(dropped.life->d_trajectory, kept.life->d_trajectory) << what;
+          EXPECT_EQ(dropped.life->runout, kept.life->runout) << what;
+          EXPECT_EQ(dropped.life->error_motion.total, kept.life->error_motion.total) << what;
+          EXPECT_EQ(dropped.life->error_motion.synchronous, kept.life->error_motion.synchronous) << what;
+          EXPECT_EQ(dropped.life->error_motion.asynchronous, kept.life->error_motion.asynchronous) << what;
+        }
+      }
+    }
+  }
+  // The life over simulated revolutions keeps the points it reads, whatever it is asked.
+  solvers::SimulationOptions options = Options(solvers::AngleMode::kSpectral);
+  options.keep_trajectory = false;
+  const solvers::LifeResult life = solvers::LinearLife(testing::RandomCampaignLikeScene(random, 1.0), linear, options, 2);
+  EXPECT_EQ(life.status, solvers::Status::kOk) << life.message;
+  EXPECT_TRUE(life.asymptotic.has_value());
+}
+
 }  // namespace
 }  // namespace ringtol
