@@ -117,7 +117,13 @@ SampleRecord SampleDrawer::Draw(std::int64_t index, std::optional<sampling::Samp
 }
 
 SampleEvaluator::SampleEvaluator(const Campaign& campaign, EvaluatorFaults faults)
-    : campaign_(&campaign), drawer_(campaign), solver_(campaign.MakeSolver()), faults_(std::move(faults)) {}
+    : campaign_(&campaign),
+      drawer_(campaign),
+      solver_(campaign.MakeSolver()),
+      simulation_(campaign.simulation()),
+      faults_(std::move(faults)) {
+  simulation_.keep_trajectory = false;
+}
 
 SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
   const auto start = std::chrono::steady_clock::now();
@@ -127,7 +133,7 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
   if (assembly) {
     try {
       if (faults_.before_simulate) faults_.before_simulate(index);
-      solvers::SimulationResult result = solvers::Simulate(assembly->scene, *solver_, campaign_->simulation());
+      solvers::SimulationResult result = solvers::Simulate(assembly->scene, *solver_, simulation_);
       if (faults_.after_simulate) faults_.after_simulate(index, result);
       record.steps = result.steps;
       if (result.trajectory.rung && *result.trajectory.rung != solvers::Rung::kAuto) {

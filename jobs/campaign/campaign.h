@@ -96,6 +96,8 @@ class SampleEvaluator {
   const Campaign* campaign_;
   SampleDrawer drawer_;
   std::unique_ptr<solvers::Solver> solver_;
+  // The campaign's settings without the path's points: a record holds only metrics.
+  solvers::SimulationOptions simulation_;
   EvaluatorFaults faults_;
 };
 
