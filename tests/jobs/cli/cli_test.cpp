@@ -12,7 +12,6 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/support/shell.h"
-#include "tests/support/small_campaign.h"
 #include "tests/support/text_files.h"
 
 namespace {
@@ -251,40 +250,6 @@ TEST(Cli, CampaignOutNamingAFolderSaysSo) {
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_THAT(run.err, HasSubstr("--out names a folder"));
   EXPECT_THAT(run.err, ::testing::Not(HasSubstr("--resume")));
-}
-
-// A campaign that leaves the life out ([outputs] life = false): its summary, its report and
-// its JSON say so instead of showing numbers, verify finds the file whole, and resuming it
-// with the life on is refused, naming the key.
-TEST(Cli, ACampaignWithoutTheLifeSaysSoAndItsReportAndVerifyRead) {
-  const std::filesystem::path folder = ringtol::testing::FreshTestFolder("cli");
-  const std::string life_on = ringtol::testing::SmallCampaign(Example("scene.toml"), 3, 8);
-  const std::filesystem::path file = folder / "campaign.toml", results = folder / "results.h5";
-  ringtol::testing::WriteText(file, life_on + "[outputs]\nlife = false\n");
-  const Outcome run = Ringtol("campaign " + file.string() + " --out " + results.string() + " --threads 1 --quiet");
-  ASSERT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_THAT(run.out, AllOf(HasSubstr("were not computed"), HasSubstr("[outputs] life = false")));
-  // The table's rows: one-revolution outputs only.
-  EXPECT_THAT(run.out, AllOf(HasSubstr("\nd_trajectory_mm "), ::testing::Not(HasSubstr("\nlife_d_trajectory_mm ")),
-                             ::testing::Not(HasSubstr("\nerror_motion_total_mm "))));
-
-  const std::filesystem::path html = folder / "report.html", json = folder / "report.json";
-  const Outcome report = Ringtol("report " + results.string() + " --out " + html.string() + " --json " + json.string());
-  ASSERT_EQ(report.exit_code, 0) << report.err;
-  EXPECT_THAT(ringtol::testing::ReadText(html), HasSubstr("were not computed"));
-  const nlohmann::json reported = nlohmann::json::parse(ringtol::testing::ReadText(json));
-  EXPECT_EQ(reported["life"], nlohmann::json({{"computed", false}}));
-  EXPECT_TRUE(reported["outputs"].contains("d_trajectory_mm"));
-  EXPECT_FALSE(reported["outputs"].contains("life_d_trajectory_mm"));
-  EXPECT_FALSE(reported.contains("error_motion"));
-
-  const Outcome verify = Ringtol("verify " + results.string());
-  EXPECT_EQ(verify.exit_code, 0) << verify.err << verify.out;
-
-  ringtol::testing::WriteText(file, life_on);
-  const Outcome resume = Ringtol("campaign " + file.string() + " --out " + results.string() + " --resume --quiet");
-  EXPECT_EQ(resume.exit_code, 1);
-  EXPECT_THAT(resume.err, HasSubstr("outputs.life differs ('false' in the file, 'true' now)"));
 }
 
 TEST(Cli, ClassesListsTheCatalogueAndItsSources) {
