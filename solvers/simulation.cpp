@@ -558,9 +558,10 @@ SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& s
   return outcome;
 }
 
-// Simulate's result with every point kept, whatever keep_trajectory says.
-SimulationResult SimulateKeepingPoints(const engine::Scene& scene, const Solver& solver,
-                                       const SimulationOptions& options) {
+// Simulate's result before its points are dropped: the spectral evaluation keeps points
+// only where keep_trajectory asks; the other modes keep them all, and Simulate drops them.
+SimulationResult SimulateAnyAngles(const engine::Scene& scene, const Solver& solver,
+                                   const SimulationOptions& options) {
   SimulationResult result;
   result.steps = ChooseSteps(scene, options);
   result.status = CheckSceneGeometry(scene, result.message);
@@ -625,9 +626,8 @@ SimulationResult SimulateKeepingPoints(const engine::Scene& scene, const Solver&
 }  // namespace
 
 SimulationResult Simulate(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options) {
-  SimulationResult result = SimulateKeepingPoints(scene, solver, options);
+  SimulationResult result = SimulateAnyAngles(scene, solver, options);
   if (!options.keep_trajectory) {
-    // The spectral evaluation kept none; the other modes measured theirs.
     Trajectory& path = result.trajectory;
     path.psi.clear();
     path.centre.clear();
