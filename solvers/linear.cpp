@@ -14,6 +14,7 @@
 #include <Eigen/LU>
 
 #include "engine/enclosing_circle.h"
+#include "solvers/linear_series.h"
 #include "solvers/path_kernels.h"
 #include "solvers/validity.h"
 
@@ -415,16 +416,26 @@ std::vector<double> RatesOf(const std::vector<Eigen::Index>& columns, const std:
 
 constexpr int kBlock = 64;  // angles per pass, a multiple of kLanes: the tables stay in L1
 
-// Each series' angles k = 0 .. steps, padded to whole lane groups.
+}  // namespace
+
+namespace internal {
+
 std::size_t PaddedAngles(int steps) { return (static_cast<std::size_t>(steps) + kLanes) / kLanes * kLanes; }
+
+SeriesFold FoldFor(int steps) {
+  // At least one lane group of angles past k = 0 in the folded part.
+  if (steps % 2 == 0) return steps / 4 >= kLanes ? SeriesFold::kQuarter : SeriesFold::kNone;
+  return (steps - 1) / 2 >= kLanes ? SeriesFold::kHalf : SeriesFold::kNone;
+}
 
 // The path at psi_k = 2 pi k / steps, k = 0 .. steps, in three passes.
 //  1. The 5Z gap series (Linearisation) of the terms of integer rate: such a term takes
 //     the same values at psi and 2 pi - psi up to the sign of its sine, and at psi + pi up
-//     to (-1)^w; with steps divisible by four, the sums of the even and the odd rates'
-//     cosines and sines over the first quarter turn give the whole revolution, four
-//     angles from each (a real FFT's first two stages, which for a few harmonics beats
-//     the whole transform).
+//     to (-1)^w. With steps even, the sums of the even and the odd rates' cosines and
+//     sines over the first quarter turn give the whole revolution, four angles from each
+//     (a real FFT's first two stages, which for a few harmonics beats the whole
+//     transform); with steps odd, psi + pi is no angle of the revolution, and the sums
+//     over the first half turn give two angles each.
 //  2. The series of the other terms (a roller's lobes pass R / r_b times per turn, rarely
 //     an integer), summed at every angle: a roller's term adds to two series only.
 //  3. The outputs from the series, offset + series_response x series; the slope rows are
@@ -440,21 +451,29 @@ void SumSeries(const Eigen::MatrixXd& series_cosine, const Eigen::MatrixXd& seri
   const std::size_t padded = PaddedAngles(steps);
   thread_local std::vector<double> table, sums;
   series.resize(series_count * padded);
-  // A quarter turn of at least one lane group, so that every lane's four angles lie in
-  // the revolution.
-  const bool fold = steps % 4 == 0 && steps / 4 >= kLanes;
+  // The phasors of `run` over the angles k = 0 .. last, block by block into the table;
+  // use(first angle, angles, lanes) reads each block.
+  const auto each_block = [&](PhasorRun& run, int last, const auto& use) {
+    for (int first = 0; first <= last; first += kBlock) {
+      const int count = std::min(kBlock, last + 1 - first);
+      const auto c = static_cast<std::size_t>((count + kLanes - 1) / kLanes * kLanes);
+      run.Fill(first, static_cast<int>(c), table);
+      use(first, count, c);
+    }
+  };
+  const SeriesFold fold = FoldFor(steps);
   std::vector<Eigen::Index> even_columns, odd_columns, direct_columns;
   for (std::size_t p = 0; p < rates.size(); ++p) {
     const double rate = rates[p];
     const auto column = static_cast<Eigen::Index>(p);
-    if (fold && std::floor(rate) == rate && std::abs(rate) < 1e9) {
+    if (fold != SeriesFold::kNone && std::floor(rate) == rate && std::abs(rate) < 1e9) {
       (std::fmod(std::abs(rate), 2.0) == 1.0 ? odd_columns : even_columns).push_back(column);
     } else {
       direct_columns.push_back(column);
     }
   }
 
-  const bool folded = fold && !(even_columns.empty() && odd_columns.empty());
+  const bool folded = !(even_columns.empty() && odd_columns.empty());
   if (!folded) {
     std::fill(series.begin(), series.end(), 0.0);
   } else {
@@ -463,56 +482,77 @@ void SumSeries(const Eigen::MatrixXd& series_cosine, const Eigen::MatrixXd& seri
       std::fill(series.begin() + static_cast<std::ptrdiff_t>(s * padded + static_cast<std::size_t>(steps) + 1),
                 series.begin() + static_cast<std::ptrdiff_t>((s + 1) * padded), 0.0);
     }
-    const TermGroup cos_even = MakeGroup({&series_cosine}, even_columns);
-    const TermGroup cos_odd = MakeGroup({&series_cosine}, odd_columns);
-    const TermGroup sin_even = MakeGroup({&series_sine}, even_columns);
-    const TermGroup sin_odd = MakeGroup({&series_sine}, odd_columns);
-    const int quarter = steps / 4;
-    const int half = steps / 2;
     std::vector<double> folded_rates = RatesOf(even_columns, rates);
     const std::vector<double> odd_rates = RatesOf(odd_columns, rates);
     folded_rates.insert(folded_rates.end(), odd_rates.begin(), odd_rates.end());
     PhasorRun run(std::move(folded_rates), steps, kernels);
-    const std::size_t even = even_columns.size();
-    for (int first = 0; first <= quarter; first += kBlock) {
-      const int count = std::min(kBlock, quarter + 1 - first);
-      const auto c = static_cast<std::size_t>((count + kLanes - 1) / kLanes * kLanes);
-      run.Fill(first, static_cast<int>(c), table);
-      sums.resize(4 * series_count * c);
-      double* cos_even_sum = sums.data();
-      double* cos_odd_sum = cos_even_sum + series_count * c;
-      double* sin_even_sum = cos_odd_sum + series_count * c;
-      double* sin_odd_sum = sin_even_sum + series_count * c;
-      const double* odd_table = table.data() + even * 2 * c;
-      kernels.sum_rows(cos_even.View(), table.data(), 2 * c, c, cos_even_sum, c);
-      kernels.sum_rows(cos_odd.View(), odd_table, 2 * c, c, cos_odd_sum, c);
-      kernels.sum_rows(sin_even.View(), table.data() + c, 2 * c, c, sin_even_sum, c);
-      kernels.sum_rows(sin_odd.View(), odd_table + c, 2 * c, c, sin_odd_sum, c);
-      for (std::size_t s = 0; s < series_count; ++s) {
-        double* row = series.data() + s * padded;
-        for (std::size_t j = 0; j < static_cast<std::size_t>(count); ++j) {
-          const std::size_t at = s * c + j;
-          const double cos_at_psi = cos_even_sum[at] + cos_odd_sum[at];
-          const double cos_at_psi_plus_pi = cos_even_sum[at] - cos_odd_sum[at];
-          const double sin_at_psi = sin_even_sum[at] + sin_odd_sum[at];
-          const double sin_at_psi_plus_pi = sin_even_sum[at] - sin_odd_sum[at];
-          const int k = first + static_cast<int>(j);
-          row[k] = cos_at_psi + sin_at_psi;
-          row[steps - k] = cos_at_psi - sin_at_psi;
-          row[half + k] = cos_at_psi_plus_pi + sin_at_psi_plus_pi;
-          row[half - k] = cos_at_psi_plus_pi - sin_at_psi_plus_pi;
+    if (fold == SeriesFold::kQuarter) {
+      const TermGroup cos_even = MakeGroup({&series_cosine}, even_columns);
+      const TermGroup cos_odd = MakeGroup({&series_cosine}, odd_columns);
+      const TermGroup sin_even = MakeGroup({&series_sine}, even_columns);
+      const TermGroup sin_odd = MakeGroup({&series_sine}, odd_columns);
+      const std::size_t even = even_columns.size();
+      // With steps = 2 (mod 4) the quarter turn falls between two angles: k <= steps / 4
+      // still reach every angle, and steps / 2 twice from k = 0, with the same sums.
+      const int quarter = steps / 4;
+      const int half = steps / 2;
+      each_block(run, quarter, [&](int first, int count, std::size_t c) {
+        sums.resize(4 * series_count * c);
+        double* cos_even_sum = sums.data();
+        double* cos_odd_sum = cos_even_sum + series_count * c;
+        double* sin_even_sum = cos_odd_sum + series_count * c;
+        double* sin_odd_sum = sin_even_sum + series_count * c;
+        const double* odd_table = table.data() + even * 2 * c;
+        kernels.sum_rows(cos_even.View(), table.data(), 2 * c, c, cos_even_sum, c);
+        kernels.sum_rows(cos_odd.View(), odd_table, 2 * c, c, cos_odd_sum, c);
+        kernels.sum_rows(sin_even.View(), table.data() + c, 2 * c, c, sin_even_sum, c);
+        kernels.sum_rows(sin_odd.View(), odd_table + c, 2 * c, c, sin_odd_sum, c);
+        for (std::size_t s = 0; s < series_count; ++s) {
+          double* row = series.data() + s * padded;
+          for (std::size_t j = 0; j < static_cast<std::size_t>(count); ++j) {
+            const std::size_t at = s * c + j;
+            const double cos_at_psi = cos_even_sum[at] + cos_odd_sum[at];
+            const double cos_at_psi_plus_pi = cos_even_sum[at] - cos_odd_sum[at];
+            const double sin_at_psi = sin_even_sum[at] + sin_odd_sum[at];
+            const double sin_at_psi_plus_pi = sin_even_sum[at] - sin_odd_sum[at];
+            const int k = first + static_cast<int>(j);
+            row[k] = cos_at_psi + sin_at_psi;
+            row[steps - k] = cos_at_psi - sin_at_psi;
+            row[half + k] = cos_at_psi_plus_pi + sin_at_psi_plus_pi;
+            row[half - k] = cos_at_psi_plus_pi - sin_at_psi_plus_pi;
+          }
         }
-      }
+      });
+    } else {
+      // Both parities alike, as the table holds them: the even rates, then the odd.
+      std::vector<Eigen::Index> integer_columns = std::move(even_columns);
+      integer_columns.insert(integer_columns.end(), odd_columns.begin(), odd_columns.end());
+      const TermGroup cos_integer = MakeGroup({&series_cosine}, integer_columns);
+      const TermGroup sin_integer = MakeGroup({&series_sine}, integer_columns);
+      const int half = (steps - 1) / 2;
+      each_block(run, half, [&](int first, int count, std::size_t c) {
+        sums.resize(2 * series_count * c);
+        double* cos_sum = sums.data();
+        double* sin_sum = cos_sum + series_count * c;
+        kernels.sum_rows(cos_integer.View(), table.data(), 2 * c, c, cos_sum, c);
+        kernels.sum_rows(sin_integer.View(), table.data() + c, 2 * c, c, sin_sum, c);
+        for (std::size_t s = 0; s < series_count; ++s) {
+          double* row = series.data() + s * padded;
+          for (std::size_t j = 0; j < static_cast<std::size_t>(count); ++j) {
+            const std::size_t at = s * c + j;
+            const int k = first + static_cast<int>(j);
+            row[k] = cos_sum[at] + sin_sum[at];
+            row[steps - k] = cos_sum[at] - sin_sum[at];
+          }
+        }
+      });
     }
   }
 
   if (!direct_columns.empty()) {
     const TermGroup direct = MakeGroup({&series_cosine, &series_sine}, direct_columns);
     PhasorRun run(RatesOf(direct_columns, rates), steps, kernels);
-    for (int first = 0; first <= steps; first += kBlock) {
-      const int count = std::min(kBlock, steps + 1 - first);
-      const auto c = static_cast<std::size_t>((count + kLanes - 1) / kLanes * kLanes);
-      run.Fill(first, static_cast<int>(c), table);
+    each_block(run, steps, [&](int first, int, std::size_t c) {
       sums.resize(series_count * c);
       // The table's rows are each term's cosines and sines in turn, as direct's terms.
       kernels.sum_rows(direct.View(), table.data(), c, c, sums.data(), c);
@@ -521,9 +561,16 @@ void SumSeries(const Eigen::MatrixXd& series_cosine, const Eigen::MatrixXd& seri
         const double* sum = sums.data() + s * c;
         for (std::size_t j = 0; j < c; ++j) row[j] += sum[j];
       }
-    }
+    });
   }
 }
+
+}  // namespace internal
+
+using internal::PaddedAngles;
+using internal::SumSeries;
+
+namespace {
 
 void EvaluatePath(const Linearisation& lin, int steps, const path_kernels::Kernels& kernels, PathRows& path) {
   const NominalResponse& nominal = *lin.nominal;

@@ -49,9 +49,9 @@ TEST(LinearSolver, ReusedSolverGivesWhatAFreshOneGives) {
   EXPECT_EQ(again.contact_force, fresh.contact_force);
 }
 
-// The path is summed three ways, by the step count's factors: with steps divisible by
-// four the integer rates (ring orders) come from a quarter turn by symmetry, with other
-// counts every angle is summed. The same angle must get the same numbers whichever way,
+// The path is summed three ways, by the step count: with steps even the integer rates
+// (ring orders) come from a quarter turn by symmetry, with steps odd from a half turn, and
+// with too few steps for a lane group in the folded part every angle is summed. The same angle must get the same numbers whichever way,
 // for ring orders of both parities beside roller lobes, whose rates are not integers.
 TEST(LinearSolver, EveryWayOfSummingThePathGivesTheSameAngles) {
   engine::Scene scene = testing::PaperScene(engine::ContactLaw::Model::kPenalty);
@@ -65,7 +65,7 @@ TEST(LinearSolver, EveryWayOfSummingThePathGivesTheSameAngles) {
   constexpr double kForceRoundOff = 1e-10;     // [N]
   const solvers::LinearSolver solver;
   for (const int steps : {18, 723}) {
-    // steps: every angle; 2 steps (= 2 mod 4): every angle; 4 steps: folded.
+    // 18 steps: every angle, 723: a half turn; twice and four times as many: a quarter.
     const solvers::Trajectory once = solver.SolveRevolution(scene, steps);
     const solvers::Trajectory twice = solver.SolveRevolution(scene, 2 * steps);
     const solvers::Trajectory four_times = solver.SolveRevolution(scene, 4 * steps);
@@ -86,8 +86,8 @@ TEST(LinearSolver, EveryWayOfSummingThePathGivesTheSameAngles) {
 }
 
 // The path is summed through the contacts' gap series (each roller term reaches two series,
-// not every output row), from phasor recurrences, folded over a quarter turn where the step
-// count allows. Whatever the route, every angle must be the closed form of
+// not every output row), from phasor recurrences, folded over a quarter turn (steps even)
+// or a half turn (steps odd). Whatever the route, every angle must be the closed form of
 // LinearSolver::Phasors summed term by term with libm in long double, plus what
 // LinearSolver::SecondOrder adds at that angle (which a caller summing the phasors at angles
 // of its own relies on).
@@ -123,7 +123,7 @@ TEST(LinearSolver, SummedPathEqualsTheTermByTermSumOfItsPhasors) {
     if (phasors.travel_row[i] >= 0) rows.push_back({phasors.travel_row[i], travel, i});
   }
   ASSERT_EQ(rows.size(), static_cast<std::size_t>(2 + z + 1));  // one spring roller
-  for (const int steps : {3200, 3202}) {  // folded, and every angle summed
+  for (const int steps : {3200, 3201, 3202}) {  // a quarter turn, a half, a quarter at 2 (mod 4)
     const solvers::Trajectory path = solver.SolveRevolution(scene, steps);
     ASSERT_EQ(path.status, solvers::Status::kOk) << path.message;
     std::vector<long double> cosines(terms), sines(terms);
