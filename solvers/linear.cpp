@@ -12,6 +12,7 @@
 #include <span>
 
 #include <Eigen/LU>
+#include <boost/container/vector.hpp>
 
 #include "engine/enclosing_circle.h"
 #include "solvers/linear_series.h"
@@ -806,10 +807,20 @@ struct LinearPath::Parts {
   Eigen::MatrixXd series_cosine, series_sine;
   TermGroup group;                 // their weights, each term's cosine and sine in turn
   std::vector<double> dense_cos, dense_sin;  // per term: the turn by one angle
-  std::vector<double> coarse_table;          // TurnRun's rows at the coarse angles
+  // Buffers whose every element is written before it is read, resized with
+  // boost::container::default_init: a sample's new path grows them from nothing, and a
+  // std::vector's zero fill of them cost 4 % of a sample.
+  using Buffer = boost::container::vector<double>;
+  Buffer coarse_table;                       // TurnRun's rows at the coarse angles
   std::size_t coarse_stride = 0;             // the coarse table's row stride
-  std::vector<double> now_cos, now_sin, turn_cos, turn_sin, table, sums;
-  std::vector<double> first_block, correction_block;  // FirstOrderAngles' and SecondOrderAngles' rows
+  std::vector<double> now_cos, now_sin, turn_cos, turn_sin;
+  Buffer table, sums;
+  std::vector<int> refined;                  // the angles of a refined stretch
+  // FirstOrderAngles' and SecondOrderAngles' rows. AtEach reads two lanes at a time, one
+  // past the last angle when their count is odd (and drops what it finds there): the
+  // first block keeps std::vector's zero fill, so no lane it reads is indeterminate.
+  std::vector<double> first_block;
+  Buffer correction_block;
   Eigen::VectorXd values, y;
   path_kernels::Isa kernels = path_kernels::Isa::kBest;
 
@@ -820,7 +831,7 @@ struct LinearPath::Parts {
     const NominalResponse& nominal = *lin.nominal;
     const auto zs = static_cast<std::size_t>(nominal.rollers);
     const auto series_count = static_cast<std::size_t>(series_cosine.rows());
-    sums.resize(series_count * stride);
+    sums.resize(series_count * stride, boost::container::default_init);
     path_kernels::KernelsFor(kernels).sum_rows(group.View(), table_data, stride, stride, sums.data(), stride);
     const Eigen::Index outputs = nominal.response.rows();
     const std::size_t gap_series = 5 * zs;
@@ -848,7 +859,7 @@ struct LinearPath::Parts {
       for (std::size_t f = 0; f < width; ++f) samples.first_order.push_back(first_block[f * stride + j]);
     }
     // The second order SolveRevolution adds at every angle, for the whole block at once.
-    correction_block.resize((3 + 2 * zs) * stride);
+    correction_block.resize((3 + 2 * zs) * stride, boost::container::default_init);
     second.AtEach({first_block.data(), stride, count}, {correction_block.data(), stride});
     const auto first = [&](std::size_t f, std::size_t j) { return first_block[f * stride + j]; };
     const auto correction = [&](std::size_t f, std::size_t j) { return correction_block[f * stride + j]; };
@@ -902,7 +913,7 @@ void LinearPath::EvaluateCoarse(int stride, Samples& samples) {
   parts.coarse_stride = (count + kLanes - 1) / kLanes * kLanes;
   // TurnRun fills every lane it is given; the padding lanes, which the sums read too, are
   // zeroed.
-  parts.coarse_table.resize(2 * terms * parts.coarse_stride);
+  parts.coarse_table.resize(2 * terms * parts.coarse_stride, boost::container::default_init);
   for (std::size_t q = 0; q < 2 * terms; ++q) {
     std::fill_n(parts.coarse_table.begin() + static_cast<std::ptrdiff_t>(q * parts.coarse_stride + count),
                 parts.coarse_stride - count, 0.0);
@@ -952,14 +963,17 @@ void LinearPath::Refine(int j, Samples& samples) {
     parts.now_sin[p] = s * parts.dense_cos[p] + c * parts.dense_sin[p];
   }
   const std::size_t stride = (static_cast<std::size_t>(count) + kLanes - 1) / kLanes * kLanes;
-  parts.table.resize(2 * terms * stride);
-  for (std::size_t q = 0; q < 2 * terms; ++q) {
-    std::fill_n(parts.table.begin() + static_cast<std::ptrdiff_t>(q * stride) + count, stride - static_cast<std::size_t>(count), 0.0);
+  parts.table.resize(2 * terms * stride, boost::container::default_init);
+  // The padding lanes, which the sums read too, are zero: each row's last lane group is
+  // zeroed whole (a store of fixed size, where the padding's own size took a call to
+  // memset a row) before TurnRun sets its angles.
+  for (std::size_t q = 1; q <= 2 * terms; ++q) {
+    std::fill_n(parts.table.begin() + static_cast<std::ptrdiff_t>(q * stride - kLanes), kLanes, 0.0);
   }
   TurnRun(parts.now_cos, parts.now_sin, parts.dense_cos, parts.dense_sin, count, parts.table.data(), stride);
-  std::vector<int> index(static_cast<std::size_t>(count));
-  std::iota(index.begin(), index.end(), first);
-  parts.Append(*lin_, parts.table.data(), stride, index, samples);
+  parts.refined.resize(static_cast<std::size_t>(count));
+  std::iota(parts.refined.begin(), parts.refined.end(), first);
+  parts.Append(*lin_, parts.table.data(), stride, parts.refined, samples);
 }
 
 const SecondOrderTerms& LinearPath::second_order() const { return parts_->second; }
