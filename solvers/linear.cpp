@@ -618,25 +618,6 @@ Complex PhaseAt(double rate, long long k, int steps) {
   return std::polar(1.0, 2.0 * std::numbers::pi * turns);
 }
 
-// Rows 2p and 2p + 1 of `table` (row stride `stride`): the cosine and sine of term p's
-// phasor at `count` angles of a run, from `now` (left at the angle after the run) turned
-// by `turn` per angle. The terms advance side by side, which vectorises.
-void TurnRun(std::vector<double>& now_cos, std::vector<double>& now_sin, const std::vector<double>& turn_cos,
-             const std::vector<double>& turn_sin, int count, double* table, std::size_t stride) {
-  const std::size_t terms = now_cos.size();
-  for (int j = 0; j < count; ++j) {
-    for (std::size_t p = 0; p < terms; ++p) {
-      table[2 * p * stride + static_cast<std::size_t>(j)] = now_cos[p];
-      table[(2 * p + 1) * stride + static_cast<std::size_t>(j)] = now_sin[p];
-    }
-    for (std::size_t p = 0; p < terms; ++p) {
-      const double c = now_cos[p] * turn_cos[p] - now_sin[p] * turn_sin[p];
-      now_sin[p] = now_sin[p] * turn_cos[p] + now_cos[p] * turn_sin[p];
-      now_cos[p] = c;
-    }
-  }
-}
-
 // The outputs of one angle as an Equilibrium.
 void FillEquilibrium(const Linearisation& lin, const Eigen::VectorXd& y, Equilibrium& e) {
   const NominalResponse& nominal = *lin.nominal;
@@ -811,7 +792,7 @@ struct LinearPath::Parts {
   // boost::container::default_init: a sample's new path grows them from nothing, and a
   // std::vector's zero fill of them cost 4 % of a sample.
   using Buffer = boost::container::vector<double>;
-  Buffer coarse_table;                       // TurnRun's rows at the coarse angles
+  Buffer coarse_table;                       // turn_run's rows at the coarse angles
   std::size_t coarse_stride = 0;             // the coarse table's row stride
   std::vector<double> now_cos, now_sin, turn_cos, turn_sin;
   Buffer table, sums;
@@ -911,7 +892,7 @@ void LinearPath::EvaluateCoarse(int stride, Samples& samples) {
   const std::size_t terms = lin_->rates.size();
   const std::size_t count = coarse_.size();
   parts.coarse_stride = (count + kLanes - 1) / kLanes * kLanes;
-  // TurnRun fills every lane it is given; the padding lanes, which the sums read too, are
+  // The phasor run fills every lane it is given; the padding lanes, which the sums read too, are
   // zeroed.
   parts.coarse_table.resize(2 * terms * parts.coarse_stride, boost::container::default_init);
   for (std::size_t q = 0; q < 2 * terms; ++q) {
@@ -937,8 +918,9 @@ void LinearPath::EvaluateCoarse(int stride, Samples& samples) {
   }
   // The uniform run k = 0, stride, ...; the revolution's end, when off that run, from libm.
   const int uniform = static_cast<int>(count) - (steps_ % stride == 0 ? 0 : 1);
-  TurnRun(parts.now_cos, parts.now_sin, parts.turn_cos, parts.turn_sin, uniform, parts.coarse_table.data(),
-          parts.coarse_stride);
+  path_kernels::KernelsFor(parts.kernels)
+      .turn_run(terms, parts.now_cos.data(), parts.now_sin.data(), parts.turn_cos.data(), parts.turn_sin.data(),
+                static_cast<std::size_t>(uniform), parts.coarse_table.data(), parts.coarse_stride);
   if (uniform < static_cast<int>(count)) {
     for (std::size_t p = 0; p < terms; ++p) {
       const Complex end = PhaseAt(lin_->rates[p], steps_, steps_);
@@ -966,11 +948,13 @@ void LinearPath::Refine(int j, Samples& samples) {
   parts.table.resize(2 * terms * stride, boost::container::default_init);
   // The padding lanes, which the sums read too, are zero: each row's last lane group is
   // zeroed whole (a store of fixed size, where the padding's own size took a call to
-  // memset a row) before TurnRun sets its angles.
+  // memset a row) before the run sets its angles.
   for (std::size_t q = 1; q <= 2 * terms; ++q) {
     std::fill_n(parts.table.begin() + static_cast<std::ptrdiff_t>(q * stride - kLanes), kLanes, 0.0);
   }
-  TurnRun(parts.now_cos, parts.now_sin, parts.dense_cos, parts.dense_sin, count, parts.table.data(), stride);
+  path_kernels::KernelsFor(parts.kernels)
+      .turn_run(terms, parts.now_cos.data(), parts.now_sin.data(), parts.dense_cos.data(), parts.dense_sin.data(),
+                static_cast<std::size_t>(count), parts.table.data(), stride);
   parts.refined.resize(static_cast<std::size_t>(count));
   std::iota(parts.refined.begin(), parts.refined.end(), first);
   parts.Append(*lin_, parts.table.data(), stride, parts.refined, samples);

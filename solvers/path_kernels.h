@@ -1,5 +1,6 @@
 // The inner loops of the linear rung's path sums (solvers/linear.cpp): turning a set of
-// phasors through consecutive angles, and weighted sums of the rows of such a table. Each
+// phasors through consecutive angles (in lane groups, or one angle at a time through a
+// run), and weighted sums of the rows of such a table. Each
 // exists in two builds chosen at run time: baseline x86-64 (SSE2, what any x86-64 runs)
 // and AVX2 (twice the lanes an instruction).
 //
@@ -54,6 +55,13 @@ struct Kernels {
   //   table[p * term_stride + sin_offset + l] = now_sin lane_cos[l] + now_cos lane_sin[l]
   // then (now_cos, now_sin) turned by (group_cos, group_sin), in that formula's order.
   void (*turn_phasors)(const Phasors& phasors, double* table, std::size_t term_stride, std::size_t sin_offset) = nullptr;
+  // For each term p < terms and angle j < count, from (cos_0, sin_0) = (now_cos[p], now_sin[p]):
+  //   table[2 p stride + j] = cos_j,  table[(2 p + 1) stride + j] = sin_j,
+  //   cos_j+1 = cos_j turn_cos[p] - sin_j turn_sin[p],  sin_j+1 = sin_j turn_cos[p] + cos_j turn_sin[p]
+  // in that formula's order; (now_cos[p], now_sin[p]) are left at (cos_count, sin_count),
+  // and lanes j >= count are not written.
+  void (*turn_run)(std::size_t terms, double* now_cos, double* now_sin, const double* turn_cos, const double* turn_sin,
+                   std::size_t count, double* table, std::size_t stride) = nullptr;
   // For every row o and lane j < lanes (a multiple of kLanes):
   //   out[o * out_stride + j] = sum over q ascending of weight(o, q) * table[q * table_stride + j],
   // accumulated from +0 one rounded product at a time.

@@ -105,6 +105,62 @@ TEST(PathKernels, Avx2AndBaselineGiveTheSameBitsOnRandomData) {
   }
 }
 
+// A run of phasors turned one angle at a time, as LinearPath's coarse grid and refined
+// stretches take them: blocks of terms full and partial, runs of whole and partial lane
+// groups. Each build follows the header's recurrence, writes no lane past the run, leaves
+// the phasors at the run's end, and the two agree bit for bit.
+TEST(PathKernels, PhasorRunsFollowTheirRecurrenceAndAgreeUnderEitherBuild) {
+  // A unit phasor turned n times drifts by about 2 ulp a turn: 50 turns, 2e-14; ten times.
+  constexpr double kRoundOff = 2e-13;
+  constexpr double kUnwritten = -7.0;  // no phasor's cosine or sine
+  std::mt19937_64 generator(41);
+  std::uniform_real_distribution<double> phase(-std::numbers::pi, std::numbers::pi);
+  std::vector<Isa> builds = {Isa::kBaseline};
+  if (Supported(Isa::kAvx2)) builds.push_back(Isa::kAvx2);
+  for (const std::size_t terms : {1u, 8u, 13u}) {
+    for (const std::size_t count : {1u, 4u, 7u, 50u}) {
+      std::vector<double> start_cos(terms), start_sin(terms), turn_cos(terms), turn_sin(terms);
+      for (std::size_t p = 0; p < terms; ++p) {
+        const double start = phase(generator), turn = phase(generator);
+        start_cos[p] = std::cos(start);
+        start_sin[p] = std::sin(start);
+        turn_cos[p] = std::cos(turn);
+        turn_sin[p] = std::sin(turn);
+      }
+      const std::size_t stride = count + 3;
+      std::vector<std::vector<double>> tables, ends;
+      for (const Isa isa : builds) {
+        std::vector<double> now_cos = start_cos, now_sin = start_sin, table(2 * terms * stride, kUnwritten);
+        KernelsFor(isa).turn_run(terms, now_cos.data(), now_sin.data(), turn_cos.data(), turn_sin.data(), count,
+                                 table.data(), stride);
+        for (std::size_t p = 0; p < terms; ++p) {
+          double c = start_cos[p], s = start_sin[p];
+          for (std::size_t j = 0; j < count; ++j) {
+            ASSERT_NEAR(table[2 * p * stride + j], c, kRoundOff) << terms << " terms, " << count << " angles";
+            ASSERT_NEAR(table[(2 * p + 1) * stride + j], s, kRoundOff) << terms << " terms, " << count << " angles";
+            const double next = c * turn_cos[p] - s * turn_sin[p];
+            s = s * turn_cos[p] + c * turn_sin[p];
+            c = next;
+          }
+          for (std::size_t j = count; j < stride; ++j) {
+            ASSERT_EQ(table[2 * p * stride + j], kUnwritten);
+            ASSERT_EQ(table[(2 * p + 1) * stride + j], kUnwritten);
+          }
+          ASSERT_NEAR(now_cos[p], c, kRoundOff) << terms << " terms, " << count << " angles";
+          ASSERT_NEAR(now_sin[p], s, kRoundOff) << terms << " terms, " << count << " angles";
+        }
+        tables.push_back(table);
+        ends.push_back(now_cos);
+        ends.push_back(now_sin);
+      }
+      if (builds.size() == 2) {
+        EXPECT_TRUE(SameBits(tables[0], tables[1])) << terms << " terms, " << count << " angles";
+        EXPECT_TRUE(SameBits(ends[0], ends[2]) && SameBits(ends[1], ends[3])) << terms << " terms, " << count;
+      }
+    }
+  }
+}
+
 // The linearisation of a campaign-like scene (bore orders 2..50, eight lobe orders per
 // roller): its weights over the phasor table of its own rates, one campaign-resolution
 // block, through both builds.
