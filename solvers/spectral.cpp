@@ -1,6 +1,7 @@
 #include "solvers/spectral.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -14,10 +15,13 @@ namespace ringtol::solvers {
 
 namespace {
 
-// How far a coarse stretch's unevaluated angles can be from the chord through its
-// evaluated ends.
+// How far a coarse stretch's unevaluated angles can be from the line through its ends:
+// its evaluated ends, less LinearPath::StretchStraying's shifts for the centre, the travels
+// and the forces.
 struct StretchBound {
+  std::array<Eigen::Vector2d, 2> centre_end;  // [m] the line's ends for the corrected centre
   double centre = 0.0;  // [m] the corrected centre
+  double correction = 0.0;  // [m] of that, the second-order correction's: its bound plus the ends'
   double signal = 0.0;  // [m] the signal's rest beyond its first-order part
 };
 
@@ -96,20 +100,26 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   // Each coarse stretch's unevaluated angles, bounded: the first-order outputs lie within
   // their chord bounds of the chord through the stretch's ends, so SecondOrderTerms::Over
   // bounds the correction and its remainder there; a corrected output then lies within its
-  // chord bound, plus the correction's bound, plus the larger correction at the ends, of
-  // the chord through the corrected ends. Over runs of kStretchesARun stretches first (a
+  // stretch's bound (LinearPath::StrayingOver: the chord bound, or the tighter Hermite
+  // bound about the line through the ends less the fast lobes there), plus the
+  // correction's bound, plus the larger correction at the ends, of that line through the
+  // corrected ends less the same shifts. Over runs of kStretchesARun stretches first (a
   // bound per stretch costs more than the angles it saves); a run whose remainder bound
   // alone would break the estimate's target is bounded again stretch by stretch.
   const std::size_t width = path.FirstOrderWidth();
   std::vector<StretchBound> bounds(segments);
-  // Per stretch and roller [m, N], stretch-major.
+  // Per stretch and roller [m, N], stretch-major; the lines' ends per stretch, end and
+  // roller.
   std::vector<double> travel_bound(segments * z), force_bound(segments * z);
+  std::vector<double> travel_end(2 * segments * z), force_end(2 * segments * z);
   thread_local FirstOrderRange range;
   thread_local SecondOrderRange over;
+  thread_local LinearPath::StretchStraying chord;
   const auto bound_stretches = [&](std::size_t first, std::size_t last) {
     path.RangeOver(samples, first, last, straying, range);
     path.second_order().Over(range, over);
     for (std::size_t j = first; j < last; ++j) {
+      path.StrayingOver(samples, j, straying, chord);
       StretchBound& bound = bounds[j];
       const std::size_t a = j;
       const std::size_t b = j + 1;
@@ -118,15 +128,22 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
       const double* first_b = samples.first_order.data() + b * width;
       const double end_correction = std::max((samples.centre[a] - Eigen::Vector2d(first_a[0], first_a[1])).norm(),
                                              (samples.centre[b] - Eigen::Vector2d(first_b[0], first_b[1])).norm());
-      bound.centre = straying.centre + over.centre + end_correction;
+      bound.correction = over.centre + end_correction;
+      bound.centre = chord.centre + bound.correction;
+      bound.centre_end = {samples.centre[a] - chord.centre_shift[0], samples.centre[b] - chord.centre_shift[1]};
       bound.signal = straying.signal_rest + over.centre + end_correction;
       for (std::size_t i = 0; i < z; ++i) {
         const auto end = [&](const std::vector<double>& corrected, std::size_t offset) {
           return std::max(std::abs(corrected[a * z + i] - first_a[offset + i]),
                           std::abs(corrected[b * z + i] - first_b[offset + i]));
         };
-        travel_bound[j * z + i] = straying.travel[i] + over.travel[i] + end(samples.travel, 2);
-        force_bound[j * z + i] = straying.contact_force[i] + over.contact_force[i] + end(samples.contact_force, 2 + z);
+        travel_bound[j * z + i] = chord.travel[i] + over.travel[i] + end(samples.travel, 2);
+        force_bound[j * z + i] = chord.contact_force[i] + over.contact_force[i] + end(samples.contact_force, 2 + z);
+        for (std::size_t side = 0; side < 2; ++side) {
+          const std::size_t at = (j + side) * z + i;
+          travel_end[(2 * j + side) * z + i] = samples.travel[at] - chord.travel_shift[side * z + i];
+          force_end[(2 * j + side) * z + i] = samples.contact_force[at] - chord.force_shift[side * z + i];
+        }
       }
     }
     return over.remainder;
@@ -144,7 +161,8 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   // each level's count floored at the share (the header says why).
   double farthest = 0.0;
   for (std::size_t j = 0; j < segments; ++j) {
-    farthest = std::max(farthest, std::max(samples.centre[j].norm(), samples.centre[j + 1].norm()) + bounds[j].centre);
+    const StretchBound& bound = bounds[j];
+    farthest = std::max(farthest, std::max(bound.centre_end[0].norm(), bound.centre_end[1].norm()) + bound.centre);
   }
   // The linear rung's own limit (LinearRangeRefusal) at the coarse angles' reach, below the
   // dense path's: a target no decision lies under.
@@ -195,11 +213,11 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
     if (refined[j]) continue;
     bool certain = true;
     for (std::size_t i = 0; i < z && certain; ++i) {
-      const double force_a = samples.contact_force[j * z + i];
-      const double force_b = samples.contact_force[(j + 1) * z + i];
+      const double force_a = force_end[2 * j * z + i];
+      const double force_b = force_end[(2 * j + 1) * z + i];
       certain = std::min(force_a, force_b) > force_bound[j * z + i];
       if (scene.rollers[i].mount != engine::RollerMount::kFixed) {
-        const double travel = std::max(std::abs(samples.travel[j * z + i]), std::abs(samples.travel[(j + 1) * z + i]));
+        const double travel = std::max(std::abs(travel_end[2 * j * z + i]), std::abs(travel_end[(2 * j + 1) * z + i]));
         certain = certain && travel + travel_bound[j * z + i] <= scene.rollers[i].spring.travel_limit;
       }
     }
@@ -229,13 +247,13 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
       for (std::size_t j = 0; j < segments; ++j) {
         if (refined[j]) continue;
         const auto beyond = [&](const Eigen::Vector2d& from, double radius) {
-          return std::max((samples.centre[j] - from).norm(), (samples.centre[j + 1] - from).norm()) + bounds[j].centre >
+          return std::max((bounds[j].centre_end[0] - from).norm(), (bounds[j].centre_end[1] - from).norm()) + bounds[j].centre >
                  radius;
         };
         bool open = beyond(circle.centre, circle.radius) || (with_reach && beyond(start, reach));
         for (std::size_t i = 0; i < z && !open; ++i) {
-          const double force_a = samples.contact_force[j * z + i];
-          const double force_b = samples.contact_force[(j + 1) * z + i];
+          const double force_a = force_end[2 * j * z + i];
+          const double force_b = force_end[(2 * j + 1) * z + i];
           open = std::min(force_a, force_b) - force_bound[j * z + i] < smallest_force ||
                  std::max(force_a, force_b) + force_bound[j * z + i] > largest_force;
         }
@@ -335,7 +353,7 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
     }, centre);
     AddInterpolated(order, samples.index, [&](std::size_t s) { return signal_second[s]; }, signal_rest);
     for (std::size_t j = 0; j < segments; ++j) {
-      if (!refined[j]) spectral.centre_error = std::max(spectral.centre_error, bounds[j].centre - straying.centre);
+      if (!refined[j]) spectral.centre_error = std::max(spectral.centre_error, bounds[j].correction);
     }
     const auto dense = static_cast<std::size_t>(steps);
     spectral.life = EveryRevolutionFromRest(scene, std::span<const Eigen::Vector2d>(centre).first(dense),
@@ -351,7 +369,7 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
     if (refined[j]) continue;
     spectral.signal_error = std::max(spectral.signal_error, bounds[j].signal);
     for (std::size_t i = 0; i < z; ++i) {
-      const double end = std::max(std::abs(samples.travel[j * z + i]), std::abs(samples.travel[(j + 1) * z + i]));
+      const double end = std::max(std::abs(travel_end[2 * j * z + i]), std::abs(travel_end[(2 * j + 1) * z + i]));
       largest_travel[i] = std::max(largest_travel[i], end + travel_bound[j * z + i]);
     }
   }

@@ -1,8 +1,8 @@
 // The linear rung read from its phasors (AngleMode::kSpectral, solvers/simulation.h): its
 // path is a sum of rotating phasors (solvers/linear.h LinearPath), so it is evaluated on a
 // coarse grid of every stride-th angle, and then only on the stretches between two coarse
-// angles where a chord bound (each term strays from its chord by at most
-// min(2, w^2 dpsi^2 / 8) of its amplitude) leaves open whether a dense angle there lies
+// angles where a bound (each term strays from its chord by at most min(2, w^2 dpsi^2 / 8)
+// of its amplitude, or the tighter Hermite bound of LinearPath::StrayingOver) leaves open whether a dense angle there lies
 // outside the enclosing circle or beyond the contact forces' extremes, or whether a force
 // could reach zero or a travel its limit there. What is left unevaluated changes none of
 // these, so D_trajectory, Dist_init, the smallest and the largest contact force and the
