@@ -22,6 +22,10 @@ struct StretchBound {
   std::array<Eigen::Vector2d, 2> centre_end;  // [m] the line's ends for the corrected centre
   double centre = 0.0;  // [m] the corrected centre
   double correction = 0.0;  // [m] of that, the second-order correction's: its bound plus the ends'
+  // [m] the same with the chord bound, about the chord through the evaluated ends: what
+  // the margins the auto rung weighs read (the farthest reach behind the estimate, the
+  // travels), so that its verdicts stay those of the chord bound.
+  double chord_centre = 0.0;
   double signal = 0.0;  // [m] the signal's rest beyond its first-order part
 };
 
@@ -112,6 +116,7 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   // roller.
   std::vector<double> travel_bound(segments * z), force_bound(segments * z);
   std::vector<double> travel_end(2 * segments * z), force_end(2 * segments * z);
+  std::vector<double> travel_chord_bound(segments * z);  // the chord bound's, for the margins
   thread_local FirstOrderRange range;
   thread_local SecondOrderRange over;
   thread_local LinearPath::StretchStraying chord;
@@ -130,6 +135,7 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
                                              (samples.centre[b] - Eigen::Vector2d(first_b[0], first_b[1])).norm());
       bound.correction = over.centre + end_correction;
       bound.centre = chord.centre + bound.correction;
+      bound.chord_centre = straying.centre + bound.correction;
       bound.centre_end = {samples.centre[a] - chord.centre_shift[0], samples.centre[b] - chord.centre_shift[1]};
       bound.signal = straying.signal_rest + over.centre + end_correction;
       for (std::size_t i = 0; i < z; ++i) {
@@ -138,6 +144,7 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
                           std::abs(corrected[b * z + i] - first_b[offset + i]));
         };
         travel_bound[j * z + i] = chord.travel[i] + over.travel[i] + end(samples.travel, 2);
+        travel_chord_bound[j * z + i] = straying.travel[i] + over.travel[i] + end(samples.travel, 2);
         force_bound[j * z + i] = chord.contact_force[i] + over.contact_force[i] + end(samples.contact_force, 2 + z);
         for (std::size_t side = 0; side < 2; ++side) {
           const std::size_t at = (j + side) * z + i;
@@ -161,8 +168,8 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   // each level's count floored at the share (the header says why).
   double farthest = 0.0;
   for (std::size_t j = 0; j < segments; ++j) {
-    const StretchBound& bound = bounds[j];
-    farthest = std::max(farthest, std::max(bound.centre_end[0].norm(), bound.centre_end[1].norm()) + bound.centre);
+    farthest =
+        std::max(farthest, std::max(samples.centre[j].norm(), samples.centre[j + 1].norm()) + bounds[j].chord_centre);
   }
   // The linear rung's own limit (LinearRangeRefusal) at the coarse angles' reach, below the
   // dense path's: a target no decision lies under.
@@ -369,8 +376,8 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
     if (refined[j]) continue;
     spectral.signal_error = std::max(spectral.signal_error, bounds[j].signal);
     for (std::size_t i = 0; i < z; ++i) {
-      const double end = std::max(std::abs(travel_end[2 * j * z + i]), std::abs(travel_end[(2 * j + 1) * z + i]));
-      largest_travel[i] = std::max(largest_travel[i], end + travel_bound[j * z + i]);
+      const double end = std::max(std::abs(samples.travel[j * z + i]), std::abs(samples.travel[(j + 1) * z + i]));
+      largest_travel[i] = std::max(largest_travel[i], end + travel_chord_bound[j * z + i]);
     }
   }
   spectral.margins.largest_travel = std::move(largest_travel);
