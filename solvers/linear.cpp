@@ -758,13 +758,16 @@ struct LinearPath::Parts {
   // 5Z, 5Z + 1 and 5Z + 2.
   Eigen::MatrixXd series_cosine, series_sine;
   TermGroup group;                 // their weights, each term's cosine and sine in turn
-  // What StrayingOver reads, set by EvaluateCoarse: at the coarse angles, rows 0 .. 2Z + 1
+  // What StrayingOver reads, set by KeepStretchRows: at the coarse angles, rows 0 .. 2Z + 1
   // the slow terms' d/dpsi of the first-order centre x, y, travels and forces (a term's
   // cosine weight rate x sine, its sine weight -rate x cosine), rows 2Z + 2 .. 4Z + 3 the
-  // fast terms' values of the same outputs (row stride coarse_stride); and per output the
-  // slow terms' Hermite remainders plus the fast terms' amplitudes [m, m, N].
+  // fast terms' values of the same outputs (row stride coarse_stride), each angle's summed
+  // the first time a stretch asks for it (stretch_rows_summed), since few stretches do;
+  // and per output the slow terms' Hermite remainders plus the fast terms' amplitudes
+  // [m, m, N].
   TermGroup stretch_group;
   std::vector<double> coarse_stretch_rows;
+  std::vector<char> stretch_rows_summed;
   double centre_hermite = 0.0;
   std::vector<double> travel_hermite, force_hermite;
   std::vector<double> dense_cos, dense_sin;  // per term: the turn by one angle
@@ -898,7 +901,6 @@ void LinearPath::EvaluateCoarse(int stride, Samples& samples) {
     }
   }
   parts.Append(*lin_, parts.coarse_table.data(), parts.coarse_stride, coarse_, samples);
-  KeepStretchRows(stride);
 }
 
 // A term a cos(w psi + phase) is fast over a stretch dpsi long where w dpsi > 2 sqrt(2): its
@@ -908,7 +910,8 @@ void LinearPath::EvaluateCoarse(int stride, Samples& samples) {
 // peaks at dpsi^4 / 16 mid-way), a w^4 dpsi^4 / 384 <= a / 6. For the centre's pair of rows
 // each row obeys its own bound, so the pair's, with the pair's amplitude norm(|a_x|, |a_y|),
 // which also bounds the pair's value.
-void LinearPath::KeepStretchRows(int stride) {
+void LinearPath::KeepStretchRows() {
+  const int stride = stride_;
   Parts& parts = *parts_;
   const Linearisation& lin = *lin_;
   const NominalResponse& nominal = *lin.nominal;
@@ -960,9 +963,7 @@ void LinearPath::KeepStretchRows(int stride) {
   std::iota(columns.begin(), columns.end(), Eigen::Index{0});
   parts.stretch_group = MakeGroup({&cosine, &sine}, columns);
   parts.coarse_stretch_rows.resize(static_cast<std::size_t>(2 * outputs) * parts.coarse_stride);
-  path_kernels::KernelsFor(parts.kernels)
-      .sum_rows(parts.stretch_group.View(), parts.coarse_table.data(), parts.coarse_stride, parts.coarse_stride,
-                parts.coarse_stretch_rows.data(), parts.coarse_stride);
+  parts.stretch_rows_summed.assign(coarse_.size(), 0);
 }
 
 void LinearPath::Refine(int j, Samples& samples) {
@@ -1143,18 +1144,30 @@ double CubicPeak(double a, double b) {
 // centre's pair. H is linear in the path, so f_S - H is the sum over the slow terms of each
 // less its own cubic; with |f_F| <= the fast amplitudes, the outputs lie within
 // |H - L| + KeepStretchRows' remainders of L, the chord through the ends less f_F there.
-// Where that is not below the chord bound the chord is kept, shifts zero.
+// Where that is not below the chord bound the chord is kept, shifts zero; where the
+// remainders alone are not, the cubic's peak is not sought.
 void LinearPath::StrayingOver(const Samples& samples, std::size_t j, const Straying& straying,
                               StretchStraying& out) const {
-  const Parts& parts = *parts_;
+  Parts& parts = *parts_;  // the rows' cache
   const auto zs = static_cast<std::size_t>(rollers());
   const std::size_t width = FirstOrderWidth();
   const std::size_t outputs = 2 + 2 * zs;
   const double h = (coarse_[j + 1] - coarse_[j]) * 2.0 * std::numbers::pi / steps_;
   const double* first_a = samples.first_order.data() + j * width;
   const double* first_b = samples.first_order.data() + (j + 1) * width;
-  const double* rows = parts.coarse_stretch_rows.data();
+  double* rows = parts.coarse_stretch_rows.data();
   const std::size_t stride = parts.coarse_stride;
+  const TermGroup& group = parts.stretch_group;
+  for (const std::size_t at : {j, j + 1}) {
+    if (parts.stretch_rows_summed[at] != 0) continue;
+    parts.stretch_rows_summed[at] = 1;
+    for (std::size_t r = 0; r < 2 * outputs; ++r) {
+      double sum = 0.0;
+      const double* weight = group.weights.data() + r * group.terms;
+      for (std::size_t q = group.first[r]; q < group.last[r]; ++q) sum += weight[q] * parts.coarse_table[q * stride + at];
+      rows[r * stride + at] = sum;
+    }
+  }
   const auto slope = [&](std::size_t r, std::size_t at) { return rows[r * stride + at]; };
   const auto fast = [&](std::size_t r, std::size_t at) { return rows[(outputs + r) * stride + at]; };
   // Row r's slow slope less the slow chord's, at each end.
@@ -1162,9 +1175,13 @@ void LinearPath::StrayingOver(const Samples& samples, std::size_t j, const Stray
     const double chord = ((first_b[r] - fast(r, j + 1)) - (first_a[r] - fast(r, j))) / h;
     return std::pair(slope(r, j) - chord, slope(r, j + 1) - chord);
   };
-  const auto [xa, xb] = gaps(0);
-  const auto [ya, yb] = gaps(1);
-  const double centre = h * CubicPeak(std::hypot(xa, ya), std::hypot(xb, yb)) + parts.centre_hermite;
+  const auto norm = [](double x, double y) { return std::sqrt(x * x + y * y); };
+  double centre = parts.centre_hermite;
+  if (centre < straying.centre) {
+    const auto [xa, xb] = gaps(0);
+    const auto [ya, yb] = gaps(1);
+    centre += h * CubicPeak(norm(xa, ya), norm(xb, yb));
+  }
   const bool centre_hermite = centre < straying.centre;
   out.centre = centre_hermite ? centre : straying.centre;
   for (std::size_t end = 0; end < 2; ++end) {
@@ -1175,8 +1192,11 @@ void LinearPath::StrayingOver(const Samples& samples, std::size_t j, const Stray
   out.travel_shift.resize(2 * zs);
   out.force_shift.resize(2 * zs);
   const auto choose = [&](std::size_t r, double hermite, double chord, double& bound, double* shift) {
-    const auto [a, b] = gaps(r);
-    const double cubic = h * CubicPeak(a, -b) + hermite;
+    double cubic = hermite;
+    if (cubic < chord) {
+      const auto [a, b] = gaps(r);
+      cubic += h * CubicPeak(a, -b);
+    }
     const bool use = cubic < chord;
     bound = use ? cubic : chord;
     shift[0] = use ? fast(r, j) : 0.0;

@@ -163,9 +163,12 @@ class LinearPath {
   int rollers() const;
 
   // Appends the outputs at k = 0, stride, 2 stride, ... and at k = steps (the coarse grid,
-  // stride >= 1), and keeps the phasors there for Refine and the first-order outputs'
-  // slopes there for StrayingOver. Call once, first.
+  // stride >= 1), and keeps the phasors there for Refine. Call once, first.
   void EvaluateCoarse(int stride, Samples& samples);
+  // Prepares what StrayingOver reads at the coarse angles: the first-order outputs' slopes
+  // there and the rollers' fast lobes' values (one more sum over the kept phasors, at an
+  // angle the first time a stretch ending there asks). Call once, after EvaluateCoarse.
+  void KeepStretchRows();
   int coarse_stride() const { return stride_; }
   // The coarse angles' indices, ascending (their last is steps).
   const std::vector<int>& coarse() const { return coarse_; }
@@ -189,10 +192,11 @@ class LinearPath {
   // two bounds: the chord bound (shifts zero), or the cubic Hermite bound, which splits the
   // terms into slow ones and the rollers' fast lobes (more than 2 sqrt(2) rad a stretch):
   // the slow part strays from its cubic through its values and slopes at the ends, kept by
-  // EvaluateCoarse, by its fourth-derivative remainder, the cubic from the slow part's chord
+  // KeepStretchRows (call it first), by its fourth-derivative remainder, the cubic from the slow part's chord
   // by what its slopes say; the fast part by at most its amplitudes from zero; the line is
   // then the chord through the ends less the fast part there, which the shifts hold
-  // (solvers/linear.cpp, docs/model.md §5). `out` is resized.
+  // (solvers/linear.cpp, docs/model.md §5). `out` is resized. Sums the slopes at the
+  // stretch's ends on first use: one path, one thread.
   void StrayingOver(const Samples& samples, std::size_t j, const Straying& straying, StretchStraying& out) const;
   // Doubles an angle in Samples::first_order: 2 + 6Z.
   std::size_t FirstOrderWidth() const;
@@ -215,8 +219,6 @@ class LinearPath {
  private:
   friend class LinearSolver;
   LinearPath();
-  // EvaluateCoarse's last step: what StrayingOver reads at the coarse angles.
-  void KeepStretchRows(int stride);
 
   Status status_ = Status::kOk;
   std::string message_;

@@ -48,6 +48,7 @@ TEST(LinearPathStrayingOver, BoundsEveryDenseAngleAndNeverExceedsTheChordBound) 
     ASSERT_EQ(path.status(), solvers::Status::kOk);
     solvers::LinearPath::Samples coarse, dense;
     path.EvaluateCoarse(kStride, coarse);
+    path.KeepStretchRows();
     const solvers::LinearPath::Straying straying = path.StrayingAt(2.0 * std::numbers::pi * kStride / kSteps);
     const std::size_t width = path.FirstOrderWidth();
     const std::size_t z = scene.rollers.size();
