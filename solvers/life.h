@@ -75,7 +75,9 @@ LifeResult SimulateLife(const engine::Scene& scene, const Solver& solver, const 
 
 // How much looser Accuracy::kFast samples the rollers' lobe curves than kFull: their
 // chords may stray this many times further (solvers/life.cpp), with
-// 1 / sqrt(kFastCurveLooseness) of the samples.
+// 1 / sqrt(kFastCurveLooseness) of the samples. On 16,384 default samples 5 moves the life
+// D_trajectory by at most 0.041 um and 10 by 0.078 um (the Hermite bound's 0.025 included),
+// against a 1 um path tolerance.
 inline constexpr double kFastCurveLooseness = 5.0;
 
 // Revolutions after which phase-locked rollers with rational spin ratios repeat, at most:
