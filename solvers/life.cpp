@@ -276,7 +276,8 @@ std::vector<Eigen::Vector2d> MinkowskiSum(std::vector<Eigen::Vector2d> a, std::v
 // |s|^2) bounds its radius) strays by at most A min(2, (o du)^2 / 8) between samples du
 // apart, so the step that keeps the sum within kCurveStraying of sum A is
 // sqrt(8 kCurveStraying sum A / sum A o^2): the fast terms' amplitudes set it, not their
-// orders alone.
+// orders alone. `looseness` >= 1 multiplies kCurveStraying and the cap's straying alike
+// (Accuracy::kFast), dividing the samples by its square root.
 struct CurveSamples {
   std::vector<Eigen::Vector2d> points;
   double straying = 0.0;  // [m]
@@ -285,7 +286,8 @@ struct CurveSamples {
   // twice what the filtered curve may stray from the samples: an upper bound on it.
   double motion_range = 0.0;
 };
-CurveSamples SampleCurve(const PhaseCurve& curve, const Eigen::Vector2d& ray, const engine::ErrorMotionFilter& filter) {
+CurveSamples SampleCurve(const PhaseCurve& curve, const Eigen::Vector2d& ray, const engine::ErrorMotionFilter& filter,
+                         double looseness) {
   const std::size_t terms = curve.order.size();
   double amplitude = 0.0, weighted = 0.0;
   std::vector<double> amplitudes(terms), along_cos(terms), along_sin(terms), transmissions(terms);
@@ -298,9 +300,11 @@ CurveSamples SampleCurve(const PhaseCurve& curve, const Eigen::Vector2d& ray, co
     along_sin[p] = transmissions[p] * ray.dot(curve.sine[p]);
   }
   constexpr int kFewest = 16;
-  const int most = kMostCurveSamplesPerOrder * std::max(curve.max_order, 1);
+  const auto per_order = static_cast<int>(std::ceil(kMostCurveSamplesPerOrder / std::sqrt(looseness)));
+  const int most = per_order * std::max(curve.max_order, 1);
+  const double share = looseness * kCurveStraying;
   const int count =
-      weighted > 0.0 ? std::clamp(static_cast<int>(std::ceil(kTwoPi / std::sqrt(8.0 * kCurveStraying * amplitude / weighted))),
+      weighted > 0.0 ? std::clamp(static_cast<int>(std::ceil(kTwoPi / std::sqrt(8.0 * share * amplitude / weighted))),
                                   kFewest, most)
                      : kFewest;
   const double du = kTwoPi / count;
@@ -394,7 +398,8 @@ CycleRevolutions OverCycle(const CycleParts& parts, const Eigen::Vector2d& ray, 
 // What EveryRevolution and EveryRevolutionFromRest share: the path less its lobes and the
 // signal less them at the same angles.
 LifeValues EveryRevolutionOf(const engine::Scene& scene, std::vector<PhaseCurve> curves,
-                             std::span<const Eigen::Vector2d> rest, std::span<const double> signal_rest, int& cycle) {
+                             std::span<const Eigen::Vector2d> rest, std::span<const double> signal_rest, int& cycle,
+                             Accuracy accuracy) {
   const std::size_t steps = rest.size();
   const Eigen::Vector2d ray = engine::Direction(scene.sensor_angle);
   const CurveCycle split = SplitByCycle(std::move(curves), scene.phase_locked_rollers);
@@ -428,7 +433,7 @@ LifeValues EveryRevolutionOf(const engine::Scene& scene, std::vector<PhaseCurve>
   std::vector<Eigen::Vector2d> hull = PathHull(points);
   double filled = 0.0, filled_motion = 0.0, straying = 0.0;
   for (const PhaseCurve& curve : split.filling) {
-    const CurveSamples samples = SampleCurve(curve, ray, filter);
+    const CurveSamples samples = SampleCurve(curve, ray, filter, accuracy == Accuracy::kFast ? kFastCurveLooseness : 1.0);
     hull = MinkowskiSum(hull, ConvexHull(samples.points));
     const auto [low, high] = std::ranges::minmax(samples.points | std::views::transform([&](const Eigen::Vector2d& g) {
                                                    return ray.dot(g);
@@ -538,7 +543,7 @@ LifeResult SimulateLife(const engine::Scene& scene, const Solver& solver, const 
 }
 
 LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& one, const PhasorSum& sum,
-                           int& cycle) {
+                           int& cycle, Accuracy accuracy) {
   const auto steps = static_cast<std::size_t>(one.steps);
   if (one.status != Status::kOk || one.trajectory.centre.size() < steps || one.sensor.size() < steps || steps < 3) {
     throw std::invalid_argument("EveryRevolution: needs a valid revolution at its dense angles");
@@ -553,17 +558,18 @@ LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& o
     rest[j] = one.trajectory.centre[j] - lobes[j];
     signal_rest[j] = one.sensor[j] - ray.dot(lobes[j]);
   }
-  return EveryRevolutionOf(scene, std::move(curves), rest, signal_rest, cycle);
+  return EveryRevolutionOf(scene, std::move(curves), rest, signal_rest, cycle, accuracy);
 }
 
 LifeValues EveryRevolutionFromRest(const engine::Scene& scene, std::span<const Eigen::Vector2d> rest,
-                                   std::span<const double> signal_rest, const PhasorSum& sum, int& cycle) {
+                                   std::span<const double> signal_rest, const PhasorSum& sum, int& cycle,
+                                   Accuracy accuracy) {
   const std::size_t steps = rest.size();
   if (steps < 3 || signal_rest.size() != steps) {
     throw std::invalid_argument("EveryRevolutionFromRest: needs the path and the signal at the same 3 or more angles");
   }
   if (!sum.usable) throw std::invalid_argument("EveryRevolutionFromRest: needs the scene's phasors");
-  return EveryRevolutionOf(scene, PhaseCurves(sum, scene.phase_locked_rollers), rest, signal_rest, cycle);
+  return EveryRevolutionOf(scene, PhaseCurves(sum, scene.phase_locked_rollers), rest, signal_rest, cycle, accuracy);
 }
 
 LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, const SimulationOptions& options,
@@ -575,7 +581,7 @@ LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, co
   dense.angles = AngleMode::kDense;
   dense.keep_trajectory = true;
   const PhasorSum sum = linear.Phasors(scene);
-  life.asymptotic = EveryRevolution(scene, one, sum, life.cycle);
+  life.asymptotic = EveryRevolution(scene, one, sum, life.cycle, options.accuracy);
 
   // The same assembly with round rollers, at the same angles: what the second-order
   // correction owes to the lobes is the difference of the two paths less the lobes' first

@@ -73,6 +73,13 @@ engine::Scene AtRevolution(const engine::Scene& scene, int k);
 LifeResult SimulateLife(const engine::Scene& scene, const Solver& solver, const SimulationOptions& options,
                         int revolutions);
 
+// How much looser Accuracy::kFast samples the rollers' lobe curves than kFull: their
+// chords may stray this many times further (solvers/life.cpp), with
+// 1 / sqrt(kFastCurveLooseness) of the samples. On 16,384 default samples 5 moves the life
+// D_trajectory by at most 0.041 um and 10 by 0.078 um (the Hermite bound's 0.025 included),
+// against a 1 um path tolerance.
+inline constexpr double kFastCurveLooseness = 5.0;
+
 // Revolutions after which phase-locked rollers with rational spin ratios repeat, at most:
 // a longer cycle is counted as never repeating, since its revolutions already cover every
 // phase to within (pi m / cycle)^2 / 2 of a lobe's amplitude.
@@ -105,12 +112,17 @@ LifeResult LinearLife(const engine::Scene& scene, const LinearSolver& linear, co
 // lobes plus the lobes at their drawn phases), the lobes' curves from the linear rung's
 // phasors of the same scene (LinearSolver::Phasors, usable). No solve: what a campaign's
 // sample adds. `cycle` as LifeResult::cycle. Throws std::invalid_argument otherwise.
-LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& one, const PhasorSum& sum, int& cycle);
+// Accuracy::kFast samples the lobes' curves kFastCurveLooseness times looser (fewer points
+// to hull and sum), widening the hull, the ranges and the error motion by the larger
+// straying: the values stay upper bounds on the sampled life's, a little wider.
+LifeValues EveryRevolution(const engine::Scene& scene, const SimulationResult& one, const PhasorSum& sum, int& cycle,
+                           Accuracy accuracy = Accuracy::kFull);
 // The same from the centre and the sensor signal less the rollers' lobes [m] at psi_k =
 // 2 pi k / size, k = 0 .. size - 1 (size >= 3, both alike), as the spectral evaluation has
 // them.
 LifeValues EveryRevolutionFromRest(const engine::Scene& scene, std::span<const Eigen::Vector2d> rest,
-                                   std::span<const double> signal_rest, const PhasorSum& sum, int& cycle);
+                                   std::span<const double> signal_rest, const PhasorSum& sum, int& cycle,
+                                   Accuracy accuracy = Accuracy::kFull);
 
 // The artefact value of `scene` over `steps` angles (LifeResult::artefact).
 double ArtefactForm(const engine::Scene& scene, int steps);

@@ -787,6 +787,18 @@ struct LinearPath::Parts {
   // 5Z, 5Z + 1 and 5Z + 2.
   Eigen::MatrixXd series_cosine, series_sine;
   TermGroup group;                 // their weights, each term's cosine and sine in turn
+  // What StrayingOver reads, set by KeepStretchRows: at the coarse angles, rows 0 .. 2Z + 1
+  // the slow terms' d/dpsi of the first-order centre x, y, travels and forces (a term's
+  // cosine weight rate x sine, its sine weight -rate x cosine), rows 2Z + 2 .. 4Z + 3 the
+  // fast terms' values of the same outputs (row stride coarse_stride), each angle's summed
+  // the first time a stretch asks for it (stretch_rows_summed), since few stretches do;
+  // and per output the slow terms' Hermite remainders plus the fast terms' amplitudes
+  // [m, m, N].
+  TermGroup stretch_group;
+  std::vector<double> coarse_stretch_rows;
+  std::vector<char> stretch_rows_summed;
+  double centre_hermite = 0.0;
+  std::vector<double> travel_hermite, force_hermite;
   std::vector<double> dense_cos, dense_sin;  // per term: the turn by one angle
   // Buffers whose every element is written before it is read, resized with
   // boost::container::default_init: a sample's new path grows them from nothing, and a
@@ -929,6 +941,69 @@ void LinearPath::EvaluateCoarse(int stride, Samples& samples) {
     }
   }
   parts.Append(*lin_, parts.coarse_table.data(), parts.coarse_stride, coarse_, samples);
+}
+
+// A term a cos(w psi + phase) is fast over a stretch dpsi long where w dpsi > 2 sqrt(2): its
+// chord bound w^2 dpsi^2 / 8 would exceed its amplitude, which bounds it from zero.
+// A slow term less its cubic Hermite interpolant H is at most max|f''''| dpsi^4 / 384 (the
+// interpolation remainder f''''(xi) (psi - psi_a)^2 (psi - psi_b)^2 / 4!, whose polynomial
+// peaks at dpsi^4 / 16 mid-way), a w^4 dpsi^4 / 384 <= a / 6. For the centre's pair of rows
+// each row obeys its own bound, so the pair's, with the pair's amplitude norm(|a_x|, |a_y|),
+// which also bounds the pair's value.
+void LinearPath::KeepStretchRows() {
+  const int stride = stride_;
+  Parts& parts = *parts_;
+  const Linearisation& lin = *lin_;
+  const NominalResponse& nominal = *lin.nominal;
+  const int z = nominal.rollers;
+  const auto zs = static_cast<std::size_t>(z);
+  const auto terms = static_cast<Eigen::Index>(lin.rates.size());
+  const double span = stride * 2.0 * std::numbers::pi / steps_;
+  const Eigen::Index outputs = 2 + 2 * z;
+  // Output r's row in the linearisation, -1 for a fixed roller's travel.
+  const auto row_of = [&](Eigen::Index r) -> Eigen::Index {
+    if (r < 2) return r;
+    if (r < 2 + z) return nominal.travel_row[static_cast<std::size_t>(r - 2)];
+    return nominal.first_force_row + r - 2 - z;
+  };
+  Eigen::MatrixXd cosine = Eigen::MatrixXd::Zero(2 * outputs, terms);
+  Eigen::MatrixXd sine = Eigen::MatrixXd::Zero(2 * outputs, terms);
+  parts.centre_hermite = 0.0;
+  parts.travel_hermite.assign(zs, 0.0);
+  parts.force_hermite.assign(zs, 0.0);
+  const auto norm = [](double x, double y) { return std::sqrt(x * x + y * y); };
+  for (Eigen::Index q = 0; q < terms; ++q) {
+    const double rate = lin.rates[static_cast<std::size_t>(q)];
+    const double turn = std::abs(rate) * span;
+    const bool fast = turn > 2.0 * std::numbers::sqrt2;
+    const double weight = fast ? 1.0 : turn * turn * turn * turn / 384.0;
+    std::array<double, 2> centre{};
+    for (Eigen::Index r = 0; r < outputs; ++r) {
+      const Eigen::Index row = row_of(r);
+      if (row < 0) continue;
+      if (fast) {
+        cosine(outputs + r, q) = lin.cosine(row, q);
+        sine(outputs + r, q) = lin.sine(row, q);
+      } else {
+        cosine(r, q) = rate * lin.sine(row, q);
+        sine(r, q) = -rate * lin.cosine(row, q);
+      }
+      const double amplitude = weight * norm(lin.cosine(row, q), lin.sine(row, q));
+      if (r < 2) {
+        centre[static_cast<std::size_t>(r)] = amplitude;
+      } else if (r < 2 + z) {
+        parts.travel_hermite[static_cast<std::size_t>(r - 2)] += amplitude;
+      } else {
+        parts.force_hermite[static_cast<std::size_t>(r - 2 - z)] += amplitude;
+      }
+    }
+    parts.centre_hermite += norm(centre[0], centre[1]);
+  }
+  std::vector<Eigen::Index> columns(static_cast<std::size_t>(terms));
+  std::iota(columns.begin(), columns.end(), Eigen::Index{0});
+  parts.stretch_group = MakeGroup({&cosine, &sine}, columns);
+  parts.coarse_stretch_rows.resize(static_cast<std::size_t>(2 * outputs) * parts.coarse_stride);
+  parts.stretch_rows_summed.assign(coarse_.size(), 0);
 }
 
 void LinearPath::Refine(int j, Samples& samples) {
@@ -1078,6 +1153,105 @@ LinearPath::Straying LinearPath::StrayingAt(double dpsi) const {
   const double turn = across / (0.5 * parts.bore_radius);
   bounds.signal_rest = 2.0 * (form_slope * turn + form_curvature * turn * turn / 2.0 + across * turn / 2.0);
   return bounds;
+}
+
+namespace {
+
+// max over t in [0, 1] of |a t (1 - t)^2 + b t^2 (1 - t)|: the polynomial vanishes at both
+// ends, so it peaks where its derivative 3 (a - b) t^2 + (2 b - 4 a) t + a vanishes (real
+// roots, by Rolle; a discriminant rounded below zero is a double root). The roots are taken
+// in the form that does not cancel; a root off by an ulp moves the peak by its square.
+double CubicPeak(double a, double b) {
+  const auto at = [&](double t) { return std::abs(t * (1.0 - t) * ((1.0 - t) * a + t * b)); };
+  const double quadratic = 3.0 * (a - b);
+  const double linear = 2.0 * b - 4.0 * a;
+  double peak = 0.0;
+  const auto consider = [&](double t) {
+    if (t > 0.0 && t < 1.0) peak = std::max(peak, at(t));
+  };
+  const double root = std::sqrt(std::max(0.0, linear * linear - 4.0 * quadratic * a));
+  const double half = -0.5 * (linear + std::copysign(root, linear));
+  if (half != 0.0) consider(a / half);
+  if (quadratic != 0.0) consider(half / quadratic);
+  return peak;
+}
+
+}  // namespace
+
+// The cubic Hermite bound (docs/model.md §5). Over a stretch of length h the slow part f_S
+// (the outputs less the fast part f_F, whose values at the ends the stretch rows hold) has
+// ends f0, f1 and slopes m0, m1; the cubic H with those values and slopes less their chord
+// L is, at t = (psi - psi_a) / h,
+//   H - L = h (t (1 - t)^2 (m0 - d) - t^2 (1 - t) (m1 - d)),   d = (f1 - f0) / h
+// (the Hermite basis: H = h00 f0 + h01 f1 + h (h10 m0 + h11 m1), h01 - t = -t (1 - t)
+// (1 - 2t) = -(h00 - (1 - t)), h10 = t (1 - t)^2, h11 = -t^2 (1 - t)), so |H - L| <=
+// h CubicPeak(m0 - d, d - m1) for one row and h CubicPeak(|m0 - d|, |m1 - d|) for the
+// centre's pair. H is linear in the path, so f_S - H is the sum over the slow terms of each
+// less its own cubic; with |f_F| <= the fast amplitudes, the outputs lie within
+// |H - L| + KeepStretchRows' remainders of L, the chord through the ends less f_F there.
+// Where that is not below the chord bound the chord is kept, shifts zero; where the
+// remainders alone are not, the cubic's peak is not sought.
+void LinearPath::StrayingOver(const Samples& samples, std::size_t j, const Straying& straying,
+                              StretchStraying& out) const {
+  Parts& parts = *parts_;  // the rows' cache
+  const auto zs = static_cast<std::size_t>(rollers());
+  const std::size_t width = FirstOrderWidth();
+  const std::size_t outputs = 2 + 2 * zs;
+  const double h = (coarse_[j + 1] - coarse_[j]) * 2.0 * std::numbers::pi / steps_;
+  const double* first_a = samples.first_order.data() + j * width;
+  const double* first_b = samples.first_order.data() + (j + 1) * width;
+  double* rows = parts.coarse_stretch_rows.data();
+  const std::size_t stride = parts.coarse_stride;
+  const TermGroup& group = parts.stretch_group;
+  for (const std::size_t at : {j, j + 1}) {
+    if (parts.stretch_rows_summed[at] != 0) continue;
+    parts.stretch_rows_summed[at] = 1;
+    for (std::size_t r = 0; r < 2 * outputs; ++r) {
+      double sum = 0.0;
+      const double* weight = group.weights.data() + r * group.terms;
+      for (std::size_t q = group.first[r]; q < group.last[r]; ++q) sum += weight[q] * parts.coarse_table[q * stride + at];
+      rows[r * stride + at] = sum;
+    }
+  }
+  const auto slope = [&](std::size_t r, std::size_t at) { return rows[r * stride + at]; };
+  const auto fast = [&](std::size_t r, std::size_t at) { return rows[(outputs + r) * stride + at]; };
+  // Row r's slow slope less the slow chord's, at each end.
+  const auto gaps = [&](std::size_t r) {
+    const double chord = ((first_b[r] - fast(r, j + 1)) - (first_a[r] - fast(r, j))) / h;
+    return std::pair(slope(r, j) - chord, slope(r, j + 1) - chord);
+  };
+  const auto norm = [](double x, double y) { return std::sqrt(x * x + y * y); };
+  double centre = parts.centre_hermite;
+  if (centre < straying.centre) {
+    const auto [xa, xb] = gaps(0);
+    const auto [ya, yb] = gaps(1);
+    centre += h * CubicPeak(norm(xa, ya), norm(xb, yb));
+  }
+  const bool centre_hermite = centre < straying.centre;
+  out.centre = centre_hermite ? centre : straying.centre;
+  for (std::size_t end = 0; end < 2; ++end) {
+    out.centre_shift[end] = centre_hermite ? Eigen::Vector2d(fast(0, j + end), fast(1, j + end)) : Eigen::Vector2d::Zero();
+  }
+  out.travel.resize(zs);
+  out.contact_force.resize(zs);
+  out.travel_shift.resize(2 * zs);
+  out.force_shift.resize(2 * zs);
+  const auto choose = [&](std::size_t r, double hermite, double chord, double& bound, double* shift) {
+    double cubic = hermite;
+    if (cubic < chord) {
+      const auto [a, b] = gaps(r);
+      cubic += h * CubicPeak(a, -b);
+    }
+    const bool use = cubic < chord;
+    bound = use ? cubic : chord;
+    shift[0] = use ? fast(r, j) : 0.0;
+    shift[zs] = use ? fast(r, j + 1) : 0.0;
+  };
+  for (std::size_t i = 0; i < zs; ++i) {
+    choose(2 + i, parts.travel_hermite[i], straying.travel[i], out.travel[i], out.travel_shift.data() + i);
+    choose(2 + zs + i, parts.force_hermite[i], straying.contact_force[i], out.contact_force[i],
+           out.force_shift.data() + i);
+  }
 }
 
 std::size_t LinearPath::FirstOrderWidth() const { return 2 + 6 * static_cast<std::size_t>(rollers()); }

@@ -10,6 +10,7 @@
 // beyond LinearOptions' limit it refuses.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <span>
 #include <string>
@@ -138,6 +139,18 @@ class LinearPath {
     std::vector<double> curvature_reach; // [m/rad^2] 2Z
   };
 
+  // Bounds on how far the first-order centre, travels and forces stray over one coarse
+  // stretch from the line through their values at its ends less the shifts there (zero,
+  // or the rollers' fast lobes' values: see StrayingOver).
+  struct StretchStraying {
+    double centre = 0.0;                          // [m]
+    std::array<Eigen::Vector2d, 2> centre_shift;  // [m] at the stretch's start, then its end
+    std::vector<double> travel;                   // [m] per roller (0 for fixed)
+    std::vector<double> contact_force;            // [N] per roller
+    std::vector<double> travel_shift;             // [m] 2Z: Z at the start, then Z at the end
+    std::vector<double> force_shift;              // [N] 2Z, likewise
+  };
+
   LinearPath(LinearPath&&) noexcept;
   LinearPath& operator=(LinearPath&&) noexcept;
   ~LinearPath();
@@ -152,6 +165,10 @@ class LinearPath {
   // Appends the outputs at k = 0, stride, 2 stride, ... and at k = steps (the coarse grid,
   // stride >= 1), and keeps the phasors there for Refine. Call once, first.
   void EvaluateCoarse(int stride, Samples& samples);
+  // Prepares what StrayingOver reads at the coarse angles: the first-order outputs' slopes
+  // there and the rollers' fast lobes' values (one more sum over the kept phasors, at an
+  // angle the first time a stretch ending there asks). Call once, after EvaluateCoarse.
+  void KeepStretchRows();
   int coarse_stride() const { return stride_; }
   // The coarse angles' indices, ascending (their last is steps).
   const std::vector<int>& coarse() const { return coarse_; }
@@ -169,6 +186,18 @@ class LinearPath {
   // The first-order terms, as LinearSolver::Phasors gives them for this scene.
   PhasorSum Phasors() const;
   Straying StrayingAt(double dpsi) const;
+  // How far the first-order centre, travels and forces stray over the stretch between
+  // coarse angles j and j + 1 (samples j and j + 1, as EvaluateCoarse appends them;
+  // `straying` from StrayingAt(coarse_stride() 2 pi / steps)). Per output, the smaller of
+  // two bounds: the chord bound (shifts zero), or the cubic Hermite bound, which splits the
+  // terms into slow ones and the rollers' fast lobes (more than 2 sqrt(2) rad a stretch):
+  // the slow part strays from its cubic through its values and slopes at the ends, kept by
+  // KeepStretchRows (call it first), by its fourth-derivative remainder, the cubic from the slow part's chord
+  // by what its slopes say; the fast part by at most its amplitudes from zero; the line is
+  // then the chord through the ends less the fast part there, which the shifts hold
+  // (solvers/linear.cpp, docs/model.md §5). `out` is resized. Sums the slopes at the
+  // stretch's ends on first use: one path, one thread.
+  void StrayingOver(const Samples& samples, std::size_t j, const Straying& straying, StretchStraying& out) const;
   // Doubles an angle in Samples::first_order: 2 + 6Z.
   std::size_t FirstOrderWidth() const;
   // Bounds on At's inputs at every angle between samples first and last (a run of adjacent

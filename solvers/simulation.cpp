@@ -61,6 +61,9 @@ std::unique_ptr<Solver> MakeSolver(const SolverSettings& settings) {
 std::string SolverDescription(const SolverSettings& settings) {
   std::string description(NameOf(kRungNames, settings.rung));
   if (settings.rung == Rung::kDynamic) description += ", start " + std::string(NameOf(kDynamicStartNames, settings.dynamic_start));
+  if (settings.simulation.accuracy != Accuracy::kFull) {
+    description += ", accuracy " + std::string(NameOf(kAccuracyNames, settings.simulation.accuracy));
+  }
   return description;
 }
 
@@ -508,7 +511,7 @@ std::optional<SimulationResult> SimulateRefined(const engine::Scene& scene, cons
 // curves are the linear rung's phasors whatever rung solved the path: a rung that solves
 // the exact model has no phasors of its own, and the curves' share of the path is first
 // order in the lobes for every rung (docs/model.md §9).
-void ReadLife(const engine::Scene& scene, const Solver& solver, SimulationResult& result) {
+void ReadLife(const engine::Scene& scene, const Solver& solver, Accuracy accuracy, SimulationResult& result) {
   static const LinearSolver kPhasorSource;
   const auto* linear = dynamic_cast<const LinearSolver*>(&solver);
   const auto* automatic = dynamic_cast<const AutoSolver*>(&solver);
@@ -519,7 +522,7 @@ void ReadLife(const engine::Scene& scene, const Solver& solver, SimulationResult
     result.message = "the life values need the linear rung's phasors, and the error-free assembly cannot be linearised";
     return;
   }
-  result.life = EveryRevolution(scene, result, sum, result.life_cycle);
+  result.life = EveryRevolution(scene, result, sum, result.life_cycle, accuracy);
 }
 
 // AngleMode::kSpectral for the linear rung and auto's first step: the spectral result when
@@ -544,7 +547,7 @@ SpectralOutcome SimulateSpectralRung(const engine::Scene& scene, const Solver& s
                                                        : std::numeric_limits<double>::infinity();
   const LinearSolver& rung = linear != nullptr ? *linear : automatic->linear();
   std::optional<SpectralResult> spectral = SimulateSpectral(scene, rung, steps, options.refine_stride, target,
-                                                            options.life, options.keep_trajectory);
+                                                            options.life, options.keep_trajectory, options.accuracy);
   if (!spectral) return outcome;
   if (automatic != nullptr &&
       (spectral->result.status != Status::kOk || !automatic->LinearVerdict(scene, spectral->margins).empty())) {
@@ -619,7 +622,7 @@ SimulationResult SimulateAnyAngles(const engine::Scene& scene, const Solver& sol
     if (steady->status == Status::kOk) Measure(scene, later, nominal.centre, *steady);
     result.steady = std::move(steady);
   }
-  if (options.life) ReadLife(scene, solver, result);
+  if (options.life) ReadLife(scene, solver, options.accuracy, result);
   return result;
 }
 

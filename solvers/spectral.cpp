@@ -1,6 +1,7 @@
 #include "solvers/spectral.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -14,10 +15,17 @@ namespace ringtol::solvers {
 
 namespace {
 
-// How far a coarse stretch's unevaluated angles can be from the chord through its
-// evaluated ends.
+// How far a coarse stretch's unevaluated angles can be from the line through its ends:
+// its evaluated ends (the chord bound), or with Accuracy::kFast once tightened those less
+// LinearPath::StretchStraying's shifts for the centre, the travels and the forces.
 struct StretchBound {
+  std::array<Eigen::Vector2d, 2> centre_end;  // [m] the line's ends for the corrected centre
   double centre = 0.0;  // [m] the corrected centre
+  double correction = 0.0;  // [m] of the chord bound's, the second-order correction's: its bound plus the ends'
+  // [m] the chord bound's centre, about the chord through the evaluated ends: what the
+  // margins the auto rung weighs read (the farthest reach behind the estimate), so that
+  // its verdicts do not depend on the accuracy setting.
+  double chord_centre = 0.0;
   double signal = 0.0;  // [m] the signal's rest beyond its first-order part
 };
 
@@ -53,7 +61,7 @@ void AddInterpolated(const std::vector<std::size_t>& order, const std::vector<in
 
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
                                                int stride, double estimate_target, bool life,
-                                               bool keep_trajectory) {
+                                               bool keep_trajectory, Accuracy accuracy) {
   const ValidityCheck validity(scene);
   const std::size_t z = scene.rollers.size();
   if (stride < 2 || steps < 4 * stride) return std::nullopt;
@@ -71,6 +79,9 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   const std::vector<int>& coarse = path.coarse();
   const std::size_t segments = coarse.size() - 1;
   const LinearPath::Straying straying = path.StrayingAt(dpsi * stride);
+  // Accuracy::kFast also tries the Hermite bound on a stretch the chord bound leaves open.
+  const bool hermite = accuracy == Accuracy::kFast;
+  if (hermite) path.KeepStretchRows();
   std::vector<char> refined(segments, 0);
   std::vector<std::size_t> first_inner(segments, 0);  // where a refined stretch's samples start
   std::size_t checked = 0;  // samples passed through the validity check
@@ -102,15 +113,29 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   // alone would break the estimate's target is bounded again stretch by stretch.
   const std::size_t width = path.FirstOrderWidth();
   std::vector<StretchBound> bounds(segments);
-  // Per stretch and roller [m, N], stretch-major.
+  // Per stretch and roller [m, N], stretch-major; the lines' ends per stretch, end and
+  // roller.
   std::vector<double> travel_bound(segments * z), force_bound(segments * z);
+  std::vector<double> travel_end(2 * segments * z), force_end(2 * segments * z);
+  std::vector<double> travel_chord_bound(segments * z);  // the chord bound's, for the margins
+  // With the Hermite bound: what the correction adds to each stretch's bound, per stretch
+  // (the centre) and per stretch and roller, and whether the stretch reads it already.
+  std::vector<double> centre_extra(segments), travel_extra(segments * z), force_extra(segments * z);
+  std::vector<char> tightened(segments, 0);
   thread_local FirstOrderRange range;
   thread_local SecondOrderRange over;
+  const LinearPath::StretchStraying chord{straying.centre,
+                                          {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()},
+                                          straying.travel,
+                                          straying.contact_force,
+                                          std::vector<double>(2 * z, 0.0),
+                                          std::vector<double>(2 * z, 0.0)};
   const auto bound_stretches = [&](std::size_t first, std::size_t last) {
     path.RangeOver(samples, first, last, straying, range);
     path.second_order().Over(range, over);
     for (std::size_t j = first; j < last; ++j) {
       StretchBound& bound = bounds[j];
+      tightened[j] = 0;
       const std::size_t a = j;
       const std::size_t b = j + 1;
       // The correction at the ends: the corrected outputs less At's first-order inputs.
@@ -118,18 +143,54 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
       const double* first_b = samples.first_order.data() + b * width;
       const double end_correction = std::max((samples.centre[a] - Eigen::Vector2d(first_a[0], first_a[1])).norm(),
                                              (samples.centre[b] - Eigen::Vector2d(first_b[0], first_b[1])).norm());
-      bound.centre = straying.centre + over.centre + end_correction;
+      bound.centre = chord.centre + over.centre + end_correction;
+      bound.correction = bound.centre - chord.centre;
+      bound.chord_centre = straying.centre + over.centre + end_correction;
+      bound.centre_end = {samples.centre[a] - chord.centre_shift[0], samples.centre[b] - chord.centre_shift[1]};
       bound.signal = straying.signal_rest + over.centre + end_correction;
       for (std::size_t i = 0; i < z; ++i) {
         const auto end = [&](const std::vector<double>& corrected, std::size_t offset) {
           return std::max(std::abs(corrected[a * z + i] - first_a[offset + i]),
                           std::abs(corrected[b * z + i] - first_b[offset + i]));
         };
-        travel_bound[j * z + i] = straying.travel[i] + over.travel[i] + end(samples.travel, 2);
-        force_bound[j * z + i] = straying.contact_force[i] + over.contact_force[i] + end(samples.contact_force, 2 + z);
+        travel_bound[j * z + i] = chord.travel[i] + over.travel[i] + end(samples.travel, 2);
+        travel_chord_bound[j * z + i] = straying.travel[i] + over.travel[i] + end(samples.travel, 2);
+        force_bound[j * z + i] = chord.contact_force[i] + over.contact_force[i] + end(samples.contact_force, 2 + z);
+        for (std::size_t side = 0; side < 2; ++side) {
+          const std::size_t at = (j + side) * z + i;
+          travel_end[(2 * j + side) * z + i] = samples.travel[at] - chord.travel_shift[side * z + i];
+          force_end[(2 * j + side) * z + i] = samples.contact_force[at] - chord.force_shift[side * z + i];
+        }
+        travel_extra[j * z + i] = over.travel[i] + end(samples.travel, 2);
+        force_extra[j * z + i] = over.contact_force[i] + end(samples.contact_force, 2 + z);
       }
+      centre_extra[j] = over.centre + end_correction;
     }
     return over.remainder;
+  };
+  // Accuracy::kFast: a stretch the chord bound leaves open is bounded again by
+  // LinearPath::StrayingOver (the smaller of the chord and the Hermite bound per output,
+  // about the line through the ends less the fast lobes there) plus the same correction;
+  // false if it already was. Only the decisions on the domain and the extremes read it:
+  // the estimate and the auto rung's margins keep the chord bound.
+  thread_local LinearPath::StretchStraying tight;
+  const auto tighten = [&](std::size_t j) {
+    if (!hermite || tightened[j]) return false;
+    tightened[j] = 1;
+    path.StrayingOver(samples, j, straying, tight);
+    StretchBound& bound = bounds[j];
+    bound.centre = tight.centre + centre_extra[j];
+    bound.centre_end = {samples.centre[j] - tight.centre_shift[0], samples.centre[j + 1] - tight.centre_shift[1]};
+    for (std::size_t i = 0; i < z; ++i) {
+      travel_bound[j * z + i] = tight.travel[i] + travel_extra[j * z + i];
+      force_bound[j * z + i] = tight.contact_force[i] + force_extra[j * z + i];
+      for (std::size_t side = 0; side < 2; ++side) {
+        const std::size_t at = (j + side) * z + i;
+        travel_end[(2 * j + side) * z + i] = samples.travel[at] - tight.travel_shift[side * z + i];
+        force_end[(2 * j + side) * z + i] = samples.contact_force[at] - tight.force_shift[side * z + i];
+      }
+    }
+    return true;
   };
   const std::size_t runs = (segments + kStretchesARun - 1) / kStretchesARun;
   std::vector<double> run_remainder(runs);  // [m] Over's bound on each run
@@ -144,7 +205,8 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
   // each level's count floored at the share (the header says why).
   double farthest = 0.0;
   for (std::size_t j = 0; j < segments; ++j) {
-    farthest = std::max(farthest, std::max(samples.centre[j].norm(), samples.centre[j + 1].norm()) + bounds[j].centre);
+    farthest =
+        std::max(farthest, std::max(samples.centre[j].norm(), samples.centre[j + 1].norm()) + bounds[j].chord_centre);
   }
   // The linear rung's own limit (LinearRangeRefusal) at the coarse angles' reach, below the
   // dense path's: a target no decision lies under.
@@ -191,19 +253,22 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
 
   // The domain: a force above its bound and a travel inside its limit by more than its
   // bound at both ends of a stretch cannot fail between them.
-  for (std::size_t j = 0; j < segments; ++j) {
-    if (refined[j]) continue;
+  const auto in_domain = [&](std::size_t j) {
     bool certain = true;
     for (std::size_t i = 0; i < z && certain; ++i) {
-      const double force_a = samples.contact_force[j * z + i];
-      const double force_b = samples.contact_force[(j + 1) * z + i];
+      const double force_a = force_end[2 * j * z + i];
+      const double force_b = force_end[(2 * j + 1) * z + i];
       certain = std::min(force_a, force_b) > force_bound[j * z + i];
       if (scene.rollers[i].mount != engine::RollerMount::kFixed) {
-        const double travel = std::max(std::abs(samples.travel[j * z + i]), std::abs(samples.travel[(j + 1) * z + i]));
+        const double travel = std::max(std::abs(travel_end[2 * j * z + i]), std::abs(travel_end[(2 * j + 1) * z + i]));
         certain = certain && travel + travel_bound[j * z + i] <= scene.rollers[i].spring.travel_limit;
       }
     }
-    if (!certain) refine(j);
+    return certain;
+  };
+  for (std::size_t j = 0; j < segments; ++j) {
+    if (refined[j]) continue;
+    if (!in_domain(j) && !(tighten(j) && in_domain(j))) refine(j);
   }
   if (!valid()) return std::nullopt;
 
@@ -226,20 +291,23 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
       reach = 0.0;
       for (const Eigen::Vector2d& c : samples.centre) reach = std::max(reach, (c - start).norm());
       std::vector<std::size_t> wanted;
-      for (std::size_t j = 0; j < segments; ++j) {
-        if (refined[j]) continue;
+      const auto open = [&](std::size_t j) {
         const auto beyond = [&](const Eigen::Vector2d& from, double radius) {
-          return std::max((samples.centre[j] - from).norm(), (samples.centre[j + 1] - from).norm()) + bounds[j].centre >
+          return std::max((bounds[j].centre_end[0] - from).norm(), (bounds[j].centre_end[1] - from).norm()) + bounds[j].centre >
                  radius;
         };
-        bool open = beyond(circle.centre, circle.radius) || (with_reach && beyond(start, reach));
-        for (std::size_t i = 0; i < z && !open; ++i) {
-          const double force_a = samples.contact_force[j * z + i];
-          const double force_b = samples.contact_force[(j + 1) * z + i];
-          open = std::min(force_a, force_b) - force_bound[j * z + i] < smallest_force ||
-                 std::max(force_a, force_b) + force_bound[j * z + i] > largest_force;
+        bool is_open = beyond(circle.centre, circle.radius) || (with_reach && beyond(start, reach));
+        for (std::size_t i = 0; i < z && !is_open; ++i) {
+          const double force_a = force_end[2 * j * z + i];
+          const double force_b = force_end[(2 * j + 1) * z + i];
+          is_open = std::min(force_a, force_b) - force_bound[j * z + i] < smallest_force ||
+                    std::max(force_a, force_b) + force_bound[j * z + i] > largest_force;
         }
-        if (open) wanted.push_back(j);
+        return is_open;
+      };
+      for (std::size_t j = 0; j < segments; ++j) {
+        if (refined[j]) continue;
+        if (open(j) && !(tighten(j) && !open(j))) wanted.push_back(j);
       }
       changed = !wanted.empty();
       for (const std::size_t j : wanted) refine(j);
@@ -335,12 +403,12 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
     }, centre);
     AddInterpolated(order, samples.index, [&](std::size_t s) { return signal_second[s]; }, signal_rest);
     for (std::size_t j = 0; j < segments; ++j) {
-      if (!refined[j]) spectral.centre_error = std::max(spectral.centre_error, bounds[j].centre - straying.centre);
+      if (!refined[j]) spectral.centre_error = std::max(spectral.centre_error, bounds[j].correction);
     }
     const auto dense = static_cast<std::size_t>(steps);
     spectral.life = EveryRevolutionFromRest(scene, std::span<const Eigen::Vector2d>(centre).first(dense),
                                             std::span<const double>(signal_rest).first(dense), path.Phasors(),
-                                            spectral.life_cycle);
+                                            spectral.life_cycle, accuracy);
   }
 
   spectral.margins.error_estimate = kept.error_estimate;
@@ -352,7 +420,7 @@ std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const
     spectral.signal_error = std::max(spectral.signal_error, bounds[j].signal);
     for (std::size_t i = 0; i < z; ++i) {
       const double end = std::max(std::abs(samples.travel[j * z + i]), std::abs(samples.travel[(j + 1) * z + i]));
-      largest_travel[i] = std::max(largest_travel[i], end + travel_bound[j * z + i]);
+      largest_travel[i] = std::max(largest_travel[i], end + travel_chord_bound[j * z + i]);
     }
   }
   spectral.margins.largest_travel = std::move(largest_travel);

@@ -1,8 +1,9 @@
 // The linear rung read from its phasors (AngleMode::kSpectral, solvers/simulation.h): its
 // path is a sum of rotating phasors (solvers/linear.h LinearPath), so it is evaluated on a
 // coarse grid of every stride-th angle, and then only on the stretches between two coarse
-// angles where a chord bound (each term strays from its chord by at most
-// min(2, w^2 dpsi^2 / 8) of its amplitude) leaves open whether a dense angle there lies
+// angles where a bound (each term strays from its chord by at most min(2, w^2 dpsi^2 / 8)
+// of its amplitude; with Accuracy::kFast also the tighter Hermite bound of
+// LinearPath::StrayingOver) leaves open whether a dense angle there lies
 // outside the enclosing circle or beyond the contact forces' extremes, or whether a force
 // could reach zero or a travel its limit there. What is left unevaluated changes none of
 // these, so D_trajectory, Dist_init, the smallest and the largest contact force and the
@@ -75,9 +76,17 @@ struct SpectralResult {
 //
 // keep_trajectory false: result.trajectory's points and result.sensor stay empty
 // (SimulationOptions::keep_trajectory).
+//
+// Accuracy::kFull decides by the chord bound alone; kFast by the smaller of it and the
+// Hermite bound (LinearPath::StrayingOver), which leaves about half the stretches
+// unevaluated that the chord bound refines: the outputs above stay certified, while the
+// runout, the swing and the life values, which read the rest interpolated across the
+// unevaluated stretches, move within signal_error and centre_error. The auto rung's
+// margins read the chord bound either way, so its verdicts do not depend on the setting.
 std::optional<SpectralResult> SimulateSpectral(const engine::Scene& scene, const LinearSolver& linear, int steps,
                                                int stride,
                                                double estimate_target = std::numeric_limits<double>::infinity(),
-                                               bool life = false, bool keep_trajectory = true);
+                                               bool life = false, bool keep_trajectory = true,
+                                               Accuracy accuracy = Accuracy::kFull);
 
 }  // namespace ringtol::solvers

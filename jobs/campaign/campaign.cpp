@@ -71,6 +71,7 @@ Campaign::Campaign(CampaignPlan plan, const std::string& source_name,
   identity_.inputs = sampling_.sampler.inputs();
   identity_.spec = plan_.spec;
   identity_.life = plan_.solver.simulation.life;
+  identity_.accuracy = plan_.solver.simulation.accuracy;
   identity_.calibrations = sampling_.sampler.scales();
 }
 

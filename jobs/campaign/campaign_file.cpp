@@ -36,6 +36,7 @@ solvers::SolverSettings ReadSolverTable(const TableReader& table) {
     double relative_tolerance = solvers::SolverSettings{}.relative_tolerance;
     solvers::DynamicStart start = solvers::SolverSettings{}.dynamic_start;
     solvers::AngleMode angles = CampaignSolverDefaults().simulation.angles;
+    solvers::Accuracy accuracy = CampaignSolverDefaults().simulation.accuracy;
   };
   SolverInput solver;
   const std::vector<Field<SolverInput>> solver_fields{
@@ -47,6 +48,7 @@ solvers::SolverSettings ReadSolverTable(const TableReader& table) {
              &SolverInput::relative_tolerance),
       Choice("start", Presence::kOptional, solvers::kDynamicStartNames, &SolverInput::start),
       Choice("angles", Presence::kOptional, solvers::kAngleModeNames, &SolverInput::angles),
+      Choice("accuracy", Presence::kOptional, solvers::kAccuracyNames, &SolverInput::accuracy),
   };
   table.Read(solver_fields, solver);
   solvers::SolverSettings settings = CampaignSolverDefaults();
@@ -54,6 +56,7 @@ solvers::SolverSettings ReadSolverTable(const TableReader& table) {
   settings.simulation.steps = solver.steps;
   settings.simulation.path_tolerance = solver.path_tolerance;
   settings.simulation.angles = solver.angles;
+  settings.simulation.accuracy = solver.accuracy;
   settings.relative_tolerance = solver.relative_tolerance;
   settings.dynamic_start = solver.start;
   return settings;

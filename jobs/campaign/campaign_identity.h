@@ -10,6 +10,7 @@
 
 #include "sampling/assembly_sampler.h"
 #include "sampling/design.h"
+#include "solvers/simulation.h"
 
 namespace ringtol::jobs {
 
@@ -34,6 +35,10 @@ struct CampaignIdentity {
   // Whether the samples computed the life outputs (kFirstLifeOutput on): the campaign file's
   // [outputs] life. A results file without them holds none of their columns.
   bool life = true;
+  // What the samples traded of the outputs' definition for speed: the campaign file's
+  // solver.accuracy (solvers::Accuracy), also named in `solver` when not full. Files
+  // written before the setting are full.
+  solvers::Accuracy accuracy = solvers::Accuracy::kFull;
   // How the sensor's swing was read: the base scene's [sensor] table, so already compared
   // through base_scene; the results file states it beside /outputs/swing_mm.
   engine::SwingRule swing;

@@ -144,42 +144,36 @@ void AddSamplesAndSeed(CLI::App& app, std::optional<std::int64_t>& samples, std:
       ->transform(seed_range);
 }
 
-// --solver, --steps, --relative-tolerance and --dynamic-start, as simulate and sweep take them.
-void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings, const std::string& steps_help) {
+// An option whose values are the names of `table`, setting `target`, its default shown.
+template <typename Enum, std::size_t N>
+void AddNamedOption(CLI::App& app, const std::string& option, const ringtol::NameTable<Enum, N>& table, Enum& target,
+                    const std::string& help) {
   std::vector<std::string> names;
-  for (const auto& [rung, name] : ringtol::solvers::kRungNames) names.emplace_back(name);
+  for (const auto& [value, name] : table) names.emplace_back(name);
   app.add_option_function<std::string>(
-         "--solver",
-         [&settings](const std::string& name) { settings.rung = *ValueNamed(ringtol::solvers::kRungNames, name); },
-         "Solver, a rung of the ladder, or auto: the cheapest whose error estimate fits half the path tolerance "
-         "(docs/model.md §7)")
+         option, [&table, &target](const std::string& name) { target = *ValueNamed(table, name); }, help)
       ->check(CLI::IsMember(names))
-      ->default_str(std::string(NameOf(ringtol::solvers::kRungNames, settings.rung)));
+      ->default_str(std::string(NameOf(table, target)));
+}
+
+// --solver, --steps, --angles, --accuracy, --relative-tolerance and --dynamic-start, as simulate and sweep
+// take them.
+void AddSolverOptions(CLI::App& app, ringtol::solvers::SolverSettings& settings, const std::string& steps_help) {
+  AddNamedOption(app, "--solver", ringtol::solvers::kRungNames, settings.rung,
+                 "Solver, a rung of the ladder, or auto: the cheapest whose error estimate fits half the path "
+                 "tolerance (docs/model.md §7)");
   app.add_option("--steps", settings.simulation.steps, steps_help)
       ->transform(DecimalIn(1, ringtol::solvers::kMaxSteps));
-  std::vector<std::string> angle_modes;
-  for (const auto& [mode, name] : ringtol::solvers::kAngleModeNames) angle_modes.emplace_back(name);
-  app.add_option_function<std::string>(
-         "--angles",
-         [&settings](const std::string& name) {
-           settings.simulation.angles = *ValueNamed(ringtol::solvers::kAngleModeNames, name);
-         },
-         "Angles evaluated at full cost: every one (dense), a coarse grid refined where the metrics could change "
-         "(refined), or the linear rung read from its phasors there (spectral; docs/model.md §5)")
-      ->check(CLI::IsMember(angle_modes))
-      ->default_str(std::string(NameOf(ringtol::solvers::kAngleModeNames, settings.simulation.angles)));
+  AddNamedOption(app, "--angles", ringtol::solvers::kAngleModeNames, settings.simulation.angles,
+                 "Angles evaluated at full cost: every one (dense), a coarse grid refined where the metrics could "
+                 "change (refined), or the linear rung read from its phasors there (spectral; docs/model.md §5)");
+  AddNamedOption(app, "--accuracy", ringtol::solvers::kAccuracyNames, settings.simulation.accuracy,
+                 "Every output as defined (full), or the spectral angles certified by the Hermite bound and the "
+                 "life's lobe curves sampled looser, each output moved within its bound (fast; docs/model.md §5)");
   app.add_option("--relative-tolerance", settings.relative_tolerance, "Dynamic solver: integrator tolerance, > 0 and < 1")
       ->capture_default_str();
-  std::vector<std::string> starts;
-  for (const auto& [start, name] : ringtol::solvers::kDynamicStartNames) starts.emplace_back(name);
-  app.add_option_function<std::string>(
-         "--dynamic-start",
-         [&settings](const std::string& name) {
-           settings.dynamic_start = *ValueNamed(ringtol::solvers::kDynamicStartNames, name);
-         },
-         "Dynamic solver: start at rest at the quasistatic equilibrium, or centred with the article's settle")
-      ->check(CLI::IsMember(starts))
-      ->default_str(std::string(NameOf(ringtol::solvers::kDynamicStartNames, settings.dynamic_start)));
+  AddNamedOption(app, "--dynamic-start", ringtol::solvers::kDynamicStartNames, settings.dynamic_start,
+                 "Dynamic solver: start at rest at the quasistatic equilibrium, or centred with the article's settle");
 }
 
 CLI::App* AddSimulate(CLI::App& app, ringtol::jobs::SimulateCommand& simulate) {

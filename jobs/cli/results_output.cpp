@@ -116,6 +116,9 @@ nlohmann::json ResultJson(const engine::Scene& scene, const solvers::SimulationR
   if (result.trajectory.rung) j["rung"] = std::string(NameOf(solvers::kRungNames, *result.trajectory.rung));
   const bool dynamic = solver.rung == solvers::Rung::kDynamic || result.trajectory.rung == solvers::Rung::kDynamic;
   if (dynamic) j["dynamic_start"] = std::string(NameOf(solvers::kDynamicStartNames, solver.dynamic_start));
+  if (solver.simulation.accuracy != solvers::Accuracy::kFull) {
+    j["accuracy"] = std::string(NameOf(solvers::kAccuracyNames, solver.simulation.accuracy));
+  }
   PutMetrics(j, scene, result);
   const auto [first_diameter, steady_diameter] = FirstAndSteady(result, dynamic);
   j["d_trajectory_first_mm"] = first_diameter;

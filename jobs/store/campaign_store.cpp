@@ -271,6 +271,14 @@ Stored ReadStored(const Where& where, hid_t file) {
     }
     identity.life = *life == kLifeComputed;
   }
+  if (const std::optional<std::string> accuracy = ReadStringAttribute(where, file, "accuracy")) {
+    const std::optional<solvers::Accuracy> named = ValueNamed(solvers::kAccuracyNames, *accuracy);
+    if (!named) {
+      Fail(where, fmt::format("attribute accuracy = \"{}\" is not one of {}", *accuracy,
+                              NameList(solvers::kAccuracyNames)));
+    }
+    identity.accuracy = *named;
+  }
   identity.seed =
       Require(where, ReadNumberAttribute<std::uint64_t>(where, file, "seed", H5T_INTEGER, H5T_NATIVE_UINT64), "seed");
   stored.samples = Require(
@@ -340,6 +348,10 @@ std::optional<std::string> SpecDifference(const std::vector<SpecLimit>& file, co
 std::optional<std::string> IdentityDifference(const CampaignIdentity& file, const CampaignIdentity& now) {
   // Before the campaign file's text, which says it too, but only by a line number.
   if (auto d = WordDifference("outputs.life", file.life, now.life)) return d;
+  if (auto d = WordDifference("solver.accuracy", NameOf(solvers::kAccuracyNames, file.accuracy),
+                              NameOf(solvers::kAccuracyNames, now.accuracy))) {
+    return d;
+  }
   using Text = std::string CampaignIdentity::*;
   for (const auto& [field, member, multiline] :
        {std::tuple<const char*, Text, bool>{"ringtol_version", &CampaignIdentity::ringtol_version, false},
@@ -685,6 +697,7 @@ void WriteIdentity(const Where& where, hid_t file, const CampaignIdentity& ident
   WriteStringAttribute(where, file, "campaign_file", identity.campaign_file);
   WriteStringAttribute(where, file, "base_scene", identity.base_scene);
   WriteStringAttribute(where, file, "life", identity.life ? kLifeComputed : kLifeNotComputed);
+  WriteStringAttribute(where, file, "accuracy", std::string(NameOf(solvers::kAccuracyNames, identity.accuracy)));
 
   const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
   for (const char* name : {"inputs", "outputs", "timing"}) {

@@ -123,16 +123,28 @@ std::vector<CampaignMode> DefaultCampaignModes(const solvers::SolverSettings& ca
       std::string name(NameOf(solvers::kRungNames, rung));
       if (angles != solvers::AngleMode::kDense) name += std::string(", ") + std::string(NameOf(solvers::kAngleModeNames, angles));
       // The campaign's own mode is timed once, first, under the name of the mode it is.
-      if (rung == campaign.rung && angles == campaign.simulation.angles) {
+      if (rung == campaign.rung && angles == campaign.simulation.angles &&
+          campaign.simulation.accuracy == solvers::Accuracy::kFull) {
         modes.front().name = std::move(name);
         continue;
       }
       solvers::SolverSettings settings = campaign;
       settings.rung = rung;
       settings.simulation.angles = angles;
+      settings.simulation.accuracy = solvers::Accuracy::kFull;
       modes.push_back({std::move(name), settings});
     }
   }
+  // Below the reference's floor, the auto rung on spectral angles at accuracy fast
+  // (solvers::Accuracy), with the life and, where the campaign reads it, without.
+  solvers::SolverSettings fast = campaign;
+  fast.rung = solvers::Rung::kAuto;
+  fast.simulation.angles = solvers::AngleMode::kSpectral;
+  fast.simulation.accuracy = solvers::Accuracy::kFast;
+  const std::string fast_name = "auto, spectral, fast";
+  const bool campaign_is_fast = campaign.rung == fast.rung && campaign.simulation.angles == fast.simulation.angles &&
+                                campaign.simulation.accuracy == fast.simulation.accuracy;
+  if (campaign_is_fast) modes.front().name = fast_name;
   // What the life values cost: the linear rung's modes and the campaign's own again, each
   // reading one revolution only.
   if (campaign.simulation.life) {
@@ -145,6 +157,14 @@ std::vector<CampaignMode> DefaultCampaignModes(const solvers::SolverSettings& ca
       modes.push_back({modes[m].name + ", one revolution", one});
     }
   }
+  // The campaign's own mode, when fast, has its rows above.
+  if (!campaign_is_fast) {
+    modes.push_back({fast_name, fast});
+    if (campaign.simulation.life) {
+      fast.simulation.life = false;
+      modes.push_back({fast_name + ", one revolution", fast});
+    }
+  }
   return modes;
 }
 
@@ -154,6 +174,7 @@ solvers::SolverSettings FullResolutionReference(const solvers::SolverSettings& c
   reference.simulation.path_tolerance = 0.0;
   reference.simulation.steps = 0;
   reference.simulation.angles = solvers::AngleMode::kDense;
+  reference.simulation.accuracy = solvers::Accuracy::kFull;
   return reference;
 }
 

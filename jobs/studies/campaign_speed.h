@@ -32,11 +32,14 @@ struct CampaignMode {
 // linear, quasistatic and auto rungs at the file's sampling budget, on the dense grid and
 // then on refined angles (SimulationOptions::angles). The first mode takes the name of the
 // rung and angles it runs ("auto" for the default campaign), or "campaign" for a rung not
-// listed (dynamic); "quasistatic" (dense) is the unit of the speed ratios.
+// listed (dynamic); "quasistatic" (dense) is the unit of the speed ratios. With the life,
+// the linear modes and the file's own again reading one revolution only; then the auto rung
+// on spectral angles at accuracy fast ("auto, spectral, fast"), and with the life its
+// one-revolution row.
 std::vector<CampaignMode> DefaultCampaignModes(const solvers::SolverSettings& campaign);
 
 // The reference settings of the comparison: `campaign` with the quasistatic rung, the
-// exact step rule (no path_tolerance), no step count forced, every angle (dense).
+// exact step rule (no path_tolerance), no step count forced, every angle (dense), accuracy full.
 solvers::SolverSettings FullResolutionReference(const solvers::SolverSettings& campaign);
 
 struct CampaignSpeedOptions {

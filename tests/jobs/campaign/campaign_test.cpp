@@ -14,6 +14,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -131,6 +132,56 @@ TEST(CampaignFile, TheDynamicStartDefaultsToTheQuasistaticEquilibriumAndIsRecord
   EXPECT_EQ(campaign.identity().solver, "dynamic, start quasistatic_equilibrium");
   const TempFile article(ReplaceOnce(dynamic, "[solver]\n", "[solver]\nstart = \"article_settle\"\n"));
   EXPECT_EQ(ReadCampaignFile(article.path()).solver.dynamic_start, solvers::DynamicStart::kArticleSettle);
+}
+
+// solver.accuracy: full unless the file says fast; the setting is the campaign's identity,
+// named in its solver, stored, and read back.
+const std::string kFast = testing::ReplaceOnce(kSmallCampaign, "[solver]\n", "[solver]\naccuracy = \"fast\"\n");
+
+TEST(CampaignFile, TheAccuracyIsFullUnlessSolverAccuracyIsFastAndIsRecorded) {
+  const TempFile by_default(kSmallCampaign, "_default.toml");
+  const Campaign full(by_default.path(), std::nullopt, std::nullopt);
+  EXPECT_EQ(full.simulation().accuracy, solvers::Accuracy::kFull);
+  EXPECT_EQ(full.identity().solver, "quasistatic");
+  const TempFile fast_file(kFast, "_fast.toml");
+  const Campaign fast(fast_file.path(), std::nullopt, std::nullopt);
+  EXPECT_EQ(fast.simulation().accuracy, solvers::Accuracy::kFast);
+  EXPECT_EQ(fast.identity().solver, "quasistatic, accuracy fast");
+  const TempFile results("", ".h5");
+  const CampaignIdentity stored = StoredIdentityOf(fast, results.path());
+  EXPECT_EQ(stored.accuracy, solvers::Accuracy::kFast);
+  EXPECT_EQ(Campaign(stored, fast.samples()).simulation().accuracy, solvers::Accuracy::kFast);
+}
+
+TEST(CampaignFile, AnUnknownAccuracyNamesTheFileTheKeyTheValueAndTheSettings) {
+  const TempFile file(testing::ReplaceOnce(kSmallCampaign, "[solver]\n", "[solver]\naccuracy = \"rough\"\n"));
+  try {
+    Campaign campaign(file.path(), std::nullopt, std::nullopt);
+    ADD_FAILURE() << "read accuracy = \"rough\"";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), AllOf(HasSubstr(file.path().string()), HasSubstr("solver.accuracy"), HasSubstr("rough"),
+                                HasSubstr("\"full\""), HasSubstr("\"fast\"")));
+  }
+}
+
+TEST(CampaignStore, ResumeRefusesAChangedAccuracyNamingIt) {
+  const TempFile full_file(kSmallCampaign, "_full.toml");
+  const TempFile fast_file(kFast, "_fast.toml");
+  const Campaign full(full_file.path(), std::nullopt, std::nullopt);
+  const Campaign fast(fast_file.path(), std::nullopt, std::nullopt);
+  for (const auto& [written, resumed, from, to] :
+       {std::tuple{&full, &fast, "full", "fast"}, std::tuple{&fast, &full, "fast", "full"}}) {
+    const TempFile results("", ".h5");
+    CampaignStore::Create(results.path(), written->identity(), written->samples());
+    try {
+      CampaignStore::Resume(results.path(), resumed->identity(), resumed->samples());
+      ADD_FAILURE() << "resumed a file of accuracy " << from << " at accuracy " << to;
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), AllOf(HasSubstr("another campaign"),
+                                  HasSubstr(fmt::format("solver.accuracy differs ('{}' in the file, '{}' now)", from, to))));
+    }
+    EXPECT_NO_THROW(CampaignStore::Resume(results.path(), written->identity(), written->samples()));
+  }
 }
 
 // [outputs] life: on unless the file says false; the choice is the campaign's identity.

@@ -594,6 +594,18 @@ TEST(Cli, DynamicStartIsOneOfItsNamesAndSaysWhichWhenNot) {
   EXPECT_THAT(run.err, HasSubstr("article_settle"));
 }
 
+TEST(Cli, AccuracyIsFullOrFastAndSimulateSaysWhichWhenFast) {
+  const Outcome rough = Ringtol("simulate " + Example("scene.toml") + " --accuracy rough");
+  EXPECT_NE(rough.exit_code, 0);
+  EXPECT_THAT(rough.err, AllOf(HasSubstr("--accuracy"), HasSubstr("rough"), HasSubstr("full"), HasSubstr("fast")));
+  const Outcome fast = Ringtol("simulate " + Example("scene.toml") + " --solver auto --angles spectral --accuracy fast");
+  ASSERT_EQ(fast.exit_code, 0) << fast.err;
+  EXPECT_THAT(fast.out, HasSubstr("solver            auto, accuracy fast"));
+  const Outcome json = Ringtol("simulate " + Example("scene.toml") + " --accuracy fast --json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  EXPECT_EQ(nlohmann::json::parse(json.out)["accuracy"], "fast");
+}
+
 TEST(Cli, DynamicSweepWritesFirstAndSteadyRevolutionsToItsTableAndCsv) {
   const std::filesystem::path sweep = std::filesystem::path(::testing::TempDir()) / "ringtol_dynamic_sweep.toml";
   std::ofstream(sweep) << "scene = \"" << ShortDynamicScene().string()

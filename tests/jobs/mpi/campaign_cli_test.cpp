@@ -936,5 +936,23 @@ TEST(Campaign, WithoutTheLifeItSaysSoAndItsReportAndVerifyRead) {
   EXPECT_THAT(resume.err, HasSubstr("outputs.life differs ('false' in the file, 'true' now)"));
 }
 
+// solver.accuracy = "fast": the summary's solver says it, the results file stores it, and
+// resuming the file at the default accuracy is refused, naming the key.
+TEST(Campaign, AtFastAccuracyItSaysSoAndResumeRefusesAnotherAccuracy) {
+  const std::filesystem::path folder = Folder();
+  const std::string full = testing::SmallCampaign(std::string(RINGTOL_SOURCE_DIR) + "/examples/paper/scene.toml", 3, 8);
+  const std::filesystem::path file = folder / "campaign.toml", results = folder / "results.h5";
+  testing::WriteText(file, testing::ReplaceOnce(full, "[solver]\n", "[solver]\naccuracy = \"fast\"\n"));
+  const Outcome run = RunRingtol("", "campaign " + file.string() + " --out " + results.string() + " --threads 1 --quiet");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("solver quasistatic, accuracy fast"));
+  EXPECT_EQ(CampaignReader(results).identity().accuracy, solvers::Accuracy::kFast);
+
+  testing::WriteText(file, full);
+  const Outcome resume = RunRingtol("", "campaign " + file.string() + " --out " + results.string() + " --resume --quiet");
+  EXPECT_EQ(resume.exit_code, 1);
+  EXPECT_THAT(resume.err, HasSubstr("solver.accuracy differs ('fast' in the file, 'full' now)"));
+}
+
 }  // namespace
 }  // namespace ringtol::jobs

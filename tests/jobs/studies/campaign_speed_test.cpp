@@ -108,18 +108,34 @@ TEST(CampaignSpeed, TheCampaignsOwnModeRunsOnceUnderItsNameAndFirst) {
   std::vector<std::string> names;
   for (const CampaignMode& mode : DefaultCampaignModes(SmallCampaign().plan().solver)) names.push_back(mode.name);
   // Then, for what the life values cost, the campaign's own mode and the linear ones again
-  // reading one revolution only.
+  // reading one revolution only; last the accuracy fast, with the life and without.
   EXPECT_THAT(names, ::testing::ElementsAre("auto, spectral", "linear", "quasistatic", "auto", "linear, refined",
                                             "quasistatic, refined", "auto, refined", "linear, spectral",
                                             "auto, spectral, one revolution", "linear, one revolution",
-                                            "linear, refined, one revolution", "linear, spectral, one revolution"));
+                                            "linear, refined, one revolution", "linear, spectral, one revolution",
+                                            "auto, spectral, fast", "auto, spectral, fast, one revolution"));
   for (const CampaignMode& mode : DefaultCampaignModes(SmallCampaign().plan().solver)) {
     EXPECT_EQ(mode.solver.simulation.life, !mode.name.ends_with("one revolution")) << mode.name;
+    EXPECT_EQ(mode.solver.simulation.accuracy == solvers::Accuracy::kFast, mode.name.find(", fast") != std::string::npos)
+        << mode.name;
   }
+  // A campaign at accuracy fast leads under that name, once, and every other mode is full.
+  solvers::SolverSettings fast = SmallCampaign().plan().solver;
+  fast.simulation.accuracy = solvers::Accuracy::kFast;
+  names.clear();
+  for (const CampaignMode& mode : DefaultCampaignModes(fast)) {
+    names.push_back(mode.name);
+    EXPECT_EQ(mode.solver.simulation.accuracy == solvers::Accuracy::kFast, mode.name.find(", fast") != std::string::npos)
+        << mode.name;
+  }
+  EXPECT_EQ(names.front(), "auto, spectral, fast");
+  EXPECT_EQ(std::count(names.begin(), names.end(), "auto, spectral, fast, one revolution"), 1);
+  EXPECT_EQ(std::count(names.begin(), names.end(), "auto, spectral"), 1);
+  EXPECT_EQ(names.size(), 13u);
   solvers::SolverSettings dynamic = SmallCampaign().plan().solver;
   dynamic.rung = solvers::Rung::kDynamic;
   const std::vector<CampaignMode> modes = DefaultCampaignModes(dynamic);
-  ASSERT_EQ(modes.size(), 13u);
+  ASSERT_EQ(modes.size(), 15u);
   EXPECT_EQ(modes.front().name, "campaign");
   EXPECT_EQ(modes.front().solver.rung, solvers::Rung::kDynamic);
 }
