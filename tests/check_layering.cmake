@@ -88,4 +88,27 @@ foreach(f ${files})
   endif()
 endforeach()
 
+# Inside the store: the shared result types and shard naming sit below everything, the
+# sample table and HDF5 machinery below the two stores, and neither store sees the other.
+set(store_rules
+  "jobs/store/results_check.h=jobs/store/results_check.h"
+  "jobs/store/shards.h=jobs/store/shards.h"
+  "jobs/store/hdf5_file.h=engine sampling jobs/store/hdf5_file.h"
+  "jobs/store/sample_table.h=jobs/campaign engine sampling solvers analysis jobs/inputs jobs/store/results_check.h jobs/store/hdf5_file.h jobs/store/sample_table.h"
+  "jobs/store/allocation_store.h=jobs/allocation/allocation_outcome.h jobs/campaign engine sampling solvers analysis jobs/inputs jobs/store/results_check.h jobs/store/shards.h jobs/store/allocation_store.h"
+  "jobs/store/campaign_store.h=jobs/campaign engine sampling solvers analysis jobs/inputs jobs/store/results_check.h jobs/store/shards.h jobs/store/campaign_store.h")
+foreach(rule ${store_rules})
+  string(REPLACE "=" ";" parts "${rule}")
+  list(GET parts 0 f)
+  list(GET parts 1 allowed)
+  string(REPLACE " " "/|" allowed "${allowed}/")
+  string(REPLACE ".h/" ".h$" allowed "${allowed}")
+  reach("${f}" project system)
+  foreach(header ${project})
+    if(NOT header MATCHES "^(${allowed})")
+      list(APPEND failures "${f} reaches ${header} (inside the store it may use only ${allowed})")
+    endif()
+  endforeach()
+endforeach()
+
 report_failures("layering violations" "layering ok" ${failures})

@@ -70,7 +70,8 @@
 
 #include "jobs/allocation/allocation_outcome.h"
 #include "jobs/campaign/sample_record.h"
-#include "jobs/store/campaign_store.h"
+#include "jobs/store/results_check.h"
+#include "jobs/store/shards.h"
 
 namespace ringtol::jobs {
 

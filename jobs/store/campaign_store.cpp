@@ -1230,85 +1230,6 @@ CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
   return absorbed;
 }
 
-fs::path ShardPath(const fs::path& results, int rank) {
-  fs::path shard = results;
-  shard += fmt::format(".shard-{}", rank);
-  return shard;
-}
-
-std::vector<fs::path> FindShards(const fs::path& results) {
-  const fs::path directory = results.has_parent_path() ? results.parent_path() : fs::path(".");
-  const std::string prefix = results.filename().string() + ".shard-";
-  std::vector<std::pair<int, fs::path>> found;
-  std::error_code error;
-  for (const fs::directory_entry& entry : fs::directory_iterator(directory, error)) {
-    const std::string name = entry.path().filename().string();
-    if (name.rfind(prefix, 0) != 0) continue;
-    const std::string rank = name.substr(prefix.size());
-    constexpr std::size_t kMaxDigits = 9;  // fits an int
-    if (rank.empty() || rank.size() > kMaxDigits || !std::all_of(rank.begin(), rank.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
-    found.emplace_back(std::stoi(rank), ShardPath(results, std::stoi(rank)));  // named as ShardPath names it
-  }
-  std::sort(found.begin(), found.end());
-  std::vector<fs::path> shards;
-  for (auto& [rank, path] : found) shards.push_back(std::move(path));
-  return shards;
-}
-
-fs::path SetAsidePath(const fs::path& shard) {
-  fs::path aside = shard;
-  aside += ".unreadable";
-  std::error_code error;
-  for (int k = 2; fs::exists(aside, error); ++k) {
-    aside = shard;
-    aside += fmt::format(".unreadable-{}", k);
-  }
-  return aside;
-}
-
-std::string UnreadableShardMessage(const std::string& index, const fs::path& shard, const std::string& why,
-                                   std::string_view command, const std::string& input) {
-  return fmt::format(
-      "{}: its shard {} cannot be read ({}); `ringtol {} {} --out {} --resume` sets it aside (renamed {}, never "
-      "deleted) and computes its samples again",
-      index, shard.string(), why, command, input, index, SetAsidePath(shard).string());
-}
-
-std::vector<UnreadableShard> SetAsideUnreadableShards(const fs::path& results,
-                                                      const std::function<void(const fs::path&)>& read_shard) {
-  const QuietErrors quiet;
-  std::vector<UnreadableShard> aside;
-  for (const fs::path& shard : FindShards(results)) {
-    std::string why;
-    try {
-      read_shard(shard);
-      continue;
-    } catch (const InputError& error) {
-      why = error.what();
-    }
-    const fs::path to = SetAsidePath(shard);
-    std::error_code error;
-    fs::rename(shard, to, error);
-    if (error) throw InputError(fmt::format("{}: cannot be read ({}) nor set aside: {}", shard.string(), why, error.message()));
-    aside.push_back({shard, to, why});
-  }
-  // A shard the index lists that is missing, and was never set aside, is refused as
-  // readers refuse it.
-  std::error_code error;
-  if (fs::exists(results, error)) {
-    const FileId file = OpenForReading(results);
-    if (ListsShards(file.get())) {
-      ListedShardFiles(Where{results.string(), true}, file.get(), results, [](const fs::path& shard) {
-        fs::path first_aside = shard;
-        first_aside += ".unreadable";
-        std::error_code missing;
-        return fs::exists(first_aside, missing);
-      });
-    }
-  }
-  return aside;
-}
-
 std::vector<UnreadableShard> SetAsideUnreadableShards(const fs::path& results) {
   return SetAsideUnreadableShards(results, [](const fs::path& shard) {
     const Where opening{shard.string(), true};
@@ -1318,19 +1239,6 @@ std::vector<UnreadableShard> SetAsideUnreadableShards(const fs::path& results) {
     // chunks are Resume's to repair.
     if (!stored.index) OpenColumns(opening, file.get(), stored);
   });
-}
-
-bool IsShardIndex(const fs::path& results) {
-  const QuietErrors quiet;
-  return ListsShards(OpenForReading(results).get());
-}
-
-std::optional<fs::path> BeingWritten(const fs::path& results) {
-  if (FileLock::Held(results)) return results;
-  for (const fs::path& shard : FindShards(results)) {
-    if (FileLock::Held(shard)) return shard;
-  }
-  return std::nullopt;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1799,14 +1707,6 @@ SampleRecord CampaignReader::ReadSample(std::int64_t index) const {
 
 // ---------------------------------------------------------------------------------------
 
-bool ResultsCheck::intact() const {
-  return std::all_of(datasets.begin(), datasets.end(), [](const DatasetCheck& d) { return d.damaged.empty(); });
-}
-
-bool ResultsCheck::checksummed() const {
-  return std::all_of(datasets.begin(), datasets.end(), [](const DatasetCheck& d) { return d.checksummed; });
-}
-
 namespace {
 
 // The samples of both (each ascending, disjoint).
@@ -1876,48 +1776,6 @@ ResultsCheck CheckResults(const fs::path& path) {
   if (stored.index) return CheckIndex(where, file.get(), path, stored);
   const SampleTable table = OpenColumns(where, file.get(), stored);
   return Check(where, file.get(), table, table.Scan());
-}
-
-std::vector<SampleRange> MergeRanges(std::vector<SampleRange> ranges) {
-  std::sort(ranges.begin(), ranges.end(), [](const SampleRange& a, const SampleRange& b) { return a.begin < b.begin; });
-  std::vector<SampleRange> merged;
-  for (const SampleRange& range : ranges) {
-    if (range.begin >= range.end) continue;
-    if (!merged.empty() && range.begin <= merged.back().end) {
-      merged.back().end = std::max(merged.back().end, range.end);
-    } else {
-      merged.push_back(range);
-    }
-  }
-  return merged;
-}
-
-std::string FormatRanges(const std::vector<SampleRange>& ranges) {
-  std::vector<std::string> parts;
-  for (const SampleRange& range : ranges) {
-    parts.push_back(range.end - range.begin == 1 ? fmt::format("{}", range.begin)
-                                                 : fmt::format("{} to {}", range.begin, range.end - 1));
-  }
-  return fmt::format("{}", fmt::join(parts, ", "));
-}
-
-std::string DamagedDatasets(const ResultsCheck& check) {
-  std::vector<std::string> damaged;
-  for (const DatasetCheck& dataset : check.datasets) {
-    if (dataset.damaged.empty()) continue;
-    std::vector<std::string> rows;
-    if (check.allocation() && dataset.per_sample) {
-      for (const SampleRange& range : dataset.damaged) {
-        rows.push_back(fmt::format("candidate {}, samples {}", check.CandidateOf(range),
-                                   FormatRanges({check.SamplesOf(range)})));
-      }
-    } else {
-      rows.push_back("samples " + FormatRanges(dataset.damaged));
-    }
-    damaged.push_back(fmt::format("dataset {} is damaged at {} ({})", dataset.path, fmt::join(rows, "; "),
-                                  dataset.first_problem));
-  }
-  return fmt::format("{}", fmt::join(damaged, "; "));
 }
 
 std::string DamageMessage(const fs::path& path, const ResultsCheck& check) {

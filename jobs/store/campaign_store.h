@@ -94,6 +94,8 @@
 
 #include "jobs/campaign/campaign_identity.h"
 #include "jobs/campaign/sample_record.h"
+#include "jobs/store/results_check.h"
+#include "jobs/store/shards.h"
 
 namespace ringtol::jobs {
 
@@ -115,12 +117,6 @@ inline constexpr std::int64_t kStoredInputSamples = 16384;
 // Resume refuses files older than kOldestResumableSchema.
 inline constexpr int kOldestReadableSchema = 1;
 
-// Samples [begin, end).
-struct SampleRange {
-  std::int64_t begin = 0;
-  std::int64_t end = 0;
-  friend bool operator==(const SampleRange&, const SampleRange&) = default;
-};
 
 // What a shard holds, for its index: reported by the rank that writes it
 // (CampaignStore::Contents, in parallel on every rank), or read from the file.
@@ -213,46 +209,9 @@ class CampaignStore {
   std::unique_ptr<File> file_;
 };
 
-// Shards: under mpirun each computing rank writes the samples it computes into a shard of
-// its own, a results file of the same campaign (same schema, same chunks) beside the
-// results file, so that results never travel through rank 0; the results file is their
-// index (below). ShardPath: "<results>.shard-<rank>". FindShards: those that exist, by rank.
-std::filesystem::path ShardPath(const std::filesystem::path& results, int rank);
-std::vector<std::filesystem::path> FindShards(const std::filesystem::path& results);
-// The results file `results` (a campaign's or an allocation's) or one of its shards that a
-// running ringtol writes now, if any: every writer holds an open file description lock on
-// its file while it runs (released when it ends, however it ends), so a second run can
-// tell a live run's files from a killed one's and never advise removing them.
-std::optional<std::filesystem::path> BeingWritten(const std::filesystem::path& results);
-
-// Shards that cannot be read at all (truncated, not HDF5, their metadata, descriptions or
-// chunk indexes damaged) hold nothing a resume can use; every reader refuses them, naming
-// the shard and the resume below. Before a resume continues `results` in shards, each such
-// shard is set aside: renamed to SetAsidePath(shard), never deleted (nothing computed is
-// ever lost), so that its samples are computed again. A shard of another campaign reads,
-// and is refused for what it is; a shard with damaged chunks reads, and the resume repairs
-// it (CampaignStore::Resume). Then InputError, as readers give, for a shard the index lists
-// that is missing and was never set aside. Returns the shards set aside.
-struct UnreadableShard {
-  std::filesystem::path shard;
-  std::filesystem::path aside;  // its new name
-  std::string why;              // what reading it said
-};
+// SetAsideUnreadableShards (jobs/store/shards.h) for a campaign's results file: a shard is
+// unreadable when its root, descriptions or chunk indexes do not read as a campaign's.
 std::vector<UnreadableShard> SetAsideUnreadableShards(const std::filesystem::path& results);
-// As above, for shards of any results file: `read_shard` reads one as its readers would,
-// throwing InputError when it cannot (an allocation's: SetAsideUnreadableAllocationShards,
-// jobs/store/allocation_store.h).
-std::vector<UnreadableShard> SetAsideUnreadableShards(const std::filesystem::path& results,
-                                                      const std::function<void(const std::filesystem::path&)>& read_shard);
-// What a reader of `index` says of its shard that cannot be read (`why`), with the resume
-// that recovers its samples: `ringtol <command> <input> --out <index> --resume`.
-std::string UnreadableShardMessage(const std::string& index, const std::filesystem::path& shard, const std::string& why,
-                                   std::string_view command, const std::string& input);
-// "<shard>.unreadable", or "<shard>.unreadable-2", -3, ...: the first name that is free.
-std::filesystem::path SetAsidePath(const std::filesystem::path& shard);
-// Whether `results` is an index of shards, a campaign's or an allocation's: its root only is
-// read, its shards not opened. InputError when it cannot be opened.
-bool IsShardIndex(const std::filesystem::path& results);
 
 // Shards as the results file: under mpirun every computing rank keeps its shard, and the
 // results file becomes their index (schema 6): the root's attributes, /inputs descriptions
@@ -356,63 +315,11 @@ class CampaignReader {
   std::unique_ptr<File> file_;
 };
 
-
-// One dataset of a results file, read chunk by chunk.
-struct DatasetCheck {
-  std::string path;          // e.g. "/inputs/u"
-  bool per_sample = false;   // a row per sample (else one of the /inputs descriptions, [d])
-  bool checksummed = false;  // Fletcher-32 is in its filter pipeline
-  // The samples of its chunks that fail to read (checksum, decompression, I/O) or hold a
-  // non-finite number where a finished sample has none, merged; a description dataset
-  // that fails reports [0, samples).
-  std::vector<SampleRange> damaged;
-  std::string first_problem;  // HDF5's or ringtol's reason for the first damaged chunk
-};
-
-// What `ringtol verify` reports of a campaign's or an allocation's results file: every
-// dataset, what is on disk, what a --resume computes.
-//
-// An allocation's [C, N] datasets have a row per (candidate, sample): their damaged rows
-// are numbered candidate x N + sample (CandidateOf and SamplesOf give them back), each
-// range within one candidate. Its /inputs/u counts rows as samples, and a derived /outcome
-// that does not read is a dataset "/outcome" damaged at [0, N) (the next commit rewrites
-// it). What its resume computes is for the search to decide: pending and recompute stay
-// empty, and done_by_role says what each role holds.
-struct ResultsCheck {
-  std::int64_t samples = 0;            // N
-  std::int64_t candidates = 0;         // C of an allocation; 0 for a campaign
-  std::vector<DatasetCheck> datasets;  // descriptions first, then the per-sample datasets
-  std::int64_t done = 0;               // finished samples in status chunks that read
-  std::vector<SampleRange> pending;    // pending samples in status chunks that read
-  std::vector<SampleRange> recompute;  // what Resume computes: pending and every damaged chunk's samples
-  std::int64_t done_screen = 0;        // an allocation's finished samples by role
-  std::int64_t done_confirm = 0;
-
-  bool intact() const;       // no dataset damaged
-  bool checksummed() const;  // every dataset carries Fletcher-32: intact() is then a verdict
-  bool allocation() const { return candidates > 0; }
-  // A damaged range of an allocation's [C, N] dataset: its candidate, and its samples.
-  std::int64_t CandidateOf(const SampleRange& rows) const { return rows.begin / samples; }
-  SampleRange SamplesOf(const SampleRange& rows) const {
-    const std::int64_t first = CandidateOf(rows) * samples;
-    return {rows.begin - first, rows.end - first};
-  }
-};
-
 // Reads every dataset of a results file chunk by chunk. InputError when the file cannot be
 // opened as a ringtol campaign (metadata damage included: HDF5 checksums its metadata); an
 // allocation's results file is named as one (its resume scans it instead).
 ResultsCheck CheckResults(const std::filesystem::path& path);
 
-// `ranges` sorted, with those that overlap or touch joined and empty ones left out.
-std::vector<SampleRange> MergeRanges(std::vector<SampleRange> ranges);
-
-// "0 to 99, 250, 300 to 399": samples as a reader counts them, both ends included.
-std::string FormatRanges(const std::vector<SampleRange>& ranges);
-
-// "dataset /inputs/u is damaged at samples 0 to 99 (<problem>); ...", naming every damaged
-// dataset and its rows (an allocation's by candidate and samples).
-std::string DamagedDatasets(const ResultsCheck& check);
 // "file: dataset /inputs/u is damaged at samples 0 to 99 (<problem>)...", naming every
 // damaged dataset, for the commands that refuse such a file.
 std::string DamageMessage(const std::filesystem::path& path, const ResultsCheck& check);

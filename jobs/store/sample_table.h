@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "jobs/campaign/sample_record.h"
-#include "jobs/store/campaign_store.h"
+#include "jobs/store/results_check.h"
 #include "jobs/store/hdf5_file.h"
 
 namespace ringtol::jobs::hdf5 {
