@@ -305,7 +305,7 @@ struct Stored {
   AllocationIdentity identity;
   int schema_version = 0;
   std::int64_t candidates = 0;
-  bool index = false;  // an index of shards (kAllocationIndexSchemaVersion)
+  bool index = false;  // an index of shards (its layout)
 };
 
 template <typename T>
@@ -339,8 +339,14 @@ Stored ReadStored(const Where& where, hid_t file) {
     throw InputError(fmt::format("{}: has unknown schema version {}; this ringtol reads schemas {} and {}",
                                  where.file, schema, kAllocationSchemaVersion, kAllocationIndexSchemaVersion));
   }
-  stored.schema_version = static_cast<int>(schema);
-  stored.index = schema == kAllocationIndexSchemaVersion;
+  const StoredLayout layout =
+      ReadLayout(where, file, static_cast<int>(schema), kAllocationIndexSchemaVersion, kAllocationSchemaVersion);
+  if (layout.rows_schema != kAllocationSchemaVersion) {
+    throw InputError(fmt::format("{}: keeps rows of schema {}; this ringtol reads schema {}", where.file,
+                                 layout.rows_schema, kAllocationSchemaVersion));
+  }
+  stored.schema_version = layout.rows_schema;
+  stored.index = layout.layout == Layout::kShardIndex;
 
   AllocationIdentity& identity = stored.identity;
   const auto text = [&](const char* name) { return Require(where, ReadStringAttribute(where, file, name), name); };
@@ -534,10 +540,12 @@ void CreateOutcome(const Where& where, hid_t file, hsize_t candidates, hsize_t c
 // Everything but the samples and /outcome; /inputs/u written unless `design_points` is
 // empty (a shard's).
 void WriteIdentity(const Where& where, hid_t file, const AllocationIdentity& identity,
-                   const std::vector<double>& design_points, bool checksum, std::int32_t schema) {
+                   const std::vector<double>& design_points, bool checksum, Layout layout) {
   const std::int64_t candidates = CandidateCount(identity);
+  const std::int32_t schema = layout == Layout::kFile ? kAllocationSchemaVersion : kAllocationIndexSchemaVersion;
   WriteStringAttribute(where, file, "format", kFormat);
   WriteAttribute(where, file, "schema_version", H5T_STD_I32LE, H5T_NATIVE_INT32, &schema);
+  WriteLayout(where, file, {layout, kAllocationSchemaVersion});
   WriteStringAttribute(where, file, "ringtol_version", identity.ringtol_version);
   WriteStringAttribute(where, file, "catalogue_version", identity.catalogue_version);
   WriteStringAttribute(where, file, "allocation_path", identity.allocation_path);
@@ -634,7 +642,7 @@ void WriteIdentity(const Where& where, hid_t file, const AllocationIdentity& ide
 void WriteSchema(const Where& where, hid_t file, const AllocationIdentity& identity,
                  const std::vector<double>& design_points, const AllocationStoreOptions& options) {
   const bool checksum = options.checksums;
-  WriteIdentity(where, file, identity, design_points, checksum, kAllocationSchemaVersion);
+  WriteIdentity(where, file, identity, design_points, checksum, Layout::kFile);
   const std::int64_t candidates = CandidateCount(identity);
   const std::vector<std::string> stored = StoredOutputs(identity.constraints);
   const hsize_t chunk = ChunkSamples(options, identity);
@@ -1534,7 +1542,7 @@ std::int64_t WriteAllocationIndex(const fs::path& results, const AllocationIdent
   const Where where{name, false};
   std::int64_t mappings = 0;
   ReplaceIndex(where, results, names, [&](hid_t file) {
-    WriteIdentity(where, file, identity, design_points, true, kAllocationIndexSchemaVersion);
+    WriteIdentity(where, file, identity, design_points, true, Layout::kShardIndex);
     const std::vector<std::string> stored = StoredOutputs(identity.constraints);
     for (const EvaluationRole role : kRoles) {
       mappings += SampleTable::CreateVirtual(where, file, CandidateRows(candidates, identity.samples),

@@ -6,7 +6,7 @@
 // Schema version 1 (C = candidates, N = most samples per candidate, d = sampler inputs,
 // K = allocated components, O = options of all components, M = constraints, Q = stored outputs):
 //   /                          attributes: format = "ringtol allocation", schema_version = 1,
-//                              ringtol_version, catalogue_version, allocation_path,
+//                              layout = "file" (as a campaign's), ringtol_version, catalogue_version, allocation_path,
 //                              allocation_file, base_scene, design, solver, screen, search,
 //                              seed (uint64), samples (int64 N), first_samples, confidence,
 //                              candidates (int64 C), reference (int64, -1 for none)
@@ -76,7 +76,9 @@
 namespace ringtol::jobs {
 
 inline constexpr int kAllocationSchemaVersion = 1;
-// An index of shards (below): schema 1's layout with every [C, N] dataset virtual.
+// The schema_version of an index of shards (below: schema 1's datasets with every [C, N]
+// one virtual, layout = "shard index", rows_schema = 1), which numbers the index's layout;
+// indexes written before `layout` existed are recognised by it alone.
 inline constexpr int kAllocationIndexSchemaVersion = 2;
 
 // One finished sample of an allocation file: what the search judges a candidate by.
@@ -208,7 +210,8 @@ class AllocationReader {
 
 // Shards as the results file, as a campaign's (jobs/store/campaign_store.h): under mpirun
 // every computing rank files its samples in its own shard (AllocationStore::CreateShard,
-// at ShardPath), and the results file becomes their index (schema 2): schema 1's
+// at ShardPath), and the results file becomes their index (schema 2, layout "shard index",
+// rows_schema 1): schema 1's
 // identity, /inputs, /candidates and /outcome, /shards/file [K] (the shards' file names,
 // beside the index), and every [C, N] dataset under /samples a virtual dataset showing
 // each sample from the shard that holds it (fill elsewhere: pending, NaN, 0). h5py and

@@ -217,8 +217,8 @@ struct Stored {
   int schema_version = 0;
   // Samples from here on keep no u and values (schema 5; every sample before it).
   std::int64_t inputs_stored_below = std::numeric_limits<std::int64_t>::max();
-  // An index of shards (kShardIndexSchemaVersion): schema_version is then its rows' schema,
-  // and the shards' chunk rows the blocks its readers read statuses in.
+  // An index of shards (its layout): schema_version is then its rows' schema, and the
+  // shards' chunk rows the blocks its readers read statuses in.
   bool index = false;
   std::int64_t chunk_rows = 1;
 };
@@ -245,8 +245,14 @@ Stored ReadStored(const Where& where, hid_t file) {
     throw InputError(fmt::format("{}: has unknown schema version {}; this ringtol reads schemas {} to {}", where.file,
                                  schema, kOldestReadableSchema, kShardIndexSchemaVersion));
   }
-  stored.index = schema == kShardIndexSchemaVersion;
-  stored.schema_version = stored.index ? kCampaignSchemaVersion : static_cast<int>(schema);
+  const StoredLayout layout =
+      ReadLayout(where, file, static_cast<int>(schema), kShardIndexSchemaVersion, kCampaignSchemaVersion);
+  if (layout.rows_schema > kCampaignSchemaVersion || layout.rows_schema < kOldestReadableSchema) {
+    throw InputError(fmt::format("{}: keeps rows of schema {}; this ringtol reads schemas {} to {}", where.file,
+                                 layout.rows_schema, kOldestReadableSchema, kCampaignSchemaVersion));
+  }
+  stored.index = layout.layout == Layout::kShardIndex;
+  stored.schema_version = layout.rows_schema;
   if (stored.index) {
     stored.chunk_rows = Require(
         where, ReadNumberAttribute<std::int64_t>(where, file, "shard_chunk_rows", H5T_INTEGER, H5T_NATIVE_INT64),
@@ -684,9 +690,11 @@ hsize_t DefaultChunkRows(const CampaignStoreOptions& options, std::int64_t sampl
 // The root's attributes, the groups, the input descriptions and the calibrations: what a
 // results file and an index of shards (`schema`) share.
 void WriteIdentity(const Where& where, hid_t file, const CampaignIdentity& identity, std::int64_t samples,
-                   const CampaignStoreOptions& options, std::int32_t schema) {
+                   const CampaignStoreOptions& options, Layout layout) {
+  const std::int32_t schema = layout == Layout::kFile ? kCampaignSchemaVersion : kShardIndexSchemaVersion;
   WriteStringAttribute(where, file, "format", kFormat);
   WriteAttribute(where, file, "schema_version", H5T_STD_I32LE, H5T_NATIVE_INT32, &schema);
+  WriteLayout(where, file, {layout, kCampaignSchemaVersion});
   WriteStringAttribute(where, file, "ringtol_version", identity.ringtol_version);
   WriteStringAttribute(where, file, "catalogue_version", identity.catalogue_version);
   WriteAttribute(where, file, "seed", H5T_STD_U64LE, H5T_NATIVE_UINT64, &identity.seed);
@@ -738,7 +746,7 @@ void WriteColumnAttributes(const Where& where, hid_t file, const CampaignIdentit
 
 void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identity, std::int64_t samples,
                  const CampaignStoreOptions& options) {
-  WriteIdentity(where, file, identity, samples, options, kCampaignSchemaVersion);
+  WriteIdentity(where, file, identity, samples, options, Layout::kFile);
   const auto chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples));
   SampleTable::Create(
       where, file, Rows(samples, chunk_rows),
@@ -1444,7 +1452,7 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
   ReplaceIndex(where, results, names, [&](hid_t file) {
     CampaignStoreOptions options;
     options.inputs_stored_below = stored_below;
-    WriteIdentity(where, file, identity, samples, options, kShardIndexSchemaVersion);
+    WriteIdentity(where, file, identity, samples, options, Layout::kShardIndex);
     WriteAttribute(where, file, "shard_chunk_rows", H5T_STD_I64LE, H5T_NATIVE_INT64, &chunk_rows);
     WriteAttribute(where, file, "shard_digest", H5T_STD_U32LE, H5T_NATIVE_UINT32, &digest);
     summary.mappings = SampleTable::CreateVirtual(

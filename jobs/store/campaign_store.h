@@ -6,7 +6,8 @@
 //
 // Schema version 5 (N = samples, d = sampler inputs, S = min(N, inputs_stored_below)):
 //   /                          attributes: format = "ringtol campaign", schema_version = 5,
-//                              ringtol_version, catalogue_version, seed (uint64), samples
+//                              layout = "file" (jobs/store/hdf5_file.h: an index of shards
+//                              says "shard index"; files before it have none), ringtol_version, catalogue_version, seed (uint64), samples
 //                              (int64, N), design, solver, campaign_path, campaign_file (the
 //                              campaign file's text), base_scene (the base scene as a scene
 //                              file, jobs/inputs/scene_writer.h), inputs_stored_below (int64,
@@ -100,7 +101,10 @@
 namespace ringtol::jobs {
 
 inline constexpr int kCampaignSchemaVersion = 5;
-// An index of shards: schema 5's datasets, the per-sample ones virtual (WriteShardIndex).
+// The schema_version of an index of shards (WriteShardIndex: schema 5's datasets, the
+// per-sample ones virtual), which numbers the index's layout; its root attributes layout =
+// "shard index" and rows_schema = 5 say what it is. Indexes written before `layout`
+// existed are recognised by this number alone.
 inline constexpr int kShardIndexSchemaVersion = 6;
 // The oldest schema Resume continues (in its own schema).
 inline constexpr int kOldestResumableSchema = 4;
@@ -214,7 +218,7 @@ class CampaignStore {
 std::vector<UnreadableShard> SetAsideUnreadableShards(const std::filesystem::path& results);
 
 // Shards as the results file: under mpirun every computing rank keeps its shard, and the
-// results file becomes their index (schema 6): the root's attributes, /inputs descriptions
+// results file becomes their index (schema 6, layout "shard index", rows_schema 5): the root's attributes, /inputs descriptions
 // and /calibration of a results file, /shards/file [K] (the shards' file names, beside the
 // index) and root attribute shard_chunk_rows, and every per-sample dataset a virtual
 // dataset of N rows showing each sample from the shard that finished it (the first listed

@@ -540,6 +540,39 @@ std::optional<std::string> TextDifference(std::string_view field, const std::str
   return fmt::format("{} differs (first at line {})", field, FirstDifferingLine(file, now));
 }
 
+namespace {
+constexpr const char* kFileLayout = "file";
+constexpr const char* kShardIndexLayout = "shard index";
+}  // namespace
+
+void WriteLayout(const Where& where, hid_t file, const StoredLayout& layout) {
+  if (layout.layout == Layout::kFile) {
+    WriteStringAttribute(where, file, "layout", kFileLayout);
+    return;
+  }
+  WriteStringAttribute(where, file, "layout", kShardIndexLayout);
+  const std::int32_t rows = layout.rows_schema;
+  WriteAttribute(where, file, "rows_schema", H5T_STD_I32LE, H5T_NATIVE_INT32, &rows);
+}
+
+StoredLayout ReadLayout(const Where& where, hid_t file, int schema_version, int legacy_index_schema,
+                        int legacy_rows_schema) {
+  const std::optional<std::string> layout = ReadStringAttribute(where, file, "layout");
+  if (!layout) {
+    if (schema_version == legacy_index_schema) return {Layout::kShardIndex, legacy_rows_schema};
+    return {Layout::kFile, schema_version};
+  }
+  if (*layout == kFileLayout) return {Layout::kFile, schema_version};
+  if (*layout != kShardIndexLayout) {
+    Fail(where, fmt::format("attribute layout = \"{}\" is neither \"{}\" nor \"{}\"", *layout, kFileLayout,
+                            kShardIndexLayout));
+  }
+  const std::optional<std::int64_t> rows =
+      ReadNumberAttribute<std::int64_t>(where, file, "rows_schema", H5T_INTEGER, H5T_NATIVE_INT64);
+  if (!rows) Fail(where, "is an index of shards without the attribute rows_schema");
+  return {Layout::kShardIndex, static_cast<int>(*rows)};
+}
+
 bool ListsShards(hid_t file) {
   return H5Lexists(file, "/shards", H5P_DEFAULT) > 0 && H5Lexists(file, kShardFiles, H5P_DEFAULT) > 0;
 }

@@ -208,6 +208,23 @@ std::optional<std::string> FormatOf(const Where& where, hid_t file);
 
 // Where an index of shards lists them (jobs/store/campaign_store.h, allocation_store.h).
 inline constexpr const char* kShardFiles = "/shards/file";
+
+// Where a results file keeps its samples: in itself, or in the shards it is the index of.
+// The root attribute `layout` says which ("file", "shard index"), and an index's
+// `rows_schema` the schema of its rows (its shards are files of that schema): an index's
+// schema_version numbers the index's own layout, so a store's next schema never reads as
+// an index. Files written before `layout` existed have neither attribute.
+enum class Layout { kFile, kShardIndex };
+struct StoredLayout {
+  Layout layout = Layout::kFile;
+  int rows_schema = 0;  // the schema of the samples' rows (a file's own schema_version)
+};
+void WriteLayout(const Where& where, hid_t file, const StoredLayout& layout);
+// InputError for a `layout` no ringtol writes, or an index without `rows_schema`. A file
+// without `layout` is an index exactly when `schema_version` is `legacy_index_schema`, its
+// rows then of `legacy_rows_schema`.
+StoredLayout ReadLayout(const Where& where, hid_t file, int schema_version, int legacy_index_schema,
+                        int legacy_rows_schema);
 // Whether `file` lists shards in kShardFiles: it is an index of shards (a campaign's or an
 // allocation's), whatever its schema says.
 bool ListsShards(hid_t file);

@@ -729,6 +729,45 @@ AllocationShard ShardOf(const fs::path& path) {
   return entry;
 }
 
+// The root attribute `layout` marks an index; indexes written before it are recognised by
+// their schema number.
+TEST(AllocationShardIndex, SaysWhatItIsAndIsReadAsAnIndexWithoutTheAttributeToo) {
+  const fs::path index = TestFolder() / "allocation.h5";
+  const fs::path shard = ShardPath(index, 0);
+  {
+    AllocationStore zero = AllocationStore::CreateShard(shard, TestIdentity(), TestOptions());
+    AddDeterministic(zero, EvaluationRole::kScreen, 1, 0, kFirstSamples);
+    zero.CommitSamples();
+  }
+  WriteAllocationIndex(index, TestIdentity(), DesignPoints(), TestOutcome(), {ShardOf(shard)});
+  const auto layout = [](const fs::path& path) {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    std::string value = "(none)";
+    if (H5Aexists(file, "layout") > 0) {
+      const hid_t attribute = H5Aopen(file, "layout", H5P_DEFAULT);
+      const hid_t type = H5Aget_type(attribute);
+      char* text = nullptr;
+      if (H5Aread(attribute, type, &text) >= 0 && text != nullptr) value = text;
+      H5free_memory(text);
+      H5Tclose(type);
+      H5Aclose(attribute);
+    }
+    H5Fclose(file);
+    return value;
+  };
+  EXPECT_EQ(layout(index), "shard index");
+  EXPECT_EQ(layout(shard), "file");
+  {
+    const hid_t file = H5Fopen(index.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Adelete(file, "layout");
+    H5Adelete(file, "rows_schema");
+    H5Fclose(file);
+  }
+  ASSERT_EQ(layout(index), "(none)");
+  EXPECT_EQ(IndexedAllocationShards(index), std::vector<fs::path>{shard});
+  ExpectDeterministic(AllocationReader(index), EvaluationRole::kScreen, 1, 0, kFirstSamples);
+}
+
 TEST(AllocationShardIndex, ReadsEverySampleFromTheShardThatHoldsItAndChecksEveryShard) {
   const fs::path folder = TestFolder();
   const fs::path index = folder / "allocation.h5";

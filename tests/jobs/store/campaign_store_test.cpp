@@ -18,6 +18,7 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -1370,6 +1371,75 @@ TEST(ShardIndex, ShowsRowsNoShardFinishedAsPending) {
   EXPECT_EQ(check.done, 10);
   EXPECT_EQ(check.pending, (std::vector<SampleRange>{{10, kShardedSamples}}));
   EXPECT_EQ(check.recompute, check.pending);
+}
+
+// The root attribute `layout` says whether a file keeps its samples or indexes shards, so
+// that a file of the next schema (6, the number an index carries) reads as a file.
+std::optional<std::string> RootText(const fs::path& path, const char* name) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  std::optional<std::string> value;
+  if (H5Aexists(file, name) > 0) {
+    const hid_t attribute = H5Aopen(file, name, H5P_DEFAULT);
+    const hid_t type = H5Aget_type(attribute);
+    char* text = nullptr;
+    if (H5Tis_variable_str(type) > 0 && H5Aread(attribute, type, &text) >= 0 && text != nullptr) {
+      value = text;
+      H5free_memory(text);
+    }
+    H5Tclose(type);
+    H5Aclose(attribute);
+  }
+  H5Fclose(file);
+  return value;
+}
+
+void SetRootInt(const fs::path& path, const char* name, int value) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  const hid_t attribute = H5Aopen(file, name, H5P_DEFAULT);
+  H5Awrite(attribute, H5T_NATIVE_INT, &value);
+  H5Aclose(attribute);
+  H5Fclose(file);
+}
+
+TEST(ShardIndex, SaysWhatItIsAndItsRowsSchemaInItsRootAttributes) {
+  const fs::path path = TestFolder() / "results.h5";
+  WriteShardIndex(path, TestIdentity(), kShardedSamples, BlockCyclicShards(path));
+  EXPECT_EQ(RootText(path, "layout"), std::optional<std::string>("shard index"));
+  EXPECT_EQ(RootText(ShardPath(path, 0), "layout"), std::optional<std::string>("file"));
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  int rows = 0;
+  const hid_t attribute = H5Aopen(file, "rows_schema", H5P_DEFAULT);
+  H5Aread(attribute, H5T_NATIVE_INT, &rows);
+  H5Aclose(attribute);
+  H5Fclose(file);
+  EXPECT_EQ(rows, kCampaignSchemaVersion);
+}
+
+TEST(CampaignReader, ReadsAFileWhoseSchemaIsTheIndexNumberAsAFileOfRowsItDoesNotKnow) {
+  const fs::path path = TestFolder() / "results.h5";
+  CampaignStore::Create(path, TestIdentity(), 2);
+  SetRootInt(path, "schema_version", kShardIndexSchemaVersion);
+  const std::string expected = "keeps rows of schema " + std::to_string(kShardIndexSchemaVersion);
+  EXPECT_THAT(InputErrorOf([&] { CampaignReader reader(path); }), HasSubstr(expected));
+  EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), 2); }), HasSubstr(expected));
+}
+
+// Indexes written before the attribute existed are recognised by their schema number.
+TEST(ShardIndex, AnIndexWithoutALayoutAttributeReadsAsAnIndex) {
+  const fs::path path = TestFolder() / "results.h5";
+  WriteShardIndex(path, TestIdentity(), kShardedSamples, BlockCyclicShards(path));
+  {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Adelete(file, "layout");
+    H5Adelete(file, "rows_schema");
+    H5Fclose(file);
+  }
+  ASSERT_EQ(RootText(path, "layout"), std::nullopt);
+  const CampaignReader reader(path);
+  for (std::int64_t index = 0; index < kShardedSamples; ++index) {
+    ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
+  }
+  EXPECT_EQ(CheckResults(path).done, kShardedSamples);
 }
 
 // A campaign of 2^40 samples stopped early, as mpirun leaves it: its index is read and
