@@ -24,26 +24,6 @@
 namespace ringtol::jobs {
 namespace {
 
-// Whether `out` is kept in shards: an index of them, or shards a killed run left (beside a
-// self-contained file, or before its first index).
-bool IsSharded(const std::filesystem::path& out) {
-  return !FindShards(out).empty() || (std::filesystem::exists(out) && IsShardIndex(out));
-}
-
-// Before a resume in shards (rank 0): a self-contained results file becomes shard 0
-// (renamed: its samples stay where they are on disk), so that an allocation begun in one
-// process continues under mpirun; it is checked and repaired as it is first.
-void MakeShardZero(const std::filesystem::path& out, const AllocationIdentity& identity) {
-  const std::filesystem::path own = ShardPath(out, 0);
-  if (!std::filesystem::exists(out) || IsShardIndex(out)) return;
-  if (std::filesystem::exists(own)) {
-    throw InputError(fmt::format("{}: keeps samples itself and {} exists beside it: move one of them away",
-                                 out.string(), own.string()));
-  }
-  { const AllocationStore plain = AllocationStore::Resume(out, identity); }
-  std::filesystem::rename(out, own);
-}
-
 // A line per progress interval (redrawn in place on a terminal): rounds, candidates, the
 // round's samples.
 class AllocationProgressPrinter {
@@ -127,29 +107,16 @@ int Execute(const AllocateCommand& command, std::ostream& progress, AllocationRu
   std::string error;
   if (rank == 0) {
     error = Attempt([&] {
-      if (!command.resume) {
-        RefuseLiveOutput(command.out);  // one may have started since CheckBeforeWork
-        if (const std::vector<std::filesystem::path> left = FindShards(command.out); !left.empty()) {
-          throw InputError(fmt::format("{}: shards of an earlier run of it exist ({}); pass --resume to continue "
-                                       "that run, or remove them to start a new one",
-                                       command.out.string(), left.front().string()));
-        }
-      }
-      sharded = ranks > 1 || (command.resume && IsSharded(command.out)) ? 1 : 0;
-      if (sharded == 0) {
-        store = std::make_unique<AllocationStore>(
-            command.resume ? AllocationStore::Resume(command.out, allocation->identity())
-                           : AllocationStore::Create(command.out, allocation->identity(), allocation->DesignPoints()));
+      if (!command.resume) RefuseLiveOutput(command.out);  // one may have started since CheckBeforeWork
+      const ShardPlan plan = PlanAllocationShards(command.out, allocation->identity(), ranks, command.resume);
+      sharded = plan.sharded ? 1 : 0;
+      if (plan.sharded) {
+        shards.emplace(AllocationShards{command.out, plan.stale});
         return;
       }
-      if (command.resume) MakeShardZero(command.out, allocation->identity());
-      shards.emplace();
-      shards->results = command.out;
-      for (const std::filesystem::path& path : FindShards(command.out)) {
-        bool own = false;
-        for (int r = 0; r < ranks; ++r) own = own || path == ShardPath(command.out, r);
-        if (!own) shards->stale.push_back(path);
-      }
+      store = std::make_unique<AllocationStore>(
+          command.resume ? AllocationStore::Resume(command.out, allocation->identity())
+                         : AllocationStore::Create(command.out, allocation->identity(), allocation->DesignPoints()));
     });
   }
   ThrowAgreed(world, error);
@@ -157,10 +124,7 @@ int Execute(const AllocateCommand& command, std::ostream& progress, AllocationRu
   if (sharded != 0) {
     if (rank != 0) shards.emplace(AllocationShards{command.out, {}});
     error = Attempt([&] {
-      const std::filesystem::path own = ShardPath(command.out, rank);
-      store = std::make_unique<AllocationStore>(std::filesystem::exists(own)
-                                                    ? AllocationStore::Resume(own, allocation->identity())
-                                                    : AllocationStore::CreateShard(own, allocation->identity()));
+      store = std::make_unique<AllocationStore>(OpenAllocationShard(command.out, rank, allocation->identity()));
     });
     ThrowAgreed(world, error);
   }

@@ -157,33 +157,6 @@ std::int64_t SamplesOnDisk(const std::filesystem::path& file) {
 
 
 
-// Whether `out` is kept in shards: an index of them, or shards a killed run left (beside
-// a self-contained file, or before its first index). InputError for an index whose shard is
-// missing.
-bool IsSharded(const std::filesystem::path& out) {
-  if (!FindShards(out).empty()) return true;
-  return std::filesystem::exists(out) && IsShardIndex(out);
-}
-
-// Before a resume under mpirun (rank 0): a self-contained results file becomes shard 0
-// (renamed: its samples stay where they are on disk), so that a campaign started in one
-// process continues in shards; it is checked and repaired as it is first.
-void MakeShardZero(const std::filesystem::path& out, const CampaignIdentity& identity, std::int64_t samples) {
-  const std::filesystem::path own = ShardPath(out, 0);
-  if (!std::filesystem::exists(out) || IsShardIndex(out)) return;
-  if (const int schema = CampaignReader(out).schema_version(); schema < kCampaignSchemaVersion) {
-    throw InputError(fmt::format("{}: was written by an older ringtol (schema {}), which keeps it in one file: "
-                                 "resume it without mpirun",
-                                 out.string(), schema));
-  }
-  if (std::filesystem::exists(own)) {
-    throw InputError(fmt::format("{}: keeps samples itself and {} exists beside it: move one of them away",
-                                 out.string(), own.string()));
-  }
-  { const CampaignStore plain = CampaignStore::Resume(out, identity, samples); }
-  std::filesystem::rename(out, own);
-}
-
 // The contents of every rank's shard, on rank 0 in rank order (collective): each rank
 // reads its own (`mine`; samples < 0 when it could not), so that the cost is spread
 // over the ranks; rank 0 reads itself a shard whose rank could not.
@@ -283,53 +256,21 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   std::string error;
   if (rank == 0) {
     error = Attempt([&] {
-      const bool sharded = ranks > 1 || (command.resume && IsSharded(command.out));
       CampaignStoreOptions options;
       if (command.store_inputs) options.inputs_stored_below = std::numeric_limits<std::int64_t>::max();
-      if (!command.resume) {
-        RefuseLiveOutput(command.out);  // one may have started since CheckBeforeWork
-        if (const std::vector<std::filesystem::path> shards = FindShards(command.out); !shards.empty()) {
-          throw InputError(fmt::format("{}: shards of an earlier run of it exist ({}); pass --resume to continue "
-                                       "that run, or remove them to start a new one",
-                                       command.out.string(), shards.front().string()));
-        }
-      }
-      if (!sharded) {
+      if (!command.resume) RefuseLiveOutput(command.out);  // one may have started since CheckBeforeWork
+      const ShardPlan plan =
+          PlanCampaignShards(command.out, campaign->identity(), campaign->samples(), ranks, command.resume);
+      if (plan.sharded) {
+        stale = RepairStaleShards(plan.stale, campaign->identity(), campaign->samples());
+        store = std::make_unique<CampaignStore>(
+            OpenCampaignShard(command.out, 0, campaign->identity(), campaign->samples(), options));
+      } else {
         store = std::make_unique<CampaignStore>(
             command.resume ? CampaignStore::Resume(command.out, campaign->identity(), campaign->samples())
                            : CampaignStore::Create(command.out, campaign->identity(), campaign->samples(), options));
-      } else {
-        if (command.resume) MakeShardZero(command.out, campaign->identity(), campaign->samples());
-        // Shards of ranks beyond this run's stay as they are: rank 0 repairs them and reads
-        // what they hold once.
-        const auto has_rank = [&](const std::filesystem::path& path) {
-          for (int r = 0; r < ranks; ++r) {
-            if (path == ShardPath(command.out, r)) return true;
-          }
-          return false;
-        };
-        for (const std::filesystem::path& path : FindShards(command.out)) {
-          if (has_rank(path)) continue;
-          { const CampaignStore repaired = CampaignStore::Resume(path, campaign->identity(), campaign->samples()); }
-          stale.push_back(ReadShardContents(path, campaign->identity(), campaign->samples()));
-        }
-        const std::filesystem::path own = ShardPath(command.out, 0);
-        if (!std::filesystem::exists(own)) {
-          // A run killed before rank 0 wrote a sample: chunked as the other shards.
-          if (const std::vector<std::filesystem::path> shards = FindShards(command.out); !shards.empty()) {
-            const ShardContents other = ReadShardContents(shards.front(), campaign->identity(), campaign->samples());
-            options.chunk_samples = other.chunk_rows;
-            options.inputs_stored_below = other.inputs_stored_below;
-          }
-        }
-        store = std::make_unique<CampaignStore>(
-            std::filesystem::exists(own)
-                ? CampaignStore::Resume(own, campaign->identity(), campaign->samples())
-                : CampaignStore::Create(own, campaign->identity(), campaign->samples(), options));
-        layout = {1, store->chunk_rows(), store->inputs_stored_below()};
-        return;
       }
-      layout = {0, store->chunk_rows(), store->inputs_stored_below()};
+      layout = {plan.sharded ? 1 : 0, store->chunk_rows(), store->inputs_stored_below()};
     });
   }
   ThrowAgreed(world, error);
@@ -346,10 +287,8 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
       CampaignStoreOptions options;
       options.chunk_samples = chunk_rows;
       options.inputs_stored_below = layout[2];
-      const std::filesystem::path path = ShardPath(command.out, rank);
       shard = std::make_unique<CampaignStore>(
-          std::filesystem::exists(path) ? CampaignStore::Resume(path, campaign->identity(), campaign->samples())
-                                        : CampaignStore::Create(path, campaign->identity(), campaign->samples(), options));
+          OpenCampaignShard(command.out, rank, campaign->identity(), campaign->samples(), options));
     });
   }
   ThrowAgreed(world, error);

@@ -1616,6 +1616,16 @@ std::int64_t JoinAllocationShards(const fs::path& results, const fs::path& out) 
   return joined;
 }
 
+ShardPlan PlanAllocationShards(const fs::path& results, const AllocationIdentity& identity, int ranks, bool resume) {
+  return PlanShards(results, ranks, resume,
+                    [&](const fs::path& file) { const AllocationStore plain = AllocationStore::Resume(file, identity); });
+}
+
+AllocationStore OpenAllocationShard(const fs::path& results, int rank, const AllocationIdentity& identity) {
+  const fs::path own = ShardPath(results, rank);
+  return fs::exists(own) ? AllocationStore::Resume(own, identity) : AllocationStore::CreateShard(own, identity);
+}
+
 std::vector<UnreadableShard> SetAsideUnreadableAllocationShards(const fs::path& results) {
   return SetAsideUnreadableShards(results, [](const fs::path& shard) { ReadShard(shard); });
 }

@@ -239,6 +239,13 @@ std::int64_t WriteAllocationIndex(const std::filesystem::path& results, const Al
 // file.
 std::vector<std::filesystem::path> IndexedAllocationShards(const std::filesystem::path& results);
 
+// A run of an allocation in shards (PlanShards, jobs/store/shards.h).
+ShardPlan PlanAllocationShards(const std::filesystem::path& results, const AllocationIdentity& identity, int ranks,
+                               bool resume);
+// Rank `rank`'s own shard of `results`: resumed when it exists, else created (CreateShard).
+AllocationStore OpenAllocationShard(const std::filesystem::path& results, int rank,
+                                    const AllocationIdentity& identity);
+
 // SetAsideUnreadableShards (jobs/store/campaign_store.h) for an allocation's results file:
 // before a resume continues it in shards, each shard that cannot be read is renamed aside,
 // never deleted, so that its samples are computed again.

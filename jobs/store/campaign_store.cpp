@@ -1482,6 +1482,42 @@ std::vector<fs::path> IndexedShards(const fs::path& results) {
   return ListedShards(where, file.get(), results, stored);
 }
 
+ShardPlan PlanCampaignShards(const fs::path& results, const CampaignIdentity& identity, std::int64_t samples,
+                             int ranks, bool resume) {
+  return PlanShards(results, ranks, resume, [&](const fs::path& file) {
+    if (const int schema = CampaignReader(file).schema_version(); schema < kCampaignSchemaVersion) {
+      throw InputError(fmt::format("{}: was written by an older ringtol (schema {}), which keeps it in one file: "
+                                   "resume it without mpirun",
+                                   file.string(), schema));
+    }
+    const CampaignStore plain = CampaignStore::Resume(file, identity, samples);
+  });
+}
+
+CampaignStore OpenCampaignShard(const fs::path& results, int rank, const CampaignIdentity& identity,
+                                std::int64_t samples, CampaignStoreOptions options) {
+  const fs::path own = ShardPath(results, rank);
+  if (fs::exists(own)) return CampaignStore::Resume(own, identity, samples);
+  if (rank == 0) {
+    if (const std::vector<fs::path> shards = FindShards(results); !shards.empty()) {
+      const ShardContents other = ReadShardContents(shards.front(), identity, samples);
+      options.chunk_samples = other.chunk_rows;
+      options.inputs_stored_below = other.inputs_stored_below;
+    }
+  }
+  return CampaignStore::Create(own, identity, samples, options);
+}
+
+std::vector<ShardContents> RepairStaleShards(const std::vector<fs::path>& stale, const CampaignIdentity& identity,
+                                             std::int64_t samples) {
+  std::vector<ShardContents> contents;
+  for (const fs::path& shard : stale) {
+    { const CampaignStore repaired = CampaignStore::Resume(shard, identity, samples); }
+    contents.push_back(ReadShardContents(shard, identity, samples));
+  }
+  return contents;
+}
+
 CampaignStore::Absorbed JoinShards(const fs::path& results, const fs::path& out) {
   std::vector<fs::path> shards;
   Stored stored;

@@ -258,6 +258,20 @@ std::vector<std::filesystem::path> IndexedShards(const std::filesystem::path& re
 // the --resume that computes them again, and nothing is written or removed.
 CampaignStore::Absorbed JoinShards(const std::filesystem::path& results, const std::filesystem::path& out);
 
+// A run of a campaign in shards (PlanShards, jobs/store/shards.h): a self-contained file of
+// an older schema is refused (it resumes only in one process).
+ShardPlan PlanCampaignShards(const std::filesystem::path& results, const CampaignIdentity& identity,
+                             std::int64_t samples, int ranks, bool resume);
+// Rank `rank`'s own shard of `results`: resumed when it exists, else created with `options`,
+// except that rank 0 chunks it as the shards an earlier run left, when there are any (a run
+// killed before rank 0 wrote a sample).
+CampaignStore OpenCampaignShard(const std::filesystem::path& results, int rank, const CampaignIdentity& identity,
+                                std::int64_t samples, CampaignStoreOptions options);
+// What the shards of ranks a run does not have (ShardPlan::stale) hold, each resumed
+// (repaired) first.
+std::vector<ShardContents> RepairStaleShards(const std::vector<std::filesystem::path>& stale,
+                                             const CampaignIdentity& identity, std::int64_t samples);
+
 // Read-only access for summaries, reports, replays and tests. Opens a file a killed run
 // left behind as well as a finished one.
 // A whole per-sample column of a campaign of `samples`, read as read(begin, count) in

@@ -40,6 +40,37 @@ std::vector<fs::path> FindShards(const fs::path& results) {
   return shards;
 }
 
+ShardPlan PlanShards(const fs::path& results, int ranks, bool resume,
+                     const std::function<void(const fs::path&)>& resume_file) {
+  std::vector<fs::path> left = FindShards(results);
+  if (!resume && !left.empty()) {
+    throw InputError(fmt::format("{}: shards of an earlier run of it exist ({}); pass --resume to continue that run, "
+                                 "or remove them to start a new one",
+                                 results.string(), left.front().string()));
+  }
+  std::error_code error;
+  const bool exists = fs::exists(results, error);
+  ShardPlan plan;
+  plan.sharded = ranks > 1 || !left.empty() || (resume && exists && IsShardIndex(results));
+  if (!plan.sharded) return plan;
+  if (resume && exists && !IsShardIndex(results)) {
+    const fs::path own = ShardPath(results, 0);
+    if (fs::exists(own, error)) {
+      throw InputError(fmt::format("{}: keeps samples itself and {} exists beside it: move one of them away",
+                                   results.string(), own.string()));
+    }
+    resume_file(results);
+    fs::rename(results, own);
+    left = FindShards(results);
+  }
+  for (fs::path& shard : left) {
+    bool has_rank = false;
+    for (int r = 0; r < ranks && !has_rank; ++r) has_rank = shard == ShardPath(results, r);
+    if (!has_rank) plan.stale.push_back(std::move(shard));
+  }
+  return plan;
+}
+
 fs::path SetAsidePath(const fs::path& shard) {
   fs::path aside = shard;
   aside += ".unreadable";

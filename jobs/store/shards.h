@@ -26,6 +26,24 @@ std::vector<std::filesystem::path> FindShards(const std::filesystem::path& resul
 // tell a live run's files from a killed one's and never advise removing them.
 std::optional<std::filesystem::path> BeingWritten(const std::filesystem::path& results);
 
+// How a run of `ranks` computing ranks writes `results`, decided by rank 0 before any store
+// opens: in `results` itself (one rank, nothing kept in shards), or each rank in a shard of
+// its own with `results` their index.
+struct ShardPlan {
+  bool sharded = false;
+  // Shards an earlier run's ranks left that this run has no rank for: rank 0 repairs and
+  // reads each, and indexes it after the ranks' own.
+  std::vector<std::filesystem::path> stale;
+};
+// A new run (`resume` false) refuses shards an earlier run left (InputError: resume them or
+// remove them). A resume in shards first makes a self-contained `results` shard 0:
+// `resume_file` resumes it as its store does (checking and repairing it), then it is
+// renamed, its samples staying where they are on disk; InputError when shard 0 exists
+// beside it. Each store wraps this with its own `resume_file` (PlanCampaignShards,
+// PlanAllocationShards).
+ShardPlan PlanShards(const std::filesystem::path& results, int ranks, bool resume,
+                     const std::function<void(const std::filesystem::path&)>& resume_file);
+
 // Shards that cannot be read at all (truncated, not HDF5, their metadata, descriptions or
 // chunk indexes damaged) hold nothing a resume can use; every reader refuses them, naming
 // the shard and the resume below. Before a resume continues `results` in shards, each such

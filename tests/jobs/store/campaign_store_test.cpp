@@ -460,6 +460,26 @@ TEST(FindShards, ListsTheShardsOfOneResultsFileInRankOrder) {
   EXPECT_EQ(ShardPath(path, 3), folder / "results.h5.shard-3");
 }
 
+// The store, not the command, decides how a run writes: one file, or a shard per rank.
+TEST(PlanCampaignShards, KeepsOneRankInOneFileAndAdoptsAFileBegunAloneAsShardZero) {
+  const fs::path path = TestFolder() / "results.h5";
+  EXPECT_FALSE(PlanCampaignShards(path, TestIdentity(), 4, 1, false).sharded);
+  EXPECT_TRUE(PlanCampaignShards(path, TestIdentity(), 4, 2, false).sharded);
+  WriteDeterministic(path, 4, 4);
+  EXPECT_FALSE(PlanCampaignShards(path, TestIdentity(), 4, 1, true).sharded);
+  const std::string bytes = ReadBytes(path);
+  const ShardPlan plan = PlanCampaignShards(path, TestIdentity(), 4, 2, true);
+  EXPECT_TRUE(plan.sharded);
+  EXPECT_TRUE(plan.stale.empty());
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_EQ(ReadBytes(ShardPath(path, 0)), bytes);
+  // Shards of ranks a run does not have are its stale ones; a new run refuses them all.
+  fs::rename(ShardPath(path, 0), ShardPath(path, 3));
+  EXPECT_EQ(PlanCampaignShards(path, TestIdentity(), 4, 2, true).stale, std::vector<fs::path>{ShardPath(path, 3)});
+  EXPECT_THAT(InputErrorOf([&] { PlanCampaignShards(path, TestIdentity(), 4, 2, false); }),
+              AllOf(HasSubstr("shards of an earlier run"), HasSubstr("--resume")));
+}
+
 TEST(CampaignStore, KeepsTheLastOfTwoRecordsForOneSample) {
   const fs::path path = TestFolder() / "results.h5";
   SampleRecord retried = DeterministicRecord(1);
