@@ -1287,6 +1287,30 @@ void AllocationStore::CommitSamples() {
   CheckStatus(H5Fflush(f.file.get(), H5F_SCOPE_LOCAL), f.where, "flushing", "the file");
 }
 
+std::int64_t AllocationStore::Absorb(const fs::path& shard) {
+  const QuietErrors quiet;
+  CommitSamples();
+  File& f = *file_;
+  const Where opening{shard.string(), true};
+  const FileId file = OpenForReading(shard);
+  const Stored stored = ReadStored(opening, file.get());
+  if (stored.index) throw InputError(opening.file + ": is an index of shards, not a shard");
+  if (const std::optional<std::string> difference = IdentityDifference(stored.identity, f.identity)) {
+    throw InputError(fmt::format("{}: is a shard of another allocation than {}: {}", opening.file, f.where.file,
+                                 *difference));
+  }
+  Samples from;
+  from.Open(opening, file.get(), stored.identity, 0);
+  from.set_where(Where{opening.file, false});
+  std::int64_t copied = 0;
+  for (const EvaluationRole role : kRoles) {
+    SampleTable& ours = f.samples.tables[RoleIndex(role)];
+    const SampleTable& theirs = from.Table(role);
+    copied += ours.Absorb(theirs, ours.PlanAbsorb(theirs, true)).samples;
+  }
+  return copied;
+}
+
 const std::vector<std::string>& AllocationStore::outputs() const { return file_->samples.outputs; }
 
 std::vector<AllocationSample> AllocationStore::Finished() const {
@@ -1573,39 +1597,8 @@ std::int64_t JoinAllocationShards(const fs::path& results, const fs::path& out) 
   {
     const AllocationReader index(results);
     const AllocationIdentity& identity = index.identity();
-    const std::int64_t n = identity.samples;
-    AllocationStore store = AllocationStore::Create(target, identity, index.ReadDesignPoints(0, n));
-    const std::vector<std::string> outputs = StoredOutputs(identity.constraints);
-    const std::int64_t candidates = CandidateCount(identity);
-    for (const EvaluationRole role : kRoles) {
-      for (std::int64_t c = 0; c < candidates; ++c) {
-        const std::vector<SampleStatus> status = index.ReadStatus(role, c, 0, n);
-        if (std::all_of(status.begin(), status.end(), [](SampleStatus x) { return x == SampleStatus::kPending; })) {
-          continue;
-        }
-        std::vector<std::vector<double>> values;
-        for (const std::string& output : outputs) values.push_back(index.ReadOutput(role, output, c, 0, n));
-        const std::vector<double> bound =
-            role == EvaluationRole::kScreen ? index.ReadErrorBound(c, 0, n) : std::vector<double>(static_cast<std::size_t>(n), kNaN);
-        const std::vector<std::int32_t> steps = index.ReadSteps(role, c, 0, n);
-        const std::vector<double> times = index.ReadSolveTime(role, c, 0, n);
-        for (std::int64_t i = 0; i < n; ++i) {
-          const auto k = static_cast<std::size_t>(i);
-          if (status[k] == SampleStatus::kPending) continue;
-          SampleRecord record;
-          record.index = i;
-          record.status = status[k];
-          record.outputs.fill(kNaN);
-          for (std::size_t q = 0; q < outputs.size(); ++q) record.outputs[OutputIndex(outputs[q])] = values[q][k];
-          record.d_trajectory_error = bound[k];
-          record.steps = steps[k];
-          record.solve_time = times[k];
-          store.Add(role, c, record);
-          ++joined;
-        }
-        store.CommitSamples();  // a candidate at a time: the buffer stays one candidate's
-      }
-    }
+    AllocationStore store = AllocationStore::Create(target, identity, index.ReadDesignPoints(0, identity.samples));
+    for (const fs::path& shard : shards) joined += store.Absorb(shard);
     store.Commit(index.ReadOutcome());
   }
   if (in_place) {

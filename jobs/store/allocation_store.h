@@ -164,6 +164,13 @@ class AllocationStore {
   // shard's commit.
   void CommitSamples();
 
+  // Copies into this file every finished sample of the shard at `shard` (a file of the same
+  // allocation) that it has pending, and flushes, as CampaignStore::Absorb does: a chunk of
+  // which this file holds no sample copied as stored, the others sample by sample. Returns
+  // the samples copied. InputError for a shard that does not read or is of another
+  // allocation.
+  std::int64_t Absorb(const std::filesystem::path& shard);
+
   // The outputs every sample keeps, in AllocationSample::outputs' order.
   const std::vector<std::string>& outputs() const;
   // Every finished sample on disk (buffered ones are not), by role, candidate and sample:

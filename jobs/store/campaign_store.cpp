@@ -1151,91 +1151,58 @@ CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
   Commit();
   File& f = *file_;
   const Where opening{shard_path.string(), true};
-  Absorbed absorbed;
-  std::vector<std::int64_t> one_by_one;
-  {
-    const FileId shard = OpenForReading(shard_path);
-    const Stored stored = ReadStored(opening, shard.get());
-    if (stored.index) throw InputError(opening.file + ": is an index of shards, not a shard");
-    if (stored.schema_version != f.schema) {
-      throw InputError(fmt::format("{}: is a shard of schema {}, not {}", opening.file, stored.schema_version,
-                                   f.schema));
-    }
-    if (const std::optional<std::string> difference = IdentityDifference(stored.identity, f.identity)) {
-      throw InputError(opening.file + ": is a shard of another campaign than " + f.where.file + ": " + *difference +
-                       "; remove it, or resume with the campaign that wrote it");
-    }
-    if (stored.samples > f.samples) {
-      throw InputError(fmt::format("{}: is a shard of {} samples, more than the {} of {}", opening.file,
-                                   stored.samples, f.samples, f.where.file));
-    }
-    SampleTable from = OpenColumns(opening, shard.get(), stored);
-    from.set_where(Where{opening.file, false});
-    const std::int64_t rows = from.space().chunk_samples;
-    // A shard whose failure rows are damaged is read sample by sample: those that lost
-    // their message stay pending here and are computed again.
-    std::optional<FailureRows> failures;
-    if (f.schema >= kFirstSchemaWithSlimRows) failures = ReadFailureRows(opening, shard.get());
-    const bool failures_intact = !failures || !failures->damaged();
-    const bool as_stored = rows == f.chunk_rows && stored.samples == f.samples &&
-                           stored.inputs_stored_below == f.inputs_stored_below && failures_intact &&
-                           f.table.SameStorage(from);
-    const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
-    std::vector<std::int64_t> whole;  // first samples of the chunks copied as stored
-    std::vector<std::int8_t> theirs(static_cast<std::size_t>(rows));
-    // Beyond written_end every sample is pending: a shard of 2^40 samples stopped early is
-    // read in the time of what it holds.
-    for (std::int64_t first = 0; first < from.written_end(); first += rows) {
-      const std::int64_t count = std::min(rows, stored.samples - first);
-      // A status chunk that does not read vouches for nothing: its samples stay pending.
-      if (from.TryRead(kStatus, 0, first, count, theirs.data())) continue;
-      const std::vector<std::int8_t> ours = f.table.Read<std::int8_t>(kStatus, 0, first, count);
-      std::int64_t wanted = 0;
-      bool ours_empty = true;
-      for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) {
-        ours_empty = ours_empty && ours[i] == pending;
-        if (theirs[i] != pending && ours[i] == pending && IsKnownStatus(theirs[i])) ++wanted;
-      }
-      if (wanted == 0) continue;
-      absorbed.samples += wanted;
-      if (as_stored && ours_empty) {
-        whole.push_back(first);
-        absorbed.chunk_samples += wanted;
-        continue;
-      }
-      for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) {
-        if (theirs[i] != pending && ours[i] == pending && IsKnownStatus(theirs[i])) {
-          one_by_one.push_back(first + static_cast<std::int64_t>(i));
+  const FileId shard = OpenForReading(shard_path);
+  const Stored stored = ReadStored(opening, shard.get());
+  if (stored.index) throw InputError(opening.file + ": is an index of shards, not a shard");
+  if (stored.schema_version != f.schema) {
+    throw InputError(fmt::format("{}: is a shard of schema {}, not {}", opening.file, stored.schema_version, f.schema));
+  }
+  if (const std::optional<std::string> difference = IdentityDifference(stored.identity, f.identity)) {
+    throw InputError(opening.file + ": is a shard of another campaign than " + f.where.file + ": " + *difference +
+                     "; remove it, or resume with the campaign that wrote it");
+  }
+  if (stored.samples > f.samples) {
+    throw InputError(fmt::format("{}: is a shard of {} samples, more than the {} of {}", opening.file, stored.samples,
+                                 f.samples, f.where.file));
+  }
+  if (stored.inputs_stored_below != f.inputs_stored_below) {
+    throw InputError(fmt::format("{}: keeps the inputs of samples below {}, where {} keeps those below {}",
+                                 opening.file, stored.inputs_stored_below, f.where.file, f.inputs_stored_below));
+  }
+  SampleTable from = OpenColumns(opening, shard.get(), stored);
+  from.set_where(Where{opening.file, false});
+  // A shard whose failure rows are damaged is copied row by row: its failed samples that
+  // lost their message stay pending here and are computed again.
+  std::optional<FailureRows> failures;
+  if (f.schema >= kFirstSchemaWithSlimRows) failures = ReadFailureRows(opening, shard.get());
+  SampleTable::AbsorbPlan plan = f.table.PlanAbsorb(from, !failures || !failures->damaged());
+  if (failures) {
+    // The messages of the failed samples copied, appended before their statuses.
+    std::vector<std::int64_t> failed;
+    std::vector<char> messages;
+    std::vector<RowKey> lost;
+    for (const RowKey& key : plan.failed) {
+      std::optional<std::string> text;
+      if (const std::optional<std::size_t> row = failures->Find(key.sample)) {
+        try {
+          text = ReadFailureMessage(opening, shard.get(), *row);
+        } catch (const InputError&) {
+          text.reset();
         }
       }
-    }
-    if (f.schema >= kFirstSchemaWithSlimRows && !whole.empty()) {
-      // The messages of the failed samples in the chunks copied as stored, before their statuses.
-      std::vector<std::int64_t> failed;
-      std::vector<char> messages;
-      for (const auto& [sample, row] : failures->latest) {
-        if (!std::binary_search(whole.begin(), whole.end(), sample - sample % rows)) continue;
-        failed.push_back(sample);
-        const std::string text = ReadFailureMessage(opening, shard.get(), row);
-        messages.resize(messages.size() + kMessageBytes, '\0');
-        text.copy(messages.data() + messages.size() - kMessageBytes, kMessageChars);
+      if (!text) {
+        lost.push_back(key);
+        continue;
       }
-      AppendFailures(f.where, f.failure_samples, f.failure_messages, failed, messages);
+      failed.push_back(key.sample);
+      messages.resize(messages.size() + kMessageBytes, '\0');
+      text->copy(messages.data() + messages.size() - kMessageBytes, kMessageChars);
     }
-    absorbed.bytes += f.table.CopyChunks(from, whole);
+    std::erase_if(plan.rows, [&](const RowKey& key) { return std::binary_search(lost.begin(), lost.end(), key); });
+    AppendFailures(f.where, f.failure_samples, f.failure_messages, failed, messages);
   }
-  if (!one_by_one.empty()) {
-    const CampaignReader shard(shard_path);
-    for (const std::int64_t index : one_by_one) {
-      try {
-        Add(shard.ReadSample(index));
-      } catch (const InputError&) {
-        --absorbed.samples;  // a damaged row of the shard: computed again
-      }
-    }
-    Commit();
-  }
-  return absorbed;
+  const SampleTable::Absorbed copied = f.table.Absorb(from, plan);
+  return {copied.samples, copied.chunk_samples, copied.bytes};
 }
 
 std::vector<UnreadableShard> SetAsideUnreadableShards(const fs::path& results) {

@@ -670,35 +670,36 @@ std::vector<SampleRange> SampleTable::Finished() const {
   return finished;
 }
 
+std::vector<RowKey> SampleTable::ChunkFirsts(std::size_t column) const {
+  std::vector<RowKey> firsts;
+  if (!space_.grouped()) {
+    const std::int64_t end = std::min(StoredRows(column), written_end_);
+    for (std::int64_t first = 0; first < end; first += space_.chunk_samples) firsts.push_back({0, first});
+    return firsts;
+  }
+  const std::string& path = specs_[column].path;
+  const SpaceId dataspace(Check(H5Dget_space(datasets_[column].get()), where_, "reading the shape of", path));
+  hsize_t allocated = 0;
+  CheckStatus(H5Dget_num_chunks(datasets_[column].get(), dataspace.get(), &allocated), where_,
+              "counting the chunks of", path);
+  for (hsize_t i = 0; i < allocated; ++i) {
+    std::array<hsize_t, 2> offset{};
+    unsigned mask = 0;
+    haddr_t address = 0;
+    hsize_t bytes = 0;
+    if (H5Dget_chunk_info(datasets_[column].get(), dataspace.get(), i, offset.data(), &mask, &address, &bytes) < 0) {
+      Fail(where_, fmt::format("reading the chunk index of {} failed", path));
+    }
+    firsts.push_back({static_cast<std::int64_t>(offset[0]), static_cast<std::int64_t>(offset[1])});
+  }
+  std::sort(firsts.begin(), firsts.end());
+  return firsts;
+}
+
 TableScan SampleTable::Scan() const {
   TableScan scan;
   const std::int64_t chunk = space_.chunk_samples;
-  // The chunks of a column: every one of a flat table (one that was never written reads as
-  // its fill), those that exist of a grouped one.
-  const auto chunks_of = [&](std::size_t column) {
-    std::vector<RowKey> firsts;
-    if (!space_.grouped()) {
-      const std::int64_t end = std::min(StoredRows(column), written_end_);
-      for (std::int64_t first = 0; first < end; first += chunk) firsts.push_back({0, first});
-      return firsts;
-    }
-    const std::string& path = specs_[column].path;
-    const SpaceId dataspace(Check(H5Dget_space(datasets_[column].get()), where_, "reading the shape of", path));
-    hsize_t allocated = 0;
-    CheckStatus(H5Dget_num_chunks(datasets_[column].get(), dataspace.get(), &allocated), where_,
-                "counting the chunks of", path);
-    for (hsize_t i = 0; i < allocated; ++i) {
-      std::array<hsize_t, 2> offset{};
-      unsigned mask = 0;
-      haddr_t address = 0;
-      hsize_t bytes = 0;
-      if (H5Dget_chunk_info(datasets_[column].get(), dataspace.get(), i, offset.data(), &mask, &address, &bytes) < 0) {
-        Fail(where_, fmt::format("reading the chunk index of {} failed", path));
-      }
-      firsts.push_back({static_cast<std::int64_t>(offset[0]), static_cast<std::int64_t>(offset[1])});
-    }
-    return firsts;
-  };
+  const auto chunks_of = [&](std::size_t column) { return ChunkFirsts(column); };
 
   // The statuses of every chunk whose status chunk reads, by its first row.
   std::map<RowKey, std::vector<SampleStatus>> statuses;
@@ -886,10 +887,12 @@ bool SampleTable::SameStorage(const SampleTable& other) const {
   return true;
 }
 
-std::int64_t SampleTable::CopyChunks(const SampleTable& other, std::span<const std::int64_t> firsts) {
+std::int64_t SampleTable::CopyChunks(const SampleTable& other, std::span<const RowKey> firsts) {
   if (firsts.empty()) return 0;
-  for (const std::int64_t first : firsts) {
-    written_end_ = std::max(written_end_, std::min(space_.samples, first + space_.chunk_samples));
+  if (!space_.grouped()) {
+    for (const RowKey& first : firsts) {
+      written_end_ = std::max(written_end_, std::min(space_.samples, first.sample + space_.chunk_samples));
+    }
   }
   std::int64_t copied = 0;
   std::vector<unsigned char> buffer;
@@ -897,9 +900,10 @@ std::int64_t SampleTable::CopyChunks(const SampleTable& other, std::span<const s
   for (std::size_t c = 0; c < specs_.size(); ++c) {
     const std::string& path = specs_[c].path;
     if (!stored(c)) continue;
-    for (const std::int64_t first : firsts) {
-      if (first >= StoredRows(c)) continue;
-      const hsize_t offset[2] = {static_cast<hsize_t>(first), 0};
+    for (const RowKey& first : firsts) {
+      if (!space_.grouped() && first.sample >= StoredRows(c)) continue;
+      const hsize_t offset[2] = {static_cast<hsize_t>(space_.grouped() ? first.group : first.sample),
+                                 static_cast<hsize_t>(space_.grouped() ? first.sample : 0)};
       hsize_t bytes = 0;
       CheckStatus(H5Dget_chunk_storage_size(other.datasets_[c].get(), offset, &bytes), other.where_,
                   "sizing a chunk of", path);
@@ -914,6 +918,78 @@ std::int64_t SampleTable::CopyChunks(const SampleTable& other, std::span<const s
     CheckStatus(H5Dflush(datasets_[c].get()), where_, "flushing", path);
   }
   return copied;
+}
+
+SampleTable::AbsorbPlan SampleTable::PlanAbsorb(const SampleTable& from, bool as_stored) const {
+  AbsorbPlan plan;
+  const bool whole_chunks = as_stored && from.space_.samples == space_.samples && SameStorage(from);
+  const std::int64_t chunk = from.space_.chunk_samples;
+  const std::size_t status = status_column();
+  const auto pending = static_cast<std::int8_t>(SampleStatus::kPending);
+  const auto ok = static_cast<std::int8_t>(SampleStatus::kOk);
+  std::vector<std::int8_t> theirs(static_cast<std::size_t>(chunk));
+  std::vector<RowKey> wanted;
+  for (const RowKey& first : from.ChunkFirsts(from.status_column())) {
+    const std::int64_t count = std::min(chunk, from.space_.samples - first.sample);
+    if (from.TryReadRows(status, first.group, first.sample, count, theirs.data())) continue;
+    const auto theirs_end = theirs.begin() + count;
+    if (std::any_of(theirs.begin(), theirs_end, [](std::int8_t value) { return !IsKnownStatus(value); })) continue;
+    const std::vector<std::int8_t> ours = Read<std::int8_t>(status, first.group, first.sample, count);
+    wanted.clear();
+    for (std::int64_t i = 0; i < count; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      if (theirs[k] == pending || ours[k] != pending) continue;
+      wanted.push_back({first.group, first.sample + i});
+      if (theirs[k] != ok) plan.failed.push_back(wanted.back());
+    }
+    if (wanted.empty()) continue;
+    plan.samples += static_cast<std::int64_t>(wanted.size());
+    const bool ours_empty = std::all_of(ours.begin(), ours.end(), [&](std::int8_t value) { return value == pending; });
+    if (whole_chunks && ours_empty) {
+      plan.whole.push_back(first);
+      plan.whole_samples += static_cast<std::int64_t>(wanted.size());
+    } else {
+      plan.rows.insert(plan.rows.end(), wanted.begin(), wanted.end());
+    }
+  }
+  return plan;
+}
+
+SampleTable::Absorbed SampleTable::Absorb(const SampleTable& from, const AbsorbPlan& plan) {
+  Absorbed absorbed;
+  const std::int64_t chunk = from.space_.chunk_samples;
+  std::vector<std::vector<unsigned char>> read(specs_.size());
+  std::vector<std::vector<unsigned char>> kept(specs_.size());
+  std::vector<const void*> values(specs_.size());
+  for (auto row = plan.rows.begin(); row != plan.rows.end();) {
+    // The rows of one chunk of `from`, read whole, column by column.
+    const RowKey first{row->group, row->sample - row->sample % chunk};
+    const auto end = std::find_if(row, plan.rows.end(), [&](const RowKey& key) {
+      return key.group != first.group || key.sample >= first.sample + chunk;
+    });
+    const std::span<const RowKey> keys(row, end);
+    row = end;
+    const std::int64_t count = std::min(chunk, from.space_.samples - first.sample);
+    bool readable = true;
+    for (std::size_t c = 0; c < specs_.size() && readable; ++c) {
+      const std::size_t row_bytes = Width(c) * ElementSize(specs_[c]);
+      read[c].resize(static_cast<std::size_t>(count) * row_bytes);
+      readable = !from.TryReadRows(c, first.group, first.sample, count, read[c].data());
+      kept[c].clear();
+      for (const RowKey& key : keys) {
+        const auto at = read[c].begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(key.sample - first.sample) * row_bytes);
+        kept[c].insert(kept[c].end(), at, at + static_cast<std::ptrdiff_t>(row_bytes));
+      }
+      values[c] = kept[c].data();
+    }
+    if (!readable) continue;  // a damaged row of the shard: computed again
+    Write(keys, values);
+    absorbed.samples += static_cast<std::int64_t>(keys.size());
+  }
+  absorbed.bytes = CopyChunks(from, plan.whole);
+  absorbed.samples += plan.whole_samples;
+  absorbed.chunk_samples = plan.whole_samples;
+  return absorbed;
 }
 
 }  // namespace ringtol::jobs::hdf5

@@ -217,10 +217,31 @@ class SampleTable {
   // Whether `other`'s chunks can be stored here as they are: the same columns, chunks and
   // filters in the same order (so a filter mask means the same thing).
   bool SameStorage(const SampleTable& other) const;
-  // Copies the chunk of `other` starting at sample `first` (flat tables) of every column,
-  // its filtered bytes and filter mask as stored, flushing each column, the statuses last.
-  // Returns the bytes copied.
-  std::int64_t CopyChunks(const SampleTable& other, std::span<const std::int64_t> firsts);
+
+  // Joining shards: what a table of the same columns (`from`: the same groups; a flat one
+  // may have fewer samples) holds that this one does not, found chunk by chunk of `from`'s
+  // statuses (a chunk whose statuses do not read, or hold one no ringtol writes, offers
+  // nothing: its samples stay pending here and are computed again).
+  struct AbsorbPlan {
+    // First rows of the chunks copied as stored (their filtered bytes and filter mask, no
+    // decompression): chunks this table has no finished row of, when `as_stored` and
+    // SameStorage allow it and the two tables have the same samples.
+    std::vector<RowKey> whole;
+    std::vector<RowKey> rows;    // the other rows to copy, read and written one by one
+    std::vector<RowKey> failed;  // of both, the rows whose status is a failure
+    std::int64_t samples = 0;        // finished rows to copy
+    std::int64_t whole_samples = 0;  // of which in `whole`
+  };
+  AbsorbPlan PlanAbsorb(const SampleTable& from, bool as_stored) const;
+  struct Absorbed {
+    std::int64_t samples = 0;        // finished rows copied
+    std::int64_t chunk_samples = 0;  // of which in chunks copied as stored
+    std::int64_t bytes = 0;          // stored bytes of those chunks
+  };
+  // Copies what `plan` names, every column flushed before the statuses, so that a kill
+  // loses nothing and absorbing again copies only what is still pending. Rows of a chunk of
+  // `from` any of whose columns does not read stay pending here.
+  Absorbed Absorb(const SampleTable& from, const AbsorbPlan& plan);
 
  private:
   template <typename T>
@@ -235,6 +256,12 @@ class SampleTable {
     return Width(column) * (specs_[column].type == ColumnType::kText ? specs_[column].text_bytes : 1);
   }
   void CheckType(std::size_t column, ColumnType as) const;
+  // The first row of every chunk of a column: every one below written_end() of a flat
+  // table (one never written reads as its fill), those that exist of a grouped one.
+  std::vector<RowKey> ChunkFirsts(std::size_t column) const;
+  // Copies the chunks starting at `firsts` of every column of `other` as stored, flushing
+  // each column, the statuses last. Returns the bytes copied.
+  std::int64_t CopyChunks(const SampleTable& other, std::span<const RowKey> firsts);
   void ReadInto(std::size_t column, ColumnType as, std::int64_t group, std::int64_t begin, std::int64_t count,
                 void* out, const SampleStatus* statuses) const;
   std::optional<std::string> TryReadRows(std::size_t column, std::int64_t group, std::int64_t first,
