@@ -1092,15 +1092,7 @@ AllocationStore::AllocationStore(std::unique_ptr<File> file) : file_(std::move(f
 // them (the next run's first commit brings it up to date).
 AllocationStore::~AllocationStore() {
   if (!file_) return;
-  const QuietErrors quiet;
-  try {
-    file_->CommitSamples();
-  } catch (const std::exception& error) {
-    std::cerr << "ringtol: " << error.what() << '\n';
-  }
-  if (!file_->Close()) {
-    std::cerr << "ringtol: " << file_->where.file << ": closing failed (HDF5: " << Hdf5Detail() << ")\n";
-  }
+  CommitAndClose(file_->where, [&] { file_->CommitSamples(); }, [&] { return file_->Close(); });
   file_.reset();
 }
 
@@ -1135,25 +1127,17 @@ AllocationStore AllocationStore::CreateFile(const fs::path& path, const Allocati
   const QuietErrors quiet;
   CheckIdentity(identity, options);
   const std::string name = path.string();
-  // Built under another name and renamed when complete, so that a kill while creating
-  // never leaves a half-made file under the allocation's name.
-  const fs::path temporary = PrepareCreate(path, ExistsMessage(name));
   auto file = std::make_unique<File>();
   file->path = path;
   file->where = Where{name, false};
   file->identity = identity;
-  try {
-    file->file = CreateExclusive(temporary, path);
-    file->lock = FileLock::Acquire(temporary, name);
-    WriteSchema(file->where, file->file.get(), identity, design_points, options);
-    file->StartWriting(options);
-    Publish(temporary, path, ExistsMessage(name));
-  } catch (...) {
-    file->Close();
-    std::error_code error;
-    fs::remove(temporary, error);
-    throw;
-  }
+  CreateWhole(
+      path, ExistsMessage(name), file->file, file->lock,
+      [&] {
+        WriteSchema(file->where, file->file.get(), identity, design_points, options);
+        file->StartWriting(options);
+      },
+      [&] { file->Close(); });
   return AllocationStore(std::move(file));
 }
 

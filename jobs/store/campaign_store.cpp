@@ -904,15 +904,7 @@ CampaignStore::CampaignStore(std::unique_ptr<File> file) : file_(std::move(file)
 
 CampaignStore::~CampaignStore() {
   if (!file_) return;
-  const QuietErrors quiet;
-  try {
-    Commit();
-  } catch (const std::exception& error) {
-    std::cerr << "ringtol: " << error.what() << '\n';
-  }
-  if (!file_->Close()) {
-    std::cerr << "ringtol: " << file_->where.file << ": closing failed (HDF5: " << Hdf5Detail() << ")\n";
-  }
+  CommitAndClose(file_->where, [&] { Commit(); }, [&] { return file_->Close(); });
   file_.reset();
 }
 
@@ -931,10 +923,6 @@ CampaignStore CampaignStore::Create(const fs::path& path, const CampaignIdentity
   const QuietErrors quiet;
   CheckArguments(identity, samples, options);
   const std::string name = path.string();
-  // Built under another name and renamed when complete, so that a kill while creating
-  // never leaves a half-made file under the campaign's name.
-  const fs::path temporary = PrepareCreate(path, ExistsMessage(name));
-
   auto file = std::make_unique<File>();
   file->path = path;
   file->where = Where{name, false};
@@ -943,18 +931,13 @@ CampaignStore CampaignStore::Create(const fs::path& path, const CampaignIdentity
   file->identity = identity;
   file->chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples));
   file->inputs_stored_below = options.inputs_stored_below;
-  try {
-    file->file = CreateExclusive(temporary, path);
-    file->lock = FileLock::Acquire(temporary, name);
-    WriteSchema(file->where, file->file.get(), identity, samples, options);
-    file->StartWriting(options);
-    Publish(temporary, path, ExistsMessage(name));
-  } catch (...) {
-    file->Close();
-    std::error_code error;
-    fs::remove(temporary, error);
-    throw;
-  }
+  CreateWhole(
+      path, ExistsMessage(name), file->file, file->lock,
+      [&] {
+        WriteSchema(file->where, file->file.get(), identity, samples, options);
+        file->StartWriting(options);
+      },
+      [&] { file->Close(); });
   return CampaignStore(std::move(file));
 }
 

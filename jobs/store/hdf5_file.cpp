@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <chrono>
 #include <cstring>
+#include <iostream>
 #include <stdexcept>
 #include <system_error>
 #include <thread>
@@ -461,6 +462,32 @@ std::optional<std::string> FormatOf(const Where& where, hid_t file) {
   } catch (const std::runtime_error&) {
     return std::nullopt;
   }
+}
+
+void CreateWhole(const fs::path& path, const std::string& exists_message, FileId& file, FileLock& lock,
+                 const std::function<void()>& write, const std::function<void()>& close) {
+  const fs::path temporary = PrepareCreate(path, exists_message);
+  try {
+    file = CreateExclusive(temporary, path);
+    lock = FileLock::Acquire(temporary, path.string());
+    write();
+    Publish(temporary, path, exists_message);
+  } catch (...) {
+    close();
+    std::error_code error;
+    fs::remove(temporary, error);
+    throw;
+  }
+}
+
+void CommitAndClose(const Where& where, const std::function<void()>& commit, const std::function<bool()>& close) {
+  const QuietErrors quiet;
+  try {
+    commit();
+  } catch (const std::exception& error) {
+    std::cerr << "ringtol: " << error.what() << '\n';
+  }
+  if (!close()) std::cerr << "ringtol: " << where.file << ": closing failed (HDF5: " << Hdf5Detail() << ")\n";
 }
 
 fs::path PrepareCreate(const fs::path& path, const std::string& exists_message) {

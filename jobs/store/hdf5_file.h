@@ -282,6 +282,16 @@ class FileLock {
   int fd_ = -1;
 };
 
+// A store's new results file, whole or not at all: built under a temporary name
+// (PrepareCreate) and given `path` (Publish) once `write` has written it, with `file` and
+// `lock` (the store's own members) holding the open file and its writer's lock. When
+// anything fails, `close` closes what the store opened and the temporary is removed.
+void CreateWhole(const std::filesystem::path& path, const std::string& exists_message, FileId& file, FileLock& lock,
+                 const std::function<void()>& write, const std::function<void()>& close);
+// What a store's destructor does: `commit` what it buffers, then `close` (false when HDF5
+// failed to), never throwing: errors go to stderr, naming the file.
+void CommitAndClose(const Where& where, const std::function<void()>& commit, const std::function<bool()>& close);
+
 // The 1-based line at which two texts first differ, for identity messages.
 std::size_t FirstDifferingLine(const std::string& a, const std::string& b);
 
