@@ -1467,18 +1467,12 @@ ResultsCheck CheckAllocationResults(const fs::path& path) {
   };
   if (stored.index) {
     // Each sample is in one shard (the coordinator never hands out one a shard holds), so
-    // the shards' counts add up.
+    // the shards' counts add up; /inputs/u, never written in a shard, is the index's own.
+    std::vector<ShardCheck> shards;
     for (const fs::path& shard : ListedShards(where, file.get(), path, stored.identity)) {
-      const ResultsCheck one = CheckAllocationResults(shard);
-      const std::string name = shard.filename().string();
-      for (const DatasetCheck& d : one.datasets) {
-        if (d.path == "/inputs/u") continue;  // never written in a shard
-        if (!d.checksummed) dataset(d.path).checksummed = false;
-        for (const SampleRange& rows : d.damaged) damage(d.path, rows, name + ": " + d.first_problem);
-      }
-      check.done_screen += one.done_screen;
-      check.done_confirm += one.done_confirm;
+      shards.push_back({shard.filename().string(), CheckAllocationResults(shard)});
     }
+    check = SumOfShards(std::move(check), shards);
   } else {
     Samples samples;
     samples.Open(where, file.get(), stored.identity, 0);

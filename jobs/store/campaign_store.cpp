@@ -1293,21 +1293,6 @@ std::vector<fs::path> ListedShards(const Where& where, hid_t file, const fs::pat
   return shards;
 }
 
-// `rows` without the samples of `owned` (both ascending, disjoint).
-std::vector<SampleRange> Without(const std::vector<SampleRange>& rows, const std::vector<SampleRange>& owned) {
-  std::vector<SampleRange> kept;
-  auto next = owned.begin();
-  for (SampleRange range : rows) {
-    while (next != owned.end() && next->end <= range.begin) ++next;
-    for (auto it = next; it != owned.end() && it->begin < range.end; ++it) {
-      if (it->begin > range.begin) kept.push_back({range.begin, it->begin});
-      range.begin = std::max(range.begin, it->end);
-    }
-    if (range.begin < range.end) kept.push_back(range);
-  }
-  return kept;
-}
-
 // CRC-32 of everything an index shows of its shards: equal digests, equal indexes.
 std::uint32_t IndexDigest(std::int64_t samples, std::int64_t chunk_rows, std::int64_t stored_below,
                           const std::vector<VirtualSource>& sources, const std::vector<hsize_t>& failure_rows) {
@@ -1703,61 +1688,15 @@ SampleRecord CampaignReader::ReadSample(std::int64_t index) const {
 
 namespace {
 
-// The samples of both (each ascending, disjoint).
-std::vector<SampleRange> Intersect(const std::vector<SampleRange>& a, const std::vector<SampleRange>& b) {
-  return Without(a, Without(a, b));
-}
-
-std::int64_t Count(const std::vector<SampleRange>& ranges) {
-  std::int64_t count = 0;
-  for (const SampleRange& range : ranges) count += range.end - range.begin;
-  return count;
-}
-
-// An index's check: every shard's, each shard answering for the samples it does not hold
-// pending, merged by dataset. A sample is to be computed again when no shard holds it
-// whole. In runs throughout, so that it costs what the shards hold, not N.
+// An index's check: the sum of its shards' (SumOfShards).
 ResultsCheck CheckIndex(const Where& where, hid_t file, const fs::path& path, const Stored& stored) {
-  ResultsCheck merged;
-  merged.samples = stored.samples;
-  std::vector<SampleRange> claimed;  // some shard answers for them
-  std::vector<SampleRange> done;     // and its status chunk reads
-  std::vector<SampleRange> whole;    // and no dataset of that shard is damaged there
+  ResultsCheck index;
+  index.samples = stored.samples;
+  std::vector<ShardCheck> shards;
   for (const fs::path& shard : ListedShards(where, file, path, stored)) {
-    const ResultsCheck one = CheckResults(shard);
-    const std::vector<SampleRange> answers = Without({{0, one.samples}}, one.pending);
-    std::vector<SampleRange> damaged_here;
-    std::vector<SampleRange> status_damaged;
-    for (const DatasetCheck& dataset : one.datasets) {
-      const std::vector<SampleRange> damaged = Intersect(MergeRanges(dataset.damaged), answers);
-      if (dataset.path == "/outputs/status") status_damaged = damaged;
-      damaged_here.insert(damaged_here.end(), damaged.begin(), damaged.end());
-      auto found = std::find_if(merged.datasets.begin(), merged.datasets.end(),
-                                [&](const DatasetCheck& d) { return d.path == dataset.path; });
-      if (found == merged.datasets.end()) {
-        DatasetCheck copy = dataset;
-        copy.damaged.clear();
-        copy.first_problem.clear();
-        merged.datasets.push_back(std::move(copy));
-        found = merged.datasets.end() - 1;
-      }
-      found->checksummed = found->checksummed && dataset.checksummed;
-      if (!damaged.empty() && found->first_problem.empty()) {
-        found->first_problem = shard.filename().string() + ": " + dataset.first_problem;
-      }
-      found->damaged.insert(found->damaged.end(), damaged.begin(), damaged.end());
-      found->damaged = MergeRanges(std::move(found->damaged));
-    }
-    claimed.insert(claimed.end(), answers.begin(), answers.end());
-    const std::vector<SampleRange> readable = Without(answers, status_damaged);
-    done.insert(done.end(), readable.begin(), readable.end());
-    const std::vector<SampleRange> intact = Without(answers, MergeRanges(std::move(damaged_here)));
-    whole.insert(whole.end(), intact.begin(), intact.end());
+    shards.push_back({shard.filename().string(), CheckResults(shard)});
   }
-  merged.done = Count(MergeRanges(std::move(done)));
-  merged.pending = Without({{0, stored.samples}}, MergeRanges(std::move(claimed)));
-  merged.recompute = Without({{0, stored.samples}}, MergeRanges(std::move(whole)));
-  return merged;
+  return SumOfShards(std::move(index), shards);
 }
 
 }  // namespace

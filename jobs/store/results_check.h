@@ -62,6 +62,26 @@ struct ResultsCheck {
 // `ranges` sorted, with those that overlap or touch joined and empty ones left out.
 std::vector<SampleRange> MergeRanges(std::vector<SampleRange> ranges);
 
+// `rows` without the samples of `removed` (both ascending and disjoint).
+std::vector<SampleRange> Without(const std::vector<SampleRange>& rows, const std::vector<SampleRange>& removed);
+
+// One shard's check, under the name an index's messages give it (its file name).
+struct ShardCheck {
+  std::string name;
+  ResultsCheck check;
+};
+// The check of an index of shards as the sum of its shards' checks, in runs throughout, so
+// that it costs what the shards hold, not N. Each shard answers for the rows it does not
+// hold pending (an allocation's, for every row: each of its samples is in one shard), and a
+// dataset is damaged where a shard answering for the row has it damaged, the problem named
+// with that shard. A campaign's sample is pending where no shard answers for it, done where
+// an answering shard's status reads, and computed again unless a shard holds it whole; an
+// allocation's done counts add up (what it computes is its search's to decide). `index`
+// holds what the index itself keeps: the shards' datasets are merged into its own of the
+// same path, except those it keeps whole itself (not per sample: an allocation's design
+// points).
+ResultsCheck SumOfShards(ResultsCheck index, const std::vector<ShardCheck>& shards);
+
 // "0 to 99, 250, 300 to 399": samples as a reader counts them, both ends included.
 std::string FormatRanges(const std::vector<SampleRange>& ranges);
 
