@@ -11,6 +11,8 @@
 #include <unordered_map>
 #include <utility>
 
+#include "engine/check.h"
+
 namespace ringtol::analysis {
 
 namespace {
@@ -490,10 +492,8 @@ AllocationSearch::AllocationSearch(const AllocationSpace& space, SearchOptions o
 AllocationSearch::~AllocationSearch() = default;
 
 std::vector<std::int64_t> AllocationSearch::Next() {
-  if (!state_->outstanding.empty()) {
-    throw std::logic_error("AllocationSearch::Next: " + std::to_string(state_->outstanding.size()) +
-                           " candidates of the last batch are not reported yet");
-  }
+  // Every candidate of the last batch is reported first.
+  RINGTOL_CHECK(state_->outstanding.empty(), state_->outstanding.size());
   state_->outstanding = state_->prepared;
   state_->prepared.clear();
   return state_->outstanding;
@@ -507,10 +507,8 @@ void AllocationSearch::Report(std::int64_t candidate, Verdict verdict) {
                                 ": allowed feasible, infeasible, undecided");
   }
   const auto it = std::find(s.outstanding.begin(), s.outstanding.end(), candidate);
-  if (it == s.outstanding.end()) {
-    throw std::logic_error("AllocationSearch::Report: candidate " + std::to_string(candidate) +
-                           " was not asked for, or is reported twice");
-  }
+  // Asked for in the last batch, and not reported yet.
+  RINGTOL_CHECK(it != s.outstanding.end(), candidate, s.outstanding.size());
   s.outstanding.erase(it);
   s.pending.emplace_back(candidate, verdict);
   if (s.outstanding.empty()) s.Step();

@@ -17,5 +17,6 @@ inline constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;  // deg ->
 inline constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;  // rad -> deg
 inline constexpr double kPascalsPerGigapascal = 1e9;  // GPa -> Pa (Young's moduli)
 inline constexpr double kPascalsPerMegapascal = 1e6;  // N/mm^2 -> Pa
+inline constexpr double kSecondsPerMicrosecond = 1e-6;  // us -> s (the command line's --test-sample-us)
 
 }  // namespace ringtol::units

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/check.h"
 #include "sampling/random.h"
 
 namespace ringtol::sampling {
@@ -315,9 +316,7 @@ std::vector<double> SelectRanks(std::size_t count, const std::vector<std::size_t
   std::sort(window.begin(), window.end());
   std::vector<double> values;
   for (const std::size_t rank : ranks) {
-    if (rank <= below || rank - below > window.size())
-      throw std::logic_error("SelectRanks: rank " + std::to_string(rank) + " outside the window of " +
-                             std::to_string(window.size()) + " draws above " + std::to_string(below));
+    RINGTOL_CHECK(rank > below && rank - below <= window.size(), rank, below, window.size());
     values.push_back(window[rank - below - 1]);
   }
   return values;

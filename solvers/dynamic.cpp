@@ -957,6 +957,13 @@ struct SettledRun {
 
 }  // namespace
 
+bool DynamicOptions::IsValid(InvalidOption* invalid) const {
+  return CheckOption("explicit_step", explicit_step, kExplicitStepRange, invalid) &&
+         CheckOption("steady_revolution", steady_revolution, kSteadyRevolutionRange, invalid) &&
+         CheckOption("relative_tolerance", relative_tolerance, kRelativeToleranceRange, invalid) &&
+         CheckOption("max_steps", max_steps, kMaxStepsRange, invalid);
+}
+
 Eigen::VectorXd InitialDynamicState(const Scene& scene, const DynamicOptions& options) {
   RingDynamics dynamics(scene, options);
   std::string unused;

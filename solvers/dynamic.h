@@ -35,6 +35,7 @@
 
 #include <Eigen/Core>
 
+#include "engine/option_range.h"
 #include "solvers/solver.h"
 
 namespace ringtol::solvers {
@@ -69,32 +70,41 @@ enum class DynamicStart {
 inline constexpr NameTable<DynamicStart, 2> kDynamicStartNames = {
     {{DynamicStart::kQuasistaticEquilibrium, "quasistatic_equilibrium"}, {DynamicStart::kArticleSettle, "article_settle"}}};
 
+// Each field's range is the Range beside it; IsValid checks them all.
 struct DynamicOptions {
   DynamicMethod method = DynamicMethod::kImplicitBdf;
   DynamicStart start = DynamicStart::kQuasistaticEquilibrium;
-  double explicit_step = 1e-6;  // [s] > 0, the fixed step of kExplicitRungeKutta
+  double explicit_step = 1e-6;  // [s] the fixed step of kExplicitRungeKutta
+  static constexpr Range kExplicitStepRange = Above(0.0);
   // Which later revolution after rotation starts (counting the first as 0) is reported as
   // Trajectory::steady; 0 reports none. By the default, the fourth, a creep transient of
   // the start (time constant c_max / k_contact ~ 0.5 s, 4 s ago at 270 deg/s) has decayed
   // to e^-8 of its size. When the motion law stops before that revolution ends, its status
   // is kIntegrationFailed and says so.
   int steady_revolution = 3;
+  static constexpr Range kSteadyRevolutionRange = AtLeast(0);
   // CVODE's local error test: the weighted RMS norm of the estimated local error, with
   // weights 1 / (relative_tolerance |y_j| + absolute_j), must stay <= 1. The absolute
   // tolerances per kind of state scale with relative_tolerance from these values at 1e-8
   // (so one knob trades accuracy for speed): 1e-11 m, 1e-8 m/s, 1e-9 rad, 1e-6 rad/s.
   // At the default the error in D_trajectory against a 1e-11 reference is <= 0.02 um for
   // ring orders 2 to 20 at 0.14 mm (docs/usage.md, "Which rung when": `ringtol bench ladder`); 1e-5 is about 1.5
-  // times faster at <= 0.13 um.
-  double relative_tolerance = 1e-6;  // [-] > 0
+  // times faster at <= 0.13 um. Below 1: a tolerance of 100 % accepts any step.
+  double relative_tolerance = 1e-6;  // [-]
+  static constexpr Range kRelativeToleranceRange = Inside(0.0, 1.0);
   // BDF steps allowed between two outputs (an output every sample angle, and at the end
   // of the settle) before the run stops with kIntegrationFailed (CV_TOO_MUCH_WORK):
   // the default runs take a few hundred. The explicit method's fixed step sets its work
   // in advance and has no such limit.
   long max_steps = 100'000;
+  static constexpr Range kMaxStepsRange = AtLeast(1);
   // Let CVODE build the Newton matrix by difference quotients (one dynamics evaluation
   // per state) instead of the analytic Jacobian: a cross-check, and a fallback.
   bool difference_quotient_jacobian = false;
+
+  // Whether every field lies in its range; the first that does not is described in
+  // *invalid (engine/option_range.h).
+  bool IsValid(InvalidOption* invalid = nullptr) const;
 };
 
 // One sample of a time history: the state and what each contact carries.

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "engine/check.h"
 #include "engine/enclosing_circle.h"
 #include "engine/sensor.h"
 
@@ -513,9 +514,9 @@ LifeResult SolveRevolutions(const engine::Scene& scene, const Solver& solver, co
     }
     if (k == -margin) steps = dense.steps = one.steps;
     const auto n = static_cast<std::size_t>(steps);
-    if (one.steps != steps || one.trajectory.centre.size() < n || one.sensor.size() < n) {
-      throw std::logic_error("SimulateLife: a revolution came back at other angles than the first");
-    }
+    // Every revolution comes back at the first one's angles.
+    RINGTOL_CHECK(one.steps == steps && one.trajectory.centre.size() >= n && one.sensor.size() >= n, k, one.steps,
+                  steps, one.trajectory.centre.size(), one.sensor.size());
     for (std::size_t j = 0; j < n; ++j) motion.push_back(ray.dot(one.trajectory.centre[j]));
     if (k < 0 || k >= revolutions) continue;
     if (k == 0 && first != nullptr) *first = one;

@@ -39,6 +39,20 @@ DynamicOptions DynamicFor(const SolverSettings& settings) {
 
 }  // namespace
 
+bool SimulationOptions::IsValid(InvalidOption* invalid) const {
+  return CheckOption("steps", steps, kStepsRange, invalid) &&
+         CheckOption("refine_stride", refine_stride, kRefineStrideRange, invalid) &&
+         CheckOption("samples_per_undulation", samples_per_undulation, kSamplesPerUndulationRange, invalid) &&
+         CheckOption("min_steps", min_steps, kMinStepsRange, invalid) &&
+         CheckOption("max_steps", max_steps, Between(min_steps, kMaxSteps), invalid) &&
+         CheckOption("path_tolerance", path_tolerance, kPathToleranceRange, invalid);
+}
+
+bool SolverSettings::IsValid(InvalidOption* invalid) const {
+  return CheckOptions("simulation", simulation, invalid) &&
+         CheckOption("relative_tolerance", relative_tolerance, DynamicOptions::kRelativeToleranceRange, invalid);
+}
+
 std::unique_ptr<Solver> MakeSolver(const SolverSettings& settings) {
   switch (settings.rung) {
     case Rung::kLinear:

@@ -11,6 +11,7 @@
 
 #include "engine/enclosing_circle.h"
 #include "engine/error_motion.h"
+#include "engine/option_range.h"
 #include "engine/scene.h"
 #include "solvers/dynamic.h"
 #include "solvers/solver.h"
@@ -60,26 +61,33 @@ inline constexpr NameTable<AngleMode, 3> kAngleModeNames = {
 enum class Accuracy { kFull, kFast };
 inline constexpr NameTable<Accuracy, 2> kAccuracyNames = {{{Accuracy::kFull, "full"}, {Accuracy::kFast, "fast"}}};
 
+// Each field's range is the Range beside it; IsValid checks them all.
 struct SimulationOptions {
-  // Angles per revolution, 0..kMaxSteps; 0 chooses them from the scene (ChooseSteps).
+  // Angles per revolution; 0 chooses them from the scene (ChooseSteps).
   int steps = 0;
+  static constexpr Range kStepsRange = Between(0, kMaxSteps);
   AngleMode angles = AngleMode::kDense;
-  // kRefined: evaluate every this many of the `steps` angles first, >= 2. Eight keeps the
+  // kRefined: evaluate every this many of the `steps` angles first. Eight keeps the
   // ring's harmonics (<= 50 per revolution) resolved on the coarse grid at campaign
   // resolutions, so only the roller lobes' ripple decides what is refined.
   int refine_stride = 8;
+  static constexpr Range kRefineStrideRange = AtLeast(2);
   // Automatic resolution: samples per period of the fastest undulation in the path [-].
   // The sampled enclosing circle misses a smooth path by at most |c''| dpsi^2 / 8, so 32
-  // samples keep that below 0.5 % of the fastest term's amplitude.
+  // samples keep that below 0.5 % of the fastest term's amplitude; two or fewer alias it
+  // (engine::MinimumSteps).
   double samples_per_undulation = 32.0;
-  int min_steps = 360;       // floor of the automatic resolution
-  int max_steps = kMaxSteps;  // ceiling of the automatic resolution
-  // > 0 [m]: instead of resolving every undulation, the fewest steps whose bound on the
+  static constexpr Range kSamplesPerUndulationRange = Above(2.0);
+  int min_steps = 360;  // floor of the automatic resolution
+  static constexpr Range kMinStepsRange = Between(1, kMaxSteps);
+  int max_steps = kMaxSteps;  // ceiling of the automatic resolution: min_steps..kMaxSteps
+  // [m] > 0: instead of resolving every undulation, the fewest steps whose bound on the
   // sampling error of D_trajectory and runout (and of the swing, at twice this;
   // SamplingErrorBound) is at most this. Tiny fast terms
   // (a roller's high lobes pass ~60 n times per revolution at sub-micrometre amplitude)
   // then cost what they are worth; campaigns set it, single runs keep the exact rule.
   double path_tolerance = 0.0;
+  static constexpr Range kPathToleranceRange = AtLeast(0.0);
   // Also read the life values over every revolution the assembly will turn (solvers/life.h,
   // SimulationResult::life): the lobes of the rollers' spin-ratio groups as closed curves
   // from the linear rung's phasors, summed onto the path less its lobes. Costs those
@@ -93,6 +101,10 @@ struct SimulationOptions {
   // copying them is a share of a sample's cost. Single runs, replays and plots keep them.
   bool keep_trajectory = true;
   Accuracy accuracy = Accuracy::kFull;
+
+  // Whether every field lies in its range; the first that does not is described in
+  // *invalid (engine/option_range.h).
+  bool IsValid(InvalidOption* invalid = nullptr) const;
 };
 
 // Which solver runs a simulation and how, as a campaign file's [solver] table, the command
@@ -108,8 +120,13 @@ struct SolverSettings {
   // that tolerance one Newton update per angle suffices where the rollers' lobes outrun
   // the predictor (half the cost of a campaign's sample).
   SimulationOptions simulation;
-  double relative_tolerance = 1e-6;  // [-] in (0, 1): the dynamic rung's integration tolerance
+  // [-] the dynamic rung's integration tolerance, in DynamicOptions::kRelativeToleranceRange
+  double relative_tolerance = 1e-6;
   DynamicStart dynamic_start = DynamicStart::kQuasistaticEquilibrium;  // the dynamic rung's start
+
+  // Whether `simulation` and relative_tolerance lie in their ranges; the first field that
+  // does not is described in *invalid ("simulation.steps", "relative_tolerance").
+  bool IsValid(InvalidOption* invalid = nullptr) const;
 };
 
 // The rung's name, for the dynamic rung its start ("dynamic, start

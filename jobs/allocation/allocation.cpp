@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/check.h"
 #include "jobs/inputs/scene_writer.h"
 
 namespace ringtol::jobs {
@@ -104,9 +105,8 @@ const Campaign& Allocation::CandidateCampaign(std::int64_t candidate, Evaluation
   name += ")";
   auto campaign = std::make_unique<Campaign>(std::move(plan), name, calibrations_);
   // ReadAllocationFile refuses options that would draw other inputs.
-  if (!identity_.inputs.empty() && !SameInputs(campaign->identity().inputs, identity_.inputs)) {
-    throw std::logic_error(name + ": draws other sampler inputs than the loosest candidate");
-  }
+  RINGTOL_CHECK(identity_.inputs.empty() || SameInputs(campaign->identity().inputs, identity_.inputs), name,
+                campaign->identity().inputs.size(), identity_.inputs.size());
   std::lock_guard lock(mutex_);
   const auto [at, inserted] = campaigns_.emplace(key, std::move(campaign));
   return *at->second;

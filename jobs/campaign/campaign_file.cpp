@@ -8,6 +8,8 @@
 #include "engine/scene.h"
 #include "engine/units.h"
 #include "sampling/assembly_sampler.h"
+#include "solvers/dynamic.h"
+#include "solvers/simulation.h"
 #include "solvers/solver.h"
 
 namespace ringtol::jobs {
@@ -28,6 +30,13 @@ void RequireEnoughSteps(const TableReader& solver_table, int steps, const engine
   solver_table.Fail("steps", "too few for the fastest undulation a sample can draw", StepsRule(base, fastest));
 }
 
+// The [solver] keys of the settings' fields a file sets, for SolverSettings::IsValid's report.
+constexpr std::array<OptionName, 3> kSolverKeys{{
+    {"simulation.steps", "steps"},
+    {"simulation.path_tolerance", "path_tolerance_um", units::kMetresPerMicrometre},
+    {"relative_tolerance", "relative_tolerance"},
+}};
+
 solvers::SolverSettings ReadSolverTable(const TableReader& table) {
   struct SolverInput {
     solvers::Rung rung = CampaignSolverDefaults().rung;
@@ -41,11 +50,12 @@ solvers::SolverSettings ReadSolverTable(const TableReader& table) {
   SolverInput solver;
   const std::vector<Field<SolverInput>> solver_fields{
       Choice("name", Presence::kOptional, solvers::kRungNames, &SolverInput::rung),
-      Integer("steps", Presence::kOptional, Between(0, solvers::kMaxSteps), &SolverInput::steps),
-      Number("path_tolerance_um", Presence::kOptional, units::kMetresPerMicrometre, AtLeast(0),
-             &SolverInput::path_tolerance),
-      Number("relative_tolerance", Presence::kOptional, kSameUnit, Range{0, true, 1, true},
-             &SolverInput::relative_tolerance),
+      OptionInteger("steps", Presence::kOptional, solvers::SimulationOptions::kStepsRange, &SolverInput::steps),
+      OptionNumber("path_tolerance_um", Presence::kOptional, units::kMetresPerMicrometre,
+                   InFileUnits(solvers::SimulationOptions::kPathToleranceRange, units::kMetresPerMicrometre),
+                   &SolverInput::path_tolerance),
+      OptionNumber("relative_tolerance", Presence::kOptional, kSameUnit,
+                   solvers::DynamicOptions::kRelativeToleranceRange, &SolverInput::relative_tolerance),
       Choice("start", Presence::kOptional, solvers::kDynamicStartNames, &SolverInput::start),
       Choice("angles", Presence::kOptional, solvers::kAngleModeNames, &SolverInput::angles),
       Choice("accuracy", Presence::kOptional, solvers::kAccuracyNames, &SolverInput::accuracy),
@@ -59,6 +69,7 @@ solvers::SolverSettings ReadSolverTable(const TableReader& table) {
   settings.simulation.accuracy = solver.accuracy;
   settings.relative_tolerance = solver.relative_tolerance;
   settings.dynamic_start = solver.start;
+  if (InvalidOption invalid; !settings.IsValid(&invalid)) table.FailOption(invalid, kSolverKeys);
   return settings;
 }
 

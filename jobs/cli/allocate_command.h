@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "jobs/pool/campaign_pool.h"
+#include "jobs/pool/pool.h"
 
 namespace ringtol::jobs {
 

@@ -29,6 +29,7 @@
 #include "jobs/inputs/input_error.h"
 #include "jobs/inputs/sampling_file.h"
 #include "jobs/inputs/toml_fields.h"
+#include "engine/units.h"
 #include "engine/visible_text.h"
 #include "solvers/simulation.h"
 
@@ -117,11 +118,13 @@ CLI::Validator DecimalIn(std::int64_t min, std::int64_t max) {
 // DecimalIn over the range of an int.
 CLI::Validator DecimalIn(int min) { return DecimalIn(min, std::numeric_limits<int>::max()); }
 
+// DecimalIn over an options struct's range of an integer field (engine/option_range.h).
+CLI::Validator DecimalIn(const ringtol::Range& range) {
+  return DecimalIn(static_cast<std::int64_t>(range.lower), static_cast<std::int64_t>(range.upper));
+}
+
 // A count of samples, as --samples, --chunk and --index take it: at most 2^40.
 constexpr std::int64_t kMostSamples = std::int64_t{1} << 40;
-
-// Computing threads a --threads option takes.
-constexpr int kMostThreads = 4096;
 
 // --samples and --seed, which override a sampling or campaign file's own. The seed takes the
 // file's range (jobs/inputs/sampling_file.h), read as decimal by the file's own rule: CLI11
@@ -266,7 +269,7 @@ CLI::App* AddBenchCampaign(CLI::App& bench, ringtol::jobs::BenchCampaignCommand&
   AddInputFile(*sub, "file", command.file, "Campaign file (TOML)");
   sub->add_option("--samples", command.samples, "Override design.samples")->transform(DecimalIn(1, kMostSamples));
   sub->add_option("--threads", command.threads, "Computing threads (default 0: one per core)")
-      ->transform(DecimalIn(0, kMostThreads))
+      ->transform(DecimalIn(ringtol::jobs::PoolOptions::kThreadsRange))
       ->capture_default_str();
   sub->add_flag("!--no-report", command.report, "Do not time `ringtol report` on the campaign mode's results");
   sub->add_option("--results", command.results, "Keep the campaign mode's results in this new HDF5 file");
@@ -293,17 +296,15 @@ void AddPoolOptions(CLI::App& app, ringtol::jobs::PoolOptions& pool) {
       ->capture_default_str();
   app.add_option("--coordinator-computes", pool.coordinator_computes,
                   "Whether rank 0 also computes: 1 yes, 0 no, -1 below 16 ranks")
-      ->transform(DecimalIn(-1, 1))
+      ->transform(DecimalIn(ringtol::jobs::PoolOptions::kCoordinatorComputesRange))
       ->capture_default_str();
   app.add_option("--threads", pool.threads, "Computing threads of rank 0 (default 0: every core alone, one under mpirun)")
-      ->transform(DecimalIn(0, kMostThreads))
+      ->transform(DecimalIn(ringtol::jobs::PoolOptions::kThreadsRange))
       ->capture_default_str();
   // Test hooks standing in for kill -9 (tests/jobs/mpi/campaign_cli_test.cpp); not for users.
-  app.add_option("--test-kill-after", pool.kill_after_committed)->transform(DecimalIn(-1, kMostSamples))->group("");
-  app.add_option("--test-kill-rank", pool.kill_rank)->transform(DecimalIn(-1))->group("");
+  app.add_option("--test-kill-after", pool.testing.kill_after_committed)->transform(DecimalIn(-1, kMostSamples))->group("");
+  app.add_option("--test-kill-rank", pool.testing.kill_rank)->transform(DecimalIn(-1))->group("");
 }
-
-constexpr double kSecondsPerMicrosecond = 1e-6;
 
 CLI::App* AddCampaign(CLI::App& app, ringtol::jobs::CampaignCommand& campaign) {
   CLI::App* sub = app.add_subcommand(
@@ -319,11 +320,12 @@ CLI::App* AddCampaign(CLI::App& app, ringtol::jobs::CampaignCommand& campaign) {
                 "16,384; readers replay the others from the campaign)");
   AddProgressOptions(*sub, campaign.quiet, campaign.progress_seconds);
   AddPoolOptions(*sub, campaign.pool);
-  // Test hook standing in for the physics (PoolOptions::test_sample_seconds); not for users.
-  sub->add_option_function<double>(
-         "--test-sample-us",
-         [&campaign](double microseconds) { campaign.pool.test_sample_seconds = microseconds * kSecondsPerMicrosecond; })
-      ->check(CLI::PositiveNumber)
+  // Test hook standing in for the physics (PoolOptions::Testing::sample_seconds); not for users.
+  sub->add_option_function<double>("--test-sample-us",
+                                   [&campaign](double microseconds) {
+                                     campaign.pool.testing.sample_seconds =
+                                         microseconds * ringtol::units::kSecondsPerMicrosecond;
+                                   })
       ->group("");
   return sub;
 }

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -12,10 +13,28 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "engine/units.h"
+#include "jobs/cli/option_flags.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/store/campaign_store.h"
 
 namespace ringtol::jobs {
+namespace {
+
+// The flags that set PoolOptions' fields (jobs/cli/main.cpp, AddPoolOptions and the
+// campaign's --test-sample-us); align_samples is the campaign command's own.
+constexpr std::array<OptionName, 8> kPoolFlags{{
+    {"chunk_samples", "--chunk"},
+    {"chunk_seconds", "--chunk-seconds"},
+    {"commit_seconds", "--commit-seconds"},
+    {"coordinator_computes", "--coordinator-computes"},
+    {"threads", "--threads"},
+    {"testing.kill_after_committed", "--test-kill-after"},
+    {"testing.kill_rank", "--test-kill-rank"},
+    {"testing.sample_seconds", "--test-sample-us", units::kSecondsPerMicrosecond},
+}};
+
+}  // namespace
 
 std::string Agree(MPI_Comm communicator, const std::string& error) {
   int rank = 0;
@@ -56,7 +75,10 @@ void CheckBeforeWork(MPI_Comm communicator, const PoolOptions& pool, double prog
   int rank = 0;
   MPI_Comm_rank(communicator, &rank);
   ThrowAgreed(communicator, rank == 0 ? Attempt([&] {
-    CheckPoolOptions(pool, progress_seconds);
+    RequireValid(pool, kPoolFlags);
+    if (!(progress_seconds > 0.0)) {
+      throw InputError(fmt::format("--progress-seconds: {}: out of range; allowed: > 0", progress_seconds));
+    }
     CheckOutput(out, resume);
   })
                                       : std::string());
@@ -91,16 +113,6 @@ void CheckOutput(const std::filesystem::path& out, bool resume) {
     throw InputError(name + ": cannot be written: folder " + folder.string() + " does not exist");
   if (access(folder.c_str(), W_OK) != 0)
     throw InputError(name + ": cannot be written: folder " + folder.string() + " is not writable");
-}
-
-void CheckPoolOptions(const PoolOptions& pool, double progress_seconds) {
-  if (pool.chunk_samples < 0) throw InputError("--chunk " + std::to_string(pool.chunk_samples) + ": allowed: >= 0");
-  if (!(pool.chunk_seconds > 0.0))
-    throw InputError("--chunk-seconds " + std::to_string(pool.chunk_seconds) + ": allowed: > 0");
-  if (!(pool.commit_seconds >= 0.0))
-    throw InputError("--commit-seconds " + std::to_string(pool.commit_seconds) + ": allowed: >= 0");
-  if (!(progress_seconds > 0.0))
-    throw InputError("--progress-seconds " + std::to_string(progress_seconds) + ": allowed: > 0");
 }
 
 std::string Clock(double seconds) {

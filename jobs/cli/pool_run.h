@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "jobs/pool/campaign_pool.h"
+#include "jobs/pool/pool.h"
 #include "jobs/store/campaign_store.h"
 
 namespace ringtol::jobs {
@@ -35,8 +35,9 @@ std::string Attempt(F&& step) {
 // On every rank: throws `error` of the first rank that has one, as an InputError on every
 // rank (Agree); returns when no rank has one.
 void ThrowAgreed(MPI_Comm communicator, const std::string& error);
-// On every rank: rank 0's cheap checks (CheckPoolOptions, CheckOutput), before any
-// second of calibration; a failure is an InputError on every rank.
+// On every rank: rank 0's cheap checks (the pool options' IsValid, naming the flag; the
+// progress interval; CheckOutput), before any second of calibration; a failure is an
+// InputError on every rank.
 void CheckBeforeWork(MPI_Comm communicator, const PoolOptions& pool, double progress_seconds,
                      const std::filesystem::path& out, bool resume);
 
@@ -47,8 +48,6 @@ void CheckOutput(const std::filesystem::path& out, bool resume);
 // jobs/store/campaign_store.h), saying so: the advice for files a killed run left (resume
 // them, or remove them) must never reach a live run's.
 void RefuseLiveOutput(const std::filesystem::path& out);
-// InputError naming the option for a pool option or progress interval out of range.
-void CheckPoolOptions(const PoolOptions& pool, double progress_seconds);
 
 // Before a resume, on rank 0: `set_aside` (SetAsideUnreadableShards, or the allocation's)
 // renames the shards of the results file that cannot be read aside, and each one is said on

@@ -1,5 +1,6 @@
 #include "jobs/cli/simulate_command.h"
 
+#include <array>
 #include <chrono>
 #include <fstream>
 #include <memory>
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "jobs/cli/contact_warning.h"
+#include "jobs/cli/option_flags.h"
 #include "jobs/cli/results_output.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/inputs/scene_file.h"
@@ -27,12 +29,15 @@
 namespace ringtol::jobs {
 namespace {
 
-// The command line's settings, checked where CLI11 cannot: the dynamic rung's tolerance.
+// The flags that set SolverSettings' fields (jobs/cli/main.cpp, AddSolverOptions).
+constexpr std::array<OptionName, 2> kSolverFlags{{
+    {"simulation.steps", "--steps"},
+    {"relative_tolerance", "--relative-tolerance"},
+}};
+
+// The command line's settings, checked by their IsValid (CLI11 reads --steps in its range).
 std::unique_ptr<solvers::Solver> CheckedSolver(const solvers::SolverSettings& settings) {
-  if (!(settings.relative_tolerance > 0.0 && settings.relative_tolerance < 1.0)) {
-    throw InputError("--relative-tolerance " + std::to_string(settings.relative_tolerance) +
-                     ": allowed: > 0 and < 1");
-  }
+  RequireValid(settings, kSolverFlags);
   return solvers::MakeSolver(settings);
 }
 

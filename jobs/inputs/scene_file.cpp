@@ -73,7 +73,7 @@ void RequireModelledInertia(const TableReader& table, double mass, double spin_i
       subject += fmt::format("{} = {}", name, ShowValue(table.At(key).node));
     }
     table.FailAbout(keys.front(), subject, fmt::format("imply a {} of {} {}", quantity, ShowDerived(value), unit),
-                    fmt::format("a {} {} {} (docs/inputs.md, \"Scene files\")", quantity, range.Describe(), unit));
+                    fmt::format("a {} {} {} (docs/inputs.md, \"Scene files\")", quantity, Describe(range), unit));
   };
   std::vector<std::string_view> mass_keys{scene_key::kMassKg};
   if (!table.Has(scene_key::kMassKg)) {
@@ -548,17 +548,17 @@ std::vector<Field<engine::Scene>> SensorFields() {
   const Range resolution = Between(0.0, 1000.0);
   const Range cutoff = Between(0.0, 100000.0);
   return {Number(scene_key::kAngleDeg, Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &Scene::sensor_angle),
-          {scene_key::kResolutionUm, Presence::kOptional, resolution.Describe(),
+          {scene_key::kResolutionUm, Presence::kOptional, Describe(resolution),
            [resolution](const Site& site, Scene& scene) {
              scene.sensor_swing.resolution = ReadNumber(site, resolution) * units::kMetresPerMicrometre;
            },
            {},
            {}},
-          {scene_key::kCutoffUpr, Presence::kOptional, cutoff.Describe(),
+          {scene_key::kCutoffUpr, Presence::kOptional, Describe(cutoff),
            [cutoff](const Site& site, Scene& scene) { scene.sensor_swing.cutoff_upr = ReadNumber(site, cutoff); },
            {},
            {}},
-          {scene_key::kErrorMotionCutoffUpr, Presence::kOptional, cutoff.Describe(),
+          {scene_key::kErrorMotionCutoffUpr, Presence::kOptional, Describe(cutoff),
            [cutoff](const Site& site, Scene& scene) {
              scene.error_motion_filter.cutoff_upr = ReadNumber(site, cutoff);
            },

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/check.h"
 #include "engine/units.h"
 #include "engine/visible_text.h"
 #include "jobs/inputs/input_error.h"
@@ -77,7 +78,7 @@ thread_local KeyRecorder* active_recorder = nullptr;
 }  // namespace
 
 KeyRecorder::KeyRecorder() {
-  if (active_recorder != nullptr) throw std::logic_error("KeyRecorder: one is already recording on this thread");
+  RINGTOL_CHECK(active_recorder == nullptr);  // one recorder a thread
   active_recorder = this;
 }
 
@@ -108,26 +109,29 @@ void KeyRecorder::Add(KeyRecord record) {
 
 std::string ShowText(const std::string& text) { return text.empty() ? std::string() : fmt::format("\"{}\"", text); }
 
-bool Range::Contains(double value) const {
-  const bool above = lower_open ? value > lower : value >= lower;
-  const bool below = upper_open ? value < upper : value <= upper;
-  return above && below;
-}
-
-std::string Range::Describe() const {
+std::string Describe(const Range& range) {
   std::string text;
   // Bounds are constants in file units: shown in full, as a user would type them.
-  if (std::isfinite(lower)) text = fmt::format("{} {}", lower_open ? ">" : ">=", ShowNumber(lower));
-  if (std::isfinite(upper)) {
-    text += fmt::format("{}{} {}", text.empty() ? "" : " and ", upper_open ? "<" : "<=", ShowNumber(upper));
+  if (std::isfinite(range.lower)) text = fmt::format("{} {}", range.lower_open ? ">" : ">=", ShowNumber(range.lower));
+  if (std::isfinite(range.upper)) {
+    text += fmt::format("{}{} {}", text.empty() ? "" : " and ", range.upper_open ? "<" : "<=", ShowNumber(range.upper));
   }
   return text.empty() ? "any finite number" : text;
 }
 
-Range AnyFinite() { return {}; }
-Range AtLeast(double lower) { return {lower, false}; }
-Range Above(double lower) { return {lower, true}; }
-Range Between(double lower, double upper) { return {lower, false, upper, false}; }
+Range InFileUnits(const Range& si, double to_si) {
+  return {si.lower / to_si, si.lower_open, si.upper / to_si, si.upper_open};
+}
+
+std::string Allowed(const InvalidOption& invalid, double to_si) {
+  return (invalid.integer ? "an integer " : "") + Describe(InFileUnits(invalid.range, to_si));
+}
+
+const OptionName& NameOfOption(std::span<const OptionName> names, const InvalidOption& invalid) {
+  const auto name = std::find_if(names.begin(), names.end(), [&](const OptionName& n) { return n.field == invalid.field; });
+  RINGTOL_CHECK(name != names.end(), invalid.field);  // every field a user sets has a name
+  return *name;
+}
 
 std::string ShowNumber(double value) { return fmt::format("{}", value); }
 
@@ -156,22 +160,25 @@ Site Site::Element(std::size_t index) const {
   return {file, fmt::format("{}[{}]", key_path, index), *node.as_array()->get(index)};
 }
 
-double ReadNumber(const Site& site, const Range& range) {
+double ReadNumber(const Site& site, const Range& range) { return ReadNumber(site, range, Describe(range)); }
+
+double ReadNumber(const Site& site, const Range& range, std::string_view allowed) {
   double value = 0.0;
   if (const auto* integer = site.node.as_integer()) {
     value = static_cast<double>(integer->get());
   } else if (const auto* number = site.node.as_floating_point()) {
     value = number->get();
   } else {
-    FailType(site, "a number", range.Describe());
+    FailType(site, "a number", allowed);
   }
-  if (!std::isfinite(value)) site.Fail("not a finite number", range.Describe());
-  if (!range.Contains(value)) site.Fail("out of range", range.Describe());
+  if (!std::isfinite(value)) site.Fail("not a finite number", allowed);
+  if (!range.Contains(value)) site.Fail("out of range", allowed);
   return value;
 }
 
-int ReadInteger(const Site& site, const Range& range) {
-  const std::string allowed = "an integer " + range.Describe();
+int ReadInteger(const Site& site, const Range& range) { return ReadInteger(site, range, "an integer " + Describe(range)); }
+
+int ReadInteger(const Site& site, const Range& range, std::string_view allowed) {
   const auto* integer = site.node.as_integer();
   if (integer == nullptr) FailType(site, "an integer", allowed);
   const auto value = integer->get();
@@ -248,6 +255,11 @@ void TableReader::Fail(std::string_view key, std::string_view problem, std::stri
   const toml::node* node = table_->get(key);
   if (node == nullptr) FailAt(Location(), KeyPath(key), problem, allowed);
   Site{*file_, KeyPath(key), *node}.Fail(problem, allowed);
+}
+
+void TableReader::FailOption(const InvalidOption& invalid, std::span<const OptionName> keys) const {
+  const OptionName& key = NameOfOption(keys, invalid);
+  Fail(key.name, "out of range", Allowed(invalid, key.to_si));
 }
 
 void TableReader::FailAbout(std::string_view key, std::string_view subject, std::string_view problem,

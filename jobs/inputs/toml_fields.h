@@ -22,6 +22,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -31,6 +32,7 @@
 #include <toml++/toml.h>
 
 #include "engine/enum_names.h"
+#include "engine/option_range.h"
 #include "engine/profile.h"
 #include "engine/scene.h"
 #include "engine/units.h"
@@ -46,20 +48,26 @@ inline constexpr double kSameUnit = 1.0;  // keys already in SI: N, N/m, kg, kg/
 // keeps reading a file instant.
 inline constexpr int kMaxHarmonicOrder = 1000;
 
-// An interval of allowed values, in file units. Both bounds inclusive unless marked open.
-struct Range {
-  double lower = -std::numeric_limits<double>::infinity();
-  bool lower_open = false;
-  double upper = std::numeric_limits<double>::infinity();
-  bool upper_open = false;
+// Ranges (engine/option_range.h) are in file units here: "> 0", ">= 1 and <= 3", "any
+// finite number".
+std::string Describe(const Range& range);
+// A range in SI (an options struct's) in the units of a key whose values are multiplied by
+// `to_si` to SI.
+Range InFileUnits(const Range& si, double to_si);
+// What an options struct's field accepts, for a message: "an integer >= 0 and <= 9", "> 0";
+// in the units of a key whose values are multiplied by `to_si` to SI.
+std::string Allowed(const InvalidOption& invalid, double to_si = kSameUnit);
 
-  bool Contains(double value) const;
-  std::string Describe() const;  // "> 0", ">= 1 and <= 3", "any finite number"
+// How an input file or the command line names a field of an options struct: by a key or a
+// flag, whose values are multiplied by `to_si` to the field's units.
+struct OptionName {
+  std::string_view field;  // as IsValid names it: "simulation.steps"
+  std::string_view name;   // "steps", "--steps"
+  double to_si = kSameUnit;
 };
-Range AnyFinite();
-Range AtLeast(double lower);                // [lower, inf)
-Range Above(double lower);                  // (lower, inf)
-Range Between(double lower, double upper);  // [lower, upper]
+// The entry of `names` for IsValid's report; a field none names is a broken invariant
+// (std::logic_error): every field a user can set has its key or flag.
+const OptionName& NameOfOption(std::span<const OptionName> names, const InvalidOption& invalid);
 
 // Shortest text that reads back as the same double ("400", "0.14", "nan").
 std::string ShowNumber(double value);
@@ -93,6 +101,9 @@ struct Site {
 // Typed reads: check type, finiteness and range; `allowed` words the error messages.
 double ReadNumber(const Site& site, const Range& range);  // in file units
 int ReadInteger(const Site& site, const Range& range);    // range within int
+// The same, worded by `allowed` instead of the range.
+double ReadNumber(const Site& site, const Range& range, std::string_view allowed);
+int ReadInteger(const Site& site, const Range& range, std::string_view allowed);
 std::string ReadText(const Site& site, std::string_view allowed);  // non-empty string
 bool ReadFlag(const Site& site);                                    // true or false
 const toml::table& ReadTable(const Site& site, std::string_view allowed);
@@ -188,7 +199,7 @@ std::string ShowInFileUnits(const M& value, double to_si) {
 
 template <typename T, typename M>
 Field<T> Number(std::string_view key, Presence presence, double to_si, Range range, M T::*member) {
-  std::string allowed = range.Describe();
+  std::string allowed = Describe(range);
   return {key, presence, allowed,
           [to_si, range, member](const Site& site, T& target) { target.*member = ReadNumber(site, range) * to_si; },
           {}, {}, [to_si, member](const T& target) { return ShowInFileUnits(target.*member, to_si); }};
@@ -196,9 +207,30 @@ Field<T> Number(std::string_view key, Presence presence, double to_si, Range ran
 
 template <typename T>
 Field<T> Integer(std::string_view key, Presence presence, Range range, int T::*member) {
-  return {key, presence, "an integer " + range.Describe(),
+  return {key, presence, "an integer " + Describe(range),
           [range, member](const Site& site, T& target) { target.*member = ReadInteger(site, range); }, {}, {},
           [member](const T& target) { return std::to_string(target.*member); }};
+}
+
+// Keys that set a field of an options struct whose IsValid checks its range (the reader
+// calls it after Read and names the key: TableReader::FailOption): read here for their
+// type, `range` (the struct's, in file units: InFileUnits) wording what they accept.
+template <typename T, typename M>
+Field<T> OptionNumber(std::string_view key, Presence presence, double to_si, Range range, M T::*member) {
+  Field<T> field = Number(key, presence, to_si, range, member);
+  field.read = [to_si, allowed = field.allowed, member](const Site& site, T& target) {
+    target.*member = ReadNumber(site, AnyFinite(), allowed) * to_si;
+  };
+  return field;
+}
+
+template <typename T>
+Field<T> OptionInteger(std::string_view key, Presence presence, Range range, int T::*member) {
+  Field<T> field = Integer(key, presence, range, member);
+  field.read = [allowed = field.allowed, member](const Site& site, T& target) {
+    target.*member = ReadInteger(site, Between(std::numeric_limits<int>::min(), std::numeric_limits<int>::max()), allowed);
+  };
+  return field;
 }
 
 template <typename T>
@@ -262,7 +294,7 @@ Field<T> HarmonicList(std::string_view key, Presence presence, M T::*member) {
 template <typename T>
 Field<T> NumberList(std::string_view key, Presence presence, double to_si, Range range,
                     std::vector<double> T::*member) {
-  const std::string allowed = "a non-empty array of numbers " + range.Describe();
+  const std::string allowed = "a non-empty array of numbers " + Describe(range);
   return {key, presence, allowed,
           [to_si, range, allowed, member](const Site& site, T& target) {
             const toml::array& array = ReadArray(site, allowed);
@@ -277,7 +309,7 @@ Field<T> NumberList(std::string_view key, Presence presence, double to_si, Range
 // A non-empty array of integers, each in `range`.
 template <typename T>
 Field<T> IntegerList(std::string_view key, Presence presence, Range range, std::vector<int> T::*member) {
-  const std::string allowed = "a non-empty array of integers " + range.Describe();
+  const std::string allowed = "a non-empty array of integers " + Describe(range);
   return {key, presence, allowed,
           [range, allowed, member](const Site& site, T& target) {
             const toml::array& array = ReadArray(site, allowed);
@@ -330,6 +362,10 @@ class TableReader {
   // default: `subject` replaces "<key path> = <value>" after the position of `key`.
   [[noreturn]] void FailAbout(std::string_view key, std::string_view subject, std::string_view problem,
                               std::string_view allowed) const;
+  // InputError about the key that `keys` names for IsValid's report on the options this
+  // table set (after Read): the key's value and position, and the field's range in the
+  // key's units.
+  [[noreturn]] void FailOption(const InvalidOption& invalid, std::span<const OptionName> keys) const;
   // Exactly one of keys a and b must be present.
   void RequireExactlyOne(std::string_view a, std::string_view b, std::string_view allowed) const;
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/check.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/store/campaign_store.h"
 
@@ -233,7 +234,7 @@ void RoundResults::Add(SampleRecord record) {
 }
 
 void RoundResults::Learn(SampleRecord record, int rank) {
-  if (ledger_ == nullptr) throw std::logic_error("RoundResults: only rank 0's results learn records");
+  RINGTOL_CHECK(ledger_ != nullptr, rank, record.index);  // only rank 0's results learn records
   const auto [segment, sample] = Locate(record.index);
   record.index = sample;
   ledger_->Learn(KeptSample(segment->role, segment->candidate, record, ledger_->outputs()), rank);
@@ -358,9 +359,8 @@ AllocationRunReport Run(MPI_Comm communicator, const Allocation& allocation, All
   int ranks = 1;
   Check(MPI_Comm_rank(communicator, &rank), "MPI_Comm_rank");
   Check(MPI_Comm_size(communicator, &ranks), "MPI_Comm_size");
-  if ((rank == 0 || shards != nullptr) && store == nullptr) {
-    throw std::logic_error("RunAllocation: rank 0, and with shards every rank, needs its file");
-  }
+  // Rank 0, and with shards every rank, needs its file.
+  RINGTOL_CHECK(store != nullptr || (rank != 0 && shards == nullptr), rank, shards != nullptr);
   const Clock::time_point start = Clock::now();
   AllocationRunReport report;
   std::optional<AllocationDriver> driver;

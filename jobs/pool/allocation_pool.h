@@ -1,6 +1,6 @@
 // A tolerance allocation on the campaign pool: rank 0 plays the search forward
 // (jobs/allocation/allocation.h, AllocationDriver) and every round's candidate samples are
-// computed by the pool (jobs/pool/campaign_pool.h) into the allocation's results file
+// computed by the pool (jobs/pool/pool.h) into the allocation's results file
 // (jobs/store/allocation_store.h), the same code alone or under `mpirun -n K`.
 //
 // Each round, rank 0 broadcasts its segments (role, candidate, samples); the pool numbers
@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "jobs/allocation/allocation.h"
-#include "jobs/pool/campaign_pool.h"
+#include "jobs/pool/pool.h"
 #include "jobs/store/allocation_store.h"
 
 namespace ringtol::jobs {

@@ -8,7 +8,7 @@
 // prefix of the campaign while every rank works at its own pace, so an interrupted Sobol'
 // net is still balanced.
 //
-// Pure bookkeeping without MPI: the pool (jobs/pool/campaign_pool.h) decides how many
+// Pure bookkeeping without MPI: the pool (jobs/pool/pool.h) decides how many
 // blocks a rank takes at a time. Owners depend on the block's number, not its place among
 // the pending ones, so a run resumed with the same number of ranks gives each rank the
 // rest of its own sequence: one run again. The pending blocks are given, and kept, as

@@ -16,6 +16,7 @@
 #include <tuple>
 #include <utility>
 
+#include "engine/check.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/store/hdf5_file.h"
 #include "jobs/store/sample_table.h"
@@ -699,10 +700,11 @@ struct Samples {
 
   std::size_t ColumnOf(EvaluationRole role, SampleField field, std::size_t output = 0) const {
     const std::vector<RoleColumn>& list = columns[RoleIndex(role)];
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      if (list[i].field == field && list[i].output == output) return i;
-    }
-    throw std::logic_error("AllocationStore: no such column");
+    const auto column = std::find_if(list.begin(), list.end(), [&](const RoleColumn& c) {
+      return c.field == field && c.output == output;
+    });
+    RINGTOL_CHECK(column != list.end(), RoleIndex(role), field, output);  // a column of the role's schema
+    return static_cast<std::size_t>(column - list.begin());
   }
 
   std::size_t OutputColumn(std::string_view what, EvaluationRole role, std::string_view output) const {

@@ -652,16 +652,8 @@ void CheckArguments(const CampaignIdentity& identity, std::int64_t samples, cons
   if (identity.inputs.empty()) {
     throw std::invalid_argument("CampaignStore: a campaign needs at least one sampled input");
   }
-  if (options.deflate_level < 0 || options.deflate_level > 9) {
-    throw std::invalid_argument(
-        fmt::format("CampaignStore: deflate_level = {} is outside 0..9", options.deflate_level));
-  }
-  if (options.chunk_samples < 0) {
-    throw std::invalid_argument(fmt::format("CampaignStore: chunk_samples = {} is negative", options.chunk_samples));
-  }
-  if (options.inputs_stored_below < 0) {
-    throw std::invalid_argument(
-        fmt::format("CampaignStore: inputs_stored_below = {} is negative", options.inputs_stored_below));
+  if (InvalidOption invalid; !options.IsValid(&invalid)) {
+    throw std::invalid_argument(fmt::format("CampaignStore: {} = {} is out of its range", invalid.field, invalid.value));
   }
   for (std::size_t i = 0; i < identity.spec.size(); ++i) {
     const std::string& output = identity.spec[i].output;

@@ -93,6 +93,7 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/option_range.h"
 #include "jobs/campaign/campaign_identity.h"
 #include "jobs/campaign/sample_record.h"
 #include "jobs/store/results_check.h"
@@ -133,10 +134,13 @@ struct ShardContents {
   std::vector<SampleRange> finished;     // ascending, disjoint, not touching
 };
 
+// Each field's range is the Range beside it; IsValid checks them all.
 struct CampaignStoreOptions {
-  int deflate_level = 0;            // 0..9: zlib level of the floating-point columns; 0 = none
+  int deflate_level = 0;  // zlib level of the floating-point columns; 0 = none
+  static constexpr Range kDeflateLevelRange = Between(0, 9);
   // > 0: samples per HDF5 chunk; 0: 1,024 (8 KiB of a float64 column), at most N
   std::int64_t chunk_samples = 0;
+  static constexpr Range kChunkSamplesRange = AtLeast(0);
   std::size_t chunk_cache_bytes = 32u << 20;  // per 2-D dataset: keeps the chunks being filled in memory
   // false writes datasets without Fletcher-32, as builds before checksums did: for tests of
   // such files and for measuring what the checksum costs.
@@ -144,6 +148,15 @@ struct CampaignStoreOptions {
   // The samples whose u and values the file keeps: those below this index (the largest
   // int64 keeps every one: --store-inputs). Create only: a resumed file keeps its own.
   std::int64_t inputs_stored_below = kStoredInputSamples;
+  static constexpr Range kInputsStoredBelowRange = AtLeast(0);
+
+  // Whether every field lies in its range; the first that does not is described in
+  // *invalid (engine/option_range.h).
+  bool IsValid(InvalidOption* invalid = nullptr) const {
+    return CheckOption("deflate_level", deflate_level, kDeflateLevelRange, invalid) &&
+           CheckOption("chunk_samples", chunk_samples, kChunkSamplesRange, invalid) &&
+           CheckOption("inputs_stored_below", inputs_stored_below, kInputsStoredBelowRange, invalid);
+  }
 };
 
 class CampaignStore {

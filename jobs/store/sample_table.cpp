@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "engine/check.h"
 #include "jobs/inputs/input_error.h"
 
 namespace ringtol::jobs::hdf5 {
@@ -173,7 +174,7 @@ TypeId FileTypeWithFill(const Where& where, const ColumnSpec& spec, const PlistI
       filled = H5Pset_fill_value(dcpl.get(), H5T_NATIVE_UINT32, &u32);
       break;
     case ColumnType::kInt8Enum:
-      if (spec.enumeration == nullptr) throw std::logic_error("SampleTable: " + path + " has no enumeration");
+      RINGTOL_CHECK(spec.enumeration != nullptr, path);
       type = spec.enumeration(where);
       filled = H5Pset_fill_value(dcpl.get(), type.get(), &i8);
       break;
@@ -274,14 +275,14 @@ bool SampleTable::checksummed(std::size_t column) const {
 }
 
 void SampleTable::CheckType(std::size_t column, ColumnType as) const {
-  if (specs_[column].type != as) throw std::logic_error("SampleTable: " + specs_[column].path + " read as another type");
+  RINGTOL_CHECK(specs_[column].type == as, specs_[column].path, specs_[column].type, as);
 }
 
 void SampleTable::Create(const Where& where, hid_t file, const RowSpace& space, const std::vector<ColumnSpec>& columns,
                          bool checksums) {
-  if (columns.empty() || columns.back().type != ColumnType::kInt8Enum) {
-    throw std::logic_error("SampleTable: the last column must be the status column");
-  }
+  // The last column is the status column.
+  RINGTOL_CHECK(!columns.empty() && columns.back().type == ColumnType::kInt8Enum, columns.size(),
+                columns.empty() ? std::string() : columns.back().path);
   const auto samples = static_cast<hsize_t>(space.samples);
   const auto chunk_samples = static_cast<hsize_t>(std::max<std::int64_t>(1, space.chunk_samples));
   for (const ColumnSpec& spec : columns) {
@@ -372,9 +373,9 @@ std::int64_t MapRuns(const Where& where, hid_t dcpl, hid_t view, hid_t from, con
 std::int64_t SampleTable::CreateVirtual(const Where& where, hid_t file, const RowSpace& space,
                                         const std::vector<ColumnSpec>& columns,
                                         std::span<const VirtualSource> sources) {
-  if (columns.empty() || columns.back().type != ColumnType::kInt8Enum) {
-    throw std::logic_error("SampleTable::CreateVirtual: the status column last");
-  }
+  // The last column is the status column.
+  RINGTOL_CHECK(!columns.empty() && columns.back().type == ColumnType::kInt8Enum, columns.size(),
+                columns.empty() ? std::string() : columns.back().path);
   std::int64_t mappings = 0;
   for (const ColumnSpec& spec : columns) {
     if (spec.stored_path.empty()) continue;
@@ -421,9 +422,9 @@ std::int64_t SampleTable::CreateVirtual(const Where& where, hid_t file, const Ro
 
 SampleTable SampleTable::Open(const Where& where, hid_t file, RowSpace space, std::vector<ColumnSpec> columns,
                               std::size_t cache_bytes) {
-  if (columns.empty() || columns.back().type != ColumnType::kInt8Enum || columns.back().stored_path.empty()) {
-    throw std::logic_error("SampleTable: the last column must be the status column");
-  }
+  // The last column is the status column, stored.
+  RINGTOL_CHECK(!columns.empty() && columns.back().type == ColumnType::kInt8Enum && !columns.back().stored_path.empty(),
+                columns.size(), columns.empty() ? std::string() : columns.back().path);
   SampleTable table;
   table.where_ = where;
   table.datasets_.resize(columns.size());
@@ -518,7 +519,7 @@ std::string SampleTable::Rows(std::int64_t group, std::int64_t first, std::int64
 
 void SampleTable::Write(std::span<const RowKey> rows, std::span<const void* const> values) {
   if (rows.empty()) return;
-  if (values.size() != specs_.size()) throw std::logic_error("SampleTable::Write: one value array per column");
+  RINGTOL_CHECK(values.size() == specs_.size(), values.size(), specs_.size());  // one value array per column
   if (!space_.grouped()) {
     // Rows are sorted: the last is the farthest, and its chunk ends the written rows.
     const std::int64_t chunk = std::max<std::int64_t>(1, space_.chunk_samples);
@@ -846,7 +847,7 @@ void SampleTable::MarkPending(std::span<const std::int64_t> samples) const {
 }
 
 void SampleTable::Grow(std::int64_t samples) {
-  if (space_.grouped() || !space_.extendable) throw std::logic_error("SampleTable::Grow: the table cannot grow");
+  RINGTOL_CHECK(!space_.grouped() && space_.extendable, space_.grouped(), space_.extendable, samples);
   for (std::size_t c = 0; c < specs_.size(); ++c) {
     if (!stored(c)) continue;
     const std::string& path = specs_[c].path;

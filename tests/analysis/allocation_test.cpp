@@ -500,6 +500,18 @@ TEST(AllocationSearch, RejectsReportsOfCandidatesNotAskedForAndEarlyNextCalls) {
   EXPECT_THROW(AllocationSearch(space, {SearchKind::kExhaustive, 0}), std::invalid_argument);
 }
 
+// The refusal is an invariant check (engine/check.h): it says where, and which candidate
+// against how many outstanding.
+TEST(AllocationSearch, ARefusedReportNamesTheCandidateAndTheOutstandingBatch) {
+  const AllocationSpace space({{0.0, 1.0}, {0.0, 2.0}});
+  AllocationSearch search(space, {SearchKind::kExhaustive, 2});
+  ASSERT_EQ(search.Next().size(), 2u);
+  EXPECT_THAT([&] { search.Report(3, Verdict::kFeasible); },
+              ThrowsMessage<std::logic_error>(::testing::AllOf(HasSubstr("analysis/allocation.cpp:"),
+                                                               HasSubstr("Report: check failed"),
+                                                               HasSubstr("candidate = 3, s.outstanding.size() = 2"))));
+}
+
 // ---------------------------------------------------------------------------------------
 // Pareto front and common random numbers.
 
