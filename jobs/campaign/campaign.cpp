@@ -168,8 +168,8 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
             life.error_motion.synchronous * units::kMillimetresPerMetre,
             life.error_motion.asynchronous * units::kMillimetresPerMetre};
         bool finite = true;
-        for (std::size_t k = 0; k < (reads_life ? kOutputCount : kFirstLifeOutput); ++k) {
-          finite = finite && std::isfinite(outputs[k]);
+        for (std::size_t k = 0; k < kOutputCount; ++k) {
+          finite = finite && (std::isfinite(outputs[k]) || (!reads_life && IsLifeOutput(k)));
         }
         if (finite) {
           record.outputs = outputs;

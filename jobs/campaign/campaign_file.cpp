@@ -99,7 +99,7 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
                              target.upper[k] = ReadNumber(site, Above(0));
                            }, {}, {}};
     // [outputs] is read first (the fields below are in that order).
-    if (k >= kFirstLifeOutput) field = std::move(field).When([&life](const SpecInput&) { return life; }, kLifeOn);
+    if (IsLifeOutput(k)) field = std::move(field).When([&life](const SpecInput&) { return life; }, kLifeOn);
     spec_fields.push_back(std::move(field));
   }
   struct Root {};

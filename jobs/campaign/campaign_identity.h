@@ -32,7 +32,7 @@ struct CampaignIdentity {
   std::uint64_t seed = 0;
   std::vector<sampling::SampledInput> inputs;  // the design's coordinates, in order
   std::vector<SpecLimit> spec;
-  // Whether the samples computed the life outputs (kFirstLifeOutput on): the campaign file's
+  // Whether the samples computed the life outputs (IsLifeOutput): the campaign file's
   // [outputs] life. A results file without them holds none of their columns.
   bool life = true;
   // What the samples traded of the outputs' definition for speed: the campaign file's

@@ -41,21 +41,48 @@ std::string_view SampleStatusName(SampleStatus status);
 // Every status, pending first, for enumerations in output files.
 const std::vector<SampleStatus>& AllSampleStatuses();
 
-// The per-sample outputs, in the order of kOutputNames (units in the names). The first
-// nine are over one revolution from the drawn phases of the rollers; d_trajectory_first_mm
-// and d_trajectory_steady_mm are D_trajectory over the dynamic rung's first and steady
-// revolutions (solvers::DynamicOptions::steady_revolution); the time-free rungs' path is
-// steady by construction, so for them both equal d_trajectory_mm. The last five are over
-// every revolution the assembly will turn (solvers::LifeValues, docs/model.md §9):
-// D_trajectory and runout over the union of the revolutions, and ISO 230-7's total,
-// synchronous and asynchronous radial error motion values along the sensor's direction.
-inline constexpr std::array<const char*, 14> kOutputNames = {
-    "d_trajectory_mm",     "dist_init_mm",        "static_offset_mm",      "runout_mm",
-    "swing_mm",            "min_contact_force_N", "max_contact_force_N",   "d_trajectory_first_mm",
-    "d_trajectory_steady_mm", "life_d_trajectory_mm", "life_runout_mm", "error_motion_total_mm",
-    "error_motion_synchronous_mm", "error_motion_asynchronous_mm"};
-// Where the life outputs start in kOutputNames: files of schema 3 and before end there.
-inline constexpr std::size_t kFirstLifeOutput = 9;
+// What an output is read over: the revolution a sample simulates, or every revolution the
+// assembly will turn (solvers::LifeValues, docs/model.md §9), which a campaign may leave out
+// (CampaignIdentity::life) and an allocation computes only when a constraint names it.
+enum class OutputSpan { kRevolution, kLife };
+
+// One per-sample output: its name (its unit the suffix), what it is read over, the first
+// results schema that stores it (jobs/store/campaign_store.h; older files read it as NaN)
+// and what it is, in one line. Adding an output: compute it (Campaign's record), add its row
+// here, at the end (stored columns follow this order), and document it (docs/results.md).
+struct OutputDescription {
+  const char* name;
+  OutputSpan span;
+  int first_schema;
+  const char* definition;
+};
+
+// The per-sample outputs. d_trajectory_first_mm and d_trajectory_steady_mm are D_trajectory
+// over the dynamic rung's first and steady revolutions (solvers::DynamicOptions::
+// steady_revolution); the time-free rungs' path is steady by construction, so for them both
+// equal d_trajectory_mm.
+inline constexpr std::array<OutputDescription, 14> kOutputs = {{
+    {"d_trajectory_mm", OutputSpan::kRevolution, 1, "diameter of the smallest circle enclosing the centre's path"},
+    {"dist_init_mm", OutputSpan::kRevolution, 1, "distance from the static equilibrium to that circle's centre"},
+    {"static_offset_mm", OutputSpan::kRevolution, 1, "distance from the nominal centre to the static equilibrium"},
+    {"runout_mm", OutputSpan::kRevolution, 1, "max - min of the sensor's reading"},
+    {"swing_mm", OutputSpan::kRevolution, 2, "largest peak-to-valley swing of the reading at its resolution"},
+    {"min_contact_force_N", OutputSpan::kRevolution, 1, "smallest contact force of any roller"},
+    {"max_contact_force_N", OutputSpan::kRevolution, 1, "largest contact force of any roller"},
+    {"d_trajectory_first_mm", OutputSpan::kRevolution, 2, "D_trajectory over the first revolution"},
+    {"d_trajectory_steady_mm", OutputSpan::kRevolution, 2, "D_trajectory over the steady revolution"},
+    {"life_d_trajectory_mm", OutputSpan::kLife, 4, "D_trajectory over every revolution of the life"},
+    {"life_runout_mm", OutputSpan::kLife, 4, "the sensor's max - min over every revolution"},
+    {"error_motion_total_mm", OutputSpan::kLife, 4, "ISO 230-7 total radial error motion value"},
+    {"error_motion_synchronous_mm", OutputSpan::kLife, 4, "ISO 230-7 synchronous radial error motion value"},
+    {"error_motion_asynchronous_mm", OutputSpan::kLife, 4, "ISO 230-7 asynchronous radial error motion value"},
+}};
+inline constexpr std::array<const char*, kOutputs.size()> kOutputNames = [] {
+  std::array<const char*, kOutputs.size()> names{};
+  for (std::size_t k = 0; k < kOutputs.size(); ++k) names[k] = kOutputs[k].name;
+  return names;
+}();
+inline constexpr bool IsLifeOutput(std::size_t output) { return kOutputs[output].span == OutputSpan::kLife; }
 inline constexpr std::size_t kOutputCount = kOutputNames.size();
 // Whether `output` is one of the three error-motion values, which the error motion's filter
 // reads (engine::ErrorMotionFilter) and whose datasets state it.

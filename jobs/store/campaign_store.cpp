@@ -110,21 +110,15 @@ constexpr const char* kSwingDefinition =
 constexpr int kFirstSchemaWithRungs = 3;
 constexpr int kFirstSchemaWithLife = 4;
 constexpr int kFirstSchemaWithSlimRows = 5;
-bool IsLifeOutputColumn(std::size_t column) { return column >= kFirstOutput + kFirstLifeOutput && column < kStatus; }
 std::string StoredColumnPath(std::size_t column, int schema, bool life) {
   if (column == kMessage && schema >= kFirstSchemaWithSlimRows) return {};
   if (column == kDrawChecksum && schema < kFirstSchemaWithSlimRows) return {};
   if ((column == kRung || column == kErrorBound) && schema < kFirstSchemaWithRungs) return {};
-  if (IsLifeOutputColumn(column) && (schema < kFirstSchemaWithLife || !life)) return {};
-  if (schema >= 2 || column < kFirstOutput || column >= kStatus) return ColumnPath(column);
-  const std::string_view output = kOutputNames[column - kFirstOutput];
-  if (output == "runout_mm") return "/outputs/runout_total_mm";
-  constexpr std::array<std::string_view, 5> kSchema1Outputs = {
-      "d_trajectory_mm", "dist_init_mm", "static_offset_mm", "min_contact_force_N", "max_contact_force_N"};
-  if (std::find(kSchema1Outputs.begin(), kSchema1Outputs.end(), output) != kSchema1Outputs.end()) {
-    return ColumnPath(column);
-  }
-  return {};
+  if (column < kFirstOutput || column >= kFirstOutput + kOutputCount) return ColumnPath(column);
+  const OutputDescription& output = kOutputs[column - kFirstOutput];
+  if (schema < output.first_schema || (output.span == OutputSpan::kLife && !life)) return {};
+  if (schema == 1 && std::string_view(output.name) == "runout_mm") return "/outputs/runout_total_mm";
+  return ColumnPath(column);
 }
 
 template <typename T>

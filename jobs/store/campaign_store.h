@@ -118,7 +118,7 @@ inline constexpr std::int64_t kStoredInputSamples = 16384;
 // runout_mm: its runout_mm is read from runout_total_mm, and it has no swing_mm (HasOutput
 // says so; ReadOutput gives NaN). Schema 2 (ringtol 0.4) has no /outputs/rung and
 // /outputs/d_trajectory_error_mm: they read as -1 and NaN. Schemas 1 to 3 have none of
-// the life outputs (kFirstLifeOutput on): HasOutput says so, ReadOutput gives NaN.
+// the life outputs (IsLifeOutput): HasOutput says so, ReadOutput gives NaN.
 // Resume refuses files older than kOldestResumableSchema.
 inline constexpr int kOldestReadableSchema = 1;
 

@@ -72,7 +72,8 @@ inline void AsOlderSchema(const std::filesystem::path& path, int schema,
     done = done && H5Adelete(file, "inputs_stored_below") >= 0;
   }
   if (edit) edit(file);
-  for (std::size_t k = jobs::kFirstLifeOutput; k < jobs::kOutputCount && schema < 4; ++k) {
+  for (std::size_t k = 0; k < jobs::kOutputCount; ++k) {
+    if (!jobs::IsLifeOutput(k) || schema >= jobs::kOutputs[k].first_schema) continue;
     done = done && H5Ldelete(file, (std::string("/outputs/") + jobs::kOutputNames[k]).c_str(), H5P_DEFAULT) >= 0;
   }
   const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);

@@ -140,7 +140,9 @@ SampleRecord AsStored(SampleRecord written) {
 
 // What a file of schema 3 or before holds for a stored record: no life outputs.
 SampleRecord WithoutLife(SampleRecord stored) {
-  std::fill(stored.outputs.begin() + kFirstLifeOutput, stored.outputs.end(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t k = 0; k < kOutputCount; ++k) {
+    if (IsLifeOutput(k)) stored.outputs[k] = std::numeric_limits<double>::quiet_NaN();
+  }
   return stored;
 }
 
@@ -895,7 +897,7 @@ TEST(CampaignReader, ReadsASchemaThreeFileWithoutLifeOutputsAsNaN) {
   const CampaignReader reader(path);
   EXPECT_EQ(reader.schema_version(), 3);
   EXPECT_TRUE(reader.HasOutput("d_trajectory_steady_mm"));
-  for (std::size_t k = kFirstLifeOutput; k < kOutputCount; ++k) EXPECT_FALSE(reader.HasOutput(kOutputNames[k]));
+  for (std::size_t k = 0; k < kOutputCount; ++k) EXPECT_EQ(reader.HasOutput(kOutputNames[k]), !IsLifeOutput(k)) << k;
   for (std::int64_t i = 0; i < kSamples; ++i) {
     const SampleRecord read = reader.ReadSample(i);
     EXPECT_EQ(Bits(read.outputs), Bits(WithoutLife(AsStored(DeterministicRecord(i))).outputs)) << "sample " << i;
