@@ -46,12 +46,14 @@ const std::vector<SampleStatus>& AllSampleStatuses();
 // (CampaignIdentity::life) and an allocation computes only when a constraint names it.
 enum class OutputSpan { kRevolution, kLife };
 
-// One per-sample output: its name (its unit the suffix), what it is read over, the first
-// results schema that stores it (jobs/store/campaign_store.h; older files read it as NaN)
-// and what it is, in one line. Adding an output: compute it (Campaign's record), add its row
-// here, at the end (stored columns follow this order), and document it (docs/results.md).
+// One per-sample output: its name (its unit the suffix), how summaries and reports label
+// it, what it is read over, the first results schema that stores it
+// (jobs/store/campaign_store.h; older files read it as NaN) and what it is, in one line.
+// Adding an output: compute it (Campaign's record), add its row here, at the end (stored
+// columns follow this order), and document it (docs/results.md).
 struct OutputDescription {
   const char* name;
+  const char* label;
   OutputSpan span;
   int first_schema;
   const char* definition;
@@ -62,20 +64,20 @@ struct OutputDescription {
 // steady_revolution); the time-free rungs' path is steady by construction, so for them both
 // equal d_trajectory_mm.
 inline constexpr std::array<OutputDescription, 14> kOutputs = {{
-    {"d_trajectory_mm", OutputSpan::kRevolution, 1, "diameter of the smallest circle enclosing the centre's path"},
-    {"dist_init_mm", OutputSpan::kRevolution, 1, "distance from the static equilibrium to that circle's centre"},
-    {"static_offset_mm", OutputSpan::kRevolution, 1, "distance from the nominal centre to the static equilibrium"},
-    {"runout_mm", OutputSpan::kRevolution, 1, "max - min of the sensor's reading"},
-    {"swing_mm", OutputSpan::kRevolution, 2, "largest peak-to-valley swing of the reading at its resolution"},
-    {"min_contact_force_N", OutputSpan::kRevolution, 1, "smallest contact force of any roller"},
-    {"max_contact_force_N", OutputSpan::kRevolution, 1, "largest contact force of any roller"},
-    {"d_trajectory_first_mm", OutputSpan::kRevolution, 2, "D_trajectory over the first revolution"},
-    {"d_trajectory_steady_mm", OutputSpan::kRevolution, 2, "D_trajectory over the steady revolution"},
-    {"life_d_trajectory_mm", OutputSpan::kLife, 4, "D_trajectory over every revolution of the life"},
-    {"life_runout_mm", OutputSpan::kLife, 4, "the sensor's max - min over every revolution"},
-    {"error_motion_total_mm", OutputSpan::kLife, 4, "ISO 230-7 total radial error motion value"},
-    {"error_motion_synchronous_mm", OutputSpan::kLife, 4, "ISO 230-7 synchronous radial error motion value"},
-    {"error_motion_asynchronous_mm", OutputSpan::kLife, 4, "ISO 230-7 asynchronous radial error motion value"},
+    {"d_trajectory_mm", "D_trajectory", OutputSpan::kRevolution, 1, "diameter of the smallest circle enclosing the centre's path"},
+    {"dist_init_mm", "Dist_init", OutputSpan::kRevolution, 1, "distance from the static equilibrium to that circle's centre"},
+    {"static_offset_mm", "static offset", OutputSpan::kRevolution, 1, "distance from the nominal centre to the static equilibrium"},
+    {"runout_mm", "runout (max - min)", OutputSpan::kRevolution, 1, "max - min of the sensor's reading"},
+    {"swing_mm", "swing", OutputSpan::kRevolution, 2, "largest peak-to-valley swing of the reading at its resolution"},
+    {"min_contact_force_N", "min contact force", OutputSpan::kRevolution, 1, "smallest contact force of any roller"},
+    {"max_contact_force_N", "max contact force", OutputSpan::kRevolution, 1, "largest contact force of any roller"},
+    {"d_trajectory_first_mm", "d trajectory first", OutputSpan::kRevolution, 2, "D_trajectory over the first revolution"},
+    {"d_trajectory_steady_mm", "d trajectory steady", OutputSpan::kRevolution, 2, "D_trajectory over the steady revolution"},
+    {"life_d_trajectory_mm", "D_trajectory over the life", OutputSpan::kLife, 4, "D_trajectory over every revolution of the life"},
+    {"life_runout_mm", "runout (max - min) over the life", OutputSpan::kLife, 4, "the sensor's max - min over every revolution"},
+    {"error_motion_total_mm", "total error motion", OutputSpan::kLife, 4, "ISO 230-7 total radial error motion value"},
+    {"error_motion_synchronous_mm", "synchronous error motion", OutputSpan::kLife, 4, "ISO 230-7 synchronous radial error motion value"},
+    {"error_motion_asynchronous_mm", "asynchronous error motion", OutputSpan::kLife, 4, "ISO 230-7 asynchronous radial error motion value"},
 }};
 inline constexpr std::array<const char*, kOutputs.size()> kOutputNames = [] {
   std::array<const char*, kOutputs.size()> names{};

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "jobs/campaign/sample_record.h"
 #include "jobs/report/report_text.h"
 #include "jobs/report/svg_chart.h"
 
@@ -63,15 +64,11 @@ std::string PercentInterval(const analysis::Interval& i) {
 }
 
 std::string Quantity(std::string_view name) {
-  if (const std::optional<ErrorMotionValue> value = ErrorMotionOf(name)) return ErrorMotionName(*value);
-  const std::string_view quantity = name.substr(0, name.rfind('_'));
-  std::string text = quantity == "d_trajectory"        ? "D_trajectory"
-                     : quantity == "dist_init"         ? "Dist_init"
-                     : quantity == "runout"            ? "runout (max - min)"
-                     : quantity == "life_d_trajectory" ? "D_trajectory over the life"
-                     : quantity == "life_runout"       ? "runout (max - min) over the life"
-                                                       : std::string(quantity);
-  if (text.front() != 'D') std::replace(text.begin(), text.end(), '_', ' ');
+  for (const OutputDescription& output : kOutputs) {
+    if (name == output.name) return output.label;
+  }
+  std::string text(name.substr(0, name.rfind('_')));
+  std::replace(text.begin(), text.end(), '_', ' ');
   return text;
 }
 
