@@ -26,7 +26,7 @@ namespace {
 
 // Whether `out` is kept in shards: an index of them, or shards a killed run left (beside a
 // self-contained file, or before its first index).
-bool IsSharded(const std::filesystem::path& out) {
+bool IsShardedAllocation(const std::filesystem::path& out) {
   return !FindShards(out).empty() || (std::filesystem::exists(out) && IsShardIndex(out));
 }
 
@@ -135,7 +135,7 @@ int Execute(const AllocateCommand& command, std::ostream& progress, AllocationRu
                                        command.out.string(), left.front().string()));
         }
       }
-      sharded = ranks > 1 || (command.resume && IsSharded(command.out)) ? 1 : 0;
+      sharded = ranks > 1 || (command.resume && IsShardedAllocation(command.out)) ? 1 : 0;
       if (sharded == 0) {
         store = std::make_unique<AllocationStore>(
             command.resume ? AllocationStore::Resume(command.out, allocation->identity())
