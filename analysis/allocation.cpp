@@ -132,7 +132,7 @@ std::vector<double> SortedWithFailuresOnTop(std::span<const double> values) {
 }
 
 // Hyndman & Fan type 7 as EstimateQuantile computes it, where an end may be infinite.
-double SampleQuantile(const std::vector<double>& sorted, double probability) {
+double QuantileWithInfiniteEnds(const std::vector<double>& sorted, double probability) {
   const double h = (static_cast<double>(sorted.size()) - 1.0) * probability;
   const auto below = static_cast<std::size_t>(std::floor(h));
   const std::size_t above = std::min(below + 1, sorted.size() - 1);
@@ -199,7 +199,7 @@ ConstraintJudgement JudgeConstraint(const Constraint& constraint, std::span<cons
     std::vector<double> ranks(static_cast<std::size_t>(n));
     std::iota(ranks.begin(), ranks.end(), 1.0);
     const QuantileEstimate by_rank = EstimateQuantile(ranks, constraint.level, confidence);
-    judgement.estimate = SampleQuantile(SortedWithFailuresOnTop(value), constraint.level);
+    judgement.estimate = QuantileWithInfiniteEnds(SortedWithFailuresOnTop(value), constraint.level);
     judgement.interval.lower = AtRank(SortedWithFailuresOnTop(lower), by_rank.lower_rank);
     judgement.interval.upper = AtRank(SortedWithFailuresOnTop(upper), by_rank.upper_rank);
     if (judgement.interval.upper <= limit) {

@@ -69,12 +69,6 @@ void CheckProbability(double probability) {
   }
 }
 
-void CheckConfidence(double confidence) {
-  if (!(confidence > 0.0 && confidence < 1.0)) {
-    throw std::invalid_argument("confidence = " + Show(confidence) + ": allowed (0, 1)");
-  }
-}
-
 // Type-7 sample quantile, the estimator EstimateQuantile reports.
 double SampleQuantile(std::span<const double> sorted, double probability) {
   return EstimateQuantile(sorted, probability).value;

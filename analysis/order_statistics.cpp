@@ -11,15 +11,11 @@
 
 namespace ringtol::analysis {
 
-namespace {
-
 void CheckConfidence(double confidence) {
   if (!(confidence > 0.0 && confidence < 1.0)) {
     throw std::invalid_argument("confidence = " + std::to_string(confidence) + ": allowed (0, 1)");
   }
 }
-
-}  // namespace
 
 QuantileEstimate EstimateQuantile(std::span<const double> sorted, double probability, double confidence) {
   if (sorted.empty()) throw std::invalid_argument("EstimateQuantile: no samples");
@@ -81,6 +77,12 @@ ProportionEstimate EstimateProportion(std::int64_t successes, std::int64_t trial
   estimate.interval.upper =
       successes == trials ? 1.0 : boost::math::quantile(boost::math::beta_distribution<double>(k + 1.0, n - k), 1.0 - tail);
   return estimate;
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(values.begin(), values.end());
+  return EstimateQuantile(values, 0.5).value;
 }
 
 }  // namespace ringtol::analysis

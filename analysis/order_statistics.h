@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace ringtol::analysis {
 
@@ -23,6 +24,10 @@ struct QuantileEstimate {
   std::int64_t upper_rank = 0;
 };
 
+// Throws std::invalid_argument naming the value unless 0 < confidence < 1: the check of
+// every confidence level a caller passes to this folder's estimators.
+void CheckConfidence(double confidence);
+
 // The p-quantile of `sorted` (ascending, finite, n >= 1) and a distribution-free
 // confidence interval [x_(l), x_(u)] whose ranks come from the Binomial(n, p) law, each
 // tail holding at most (1 - confidence) / 2.
@@ -38,5 +43,9 @@ struct ProportionEstimate {
 
 // trials >= 1, 0 <= successes <= trials.
 ProportionEstimate EstimateProportion(std::int64_t successes, std::int64_t trials, double confidence = 0.95);
+
+// The sample median of `values` (any order): the middle value, or the mean of the two
+// middle ones for an even count, EstimateQuantile's value at p = 0.5; NaN for no values.
+double Median(std::vector<double> values);
 
 }  // namespace ringtol::analysis

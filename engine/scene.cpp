@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 
 namespace ringtol::engine {
 
@@ -115,15 +114,6 @@ double FastestHarmonicRate(const Scene& scene) { return FindFastestHarmonic(scen
 
 int MinimumSteps(double rate) { return static_cast<int>(std::floor(2.0 * rate)) + 1; }
 
-namespace {
-std::string Millimetres(double metres) {
-  std::ostringstream out;
-  out.precision(6);
-  out << metres * units::kMillimetresPerMetre << " mm";
-  return out.str();
-}
-}  // namespace
-
 GeometryCheck CheckGeometry(const Scene& scene) {
   // Fit first: a roller that does not fit is an input error, whatever else is wrong. The
   // profiles' bounds on their extremes settle a roller that fits with room to spare (the
@@ -140,9 +130,10 @@ GeometryCheck CheckGeometry(const Scene& scene) {
     const double interference = centre + reach - bore;
     if (reach >= bore || interference > roller.outline.radius()) {
       return {GeometryIssue::kRollerDoesNotFit, i, -1, 0.0,
-              "roller " + roller.name + " does not fit in the ring: it reaches " + Millimetres(centre + reach) +
-                  " from the ring's centre against a bore of " + Millimetres(bore) +
-                  " (overlap may not exceed the roller's radius " + Millimetres(roller.outline.radius()) + ")"};
+              "roller " + roller.name + " does not fit in the ring: it reaches " + units::ShowMillimetres(centre + reach) +
+                  " mm from the ring's centre against a bore of " + units::ShowMillimetres(bore) +
+                  " mm (overlap may not exceed the roller's radius " + units::ShowMillimetres(roller.outline.radius()) +
+                  " mm)"};
     }
   }
   // Rollers are bodies in one plane: two that overlap would have to pass through each
@@ -160,9 +151,9 @@ GeometryCheck CheckGeometry(const Scene& scene) {
       const Roller& a = scene.rollers[static_cast<std::size_t>(i)];
       const Roller& b = scene.rollers[static_cast<std::size_t>(j)];
       return {GeometryIssue::kRollersOverlap, j, i, reach - distance,
-              "rollers " + a.name + " and " + b.name + " overlap by " + Millimetres(reach - distance) +
-                  ": their centres are " + Millimetres(distance) + " apart against radii summing to " +
-                  Millimetres(reach)};
+              "rollers " + a.name + " and " + b.name + " overlap by " + units::ShowMillimetres(reach - distance) +
+                  " mm: their centres are " + units::ShowMillimetres(distance) + " mm apart against radii summing to " +
+                  units::ShowMillimetres(reach) + " mm"};
     }
   }
   if (!scene.ring.inner.IsConvex()) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <numbers>
+#include <string>
 
 namespace ringtol::units {
 
@@ -18,5 +19,17 @@ inline constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;  // rad ->
 inline constexpr double kPascalsPerGigapascal = 1e9;  // GPa -> Pa (Young's moduli)
 inline constexpr double kPascalsPerMegapascal = 1e6;  // N/mm^2 -> Pa
 inline constexpr double kSecondsPerMicrosecond = 1e-6;  // us -> s (the command line's --test-sample-us)
+inline constexpr double kFractionPerPercent = 1e-2;   // % -> fraction (the *_percent keys)
+inline constexpr double kRadiansPerRevolution = 2.0 * std::numbers::pi;  // rev -> rad (a whole turn)
+
+// SI values in the units files and messages state them. A length in millimetres divides by
+// the factor its reader multiplied by, so a message shows what the file said.
+constexpr double InMillimetres(double metres) { return metres / kMetresPerMillimetre; }
+constexpr double InMicrometres(double metres) { return metres * kMicrometresPerMetre; }
+constexpr double InDegrees(double radians) { return radians * kDegreesPerRadian; }
+
+// A length as messages state it, in millimetres without the unit: six significant digits
+// ("%g"), "inf" for an unbounded one: "302", "0.14", "1e-05".
+std::string ShowMillimetres(double metres);
 
 }  // namespace ringtol::units

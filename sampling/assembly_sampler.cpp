@@ -15,12 +15,11 @@
 namespace ringtol::sampling {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kMaxFormCp = 1.33;
 
 // Inverse CDFs of the unit coordinates.
 double Rayleigh(double sigma, double u) { return sigma * std::sqrt(-2.0 * std::log(u)); }
-double UniformPhase(double v) { return kTwoPi * v - std::numbers::pi; }
+double UniformPhase(double v) { return units::kRadiansPerRevolution * v - std::numbers::pi; }
 double StandardNormal(double u) { return std::numbers::sqrt2 * boost::math::erf_inv(2.0 * u - 1.0); }
 
 // Rayleigh scale sigma with P(R <= limit) = p: 1 - exp(-limit^2 / (2 sigma^2)) = p.

@@ -4,26 +4,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 
 namespace ringtol::sampling {
 namespace {
 
-std::string Millimetres(double metres) {
-  if (std::isinf(metres)) return "inf";
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", metres * units::kMillimetresPerMetre);
-  return text;
-}
-
 // A class name in a message: a user's catalogue or file may hide a zero-width space in it.
 std::string Quoted(std::string_view name) { return "'" + VisibleText(name) + "'"; }
 
 std::string Describe(const DiameterRange& r) {
   if (r.over <= 0.0 && std::isinf(r.up_to)) return "any";
-  return Millimetres(r.over) + "-" + Millimetres(r.up_to);
+  return units::ShowMillimetres(r.over) + "-" + units::ShowMillimetres(r.up_to);
 }
 
 template <typename Row>
@@ -45,7 +37,7 @@ const Row& FindRow(const ToleranceClass<Row>& c, double diameter, std::string_vi
   std::string rows;
   for (const Row& row : c.rows) rows += (rows.empty() ? "" : ", ") + Describe(range_of(row));
   throw std::invalid_argument(std::string(kind) + " class " + Quoted(c.name) + " has no value for diameter " +
-                              Millimetres(diameter) + " mm (its rows cover " + rows +
+                              units::ShowMillimetres(diameter) + " mm (its rows cover " + rows +
                               " mm); the catalogue does not extrapolate: choose another class or give "
                               "the "
                               "tolerance as a number");

@@ -13,12 +13,12 @@
 #include <string>
 
 #include "engine/check.h"
+#include "engine/units.h"
 #include "sampling/random.h"
 
 namespace ringtol::sampling {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 struct Term {
@@ -123,7 +123,7 @@ void AddRotated(const Term* terms, double spacing, std::vector<double>& f) {
 // f on MeasureForm's grid of p.points points.
 std::vector<double> DenseGrid(const FormTerms& p) {
   constexpr std::size_t kLanes = 4;
-  const double spacing = kTwoPi / p.points;
+  const double spacing = units::kRadiansPerRevolution / p.points;
   std::vector<double> f(static_cast<std::size_t>(p.points), 0.0);
   std::size_t t = 0;
   for (; t + kLanes <= p.terms.size(); t += kLanes) AddRotated<kLanes>(&p.terms[t], spacing, f);
@@ -133,7 +133,7 @@ std::vector<double> DenseGrid(const FormTerms& p) {
 
 // MeasureForm's value from its grid f: polish every basin that may hold an extreme.
 double PolishedRange(const FormTerms& p, const std::vector<double>& f) {
-  const double spacing = kTwoPi / p.points;
+  const double spacing = units::kRadiansPerRevolution / p.points;
   // A grid value is within max|f''| h^2 / 8 of the extreme of its basin, so any basin whose grid
   // value is that close to the grid's best may hold the true extreme: polish each such candidate,
   // keep the best.
@@ -163,7 +163,7 @@ FormBounds AmplitudeBounds(const FormTerms& p) {
   for (const Term& t : p.terms) largest = std::max(largest, t.amplitude);
   // The computed value is at least its grid's range (its extremes start there), which is within
   // the grid's curvature margin max|f''| h^2 / 4 of the true peak-to-valley.
-  const double spacing = kTwoPi / p.points;
+  const double spacing = units::kRadiansPerRevolution / p.points;
   const double grid_margin = p.Sum(2) * spacing * spacing / 4.0;
   return {std::max(0.0, std::numbers::pi / 2.0 * largest - grid_margin - 4.0 * p.round_off * sum),
           2.0 * sum + 4.0 * p.round_off * sum};
@@ -213,7 +213,7 @@ FormBounds CoarseBounds(const FormTerms& p) {
   if (p.terms.empty()) return bounds;
   constexpr int kStride = 4;  // every fourth point of the dense grid (points is 64 or 8 top)
   const int points = p.points / kStride;
-  const double spacing = kTwoPi / points, reach = spacing / 2.0;
+  const double spacing = units::kRadiansPerRevolution / points, reach = spacing / 2.0;
   constexpr std::size_t kLanes = 4;
   std::vector<Value> f(static_cast<std::size_t>(points), Value{0.0, 0.0, 0.0});
   std::size_t t = 0;
@@ -390,7 +390,7 @@ std::vector<engine::Harmonic> DrawHarmonics(const SpectrumShape& shape, std::spa
   for (int n = shape.min_order; n <= shape.max_order; ++n) {
     const auto k = static_cast<std::size_t>(n - shape.min_order);
     const double amplitude = scale * relative_scales[k] * std::sqrt(-2.0 * std::log(u[k]));
-    harmonics.push_back({n, amplitude, kTwoPi * v[k] - std::numbers::pi});
+    harmonics.push_back({n, amplitude, units::kRadiansPerRevolution * v[k] - std::numbers::pi});
   }
   return harmonics;
 }

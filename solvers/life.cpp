@@ -5,7 +5,6 @@
 #include <complex>
 #include <iterator>
 #include <limits>
-#include <numbers>
 #include <numeric>
 #include <ranges>
 #include <span>
@@ -15,11 +14,11 @@
 #include "engine/check.h"
 #include "engine/enclosing_circle.h"
 #include "engine/sensor.h"
+#include "engine/units.h"
 
 namespace ringtol::solvers {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // A curve's hull is sampled finely enough that the curve strays from the samples' chords
 // by at most this share of the sum of its terms' amplitudes; the hull is then widened by
 // what it may miss, so it always holds the curve.
@@ -305,10 +304,11 @@ CurveSamples SampleCurve(const PhaseCurve& curve, const Eigen::Vector2d& ray, co
   const int most = per_order * std::max(curve.max_order, 1);
   const double share = looseness * kCurveStraying;
   const int count =
-      weighted > 0.0 ? std::clamp(static_cast<int>(std::ceil(kTwoPi / std::sqrt(8.0 * share * amplitude / weighted))),
-                                  kFewest, most)
-                     : kFewest;
-  const double du = kTwoPi / count;
+      weighted > 0.0
+          ? std::clamp(static_cast<int>(std::ceil(units::kRadiansPerRevolution / std::sqrt(8.0 * share * amplitude / weighted))),
+                       kFewest, most)
+          : kFewest;
+  const double du = units::kRadiansPerRevolution / count;
   CurveSamples samples{std::vector<Eigen::Vector2d>(static_cast<std::size_t>(count)), 0.0, 0.0};
   double low = std::numeric_limits<double>::infinity(), high = -low;
   curve.ForEachAngle(0.0, du, samples.points.size(),
@@ -336,7 +336,7 @@ CurveSamples SampleCurve(const PhaseCurve& curve, const Eigen::Vector2d& ray, co
 
 // The lobes' first order at psi_j = 2 pi j / steps, j < steps, at the drawn phases [m].
 std::vector<Eigen::Vector2d> LobesAt(const std::vector<PhaseCurve>& curves, std::size_t steps) {
-  const double dpsi = kTwoPi / static_cast<double>(steps);
+  const double dpsi = units::kRadiansPerRevolution / static_cast<double>(steps);
   std::vector<Eigen::Vector2d> lobes(steps, Eigen::Vector2d::Zero());
   for (const PhaseCurve& curve : curves) curve.AddAlong(0.0, curve.ratio * dpsi, steps, lobes);
   return lobes;
@@ -372,7 +372,7 @@ CycleRevolutions OverCycle(const CycleParts& parts, const Eigen::Vector2d& ray, 
     cycle.high = high;
     return cycle;
   }
-  const double dpsi = kTwoPi / static_cast<double>(steps);
+  const double dpsi = units::kRadiansPerRevolution / static_cast<double>(steps);
   cycle.turned.reserve(steps * static_cast<std::size_t>(revolutions));
   cycle.motion.reserve(cycle.turned.capacity());
   cycle.low = std::numeric_limits<double>::infinity();
@@ -382,7 +382,7 @@ CycleRevolutions OverCycle(const CycleParts& parts, const Eigen::Vector2d& ray, 
       Eigen::Vector2d lobes = Eigen::Vector2d::Zero(), filtered = Eigen::Vector2d::Zero();
       for (std::size_t c = 0; c < curves.size(); ++c) {
         const double turns = std::fmod(curves[c].ratio * k, 1.0);
-        const double u = curves[c].ratio * dpsi * static_cast<double>(j) + kTwoPi * turns;
+        const double u = curves[c].ratio * dpsi * static_cast<double>(j) + units::kRadiansPerRevolution * turns;
         lobes += curves[c].At(u);
         filtered += parts.filtered[c].At(u);
       }
@@ -460,15 +460,15 @@ engine::Scene AtRevolution(const engine::Scene& scene, int k) {
   for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
     // The whole turns drop out first, so a late revolution keeps its phase's precision.
     const double turns = std::fmod(k * engine::SpinRatio(scene, static_cast<int>(i)), 1.0);
-    turned.rollers[i].spin_phase = std::remainder(scene.rollers[i].spin_phase + 2.0 * std::numbers::pi * turns,
-                                                  2.0 * std::numbers::pi);
+    turned.rollers[i].spin_phase = std::remainder(scene.rollers[i].spin_phase + units::kRadiansPerRevolution * turns,
+                                                  units::kRadiansPerRevolution);
   }
   return turned;
 }
 
 double ArtefactForm(const engine::Scene& scene, int steps) {
   std::vector<double> form(static_cast<std::size_t>(steps));
-  const double dpsi = 2.0 * std::numbers::pi / steps;
+  const double dpsi = units::kRadiansPerRevolution / steps;
   for (int j = 0; j < steps; ++j) {
     form[static_cast<std::size_t>(j)] = scene.ring.inner.Evaluate(scene.sensor_angle - dpsi * j).r;
   }

@@ -55,7 +55,7 @@ set(rules
   "jobs/store=engine sampling solvers analysis jobs/inputs jobs/campaign jobs/allocation/allocation_outcome.h jobs/store=^(mpi\\.h|CLI/)"
   "jobs/pool=engine sampling solvers analysis jobs/inputs jobs/campaign jobs/allocation jobs/store jobs/pool=^(hdf5\\.h|CLI/)"
   "jobs/report=engine sampling solvers analysis jobs/inputs jobs/campaign jobs/allocation jobs/store jobs/report=^(mpi\\.h|hdf5\\.h|CLI/)"
-  "jobs/studies=engine sampling solvers jobs/inputs jobs/campaign jobs/report jobs/studies=^(mpi\\.h|hdf5\\.h|CLI/)"
+  "jobs/studies=engine sampling solvers analysis jobs/inputs jobs/campaign jobs/report jobs/studies=^(mpi\\.h|hdf5\\.h|CLI/)"
   # Inside the store: the shared result types and shard naming sit below everything, the
   # sample table and HDF5 machinery below the two stores, and neither store sees the other.
   "jobs/store/results_check.h=jobs/store/results_check.h=^(mpi\\.h|CLI/)"

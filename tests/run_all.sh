@@ -2,8 +2,11 @@
 # Builds and runs every test, as the README's second command and CI (.ci/run) do:
 #   1. installs any missing Debian package of .ci/packages (what ringtol needs) and
 #      .ci/test-packages (what its tests need; needs root, as on a fresh machine),
-#   2. Release build with warnings as errors (benchmarks compiled, not run), all tests,
-#   3. RelWithDebInfo build under AddressSanitizer + UndefinedBehaviorSanitizer, all tests.
+#   2. Release build with warnings as errors (benchmarks compiled, not run), all tests;
+#      a unity build, each library's files compiled as one, where two files' helpers of
+#      one name collide,
+#   3. RelWithDebInfo build under AddressSanitizer + UndefinedBehaviorSanitizer, all tests;
+#      each file compiled alone, where a file that lacks an include fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,7 +22,8 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 jobs=$(nproc)
-cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DRINGTOL_WERROR=ON -DRINGTOL_BENCHMARKS=ON
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DRINGTOL_WERROR=ON -DRINGTOL_BENCHMARKS=ON \
+  -DCMAKE_UNITY_BUILD=ON
 cmake --build build/release -j "$jobs"
 ctest --test-dir build/release -j "$jobs" --output-on-failure
 

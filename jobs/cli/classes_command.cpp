@@ -14,8 +14,6 @@
 namespace ringtol::jobs {
 namespace {
 
-std::string Millimetres(double metres) { return fmt::format("{:g}", metres * units::kMillimetresPerMetre); }
-
 // The diameters a class's rows cover, adjacent rows joined, as ISO tables word them:
 // "over 2.5 up to 800 mm", "any diameter" for one row without bounds.
 template <typename Row, typename DiameterOf>
@@ -34,8 +32,8 @@ std::string Covered(const sampling::ToleranceClass<Row>& c, DiameterOf range_of)
   std::string text;
   for (const sampling::DiameterRange& range : joined) {
     if (!text.empty()) text += ", ";
-    if (range.over > 0.0) text += "over " + Millimetres(range.over) + " ";
-    text += std::isinf(range.up_to) ? std::string("up to any") : "up to " + Millimetres(range.up_to);
+    if (range.over > 0.0) text += "over " + units::ShowMillimetres(range.over) + " ";
+    text += std::isinf(range.up_to) ? std::string("up to any") : "up to " + units::ShowMillimetres(range.up_to);
   }
   if (text == "up to any") return "any diameter";
   return text + " mm";

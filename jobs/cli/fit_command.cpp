@@ -21,11 +21,6 @@
 namespace ringtol::jobs {
 namespace {
 
-
-double Millimetres(double metres) { return metres / units::kMetresPerMillimetre; }
-double Micrometres(double metres) { return metres * units::kMicrometresPerMetre; }
-double Degrees(double radians) { return radians * units::kDegreesPerRadian; }
-
 bool IsRadius(const MeasuredFit& measured) { return measured.quantity == ProfileQuantity::kRadius; }
 
 // The fragment's orders in words, for the text output and the fragment's header.
@@ -40,24 +35,24 @@ nlohmann::json FitJson(const FitCommand& command, const MeasuredFit& measured) {
   nlohmann::json j;
   j["profile"] = command.profile.string();
   j["points"] = fit.points;
-  j["largest_gap_deg"] = Degrees(fit.largest_gap);
+  j["largest_gap_deg"] = units::InDegrees(fit.largest_gap);
   j["condition_number"] = fit.condition_number;
   if (IsRadius(measured)) {
-    j["mean_radius_mm"] = Millimetres(fit.mean);
+    j["mean_radius_mm"] = units::InMillimetres(fit.mean);
   } else {
-    j["mean_deviation_um"] = Micrometres(fit.mean);
+    j["mean_deviation_um"] = units::InMicrometres(fit.mean);
   }
   j["r_squared"] = fit.r_squared;
-  j["residual_rms_um"] = Micrometres(fit.residual_rms);
-  j["residual_max_um"] = Micrometres(fit.residual_max);
+  j["residual_rms_um"] = units::InMicrometres(fit.residual_rms);
+  j["residual_max_um"] = units::InMicrometres(fit.residual_max);
   nlohmann::json harmonics = nlohmann::json::array();
   for (std::size_t i = 0; i < fit.harmonics.size(); ++i) {
     const engine::Harmonic& h = fit.harmonics[i];
     // A NaN standard error (no residual to estimate it from) is dumped as null.
     harmonics.push_back({{"order", h.order},
-                         {"amplitude_um", Micrometres(h.amplitude)},
-                         {"phase_deg", Degrees(h.phase)},
-                         {"standard_error_um", Micrometres(fit.amplitude_standard_errors[i])},
+                         {"amplitude_um", units::InMicrometres(h.amplitude)},
+                         {"phase_deg", units::InDegrees(h.phase)},
+                         {"standard_error_um", units::InMicrometres(fit.amplitude_standard_errors[i])},
                          {"set_up_eccentricity", h.order == 1}});
   }
   j["harmonics"] = std::move(harmonics);
@@ -69,16 +64,16 @@ void PrintFit(std::ostream& out, const FitCommand& command, const MeasuredFit& m
   const sampling::FourierFit& fit = measured.fit;
   fmt::print(out, "profile           {}\n", command.profile.string());
   fmt::print(out, "points            {}\n", fit.points);
-  fmt::print(out, "largest gap       {:.3f} deg\n", Degrees(fit.largest_gap));
+  fmt::print(out, "largest gap       {:.3f} deg\n", units::InDegrees(fit.largest_gap));
   fmt::print(out, "condition number  {:.4g}\n", fit.condition_number);
   if (IsRadius(measured)) {
-    fmt::print(out, "mean radius       {:.6f} mm\n", Millimetres(fit.mean));
+    fmt::print(out, "mean radius       {:.6f} mm\n", units::InMillimetres(fit.mean));
   } else {
-    fmt::print(out, "mean deviation    {:.4f} um\n", Micrometres(fit.mean));
+    fmt::print(out, "mean deviation    {:.4f} um\n", units::InMicrometres(fit.mean));
   }
   fmt::print(out, "R^2               {:.6f}\n", fit.r_squared);
-  fmt::print(out, "residual          rms {:.4f} um, max {:.4f} um\n", Micrometres(fit.residual_rms),
-             Micrometres(fit.residual_max));
+  fmt::print(out, "residual          rms {:.4f} um, max {:.4f} um\n", units::InMicrometres(fit.residual_rms),
+             units::InMicrometres(fit.residual_max));
   if (!command.fragment.empty()) {
     fmt::print(out, "fragment          {} ([ring] with {})\n", command.fragment.string(), FragmentOrders(command));
   }
@@ -87,8 +82,8 @@ void PrintFit(std::ostream& out, const FitCommand& command, const MeasuredFit& m
   for (std::size_t i = 0; i < fit.harmonics.size(); ++i) {
     const engine::Harmonic& h = fit.harmonics[i];
     const double error = fit.amplitude_standard_errors[i];
-    fmt::print(out, "{:>5}  {:>12.4f}  {:>10.3f}  {:>17}", h.order, Micrometres(h.amplitude), Degrees(h.phase),
-               std::isnan(error) ? std::string("n/a") : fmt::format("{:.4f}", Micrometres(error)));
+    fmt::print(out, "{:>5}  {:>12.4f}  {:>10.3f}  {:>17}", h.order, units::InMicrometres(h.amplitude), units::InDegrees(h.phase),
+               std::isnan(error) ? std::string("n/a") : fmt::format("{:.4f}", units::InMicrometres(error)));
     if (h.order == 1) {
       fmt::print(out, "  set-up eccentricity (centring on the tester): {}",
                  command.keep_eccentricity ? "kept by --keep-eccentricity" : "left out of --fragment");
@@ -107,10 +102,10 @@ std::string Fragment(const FitCommand& command, const MeasuredFit& measured) {
           ? fmt::format("# Its mean radius is {} mm. On a scene of that ring, mean_deviation_mm = {} less its\n"
                         "# inner_radius_mm keeps its size too; or name the export: measured_profile =\n"
                         "# {{ file = \"...\", orders = {} }}.\n",
-                        Millimetres(fit.mean), Millimetres(fit.mean), command.orders)
+                        units::InMillimetres(fit.mean), units::InMillimetres(fit.mean), command.orders)
           : fmt::format("# Its mean deviation is {} mm from the tester's nominal: on that ring's scene,\n"
                         "# mean_deviation_mm = {} keeps its size too.\n",
-                        Millimetres(fit.mean), Millimetres(fit.mean));
+                        units::InMillimetres(fit.mean), units::InMillimetres(fit.mean));
   std::string text = fmt::format(
       "# [ring] keys for a scene file (docs/usage.md, \"Measured profiles\"), written by ringtol fit from\n"
       "#   {}\n"
@@ -118,14 +113,14 @@ std::string Fragment(const FitCommand& command, const MeasuredFit& measured) {
       "# Harmonics: {} of the fit; order 1, the tester's set-up eccentricity, {}.\n"
       "# The form alone, for a ring of any nominal size: these keys replace the [ring] table's harmonics.\n"
       "{}[ring]\n",
-      command.profile.string(), command.orders, fit.points, fit.r_squared, Micrometres(fit.residual_rms),
+      command.profile.string(), command.orders, fit.points, fit.r_squared, units::InMicrometres(fit.residual_rms),
       FragmentOrders(command), command.keep_eccentricity ? "is kept" : "is left out", size);
   const std::vector<engine::Harmonic> harmonics = FormHarmonics(fit, command.keep_eccentricity);
   if (harmonics.empty()) return text + "harmonics = []\n";
   text += "harmonics = [\n";
   for (const engine::Harmonic& h : harmonics) {
-    text += fmt::format("  {{ order = {}, amplitude_mm = {}, phase_deg = {} }},\n", h.order, Millimetres(h.amplitude),
-                        Degrees(h.phase));
+    text += fmt::format("  {{ order = {}, amplitude_mm = {}, phase_deg = {} }},\n", h.order, units::InMillimetres(h.amplitude),
+                        units::InDegrees(h.phase));
   }
   return text + "]\n";
 }

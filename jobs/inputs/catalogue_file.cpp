@@ -12,7 +12,6 @@
 namespace ringtol::jobs {
 namespace {
 
-constexpr double kPerPercent = 1e-2;
 const std::string kShippedName = "catalogue.toml (built into ringtol)";
 
 std::vector<std::string> ReadTextList(const Site& site) {
@@ -143,8 +142,8 @@ void AddCatalogueClasses(const toml::table& table, const std::string& path, cons
   AddClasses<SpringClassRow>(
       root, "spring",
       std::vector<Field<SpringClassRow>>{
-          Number("stiffness_percent", Presence::kRequired, kPerPercent, Between(0, 100), &SpringClassRow::stiffness),
-          Number("preload_percent", Presence::kRequired, kPerPercent, Range{0, false, 100, true},
+          Number("stiffness_percent", Presence::kRequired, units::kFractionPerPercent, Between(0, 100), &SpringClassRow::stiffness),
+          Number("preload_percent", Presence::kRequired, units::kFractionPerPercent, Range{0, false, 100, true},
                  &SpringClassRow::preload),
           Source<SpringClassRow>()},
       catalogue);

@@ -23,8 +23,6 @@
 namespace ringtol::jobs {
 namespace {
 
-constexpr std::size_t kMaxShownLength = 80;  // longer text is cut: the line number locates it
-
 struct AngleColumn {
   std::string_view name;
   double to_si;
@@ -218,9 +216,6 @@ MeasuredProfile ReadProfileCsv(const std::filesystem::path& file) {
 
 namespace {
 
-double Micrometres(double metres) { return metres * units::kMicrometresPerMetre; }
-double Millimetres(double metres) { return metres / units::kMetresPerMillimetre; }
-
 // Largest less smallest angle [rad], as read.
 double AngleSpan(const MeasuredProfile& profile) {
   const auto [lowest, highest] = std::minmax_element(
@@ -271,7 +266,7 @@ void RequireTheFitToExplainTheOutline(const MeasuredProfile& profile, const samp
       "a fit of orders 0..{} with R^2 = {:.4g}: it leaves most of the readings unexplained (R^2 below {}), and its "
       "residual of {:.4g} um rms follows the outline, not noise (neighbouring readings' residuals correlate {:.2f}, "
       "above {})",
-      orders, fit.r_squared, kMinRSquared, Micrometres(fit.residual_rms), correlation, kMaxNoiseCorrelation);
+      orders, fit.r_squared, kMinRSquared, units::InMicrometres(fit.residual_rms), correlation, kMaxNoiseCorrelation);
   const double turns = AngleSpan(profile) / (2.0 * std::numbers::pi);
   if (profile.angle_column == "angle_rad" && turns > 1.01) {
     throw InputError(fmt::format("{}: {}; the angles under angle_rad span {:.3g} turns: degrees under angle_rad?; "
@@ -295,14 +290,14 @@ void RequireAFormOfTheRingsSize(const MeasuredProfile& profile, const sampling::
   if (form <= limit) return;
   const std::string bound =
       limit == share_limit ? fmt::format("more than {} % of a ring of {} mm", 100.0 * kSameRingShare,
-                                         ShowDerived(Millimetres(*ring_radius)))
+                                         ShowDerived(units::InMillimetres(*ring_radius)))
                            : fmt::format("more than {} mm, five times the loosest circularity class of the catalogue",
-                                         Millimetres(kMaxDeviationForm));
+                                         units::InMillimetres(kMaxDeviationForm));
   throw InputError(fmt::format(
       "{}: {}: a form of {} mm (sum of the amplitudes of orders 2 and up), {}: deviations in another unit than "
       "the column names?; allowed: deviation_um for micrometres, deviation_mm for millimetres, radius_mm for "
       "radii (docs/inputs.md, \"Profile CSV files\")",
-      source_name, profile.value_column, ShowDerived(Millimetres(form)), bound));
+      source_name, profile.value_column, ShowDerived(units::InMillimetres(form)), bound));
 }
 
 }  // namespace

@@ -20,7 +20,6 @@ namespace {
 
 using sampling::ToleranceMode;
 
-constexpr double kPerPercent = 1e-2;
 // Default spectrum cutoffs [undulations per revolution]: the ring's is the classic 50 UPR
 // roundness filter; a roller's order n passes the contact about n R / r_b times a ring
 // revolution, each pass costing solver steps, so its cutoff is low (docs/tolerances.md §7.2).
@@ -110,17 +109,17 @@ auto Lookup(const TableReader& table, F lookup) {
   }
 }
 
-struct RingInput : Common {
+struct RingToleranceInput : Common {
   double circularity = 0.0;
 };
-struct RollerInput : Common {
+struct RollerToleranceInput : Common {
   std::string series = "9";
   double kea = 0.0, vdsp = 0.0, lower = 0.0, upper = 0.0;
 };
-struct PositionInput : Common {
+struct PositionToleranceInput : Common {
   double zone = 0.0;
 };
-struct SpringInput : Common {
+struct SpringToleranceInput : Common {
   double stiffness = 0.0, preload = 0.0;
 };
 
@@ -152,10 +151,10 @@ TableReader SubTable(const TableReader& parent, std::string_view key) {
 
 // The four [tolerances.*] tables as read, before the catalogue resolves them.
 struct ToleranceInputs {
-  std::optional<RingInput> ring;
-  std::optional<RollerInput> rollers;
-  std::optional<PositionInput> positions;
-  std::optional<SpringInput> springs;
+  std::optional<RingToleranceInput> ring;
+  std::optional<RollerToleranceInput> rollers;
+  std::optional<PositionToleranceInput> positions;
+  std::optional<SpringToleranceInput> springs;
 };
 
 std::vector<Field<FileInput>> DesignFields() {
@@ -187,29 +186,31 @@ Field<ToleranceInputs> ToleranceSection(std::string_view key, int max_order, std
 std::vector<Field<ToleranceInputs>> ToleranceFields() {
   const double um = units::kMetresPerMicrometre;
   return {
-      ToleranceSection<RingInput>("ring", kRingMaxOrder,
+      ToleranceSection<RingToleranceInput>("ring", kRingMaxOrder,
                                   {Number("circularity_mm", Presence::kOptional, units::kMetresPerMillimetre, Above(0),
-                                          &RingInput::circularity)
+                                          &RingToleranceInput::circularity)
                                        .WithoutDefault()},
                                   &ToleranceInputs::ring),
-      ToleranceSection<RollerInput>(
+      ToleranceSection<RollerToleranceInput>(
           "rollers", kRollerMaxOrder,
-          {Text("diameter_series", Presence::kOptional, "\"9\", \"0\", \"1\", \"2\", \"3\", \"4\"", &RollerInput::series),
-           Number("kea_um", Presence::kOptional, um, AtLeast(0), &RollerInput::kea).WithoutDefault(),
-           Number("vdsp_um", Presence::kOptional, um, AtLeast(0), &RollerInput::vdsp).WithoutDefault(),
-           Number("mean_diameter_lower_um", Presence::kOptional, um, AnyFinite(), &RollerInput::lower).WithoutDefault(),
-           Number("mean_diameter_upper_um", Presence::kOptional, um, AnyFinite(), &RollerInput::upper).WithoutDefault()},
+          {Text("diameter_series", Presence::kOptional, "\"9\", \"0\", \"1\", \"2\", \"3\", \"4\"", &RollerToleranceInput::series),
+           Number("kea_um", Presence::kOptional, um, AtLeast(0), &RollerToleranceInput::kea).WithoutDefault(),
+           Number("vdsp_um", Presence::kOptional, um, AtLeast(0), &RollerToleranceInput::vdsp).WithoutDefault(),
+           Number("mean_diameter_lower_um", Presence::kOptional, um, AnyFinite(), &RollerToleranceInput::lower).WithoutDefault(),
+           Number("mean_diameter_upper_um", Presence::kOptional, um, AnyFinite(), &RollerToleranceInput::upper).WithoutDefault()},
           &ToleranceInputs::rollers),
-      ToleranceSection<PositionInput>("roller_positions", 0,
+      ToleranceSection<PositionToleranceInput>("roller_positions", 0,
                                       {Number("zone_diameter_mm", Presence::kOptional, units::kMetresPerMillimetre,
-                                              Above(0), &PositionInput::zone)
+                                              Above(0), &PositionToleranceInput::zone)
                                            .WithoutDefault()},
                                       &ToleranceInputs::positions),
-      ToleranceSection<SpringInput>(
+      ToleranceSection<SpringToleranceInput>(
           "springs", 0,
-          {Number("stiffness_percent", Presence::kOptional, kPerPercent, Between(0, 100), &SpringInput::stiffness)
+          {Number("stiffness_percent", Presence::kOptional, units::kFractionPerPercent, Between(0, 100),
+                  &SpringToleranceInput::stiffness)
                .WithoutDefault(),
-           Number("preload_percent", Presence::kOptional, kPerPercent, Range{0, false, 100, true}, &SpringInput::preload)
+           Number("preload_percent", Presence::kOptional, units::kFractionPerPercent, Range{0, false, 100, true},
+                  &SpringToleranceInput::preload)
                .WithoutDefault()},
           &ToleranceInputs::springs),
   };
@@ -281,7 +282,7 @@ std::vector<std::optional<sampling::SpringTolerance>> SpringsOfClass(const Sampl
 }
 
 // [tolerances.ring] resolved against the catalogue at the ring's diameter.
-void ResolveRing(const TableReader& t, const RingInput& in, SamplingPlan& plan) {
+void ResolveRing(const TableReader& t, const RingToleranceInput& in, SamplingPlan& plan) {
   sampling::RingFormTolerance r;
   if (ClassOrNumbers(t, in, {"circularity_mm"})) {
     r = Lookup(t, [&] { return RingOfClass(plan, *in.class_name); });
@@ -294,7 +295,7 @@ void ResolveRing(const TableReader& t, const RingInput& in, SamplingPlan& plan) 
 }
 
 // [tolerances.rollers]: one tolerance per roller, each at its own diameter.
-void ResolveRollers(const TableReader& t, const RollerInput& in, SamplingPlan& plan) {
+void ResolveRollers(const TableReader& t, const RollerToleranceInput& in, SamplingPlan& plan) {
   const std::size_t count = plan.scene.rollers.size();
   plan.roller_series = Series(t, in.series);
   const bool by_class = ClassOrNumbers(t, in, {"kea_um", "vdsp_um", "mean_diameter_lower_um", "mean_diameter_upper_um"});
@@ -311,7 +312,7 @@ void ResolveRollers(const TableReader& t, const RollerInput& in, SamplingPlan& p
 }
 
 // [tolerances.roller_positions]: one zone per roller, on its centre circle.
-void ResolvePositions(const TableReader& t, const PositionInput& in, SamplingPlan& plan) {
+void ResolvePositions(const TableReader& t, const PositionToleranceInput& in, SamplingPlan& plan) {
   const std::size_t count = plan.scene.rollers.size();
   std::vector<sampling::PositionTolerance> positions =
       ClassOrNumbers(t, in, {"zone_diameter_mm"})
@@ -324,7 +325,7 @@ void ResolvePositions(const TableReader& t, const PositionInput& in, SamplingPla
 }
 
 // [tolerances.springs]: spring rollers only; fixed ones keep an empty slot.
-void ResolveSprings(const TableReader& t, const SpringInput& in, SamplingPlan& plan) {
+void ResolveSprings(const TableReader& t, const SpringToleranceInput& in, SamplingPlan& plan) {
   const bool by_class = ClassOrNumbers(t, in, {"stiffness_percent", "preload_percent"});
   if (engine::SpringRollerCount(plan.scene) == 0)
     t.FailAbout("class", "tolerances.springs", "the scene has no spring roller", "no [tolerances.springs]");

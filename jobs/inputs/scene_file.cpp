@@ -46,8 +46,6 @@ void AddMaterialFields(std::vector<Field<T>>& fields) {
   fields.push_back(Number(scene_key::kPoissonRatio, Presence::kOptional, kSameUnit, kPoissonRatioRange, &T::poisson_ratio));
 }
 
-double Millimetres(double metres) { return metres / units::kMetresPerMillimetre; }
-
 // What ringtol models: rings from a few millimetres to a few metres across, of metal,
 // ceramic or plastic, on rollers down to a millimetre. A density, mass or spin inertia
 // outside these ranges, given or implied by the dimensions, is a key in another unit (a
@@ -101,10 +99,10 @@ void RequireDeviationsBelowRadius(const TableReader& table, const engine::PolarP
   const std::string_view key = measured ? "measured_profile" : table.Has(scene_key::kHarmonics) ? scene_key::kHarmonics : scene_key::kMeanDeviationMm;
   table.FailAbout(key,
                   fmt::format("{} (|mean_deviation_mm| + sum of amplitude_mm = {})", table.KeyPath(key),
-                              ShowDerived(Millimetres(bound))),
+                              ShowDerived(units::InMillimetres(bound))),
                   measured ? "amplitudes larger than the radius (`ringtol fit` shows the fit: fewer orders?)"
                            : "amplitudes larger than the radius",
-                  fmt::format("< {} ({})", ShowDerived(Millimetres(profile.radius())), table.KeyPath(radius_key)));
+                  fmt::format("< {} ({})", ShowDerived(units::InMillimetres(profile.radius())), table.KeyPath(radius_key)));
 }
 
 // ---- [ring]
@@ -231,9 +229,10 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
       const std::string what =
           measured.quantity == ProfileQuantity::kRadius
               ? fmt::format("its mean radius {} mm lies {} mm from ring.inner_radius_mm = {} mm",
-                            Millimetres(measured.mean), ShowDerived(Millimetres(offset)), Millimetres(in.inner_radius))
-              : fmt::format("its mean deviation is {} mm on a ring of {} mm", ShowDerived(Millimetres(offset)),
-                            Millimetres(in.inner_radius));
+                            units::InMillimetres(measured.mean), ShowDerived(units::InMillimetres(offset)),
+                            units::InMillimetres(in.inner_radius))
+              : fmt::format("its mean deviation is {} mm on a ring of {} mm", ShowDerived(units::InMillimetres(offset)),
+                            units::InMillimetres(in.inner_radius));
       table.FailAbout(
           "measured_profile", table.KeyPath("measured_profile"),
           fmt::format("{}: {}, more than {} %: a profile of another ring (or deviations in another unit)",
@@ -245,7 +244,7 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
   }
   if (!(in.outer_radius > in.inner_radius)) {
     table.Fail(scene_key::kOuterRadiusMm, "not larger than the inner radius",
-               fmt::format("> {} (ring.inner_radius_mm)", ShowDerived(Millimetres(in.inner_radius))));
+               fmt::format("> {} (ring.inner_radius_mm)", ShowDerived(units::InMillimetres(in.inner_radius))));
   }
   table.RequireExactlyOne("density_kg_per_m3", scene_key::kMassKg, kMassAllowed);
 
@@ -355,7 +354,7 @@ void ReadRoller(const TableReader& table, std::size_t index, engine::Scene& scen
   const double ring_radius = scene.ring.inner.radius();
   if (!(in.radius < ring_radius)) {
     table.Fail(scene_key::kRadiusMm, "not smaller than the ring's inner radius",
-               fmt::format("> 0 and < {} (ring.inner_radius_mm)", ShowDerived(Millimetres(ring_radius))));
+               fmt::format("> 0 and < {} (ring.inner_radius_mm)", ShowDerived(units::InMillimetres(ring_radius))));
   }
   table.RequireExactlyOne("density_kg_per_m3", scene_key::kMassKg, kMassAllowed);
   for (std::size_t other = 0; other < scene.rollers.size(); ++other) {
@@ -444,12 +443,12 @@ void ReadFriction(const TableReader& table, engine::Scene& scene) {
   if (friction.transition_velocity > friction.stiction_velocity) return;
   // mu(v) falls from mu_s at v_s to mu_d at v_d: the two must be in that order.
   const std::string allowed =
-      fmt::format("> stiction_velocity_mm_per_s = {}", ShowDerived(Millimetres(friction.stiction_velocity)));
+      fmt::format("> stiction_velocity_mm_per_s = {}", ShowDerived(units::InMillimetres(friction.stiction_velocity)));
   constexpr std::string_view kTransition = scene_key::kTransitionVelocityMmPerS;
   if (table.Has(kTransition)) table.Fail(kTransition, "not above the stiction velocity", allowed);
   table.FailAbout(scene_key::kStictionVelocityMmPerS,
                   fmt::format("{} = {} (default)", table.KeyPath(kTransition),
-                              ShowDerived(Millimetres(friction.transition_velocity))),
+                              ShowDerived(units::InMillimetres(friction.transition_velocity))),
                   "not above the stiction velocity", allowed);
 }
 

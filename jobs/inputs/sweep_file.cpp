@@ -36,8 +36,6 @@ std::string_view TargetName(Target target) {
 
 constexpr std::string_view kOneOf = "exactly one of [study] or [[cases]]";
 
-double Millimetres(double metres) { return metres / units::kMetresPerMillimetre; }
-
 engine::Scene WithHarmonics(engine::Scene scene, Target target, const std::vector<engine::Harmonic>& harmonics) {
   const auto replace = [&harmonics](const engine::PolarProfile& profile) {
     return engine::PolarProfile(profile.radius(), profile.mean_deviation(), harmonics);
@@ -69,8 +67,8 @@ std::optional<Problem> FindProblem(const engine::Scene& scene) {
     const double bound = DeviationBound(profile);
     if (bound < profile.radius()) return std::nullopt;
     return Problem{fmt::format("amplitudes larger than the radius of {}: |mean deviation| + sum of amplitudes = {} mm",
-                               whose, ShowDerived(Millimetres(bound))),
-                   fmt::format("< {} mm ({} in the scene file)", ShowDerived(Millimetres(profile.radius())),
+                               whose, ShowDerived(units::InMillimetres(bound))),
+                   fmt::format("< {} mm ({} in the scene file)", ShowDerived(units::InMillimetres(profile.radius())),
                                radius_key),
                    culprit};
   };
@@ -113,7 +111,7 @@ std::vector<Field<StudyInput>> StudyFields() {
 
 std::string StudyCaseName(const StudyInput& study, std::size_t order, std::size_t amplitude) {
   return fmt::format("{} n={} C={}mm", TargetName(study.target), study.orders[order],
-                     ShowDerived(Millimetres(study.amplitudes[amplitude])));
+                     ShowDerived(units::InMillimetres(study.amplitudes[amplitude])));
 }
 
 void AddStudyCases(const TableReader& table, const StudyInput& study, const engine::Scene& base, Sweep& sweep) {

@@ -19,8 +19,6 @@
 namespace ringtol::jobs {
 namespace {
 
-constexpr std::size_t kMaxShownLength = 80;  // longer values are cut: the position locates them
-
 std::string_view TypeName(toml::node_type type) {
   switch (type) {
     case toml::node_type::none: return "nothing";
@@ -334,7 +332,7 @@ std::string FitRule(double ring_radius) {
   return fmt::format(
       "centre distance + roller reach - smallest bore radius <= the roller's radius_mm (for round parts: "
       "centre_radius_mm + radial position error <= ring.inner_radius_mm = {})",
-      ShowDerived(ring_radius / units::kMetresPerMillimetre));
+      ShowDerived(units::InMillimetres(ring_radius)));
 }
 
 std::string ClearanceRule() {

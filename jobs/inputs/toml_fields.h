@@ -73,7 +73,10 @@ const OptionName& NameOfOption(std::span<const OptionName> names, const InvalidO
 std::string ShowNumber(double value);
 // A derived number (a sum, a converted limit) to 6 significant digits.
 std::string ShowDerived(double value);
-// A TOML value as written (numbers as by ShowNumber, strings quoted), cut to 80 characters.
+// The most of a value or a line from a file a message shows: longer text is cut, and the
+// position the message gives locates the rest.
+inline constexpr std::size_t kMaxShownLength = 80;
+// A TOML value as written (numbers as by ShowNumber, strings quoted), cut to kMaxShownLength.
 std::string ShowValue(const toml::node& node);
 // Text as a TOML string ("\"penalty\""), or "" for empty text.
 std::string ShowText(const std::string& text);

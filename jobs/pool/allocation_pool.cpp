@@ -263,19 +263,20 @@ class StoreSamples final : public StoredSamples {
   const AllocationStore& store_;
 };
 
-void Check(int code, const char* call) {
+// The allocation's own collectives (rounds, gathers) fail as the allocation pool's.
+void CheckAllocationCall(int code, const char* call) {
   if (code != MPI_SUCCESS) throw std::runtime_error(std::string("allocation pool: ") + call + " failed");
 }
 
 // Rank 0's segments, known to every rank after the call.
 std::vector<RoundSegment> Broadcast(MPI_Comm communicator, std::vector<RoundSegment> segments) {
   std::int64_t count = static_cast<std::int64_t>(segments.size());
-  Check(MPI_Bcast(&count, 1, MPI_INT64_T, 0, communicator), "MPI_Bcast");
+  CheckAllocationCall(MPI_Bcast(&count, 1, MPI_INT64_T, 0, communicator), "MPI_Bcast");
   std::vector<std::int64_t> flat;
   for (const RoundSegment& s : segments)
     flat.insert(flat.end(), {static_cast<std::int64_t>(s.role), s.candidate, s.begin, s.end});
   flat.resize(static_cast<std::size_t>(4 * count));
-  Check(MPI_Bcast(flat.data(), static_cast<int>(flat.size()), MPI_INT64_T, 0, communicator), "MPI_Bcast");
+  CheckAllocationCall(MPI_Bcast(flat.data(), static_cast<int>(flat.size()), MPI_INT64_T, 0, communicator), "MPI_Bcast");
   segments.resize(static_cast<std::size_t>(count));
   for (std::size_t k = 0; k < segments.size(); ++k) {
     segments[k] = {static_cast<EvaluationRole>(flat[4 * k]), flat[4 * k + 1], flat[4 * k + 2], flat[4 * k + 3]};
@@ -301,17 +302,17 @@ AllocationSample Unpack(const double* in, std::size_t outputs) {
 void GatherFinished(MPI_Comm communicator, const AllocationStore& shard, Ledger* ledger) {
   int rank = 0;
   int ranks = 1;
-  Check(MPI_Comm_rank(communicator, &rank), "MPI_Comm_rank");
-  Check(MPI_Comm_size(communicator, &ranks), "MPI_Comm_size");
+  CheckAllocationCall(MPI_Comm_rank(communicator, &rank), "MPI_Comm_rank");
+  CheckAllocationCall(MPI_Comm_size(communicator, &ranks), "MPI_Comm_size");
   std::vector<double> mine;
   for (const AllocationSample& sample : shard.Finished()) Pack(sample, mine);
   const int count = static_cast<int>(mine.size());
   std::vector<int> counts(static_cast<std::size_t>(ranks));
-  Check(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, communicator), "MPI_Gather");
+  CheckAllocationCall(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, communicator), "MPI_Gather");
   std::vector<int> offsets(static_cast<std::size_t>(ranks), 0);
   for (std::size_t r = 1; r < offsets.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
   std::vector<double> all(rank == 0 ? static_cast<std::size_t>(offsets.back() + counts.back()) : 0);
-  Check(MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, 0,
+  CheckAllocationCall(MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, 0,
                     communicator),
         "MPI_Gatherv");
   if (rank != 0) return;
@@ -357,8 +358,8 @@ AllocationRunReport Run(MPI_Comm communicator, const Allocation& allocation, All
                         const AllocationShards* shards) {
   int rank = 0;
   int ranks = 1;
-  Check(MPI_Comm_rank(communicator, &rank), "MPI_Comm_rank");
-  Check(MPI_Comm_size(communicator, &ranks), "MPI_Comm_size");
+  CheckAllocationCall(MPI_Comm_rank(communicator, &rank), "MPI_Comm_rank");
+  CheckAllocationCall(MPI_Comm_size(communicator, &ranks), "MPI_Comm_size");
   // Rank 0, and with shards every rank, needs its file.
   RINGTOL_CHECK(store != nullptr || (rank != 0 && shards == nullptr), rank, shards != nullptr);
   const Clock::time_point start = Clock::now();

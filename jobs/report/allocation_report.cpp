@@ -33,7 +33,7 @@ std::pair<std::string, double> MarginUnit(const analysis::Constraint& constraint
   return {cut == std::string::npos ? "" : constraint.output.substr(cut + 1), 1.0};
 }
 
-double Margin(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& judgement) {
+double MarginInUnit(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& judgement) {
   const double scale = MarginUnit(constraint).second;
   return constraint.kind == analysis::ConstraintKind::kYield ? scale * (judgement.interval.lower - constraint.level)
                                                              : scale * (constraint.upper - judgement.interval.upper);
@@ -89,7 +89,7 @@ CandidateReport Candidate(const AllocationReportInput& input, std::int64_t index
   if (loosest > 0.0) c.relative_to_loosest = c.outcome.cost / loosest;
   for (std::size_t k = 0; k < c.outcome.constraints.size(); ++k) {
     const analysis::ConstraintJudgement& j = c.outcome.constraints[k];
-    c.margins.push_back(Margin(id.constraints[k], j));
+    c.margins.push_back(MarginInUnit(id.constraints[k], j));
     if (j.verdict != analysis::Verdict::kUndecided) continue;
     if (j.samples_to_decide < 0 || c.samples_to_decide < 0) {
       c.samples_to_decide = -1;

@@ -26,8 +26,9 @@ const CandidateReport& At(const AllocationReport& report, std::int64_t index) {
   return report.candidates[static_cast<std::size_t>(index)];
 }
 
-// "D_trajectory [mm] 99 % quantile ≤ 0.1" or "yield of D_trajectory [mm] ≤ 0.1 ≥ 99.73 %".
-std::string ConstraintText(const analysis::Constraint& c) {
+// "99 % quantile of D_trajectory [mm] &#8804; 0.1" or "fraction with D_trajectory [mm] &#8804; 0.1 at least
+// 99.73 %", as HTML.
+std::string ConstraintHtml(const analysis::Constraint& c) {
   if (c.kind == analysis::ConstraintKind::kQuantile) {
     return fmt::format("{:g} % quantile of {} &#8804; {}", 100 * c.level, EscapeXml(Label(c.output)), Num(c.upper));
   }
@@ -104,7 +105,7 @@ void RecommendationTable(std::string& html, const AllocationReport& report, cons
   Row(html, {"constraint", fmt::format("estimate [{:g} % interval]", 100 * id.confidence), "margin", "verdict"}, true);
   for (std::size_t k = 0; k < c.outcome.constraints.size(); ++k) {
     const analysis::ConstraintJudgement& j = c.outcome.constraints[k];
-    Row(html, {ConstraintText(id.constraints[k]), Estimate(id.constraints[k], j),
+    Row(html, {ConstraintHtml(id.constraints[k]), Estimate(id.constraints[k], j),
                MarginText(c.margins[k], report.margin_units[k]),
                std::string(NameOf(analysis::kVerdictNames, j.verdict))});
   }
@@ -162,7 +163,7 @@ void AnswerSection(std::string& html, const AllocationReport& report) {
           const analysis::Constraint& c = id.constraints[static_cast<std::size_t>(k)];
           const bool judged = static_cast<std::size_t>(k) < t.outcome.constraints.size();
           html += fmt::format(
-              "<li class=\"binding\">{}: {}</li>\n", ConstraintText(c),
+              "<li class=\"binding\">{}: {}</li>\n", ConstraintHtml(c),
               judged ? fmt::format("estimate {}, short by {}",
                                    Estimate(c, t.outcome.constraints[static_cast<std::size_t>(k)]),
                                    MarginText(-t.margins[static_cast<std::size_t>(k)],
@@ -263,7 +264,7 @@ void FrontTable(std::string& html, const AllocationReport& report, const std::ve
   html += "<table class=\"front\">\n<tr><th>candidate</th>";
   for (const std::string& component : id.components) html += "<th>" + EscapeXml(SourceLabel(component)) + "</th>";
   html += fmt::format("<th>relative cost</th><th>yield [{:g} % interval]</th>", 100 * id.confidence);
-  for (const analysis::Constraint& c : id.constraints) html += "<th>" + ConstraintText(c) + "</th>";
+  for (const analysis::Constraint& c : id.constraints) html += "<th>" + ConstraintHtml(c) + "</th>";
   html += "<th>verdict</th><th>settled by</th><th>samples</th></tr>\n";
   for (const std::int64_t i : rows) {
     const CandidateReport& c = At(report, i);

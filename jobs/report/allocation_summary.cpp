@@ -18,7 +18,8 @@ std::string_view UnitOf(std::string_view output) {
   return underscore == std::string_view::npos ? std::string_view() : output.substr(underscore + 1);
 }
 
-std::string Percent(double fraction) { return fmt::format("{:.2f} %", 100 * fraction); }
+// A yield judgement's percentage, to the hundredths its margin is given in.
+std::string PercentToHundredths(double fraction) { return fmt::format("{:.2f} %", 100 * fraction); }
 
 std::string Judgement(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& j, double confidence) {
   if (j.verdict == analysis::Verdict::kUnknown) return "not judged (the screen bounds only d_trajectory_mm)";
@@ -27,8 +28,8 @@ std::string Judgement(const analysis::Constraint& constraint, const analysis::Co
     return fmt::format("{:.4g} {}, {:.0f} % interval [{:.4g}, {:.4g}] {}", j.estimate, unit, 100 * confidence,
                        j.interval.lower, j.interval.upper, unit);
   }
-  return fmt::format("{}, {:.0f} % interval [{}, {}]", Percent(j.estimate), 100 * confidence, Percent(j.interval.lower),
-                     Percent(j.interval.upper));
+  return fmt::format("{}, {:.0f} % interval [{}, {}]", PercentToHundredths(j.estimate), 100 * confidence, PercentToHundredths(j.interval.lower),
+                     PercentToHundredths(j.interval.upper));
 }
 
 std::string MarginText(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& j) {
@@ -52,7 +53,6 @@ std::string CostText(const AllocationIdentity& identity, const AllocationOutcome
   return text;
 }
 
-const char* kIndent = "                  ";
 
 }  // namespace
 
@@ -107,11 +107,11 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
     fmt::print(out, "rungs             {} ({} to {} samples, doubling)\n", identity.solver, identity.first_samples,
                identity.samples);
   for (std::size_t j = 0; j < identity.constraints.size(); ++j)
-    fmt::print(out, "{}{}. {}\n", j == 0 ? "constraints       " : kIndent, j + 1, ConstraintText(identity.constraints[j]));
+    fmt::print(out, "{}{}. {}\n", j == 0 ? "constraints       " : kSummaryIndent, j + 1, ConstraintText(identity.constraints[j]));
   if (const std::optional<std::string> reading = ConstrainedErrorMotionReading(identity)) {
-    fmt::print(out, "{}error motion read {}\n", kIndent, *reading);
+    fmt::print(out, "{}error motion read {}\n", kSummaryIndent, *reading);
   }
-  fmt::print(out, "{}judged at {:g} % confidence\n\n", kIndent, 100 * identity.confidence);
+  fmt::print(out, "{}judged at {:g} % confidence\n\n", kSummaryIndent, 100 * identity.confidence);
 
   if (!outcome.complete) fmt::print(out, "(the search has not finished: what follows is what it knows so far)\n");
   if (outcome.recommendation) {
@@ -120,14 +120,14 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
     fmt::print(out, "cost              {}\n", CostText(identity, outcome, r));
     for (std::size_t j = 0; j < r.constraints.size(); ++j) {
       const analysis::Constraint& c = identity.constraints[j];
-      fmt::print(out, "{}{}. {} {}: {}\n", j == 0 ? "margins           " : kIndent, j + 1, c.output,
+      fmt::print(out, "{}{}. {} {}: {}\n", j == 0 ? "margins           " : kSummaryIndent, j + 1, c.output,
                  Judgement(c, r.constraints[j], identity.confidence), MarginText(c, r.constraints[j]));
     }
     fmt::print(out, "samples           {} ({})\n", r.samples,
                r.settled_by ? NameOf(kEvaluationRoleNames, *r.settled_by) : std::string_view("-"));
     for (std::size_t k = 0; k < outcome.alternatives.size(); ++k) {
       const CandidateOutcome& a = outcome.candidates[static_cast<std::size_t>(outcome.alternatives[k])];
-      fmt::print(out, "{}{}. candidate {}: {}; cost {}\n", k == 0 ? "alternatives      " : kIndent, k + 1,
+      fmt::print(out, "{}{}. candidate {}: {}; cost {}\n", k == 0 ? "alternatives      " : kSummaryIndent, k + 1,
                  outcome.alternatives[k], CandidateClasses(identity, a), CostText(identity, outcome, a));
     }
   } else if (outcome.complete) {
@@ -140,7 +140,7 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
     for (std::size_t k = 0; k < outcome.binding.size(); ++k) {
       const auto j = static_cast<std::size_t>(outcome.binding[k]);
       const CandidateOutcome& t = outcome.candidates.back();
-      fmt::print(out, "{}{} binds: even the tightest candidate ({}) reaches {}\n", k == 0 ? "binding           " : kIndent,
+      fmt::print(out, "{}{} binds: even the tightest candidate ({}) reaches {}\n", k == 0 ? "binding           " : kSummaryIndent,
                  ConstraintText(identity.constraints[j]), CandidateClasses(identity, t),
                  j < t.constraints.size() ? Judgement(identity.constraints[j], t.constraints[j], identity.confidence)
                                           : std::string("-"));
@@ -156,7 +156,7 @@ void PrintAllocation(std::ostream& out, const AllocationIdentity& identity, cons
       for (const analysis::ConstraintJudgement& j : u.constraints)
         needed = (needed < 0 || j.samples_to_decide < 0) ? -1 : std::max(needed, j.samples_to_decide);
       fmt::print(out, "{}candidate {}: {}; cost {}: undecided at {} samples, {}\n",
-                 k == 0 ? "undecided         " : kIndent, index, CandidateClasses(identity, u),
+                 k == 0 ? "undecided         " : kSummaryIndent, index, CandidateClasses(identity, u),
                  CostText(identity, outcome, u), u.samples,
                  needed < 0 ? std::string("no sample count decides it (its estimate sits on a limit, or failed "
                                           "samples lie beyond the quantile)")

@@ -10,15 +10,12 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "analysis/order_statistics.h"
 #include "engine/units.h"
 #include "jobs/report/report_text.h"
 
 namespace ringtol::jobs {
 namespace {
-
-std::string Percent(double probability) { return fmt::format("{:g} %", 100.0 * probability); }
-
-constexpr double kMicrometresPerMillimetre = units::kMicrometresPerMetre / units::kMillimetresPerMetre;
 
 nlohmann::json Bound(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
@@ -30,14 +27,6 @@ constexpr int kLadderRungs = static_cast<int>(solvers::Rung::kAuto);
 std::string RungName(std::size_t rung) { return std::string(NameOf(solvers::kRungNames, static_cast<solvers::Rung>(rung))); }
 
 std::string ShowBound(double value) { return std::isfinite(value) ? fmt::format("{:.5g}", value) : "unbounded"; }
-
-// Where a continued line of the summary starts: under the values of the first.
-constexpr const char* kIndent = "                  ";
-
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return analysis::EstimateQuantile(values, 0.5).value;
-}
 
 }  // namespace
 
@@ -74,7 +63,7 @@ std::optional<LifeGap> CompareLife(std::string label, std::span<const double> on
   gap.one_q99 = analysis::EstimateQuantile(ones, 0.99).value;
   gap.life_q50 = analysis::EstimateQuantile(lifes, 0.5).value;
   gap.life_q99 = analysis::EstimateQuantile(lifes, 0.99).value;
-  gap.median_excess = excess.empty() ? std::numeric_limits<double>::quiet_NaN() : Median(std::move(excess));
+  gap.median_excess = excess.empty() ? std::numeric_limits<double>::quiet_NaN() : analysis::Median(std::move(excess));
   return gap;
 }
 
@@ -133,7 +122,7 @@ std::string LifeErrorMotionSentence(const LifeErrorMotion& motion, const engine:
     std::vector<std::string> parts;
     for (std::size_t k = 0; k < mm.size(); ++k) {
       if (!std::isfinite(mm[k])) continue;
-      parts.push_back(Micrometres(kMicrometresPerMillimetre * mm[k]) +
+      parts.push_back(Micrometres(units::kMicrometresPerMillimetre * mm[k]) +
                       (words ? " " + std::string(ErrorMotionWord(kErrorMotionValues[k])) : std::string()));
     }
     std::string text;
@@ -359,7 +348,7 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
     for (const auto& line : lines) width = std::max(width, line.first.size());
     for (std::size_t k = 0; k < lines.size(); ++k) {
       const analysis::ProportionEstimate& p = lines[k].second;
-      fmt::print(out, "{}{:<{}}  {} ({} of {} done samples{})\n", k == 0 ? "\nwithin spec       " : kIndent,
+      fmt::print(out, "{}{:<{}}  {} ({} of {} done samples{})\n", k == 0 ? "\nwithin spec       " : kSummaryIndent,
                  lines[k].first, width, YieldWithInterval(p), p.successes, p.trials,
                  k + 1 == lines.size() ? "; failures count as outside" : "");
     }

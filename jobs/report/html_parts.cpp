@@ -55,8 +55,6 @@ table.limits td + td { white-space: nowrap; }
 
 std::string Num(double value) { return std::isfinite(value) ? fmt::format("{:.4g}", value) : "unbounded"; }
 
-std::string Percent(double fraction) { return fmt::format("{:.4g} %", 100.0 * fraction); }
-
 std::string Interval(const analysis::Interval& i) { return fmt::format("[{}, {}]", Num(i.lower), Num(i.upper)); }
 
 std::string PercentInterval(const analysis::Interval& i) {

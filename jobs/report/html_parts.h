@@ -27,7 +27,6 @@ void OpenPage(std::string& html, std::string_view title);
 // Four significant digits; "unbounded" for a non-finite value (an interval end that n
 // samples cannot bound).
 std::string Num(double value);
-std::string Percent(double fraction);  // 0.25 -> "25 %"
 std::string Interval(const analysis::Interval& i);
 std::string PercentInterval(const analysis::Interval& i);
 // An output's column name in words: "d_trajectory_mm" -> "D_trajectory",

@@ -52,6 +52,8 @@ int YieldDecimals(std::int64_t trials) {
 
 }  // namespace
 
+std::string Percent(double fraction) { return fmt::format("{:.4g} %", 100.0 * fraction); }
+
 std::string YieldPercent(double fraction, std::int64_t trials) {
   return fmt::format("{:.{}f} %", 100.0 * fraction, YieldDecimals(trials));
 }

@@ -32,11 +32,17 @@ std::string Decimals(double value, int decimals);
 // sample counts of a campaign its interval is some hundredths wide. "1.33".
 std::string CapabilityIndex(double value);
 
+// A fraction as a percentage to four significant digits: 0.25 -> "25 %", 0.999 -> "99.9 %".
+std::string Percent(double fraction);
 // A fraction of `trials` as a percentage to the resolution its count gives (1 / trials):
 // one decimal up to 1,000 trials, two up to 10,000, and so on: "99.95 %" of 2,048.
 std::string YieldPercent(double fraction, std::int64_t trials);
 // "99.95 % [99.73, 99.99 %]": the estimate and its interval, to the same resolution.
 std::string YieldWithInterval(const analysis::ProportionEstimate& yield);
+
+// The terminal summaries' value column: their labels are padded to it ("samples           "),
+// and a line that continues a label's list starts with this.
+inline constexpr const char* kSummaryIndent = "                  ";
 
 // ISO 230-7's three values of a radial error motion (numbered in kErrorMotionValues order).
 enum class ErrorMotionValue { kTotal, kSynchronous, kAsynchronous };

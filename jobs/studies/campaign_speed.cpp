@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "analysis/order_statistics.h"
 #include "engine/units.h"
 #include "jobs/campaign/campaign.h"
 #include "jobs/inputs/input_error.h"
@@ -52,13 +53,6 @@ ModeRun RunMode(const Campaign& campaign, std::int64_t samples, int threads) {
   }
   run.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run;
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return kNaN;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
 }
 
 // Output columns compared, as indices into kOutputNames.
@@ -104,11 +98,12 @@ CampaignModeRow Compare(const std::string& name, const solvers::SolverSettings& 
   row.max_error_swing = in_um(kSwing);
   row.max_error_life_d_trajectory = solver.simulation.life ? in_um(kLifeDTrajectory) : kNaN;
   row.max_error_static_offset = in_um(kStaticOffset);
-  row.median_solve_time = Median(std::move(times));
+  row.median_solve_time = analysis::Median(std::move(times));
   return row;
 }
 
-std::string Micrometres(double value) { return std::isnan(value) ? "-" : fmt::format("{:.3g}", value); }
+// A largest error [um] as a table cell: three significant digits, "-" where none was compared.
+std::string ErrorCell(double value_um) { return std::isnan(value_um) ? "-" : fmt::format("{:.3g}", value_um); }
 
 }  // namespace
 
@@ -230,9 +225,9 @@ void PrintCampaignSpeed(std::ostream& out, const CampaignSpeedResult& result) {
   const auto line = [&](const CampaignModeRow& row) {
     out << fmt::format("{:<32} {:>10.1f} {:>8} {:>10.3f} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6}\n", row.name,
                        row.samples_per_second, row.speed_ratio > 0.0 ? fmt::format("{:.2f}", row.speed_ratio) : "-",
-                       row.median_solve_time * 1e3, Micrometres(row.max_error_d_trajectory),
-                       Micrometres(row.max_error_runout), Micrometres(row.max_error_swing),
-                       Micrometres(row.max_error_life_d_trajectory), row.status_mismatches, row.ok);
+                       row.median_solve_time * 1e3, ErrorCell(row.max_error_d_trajectory),
+                       ErrorCell(row.max_error_runout), ErrorCell(row.max_error_swing),
+                       ErrorCell(row.max_error_life_d_trajectory), row.status_mismatches, row.ok);
   };
   for (const CampaignModeRow& row : result.rows) line(row);
   line(result.reference);

@@ -19,13 +19,13 @@
 namespace ringtol::jobs {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kFailed = std::numeric_limits<double>::quiet_NaN();  // a run that failed: no point
 
 // D_trajectory of one run and, for the dynamic rung, of its steady revolution; NaN where
 // the run failed, with the reason appended to `failures`.
 struct Diameters {
-  double first = kNaN;   // [m]
-  double steady = kNaN;  // [m]
+  double first = kFailed;   // [m]
+  double steady = kFailed;  // [m]
 };
 
 Diameters Run(const engine::Scene& scene, const solvers::Solver& solver, const std::string& what,
@@ -61,7 +61,10 @@ double Threshold(const std::vector<double>& rates, const std::vector<double>& ga
   return std::numeric_limits<double>::infinity();
 }
 
-std::string Micrometres(double value) { return std::isnan(value) ? "-" : fmt::format("{:.2f}", value * units::kMicrometresPerMetre); }
+// A length [m] as a table cell: micrometres to two decimals, "-" for a failed run.
+std::string MicrometresCell(double metres) {
+  return std::isnan(metres) ? "-" : fmt::format("{:.2f}", units::InMicrometres(metres));
+}
 
 }  // namespace
 
@@ -135,18 +138,18 @@ void PrintDynamicStudy(std::ostream& out, const DynamicStudy& study) {
     // a long settle removes (the ring had not settled) and what remains (the step in speed,
     // together with the steady lag the steady revolution also carries).
     fmt::print(out, "{:>5} {:>12} | {:>12} {:>12} {:>12} | {:>12} {:>12} {:>12} | {:>12} {:>12}\n", row.order,
-               Micrometres(row.quasistatic), Micrometres(row.first), Micrometres(row.steady),
-               Micrometres(row.first - row.steady), Micrometres(row.first_article_settle),
-               Micrometres(row.first_long_settle), Micrometres(row.steady_article_settle),
-               Micrometres(row.first_article_settle - row.first_long_settle),
-               Micrometres(row.first_long_settle - row.quasistatic));
+               MicrometresCell(row.quasistatic), MicrometresCell(row.first), MicrometresCell(row.steady),
+               MicrometresCell(row.first - row.steady), MicrometresCell(row.first_article_settle),
+               MicrometresCell(row.first_long_settle), MicrometresCell(row.steady_article_settle),
+               MicrometresCell(row.first_article_settle - row.first_long_settle),
+               MicrometresCell(row.first_long_settle - row.quasistatic));
   }
   fmt::print(out, "\nSteady revolution against quasistatic: |D_dynamic - D_quasistatic| [um]\n{:>5}", "order");
   for (const double rate : study.rates) fmt::print(out, " {:>10}", fmt::format("{:g}deg/s", rate * units::kDegreesPerRadian));
   fmt::print(out, " {:>14}\n", "1 um above");
   for (const SpeedRow& row : study.speed) {
     fmt::print(out, "{:>5}", row.order);
-    for (const double gap : row.gap) fmt::print(out, " {:>10}", Micrometres(gap));
+    for (const double gap : row.gap) fmt::print(out, " {:>10}", MicrometresCell(gap));
     const std::string threshold =
         std::isinf(row.threshold) ? fmt::format("> {:g}", study.rates.back() * units::kDegreesPerRadian)
         : row.threshold == 0.0    ? fmt::format("< {:g}", study.rates.front() * units::kDegreesPerRadian)
@@ -180,7 +183,7 @@ void WriteDynamicStudySvg(std::ostream& out, const DynamicStudy& study) {
     svg::Series range;
     range.name = fmt::format("article's reported range, {:g}-{:g} mm", kArticleLowest, kArticleHighest);
     range.x = {orders.front() - 0.5, orders.back() + 0.5};
-    range.y = {kNaN, kNaN};  // the band alone
+    range.y = {kFailed, kFailed};  // no points: the band alone
     range.band_lower = {kArticleLowest, kArticleLowest};
     range.band_upper = {kArticleHighest, kArticleHighest};
     range.colour = 5;

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "analysis/order_statistics.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/report/svg_chart.h"
 #include "solvers/dynamic.h"
@@ -136,19 +137,12 @@ std::vector<Method> Methods(const LadderOptions& options) {
   return methods;
 }
 
-double Median(std::vector<double> values) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(values.begin(), values.end());
-  const std::size_t mid = values.size() / 2;
-  return values.size() % 2 == 1 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
-}
-
 struct Timed {
   solvers::SimulationResult result;
   double seconds = 0.0;  // median
 };
 
-Timed Run(const engine::Scene& scene, const solvers::Solver& solver, int steps, int repeats) {
+Timed TimedRun(const engine::Scene& scene, const solvers::Solver& solver, int steps, int repeats) {
   solvers::SimulationOptions options;
   options.steps = steps;
   std::vector<double> times;
@@ -158,7 +152,7 @@ Timed Run(const engine::Scene& scene, const solvers::Solver& solver, int steps, 
     timed.result = solvers::Simulate(scene, solver, options);
     times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
-  timed.seconds = Median(times);
+  timed.seconds = analysis::Median(times);
   return timed;
 }
 
@@ -177,19 +171,19 @@ LadderResult RunLadder(const engine::Scene& scene, const LadderOptions& options,
   std::vector<double> reference_times;
   for (Case& c : cases) {
     if (progress != nullptr) fmt::print(*progress, "reference {}\n", c.name);
-    const Timed run = Run(c.scene, *reference, c.steps, 1);
+    const Timed run = TimedRun(c.scene, *reference, c.steps, 1);
     if (run.result.status != solvers::Status::kOk) {
       throw InputError(fmt::format("the reference run of case {} failed ({}: {}); the ladder needs it", c.name,
                                    solvers::StatusName(run.result.status), run.result.message));
     }
     c.reference = run.result.d_trajectory;
     reference_times.push_back(run.seconds);
-    c.penalty_reference = Run(c.scene, quasistatic, 20 * c.steps, 1).result.d_trajectory;
+    c.penalty_reference = TimedRun(c.scene, quasistatic, 20 * c.steps, 1).result.d_trajectory;
     engine::Scene rigid = c.scene;
     rigid.contact.model = engine::ContactLaw::Model::kRigid;
-    c.rigid_reference = Run(rigid, quasistatic, 20 * c.steps, 1).result.d_trajectory;
+    c.rigid_reference = TimedRun(rigid, quasistatic, 20 * c.steps, 1).result.d_trajectory;
   }
-  result.reference_time = Median(reference_times);
+  result.reference_time = analysis::Median(reference_times);
 
   for (const Method& method : Methods(options)) {
     if (progress != nullptr) fmt::print(*progress, "{}\n", method.name);
@@ -205,7 +199,7 @@ LadderResult RunLadder(const engine::Scene& scene, const LadderOptions& options,
       engine::Scene scene_for_method = c.scene;
       method.adapt(scene_for_method);
       const int steps = std::max(1, static_cast<int>(std::lround(method.steps_factor * c.steps)));
-      const Timed run = Run(scene_for_method, *method.solver, steps, method.slow ? 1 : options.repeats);
+      const Timed run = TimedRun(scene_for_method, *method.solver, steps, method.slow ? 1 : options.repeats);
       ++row.cases_run;
       if (run.result.status != solvers::Status::kOk) {
         if (row.cases_failed++ == 0) {
@@ -220,7 +214,7 @@ LadderResult RunLadder(const engine::Scene& scene, const LadderOptions& options,
       numerical = std::max(numerical,
                            std::abs(run.result.d_trajectory - (rigid ? c.rigid_reference : c.penalty_reference)));
     }
-    row.time = Median(times);
+    row.time = analysis::Median(times);
     if (method.rung != Rung::kDynamic) row.numerical_error = numerical;
     if (row.cases_failed == row.cases_run) row.error = std::numeric_limits<double>::quiet_NaN();
     result.rows.push_back(row);

@@ -179,6 +179,16 @@ TEST(EstimateQuantile, MedianOfOneHundredUsesTheTextbookRanks40And61) {
   EXPECT_THAT(e, RanksAndInterval(40, 61, 40.0, 61.0));
 }
 
+// The median needs no sorted input: 3, 1, 2 has the middle value 2, and 4, 1, 3, 2 the mean
+// of its two middle values (2 + 3) / 2, both exact in binary.
+TEST(Median, IsTheMiddleValueOrTheMeanOfTheTwoMiddleOnesOfUnsortedValues) {
+  EXPECT_EQ(Median({3.0, 1.0, 2.0}), 2.0);
+  EXPECT_EQ(Median({4.0, 1.0, 3.0, 2.0}), 2.5);
+  EXPECT_EQ(Median({7.0}), 7.0);
+  EXPECT_EQ(Median({4.0, 1.0, 3.0, 2.0}), EstimateQuantile(std::vector<double>{1.0, 2.0, 3.0, 4.0}, 0.5).value);
+  EXPECT_TRUE(std::isnan(Median({})));
+}
+
 TEST(EstimateQuantile, SampleRangeOfSixIsTheSmallestFiniteMedianIntervalAt95Percent) {
   // n = 5: P(B = 0) = 1/32 = 0.031 > 0.025, so neither side can be bounded; n = 6: 1/64 <= 0.025,
   // and [x_(1), x_(6)] covers the median with probability 1 - 2/64.

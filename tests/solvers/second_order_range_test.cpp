@@ -13,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include "analysis/order_statistics.h"
 #include "solvers/linear.h"
 #include "tests/support/paper_scene.h"
 
@@ -118,11 +119,6 @@ void ExpectCovers(const solvers::SecondOrderRange& bound, const Largest& at, int
   }
 }
 
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values.empty() ? 0.0 : values[values.size() / 2];
-}
-
 // The spectral mode's grid: every 8th of the step rule's angles (3200 a revolution for the
 // article's ring).
 constexpr int kSteps = 3200;
@@ -186,7 +182,7 @@ TEST(SecondOrderTermsOver, BoundsAtsValuesAtEveryAngleOfTheRange) {
   ASSERT_FALSE(centre_ratio[0].empty());
   for (std::size_t j = 0; j < kLobeScales.size(); ++j) {
     if (kLobeScales[j] <= kTightUpTo) {
-      EXPECT_LE(Median(centre_ratio[j]), kMedianCentreRatio) << kLobeScales[j];
+      EXPECT_LE(analysis::Median(centre_ratio[j]), kMedianCentreRatio) << kLobeScales[j];
     }
     if (centre_ratio[j].empty()) {
       std::printf("lobes x%g: no finite remainder on %d stretches\n", kLobeScales[j], stretches[j]);
@@ -194,8 +190,8 @@ TEST(SecondOrderTermsOver, BoundsAtsValuesAtEveryAngleOfTheRange) {
     }
     std::printf("lobes x%g: finite on %zu of %d stretches; Over / At: centre median %.3g worst %.3g, "
                 "remainder median %.3g worst %.3g\n",
-                kLobeScales[j], centre_ratio[j].size(), stretches[j], Median(centre_ratio[j]),
-                *std::max_element(centre_ratio[j].begin(), centre_ratio[j].end()), Median(remainder_ratio[j]),
+                kLobeScales[j], centre_ratio[j].size(), stretches[j], analysis::Median(centre_ratio[j]),
+                *std::max_element(centre_ratio[j].begin(), centre_ratio[j].end()), analysis::Median(remainder_ratio[j]),
                 *std::max_element(remainder_ratio[j].begin(), remainder_ratio[j].end()));
   }
 }
@@ -304,8 +300,8 @@ TEST(SecondOrderTermsOver, RangeFromAStretchsEndsBoundsItsDenseAngles) {
     ASSERT_FALSE(centre_ratio[j].empty());
     std::printf("chord ranges, lobes x%g: finite on %zu stretches; Over / At: centre median %.3g worst %.3g, "
                 "remainder median %.3g worst %.3g\n",
-                kLobeScales[j], centre_ratio[j].size(), Median(centre_ratio[j]),
-                *std::max_element(centre_ratio[j].begin(), centre_ratio[j].end()), Median(remainder_ratio[j]),
+                kLobeScales[j], centre_ratio[j].size(), analysis::Median(centre_ratio[j]),
+                *std::max_element(centre_ratio[j].begin(), centre_ratio[j].end()), analysis::Median(remainder_ratio[j]),
                 *std::max_element(remainder_ratio[j].begin(), remainder_ratio[j].end()));
   }
 }

@@ -13,6 +13,7 @@
 #include <random>
 #include <vector>
 
+#include "analysis/order_statistics.h"
 #include "solvers/linear.h"
 #include "tests/support/paper_scene.h"
 
@@ -27,11 +28,6 @@ constexpr int kStride = 8;
 // and ~1e2 N: the chord through them is off by ~1e-17 m and ~1e-14 N.
 constexpr double kLengthRoundOff = 1e-15;  // [m]
 constexpr double kForceRoundOff = 1e-12;   // [N]
-
-double Median(std::vector<double> values) {
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
-  return values[values.size() / 2];
-}
 
 TEST(LinearPathStrayingOver, BoundsEveryDenseAngleAndNeverExceedsTheChordBound) {
   std::mt19937_64 random(41);
@@ -96,10 +92,10 @@ TEST(LinearPathStrayingOver, BoundsEveryDenseAngleAndNeverExceedsTheChordBound) 
   for (std::size_t s = 0; s < kLobeScales.size(); ++s) {
     ASSERT_FALSE(centre_ratio[s].empty());
     std::printf("lobe scale %.0f: Hermite / chord bound of the centre, median %.3f, largest %.3f\n", kLobeScales[s],
-                Median(centre_ratio[s]), *std::max_element(centre_ratio[s].begin(), centre_ratio[s].end()));
+                analysis::Median(centre_ratio[s]), *std::max_element(centre_ratio[s].begin(), centre_ratio[s].end()));
   }
   // At the campaign's own lobes the slopes settle most of what the chord bound leaves open.
-  EXPECT_LT(Median(centre_ratio[0]), 0.5);
+  EXPECT_LT(analysis::Median(centre_ratio[0]), 0.5);
 }
 
 }  // namespace

@@ -26,6 +26,7 @@
 #include <string_view>
 #include <vector>
 
+#include "analysis/order_statistics.h"
 #include "jobs/campaign/campaign.h"
 #include "solvers/auto.h"
 #include "solvers/linear.h"
@@ -90,13 +91,6 @@ struct Tally {
   // runout and swing.
   std::array<std::vector<double>, 3> linear_ratios;
 };
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 Tally CheckClasses(const Classes& classes) {
   const std::int64_t samples = SamplesPerClass();
@@ -184,7 +178,7 @@ TEST(AutoRung, StatusesAreTheExactModelsAndErrorsStayWithinTheRecordedEstimate) 
       const double largest = ratios.empty() ? 0.0 : *std::max_element(ratios.begin(), ratios.end());
       const std::string key = std::string(classes.name) + "_linear_" + metric[m];
       RecordProperty(key + "_largest_error_over_estimate", std::to_string(largest));
-      RecordProperty(key + "_median_error_over_estimate", std::to_string(Median(ratios)));
+      RecordProperty(key + "_median_error_over_estimate", std::to_string(analysis::Median(ratios)));
       RecordProperty(key + "_samples", std::to_string(ratios.size()));
     }
   }

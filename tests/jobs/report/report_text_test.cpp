@@ -39,6 +39,14 @@ TEST(ReportText, YieldsAreWrittenToTheResolutionOfTheirSampleCount) {
   EXPECT_EQ(YieldWithInterval(yield), "100.00 % [99.82, 100.00 %]");
 }
 
+// A level or a share as people say it: four significant digits, no trailing zeros.
+TEST(ReportText, PercentagesAreWrittenToFourSignificantDigits) {
+  EXPECT_EQ(Percent(0.25), "25 %");
+  EXPECT_EQ(Percent(0.999), "99.9 %");
+  EXPECT_EQ(Percent(0.99999), "100 %");
+  EXPECT_EQ(Percent(0.001234), "0.1234 %");
+}
+
 TEST(ReportText, DecimalsNeverWriteANegativeZero) {
   EXPECT_EQ(Decimals(-0.0004, 3), "0.000");
   EXPECT_EQ(Decimals(-0.0006, 3), "-0.001");
