@@ -94,8 +94,8 @@ const Campaign& Allocation::CandidateCampaign(std::int64_t candidate, Evaluation
   // The life values cost what a sample's revolution costs again; only a constraint on one
   // of them pays for it (the other outputs are not stored).
   plan.solver.simulation.life = std::any_of(stored_outputs_.begin(), stored_outputs_.end(), [](const std::string& name) {
-    const auto* output = std::find(kOutputNames.begin(), kOutputNames.end(), name);
-    return output != kOutputNames.end() && IsLifeOutput(static_cast<std::size_t>(output - kOutputNames.begin()));
+    const std::size_t output = OutputIndex(name);
+    return output < kOutputCount && IsLifeOutput(output);
   });
   const std::vector<int> options = space_.Options(candidate);
   std::string name = fmt::format("{}, candidate {} (", plan_.campaign.file.string(), candidate);

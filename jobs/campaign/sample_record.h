@@ -86,6 +86,12 @@ inline constexpr std::array<const char*, kOutputs.size()> kOutputNames = [] {
 }();
 inline constexpr bool IsLifeOutput(std::size_t output) { return kOutputs[output].span == OutputSpan::kLife; }
 inline constexpr std::size_t kOutputCount = kOutputNames.size();
+// Where the output named `name` is in kOutputs; kOutputCount when no output has that name.
+constexpr std::size_t OutputIndex(std::string_view name) {
+  std::size_t k = 0;
+  while (k < kOutputCount && name != kOutputs[k].name) ++k;
+  return k;
+}
 // Whether `output` is one of the three error-motion values, which the error motion's filter
 // reads (engine::ErrorMotionFilter) and whose datasets state it.
 inline bool IsErrorMotionOutput(std::string_view output) { return output.starts_with("error_motion_"); }

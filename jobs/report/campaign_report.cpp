@@ -249,12 +249,6 @@ OutputSensitivity ScreenOutput(const std::string& output, std::span<const double
 
 namespace {
 
-std::size_t OutputColumn(std::string_view name) {
-  const auto* at = std::find_if(kOutputNames.begin(), kOutputNames.end(),
-                                [&](const char* output) { return name == output; });
-  return static_cast<std::size_t>(at - kOutputNames.begin());
-}
-
 // The kept points of a curve, in place.
 void KeepPoints(std::vector<double>& values, const std::vector<std::size_t>& kept) {
   std::vector<double> picked;
@@ -271,9 +265,9 @@ ReplayedTrajectory Replay(const Campaign& campaign, const CampaignReader& reader
   ReplayedTrajectory out;
   out.label = std::move(label);
   out.by = std::move(by);
-  out.stored_by = stored.outputs[OutputColumn(out.by)];
+  out.stored_by = stored.outputs[OutputIndex(out.by)];
   out.index = index;
-  out.stored_d_trajectory_mm = stored.outputs[OutputColumn("d_trajectory_mm")];
+  out.stored_d_trajectory_mm = stored.outputs[OutputIndex("d_trajectory_mm")];
   out.tolerance_mm = ReplayTolerance(campaign.plan().solver) * units::kMillimetresPerMetre;
   solvers::SimulationResult result;
   try {

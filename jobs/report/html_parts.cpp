@@ -62,9 +62,7 @@ std::string PercentInterval(const analysis::Interval& i) {
 }
 
 std::string Quantity(std::string_view name) {
-  for (const OutputDescription& output : kOutputs) {
-    if (name == output.name) return output.label;
-  }
+  if (const std::size_t output = OutputIndex(name); output < kOutputCount) return kOutputs[output].label;
   std::string text(name.substr(0, name.rfind('_')));
   std::replace(text.begin(), text.end(), '_', ' ');
   return text;

@@ -129,10 +129,6 @@ std::vector<std::string> StoredOutputs(const std::vector<analysis::Constraint>& 
   return outputs;
 }
 
-std::size_t OutputIndex(std::string_view output) {
-  return static_cast<std::size_t>(std::find(kOutputNames.begin(), kOutputNames.end(), output) - kOutputNames.begin());
-}
-
 std::int64_t CandidateCount(const AllocationIdentity& identity) {
   std::int64_t count = 1;
   for (const auto& options : identity.options) {

@@ -50,10 +50,11 @@ ShardPlan PlanShards(const fs::path& results, int ranks, bool resume,
   }
   std::error_code error;
   const bool exists = fs::exists(results, error);
+  const bool index = resume && exists && IsShardIndex(results);
   ShardPlan plan;
-  plan.sharded = ranks > 1 || !left.empty() || (resume && exists && IsShardIndex(results));
+  plan.sharded = ranks > 1 || !left.empty() || index;
   if (!plan.sharded) return plan;
-  if (resume && exists && !IsShardIndex(results)) {
+  if (resume && exists && !index) {
     const fs::path own = ShardPath(results, 0);
     if (fs::exists(own, error)) {
       throw InputError(fmt::format("{}: keeps samples itself and {} exists beside it: move one of them away",
