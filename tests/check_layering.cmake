@@ -61,6 +61,7 @@ set(rules
   "jobs/store/results_check.h=jobs/store/results_check.h=^(mpi\\.h|CLI/)"
   "jobs/store/shards.h=jobs/store/shards.h=^(mpi\\.h|CLI/)"
   "jobs/store/hdf5_file.h=engine sampling jobs/store/hdf5_file.h=^(mpi\\.h|CLI/)"
+  "jobs/store/identity_attributes.h=engine sampling jobs/store/hdf5_file.h jobs/store/identity_attributes.h=^(mpi\\.h|CLI/)"
   "jobs/store/sample_table.h=jobs/campaign engine sampling solvers analysis jobs/inputs jobs/store/results_check.h jobs/store/hdf5_file.h jobs/store/sample_table.h=^(mpi\\.h|CLI/)"
   "jobs/store/allocation_store.h=jobs/allocation/allocation_outcome.h jobs/campaign engine sampling solvers analysis jobs/inputs jobs/store/results_check.h jobs/store/shards.h jobs/store/allocation_store.h=^(mpi\\.h|CLI/)"
   "jobs/store/campaign_store.h=jobs/campaign engine sampling solvers analysis jobs/inputs jobs/store/results_check.h jobs/store/shards.h jobs/store/campaign_store.h=^(mpi\\.h|CLI/)")

@@ -13,12 +13,12 @@
 #include <map>
 #include <optional>
 #include <stdexcept>
-#include <tuple>
 #include <utility>
 
 #include "engine/check.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/store/hdf5_file.h"
+#include "jobs/store/identity_attributes.h"
 #include "jobs/store/sample_table.h"
 
 namespace ringtol::jobs {
@@ -298,6 +298,24 @@ std::vector<T> ReadWhole(const Where& where, hid_t file, const std::string& path
 // ---------------------------------------------------------------------------------------
 // Identity
 
+// The identity's root attributes, but for `candidates` (its options') and `reference`
+// (-1 for none).
+constexpr std::array<IdentityAttribute<AllocationIdentity>, 13> kIdentityAttributes = {{
+    {"ringtol_version", &AllocationIdentity::ringtol_version},
+    {"catalogue_version", &AllocationIdentity::catalogue_version},
+    {"allocation_path", &AllocationIdentity::allocation_path, Comparison::kNever},
+    {"allocation_file", &AllocationIdentity::allocation_file, Comparison::kText},
+    {"base_scene", &AllocationIdentity::base_scene, Comparison::kText},
+    {"design", &AllocationIdentity::design},
+    {"solver", &AllocationIdentity::solver},
+    {"screen", &AllocationIdentity::screen},
+    {"search", &AllocationIdentity::search},
+    {"seed", &AllocationIdentity::seed},
+    {"samples", &AllocationIdentity::samples},
+    {"first_samples", &AllocationIdentity::first_samples},
+    {"confidence", &AllocationIdentity::confidence},
+}};
+
 struct Stored {
   AllocationIdentity identity;
   int schema_version = 0;
@@ -346,22 +364,7 @@ Stored ReadStored(const Where& where, hid_t file) {
   stored.index = layout.layout == Layout::kShardIndex;
 
   AllocationIdentity& identity = stored.identity;
-  const auto text = [&](const char* name) { return Require(where, ReadStringAttribute(where, file, name), name); };
-  identity.ringtol_version = text("ringtol_version");
-  identity.catalogue_version = text("catalogue_version");
-  identity.allocation_path = text("allocation_path");
-  identity.allocation_file = text("allocation_file");
-  identity.base_scene = text("base_scene");
-  identity.design = text("design");
-  identity.solver = text("solver");
-  identity.screen = text("screen");
-  identity.search = text("search");
-  identity.seed =
-      Require(where, ReadNumberAttribute<std::uint64_t>(where, file, "seed", H5T_INTEGER, H5T_NATIVE_UINT64), "seed");
-  identity.samples = integer("samples");
-  identity.first_samples = integer("first_samples");
-  identity.confidence =
-      Require(where, ReadNumberAttribute<double>(where, file, "confidence", H5T_FLOAT, H5T_NATIVE_DOUBLE), "confidence");
+  ReadIdentityAttributes(where, file, identity, kIdentityAttributes, kFormat);
   stored.candidates = integer("candidates");
   if (const std::int64_t reference = integer("reference"); reference >= 0) identity.reference = reference;
   identity.inputs = ReadInputDescriptions(where, file);
@@ -420,25 +423,7 @@ Stored ReadStored(const Where& where, hid_t file) {
 
 // The first identity field in which `now` differs from the file, or nothing.
 std::optional<std::string> IdentityDifference(const AllocationIdentity& file, const AllocationIdentity& now) {
-  using Text = std::string AllocationIdentity::*;
-  for (const auto& [field, member, multiline] :
-       {std::tuple<const char*, Text, bool>{"ringtol_version", &AllocationIdentity::ringtol_version, false},
-        {"catalogue_version", &AllocationIdentity::catalogue_version, false},
-        {"allocation_file", &AllocationIdentity::allocation_file, true},
-        {"base_scene", &AllocationIdentity::base_scene, true},
-        {"design", &AllocationIdentity::design, false},
-        {"solver", &AllocationIdentity::solver, false},
-        {"screen", &AllocationIdentity::screen, false},
-        {"search", &AllocationIdentity::search, false}}) {
-    if (auto d = multiline ? TextDifference(field, file.*member, now.*member)
-                           : WordDifference(field, file.*member, now.*member)) {
-      return d;
-    }
-  }
-  if (auto d = WordDifference("seed", file.seed, now.seed)) return d;
-  if (auto d = WordDifference("samples", file.samples, now.samples)) return d;
-  if (auto d = WordDifference("first_samples", file.first_samples, now.first_samples)) return d;
-  if (auto d = WordDifference("confidence", file.confidence, now.confidence)) return d;
+  if (auto d = IdentityAttributeDifference(file, now, kIdentityAttributes)) return d;
   if (auto d = InputDifference(file.inputs, now.inputs, "this allocation")) return d;
   if (auto d = WordDifference("components", fmt::format("{}", fmt::join(file.components, ", ")),
                                fmt::format("{}", fmt::join(now.components, ", ")))) {
@@ -543,19 +528,7 @@ void WriteIdentity(const Where& where, hid_t file, const AllocationIdentity& ide
   WriteStringAttribute(where, file, "format", kFormat);
   WriteAttribute(where, file, "schema_version", H5T_STD_I32LE, H5T_NATIVE_INT32, &schema);
   WriteLayout(where, file, {layout, kAllocationSchemaVersion});
-  WriteStringAttribute(where, file, "ringtol_version", identity.ringtol_version);
-  WriteStringAttribute(where, file, "catalogue_version", identity.catalogue_version);
-  WriteStringAttribute(where, file, "allocation_path", identity.allocation_path);
-  WriteStringAttribute(where, file, "allocation_file", identity.allocation_file);
-  WriteStringAttribute(where, file, "base_scene", identity.base_scene);
-  WriteStringAttribute(where, file, "design", identity.design);
-  WriteStringAttribute(where, file, "solver", identity.solver);
-  WriteStringAttribute(where, file, "screen", identity.screen);
-  WriteStringAttribute(where, file, "search", identity.search);
-  WriteAttribute(where, file, "seed", H5T_STD_U64LE, H5T_NATIVE_UINT64, &identity.seed);
-  WriteAttribute(where, file, "samples", H5T_STD_I64LE, H5T_NATIVE_INT64, &identity.samples);
-  WriteAttribute(where, file, "first_samples", H5T_STD_I64LE, H5T_NATIVE_INT64, &identity.first_samples);
-  WriteAttribute(where, file, "confidence", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &identity.confidence);
+  WriteIdentityAttributes(where, file, identity, kIdentityAttributes);
   WriteAttribute(where, file, "candidates", H5T_STD_I64LE, H5T_NATIVE_INT64, &candidates);
   const std::int64_t reference = identity.reference.value_or(-1);
   WriteAttribute(where, file, "reference", H5T_STD_I64LE, H5T_NATIVE_INT64, &reference);
@@ -1514,22 +1487,12 @@ std::int64_t WriteAllocationIndex(const fs::path& results, const AllocationIdent
   if (design_points.size() != static_cast<std::size_t>(identity.samples) * identity.inputs.size()) {
     throw std::invalid_argument("WriteAllocationIndex: design points of another shape");
   }
-  std::error_code error;
-  if (fs::exists(results, error)) {
-    const FileId file = OpenForReading(results);
-    if (!ReadStored(Where{name, true}, file.get()).index) {
-      throw InputError(name + ": keeps samples of its own; an index of shards cannot replace it");
-    }
-  }
-  const auto folder = [](const fs::path& path) {
-    return path.has_parent_path() ? path.parent_path().lexically_normal() : fs::path(".");
-  };
+  std::vector<fs::path> paths;
+  for (const AllocationShard& shard : shards) paths.push_back(shard.path);
+  CheckIndexTarget(results, paths, "WriteAllocationIndex");
   std::vector<std::string> names;
   std::array<std::vector<VirtualSource>, 2> sources;
   for (const AllocationShard& shard : shards) {
-    if (folder(shard.path) != folder(results)) {
-      throw std::invalid_argument("WriteAllocationIndex: shard " + shard.path.string() + " is not beside " + name);
-    }
     names.push_back(shard.path.filename().string());
     for (const EvaluationRole role : kRoles) {
       VirtualSource source{names.back(), identity.samples, {}, {}};

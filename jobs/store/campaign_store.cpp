@@ -20,6 +20,7 @@
 #include "engine/units.h"
 #include "jobs/inputs/input_error.h"
 #include "jobs/store/hdf5_file.h"
+#include "jobs/store/identity_attributes.h"
 #include "jobs/store/sample_table.h"
 #include "jobs/campaign/campaign.h"
 
@@ -204,6 +205,19 @@ std::vector<sampling::ComponentScale> ReadCalibrations(const Where& where, hid_t
 // ---------------------------------------------------------------------------------------
 // Identity
 
+// The identity's root attributes, but for `life` and `accuracy`: named values that files
+// written before them lack.
+constexpr std::array<IdentityAttribute<CampaignIdentity>, 8> kIdentityAttributes = {{
+    {"ringtol_version", &CampaignIdentity::ringtol_version},
+    {"catalogue_version", &CampaignIdentity::catalogue_version},
+    {"campaign_path", &CampaignIdentity::campaign_path, Comparison::kNever},
+    {"campaign_file", &CampaignIdentity::campaign_file, Comparison::kText},
+    {"base_scene", &CampaignIdentity::base_scene, Comparison::kText},
+    {"design", &CampaignIdentity::design},
+    {"solver", &CampaignIdentity::solver},
+    {"seed", &CampaignIdentity::seed},
+}};
+
 // What Resume and CampaignReader find in a file before trusting it.
 struct Stored {
   CampaignIdentity identity;
@@ -255,14 +269,7 @@ Stored ReadStored(const Where& where, hid_t file) {
   }
 
   CampaignIdentity& identity = stored.identity;
-  const auto text = [&](const char* name) { return Require(where, ReadStringAttribute(where, file, name), name); };
-  identity.ringtol_version = text("ringtol_version");
-  identity.catalogue_version = text("catalogue_version");
-  identity.campaign_path = text("campaign_path");
-  identity.campaign_file = text("campaign_file");
-  identity.base_scene = text("base_scene");
-  identity.design = text("design");
-  identity.solver = text("solver");
+  ReadIdentityAttributes(where, file, identity, kIdentityAttributes, kFormat);
   // Files written before the choice computed the life wherever their schema has it.
   if (const std::optional<std::string> life = ReadStringAttribute(where, file, "life")) {
     if (*life != kLifeComputed && *life != kLifeNotComputed) {
@@ -279,8 +286,6 @@ Stored ReadStored(const Where& where, hid_t file) {
     }
     identity.accuracy = *named;
   }
-  identity.seed =
-      Require(where, ReadNumberAttribute<std::uint64_t>(where, file, "seed", H5T_INTEGER, H5T_NATIVE_UINT64), "seed");
   stored.samples = Require(
       where, ReadNumberAttribute<std::int64_t>(where, file, "samples", H5T_INTEGER, H5T_NATIVE_INT64), "samples");
   if (stored.samples < 1) Fail(where, fmt::format("attribute samples = {} is not positive", stored.samples));
@@ -352,20 +357,7 @@ std::optional<std::string> IdentityDifference(const CampaignIdentity& file, cons
                               NameOf(solvers::kAccuracyNames, now.accuracy))) {
     return d;
   }
-  using Text = std::string CampaignIdentity::*;
-  for (const auto& [field, member, multiline] :
-       {std::tuple<const char*, Text, bool>{"ringtol_version", &CampaignIdentity::ringtol_version, false},
-        {"catalogue_version", &CampaignIdentity::catalogue_version, false},
-        {"campaign_file", &CampaignIdentity::campaign_file, true},
-        {"base_scene", &CampaignIdentity::base_scene, true},
-        {"design", &CampaignIdentity::design, false},
-        {"solver", &CampaignIdentity::solver, false}}) {
-    if (auto d = multiline ? TextDifference(field, file.*member, now.*member)
-                           : WordDifference(field, file.*member, now.*member)) {
-      return d;
-    }
-  }
-  if (file.seed != now.seed) return fmt::format("seed differs ({} in the file, {} now)", file.seed, now.seed);
+  if (auto d = IdentityAttributeDifference(file, now, kIdentityAttributes)) return d;
   if (auto d = InputDifference(file.inputs, now.inputs, "this campaign")) return d;
   return SpecDifference(file.spec, now.spec);
 }
@@ -681,15 +673,8 @@ void WriteIdentity(const Where& where, hid_t file, const CampaignIdentity& ident
   WriteStringAttribute(where, file, "format", kFormat);
   WriteAttribute(where, file, "schema_version", H5T_STD_I32LE, H5T_NATIVE_INT32, &schema);
   WriteLayout(where, file, {layout, kCampaignSchemaVersion});
-  WriteStringAttribute(where, file, "ringtol_version", identity.ringtol_version);
-  WriteStringAttribute(where, file, "catalogue_version", identity.catalogue_version);
-  WriteAttribute(where, file, "seed", H5T_STD_U64LE, H5T_NATIVE_UINT64, &identity.seed);
+  WriteIdentityAttributes(where, file, identity, kIdentityAttributes);
   WriteAttribute(where, file, "samples", H5T_STD_I64LE, H5T_NATIVE_INT64, &samples);
-  WriteStringAttribute(where, file, "design", identity.design);
-  WriteStringAttribute(where, file, "solver", identity.solver);
-  WriteStringAttribute(where, file, "campaign_path", identity.campaign_path);
-  WriteStringAttribute(where, file, "campaign_file", identity.campaign_file);
-  WriteStringAttribute(where, file, "base_scene", identity.base_scene);
   WriteStringAttribute(where, file, "life", identity.life ? kLifeComputed : kLifeNotComputed);
   WriteStringAttribute(where, file, "accuracy", std::string(NameOf(solvers::kAccuracyNames, identity.accuracy)));
 
@@ -843,6 +828,28 @@ ResultsCheck Check(const Where& where, hid_t file, const SampleTable& table, con
   recompute.insert(recompute.end(), lost.begin(), lost.end());
   check.recompute = MergeRanges(std::move(recompute));
   return check;
+}
+
+// What ReadStored found in a shard (`opening`): InputError unless it is a results file of
+// the index's campaign, of no more samples, keeping the same inputs.
+void CheckShardStored(const Where& index, const Where& opening, const Stored& stored, const Stored& expected) {
+  if (stored.index) throw InputError(opening.file + ": is an index of shards, not a shard");
+  if (stored.schema_version != expected.schema_version) {
+    throw InputError(fmt::format("{}: is a shard of schema {}, not {}", opening.file, stored.schema_version,
+                                 expected.schema_version));
+  }
+  if (const std::optional<std::string> difference = IdentityDifference(stored.identity, expected.identity)) {
+    throw InputError(opening.file + ": is a shard of another campaign than " + index.file + ": " + *difference +
+                     "; remove it, or resume with the campaign that wrote it");
+  }
+  if (stored.samples > expected.samples) {
+    throw InputError(fmt::format("{}: is a shard of {} samples, more than the {} of {}", opening.file, stored.samples,
+                                 expected.samples, index.file));
+  }
+  if (stored.inputs_stored_below != expected.inputs_stored_below) {
+    throw InputError(fmt::format("{}: keeps the inputs of samples below {}, where {} keeps those below {}",
+                                 opening.file, stored.inputs_stored_below, index.file, expected.inputs_stored_below));
+  }
 }
 
 }  // namespace
@@ -1122,22 +1129,12 @@ CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
   const Where opening{shard_path.string(), true};
   const FileId shard = OpenForReading(shard_path);
   const Stored stored = ReadStored(opening, shard.get());
-  if (stored.index) throw InputError(opening.file + ": is an index of shards, not a shard");
-  if (stored.schema_version != f.schema) {
-    throw InputError(fmt::format("{}: is a shard of schema {}, not {}", opening.file, stored.schema_version, f.schema));
-  }
-  if (const std::optional<std::string> difference = IdentityDifference(stored.identity, f.identity)) {
-    throw InputError(opening.file + ": is a shard of another campaign than " + f.where.file + ": " + *difference +
-                     "; remove it, or resume with the campaign that wrote it");
-  }
-  if (stored.samples > f.samples) {
-    throw InputError(fmt::format("{}: is a shard of {} samples, more than the {} of {}", opening.file, stored.samples,
-                                 f.samples, f.where.file));
-  }
-  if (stored.inputs_stored_below != f.inputs_stored_below) {
-    throw InputError(fmt::format("{}: keeps the inputs of samples below {}, where {} keeps those below {}",
-                                 opening.file, stored.inputs_stored_below, f.where.file, f.inputs_stored_below));
-  }
+  Stored expected;
+  expected.identity = f.identity;
+  expected.samples = f.samples;
+  expected.schema_version = f.schema;
+  expected.inputs_stored_below = f.inputs_stored_below;
+  CheckShardStored(f.where, opening, stored, expected);
   SampleTable from = OpenColumns(opening, shard.get(), stored);
   from.set_where(Where{opening.file, false});
   // A shard whose failure rows are damaged is copied row by row: its failed samples that
@@ -1233,27 +1230,6 @@ void CreateFailureViews(const Where& where, hid_t file, const std::vector<std::s
   }
 }
 
-// What ReadStored found in a shard (`opening`): InputError unless it is a results file of
-// the index's campaign, of no more samples, keeping the same inputs.
-void CheckShardStored(const Where& index, const Where& opening, const Stored& stored, const Stored& expected) {
-  if (stored.index) throw InputError(opening.file + ": is an index of shards, not a shard");
-  if (stored.schema_version != expected.schema_version) {
-    throw InputError(fmt::format("{}: is a shard of schema {}, not {}", opening.file, stored.schema_version,
-                                 expected.schema_version));
-  }
-  if (const std::optional<std::string> difference = IdentityDifference(stored.identity, expected.identity)) {
-    throw InputError(opening.file + ": is a shard of another campaign than " + index.file + ": " + *difference);
-  }
-  if (stored.samples > expected.samples) {
-    throw InputError(fmt::format("{}: is a shard of {} samples, more than the {} of {}", opening.file, stored.samples,
-                                 expected.samples, index.file));
-  }
-  if (stored.inputs_stored_below != expected.inputs_stored_below) {
-    throw InputError(fmt::format("{}: keeps the inputs of samples below {}, where {} keeps those below {}",
-                                 opening.file, stored.inputs_stored_below, index.file, expected.inputs_stored_below));
-  }
-}
-
 // A shard an index lists (it exists: ListedShardFiles): InputError as CheckShardStored, or
 // naming the shard and the resume that recovers its samples when it cannot be read.
 void CheckShard(const Where& index, const fs::path& shard, const Stored& expected) {
@@ -1328,15 +1304,14 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
   const QuietErrors quiet;
   const std::string name = results.string();
   if (shards.empty()) throw std::invalid_argument("WriteShardIndex: no shards");
+  std::vector<fs::path> paths;
+  for (const ShardContents& shard : shards) paths.push_back(shard.path);
+  CheckIndexTarget(results, paths, "WriteShardIndex");
   std::error_code error;
   std::optional<std::uint32_t> written_digest;
   if (fs::exists(results, error)) {
-    const FileId file = OpenForReading(results);
-    if (!ReadStored(Where{name, true}, file.get()).index) {
-      throw InputError(name + ": keeps samples of its own; an index of shards cannot replace it");
-    }
-    written_digest = ReadNumberAttribute<std::uint32_t>(Where{name, true}, file.get(), "shard_digest", H5T_INTEGER,
-                                                        H5T_NATIVE_UINT32);
+    written_digest = ReadNumberAttribute<std::uint32_t>(Where{name, true}, OpenForReading(results).get(),
+                                                        "shard_digest", H5T_INTEGER, H5T_NATIVE_UINT32);
   }
   const std::int64_t chunk_rows = shards.front().chunk_rows;
   const std::int64_t stored_below = shards.front().inputs_stored_below;
@@ -1347,11 +1322,7 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
   std::vector<hsize_t> failure_rows;
   std::vector<SampleRange> owned;  // by the shards before: the first listed wins
   for (const ShardContents& shard : shards) {
-    const auto folder = [](const fs::path& path) {
-      return path.has_parent_path() ? path.parent_path().lexically_normal() : fs::path(".");
-    };
-    if (folder(shard.path) != folder(results) ||
-        shard.samples > samples || shard.chunk_rows != chunk_rows || shard.inputs_stored_below != stored_below) {
+    if (shard.samples > samples || shard.chunk_rows != chunk_rows || shard.inputs_stored_below != stored_below) {
       throw std::invalid_argument("WriteShardIndex: shard " + shard.path.string() + " is not a shard of " + name);
     }
     VirtualSource source{shard.path.filename().string(), shard.samples, Without(shard.finished, owned), {}};

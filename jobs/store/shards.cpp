@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -124,6 +125,22 @@ std::vector<UnreadableShard> SetAsideUnreadableShards(const fs::path& results,
     }
   }
   return aside;
+}
+
+void CheckIndexTarget(const fs::path& results, const std::vector<fs::path>& shards, std::string_view writer) {
+  std::error_code error;
+  if (fs::exists(results, error) && !IsShardIndex(results)) {
+    throw InputError(results.string() + ": keeps samples of its own; an index of shards cannot replace it");
+  }
+  const auto folder = [](const fs::path& path) {
+    return path.has_parent_path() ? path.parent_path().lexically_normal() : fs::path(".");
+  };
+  for (const fs::path& shard : shards) {
+    if (folder(shard) != folder(results)) {
+      throw std::invalid_argument(
+          fmt::format("{}: shard {} is not beside {}", writer, shard.string(), results.string()));
+    }
+  }
 }
 
 bool IsShardIndex(const fs::path& results) {

@@ -68,6 +68,11 @@ std::string UnreadableShardMessage(const std::string& index, const std::filesyst
                                    std::string_view command, const std::string& input);
 // "<shard>.unreadable", or "<shard>.unreadable-2", -3, ...: the first name that is free.
 std::filesystem::path SetAsidePath(const std::filesystem::path& shard);
+// Before an index of `shards` is written at `results`: InputError when a file there keeps
+// samples of its own (an index never replaces one), std::invalid_argument naming `writer`
+// for a shard that is not beside it (an index lists its shards by name).
+void CheckIndexTarget(const std::filesystem::path& results, const std::vector<std::filesystem::path>& shards,
+                      std::string_view writer);
 // Whether `results` is an index of shards, a campaign's or an allocation's: its root only is
 // read, its shards not opened. InputError when it cannot be opened.
 bool IsShardIndex(const std::filesystem::path& results);
