@@ -1,7 +1,8 @@
 // The HDF5 machinery the results files share (jobs/store/campaign_store.h,
 // jobs/store/allocation_store.h): owning handles, errors turned into exceptions that name
 // the file, attributes, checksummed datasets, the sample status enumeration, opening a file
-// a killed writer left, the writers' lock and publishing a new file under its name.
+// a killed writer left, the writers' lock and publishing a new file under its name, and
+// arrays of one or two dimensions written and read whole or by rows.
 // Private to jobs/store: the public headers never expose HDF5.
 //
 // Failure: every function throws through Fail, so an InputError (the user's file is wrong
@@ -360,7 +361,7 @@ TypeId EnumMemoryType(const Where& where, hid_t dataset, const std::string& path
 void WriteRows(const Where& where, hid_t dataset, const std::string& path, hid_t memory_type, hsize_t first,
                hsize_t count, const void* data);
 // Writes the dataset at `path` whole, as `rows` rows: an extendable one is resized to them
-// first (a list shrinks as it grows).
+// first, shorter or longer.
 void WriteWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type, hsize_t rows,
                 const void* data);
 
