@@ -13,6 +13,8 @@
 #include <map>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
+#include <type_traits>
 #include <utility>
 
 #include "engine/check.h"
@@ -201,98 +203,161 @@ TypeId SettledByType(const Where& where) {
 }
 
 // ---------------------------------------------------------------------------------------
-// Arrays: every dataset but the descriptions' strings is one of these.
+// The outcome's arrays and attributes, once: CreateOutcome, WriteOutcome, ReadOutcomeFrom
+// and CheckOutcome iterate over these tables, in the order the file has them created.
 
-struct Shape {
-  hsize_t rows = 0;
-  hsize_t columns = 0;  // 0: one-dimensional
-  int rank() const { return columns == 0 ? 1 : 2; }
+// How many rows and columns an array has: C candidates, K components, M constraints.
+enum class Extent {
+  kCandidates,            // [C]
+  kJudgedCandidates,      // [C], the fill unless the candidate's yield has trials
+  kCandidateComponents,   // [C, K]
+  kCandidateConstraints,  // [C, M], the fill unless the candidate has judgements
+  kUpToCandidates,        // [*]: a list of candidates, extendable up to C
+  kUpToConstraints,       // [*]: a list of constraints, extendable up to M
 };
 
-struct ArraySpec {
-  std::string path;
-  hid_t file_type = H5T_IEEE_F64LE;
-  Shape shape;
-  hsize_t chunk_rows = 1;
-  hsize_t chunk_columns = 1;
-  bool extendable = false;  // one-dimensional, up to max_rows
-  hsize_t max_rows = 0;
-  const void* fill = nullptr;  // in file_type's native counterpart (fill_type)
-  hid_t fill_type = H5T_NATIVE_DOUBLE;
+struct Extents {
+  hsize_t candidates = 0;
+  hsize_t components = 0;
+  hsize_t constraints = 0;
+
+  // A row's columns of a per-candidate array (0: one-dimensional).
+  hsize_t Columns(Extent extent) const {
+    return extent == Extent::kCandidateComponents    ? components
+           : extent == Extent::kCandidateConstraints ? constraints
+                                                     : 0;
+  }
+  // The most entries of a list, and the end of the range each one is in.
+  hsize_t Most(Extent extent) const { return extent == Extent::kUpToConstraints ? constraints : candidates; }
 };
 
-DatasetId CreateArray(const Where& where, hid_t file, const ArraySpec& spec, bool checksum) {
-  const hsize_t dims[2] = {spec.shape.rows, spec.shape.columns};
-  const hsize_t max_dims[2] = {spec.extendable ? spec.max_rows : spec.shape.rows, spec.shape.columns};
-  const SpaceId space(
-      Check(H5Screate_simple(spec.shape.rank(), dims, max_dims), where, "creating the dataspace of", spec.path));
-  const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
-  const hsize_t chunk[2] = {std::max<hsize_t>(1, spec.chunk_rows), std::max<hsize_t>(1, spec.chunk_columns)};
-  CheckStatus(H5Pset_chunk(dcpl.get(), spec.shape.rank(), chunk), where, "chunking", spec.path);
-  if (checksum) AddChecksum(where, dcpl, spec.path);
-  if (spec.fill != nullptr) {
-    CheckStatus(H5Pset_fill_value(dcpl.get(), spec.fill_type, spec.fill), where, "setting the fill value of",
-                spec.path);
+// Of a candidate's row, the elements it holds; the rest are the array's fill.
+std::size_t HeldBy(const CandidateOutcome& candidate, Extent extent) {
+  switch (extent) {
+    case Extent::kJudgedCandidates:
+      return candidate.yield.trials > 0 ? 1 : 0;
+    case Extent::kCandidateComponents:
+      return candidate.options.size();
+    case Extent::kCandidateConstraints:
+      return candidate.constraints.size();
+    default:
+      return 1;
   }
-  // Chunks are written when first filled, so a candidate never simulated takes no space.
-  CheckStatus(H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_INCR), where, "configuring", spec.path);
-  return DatasetId(Check(
-      H5Dcreate2(file, spec.path.c_str(), spec.file_type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
-      "creating dataset", spec.path));
 }
 
-// The memory type to move `memory_type` values through: an enumeration dataset's own
-// (native) type for int8 codes, since HDF5 converts no integer to an enumeration.
-TypeId EnumMemoryType(const Where& where, hid_t dataset, const std::string& path) {
-  const TypeId stored(Check(H5Dget_type(dataset), where, "reading the type of", path));
-  if (H5Tget_class(stored.get()) != H5T_ENUM) return TypeId();
-  return TypeId(Check(H5Tget_native_type(stored.get(), H5T_DIR_ASCEND), where, "reading the type of", path));
+// A field as the file keeps it, T, and back: an enumeration by its code, a bool as 0 or 1,
+// an optional as -1 when empty.
+template <typename T, typename V>
+T Encode(const V& value) {
+  return static_cast<T>(value);
+}
+template <typename T, typename V>
+T Encode(const std::optional<V>& value) {
+  return value ? static_cast<T>(*value) : T{-1};
+}
+template <typename T, typename V>
+void Decode(T stored, V& field) {
+  field = static_cast<V>(stored);
+}
+template <typename T, typename V>
+void Decode(T stored, std::optional<V>& field) {
+  field = stored >= 0 ? std::optional<V>(static_cast<V>(stored)) : std::nullopt;
 }
 
-// Writes a whole dataset (resizing an extendable one to `rows` first) and flushes it.
-void WriteWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type, hsize_t rows,
-                const void* data) {
-  const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening", path));
-  SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
-  hsize_t dims[2] = {0, 0};
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-  if (rank == 1 && dims[0] != rows) {
-    dims[0] = rows;
-    CheckStatus(H5Dset_extent(dataset.get(), dims), where, "resizing", path);
-  }
-  const TypeId as_enum = EnumMemoryType(where, dataset.get(), path);
-  if (as_enum.get() >= 0) memory_type = as_enum.get();
-  if (rows > 0) {
-    CheckStatus(H5Dwrite(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), where, "writing", path);
-  }
-  CheckStatus(H5Dflush(dataset.get()), where, "flushing", path);
+// An array, or an attribute of /outcome, of T (TypesOf; in the file an `enumeration` of
+// int8 codes where given): access(candidate, j) is element j of a candidate's row,
+// access(outcome) a list or an attribute, each a reference to the field.
+template <typename T, typename Access>
+struct OutcomeField {
+  using Element = T;
+  const char* path;  // an attribute's name
+  Extent extent;
+  T fill;  // an attribute's value before any outcome
+  Access access;
+  TypeId (*enumeration)(const Where& where) = nullptr;
+};
+template <typename T, typename Access>
+constexpr OutcomeField<T, Access> Field(const char* path, Extent extent, T fill, Access access,
+                                        TypeId (*enumeration)(const Where&) = nullptr) {
+  return {path, extent, fill, access, enumeration};
+}
+template <typename T, typename Access>
+constexpr OutcomeField<T, Access> Attribute(const char* name, T before, Access access) {
+  return {name, Extent::kCandidates, before, access};
 }
 
-// A whole dataset: its values (row-major) and its rows. InputError (`where.input`) or
-// runtime_error when it does not read.
-template <typename T>
-std::vector<T> ReadWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type,
-                         hsize_t expected_columns = 0) {
-  const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
-  const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
-  hsize_t dims[2] = {0, 0};
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  if (rank < 1 || rank > 2) Fail(where, fmt::format("dataset {} has rank {}", path, rank));
-  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-  const hsize_t columns = rank == 2 ? dims[1] : 0;
-  if (columns != expected_columns) {
-    Fail(where, fmt::format("dataset {} has {} columns where {} are expected", path, columns, expected_columns));
-  }
-  std::vector<T> values(dims[0] * std::max<hsize_t>(1, columns));
-  const TypeId as_enum = EnumMemoryType(where, dataset.get(), path);
-  if (as_enum.get() >= 0) memory_type = as_enum.get();
-  if (!values.empty()) {
-    if (const auto problem = TryRead(dataset.get(), memory_type, H5S_ALL, H5S_ALL, values.data())) {
-      throw InputError(fmt::format("{}: dataset {} is damaged ({})", where.file, path, *problem));
-    }
-  }
-  return values;
+TypeId VerdictType(const Where& where) { return EnumType(where, analysis::kVerdictNames, "the verdict type"); }
+TypeId SettlementType(const Where& where) {
+  return EnumType(where, analysis::kSettlementNames, "the settlement type");
+}
+
+// Created and written with the identity (WriteIdentity), read back into the outcome.
+constexpr std::tuple kCandidateArrays{
+    Field<std::int32_t>("/candidates/options", Extent::kCandidateComponents, 0,
+                        [](auto& c, std::size_t k) -> auto& { return c.options[k]; }),
+    Field<double>("/candidates/cost", Extent::kCandidates, 0, [](auto& c, std::size_t) -> auto& { return c.cost; }),
+    Field<double>("/candidates/relative_cost", Extent::kCandidates, 0,
+                  [](auto& c, std::size_t) -> auto& { return c.relative_cost; }),
+};
+
+// Created as an allocation with nothing visited (every row its fill), rewritten whole at
+// every commit.
+constexpr std::tuple kOutcomeArrays{
+    Field<std::int8_t>("/outcome/verdict", Extent::kCandidates, 0,
+                       [](auto& c, std::size_t) -> auto& { return c.verdict; }, VerdictType),
+    Field<std::int8_t>("/outcome/settlement", Extent::kCandidates, 0,
+                       [](auto& c, std::size_t) -> auto& { return c.settlement; }, SettlementType),
+    Field<std::int8_t>("/outcome/settled_by", Extent::kCandidates, -1,
+                       [](auto& c, std::size_t) -> auto& { return c.settled_by; }, SettledByType),
+    Field<std::int64_t>("/outcome/samples", Extent::kCandidates, 0,
+                        [](auto& c, std::size_t) -> auto& { return c.samples; }),
+    Field<std::int64_t>("/outcome/implied_by", Extent::kCandidates, -1,
+                        [](auto& c, std::size_t) -> auto& { return c.implied_by; }),
+    Field<double>("/outcome/estimate", Extent::kCandidateConstraints, kNaN,
+                  [](auto& c, std::size_t j) -> auto& { return c.constraints[j].estimate; }),
+    Field<double>("/outcome/lower", Extent::kCandidateConstraints, kNaN,
+                  [](auto& c, std::size_t j) -> auto& { return c.constraints[j].interval.lower; }),
+    Field<double>("/outcome/upper", Extent::kCandidateConstraints, kNaN,
+                  [](auto& c, std::size_t j) -> auto& { return c.constraints[j].interval.upper; }),
+    Field<std::int8_t>("/outcome/constraint_verdict", Extent::kCandidateConstraints, 0,
+                       [](auto& c, std::size_t j) -> auto& { return c.constraints[j].verdict; }, VerdictType),
+    Field<std::int64_t>("/outcome/samples_to_decide", Extent::kCandidateConstraints, 0,
+                        [](auto& c, std::size_t j) -> auto& { return c.constraints[j].samples_to_decide; }),
+    Field<double>("/outcome/yield", Extent::kJudgedCandidates, kNaN,
+                  [](auto& c, std::size_t) -> auto& { return c.yield.value; }),
+    Field<double>("/outcome/yield_lower", Extent::kJudgedCandidates, kNaN,
+                  [](auto& c, std::size_t) -> auto& { return c.yield.interval.lower; }),
+    Field<double>("/outcome/yield_upper", Extent::kJudgedCandidates, kNaN,
+                  [](auto& c, std::size_t) -> auto& { return c.yield.interval.upper; }),
+    Field<std::int64_t>("/outcome/yield_trials", Extent::kCandidates, 0,
+                        [](auto& c, std::size_t) -> auto& { return c.yield.trials; }),
+};
+
+// Lists of /outcome, rewritten whole at every commit; their fill is never seen.
+constexpr std::tuple kOutcomeLists{
+    Field<std::int64_t>("/outcome/alternatives", Extent::kUpToCandidates, 0,
+                        [](auto& o) -> auto& { return o.alternatives; }),
+    Field<std::int64_t>("/outcome/undecided_cheaper", Extent::kUpToCandidates, 0,
+                        [](auto& o) -> auto& { return o.undecided_cheaper; }),
+    Field<std::int64_t>("/outcome/front", Extent::kUpToCandidates, 0, [](auto& o) -> auto& { return o.front; }),
+    Field<std::int32_t>("/outcome/binding", Extent::kUpToConstraints, 0, [](auto& o) -> auto& { return o.binding; }),
+};
+
+// The attributes of /outcome.
+constexpr std::tuple kOutcomeAttributes{
+    Attribute<std::int64_t>("recommendation", -1, [](auto& o) -> auto& { return o.recommendation; }),
+    Attribute<std::int8_t>("complete", 0, [](auto& o) -> auto& { return o.complete; }),
+    Attribute<std::int64_t>("simulated", 0, [](auto& o) -> auto& { return o.simulated; }),
+    Attribute<std::int64_t>("settled_by_screen", 0, [](auto& o) -> auto& { return o.settled_by_screen; }),
+    Attribute<std::int64_t>("samples_screen", 0, [](auto& o) -> auto& { return o.samples_screen; }),
+    Attribute<std::int64_t>("samples_confirm", 0, [](auto& o) -> auto& { return o.samples_confirm; }),
+    Attribute<double>("common_random_numbers_gain", kNaN, [](auto& o) -> auto& { return o.common_random_numbers_gain; }),
+};
+
+// Calls `visit` on each row of `table`, in order.
+template <typename Table, typename Visit>
+void ForEachRow(const Table& table, const Visit& visit) {
+  std::apply([&](const auto&... row) { (visit(row), ...); }, table);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -468,55 +533,30 @@ hsize_t ChunkSamples(const AllocationStoreOptions& options, const AllocationIden
 
 // The outcome's datasets, before any outcome: /outcome/... as an empty allocation.
 void CreateOutcome(const Where& where, hid_t file, hsize_t candidates, hsize_t constraints, bool checksum) {
-  const TypeId verdict = EnumType(where, analysis::kVerdictNames, "the verdict type");
-  const TypeId settlement = EnumType(where, analysis::kSettlementNames, "the settlement type");
-  const TypeId settled_by = SettledByType(where);
-  const hsize_t rows = std::min(candidates, kCandidateChunkRows);
-  const std::int8_t zero8 = 0;
-  const std::int8_t none = -1;
-  const std::int64_t zero = 0;
-  const std::int64_t minus_one = -1;
-  const auto row = [&](const char* name, hid_t type, const void* fill, hid_t fill_type) {
-    CreateArray(where, file, {std::string("/outcome/") + name, type, {candidates, 0}, rows, 1, false, 0, fill, fill_type},
-                checksum);
-  };
-  const auto matrix = [&](const char* name, hid_t type, const void* fill, hid_t fill_type) {
+  const Extents extents{candidates, 0, constraints};
+  ForEachRow(kOutcomeArrays, [&](const auto& array) {
+    using T = typename std::decay_t<decltype(array)>::Element;
+    const TypeId enumeration = array.enumeration != nullptr ? array.enumeration(where) : TypeId();
+    const NumberTypes types = array.enumeration != nullptr ? NumberTypes{enumeration.get(), enumeration.get()}
+                                                           : TypesOf<T>();
+    const hsize_t columns = extents.Columns(array.extent);
     CreateArray(where, file,
-                {std::string("/outcome/") + name, type, {candidates, constraints}, rows, constraints, false, 0, fill,
-                 fill_type},
+                {array.path, types.file, {candidates, columns}, std::min(candidates, kCandidateChunkRows), columns,
+                 false, 0, &array.fill, types.native},
                 checksum);
-  };
-  const auto list = [&](const char* name, hid_t type, hsize_t most) {
-    CreateArray(where, file, {std::string("/outcome/") + name, type, {0, 0}, std::min<hsize_t>(most, kCandidateChunkRows),
-                              1, true, most, nullptr, H5T_NATIVE_INT64},
+  });
+  ForEachRow(kOutcomeLists, [&](const auto& list) {
+    using T = typename std::decay_t<decltype(list)>::Element;
+    const hsize_t most = extents.Most(list.extent);
+    CreateArray(where, file,
+                {list.path, TypesOf<T>().file, {0, 0}, std::min(most, kCandidateChunkRows), 1, true, most, nullptr},
                 checksum);
-  };
-  row("verdict", verdict.get(), &zero8, verdict.get());
-  row("settlement", settlement.get(), &zero8, settlement.get());
-  row("settled_by", settled_by.get(), &none, settled_by.get());
-  row("samples", H5T_STD_I64LE, &zero, H5T_NATIVE_INT64);
-  row("implied_by", H5T_STD_I64LE, &minus_one, H5T_NATIVE_INT64);
-  matrix("estimate", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
-  matrix("lower", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
-  matrix("upper", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
-  matrix("constraint_verdict", verdict.get(), &zero8, verdict.get());
-  matrix("samples_to_decide", H5T_STD_I64LE, &zero, H5T_NATIVE_INT64);
-  row("yield", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
-  row("yield_lower", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
-  row("yield_upper", H5T_IEEE_F64LE, &kNaN, H5T_NATIVE_DOUBLE);
-  row("yield_trials", H5T_STD_I64LE, &zero, H5T_NATIVE_INT64);
-  list("alternatives", H5T_STD_I64LE, candidates);
-  list("undecided_cheaper", H5T_STD_I64LE, candidates);
-  list("front", H5T_STD_I64LE, candidates);
-  list("binding", H5T_STD_I32LE, constraints);
-
-  const GroupId outcome(Check(H5Gopen2(file, "/outcome", H5P_DEFAULT), where, "opening group", "/outcome"));
-  WriteAttribute(where, outcome.get(), "recommendation", H5T_STD_I64LE, H5T_NATIVE_INT64, &minus_one);
-  WriteAttribute(where, outcome.get(), "complete", H5T_STD_I8LE, H5T_NATIVE_INT8, &zero8);
-  for (const char* name : {"simulated", "settled_by_screen", "samples_screen", "samples_confirm"}) {
-    WriteAttribute(where, outcome.get(), name, H5T_STD_I64LE, H5T_NATIVE_INT64, &zero);
-  }
-  WriteAttribute(where, outcome.get(), "common_random_numbers_gain", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &kNaN);
+  });
+  const GroupId group(Check(H5Gopen2(file, "/outcome", H5P_DEFAULT), where, "opening group", "/outcome"));
+  ForEachRow(kOutcomeAttributes, [&](const auto& attribute) {
+    const NumberTypes types = TypesOf<typename std::decay_t<decltype(attribute)>::Element>();
+    WriteAttribute(where, group.get(), attribute.path, types.file, types.native, &attribute.fill);
+  });
 }
 
 // Everything but the samples and /outcome; /inputs/u written unless `design_points` is
@@ -747,205 +787,107 @@ void RepairSamples(Samples& samples, const std::vector<RoleDamage>& damaged) {
 // The outcome
 
 void CheckOutcome(const AllocationOutcome& outcome, std::int64_t candidates, std::size_t constraints) {
+  const auto fail = [](const std::string& what) { throw std::invalid_argument("AllocationStore::Commit: " + what); };
   if (static_cast<std::int64_t>(outcome.candidates.size()) != candidates) {
-    throw std::invalid_argument(fmt::format("AllocationStore::Commit: an outcome of {} candidates for {}",
-                                            outcome.candidates.size(), candidates));
+    fail(fmt::format("an outcome of {} candidates for {}", outcome.candidates.size(), candidates));
   }
   for (std::size_t i = 0; i < outcome.candidates.size(); ++i) {
     const std::size_t m = outcome.candidates[i].constraints.size();
-    if (m != 0 && m != constraints) {
-      throw std::invalid_argument(fmt::format("AllocationStore::Commit: candidate {} has {} constraint judgements for {}",
-                                              i, m, constraints));
-    }
+    if (m != 0 && m != constraints) fail(fmt::format("candidate {} has {} constraint judgements for {}", i, m, constraints));
   }
-  const auto check_list = [&](const char* name, const std::vector<std::int64_t>& list) {
-    for (const std::int64_t c : list) {
-      if (c < 0 || c >= candidates) {
-        throw std::invalid_argument(fmt::format("AllocationStore::Commit: {} names candidate {}", name, c));
-      }
+  const Extents extents{static_cast<hsize_t>(candidates), 0, constraints};
+  ForEachRow(kOutcomeLists, [&](const auto& list) {
+    const hsize_t most = extents.Most(list.extent);
+    const auto& entries = list.access(outcome);
+    if (entries.size() > most) fail(fmt::format("{} lists {} entries, more than {}", list.path, entries.size(), most));
+    for (const auto entry : entries) {
+      if (entry < 0 || static_cast<hsize_t>(entry) >= most) fail(fmt::format("{} names {}", list.path, entry));
     }
-  };
-  check_list("alternatives", outcome.alternatives);
-  check_list("undecided_cheaper", outcome.undecided_cheaper);
-  check_list("front", outcome.front);
-  if (outcome.recommendation) check_list("recommendation", {*outcome.recommendation});
-  if (outcome.binding.size() > constraints) {
-    throw std::invalid_argument("AllocationStore::Commit: more binding constraints than constraints");
+  });
+  if (outcome.recommendation && (*outcome.recommendation < 0 || *outcome.recommendation >= candidates)) {
+    fail(fmt::format("recommendation names candidate {}", *outcome.recommendation));
   }
 }
 
 void WriteOutcome(const Where& where, hid_t file, const AllocationOutcome& outcome, std::size_t constraints) {
-  const std::size_t c = outcome.candidates.size();
-  const std::size_t m = constraints;
-  std::vector<std::int8_t> verdict(c), settlement(c), settled_by(c), constraint_verdict(c * m, 0);
-  std::vector<std::int64_t> samples(c), implied_by(c), trials(c), to_decide(c * m, 0);
-  std::vector<double> yield(c), yield_lower(c), yield_upper(c), estimate(c * m, kNaN), lower(c * m, kNaN),
-      upper(c * m, kNaN);
-  for (std::size_t i = 0; i < c; ++i) {
-    const CandidateOutcome& candidate = outcome.candidates[i];
-    verdict[i] = static_cast<std::int8_t>(candidate.verdict);
-    settlement[i] = static_cast<std::int8_t>(candidate.settlement);
-    settled_by[i] = candidate.settled_by ? static_cast<std::int8_t>(*candidate.settled_by) : std::int8_t{-1};
-    samples[i] = candidate.samples;
-    implied_by[i] = candidate.implied_by;
-    const bool judged = candidate.yield.trials > 0;
-    yield[i] = judged ? candidate.yield.value : kNaN;
-    yield_lower[i] = judged ? candidate.yield.interval.lower : kNaN;
-    yield_upper[i] = judged ? candidate.yield.interval.upper : kNaN;
-    trials[i] = candidate.yield.trials;
-    for (std::size_t j = 0; j < candidate.constraints.size(); ++j) {
-      const analysis::ConstraintJudgement& judgement = candidate.constraints[j];
-      estimate[i * m + j] = judgement.estimate;
-      lower[i * m + j] = judgement.interval.lower;
-      upper[i * m + j] = judgement.interval.upper;
-      constraint_verdict[i * m + j] = static_cast<std::int8_t>(judgement.verdict);
-      to_decide[i * m + j] = judgement.samples_to_decide;
+  const Extents extents{outcome.candidates.size(), 0, constraints};
+  ForEachRow(kOutcomeArrays, [&](const auto& array) {
+    using T = typename std::decay_t<decltype(array)>::Element;
+    const hsize_t width = std::max<hsize_t>(1, extents.Columns(array.extent));
+    std::vector<T> values;
+    values.reserve(outcome.candidates.size() * width);
+    for (const CandidateOutcome& candidate : outcome.candidates) {
+      const std::size_t held = HeldBy(candidate, array.extent);
+      for (std::size_t j = 0; j < width; ++j) {
+        values.push_back(j < held ? Encode<T>(array.access(candidate, j)) : array.fill);
+      }
     }
-  }
-  const std::vector<std::int32_t> binding(outcome.binding.begin(), outcome.binding.end());
-  const auto whole = [&](const char* name, hid_t type, std::size_t rows, const void* data) {
-    WriteWhole(where, file, std::string("/outcome/") + name, type, rows, data);
-  };
-  whole("verdict", H5T_NATIVE_INT8, c, verdict.data());
-  whole("settlement", H5T_NATIVE_INT8, c, settlement.data());
-  whole("settled_by", H5T_NATIVE_INT8, c, settled_by.data());
-  whole("samples", H5T_NATIVE_INT64, c, samples.data());
-  whole("implied_by", H5T_NATIVE_INT64, c, implied_by.data());
-  whole("estimate", H5T_NATIVE_DOUBLE, c, estimate.data());
-  whole("lower", H5T_NATIVE_DOUBLE, c, lower.data());
-  whole("upper", H5T_NATIVE_DOUBLE, c, upper.data());
-  whole("constraint_verdict", H5T_NATIVE_INT8, c, constraint_verdict.data());
-  whole("samples_to_decide", H5T_NATIVE_INT64, c, to_decide.data());
-  whole("yield", H5T_NATIVE_DOUBLE, c, yield.data());
-  whole("yield_lower", H5T_NATIVE_DOUBLE, c, yield_lower.data());
-  whole("yield_upper", H5T_NATIVE_DOUBLE, c, yield_upper.data());
-  whole("yield_trials", H5T_NATIVE_INT64, c, trials.data());
-  whole("alternatives", H5T_NATIVE_INT64, outcome.alternatives.size(), outcome.alternatives.data());
-  whole("undecided_cheaper", H5T_NATIVE_INT64, outcome.undecided_cheaper.size(), outcome.undecided_cheaper.data());
-  whole("front", H5T_NATIVE_INT64, outcome.front.size(), outcome.front.data());
-  whole("binding", H5T_NATIVE_INT32, binding.size(), binding.data());
-
+    WriteWhole(where, file, array.path, TypesOf<T>().native, outcome.candidates.size(), values.data());
+  });
+  ForEachRow(kOutcomeLists, [&](const auto& list) {
+    using T = typename std::decay_t<decltype(list)>::Element;
+    const std::vector<T> values(list.access(outcome).begin(), list.access(outcome).end());
+    WriteWhole(where, file, list.path, TypesOf<T>().native, values.size(), values.data());
+  });
   const GroupId group(Check(H5Gopen2(file, "/outcome", H5P_DEFAULT), where, "opening group", "/outcome"));
-  const std::int64_t recommendation = outcome.recommendation.value_or(-1);
-  const std::int8_t complete = outcome.complete ? 1 : 0;
-  UpdateAttribute(where, group.get(), "recommendation", H5T_NATIVE_INT64, &recommendation);
-  UpdateAttribute(where, group.get(), "complete", H5T_NATIVE_INT8, &complete);
-  UpdateAttribute(where, group.get(), "simulated", H5T_NATIVE_INT64, &outcome.simulated);
-  UpdateAttribute(where, group.get(), "settled_by_screen", H5T_NATIVE_INT64, &outcome.settled_by_screen);
-  UpdateAttribute(where, group.get(), "samples_screen", H5T_NATIVE_INT64, &outcome.samples_screen);
-  UpdateAttribute(where, group.get(), "samples_confirm", H5T_NATIVE_INT64, &outcome.samples_confirm);
-  UpdateAttribute(where, group.get(), "common_random_numbers_gain", H5T_NATIVE_DOUBLE,
-                  &outcome.common_random_numbers_gain);
+  ForEachRow(kOutcomeAttributes, [&](const auto& attribute) {
+    using T = typename std::decay_t<decltype(attribute)>::Element;
+    const T value = Encode<T>(attribute.access(outcome));
+    UpdateAttribute(where, group.get(), attribute.path, TypesOf<T>().native, &value);
+  });
 }
 
 AllocationOutcome ReadOutcomeFrom(const Where& where, hid_t file, const AllocationIdentity& identity) {
-  const auto c = static_cast<std::size_t>(CandidateCount(identity));
-  const std::size_t m = identity.constraints.size();
-  const std::size_t k = identity.components.size();
-  const auto get = [&](const char* name, auto sample, hid_t type, hsize_t columns = 0) {
-    auto values = ReadWhole<decltype(sample)>(where, file, name, type, columns);
-    return values;
-  };
-  const auto options = get("/candidates/options", std::int32_t{}, H5T_NATIVE_INT32, k);
-  const auto cost = get("/candidates/cost", double{}, H5T_NATIVE_DOUBLE);
-  const auto relative = get("/candidates/relative_cost", double{}, H5T_NATIVE_DOUBLE);
-  const auto verdict = get("/outcome/verdict", std::int8_t{}, H5T_NATIVE_INT8);
-  const auto settlement = get("/outcome/settlement", std::int8_t{}, H5T_NATIVE_INT8);
-  const auto settled_by = get("/outcome/settled_by", std::int8_t{}, H5T_NATIVE_INT8);
-  const auto samples = get("/outcome/samples", std::int64_t{}, H5T_NATIVE_INT64);
-  const auto implied_by = get("/outcome/implied_by", std::int64_t{}, H5T_NATIVE_INT64);
-  const auto estimate = get("/outcome/estimate", double{}, H5T_NATIVE_DOUBLE, m);
-  const auto lower = get("/outcome/lower", double{}, H5T_NATIVE_DOUBLE, m);
-  const auto upper = get("/outcome/upper", double{}, H5T_NATIVE_DOUBLE, m);
-  const auto constraint_verdict = get("/outcome/constraint_verdict", std::int8_t{}, H5T_NATIVE_INT8, m);
-  const auto to_decide = get("/outcome/samples_to_decide", std::int64_t{}, H5T_NATIVE_INT64, m);
-  const auto yield = get("/outcome/yield", double{}, H5T_NATIVE_DOUBLE);
-  const auto yield_lower = get("/outcome/yield_lower", double{}, H5T_NATIVE_DOUBLE);
-  const auto yield_upper = get("/outcome/yield_upper", double{}, H5T_NATIVE_DOUBLE);
-  const auto trials = get("/outcome/yield_trials", std::int64_t{}, H5T_NATIVE_INT64);
-  for (const std::size_t size : {options.size() / std::max<std::size_t>(1, k), cost.size(), relative.size(),
-                                 verdict.size(), settlement.size(), settled_by.size(), samples.size(),
-                                 implied_by.size(), estimate.size() / std::max<std::size_t>(1, m), yield.size(),
-                                 trials.size()}) {
-    if (size != c) Fail(where, fmt::format("a dataset in /outcome or /candidates has {} rows for {} candidates", size, c));
-  }
-
+  const Extents extents{static_cast<hsize_t>(CandidateCount(identity)), identity.components.size(),
+                        identity.constraints.size()};
   AllocationOutcome outcome;
-  for (std::size_t i = 0; i < c; ++i) {
-    CandidateOutcome candidate;
-    candidate.options.assign(options.begin() + static_cast<std::ptrdiff_t>(i * k),
-                             options.begin() + static_cast<std::ptrdiff_t>((i + 1) * k));
-    candidate.cost = cost[i];
-    candidate.relative_cost = relative[i];
-    candidate.verdict = static_cast<analysis::Verdict>(verdict[i]);
-    candidate.settlement = static_cast<analysis::Settlement>(settlement[i]);
-    if (settled_by[i] >= 0) candidate.settled_by = static_cast<EvaluationRole>(settled_by[i]);
-    candidate.samples = samples[i];
-    candidate.implied_by = implied_by[i];
-    if (candidate.settlement == analysis::Settlement::kSimulated) {
-      for (std::size_t j = 0; j < m; ++j) {
-        analysis::ConstraintJudgement judgement;
-        judgement.verdict = static_cast<analysis::Verdict>(constraint_verdict[i * m + j]);
-        judgement.estimate = estimate[i * m + j];
-        judgement.interval = {lower[i * m + j], upper[i * m + j]};
-        judgement.samples = candidate.samples;
-        judgement.samples_to_decide = to_decide[i * m + j];
-        candidate.constraints.push_back(judgement);
-      }
-    }
-    candidate.yield.trials = trials[i];
-    candidate.yield.confidence = identity.confidence;
-    if (trials[i] > 0) {
-      candidate.yield.value = yield[i];
-      candidate.yield.successes = std::llround(yield[i] * static_cast<double>(trials[i]));
-      candidate.yield.interval = {yield_lower[i], yield_upper[i]};
-    }
-    outcome.candidates.push_back(std::move(candidate));
+  outcome.candidates.resize(extents.candidates);
+  for (CandidateOutcome& candidate : outcome.candidates) {
+    candidate.options.resize(extents.components);
+    candidate.constraints.resize(extents.constraints);
   }
-  outcome.alternatives = get("/outcome/alternatives", std::int64_t{}, H5T_NATIVE_INT64);
-  outcome.undecided_cheaper = get("/outcome/undecided_cheaper", std::int64_t{}, H5T_NATIVE_INT64);
-  outcome.front = get("/outcome/front", std::int64_t{}, H5T_NATIVE_INT64);
-  const auto binding = get("/outcome/binding", std::int32_t{}, H5T_NATIVE_INT32);
-  outcome.binding.assign(binding.begin(), binding.end());
-
+  ForEachRow(std::tuple_cat(kCandidateArrays, kOutcomeArrays), [&](const auto& array) {
+    using T = typename std::decay_t<decltype(array)>::Element;
+    const hsize_t columns = extents.Columns(array.extent);
+    const std::vector<T> values = ReadWhole<T>(where, file, array.path, TypesOf<T>().native, columns);
+    const hsize_t width = std::max<hsize_t>(1, columns);
+    if (values.size() != extents.candidates * width) {
+      Fail(where, fmt::format("dataset {} has {} rows for {} candidates", array.path, values.size() / width,
+                              extents.candidates));
+    }
+    for (std::size_t i = 0; i < outcome.candidates.size(); ++i) {
+      for (std::size_t j = 0; j < width; ++j) Decode(values[i * width + j], array.access(outcome.candidates[i], j));
+    }
+  });
+  // Judgements of simulated candidates only, each with the candidate's samples; a yield
+  // only where it has trials.
+  for (CandidateOutcome& candidate : outcome.candidates) {
+    if (candidate.settlement != analysis::Settlement::kSimulated) candidate.constraints.clear();
+    for (analysis::ConstraintJudgement& judgement : candidate.constraints) judgement.samples = candidate.samples;
+    analysis::ProportionEstimate& yield = candidate.yield;
+    if (yield.trials > 0) {
+      yield.successes = std::llround(yield.value * static_cast<double>(yield.trials));
+    } else {
+      const std::int64_t trials = yield.trials;
+      yield = analysis::ProportionEstimate();
+      yield.trials = trials;
+    }
+    yield.confidence = identity.confidence;
+  }
+  ForEachRow(kOutcomeLists, [&](const auto& list) {
+    using T = typename std::decay_t<decltype(list)>::Element;
+    const std::vector<T> values = ReadWhole<T>(where, file, list.path, TypesOf<T>().native);
+    list.access(outcome).assign(values.begin(), values.end());
+  });
   const GroupId group(Check(H5Gopen2(file, "/outcome", H5P_DEFAULT), where, "opening group", "/outcome"));
-  const auto integer = [&](const char* name) {
-    return Require(where, ReadNumberAttribute<std::int64_t>(where, group.get(), name, H5T_INTEGER, H5T_NATIVE_INT64),
-                   name);
-  };
-  if (const std::int64_t recommendation = integer("recommendation"); recommendation >= 0) {
-    outcome.recommendation = recommendation;
-  }
-  outcome.complete = integer("complete") != 0;
-  outcome.simulated = integer("simulated");
-  outcome.settled_by_screen = integer("settled_by_screen");
-  outcome.samples_screen = integer("samples_screen");
-  outcome.samples_confirm = integer("samples_confirm");
-  outcome.common_random_numbers_gain =
-      Require(where,
-              ReadNumberAttribute<double>(where, group.get(), "common_random_numbers_gain", H5T_FLOAT,
-                                          H5T_NATIVE_DOUBLE),
-              "common_random_numbers_gain");
+  ForEachRow(kOutcomeAttributes, [&](const auto& attribute) {
+    using T = typename std::decay_t<decltype(attribute)>::Element;
+    const H5T_class_t kind = std::is_floating_point_v<T> ? H5T_FLOAT : H5T_INTEGER;
+    Decode(Require(where, ReadNumberAttribute<T>(where, group.get(), attribute.path, kind, TypesOf<T>().native),
+                   attribute.path),
+           attribute.access(outcome));
+  });
   return outcome;
-}
-
-// Rows [begin, end) of /inputs/u, row-major; InputError when they do not read.
-std::vector<double> ReadDesignRows(const Where& where, hid_t file, hsize_t inputs, std::int64_t begin,
-                                   std::int64_t end) {
-  std::vector<double> values(static_cast<std::size_t>(end - begin) * inputs);
-  if (values.empty()) return values;
-  const DatasetId dataset(Check(H5Dopen2(file, "/inputs/u", H5P_DEFAULT), where, "opening", "/inputs/u"));
-  const SpaceId file_space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", "/inputs/u"));
-  const hsize_t start[2] = {static_cast<hsize_t>(begin), 0};
-  const hsize_t count[2] = {static_cast<hsize_t>(end - begin), inputs};
-  CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr), where,
-              "selecting rows of", "/inputs/u");
-  const SpaceId memory(Check(H5Screate_simple(2, count, nullptr), where, "creating", "a dataspace"));
-  if (const auto problem = TryRead(dataset.get(), H5T_NATIVE_DOUBLE, memory.get(), file_space.get(), values.data())) {
-    throw InputError(fmt::format("{}: dataset /inputs/u is damaged: samples {} to {} cannot be read ({})", where.file,
-                                 begin, end - 1, *problem));
-  }
-  return values;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1397,7 +1339,8 @@ std::vector<double> AllocationReader::ReadDesignPoints(std::int64_t begin, std::
     throw std::out_of_range(
         fmt::format("AllocationReader::ReadDesignPoints: range [{}, {}) is outside [0, {})", begin, end, n));
   }
-  return ReadDesignRows(f.where, f.file.get(), f.identity.inputs.size(), begin, end);
+  return ReadRows<double>(f.where, f.file.get(), "/inputs/u", H5T_NATIVE_DOUBLE, static_cast<hsize_t>(begin),
+                          static_cast<hsize_t>(end), f.identity.inputs.size(), "samples");
 }
 
 ResultsCheck CheckAllocationResults(const fs::path& path) {
@@ -1459,7 +1402,8 @@ ResultsCheck CheckAllocationResults(const fs::path& path) {
   }
   check.done = check.done_screen + check.done_confirm;
   try {
-    ReadDesignRows(where, file.get(), stored.identity.inputs.size(), 0, check.samples);
+    ReadRows<double>(where, file.get(), "/inputs/u", H5T_NATIVE_DOUBLE, 0, static_cast<hsize_t>(check.samples),
+                     stored.identity.inputs.size(), "samples");
   } catch (const InputError& error) {
     damage("/inputs/u", {0, check.samples}, error.what());
   }

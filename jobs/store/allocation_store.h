@@ -157,8 +157,8 @@ class AllocationStore {
   // Writes every buffered sample (statuses last) and the outcome, and flushes; also with
   // nothing buffered. std::invalid_argument, before writing anything, for an outcome of
   // another candidate count, judgements of another constraint count, or a list naming a
-  // candidate outside [0, C). The outcome's options, cost and relative_cost are not
-  // stored (they are /candidates', from the identity).
+  // candidate outside [0, C) or a constraint outside [0, M). The outcome's options, cost
+  // and relative_cost are not stored (they are /candidates', from the identity).
   void Commit(const AllocationOutcome& outcome);
   // Writes every buffered sample (statuses last) and flushes, leaving /outcome as it is: a
   // shard's commit.

@@ -370,6 +370,9 @@ TEST(AllocationStore, RejectsSamplesAndOutcomesThatDoNotFitTheAllocation) {
   AllocationOutcome bad_judgements = TestOutcome();
   bad_judgements.candidates[7].constraints.pop_back();
   EXPECT_THROW(store.Commit(bad_judgements), std::invalid_argument);
+  AllocationOutcome unknown_binding = TestOutcome();
+  unknown_binding.binding = {static_cast<int>(TestIdentity().constraints.size())};
+  EXPECT_THROW(store.Commit(unknown_binding), std::invalid_argument);
 }
 
 TEST(AllocationStore, CreateRefusesAnExistingPathAndAMissingDirectory) {
