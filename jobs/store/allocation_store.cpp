@@ -201,101 +201,6 @@ TypeId SettledByType(const Where& where) {
 }
 
 // ---------------------------------------------------------------------------------------
-// Arrays: every dataset but the descriptions' strings is one of these.
-
-struct Shape {
-  hsize_t rows = 0;
-  hsize_t columns = 0;  // 0: one-dimensional
-  int rank() const { return columns == 0 ? 1 : 2; }
-};
-
-struct ArraySpec {
-  std::string path;
-  hid_t file_type = H5T_IEEE_F64LE;
-  Shape shape;
-  hsize_t chunk_rows = 1;
-  hsize_t chunk_columns = 1;
-  bool extendable = false;  // one-dimensional, up to max_rows
-  hsize_t max_rows = 0;
-  const void* fill = nullptr;  // in file_type's native counterpart (fill_type)
-  hid_t fill_type = H5T_NATIVE_DOUBLE;
-};
-
-DatasetId CreateArray(const Where& where, hid_t file, const ArraySpec& spec, bool checksum) {
-  const hsize_t dims[2] = {spec.shape.rows, spec.shape.columns};
-  const hsize_t max_dims[2] = {spec.extendable ? spec.max_rows : spec.shape.rows, spec.shape.columns};
-  const SpaceId space(
-      Check(H5Screate_simple(spec.shape.rank(), dims, max_dims), where, "creating the dataspace of", spec.path));
-  const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
-  const hsize_t chunk[2] = {std::max<hsize_t>(1, spec.chunk_rows), std::max<hsize_t>(1, spec.chunk_columns)};
-  CheckStatus(H5Pset_chunk(dcpl.get(), spec.shape.rank(), chunk), where, "chunking", spec.path);
-  if (checksum) AddChecksum(where, dcpl, spec.path);
-  if (spec.fill != nullptr) {
-    CheckStatus(H5Pset_fill_value(dcpl.get(), spec.fill_type, spec.fill), where, "setting the fill value of",
-                spec.path);
-  }
-  // Chunks are written when first filled, so a candidate never simulated takes no space.
-  CheckStatus(H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_INCR), where, "configuring", spec.path);
-  return DatasetId(Check(
-      H5Dcreate2(file, spec.path.c_str(), spec.file_type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
-      "creating dataset", spec.path));
-}
-
-// The memory type to move `memory_type` values through: an enumeration dataset's own
-// (native) type for int8 codes, since HDF5 converts no integer to an enumeration.
-TypeId EnumMemoryType(const Where& where, hid_t dataset, const std::string& path) {
-  const TypeId stored(Check(H5Dget_type(dataset), where, "reading the type of", path));
-  if (H5Tget_class(stored.get()) != H5T_ENUM) return TypeId();
-  return TypeId(Check(H5Tget_native_type(stored.get(), H5T_DIR_ASCEND), where, "reading the type of", path));
-}
-
-// Writes a whole dataset (resizing an extendable one to `rows` first) and flushes it.
-void WriteWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type, hsize_t rows,
-                const void* data) {
-  const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening", path));
-  SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
-  hsize_t dims[2] = {0, 0};
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-  if (rank == 1 && dims[0] != rows) {
-    dims[0] = rows;
-    CheckStatus(H5Dset_extent(dataset.get(), dims), where, "resizing", path);
-  }
-  const TypeId as_enum = EnumMemoryType(where, dataset.get(), path);
-  if (as_enum.get() >= 0) memory_type = as_enum.get();
-  if (rows > 0) {
-    CheckStatus(H5Dwrite(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), where, "writing", path);
-  }
-  CheckStatus(H5Dflush(dataset.get()), where, "flushing", path);
-}
-
-// A whole dataset: its values (row-major) and its rows. InputError (`where.input`) or
-// runtime_error when it does not read.
-template <typename T>
-std::vector<T> ReadWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type,
-                         hsize_t expected_columns = 0) {
-  const DatasetId dataset(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
-  const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
-  hsize_t dims[2] = {0, 0};
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  if (rank < 1 || rank > 2) Fail(where, fmt::format("dataset {} has rank {}", path, rank));
-  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-  const hsize_t columns = rank == 2 ? dims[1] : 0;
-  if (columns != expected_columns) {
-    Fail(where, fmt::format("dataset {} has {} columns where {} are expected", path, columns, expected_columns));
-  }
-  std::vector<T> values(dims[0] * std::max<hsize_t>(1, columns));
-  const TypeId as_enum = EnumMemoryType(where, dataset.get(), path);
-  if (as_enum.get() >= 0) memory_type = as_enum.get();
-  if (!values.empty()) {
-    if (const auto problem = TryRead(dataset.get(), memory_type, H5S_ALL, H5S_ALL, values.data())) {
-      throw InputError(fmt::format("{}: dataset {} is damaged ({})", where.file, path, *problem));
-    }
-  }
-  return values;
-}
-
-// ---------------------------------------------------------------------------------------
 // Identity
 
 // The identity's root attributes, but for `candidates` (its options') and `reference`
@@ -929,25 +834,6 @@ AllocationOutcome ReadOutcomeFrom(const Where& where, hid_t file, const Allocati
   return outcome;
 }
 
-// Rows [begin, end) of /inputs/u, row-major; InputError when they do not read.
-std::vector<double> ReadDesignRows(const Where& where, hid_t file, hsize_t inputs, std::int64_t begin,
-                                   std::int64_t end) {
-  std::vector<double> values(static_cast<std::size_t>(end - begin) * inputs);
-  if (values.empty()) return values;
-  const DatasetId dataset(Check(H5Dopen2(file, "/inputs/u", H5P_DEFAULT), where, "opening", "/inputs/u"));
-  const SpaceId file_space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", "/inputs/u"));
-  const hsize_t start[2] = {static_cast<hsize_t>(begin), 0};
-  const hsize_t count[2] = {static_cast<hsize_t>(end - begin), inputs};
-  CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr), where,
-              "selecting rows of", "/inputs/u");
-  const SpaceId memory(Check(H5Screate_simple(2, count, nullptr), where, "creating", "a dataspace"));
-  if (const auto problem = TryRead(dataset.get(), H5T_NATIVE_DOUBLE, memory.get(), file_space.get(), values.data())) {
-    throw InputError(fmt::format("{}: dataset /inputs/u is damaged: samples {} to {} cannot be read ({})", where.file,
-                                 begin, end - 1, *problem));
-  }
-  return values;
-}
-
 // ---------------------------------------------------------------------------------------
 // Shards and their index
 
@@ -1397,7 +1283,8 @@ std::vector<double> AllocationReader::ReadDesignPoints(std::int64_t begin, std::
     throw std::out_of_range(
         fmt::format("AllocationReader::ReadDesignPoints: range [{}, {}) is outside [0, {})", begin, end, n));
   }
-  return ReadDesignRows(f.where, f.file.get(), f.identity.inputs.size(), begin, end);
+  return ReadRows<double>(f.where, f.file.get(), "/inputs/u", H5T_NATIVE_DOUBLE, static_cast<hsize_t>(begin),
+                          static_cast<hsize_t>(end), f.identity.inputs.size(), "samples");
 }
 
 ResultsCheck CheckAllocationResults(const fs::path& path) {
@@ -1459,7 +1346,8 @@ ResultsCheck CheckAllocationResults(const fs::path& path) {
   }
   check.done = check.done_screen + check.done_confirm;
   try {
-    ReadDesignRows(where, file.get(), stored.identity.inputs.size(), 0, check.samples);
+    ReadRows<double>(where, file.get(), "/inputs/u", H5T_NATIVE_DOUBLE, 0, static_cast<hsize_t>(check.samples),
+                     stored.identity.inputs.size(), "samples");
   } catch (const InputError& error) {
     damage("/inputs/u", {0, check.samples}, error.what());
   }

@@ -658,4 +658,148 @@ void ReplaceIndex(const Where& where, const std::filesystem::path& index, const 
   }
 }
 
+
+// ---------------------------------------------------------------------------------------
+// Arrays
+
+namespace {
+
+DatasetId OpenArray(const Where& where, hid_t file, const std::string& path) {
+  return DatasetId(Check(H5Dopen2(file, path.c_str(), H5P_DEFAULT), where, "opening dataset", path));
+}
+
+// Its rows and columns (0: one-dimensional); Fail for another rank.
+Shape ShapeOf(const Where& where, hid_t dataset, const std::string& path) {
+  const SpaceId space(Check(H5Dget_space(dataset), where, "reading the shape of", path));
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 1 || rank > 2) Fail(where, fmt::format("dataset {} has rank {}", path, rank));
+  hsize_t dims[2] = {0, 0};
+  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+  return {dims[0], dims[1]};
+}
+
+// Its rows, Fail unless it has `columns` columns.
+hsize_t RowsOf(const Where& where, hid_t dataset, const std::string& path, hsize_t columns) {
+  const Shape shape = ShapeOf(where, dataset, path);
+  if (shape.columns != columns) {
+    Fail(where, fmt::format("dataset {} has {} columns where {} are expected", path, shape.columns, columns));
+  }
+  return shape.rows;
+}
+
+// The file's rows [first, first + count) and the memory they move through.
+std::pair<SpaceId, SpaceId> SelectRows(const Where& where, hid_t dataset, const std::string& path, hsize_t first,
+                                       hsize_t count) {
+  SpaceId file_space(Check(H5Dget_space(dataset), where, "reading the shape of", path));
+  const Shape shape = ShapeOf(where, dataset, path);
+  const hsize_t start[2] = {first, 0};
+  const hsize_t counts[2] = {count, shape.columns};
+  CheckStatus(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, counts, nullptr), where,
+              "selecting rows of", path);
+  SpaceId memory(Check(H5Screate_simple(shape.rank(), counts, nullptr), where, "creating a dataspace for", path));
+  return {std::move(file_space), std::move(memory)};
+}
+
+}  // namespace
+
+DatasetId CreateArray(const Where& where, hid_t file, const ArraySpec& spec, bool checksum) {
+  const hsize_t dims[2] = {spec.shape.rows, spec.shape.columns};
+  const hsize_t max_dims[2] = {spec.extendable ? spec.max_rows : spec.shape.rows, spec.shape.columns};
+  const SpaceId space(
+      Check(H5Screate_simple(spec.shape.rank(), dims, max_dims), where, "creating the dataspace of", spec.path));
+  const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
+  const hsize_t chunk[2] = {std::max<hsize_t>(1, spec.chunk_rows), std::max<hsize_t>(1, spec.chunk_columns)};
+  CheckStatus(H5Pset_chunk(dcpl.get(), spec.shape.rank(), chunk), where, "chunking", spec.path);
+  if (checksum) AddChecksum(where, dcpl, spec.path);
+  if (spec.fill != nullptr) {
+    CheckStatus(H5Pset_fill_value(dcpl.get(), spec.fill_type, spec.fill), where, "setting the fill value of",
+                spec.path);
+  }
+  CheckStatus(H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_INCR), where, "configuring", spec.path);
+  return DatasetId(Check(
+      H5Dcreate2(file, spec.path.c_str(), spec.file_type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
+      "creating dataset", spec.path));
+}
+
+TypeId EnumMemoryType(const Where& where, hid_t dataset, const std::string& path) {
+  const TypeId stored(Check(H5Dget_type(dataset), where, "reading the type of", path));
+  if (H5Tget_class(stored.get()) != H5T_ENUM) return TypeId();
+  return TypeId(Check(H5Tget_native_type(stored.get(), H5T_DIR_ASCEND), where, "reading the type of", path));
+}
+
+void WriteRows(const Where& where, hid_t dataset, const std::string& path, hid_t memory_type, hsize_t first,
+               hsize_t count, const void* data) {
+  if (const Shape shape = ShapeOf(where, dataset, path); shape.rows < first + count) {
+    const hsize_t dims[2] = {first + count, shape.columns};
+    CheckStatus(H5Dset_extent(dataset, dims), where, "extending", path);
+  }
+  const TypeId as_enum = EnumMemoryType(where, dataset, path);
+  if (as_enum.get() >= 0) memory_type = as_enum.get();
+  if (count > 0) {
+    const auto [file_space, memory] = SelectRows(where, dataset, path, first, count);
+    CheckStatus(H5Dwrite(dataset, memory_type, memory.get(), file_space.get(), H5P_DEFAULT, data), where, "writing",
+                path);
+  }
+  CheckStatus(H5Dflush(dataset), where, "flushing", path);
+}
+
+void WriteWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type, hsize_t rows,
+                const void* data) {
+  const DatasetId dataset = OpenArray(where, file, path);
+  if (const Shape shape = ShapeOf(where, dataset.get(), path); shape.rows != rows) {
+    const hsize_t dims[2] = {rows, shape.columns};
+    CheckStatus(H5Dset_extent(dataset.get(), dims), where, "resizing", path);
+  }
+  WriteRows(where, dataset.get(), path, memory_type, 0, rows, data);
+}
+
+std::optional<std::string> TryReadRows(const Where& where, hid_t dataset, const std::string& path,
+                                       hid_t memory_type, hsize_t first, hsize_t count, void* data) {
+  const TypeId as_enum = EnumMemoryType(where, dataset, path);
+  if (as_enum.get() >= 0) memory_type = as_enum.get();
+  const auto [file_space, memory] = SelectRows(where, dataset, path, first, count);
+  return TryRead(dataset, memory_type, memory.get(), file_space.get(), data);
+}
+
+template <typename T>
+std::vector<T> ReadWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type,
+                         hsize_t columns) {
+  const DatasetId dataset = OpenArray(where, file, path);
+  const hsize_t rows = RowsOf(where, dataset.get(), path, columns);
+  std::vector<T> values(rows * std::max<hsize_t>(1, columns));
+  if (values.empty()) return values;
+  if (const auto problem = TryReadRows(where, dataset.get(), path, memory_type, 0, rows, values.data())) {
+    throw InputError(fmt::format("{}: dataset {} is damaged ({})", where.file, path, *problem));
+  }
+  return values;
+}
+
+template <typename T>
+std::vector<T> ReadRows(const Where& where, hid_t file, const std::string& path, hid_t memory_type, hsize_t begin,
+                        hsize_t end, hsize_t columns, std::string_view rows) {
+  std::vector<T> values((end - begin) * std::max<hsize_t>(1, columns));
+  if (values.empty()) return values;
+  const DatasetId dataset = OpenArray(where, file, path);
+  RowsOf(where, dataset.get(), path, columns);
+  if (const auto problem = TryReadRows(where, dataset.get(), path, memory_type, begin, end - begin, values.data())) {
+    throw InputError(fmt::format("{}: dataset {} is damaged: {} {} to {} cannot be read ({})", where.file, path, rows,
+                                 begin, end - 1, *problem));
+  }
+  return values;
+}
+
+// Every number of TypesOf.
+template std::vector<std::int8_t> ReadWhole(const Where&, hid_t, const std::string&, hid_t, hsize_t);
+template std::vector<std::int32_t> ReadWhole(const Where&, hid_t, const std::string&, hid_t, hsize_t);
+template std::vector<std::int64_t> ReadWhole(const Where&, hid_t, const std::string&, hid_t, hsize_t);
+template std::vector<double> ReadWhole(const Where&, hid_t, const std::string&, hid_t, hsize_t);
+template std::vector<std::int8_t> ReadRows(const Where&, hid_t, const std::string&, hid_t, hsize_t, hsize_t, hsize_t,
+                                           std::string_view);
+template std::vector<std::int32_t> ReadRows(const Where&, hid_t, const std::string&, hid_t, hsize_t, hsize_t, hsize_t,
+                                            std::string_view);
+template std::vector<std::int64_t> ReadRows(const Where&, hid_t, const std::string&, hid_t, hsize_t, hsize_t, hsize_t,
+                                            std::string_view);
+template std::vector<double> ReadRows(const Where&, hid_t, const std::string&, hid_t, hsize_t, hsize_t, hsize_t,
+                                      std::string_view);
+
 }  // namespace ringtol::jobs::hdf5

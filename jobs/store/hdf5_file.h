@@ -18,6 +18,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -303,5 +304,83 @@ std::optional<std::string> WordDifference(std::string_view field, const T& file,
   return fmt::format("{} differs ('{}' in the file, '{}' now)", field, file, now);
 }
 std::optional<std::string> TextDifference(std::string_view field, const std::string& file, const std::string& now);
+
+
+// ---------------------------------------------------------------------------------------
+// Arrays: chunked datasets of one or two dimensions (rows, and columns of a row), created
+// from a spec, written and read whole or by rows. A row is the unit a store appends and
+// reads (a sample, a candidate, a failure); the columns are read together.
+
+// The HDF5 types of a number a dataset or attribute keeps, T one of std::int8_t,
+// std::int32_t, std::int64_t, double.
+struct NumberTypes {
+  hid_t native;  // in memory
+  hid_t file;    // little-endian, as the files keep it
+};
+template <typename T>
+NumberTypes TypesOf() {
+  if constexpr (std::is_same_v<T, std::int8_t>) return {H5T_NATIVE_INT8, H5T_STD_I8LE};
+  else if constexpr (std::is_same_v<T, std::int32_t>) return {H5T_NATIVE_INT32, H5T_STD_I32LE};
+  else if constexpr (std::is_same_v<T, std::int64_t>) return {H5T_NATIVE_INT64, H5T_STD_I64LE};
+  else {
+    static_assert(std::is_same_v<T, double>, "a number the results files keep");
+    return {H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE};
+  }
+}
+
+struct Shape {
+  hsize_t rows = 0;
+  hsize_t columns = 0;  // 0: one-dimensional [rows]
+  int rank() const { return columns == 0 ? 1 : 2; }
+};
+
+// A new dataset. Type ids are borrowed, not owned: they must outlive CreateArray.
+struct ArraySpec {
+  std::string path;
+  hid_t file_type = H5T_IEEE_F64LE;  // a number, an enumeration or a fixed-length string
+  Shape shape;
+  hsize_t chunk_rows = 1;  // each at least 1 (0 counts as 1)
+  hsize_t chunk_columns = 1;
+  bool extendable = false;  // along rows, up to max_rows (H5S_UNLIMITED: without end)
+  hsize_t max_rows = 0;
+  const void* fill = nullptr;  // one value of fill_type (an enumeration's own type), or HDF5's zeros
+  hid_t fill_type = H5T_NATIVE_DOUBLE;
+};
+// Chunked, Fletcher-32 last when `checksum`, without time stamps (ObjectCreation); its
+// chunks are allocated when first written, so rows never written take no space.
+DatasetId CreateArray(const Where& where, hid_t file, const ArraySpec& spec, bool checksum);
+
+// The memory type int8 codes of an enumeration dataset move through (its own native type,
+// since HDF5 converts no integer to an enumeration); an invalid id for any other dataset.
+TypeId EnumMemoryType(const Where& where, hid_t dataset, const std::string& path);
+
+// Writes `count` rows from row `first` (every column, row-major in `memory_type`; an
+// enumeration's int8 codes with H5T_NATIVE_INT8), extending an extendable dataset whose
+// rows end before them, and flushes it.
+void WriteRows(const Where& where, hid_t dataset, const std::string& path, hid_t memory_type, hsize_t first,
+               hsize_t count, const void* data);
+// Writes the dataset at `path` whole, as `rows` rows: an extendable one is resized to them
+// first (a list shrinks as it grows).
+void WriteWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type, hsize_t rows,
+                const void* data);
+
+// Reads rows [first, first + count) (every column, row-major; an enumeration's int8 codes
+// whatever `memory_type`) into `data`, retrying as TryRead; HDF5's reason when they do not
+// read (a damaged chunk, or rows beyond the dataset's).
+std::optional<std::string> TryReadRows(const Where& where, hid_t dataset, const std::string& path,
+                                       hid_t memory_type, hsize_t first, hsize_t count, void* data);
+// The dataset at `path` whole, row-major, T a number of TypesOf (std::int8_t for an
+// enumeration). Fail unless it has `columns` columns (0: one-dimensional); InputError
+// "dataset <path> is damaged (<HDF5's reason>)" when it does not read, even in a file that
+// is open (`where.input` false): the file's bytes are wrong, not the system.
+template <typename T>
+std::vector<T> ReadWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type,
+                         hsize_t columns = 0);
+// Rows [begin, end) of the dataset at `path` as ReadWhole, none opened when they are none;
+// InputError "dataset <path> is damaged: <rows> <begin> to <end - 1> cannot be read
+// (<reason>)", `rows` naming what a row is ("samples").
+template <typename T>
+std::vector<T> ReadRows(const Where& where, hid_t file, const std::string& path, hid_t memory_type, hsize_t begin,
+                        hsize_t end, hsize_t columns, std::string_view rows);
 
 }  // namespace ringtol::jobs::hdf5
