@@ -483,22 +483,21 @@ void CreateFailures(const Where& where, hid_t file, bool checksums) {
   GroupId(Check(H5Gcreate2(file, "failures", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group",
                 "failures"));
   const TypeId message = FixedString(where, kMessageBytes);
-  for (const auto& [path, type] : {std::pair<const char*, hid_t>{kFailureSamples, H5T_STD_I64LE},
-                                   std::pair<const char*, hid_t>{kFailureMessages, message.get()}}) {
-    const hsize_t dims[1] = {0};
-    const hsize_t max_dims[1] = {H5S_UNLIMITED};
-    const SpaceId space(Check(H5Screate_simple(1, dims, max_dims), where, "creating the dataspace of", path));
-    const PlistId dcpl = ObjectCreation(where, H5P_DATASET_CREATE);
-    CheckStatus(H5Pset_chunk(dcpl.get(), 1, &kFailureChunkRows), where, "chunking", path);
-    if (checksums) AddChecksum(where, dcpl, path);
-    // A row never written, or rewritten after damage, names no sample.
-    if (type == H5T_STD_I64LE) {
-      CheckStatus(H5Pset_fill_value(dcpl.get(), H5T_NATIVE_INT64, &kNoFailureSample), where,
-                  "setting the fill value of", path);
-    }
-    DatasetId(Check(H5Dcreate2(file, path, type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), where,
-                    "creating dataset", path));
-  }
+  // A row never written, or rewritten after damage, names no sample.
+  CreateArray(where, file,
+              {kFailureSamples, H5T_STD_I64LE, {0, 0}, kFailureChunkRows, 1, true, H5S_UNLIMITED, &kNoFailureSample,
+               H5T_NATIVE_INT64},
+              checksums);
+  CreateArray(where, file, {kFailureMessages, message.get(), {0, 0}, kFailureChunkRows, 1, true, H5S_UNLIMITED},
+              checksums);
+}
+
+// Rows of /failures/sample or /failures/message, open as `dataset`.
+hsize_t FailureRowCount(const Where& where, hid_t dataset) {
+  const SpaceId space(Check(H5Dget_space(dataset), where, "reading the shape of", "a dataset of /failures"));
+  hsize_t rows = 0;
+  H5Sget_simple_extent_dims(space.get(), &rows, nullptr);
+  return rows;
 }
 
 // Appends (sample, message) rows at the end of /failures/sample, the messages first: a
@@ -508,27 +507,9 @@ void AppendFailures(const Where& where, const DatasetId& samples, const DatasetI
                     const std::vector<std::int64_t>& indices, const std::vector<char>& texts) {
   if (indices.empty()) return;
   const TypeId message_type = FixedString(where, kMessageBytes);
-  const auto count = static_cast<hsize_t>(indices.size());
-  const SpaceId before(Check(H5Dget_space(samples.get()), where, "reading the shape of", kFailureSamples));
-  hsize_t rows = 0;
-  H5Sget_simple_extent_dims(before.get(), &rows, nullptr);
-  for (const auto& [dataset, path, type, data] :
-       {std::tuple<hid_t, const char*, hid_t, const void*>{messages.get(), kFailureMessages, message_type.get(),
-                                                           texts.data()},
-        std::tuple<hid_t, const char*, hid_t, const void*>{samples.get(), kFailureSamples, H5T_NATIVE_INT64,
-                                                           indices.data()}}) {
-    const SpaceId current(Check(H5Dget_space(dataset), where, "reading the shape of", path));
-    hsize_t extent = 0;
-    H5Sget_simple_extent_dims(current.get(), &extent, nullptr);
-    const hsize_t grown = rows + count;
-    if (extent < grown) CheckStatus(H5Dset_extent(dataset, &grown), where, "extending", path);
-    const SpaceId space(Check(H5Dget_space(dataset), where, "reading the shape of", path));
-    CheckStatus(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, &rows, nullptr, &count, nullptr), where,
-                "selecting rows of", path);
-    const SpaceId memory(Check(H5Screate_simple(1, &count, nullptr), where, "creating a dataspace for", path));
-    CheckStatus(H5Dwrite(dataset, type, memory.get(), space.get(), H5P_DEFAULT, data), where, "writing", path);
-    CheckStatus(H5Dflush(dataset), where, "flushing", path);
-  }
+  const hsize_t rows = FailureRowCount(where, samples.get());
+  WriteRows(where, messages.get(), kFailureMessages, message_type.get(), rows, indices.size(), texts.data());
+  WriteRows(where, samples.get(), kFailureSamples, H5T_NATIVE_INT64, rows, indices.size(), indices.data());
 }
 
 // Every failure row of a file, read chunk by chunk: its samples, the row each sample's last
@@ -556,20 +537,16 @@ FailureRows ReadFailureRows(const Where& where, hid_t file) {
   for (const char* path : {kFailureSamples, kFailureMessages}) {
     const bool samples = path == kFailureSamples;
     const DatasetId dataset(Check(H5Dopen2(file, path, H5P_DEFAULT), where, "opening dataset", path));
-    const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", path));
-    hsize_t extent = 0;
-    H5Sget_simple_extent_dims(space.get(), &extent, nullptr);
+    const hsize_t extent = FailureRowCount(where, dataset.get());
     // Messages beyond the samples' rows belong to no row (a kill between the two appends).
     if (samples) rows.samples.assign(extent, kNoFailureSample);
     const hsize_t used = samples ? extent : std::min<hsize_t>(extent, rows.samples.size());
     for (hsize_t first = 0; first < used; first += kFailureChunkRows) {
       const hsize_t count = std::min(kFailureChunkRows, used - first);
-      CheckStatus(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, &first, nullptr, &count, nullptr), where,
-                  "selecting rows of", path);
-      const SpaceId memory(Check(H5Screate_simple(1, &count, nullptr), where, "creating a dataspace for", path));
-      const auto problem = samples ? TryRead(dataset.get(), H5T_NATIVE_INT64, memory.get(), space.get(),
-                                             rows.samples.data() + first)
-                                   : TryRead(dataset.get(), message_type.get(), memory.get(), space.get(), texts.data());
+      const auto problem = samples ? TryReadRows(where, dataset.get(), path, H5T_NATIVE_INT64, first, count,
+                                                 rows.samples.data() + first)
+                                   : TryReadRows(where, dataset.get(), path, message_type.get(), first, count,
+                                                 texts.data());
       if (!problem) continue;
       if (!rows.damaged()) rows.problem = fmt::format("{}: {}", path, *problem);
       (samples ? rows.damaged_samples : rows.damaged_messages).push_back({first, 0});
@@ -615,15 +592,9 @@ std::vector<std::int64_t> LostMessages(const SampleTable& table, const FailureRo
 std::string ReadFailureMessage(const Where& where, hid_t file, std::size_t row) {
   const DatasetId dataset(Check(H5Dopen2(file, kFailureMessages, H5P_DEFAULT), where, "opening dataset",
                                 kFailureMessages));
-  const SpaceId space(Check(H5Dget_space(dataset.get()), where, "reading the shape of", kFailureMessages));
-  const hsize_t first = row;
-  const hsize_t one = 1;
-  CheckStatus(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, &first, nullptr, &one, nullptr), where,
-              "selecting rows of", kFailureMessages);
-  const SpaceId memory(Check(H5Screate_simple(1, &one, nullptr), where, "creating a dataspace for", kFailureMessages));
   const TypeId type = FixedString(where, kMessageBytes);
   std::array<char, kMessageBytes + 1> text{};
-  if (const auto problem = TryRead(dataset.get(), type.get(), memory.get(), space.get(), text.data())) {
+  if (const auto problem = TryReadRows(where, dataset.get(), kFailureMessages, type.get(), row, 1, text.data())) {
     throw InputError(fmt::format("{}: dataset {} is damaged at row {} ({})", where.file, kFailureMessages, row,
                                  *problem));
   }
@@ -1187,14 +1158,6 @@ std::vector<UnreadableShard> SetAsideUnreadableShards(const fs::path& results) {
 
 namespace {
 
-
-// Rows of /failures/sample, open as `dataset`.
-hsize_t FailureRowCount(const Where& where, hid_t dataset) {
-  const SpaceId space(Check(H5Dget_space(dataset), where, "reading the shape of", kFailureSamples));
-  hsize_t rows = 0;
-  H5Sget_simple_extent_dims(space.get(), &rows, nullptr);
-  return rows;
-}
 
 // /failures/sample and /failures/message as every shard's rows, one shard after another.
 void CreateFailureViews(const Where& where, hid_t file, const std::vector<std::string>& shards,

@@ -313,7 +313,7 @@ std::optional<std::string> TextDifference(std::string_view field, const std::str
 // reads (a sample, a candidate, a failure); the columns are read together.
 
 // The HDF5 types of a number a dataset or attribute keeps, T one of std::int8_t,
-// std::int32_t, std::int64_t, double.
+// std::int32_t, std::int64_t, std::uint64_t, double.
 struct NumberTypes {
   hid_t native;  // in memory
   hid_t file;    // little-endian, as the files keep it
@@ -323,6 +323,7 @@ NumberTypes TypesOf() {
   if constexpr (std::is_same_v<T, std::int8_t>) return {H5T_NATIVE_INT8, H5T_STD_I8LE};
   else if constexpr (std::is_same_v<T, std::int32_t>) return {H5T_NATIVE_INT32, H5T_STD_I32LE};
   else if constexpr (std::is_same_v<T, std::int64_t>) return {H5T_NATIVE_INT64, H5T_STD_I64LE};
+  else if constexpr (std::is_same_v<T, std::uint64_t>) return {H5T_NATIVE_UINT64, H5T_STD_U64LE};
   else {
     static_assert(std::is_same_v<T, double>, "a number the results files keep");
     return {H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE};

@@ -39,20 +39,6 @@ struct IdentityAttribute {
   Comparison comparison = Comparison::kWord;
 };
 
-// How a number member is stored: its file and memory types, and the class a reader wants.
-struct NumberStorage {
-  hid_t file_type;
-  hid_t memory_type;
-  H5T_class_t type_class;
-};
-template <typename T>
-NumberStorage NumberStorageOf() {
-  static_assert(std::is_same_v<T, double> || std::is_same_v<T, std::int64_t> || std::is_same_v<T, std::uint64_t>);
-  if constexpr (std::is_same_v<T, double>) return {H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, H5T_FLOAT};
-  if constexpr (std::is_same_v<T, std::int64_t>) return {H5T_STD_I64LE, H5T_NATIVE_INT64, H5T_INTEGER};
-  return {H5T_STD_U64LE, H5T_NATIVE_UINT64, H5T_INTEGER};
-}
-
 template <typename Identity>
 void WriteIdentityAttributes(const Where& where, hid_t file, const Identity& identity,
                              std::span<const IdentityAttribute<std::type_identity_t<Identity>>> attributes) {
@@ -63,8 +49,8 @@ void WriteIdentityAttributes(const Where& where, hid_t file, const Identity& ide
           if constexpr (std::is_same_v<T, std::string>) {
             WriteStringAttribute(where, file, attribute.name, identity.*member);
           } else {
-            const NumberStorage stored = NumberStorageOf<T>();
-            WriteAttribute(where, file, attribute.name, stored.file_type, stored.memory_type, &(identity.*member));
+            const NumberTypes types = TypesOf<T>();
+            WriteAttribute(where, file, attribute.name, types.file, types.native, &(identity.*member));
           }
         },
         attribute.member);
@@ -84,8 +70,8 @@ void ReadIdentityAttributes(const Where& where, hid_t file, Identity& identity,
           if constexpr (std::is_same_v<T, std::string>) {
             value = ReadStringAttribute(where, file, attribute.name);
           } else {
-            const NumberStorage stored = NumberStorageOf<T>();
-            value = ReadNumberAttribute<T>(where, file, attribute.name, stored.type_class, stored.memory_type);
+            const NumberTypes types = TypesOf<T>();
+            value = ReadNumberAttribute<T>(where, file, attribute.name, H5Tget_class(types.file), types.native);
           }
           if (!value) {
             Fail(where, fmt::format("is not a complete {} file: attribute {} is missing", format, attribute.name));
