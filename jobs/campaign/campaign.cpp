@@ -170,6 +170,9 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
             life.error_motion.total * units::kMillimetresPerMetre,
             life.error_motion.synchronous * units::kMillimetresPerMetre,
             life.error_motion.asynchronous * units::kMillimetresPerMetre,
+#ifdef RINGTOL_TEST_OUTPUT
+            2.0 * result.d_trajectory * units::kMillimetresPerMetre,  // test_output_mm, tests/jobs/fake_output only
+#endif
         });
         static_assert(outputs.size() == kOutputCount, "one value for each row of kOutputs");
         bool finite = true;

@@ -81,6 +81,12 @@ inline constexpr auto kOutputs = std::to_array<OutputDescription>({
     {"error_motion_total_mm", "mm", "total error motion", OutputSpan::kLife, 4, "ISO 230-7 total radial error motion value"},
     {"error_motion_synchronous_mm", "mm", "synchronous error motion", OutputSpan::kLife, 4, "ISO 230-7 synchronous radial error motion value"},
     {"error_motion_asynchronous_mm", "mm", "asynchronous error motion", OutputSpan::kLife, 4, "ISO 230-7 asynchronous radial error motion value"},
+#ifdef RINGTOL_TEST_OUTPUT
+    // Only tests/jobs/fake_output compiles this row in: an output added as a new one would
+    // be, to show that its row is all the store, the summary, the report and the
+    // allocation need (its value: SampleEvaluator::Evaluate's one test-only line).
+    {"test_output_mm", "mm", "test output", OutputSpan::kRevolution, 5, "twice D_trajectory"},
+#endif
 });
 inline constexpr std::array<const char*, kOutputs.size()> kOutputNames = [] {
   std::array<const char*, kOutputs.size()> names{};
