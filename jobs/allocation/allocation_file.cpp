@@ -23,8 +23,6 @@ constexpr double kPercentPerUnit = 100.0;
 // [spec] is listed so that it is refused with a pointer to what replaces it, not as an
 // unknown key.
 constexpr std::array<std::string_view, 3> kAllocationTables = {"solver", "spec", "allocation"};
-// The limit's key per output unit: the unit is what follows an output name's last '_'.
-constexpr std::array<std::string_view, 2> kUpperKeys = {"upper_mm", "upper_N"};
 
 sampling::ErrorSource SourceOf(AllocatedComponent component) {
   switch (component) {
@@ -197,7 +195,21 @@ std::string OutputList() {
   return outputs;
 }
 
-std::vector<Field<analysis::Constraint>> ConstraintFields(std::array<bool, kUpperKeys.size()>& upper_given) {
+// A constraint's limit key, in its output's unit (OutputDescription::unit).
+std::string UpperKey(const OutputDescription& output) { return std::string("upper_") + output.unit; }
+
+// The limit keys of every unit of the outputs, each once, in kOutputs' order.
+std::vector<std::string> UpperKeys() {
+  std::vector<std::string> keys;
+  for (const OutputDescription& output : kOutputs) {
+    if (std::find(keys.begin(), keys.end(), UpperKey(output)) == keys.end()) keys.push_back(UpperKey(output));
+  }
+  return keys;
+}
+
+// `upper_given[k]`: whether the table gave UpperKeys()[k].
+std::vector<Field<analysis::Constraint>> ConstraintFields(const std::vector<std::string>& upper_keys,
+                                                          std::vector<bool>& upper_given) {
   const std::string outputs = OutputList();
   std::vector<Field<analysis::Constraint>> fields{
       Text("output", Presence::kRequired, outputs, &analysis::Constraint::output),
@@ -214,8 +226,8 @@ std::vector<Field<analysis::Constraint>> ConstraintFields(std::array<bool, kUppe
        },
        {}, {}},
   };
-  for (std::size_t k = 0; k < kUpperKeys.size(); ++k) {
-    fields.push_back({kUpperKeys[k], Presence::kOptional, "> 0", [k, &upper_given](const Site& site, analysis::Constraint& c) {
+  for (std::size_t k = 0; k < upper_keys.size(); ++k) {
+    fields.push_back({upper_keys[k], Presence::kOptional, "> 0", [k, &upper_given](const Site& site, analysis::Constraint& c) {
                         c.upper = ReadNumber(site, Above(0));
                         upper_given[k] = true;
                       }, {}, {}});
@@ -226,19 +238,18 @@ std::vector<Field<analysis::Constraint>> ConstraintFields(std::array<bool, kUppe
 // One [[allocation.constraint]], checked: a campaign output, exactly one of quantile and
 // yield, and its limit under the key of the output's unit.
 analysis::Constraint ReadConstraint(const TableReader& t) {
-  std::array<bool, kUpperKeys.size()> upper_given{};
+  const std::vector<std::string> upper_keys = UpperKeys();
+  std::vector<bool> upper_given(upper_keys.size());
   analysis::Constraint c;
-  t.Read(ConstraintFields(upper_given), c);
-  bool known = false;
-  for (const char* name : kOutputNames) known = known || c.output == name;
-  if (!known) t.Fail("output", "not an output of a campaign", OutputList());
+  t.Read(ConstraintFields(upper_keys, upper_given), c);
+  if (OutputIndex(c.output) == kOutputCount) t.Fail("output", "not an output of a campaign", OutputList());
   t.RequireExactlyOne("quantile", "yield",
                       "exactly one of quantile (> 0 and < 1: that quantile must be <= the limit) and yield (> 0 "
                       "and < 1: at least that fraction within the limit)");
-  const std::string key = "upper_" + c.output.substr(c.output.rfind('_') + 1);
-  for (std::size_t k = 0; k < kUpperKeys.size(); ++k) {
-    if (upper_given[k] && kUpperKeys[k] != key)
-      t.Fail(kUpperKeys[k], "the limit of " + c.output + " is in the unit of its name", key + " > 0");
+  const std::string key = UpperKey(OutputNamed(c.output));
+  for (std::size_t k = 0; k < upper_keys.size(); ++k) {
+    if (upper_given[k] && upper_keys[k] != key)
+      t.Fail(upper_keys[k], "the limit of " + c.output + " is in the unit of its name", key + " > 0");
   }
   if (!t.Has(key)) t.FailAbout("output", t.KeyPath(key), "missing: the limit of " + c.output, key + " > 0");
   return c;

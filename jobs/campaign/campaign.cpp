@@ -1,6 +1,7 @@
 #include "jobs/campaign/campaign.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -158,7 +159,9 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
         const bool reads_life = campaign_->simulation().life;
         const solvers::LifeValues life = result.life.value_or(
             solvers::LifeValues{kNaN, kNaN, {kNaN, kNaN, kNaN, kNaN}});
-        const std::array<double, kOutputCount> outputs = {
+        // One value for each row of kOutputs, in its order: a row left without one does not
+        // compile, where a std::array's brace list would quietly give it 0.
+        const auto outputs = std::to_array<double>({
             result.d_trajectory * units::kMillimetresPerMetre, result.dist_init * units::kMillimetresPerMetre,
             result.static_offset * units::kMillimetresPerMetre, result.runout * units::kMillimetresPerMetre,
             result.swing * units::kMillimetresPerMetre, result.min_contact_force, max_force,
@@ -166,7 +169,12 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
             life.d_trajectory * units::kMillimetresPerMetre, life.runout * units::kMillimetresPerMetre,
             life.error_motion.total * units::kMillimetresPerMetre,
             life.error_motion.synchronous * units::kMillimetresPerMetre,
-            life.error_motion.asynchronous * units::kMillimetresPerMetre};
+            life.error_motion.asynchronous * units::kMillimetresPerMetre,
+#ifdef RINGTOL_TEST_OUTPUT
+            2.0 * result.d_trajectory * units::kMillimetresPerMetre,  // test_output_mm, tests/jobs/fake_output only
+#endif
+        });
+        static_assert(outputs.size() == kOutputCount, "one value for each row of kOutputs");
         bool finite = true;
         for (std::size_t k = 0; k < kOutputCount; ++k) {
           finite = finite && (std::isfinite(outputs[k]) || (!reads_life && IsLifeOutput(k)));

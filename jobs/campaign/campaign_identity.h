@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "jobs/campaign/sample_record.h"
 #include "sampling/assembly_sampler.h"
 #include "sampling/design.h"
 #include "solvers/simulation.h"
@@ -51,12 +52,11 @@ struct CampaignIdentity {
   std::vector<sampling::ComponentScale> calibrations;
 };
 
-// Whether a summary or report shows `output` for this campaign: the first and steady
-// revolutions' D_trajectory only where the dynamic rung ran, since for the time-free rungs
-// both equal d_trajectory_mm.
+// Whether a summary or report shows `output` (one of kOutputNames) for this campaign: the
+// dynamic rung's own revolutions (OutputSpan::kDynamicRevolution) only where that rung
+// ran, since the time-free rungs give them the revolution's value.
 inline bool ShowsOutput(const CampaignIdentity& identity, std::string_view output) {
-  const bool per_revolution = output == "d_trajectory_first_mm" || output == "d_trajectory_steady_mm";
-  return !per_revolution || identity.solver.starts_with("dynamic");
+  return OutputNamed(output).span != OutputSpan::kDynamicRevolution || identity.solver.starts_with("dynamic");
 }
 
 // Whether --samples may grow a campaign of this design: a Latin hypercube's strata are its

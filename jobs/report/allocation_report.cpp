@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "engine/units.h"
+#include "jobs/campaign/sample_record.h"
 #include "jobs/report/allocation_summary.h"
 #include "jobs/report/campaign_summary.h"
 
@@ -18,19 +19,13 @@ namespace {
 
 constexpr double kPercentPerFraction = 100.0;
 
-bool EndsWith(std::string_view text, std::string_view tail) {
-  return text.size() >= tail.size() && text.substr(text.size() - tail.size()) == tail;
-}
-
 // A constraint's margin in a unit a designer reads: µm for lengths (outputs in mm),
 // percentage points for yields, else the output's own unit.
 std::pair<std::string, double> MarginUnit(const analysis::Constraint& constraint) {
   if (constraint.kind == analysis::ConstraintKind::kYield) return {"points", kPercentPerFraction};
-  if (EndsWith(constraint.output, "_mm")) {
-    return {"µm", units::kMicrometresPerMetre / units::kMillimetresPerMetre};
-  }
-  const std::size_t cut = constraint.output.rfind('_');
-  return {cut == std::string::npos ? "" : constraint.output.substr(cut + 1), 1.0};
+  const std::string_view unit = OutputNamed(constraint.output).unit;
+  if (unit == "mm") return {"µm", units::kMicrometresPerMetre / units::kMillimetresPerMetre};
+  return {std::string(unit), 1.0};
 }
 
 double MarginInUnit(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& judgement) {

@@ -7,16 +7,11 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "jobs/campaign/sample_record.h"
 #include "jobs/report/report_text.h"
 
 namespace ringtol::jobs {
 namespace {
-
-// The unit of an output, from its name's suffix (kOutputNames carry it).
-std::string_view UnitOf(std::string_view output) {
-  const std::size_t underscore = output.rfind('_');
-  return underscore == std::string_view::npos ? std::string_view() : output.substr(underscore + 1);
-}
 
 // A yield judgement's percentage, to the hundredths its margin is given in.
 std::string PercentToHundredths(double fraction) { return fmt::format("{:.2f} %", 100 * fraction); }
@@ -24,7 +19,7 @@ std::string PercentToHundredths(double fraction) { return fmt::format("{:.2f} %"
 std::string Judgement(const analysis::Constraint& constraint, const analysis::ConstraintJudgement& j, double confidence) {
   if (j.verdict == analysis::Verdict::kUnknown) return "not judged (the screen bounds only d_trajectory_mm)";
   if (constraint.kind == analysis::ConstraintKind::kQuantile) {
-    const std::string_view unit = UnitOf(constraint.output);
+    const std::string_view unit = OutputNamed(constraint.output).unit;
     return fmt::format("{:.4g} {}, {:.0f} % interval [{:.4g}, {:.4g}] {}", j.estimate, unit, 100 * confidence,
                        j.interval.lower, j.interval.upper, unit);
   }
@@ -36,7 +31,7 @@ std::string MarginText(const analysis::Constraint& constraint, const analysis::C
   const double margin = Margin(constraint, j);
   if (constraint.kind == analysis::ConstraintKind::kYield)
     return fmt::format("{:.2f} points {} the least", 100 * std::abs(margin), margin >= 0 ? "above" : "below");
-  const std::string_view unit = UnitOf(constraint.output);
+  const std::string_view unit = OutputNamed(constraint.output).unit;
   if (unit == "mm")
     return fmt::format("{:.1f} um {} the limit", 1000 * std::abs(margin), margin >= 0 ? "within" : "beyond");
   return fmt::format("{:.4g} {} {} the limit", std::abs(margin), unit, margin >= 0 ? "within" : "beyond");
@@ -81,7 +76,7 @@ std::string CommonRandomGainText(double gain) {
 }
 
 std::string ConstraintText(const analysis::Constraint& constraint) {
-  const std::string_view unit = UnitOf(constraint.output);
+  const std::string_view unit = OutputNamed(constraint.output).unit;
   if (constraint.kind == analysis::ConstraintKind::kQuantile)
     return fmt::format("{}: {:g} % quantile <= {:g} {}", constraint.output, 100 * constraint.level, constraint.upper,
                        unit);

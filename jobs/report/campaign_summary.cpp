@@ -90,6 +90,14 @@ nlohmann::json LifeGapJson(const LifeGap& gap) {
           {"median_excess", Bound(gap.median_excess)}};
 }
 
+std::string LifeNotComputed() {
+  std::string names;
+  for (std::size_t k = 0; k < kOutputCount; ++k) {
+    if (IsLifeOutput(k)) names += (names.empty() ? "" : ", ") + std::string(kOutputNames[k]);
+  }
+  return fmt::format("The life outputs ({}) were not computed: the campaign file sets [outputs] life = false.", names);
+}
+
 bool IsErrorMotionColumn(std::string_view name) { return ErrorMotionOf(name).has_value(); }
 
 std::optional<LifeErrorMotion> LifeErrorMotionOf(
@@ -315,7 +323,7 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
   if (const std::int64_t ran = RungsRan(s.settled_by); ran > 0) {
     fmt::print(out, "rungs             {} (of the {} samples a rung ran on)\n", RungShares(s.settled_by), ran);
   }
-  if (!s.life) fmt::print(out, "life              {}\n", kLifeNotComputed);
+  if (!s.life) fmt::print(out, "life              {}\n", LifeNotComputed());
   for (const LifeGap& gap : s.life_gaps) fmt::print(out, "life              {}\n", LifeGapSentence(gap));
   if (s.life_error_motion) fmt::print(out, "life              {}\n", LifeErrorMotionSentence(*s.life_error_motion, s.error_motion_filter));
   const int level = static_cast<int>(std::lround(100.0 * s.confidence));

@@ -33,6 +33,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/order_statistics.h"
+#include "jobs/campaign/sample_record.h"
 #include "jobs/store/campaign_store.h"
 
 namespace ringtol::jobs {
@@ -63,8 +64,19 @@ struct LifeColumns {
   const char* life;
   const char* label;
 };
+// Which life output is which revolution output's over the life is not a property of one
+// row of the outputs table, so it is listed here; the table holds each to its span.
 inline constexpr LifeColumns kLifeColumns[] = {{"d_trajectory_mm", "life_d_trajectory_mm", "D_trajectory"},
                                                {"runout_mm", "life_runout_mm", "runout"}};
+static_assert([] {
+  for (const LifeColumns& c : kLifeColumns) {
+    const std::size_t one = OutputIndex(c.one_revolution), life = OutputIndex(c.life);
+    if (one == kOutputCount || life == kOutputCount || kOutputs[one].span != OutputSpan::kRevolution ||
+        kOutputs[life].span != OutputSpan::kLife)
+      return false;
+  }
+  return true;
+}(), "each pair is a revolution output of the outputs table and a life output");
 
 // Whether `name` is one of kLifeColumns' columns.
 bool IsLifeColumn(std::string_view name);
@@ -95,10 +107,10 @@ struct LifeErrorMotion {
 };
 
 // What the summary and the report say of a campaign that left the life out
-// (CampaignIdentity::life false), in place of its numbers.
-inline constexpr std::string_view kLifeNotComputed =
-    "The life outputs (life_d_trajectory_mm, life_runout_mm, error_motion_*) were not computed: the campaign file "
-    "sets [outputs] life = false.";
+// (CampaignIdentity::life false), in place of its numbers: "The life outputs
+// (life_d_trajectory_mm, ...) were not computed: ...", every life output of the outputs
+// table named.
+std::string LifeNotComputed();
 
 // Whether `name` is an error motion column (ErrorMotionOf, jobs/report/report_text.h).
 bool IsErrorMotionColumn(std::string_view name);

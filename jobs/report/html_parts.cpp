@@ -61,14 +61,9 @@ std::string PercentInterval(const analysis::Interval& i) {
   return fmt::format("[{}, {}]", Percent(i.lower), Percent(i.upper));
 }
 
-std::string Quantity(std::string_view name) {
-  if (const std::size_t output = OutputIndex(name); output < kOutputCount) return kOutputs[output].label;
-  std::string text(name.substr(0, name.rfind('_')));
-  std::replace(text.begin(), text.end(), '_', ' ');
-  return text;
-}
+std::string Quantity(std::string_view name) { return OutputNamed(name).label; }
 
-std::string Unit(std::string_view name) { return std::string(name.substr(name.rfind('_') + 1)); }
+std::string Unit(std::string_view name) { return OutputNamed(name).unit; }
 
 std::string Label(std::string_view name) { return fmt::format("{} [{}]", Quantity(name), Unit(name)); }
 

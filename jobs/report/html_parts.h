@@ -29,9 +29,9 @@ void OpenPage(std::string& html, std::string_view title);
 std::string Num(double value);
 std::string Interval(const analysis::Interval& i);
 std::string PercentInterval(const analysis::Interval& i);
-// An output's column name in words: "d_trajectory_mm" -> "D_trajectory",
-// "error_motion_total_mm" -> "total error motion" (ErrorMotionName); its unit, the key's
-// suffix: "mm"; and both as a label: "D_trajectory [mm]".
+// An output's (one of kOutputNames) label and unit from its row of the outputs table
+// (jobs/campaign/sample_record.h): "d_trajectory_mm" -> "D_trajectory" and "mm"; and both
+// as a label: "D_trajectory [mm]".
 std::string Quantity(std::string_view name);
 std::string Unit(std::string_view name);
 std::string Label(std::string_view name);

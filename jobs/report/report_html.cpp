@@ -347,7 +347,7 @@ void AnswerSection(std::string& html, const CampaignReport& report, const Output
     html += fmt::format("<p>Rungs: {} (of the {} samples a rung ran on).</p>\n",
                         EscapeXml(RungShares(report.settled_by)), ran);
   }
-  if (!report.identity.life) html += fmt::format("<p>{}</p>\n", EscapeXml(kLifeNotComputed));
+  if (!report.identity.life) html += fmt::format("<p>{}</p>\n", EscapeXml(LifeNotComputed()));
   for (const LifeGap& gap : report.life_gaps) html += fmt::format("<p>{}</p>\n", EscapeXml(LifeGapSentence(gap)));
   if (report.life_error_motion) {
     html += fmt::format("<p>{}</p>\n", EscapeXml(LifeErrorMotionSentence(*report.life_error_motion, report.identity.error_motion_filter)));

@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "jobs/campaign/sample_record.h"
+
 namespace ringtol::jobs {
 namespace {
 
@@ -75,6 +77,13 @@ constexpr ErrorMotionNames kErrorMotionNames[] = {{"error_motion_total_mm", "tot
                                                   {"error_motion_synchronous_mm", "synchronous"},
                                                   {"error_motion_asynchronous_mm", "asynchronous"}};
 static_assert(std::size(kErrorMotionNames) == std::size(kErrorMotionValues));
+static_assert([] {
+  for (const ErrorMotionNames& names : kErrorMotionNames) {
+    const std::size_t output = OutputIndex(names.column);
+    if (output == kOutputCount || !IsLifeOutput(output) || !IsErrorMotionOutput(names.column)) return false;
+  }
+  return true;
+}(), "each column is an error-motion life output of the outputs table");
 
 const ErrorMotionNames& NamesOf(ErrorMotionValue value) { return kErrorMotionNames[static_cast<std::size_t>(value)]; }
 

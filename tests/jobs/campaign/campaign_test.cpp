@@ -275,7 +275,7 @@ TEST(SampleEvaluator, WithTheLifeOffTheSolverSkipsItAndTheSummarySaysItWasNotCom
   }
   std::ostringstream printed;
   PrintSummary(printed, summary);
-  EXPECT_THAT(printed.str(), HasSubstr("life              " + std::string(kLifeNotComputed)));
+  EXPECT_THAT(printed.str(), HasSubstr("life              " + LifeNotComputed()));
   const nlohmann::json json = SummaryJson(summary);
   EXPECT_EQ(json["life"], nlohmann::json({{"computed", false}}));
   EXPECT_FALSE(json["outputs"].contains("life_d_trajectory_mm"));

@@ -106,5 +106,17 @@ TEST(LifeGap, TheReportsAnswerStatesItOnlyWhereTheColumnsAre) {
   EXPECT_EQ(ReportJson(report)["life"]["D_trajectory"]["count"], 100);
 }
 
+// What a campaign without the life says in place of its numbers names the outputs it
+// left out: every life output of the outputs table, each by its name.
+TEST(LifeNotComputed, NamesEveryLifeOutputOfTheTable) {
+  const std::string text = LifeNotComputed();
+  for (std::size_t k = 0; k < kOutputCount; ++k) {
+    if (IsLifeOutput(k)) {
+      EXPECT_THAT(text, HasSubstr(kOutputNames[k]));
+    }
+  }
+  EXPECT_THAT(text, HasSubstr("[outputs] life = false"));
+}
+
 }  // namespace
 }  // namespace ringtol::jobs
