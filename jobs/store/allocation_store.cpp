@@ -1060,12 +1060,7 @@ AllocationStore AllocationStore::Resume(const fs::path& path, const AllocationId
   CheckIdentity(identity, options);
   const std::string name = path.string();
   const Where opening{name, true};
-  std::error_code error;
-  if (!fs::exists(path, error)) {
-    throw InputError(name + ": does not exist; run the allocation without --resume to start it");
-  }
-  if (!fs::is_regular_file(path, error)) throw InputError(name + ": is not a regular file");
-  FileLock lock = FileLock::Acquire(path, name);
+  FileLock lock = FileLock::ToResume(path, "allocation");
 
   // Everything is checked read-only first: a refused file is never modified.
   std::vector<RoleDamage> damaged;

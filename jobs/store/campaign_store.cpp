@@ -911,12 +911,7 @@ CampaignStore CampaignStore::Resume(const fs::path& path, const CampaignIdentity
   CheckArguments(identity, samples, options);
   const std::string name = path.string();
   const Where opening{name, true};
-  std::error_code error;
-  if (!fs::exists(path, error)) {
-    throw InputError(name + ": does not exist; run the campaign without --resume to start it");
-  }
-  if (!fs::is_regular_file(path, error)) throw InputError(name + ": is not a regular file");
-  FileLock lock = FileLock::Acquire(path, name);
+  FileLock lock = FileLock::ToResume(path, "campaign");
 
   // Everything is checked read-only first: a refused file is never modified.
   Stored stored;

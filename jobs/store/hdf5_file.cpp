@@ -532,6 +532,16 @@ FileLock::~FileLock() {
   if (fd_ >= 0) ::close(fd_);
 }
 
+FileLock FileLock::ToResume(const fs::path& path, std::string_view job) {
+  const std::string name = path.string();
+  std::error_code error;
+  if (!fs::exists(path, error)) {
+    throw InputError(fmt::format("{}: does not exist; run the {} without --resume to start it", name, job));
+  }
+  if (!fs::is_regular_file(path, error)) throw InputError(name + ": is not a regular file");
+  return Acquire(path, name);
+}
+
 FileLock FileLock::Acquire(const fs::path& path, const std::string& name) {
   FileLock lock;
   lock.fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);

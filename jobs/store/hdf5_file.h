@@ -276,6 +276,9 @@ class FileLock {
   }
   // InputError when another run holds it.
   static FileLock Acquire(const std::filesystem::path& path, const std::string& name);
+  // The lock of a results file a run resumes: InputError when it does not exist (naming
+  // `job`, "campaign", to run without --resume), is not a regular file, or is held.
+  static FileLock ToResume(const std::filesystem::path& path, std::string_view job);
   // Whether a writer holds the lock of the file at `path` now (false for a missing file, or
   // on a file system without locks).
   static bool Held(const std::filesystem::path& path);
