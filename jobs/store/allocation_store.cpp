@@ -438,8 +438,8 @@ Stored ReadStored(const Where& where, hid_t file) {
   const std::vector<std::int32_t> component = ReadInts(where, file, "/options/component");
   const std::vector<std::string> classes = ReadStrings(where, file, "/options/class");
   const std::vector<std::string> modes = ReadStrings(where, file, "/options/mode");
-  const auto tolerances = ReadWhole<double>(where, file, "/options/tolerance", H5T_NATIVE_DOUBLE);
-  const auto costs = ReadWhole<double>(where, file, "/options/cost", H5T_NATIVE_DOUBLE);
+  const auto tolerances = ReadWhole<double>(where, file, "/options/tolerance");
+  const auto costs = ReadWhole<double>(where, file, "/options/cost");
   const std::size_t o = component.size();
   if (classes.size() != o || modes.size() != o || tolerances.size() != o || costs.size() != o) {
     Fail(where, "the datasets in /options describe different numbers of options");
@@ -454,8 +454,8 @@ Stored ReadStored(const Where& where, hid_t file) {
 
   const std::vector<std::string> outputs = ReadStrings(where, file, "/constraints/output");
   const std::vector<std::string> kinds = ReadStrings(where, file, "/constraints/kind");
-  const auto levels = ReadWhole<double>(where, file, "/constraints/level", H5T_NATIVE_DOUBLE);
-  const auto uppers = ReadWhole<double>(where, file, "/constraints/upper", H5T_NATIVE_DOUBLE);
+  const auto levels = ReadWhole<double>(where, file, "/constraints/level");
+  const auto uppers = ReadWhole<double>(where, file, "/constraints/upper");
   const std::size_t m = outputs.size();
   if (kinds.size() != m || levels.size() != m || uppers.size() != m) {
     Fail(where, "the datasets in /constraints describe different numbers of constraints");
@@ -849,7 +849,7 @@ AllocationOutcome ReadOutcomeFrom(const Where& where, hid_t file, const Allocati
   ForEachRow(std::tuple_cat(kCandidateArrays, kOutcomeArrays), [&](const auto& array) {
     using T = typename std::decay_t<decltype(array)>::Element;
     const hsize_t columns = extents.Columns(array.extent);
-    const std::vector<T> values = ReadWhole<T>(where, file, array.path, TypesOf<T>().native, columns);
+    const std::vector<T> values = ReadWhole<T>(where, file, array.path, columns);
     const hsize_t width = std::max<hsize_t>(1, columns);
     if (values.size() != extents.candidates * width) {
       Fail(where, fmt::format("dataset {} has {} rows for {} candidates", array.path, values.size() / width,
@@ -876,15 +876,13 @@ AllocationOutcome ReadOutcomeFrom(const Where& where, hid_t file, const Allocati
   }
   ForEachRow(kOutcomeLists, [&](const auto& list) {
     using T = typename std::decay_t<decltype(list)>::Element;
-    const std::vector<T> values = ReadWhole<T>(where, file, list.path, TypesOf<T>().native);
+    const std::vector<T> values = ReadWhole<T>(where, file, list.path);
     list.access(outcome).assign(values.begin(), values.end());
   });
   const GroupId group(Check(H5Gopen2(file, "/outcome", H5P_DEFAULT), where, "opening group", "/outcome"));
   ForEachRow(kOutcomeAttributes, [&](const auto& attribute) {
     using T = typename std::decay_t<decltype(attribute)>::Element;
-    const H5T_class_t kind = std::is_floating_point_v<T> ? H5T_FLOAT : H5T_INTEGER;
-    Decode(Require(where, ReadNumberAttribute<T>(where, group.get(), attribute.path, kind, TypesOf<T>().native),
-                   attribute.path),
+    Decode(Require(where, ReadNumberAttribute<T>(where, group.get(), attribute.path), attribute.path),
            attribute.access(outcome));
   });
   return outcome;
@@ -1334,7 +1332,7 @@ std::vector<double> AllocationReader::ReadDesignPoints(std::int64_t begin, std::
     throw std::out_of_range(
         fmt::format("AllocationReader::ReadDesignPoints: range [{}, {}) is outside [0, {})", begin, end, n));
   }
-  return ReadRows<double>(f.where, f.file.get(), "/inputs/u", H5T_NATIVE_DOUBLE, static_cast<hsize_t>(begin),
+  return ReadRows(f.where, f.file.get(), "/inputs/u", static_cast<hsize_t>(begin),
                           static_cast<hsize_t>(end), f.identity.inputs.size(), "samples");
 }
 
@@ -1397,7 +1395,7 @@ ResultsCheck CheckAllocationResults(const fs::path& path) {
   }
   check.done = check.done_screen + check.done_confirm;
   try {
-    ReadRows<double>(where, file.get(), "/inputs/u", H5T_NATIVE_DOUBLE, 0, static_cast<hsize_t>(check.samples),
+    ReadRows(where, file.get(), "/inputs/u", 0, static_cast<hsize_t>(check.samples),
                      stored.identity.inputs.size(), "samples");
   } catch (const InputError& error) {
     damage("/inputs/u", {0, check.samples}, error.what());

@@ -772,44 +772,35 @@ std::optional<std::string> TryReadRows(const Where& where, hid_t dataset, const 
 }
 
 template <typename T>
-std::vector<T> ReadWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type,
-                         hsize_t columns) {
+std::vector<T> ReadWhole(const Where& where, hid_t file, const std::string& path, hsize_t columns) {
   const DatasetId dataset = OpenArray(where, file, path);
   const hsize_t rows = RowsOf(where, dataset.get(), path, columns);
   std::vector<T> values(rows * std::max<hsize_t>(1, columns));
   if (values.empty()) return values;
-  if (const auto problem = TryReadRows(where, dataset.get(), path, memory_type, 0, rows, values.data())) {
+  if (const auto problem = TryReadRows(where, dataset.get(), path, TypesOf<T>().native, 0, rows, values.data())) {
     throw InputError(fmt::format("{}: dataset {} is damaged ({})", where.file, path, *problem));
   }
   return values;
 }
 
-template <typename T>
-std::vector<T> ReadRows(const Where& where, hid_t file, const std::string& path, hid_t memory_type, hsize_t begin,
-                        hsize_t end, hsize_t columns, std::string_view rows) {
-  std::vector<T> values((end - begin) * std::max<hsize_t>(1, columns));
+std::vector<double> ReadRows(const Where& where, hid_t file, const std::string& path, hsize_t begin, hsize_t end,
+                             hsize_t columns, std::string_view rows) {
+  std::vector<double> values((end - begin) * std::max<hsize_t>(1, columns));
   if (values.empty()) return values;
   const DatasetId dataset = OpenArray(where, file, path);
   RowsOf(where, dataset.get(), path, columns);
-  if (const auto problem = TryReadRows(where, dataset.get(), path, memory_type, begin, end - begin, values.data())) {
+  if (const auto problem =
+          TryReadRows(where, dataset.get(), path, H5T_NATIVE_DOUBLE, begin, end - begin, values.data())) {
     throw InputError(fmt::format("{}: dataset {} is damaged: {} {} to {} cannot be read ({})", where.file, path, rows,
                                  begin, end - 1, *problem));
   }
   return values;
 }
 
-// Every number of TypesOf.
-template std::vector<std::int8_t> ReadWhole(const Where&, hid_t, const std::string&, hid_t, hsize_t);
-template std::vector<std::int32_t> ReadWhole(const Where&, hid_t, const std::string&, hid_t, hsize_t);
-template std::vector<std::int64_t> ReadWhole(const Where&, hid_t, const std::string&, hid_t, hsize_t);
-template std::vector<double> ReadWhole(const Where&, hid_t, const std::string&, hid_t, hsize_t);
-template std::vector<std::int8_t> ReadRows(const Where&, hid_t, const std::string&, hid_t, hsize_t, hsize_t, hsize_t,
-                                           std::string_view);
-template std::vector<std::int32_t> ReadRows(const Where&, hid_t, const std::string&, hid_t, hsize_t, hsize_t, hsize_t,
-                                            std::string_view);
-template std::vector<std::int64_t> ReadRows(const Where&, hid_t, const std::string&, hid_t, hsize_t, hsize_t, hsize_t,
-                                            std::string_view);
-template std::vector<double> ReadRows(const Where&, hid_t, const std::string&, hid_t, hsize_t, hsize_t, hsize_t,
-                                      std::string_view);
+// Every number of TypesOf the stores read whole.
+template std::vector<std::int8_t> ReadWhole(const Where&, hid_t, const std::string&, hsize_t);
+template std::vector<std::int32_t> ReadWhole(const Where&, hid_t, const std::string&, hsize_t);
+template std::vector<std::int64_t> ReadWhole(const Where&, hid_t, const std::string&, hsize_t);
+template std::vector<double> ReadWhole(const Where&, hid_t, const std::string&, hsize_t);
 
 }  // namespace ringtol::jobs::hdf5

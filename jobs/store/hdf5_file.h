@@ -122,6 +122,25 @@ bool IsKnownStatus(std::int8_t value);
 // ---------------------------------------------------------------------------------------
 // Attributes
 
+// The HDF5 types of a number a dataset or attribute keeps, T one of std::int8_t,
+// std::int32_t, std::int64_t, std::uint64_t, double.
+struct NumberTypes {
+  hid_t native;  // in memory
+  hid_t file;    // little-endian, as the files keep it
+};
+template <typename T>
+NumberTypes TypesOf() {
+  if constexpr (std::is_same_v<T, std::int8_t>) return {H5T_NATIVE_INT8, H5T_STD_I8LE};
+  else if constexpr (std::is_same_v<T, std::int32_t>) return {H5T_NATIVE_INT32, H5T_STD_I32LE};
+  else if constexpr (std::is_same_v<T, std::int64_t>) return {H5T_NATIVE_INT64, H5T_STD_I64LE};
+  else if constexpr (std::is_same_v<T, std::uint64_t>) return {H5T_NATIVE_UINT64, H5T_STD_U64LE};
+  else {
+    static_assert(std::is_same_v<T, double>, "a number the results files keep");
+    return {H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE};
+  }
+}
+
+
 void WriteAttribute(const Where& where, hid_t location, const char* name, hid_t file_type, hid_t memory_type,
                     const void* value);
 // Variable-length, so that h5py reads it as str; written before SWMR starts.
@@ -149,6 +168,12 @@ std::optional<T> ReadNumberAttribute(const Where& where, hid_t location, const c
   T value{};
   CheckStatus(H5Aread(attribute->get(), memory_type, &value), where, "reading attribute", name);
   return value;
+}
+// As above, of the class and through the memory type of T (TypesOf).
+template <typename T>
+std::optional<T> ReadNumberAttribute(const Where& where, hid_t location, const char* name) {
+  return ReadNumberAttribute<T>(where, location, name, std::is_floating_point_v<T> ? H5T_FLOAT : H5T_INTEGER,
+                                TypesOf<T>().native);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -315,24 +340,6 @@ std::optional<std::string> TextDifference(std::string_view field, const std::str
 // from a spec, written and read whole or by rows. A row is the unit a store appends and
 // reads (a sample, a candidate, a failure); the columns are read together.
 
-// The HDF5 types of a number a dataset or attribute keeps, T one of std::int8_t,
-// std::int32_t, std::int64_t, std::uint64_t, double.
-struct NumberTypes {
-  hid_t native;  // in memory
-  hid_t file;    // little-endian, as the files keep it
-};
-template <typename T>
-NumberTypes TypesOf() {
-  if constexpr (std::is_same_v<T, std::int8_t>) return {H5T_NATIVE_INT8, H5T_STD_I8LE};
-  else if constexpr (std::is_same_v<T, std::int32_t>) return {H5T_NATIVE_INT32, H5T_STD_I32LE};
-  else if constexpr (std::is_same_v<T, std::int64_t>) return {H5T_NATIVE_INT64, H5T_STD_I64LE};
-  else if constexpr (std::is_same_v<T, std::uint64_t>) return {H5T_NATIVE_UINT64, H5T_STD_U64LE};
-  else {
-    static_assert(std::is_same_v<T, double>, "a number the results files keep");
-    return {H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE};
-  }
-}
-
 struct Shape {
   hsize_t rows = 0;
   hsize_t columns = 0;  // 0: one-dimensional [rows]
@@ -379,13 +386,11 @@ std::optional<std::string> TryReadRows(const Where& where, hid_t dataset, const 
 // "dataset <path> is damaged (<HDF5's reason>)" when it does not read, even in a file that
 // is open (`where.input` false): the file's bytes are wrong, not the system.
 template <typename T>
-std::vector<T> ReadWhole(const Where& where, hid_t file, const std::string& path, hid_t memory_type,
-                         hsize_t columns = 0);
-// Rows [begin, end) of the dataset at `path` as ReadWhole, none opened when they are none;
+std::vector<T> ReadWhole(const Where& where, hid_t file, const std::string& path, hsize_t columns = 0);
+// Rows [begin, end) of the float64 dataset at `path` as ReadWhole, none opened when they are none;
 // InputError "dataset <path> is damaged: <rows> <begin> to <end - 1> cannot be read
 // (<reason>)", `rows` naming what a row is ("samples").
-template <typename T>
-std::vector<T> ReadRows(const Where& where, hid_t file, const std::string& path, hid_t memory_type, hsize_t begin,
-                        hsize_t end, hsize_t columns, std::string_view rows);
+std::vector<double> ReadRows(const Where& where, hid_t file, const std::string& path, hsize_t begin, hsize_t end,
+                             hsize_t columns, std::string_view rows);
 
 }  // namespace ringtol::jobs::hdf5

@@ -70,8 +70,7 @@ void ReadIdentityAttributes(const Where& where, hid_t file, Identity& identity,
           if constexpr (std::is_same_v<T, std::string>) {
             value = ReadStringAttribute(where, file, attribute.name);
           } else {
-            const NumberTypes types = TypesOf<T>();
-            value = ReadNumberAttribute<T>(where, file, attribute.name, H5Tget_class(types.file), types.native);
+            value = ReadNumberAttribute<T>(where, file, attribute.name);
           }
           if (!value) {
             Fail(where, fmt::format("is not a complete {} file: attribute {} is missing", format, attribute.name));
