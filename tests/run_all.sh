@@ -22,11 +22,17 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 jobs=$(nproc)
+# Each stage says how long it took, so that a run near CI's limit shows where its time went.
+stage() {
+  local started=$SECONDS
+  "$@"
+  echo "run_all: $(( SECONDS - started )) s: $*"
+}
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DRINGTOL_WERROR=ON -DRINGTOL_BENCHMARKS=ON \
   -DCMAKE_UNITY_BUILD=ON
-cmake --build build/release -j "$jobs"
-ctest --test-dir build/release -j "$jobs" --output-on-failure
+stage cmake --build build/release -j "$jobs"
+stage ctest --test-dir build/release -j "$jobs" --output-on-failure
 
 cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRINGTOL_WERROR=ON -DRINGTOL_SANITIZE=ON
-cmake --build build/sanitize -j "$jobs"
-LSAN_OPTIONS="suppressions=$PWD/tests/support/lsan.supp" ctest --test-dir build/sanitize -j "$jobs" --output-on-failure
+stage cmake --build build/sanitize -j "$jobs"
+LSAN_OPTIONS="suppressions=$PWD/tests/support/lsan.supp" stage ctest --test-dir build/sanitize -j "$jobs" --output-on-failure
