@@ -1,12 +1,16 @@
 // Runs of the executable in the background, so that a test can signal them while they work.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <signal.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -41,11 +45,34 @@ inline Running Start(const std::string& command, const std::filesystem::path& fo
   return run;
 }
 
-inline Ended Wait(const Running& run) {
+// How `run` ended, if it did within `seconds`; otherwise it is killed (SIGKILL) and reaped,
+// and the result is empty.
+inline std::optional<Ended> WaitWithin(const Running& run, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
   int status = 0;
-  waitpid(run.pid, &status, 0);
-  return {WIFSIGNALED(status), WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status), ReadText(run.out),
-          ReadText(run.err)};
+  while (waitpid(run.pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(run.pid, SIGKILL);
+      waitpid(run.pid, &status, 0);
+      return std::nullopt;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return Ended{WIFSIGNALED(status), WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status), ReadText(run.out),
+               ReadText(run.err)};
+}
+
+// The longest any test's run may take, under the sanitizers on two loaded cores [s].
+inline constexpr double kLongestRunSeconds = 600.0;
+
+// How `run` ended. One still going after `seconds` fails the test and is killed, so that a
+// run that never stops (a stop that hangs, say) fails its test by name rather than holding
+// the suite until CI's limit.
+inline Ended Wait(const Running& run, double seconds = kLongestRunSeconds) {
+  if (std::optional<Ended> ended = WaitWithin(run, seconds)) return *std::move(ended);
+  ADD_FAILURE() << "still running " << seconds << " s after it started waiting, killed; its stderr: "
+                << ReadText(run.err);
+  return {true, SIGKILL, ReadText(run.out), ReadText(run.err)};
 }
 
 // Polls until `ready` or two minutes have passed; false on the latter.

@@ -112,6 +112,54 @@ inline engine::Scene WithSpringRollers(engine::Scene scene, std::size_t count) {
   return scene;
 }
 
+// `rollers` rollers of the article's size, equally spaced from 90 deg, `springs` of them
+// (spread out: the first, and with two, also the one half-way round) on the article's
+// spring pushing along their own radii and the others fixed with their centres
+// `interference` [m] beyond a plain fit, so that every contact carries load however many
+// rollers there are: the fixed rollers surround the centre. The contact law is linear (exponent 1, `stiffness`
+// [N/m]): its linearisation is that stiffness at any load, which is what makes the centre's
+// first-order path a closed form (tests/validation/roller_count_test.cpp).
+inline engine::Scene EquallySpacedScene(int rollers, int springs, double interference, double stiffness) {
+  engine::Scene scene = PaperScene(engine::ContactLaw::Model::kPenalty);
+  scene.rollers.clear();
+  for (int i = 0; i < rollers; ++i) {
+    bool spring = false;
+    for (int j = 0; j < springs; ++j) spring = spring || i == j * rollers / springs;
+    engine::Roller roller = PaperRoller(spring ? "spring" : "fixed", 90.0 + 360.0 * i / rollers, spring);
+    roller.name += "_" + std::to_string(i);
+    if (!spring) roller.centre_radius += interference;
+    scene.rollers.push_back(std::move(roller));
+  }
+  scene.contact.exponent = 1.0;
+  scene.contact.stiffness = stiffness;
+  return scene;
+}
+
+// The article's assembly on `rollers` rollers, `springs` of them (1 or 2) on its spring: one
+// spring at 90 deg or two at 60 and 120 deg, the fixed rollers spread evenly from 210 to
+// 330 deg, under the springs' push, so each carries load at the article's contact law; the
+// ring and the rollers' lobes and offsets as CampaignLikeScene's.
+inline engine::Scene CampaignLikeStage(int rollers, int springs) {
+  engine::Scene scene = CampaignLikeScene();
+  const engine::Roller spring = scene.rollers[0];
+  const engine::Roller fixed = scene.rollers[1];
+  const int fixed_count = rollers - springs;
+  scene.rollers.clear();
+  for (int i = 0; i < rollers; ++i) {
+    engine::Roller roller = i < springs ? spring : fixed;
+    const double angle_deg = i < springs ? 90.0 + 30.0 * (2 * i + 1 - springs) : 210.0 + 120.0 * (i - springs) / (fixed_count - 1);
+    roller.name = (i < springs ? "spring_" : "fixed_") + std::to_string(i);
+    roller.angle = angle_deg * kDeg;
+    roller.spring.axis_angle = roller.angle;
+    std::vector<engine::Harmonic> lobes = roller.outline.harmonics();
+    for (engine::Harmonic& lobe : lobes) lobe.phase += 0.9 * i;
+    roller.outline = engine::PolarProfile(roller.outline.radius(), roller.outline.mean_deviation(), std::move(lobes));
+    roller.radial_offset = 3e-6 * std::sin(1.7 * i);
+    scene.rollers.push_back(std::move(roller));
+  }
+  return scene;
+}
+
 // RandomCampaignLikeScene with a weak spring and a large third-order ring lobe: the
 // assembly lifts off for some draws, at angles a coarse grid need not contain.
 inline engine::Scene LiftingCampaignLikeScene(std::mt19937_64& random, int draw) {

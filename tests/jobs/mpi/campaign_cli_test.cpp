@@ -559,6 +559,7 @@ std::int64_t Done(const std::filesystem::path& file) {
 using testing::Ended;
 using testing::Running;
 using testing::Wait;
+using testing::WaitWithin;
 using testing::WaitFor;
 
 // `command` in the background, its output in the test's folder.
@@ -707,23 +708,6 @@ TEST(Campaign, ASecondSignalDuringTheStopEndsTheRunAtOnceAndResumeStillCompletes
   const Outcome resumed = Campaign(file, out, "--resume");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   ExpectSameResults(folder / "whole.h5", out);
-}
-
-// How `run` ended, if it did within `seconds`; otherwise it is killed with SIGKILL, so that
-// a run that ignores its stop fails the test instead of hanging it.
-std::optional<Ended> WaitWithin(const Running& run, double seconds) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  int status = 0;
-  while (waitpid(run.pid, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      kill(run.pid, SIGKILL);
-      Wait(run);
-      return std::nullopt;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return Ended{WIFSIGNALED(status), WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status),
-               testing::ReadText(run.out), testing::ReadText(run.err)};
 }
 
 // --samples allows up to 2^40 (jobs/cli/main.cpp). Nothing at a run's start or stop may
