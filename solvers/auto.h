@@ -18,14 +18,15 @@
 //     since a path whose status the neglected terms could change must not settle: every
 //     failure of the linear rung (lift-off, travel, beyond its range) goes on as well.
 //  2. Otherwise the quasistatic rung (the exact time-free model) runs. Its path settles
-//     the scene unless the ring's inertia could open a contact, which the time-free rungs
-//     cannot see:
+//     the scene unless the ring's inertia could open a contact the support needs, which
+//     the time-free rungs cannot see:
 //       F_inertia = sum over the path's terms of g A min(m_ring (omega^2 w^2 + |alpha| w), k_c)
 //                 >= inertia_force_share F_min,
 //     omega and alpha [rad/s, rad/s^2] the motion law's largest rate and finite
 //     acceleration, g A and w each term's amplitude in the path and rate per revolution
-//     (SumOverPathTerms, solvers/simulation.h), k_c as in step 1 over the path, F_min its
-//     smallest contact force. A term the ring follows asks m a of the contacts; one too
+//     (SumOverPathTerms, solvers/simulation.h), k_c as in step 1 over the path, F_min the
+//     least force its support rests on (SupportForce, solvers/validity.h: on three rollers
+//     the smallest contact force; a redundant roller's may reach zero). A term the ring follows asks m a of the contacts; one too
 //     fast to follow is absorbed by the contacts' compliance instead, changing a force by
 //     at most k_c g A (the contacts are damped far beyond critical, so no resonance lifts
 //     that): hence the smaller of the two.

@@ -21,6 +21,7 @@
 #include "engine/contact.h"
 #include "engine/units.h"
 #include "solvers/quasistatic.h"
+#include "solvers/validity.h"
 
 namespace ringtol::solvers {
 namespace {
@@ -696,6 +697,7 @@ class Integrator {
   struct Opening {
     double time = 0.0;  // [s]
     int roller = 0;
+    std::vector<double> depth;  // [m] every roller's penetration then, the opening one's 0
   };
   const std::vector<Opening>& openings() const { return openings_; }
 
@@ -722,8 +724,15 @@ class Integrator {
       if (flag == CV_ROOT_RETURN) {
         std::vector<int> found(static_cast<std::size_t>(dynamics_.rollers()));
         CVodeGetRootInfo(cvode_, found.data());
+        std::vector<double> depth(found.size());
+        if (const int depth_flag = dynamics_.Separation(reached, state(), depth.data()); depth_flag != 0) {
+          depth.assign(found.size(), 0.0);  // unknown: every contact counts as open
+        }
+        for (std::size_t i = 0; i < found.size(); ++i) {
+          if (found[i] != 0) depth[i] = 0.0;
+        }
         for (int i = 0; i < dynamics_.rollers(); ++i) {
-          if (found[static_cast<std::size_t>(i)] != 0) openings_.push_back({reached, i});
+          if (found[static_cast<std::size_t>(i)] != 0) openings_.push_back({reached, i, depth});
         }
         t_ = reached;
         continue;
@@ -854,7 +863,7 @@ Trajectory SampleRevolution(const Scene& scene, RingDynamics& dynamics, Integrat
   const double sense = law.RateIn(law.SegmentAt(start), start) < 0.0 ? -1.0 : 1.0;
   const double first_angle = sense * 2.0 * std::numbers::pi * revolution;
   const auto z = static_cast<std::size_t>(dynamics.rollers());
-  const std::size_t openings_before = integrator.openings().size();
+  std::size_t watched = integrator.openings().size();  // the openings weighed so far
   for (int k = 0; k <= steps; ++k) {
     const double psi = sense * 2.0 * std::numbers::pi * k / steps;
     const double t = k == 0 && revolution == 0 ? start : law.TimeAtAngle(first_angle + psi, start);
@@ -871,8 +880,12 @@ Trajectory SampleRevolution(const Scene& scene, RingDynamics& dynamics, Integrat
       return trajectory;
     }
     const DynamicSample sample = Observe(dynamics, integrator);
-    if (trajectory.status == Status::kOk && integrator.openings().size() > openings_before) {
-      const auto& opening = integrator.openings()[openings_before];
+    // A contact that opens fails the run only where the ring loses the support it needs
+    // (solvers/validity.h, RollerLosingSupport); a redundant roller may leave and regain
+    // the bore.
+    for (; trajectory.status == Status::kOk && watched < integrator.openings().size(); ++watched) {
+      const auto& opening = integrator.openings()[watched];
+      if (RollerLosingSupport(scene, opening.depth) < 0) continue;
       trajectory.status = Status::kLiftOff;
       trajectory.failure_angle = law.Angle(opening.time) - law.Angle(start) - first_angle;
       trajectory.message = "the contact of roller " + scene.rollers[static_cast<std::size_t>(opening.roller)].name +
@@ -883,11 +896,12 @@ Trajectory SampleRevolution(const Scene& scene, RingDynamics& dynamics, Integrat
     for (std::size_t i = 0; i < z; ++i) {
       trajectory.travel.push_back(sample.travel[i]);
       trajectory.contact_force.push_back(sample.normal_force[i]);
-      if (trajectory.status == Status::kOk && !(sample.penetration[i] > 0.0)) {
-        trajectory.status = Status::kLiftOff;
-        trajectory.failure_angle = psi;
-        trajectory.message = "roller " + scene.rollers[i].name + " separates from the bore at t = " + Seconds(t);
-      }
+    }
+    if (const int lost = RollerLosingSupport(scene, sample.penetration); trajectory.status == Status::kOk && lost >= 0) {
+      trajectory.status = Status::kLiftOff;
+      trajectory.failure_angle = psi;
+      trajectory.message =
+          "roller " + scene.rollers[static_cast<std::size_t>(lost)].name + " separates from the bore at t = " + Seconds(t);
     }
   }
   trajectory.total_iterations = static_cast<int>(integrator.steps());
@@ -1019,7 +1033,7 @@ Trajectory DynamicSolver::SolveRevolution(const Scene& scene, int steps) const {
   Integrator& integrator = *run.integrator;
   const Equilibrium initial = Record(Observe(dynamics, integrator));
   // The article's settle may bounce (the ring falls onto its fixed rollers); from rotation start on,
-  // any contact that opens, even between two samples, is lift-off.
+  // any contact that opens, even between two samples, is weighed against the support rule.
   integrator.WatchSeparations();
   Trajectory trajectory = SampleRevolution(scene, dynamics, integrator, 0, steps);
   trajectory.initial = initial;

@@ -313,7 +313,7 @@ void Continue(const QuasistaticOptions& options, const EquilibriumSystem& system
   using Vector = Eigen::Matrix<double, N, 1>;
   const Scene& scene = system.scene();
   const auto z = static_cast<std::size_t>(system.rollers());
-  const ValidityCheck check(scene, {options.two_point_tolerance});
+  const ValidityCheck check(scene, {options.two_point_tolerance, true});
   Configuration scratch;
   const Eigen::VectorXd dynamic_tolerance = system.Tolerances(options.position_tolerance, options.force_tolerance);
   const Vector tolerance = dynamic_tolerance;
@@ -499,7 +499,7 @@ Equilibrium QuasistaticSolver::SolveStatic(const EquilibriumSystem& system, Eige
     result.message = "no static equilibrium found in " + std::to_string(outcome.iterations) + " Newton iterations";
     std::vector<TrackedContact> probe;
     const int lost = system.UpdateContacts(0.0, x, probe);
-    if (lost >= 0 && BridgesTheBore(system, ValidityCheck(scene, {options_.two_point_tolerance}), lost, 0.0,
+    if (lost >= 0 && BridgesTheBore(system, ValidityCheck(scene, {options_.two_point_tolerance, true}), lost, 0.0,
                                     result.message)) {
       result.status = Status::kTwoPointContact;
       return result;
@@ -516,7 +516,7 @@ Equilibrium QuasistaticSolver::SolveStatic(const EquilibriumSystem& system, Eige
   system.UpdateContacts(0.0, x, contacts);
   SetForces(system, x, contacts);
   Configuration scratch;
-  const Status status = Classify(system, ValidityCheck(scene, {options_.two_point_tolerance}), 0.0, x, contacts,
+  const Status status = Classify(system, ValidityCheck(scene, {options_.two_point_tolerance, true}), 0.0, x, contacts,
                                  scratch, result.message);
   Equilibrium recorded = Record(system, x, contacts);
   recorded.iterations = outcome.iterations;
@@ -570,7 +570,7 @@ Equilibrium QuasistaticSolver::SolveStaticFromNominal(const EquilibriumSystem& s
           SetForces(system, x, contacts);
           std::string message;
           Configuration scratch;
-          const Status status = Classify(system, ValidityCheck(scene, {options_.two_point_tolerance}), 0.0, x,
+          const Status status = Classify(system, ValidityCheck(scene, {options_.two_point_tolerance, true}), 0.0, x,
                                          contacts, scratch, message);
           Equilibrium recorded = Record(system, x, contacts);
           recorded.iterations = iteration;

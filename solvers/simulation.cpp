@@ -530,6 +530,18 @@ void ReadLife(const engine::Scene& scene, const Solver& solver, Accuracy accurac
   const auto* linear = dynamic_cast<const LinearSolver*>(&solver);
   const auto* automatic = dynamic_cast<const AutoSolver*>(&solver);
   const LinearSolver& source = linear != nullptr ? *linear : automatic != nullptr ? automatic->linear() : kPhasorSource;
+  // The life's revolutions are the linear rung's phasors about this one, which hold only
+  // while every contact of the error-free assembly stays closed.
+  const std::size_t z = scene.rollers.size();
+  for (std::size_t k = 0; k < result.trajectory.psi.size(); ++k) {
+    for (std::size_t i = 0; i < z; ++i) {
+      if (result.trajectory.contact_force[k * z + i] > 0.0) continue;
+      result.status = Status::kBeyondLinearRange;
+      result.message = "the life values assume every contact stays closed, and roller " + scene.rollers[i].name +
+                       " leaves the bore at psi = " + Degrees(result.trajectory.psi[k]);
+      return;
+    }
+  }
   const PhasorSum sum = source.Phasors(scene);
   if (!sum.usable) {
     result.status = Status::kNotConverged;
@@ -610,8 +622,9 @@ SimulationResult SimulateAnyAngles(const engine::Scene& scene, const Solver& sol
   }
   result.trajectory = escalated ? std::move(*escalated) : solver.SolveRevolution(scene, result.steps);
   if (!result.trajectory.rung) result.trajectory.rung = ValueNamed(kRungNames, solver.name());
-  // One verdict for every rung: a rung's own checks may miss what another's catch.
-  const ValidityCheck validity(scene);
+  // One verdict for every rung: a rung's own checks may miss what another's catch. A
+  // contact may open where the rung's equations let it (RollerLosingSupport).
+  const ValidityCheck validity(scene, {.contacts_may_open = result.trajectory.rung != Rung::kLinear});
   validity.Check(result.trajectory);
   const Trajectory& path = result.trajectory;
   if (path.status != Status::kOk) {

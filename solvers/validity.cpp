@@ -1,6 +1,8 @@
 #include "solvers/validity.h"
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <sstream>
 
@@ -20,6 +22,46 @@ std::string Degrees(double radians) {
   out.precision(6);
   out << radians * units::kDegreesPerRadian << " deg";
   return out.str();
+}
+
+namespace {
+
+// Fixed rollers in contact the support needs (RollerLosingSupport).
+std::size_t NeededFixedRollers(const engine::Scene& scene) {
+  const auto fixed = static_cast<std::size_t>(engine::FixedRollerCount(scene));
+  return std::min<std::size_t>(engine::SpringRollerCount(scene) > 0 ? 2 : 3, fixed);
+}
+
+}  // namespace
+
+int RollerLosingSupport(const engine::Scene& scene, std::span<const double> load) {
+  std::size_t fixed_touching = 0;
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    if (scene.rollers[i].mount == engine::RollerMount::kFixed && load[i] > 0.0) ++fixed_touching;
+  }
+  const bool fixed_enough = fixed_touching >= NeededFixedRollers(scene);
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    if (load[i] > 0.0) continue;
+    if (scene.rollers[i].mount == engine::RollerMount::kSpring || !fixed_enough) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+double SupportForce(const engine::Scene& scene, std::span<const double> contact_force) {
+  double spring = std::numeric_limits<double>::infinity();
+  std::vector<double> fixed;
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
+    if (scene.rollers[i].mount == engine::RollerMount::kSpring) {
+      spring = std::min(spring, contact_force[i]);
+    } else {
+      fixed.push_back(contact_force[i]);
+    }
+  }
+  const std::size_t needed = NeededFixedRollers(scene);
+  if (needed == 0) return spring;
+  std::nth_element(fixed.begin(), fixed.begin() + static_cast<std::ptrdiff_t>(needed - 1), fixed.end(),
+                   std::greater<>());
+  return std::min(spring, fixed[needed - 1]);
 }
 
 ValidityCheck::ValidityCheck(const engine::Scene& scene, ValidityOptions options)
@@ -44,15 +86,23 @@ double ValidityCheck::RollerMaxRadius(int i) const {
 Status ValidityCheck::Check(double psi, const Eigen::Vector2d& centre, std::span<const double> travel,
                             std::span<const double> contact_force, std::string& message,
                             std::span<const engine::Contact> contacts) const {
+  const bool support_lost = RollerLosingSupport(scene_, contact_force) >= 0;
   for (std::size_t i = 0; i < scene_.rollers.size(); ++i) {
     const engine::Roller& roller = scene_.rollers[i];
     const double force = contact_force[i];
     if (!(force > 0.0)) {
+      if (options_.contacts_may_open && !support_lost) continue;  // the ring rests on the others
       std::ostringstream reason;
-      reason << "roller " << roller.name << " lifts off at psi = " << Degrees(psi) << " (its contact force would be "
-             << force << " N)";
+      if (support_lost) {
+        reason << "roller " << roller.name << " lifts off at psi = " << Degrees(psi) << " (its contact force would be "
+               << force << " N)";
+        if (scene_.rollers.size() > 3) reason << ", leaving the ring without the support it needs";
+      } else {
+        reason << "roller " << roller.name << " leaves the bore at psi = " << Degrees(psi)
+               << ": the linear rung holds only while every contact stays closed (the quasistatic rung follows it)";
+      }
       message = reason.str();
-      return Status::kLiftOff;
+      return support_lost ? Status::kLiftOff : Status::kBeyondLinearRange;
     }
     const bool spring = roller.mount == engine::RollerMount::kSpring;
     if (spring && !(std::abs(travel[i]) <= roller.spring.travel_limit)) {

@@ -2,10 +2,15 @@
 // by every rung so that no rung reports kOk where another refuses (docs/model.md §7).
 // A configuration (ring centre, spring travels and contact forces at a ring angle psi) is
 // valid when, for every roller,
-//   1. its contact force is > 0                                   else kLiftOff
+//   1. its contact force is > 0, or the ring keeps without it
+//      the support it needs (RollerLosingSupport)                 else kLiftOff
 //   2. a spring roller's |travel| <= its travel limit             else kRollerDoesNotFit
 //   3. it touches the bore at one point only                      else kTwoPointContact
-// in that order. Condition 3 is searched only where Blaschke's rolling theorem cannot rule
+// in that order. A contact that opens while the ring keeps its support is the normal state
+// of a support with more fixed rollers than the two a spring presses the ring onto: the
+// exact rungs follow it (ValidityOptions::contacts_may_open). The linear rung's path, and
+// every shortcut built on it, assumes each contact of the error-free assembly stays closed:
+// for it such an opening is kBeyondLinearRange, for an exact rung to follow. Condition 3 is searched only where Blaschke's rolling theorem cannot rule
 // it out (a roller whose largest curvature radius reaches the bore's smallest); the
 // roller's body angle is the rolling one (engine::RollerBodyAngle), which the time-free
 // rungs use and the dynamic rung's friction-driven spin follows while the roller rolls.
@@ -33,7 +38,26 @@ struct ValidityOptions {
   // A second touching point within this distance of touching makes the contact two-point
   // [m] (QuasistaticOptions::two_point_tolerance, the same rule).
   double two_point_tolerance = 1e-9;
+  // Whether the model that solved the configuration lets a contact open: true for the
+  // exact rungs (quasistatic, dynamic), whose equations are unilateral; false (the
+  // default) for the linear rung and the shortcuts built on its path.
+  bool contacts_may_open = false;
 };
+
+// The support rule (docs/model.md §7, "Contacts that open"). `load` [N or m] is positive
+// for each roller whose contact carries load (a force, or a penetration). The ring keeps the
+// support it needs while every spring roller touches (its spring pushes it out to its
+// travel limit otherwise) and at least two fixed rollers do, or three where no spring
+// roller presses the ring onto them, or every fixed roller where there are fewer. Returns
+// the first roller, in scene order, whose lost contact breaks that rule, or -1 while it
+// holds. On three rollers every contact is needed: any opening breaks it.
+int RollerLosingSupport(const engine::Scene& scene, std::span<const double> load);
+
+// [N] The least force the support rests on at one configuration: the smallest spring
+// roller's, and the k-th largest fixed roller's for the k fixed rollers the rule needs.
+// What a push on the ring must overcome before it loses a support it needs; on three
+// rollers, the smallest contact force.
+double SupportForce(const engine::Scene& scene, std::span<const double> contact_force);
 
 // Thread-safe once made; keeps a reference to the scene, which must outlive it.
 class ValidityCheck {

@@ -5,7 +5,7 @@
 #   2. Release build with warnings as errors (benchmarks compiled, not run), all tests;
 #      a unity build, each library's files compiled as one, where two files' helpers of
 #      one name collide,
-#   3. RelWithDebInfo build under AddressSanitizer + UndefinedBehaviorSanitizer, all tests;
+#   3. a build under AddressSanitizer + UndefinedBehaviorSanitizer (-O1 -g1), all tests;
 #      each file compiled alone, where a file that lacks an include fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -125,8 +125,8 @@ inline engine::Scene EquallySpacedScene(int rollers, int springs, double interfe
   for (int i = 0; i < rollers; ++i) {
     bool spring = false;
     for (int j = 0; j < springs; ++j) spring = spring || i == j * rollers / springs;
-    engine::Roller roller = PaperRoller(spring ? "spring" : "fixed", 90.0 + 360.0 * i / rollers, spring);
-    roller.name += "_" + std::to_string(i);
+    engine::Roller roller = PaperRoller("", 90.0 + 360.0 * i / rollers, spring);
+    roller.name = (spring ? "spring_" : "fixed_") + std::to_string(i);
     if (!spring) roller.centre_radius += interference;
     scene.rollers.push_back(std::move(roller));
   }
