@@ -169,19 +169,36 @@ nlohmann::json LifeJson(bool computed, const std::vector<LifeGap>& gaps, const s
 }
 
 std::vector<std::int64_t> CountRungs(const CampaignReader& results, const std::vector<SampleStatus>& status,
-                                     const std::vector<bool>& used) {
+                                     const std::vector<bool>& used, std::vector<std::int64_t>* failed_by) {
   if (results.schema_version() < kCampaignSchemaVersion) return {};
   const std::vector<std::int8_t> rungs = ReadInBlocks<std::int8_t>(
       static_cast<std::int64_t>(status.size()),
       [&](std::int64_t begin, std::int64_t count) { return results.ReadRungs(begin, count); });
   std::vector<std::int64_t> settled_by(kLadderRungs, 0);
+  if (failed_by != nullptr) failed_by->assign(kLadderRungs, 0);
   for (std::size_t i = 0; i < rungs.size(); ++i) {
     if (used[i] && status[i] != SampleStatus::kPending && rungs[i] >= 0 && rungs[i] < kLadderRungs) {
-      ++settled_by[static_cast<std::size_t>(rungs[i])];
+      const auto rung = static_cast<std::size_t>(rungs[i]);
+      ++settled_by[rung];
+      if (failed_by != nullptr && status[i] != SampleStatus::kOk) ++(*failed_by)[rung];
     }
   }
   return settled_by;
 }
+
+namespace {
+
+// Why auto sent samples to the dynamic rung: the one reason it has (solvers/auto.h, step 2).
+constexpr std::string_view kDynamicReason =
+    "auto's bound on the ring's inertial force reached the least force its support rests on, "
+    "which the time-free rungs cannot see (docs/model.md §7)";
+
+std::int64_t DynamicSamples(const CampaignSummary& s) {
+  const auto dynamic = static_cast<std::size_t>(solvers::Rung::kDynamic);
+  return s.settled_by.size() > dynamic ? s.settled_by[dynamic] : 0;
+}
+
+}  // namespace
 
 std::int64_t RungsRan(const std::vector<std::int64_t>& settled_by) {
   std::int64_t sum = 0;
@@ -241,7 +258,8 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
   }
 
   summary.schema_note = SchemaNote(results);
-  summary.settled_by = CountRungs(results, status, used);
+  summary.settled_by = CountRungs(results, status, used, &summary.failed_by);
+  summary.auto_rung = results.identity().solver.starts_with(NameOf(solvers::kRungNames, solvers::Rung::kAuto));
 
   std::vector<bool> within(status.size(), true);
   bool any_spec = false;
@@ -323,6 +341,10 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
   if (const std::int64_t ran = RungsRan(s.settled_by); ran > 0) {
     fmt::print(out, "rungs             {} (of the {} samples a rung ran on)\n", RungShares(s.settled_by), ran);
   }
+  if (const std::int64_t dynamic = DynamicSamples(s); s.auto_rung && dynamic > 0) {
+    fmt::print(out, "dynamic           {} samples, {} of them failed: {}\n", dynamic,
+               s.failed_by[static_cast<std::size_t>(solvers::Rung::kDynamic)], kDynamicReason);
+  }
   if (!s.life) fmt::print(out, "life              {}\n", LifeNotComputed());
   for (const LifeGap& gap : s.life_gaps) fmt::print(out, "life              {}\n", LifeGapSentence(gap));
   if (s.life_error_motion) fmt::print(out, "life              {}\n", LifeErrorMotionSentence(*s.life_error_motion, s.error_motion_filter));
@@ -376,7 +398,11 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
   j["failures"] = s.failures;
   j["confidence"] = s.confidence;
   if (!s.schema_note.empty()) j["schema_note"] = s.schema_note;
-  if (RungsRan(s.settled_by) > 0) j["rungs"] = RungsJson(s.settled_by);
+  if (RungsRan(s.settled_by) > 0) {
+    j["rungs"] = RungsJson(s.settled_by);
+    for (std::size_t r = 0; r < s.failed_by.size(); ++r) j["rungs"][RungName(r)]["failed"] = s.failed_by[r];
+    if (s.auto_rung && DynamicSamples(s) > 0) j["rungs"]["dynamic"]["reason"] = kDynamicReason;
+  }
   nlohmann::json outputs = nlohmann::json::object();
   for (const OutputSummary& o : s.outputs) {
     nlohmann::json x;

@@ -153,6 +153,10 @@ struct CampaignSummary {
   // Samples each rung settled (solvers::Rung numbers 0..2: linear, quasistatic, dynamic),
   // among the used, done samples a rung ran on; empty for files of schema < 3.
   std::vector<std::int64_t> settled_by;
+  std::vector<std::int64_t> failed_by;  // of settled_by, those whose status is not ok
+  // Whether `auto` chose the rungs: it sends a sample to the dynamic rung for one reason,
+  // which the summary states (docs/model.md §7, "The auto rung").
+  bool auto_rung = false;
   // What an older results file's columns are, in its schema's terms; empty for the current.
   std::string schema_note;
   bool life = true;  // CampaignIdentity::life: whether the samples computed the life outputs
@@ -168,9 +172,10 @@ std::string SchemaNote(const CampaignReader& results);
 
 // Samples each rung settled (CampaignSummary::settled_by) among the samples `used` whose
 // status is done, from /outputs/rung; empty for files of schema < 3. `status` and `used`
-// cover the first samples of the file, those its rungs are read for.
+// cover the first samples of the file, those its rungs are read for. `failed_by`, when
+// given, receives the same counts of those whose status is not ok.
 std::vector<std::int64_t> CountRungs(const CampaignReader& results, const std::vector<SampleStatus>& status,
-                                     const std::vector<bool>& used);
+                                     const std::vector<bool>& used, std::vector<std::int64_t>* failed_by = nullptr);
 // "linear 93.2 %, quasistatic 6.8 %, dynamic 0.0 %" of the samples a rung ran on; empty
 // when no rung ran.
 std::string RungShares(const std::vector<std::int64_t>& settled_by);

@@ -889,6 +889,22 @@ TEST(CampaignSlow, SigkillWhileWritingThenResumeMatchesAnUninterruptedRun) {
 // A campaign that leaves the life out ([outputs] life = false): its summary, its report and
 // its JSON say so instead of showing numbers, verify finds the file whole, and resuming it
 // with the life on is refused, naming the key.
+// The six-roller stage (examples/six_roller_stage): four fixed rollers, two more than the
+// ring needs, under two springs. Its campaign ends with every sample ok and none sent to
+// the dynamic rung; before the support rule (docs/model.md §7, "Contacts that open") 227
+// of its 512 samples failed, 225 of them as lift_off on the dynamic rung.
+TEST(Campaign, TheSixRollerStagesCampaignEndsWithEverySampleOk) {
+  const std::filesystem::path file =
+      std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/six_roller_stage/campaign.toml";
+  const Outcome run = Campaign(file, TestFolder() / "stage.h5", "--samples 128 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(run.out);
+  EXPECT_EQ(summary["samples_ok"], 128) << summary["failures"].dump();
+  EXPECT_EQ(summary["rungs"]["dynamic"]["samples"], 0);
+  EXPECT_EQ(summary["rungs"]["quasistatic"]["failed"], 0);
+  EXPECT_TRUE(summary["life"]["computed"].get<bool>());
+}
+
 TEST(Campaign, WithoutTheLifeItSaysSoAndItsReportAndVerifyRead) {
   const std::filesystem::path folder = Folder();
   const std::string life_on = testing::SmallCampaign(std::string(RINGTOL_SOURCE_DIR) + "/examples/paper/scene.toml", 3, 8);
