@@ -268,6 +268,28 @@ TEST_F(ReportTest, TheAnswerStatesTheShareOfSamplesEachRungSettled) {
   EXPECT_FALSE(ReportJson(report).contains("rungs"));
 }
 
+// auto sends a sample to the dynamic rung for one reason; the summary gives it with the
+// count and how many of those failed. Another solver's campaign states no reason.
+TEST(CampaignSummaryRungs, AutosDynamicSamplesAreCountedWithTheirFailuresAndWhyTheyWentThere) {
+  CampaignSummary summary;
+  summary.settled_by = {10, 20, 5};
+  summary.failed_by = {0, 1, 3};
+  summary.auto_rung = true;
+  std::ostringstream text;
+  PrintSummary(text, summary);
+  EXPECT_THAT(text.str(), HasSubstr("dynamic           5 samples, 3 of them failed: auto's bound on the ring's "
+                                    "inertial force reached the least force its support rests on"));
+  const nlohmann::json json = SummaryJson(summary);
+  EXPECT_EQ(json["rungs"]["dynamic"]["failed"], 3);
+  EXPECT_EQ(json["rungs"]["quasistatic"]["failed"], 1);
+  EXPECT_THAT(json["rungs"]["dynamic"]["reason"].get<std::string>(), HasSubstr("inertial force"));
+  summary.auto_rung = false;
+  std::ostringstream chosen;
+  PrintSummary(chosen, summary);
+  EXPECT_THAT(chosen.str(), Not(HasSubstr("dynamic           ")));
+  EXPECT_FALSE(SummaryJson(summary)["rungs"]["dynamic"].contains("reason"));
+}
+
 // A file of today's schema has the life columns. This campaign's rollers are round, so
 // every revolution is the first: the life adds nothing to one revolution, and the replayed
 // revolutions of the polar plot coincide (no band).
