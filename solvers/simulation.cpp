@@ -209,11 +209,14 @@ void Measure(const engine::Scene& scene, const Trajectory& path, const Eigen::Ve
 
   const std::size_t z = scene.rollers.size();
   result.contact_force.assign(z, {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()});
+  // The last sample closes the revolution at its first angle: a share counts it once.
+  const std::size_t angles = path.psi.size() > 1 ? path.psi.size() - 1 : path.psi.size();
   for (std::size_t k = 0; k < path.psi.size(); ++k) {
     for (std::size_t i = 0; i < z; ++i) {
       const double f = path.contact_force[k * z + i];
       result.contact_force[i].min = std::min(result.contact_force[i].min, f);
       result.contact_force[i].max = std::max(result.contact_force[i].max, f);
+      if (k < angles && !(f > 0.0)) result.contact_force[i].off_bore += 1.0 / static_cast<double>(angles);
     }
   }
   result.min_contact_force = std::numeric_limits<double>::infinity();

@@ -208,6 +208,10 @@ struct LifeValues {
 struct RollerForceRange {
   double min = 0.0;  // [N]
   double max = 0.0;  // [N]
+  // [-] share of the revolution's angles at which the roller carries nothing: off the bore,
+  // the ring resting on the others (docs/model.md §7, "Contacts that open"); 0 while it
+  // touches throughout.
+  double off_bore = 0.0;
 };
 
 struct SimulationResult {

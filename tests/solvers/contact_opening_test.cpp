@@ -88,6 +88,9 @@ TEST(ContactOpening, TheQuasistaticRungFollowsARedundantRollerOffTheBoreAndBack)
   EXPECT_LT(open, 0.95);
   EXPECT_EQ(result.contact_force[kOpening].min, 0.0);
   EXPECT_GT(result.contact_force[kOpening].max, 0.0);
+  // The result states the share: every angle but the one closing the revolution, once.
+  EXPECT_NEAR(result.contact_force[kOpening].off_bore, open, 2.0 / 720.0);
+  EXPECT_EQ(result.contact_force[3].off_bore, 0.0);
   EXPECT_EQ(OpenShare(result.trajectory, 2, scene.rollers.size()), 0.0);
   EXPECT_EQ(OpenShare(result.trajectory, 3, scene.rollers.size()), 0.0);
 }
