@@ -26,10 +26,10 @@
 //     acceleration, g A and w each term's amplitude in the path and rate per revolution
 //     (SumOverPathTerms, solvers/simulation.h), k_c as in step 1 over the path, F_min the
 //     least force its support rests on (SupportForce, solvers/validity.h: on three rollers
-//     the smallest contact force; a redundant roller's may reach zero). A term the ring follows asks m a of the contacts; one too
-//     fast to follow is absorbed by the contacts' compliance instead, changing a force by
-//     at most k_c g A (the contacts are damped far beyond critical, so no resonance lifts
-//     that): hence the smaller of the two.
+//     the smallest contact force; a redundant roller's may reach zero). A term the ring
+//     follows asks m a of the contacts; one too fast to follow is absorbed by the
+//     contacts' compliance instead, changing a force by at most k_c g A (the contacts are
+//     damped far beyond critical, so no resonance lifts that): hence the smaller of the two.
 //  3. Then the dynamic rung runs.
 // The returned trajectory is the settling rung's, with Trajectory::rung saying which, and
 // error_estimate the linear rung's bound when it settled (0 otherwise: the exact rungs'

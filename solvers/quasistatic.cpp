@@ -222,6 +222,11 @@ struct Configuration {
   std::vector<engine::Contact> contacts;
 };
 
+// The validity rules of the exact time-free model, whose contacts may open (validity.h).
+ValidityOptions ExactRungValidity(const QuasistaticOptions& options) {
+  return {.two_point_tolerance = options.two_point_tolerance, .contacts_may_open = true};
+}
+
 Status Classify(const EquilibriumSystem& system, const ValidityCheck& check, double psi,
                 const EquilibriumSystem::State& x, const std::vector<TrackedContact>& contacts,
                 Configuration& scratch, std::string& message) {
@@ -313,7 +318,7 @@ void Continue(const QuasistaticOptions& options, const EquilibriumSystem& system
   using Vector = Eigen::Matrix<double, N, 1>;
   const Scene& scene = system.scene();
   const auto z = static_cast<std::size_t>(system.rollers());
-  const ValidityCheck check(scene, {options.two_point_tolerance, true});
+  const ValidityCheck check(scene, ExactRungValidity(options));
   Configuration scratch;
   const Eigen::VectorXd dynamic_tolerance = system.Tolerances(options.position_tolerance, options.force_tolerance);
   const Vector tolerance = dynamic_tolerance;
@@ -499,7 +504,7 @@ Equilibrium QuasistaticSolver::SolveStatic(const EquilibriumSystem& system, Eige
     result.message = "no static equilibrium found in " + std::to_string(outcome.iterations) + " Newton iterations";
     std::vector<TrackedContact> probe;
     const int lost = system.UpdateContacts(0.0, x, probe);
-    if (lost >= 0 && BridgesTheBore(system, ValidityCheck(scene, {options_.two_point_tolerance, true}), lost, 0.0,
+    if (lost >= 0 && BridgesTheBore(system, ValidityCheck(scene, ExactRungValidity(options_)), lost, 0.0,
                                     result.message)) {
       result.status = Status::kTwoPointContact;
       return result;
@@ -516,7 +521,7 @@ Equilibrium QuasistaticSolver::SolveStatic(const EquilibriumSystem& system, Eige
   system.UpdateContacts(0.0, x, contacts);
   SetForces(system, x, contacts);
   Configuration scratch;
-  const Status status = Classify(system, ValidityCheck(scene, {options_.two_point_tolerance, true}), 0.0, x, contacts,
+  const Status status = Classify(system, ValidityCheck(scene, ExactRungValidity(options_)), 0.0, x, contacts,
                                  scratch, result.message);
   Equilibrium recorded = Record(system, x, contacts);
   recorded.iterations = outcome.iterations;
@@ -570,7 +575,7 @@ Equilibrium QuasistaticSolver::SolveStaticFromNominal(const EquilibriumSystem& s
           SetForces(system, x, contacts);
           std::string message;
           Configuration scratch;
-          const Status status = Classify(system, ValidityCheck(scene, {options_.two_point_tolerance, true}), 0.0, x,
+          const Status status = Classify(system, ValidityCheck(scene, ExactRungValidity(options_)), 0.0, x,
                                          contacts, scratch, message);
           Equilibrium recorded = Record(system, x, contacts);
           recorded.iterations = iteration;
