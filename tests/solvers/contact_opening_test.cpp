@@ -207,7 +207,7 @@ TEST(ContactOpening, TheDynamicRungFollowsTheOpeningAndApproachesTheQuasistaticP
 // (docs/model.md §7, "Contacts that open"): the contact damping of the article's law, not
 // the step to speed nor friction. At 40 um the quasistatic fixed_a keeps 0.35 N; a
 // separating contact's damping force c dDelta/dt (c_max = 1e5 N s/m from 1 um of
-// penetration, dDelta/dt ~ 2 n omega A = 0.4 mm/s) cancels it. A smooth ramp to the same
+// penetration, dDelta/dt up to n omega A = 0.4 mm/s) cancels it. A smooth ramp to the same
 // speed opens it just as the step does; a hundredth of the damping keeps it closed and
 // gives the quasistatic path.
 TEST(ContactOpening, AtSpeedTheContactDampingNotTheStepOpensALightRollerEarly) {
