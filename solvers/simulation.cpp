@@ -535,15 +535,12 @@ void ReadLife(const engine::Scene& scene, const Solver& solver, Accuracy accurac
   const LinearSolver& source = linear != nullptr ? *linear : automatic != nullptr ? automatic->linear() : kPhasorSource;
   // The life's revolutions are the linear rung's phasors about this one, which hold only
   // while every contact of the error-free assembly stays closed.
-  const std::size_t z = scene.rollers.size();
-  for (std::size_t k = 0; k < result.trajectory.psi.size(); ++k) {
-    for (std::size_t i = 0; i < z; ++i) {
-      if (result.trajectory.contact_force[k * z + i] > 0.0) continue;
-      result.status = Status::kBeyondLinearRange;
-      result.message = "the life values assume every contact stays closed, and roller " + scene.rollers[i].name +
-                       " leaves the bore at psi = " + Degrees(result.trajectory.psi[k]);
-      return;
-    }
+  for (std::size_t i = 0; i < result.contact_force.size(); ++i) {
+    if (result.contact_force[i].min > 0.0) continue;
+    result.status = Status::kBeyondLinearRange;
+    result.message = "the life values assume every contact stays closed, and roller " + scene.rollers[i].name +
+                     " leaves the bore (its least force " + std::to_string(result.contact_force[i].min) + " N)";
+    return;
   }
   const PhasorSum sum = source.Phasors(scene);
   if (!sum.usable) {

@@ -86,11 +86,12 @@ double ValidityCheck::RollerMaxRadius(int i) const {
 Status ValidityCheck::Check(double psi, const Eigen::Vector2d& centre, std::span<const double> travel,
                             std::span<const double> contact_force, std::string& message,
                             std::span<const engine::Contact> contacts) const {
-  const bool support_lost = RollerLosingSupport(scene_, contact_force) >= 0;
   for (std::size_t i = 0; i < scene_.rollers.size(); ++i) {
     const engine::Roller& roller = scene_.rollers[i];
     const double force = contact_force[i];
     if (!(force > 0.0)) {
+      // Weighed only where a contact opens: every angle of every path passes here.
+      const bool support_lost = RollerLosingSupport(scene_, contact_force) >= 0;
       if (options_.contacts_may_open && !support_lost) continue;  // the ring rests on the others
       std::ostringstream reason;
       if (support_lost) {

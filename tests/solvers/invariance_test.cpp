@@ -23,27 +23,24 @@ constexpr double kPositionRoundOff = 1e-13;  // [m]
 // of round-off in position is ~2e-8 N.
 constexpr double kForceRoundOff = 1e-7;      // [N]
 
-engine::Scene ErrorScene(engine::ContactLaw::Model law) {
-  engine::Scene scene = testing::PaperScene(law);
-  testing::SetRing(scene, {{2, 0.05e-3, 10.0 * kDeg}, {3, 0.14e-3, 45.0 * kDeg}, {7, 0.02e-3, 80.0 * kDeg}});
-  testing::SetRollerPositions(scene, {{2, 0.03e-3, 20.0 * kDeg}});
-  testing::SetRollerShapes(scene, {{2, 0.014e-3, 45.0 * kDeg}});
-  scene.rollers[1].tangential_offset = 0.02e-3;
+// `scene` with errors of every kind, their amplitudes `scale` times the article's.
+engine::Scene WithErrors(engine::Scene scene, double scale) {
+  testing::SetRing(scene, {{2, scale * 0.05e-3, 10.0 * kDeg}, {3, scale * 0.14e-3, 45.0 * kDeg},
+                           {7, scale * 0.02e-3, 80.0 * kDeg}});
+  testing::SetRollerPositions(scene, {{2, scale * 0.03e-3, 20.0 * kDeg}});
+  testing::SetRollerShapes(scene, {{2, scale * 0.014e-3, 45.0 * kDeg}});
+  scene.rollers[1].tangential_offset = scale * 0.02e-3;
   scene.sensor_angle = 30.0 * kDeg;
   return scene;
 }
 
+engine::Scene ErrorScene(engine::ContactLaw::Model law) { return WithErrors(testing::PaperScene(law), 1.0); }
+
 // Six rollers, two of them on springs, every contact loaded (EquallySpacedScene, 200 N at
-// 1e8 N/m), with errors of every kind small enough that none opens.
+// 1e8 N/m), with errors a 400th of the article's (0.7 um at most together), so none opens.
 constexpr double kSixRollerStiffness = 1e8;  // [N/m]
 engine::Scene SixRollerErrorScene() {
-  engine::Scene scene = testing::EquallySpacedScene(6, 2, 2e-6, kSixRollerStiffness);
-  testing::SetRing(scene, {{2, 0.3e-6, 10.0 * kDeg}, {5, 0.2e-6, 45.0 * kDeg}, {7, 0.1e-6, 80.0 * kDeg}});
-  testing::SetRollerPositions(scene, {{2, 0.2e-6, 20.0 * kDeg}});
-  testing::SetRollerShapes(scene, {{2, 0.1e-6, 45.0 * kDeg}});
-  scene.rollers[1].tangential_offset = 0.2e-6;
-  scene.sensor_angle = 30.0 * kDeg;
-  return scene;
+  return WithErrors(testing::EquallySpacedScene(6, 2, 2e-6, kSixRollerStiffness), 1.0 / 400.0);
 }
 
 // The scenes every symmetry is checked on, each with the force its position round-off makes.

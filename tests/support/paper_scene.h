@@ -116,9 +116,10 @@ inline engine::Scene WithSpringRollers(engine::Scene scene, std::size_t count) {
 // (spread out: the first, and with two, also the one half-way round) on the article's
 // spring pushing along their own radii and the others fixed with their centres
 // `interference` [m] beyond a plain fit, so that every contact carries load however many
-// rollers there are: the fixed rollers surround the centre. The contact law is linear (exponent 1, `stiffness`
-// [N/m]): its linearisation is that stiffness at any load, which is what makes the centre's
-// first-order path a closed form (tests/validation/roller_count_test.cpp).
+// rollers there are: the fixed rollers surround the centre. The contact law is linear
+// (exponent 1, `stiffness` [N/m]): its linearisation is that stiffness at any load, which
+// is what makes the centre's first-order path a closed form
+// (tests/validation/roller_count_test.cpp).
 inline engine::Scene EquallySpacedScene(int rollers, int springs, double interference, double stiffness) {
   engine::Scene scene = PaperScene(engine::ContactLaw::Model::kPenalty);
   scene.rollers.clear();

@@ -896,7 +896,7 @@ TEST(CampaignSlow, SigkillWhileWritingThenResumeMatchesAnUninterruptedRun) {
 TEST(Campaign, TheSixRollerStagesCampaignEndsWithEverySampleOk) {
   const std::filesystem::path file =
       std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/six_roller_stage/campaign.toml";
-  const Outcome run = Campaign(file, TestFolder() / "stage.h5", "--samples 128 --json");
+  const Outcome run = Campaign(file, Folder() / "stage.h5", "--samples 128 --json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json summary = nlohmann::json::parse(run.out);
   EXPECT_EQ(summary["samples_ok"], 128) << summary["failures"].dump();
