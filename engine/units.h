@@ -20,6 +20,7 @@ inline constexpr double kPascalsPerGigapascal = 1e9;  // GPa -> Pa (Young's modu
 inline constexpr double kPascalsPerMegapascal = 1e6;  // N/mm^2 -> Pa
 inline constexpr double kSecondsPerMicrosecond = 1e-6;  // us -> s (the command line's --test-sample-us)
 inline constexpr double kFractionPerPercent = 1e-2;   // % -> fraction (the *_percent keys)
+inline constexpr double kPercentPerFraction = 1e2;    // fraction -> % (the *_percent outputs)
 inline constexpr double kRadiansPerRevolution = 2.0 * std::numbers::pi;  // rev -> rad (a whole turn)
 
 // SI values in the units files and messages state them. A length in millimetres divides by

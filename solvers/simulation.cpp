@@ -534,12 +534,13 @@ void ReadLife(const engine::Scene& scene, const Solver& solver, Accuracy accurac
   const auto* automatic = dynamic_cast<const AutoSolver*>(&solver);
   const LinearSolver& source = linear != nullptr ? *linear : automatic != nullptr ? automatic->linear() : kPhasorSource;
   // The life's revolutions are the linear rung's phasors about this one, which hold only
-  // while every contact of the error-free assembly stays closed.
+  // while every contact of the error-free assembly stays closed. A redundant roller that
+  // leaves the bore (the support rule let the path through) costs the life, not the sample.
   for (std::size_t i = 0; i < result.contact_force.size(); ++i) {
     if (result.contact_force[i].min > 0.0) continue;
-    result.status = Status::kBeyondLinearRange;
-    result.message = "the life values assume every contact stays closed, and roller " + scene.rollers[i].name +
-                     " leaves the bore (its least force " + std::to_string(result.contact_force[i].min) + " N)";
+    result.life_missing = "the life values assume every contact stays closed, and roller " + scene.rollers[i].name +
+                          " leaves the bore over " +
+                          std::to_string(std::lround(100.0 * result.contact_force[i].off_bore)) + " % of the turn";
     return;
   }
   const PhasorSum sum = source.Phasors(scene);

@@ -235,6 +235,10 @@ struct SimulationResult {
   // revolutions after which the rollers' phases repeat (0: never; LifeResult::cycle).
   std::optional<LifeValues> life;
   int life_cycle = 0;
+  // Why `life` is empty although SimulationOptions::life asked for it, status ok: a roller
+  // left the bore, and the life reads the linear rung's phasors, which assume every contact
+  // closed (docs/model.md §9). The revolution's own outputs stand. Empty otherwise.
+  std::string life_missing;
 };
 
 // Never throws for numerical outcomes; status says whether the numbers are usable (they

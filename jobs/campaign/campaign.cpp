@@ -70,6 +70,7 @@ Campaign::Campaign(CampaignPlan plan, const std::string& source_name,
   identity_.solver = solvers::SolverDescription(plan_.solver);
   identity_.seed = plan_.sampling.seed;
   identity_.inputs = sampling_.sampler.inputs();
+  for (const engine::Roller& roller : plan_.sampling.scene.rollers) identity_.rollers.push_back(roller.name);
   identity_.spec = plan_.spec;
   identity_.life = plan_.solver.simulation.life;
   identity_.accuracy = plan_.solver.simulation.accuracy;
@@ -154,9 +155,9 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
         double max_force = -std::numeric_limits<double>::infinity();
         for (const solvers::RollerForceRange& range : result.contact_force) max_force = std::max(max_force, range.max);
         // A campaign reads the life unless told not to ([outputs] life = false, or an
-        // allocation whose constraints name none of its outputs): its outputs are NaN then,
-        // and only then.
-        const bool reads_life = campaign_->simulation().life;
+        // allocation whose constraints name none of its outputs), or unless a roller left
+        // the bore (SimulationResult::life_missing): its outputs are NaN then, and only then.
+        const bool reads_life = campaign_->simulation().life && result.life_missing.empty();
         const solvers::LifeValues life = result.life.value_or(
             solvers::LifeValues{kNaN, kNaN, {kNaN, kNaN, kNaN, kNaN}});
         // One value for each row of kOutputs, in its order: a row left without one does not
@@ -181,6 +182,9 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
         }
         if (finite) {
           record.outputs = outputs;
+          for (const solvers::RollerForceRange& range : result.contact_force) {
+            record.off_bore.push_back(units::kPercentPerFraction * range.off_bore);
+          }
           record.d_trajectory_error = result.trajectory.error_estimate * units::kMillimetresPerMetre;
         } else {
           record.status = SampleStatus::kNonFiniteOutput;

@@ -32,6 +32,9 @@ struct CampaignIdentity {
   std::string solver;         // solver name
   std::uint64_t seed = 0;
   std::vector<sampling::SampledInput> inputs;  // the design's coordinates, in order
+  // The base scene's rollers by name, in its order: what SampleRecord::off_bore's entries
+  // are. Not compared, since base_scene holds them.
+  std::vector<std::string> rollers;
   std::vector<SpecLimit> spec;
   // Whether the samples computed the life outputs (IsLifeOutput): the campaign file's
   // [outputs] life. A results file without them holds none of their columns.

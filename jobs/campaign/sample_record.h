@@ -85,7 +85,7 @@ inline constexpr auto kOutputs = std::to_array<OutputDescription>({
     // Only tests/jobs/fake_output compiles this row in: an output added as a new one would
     // be, to show that its row is all the store, the summary, the report and the
     // allocation need (its value: SampleEvaluator::Evaluate's one test-only line).
-    {"test_output_mm", "mm", "test output", OutputSpan::kRevolution, 5, "twice D_trajectory"},
+    {"test_output_mm", "mm", "test output", OutputSpan::kRevolution, 6, "twice D_trajectory"},
 #endif
 });
 inline constexpr std::array<const char*, kOutputs.size()> kOutputNames = [] {
@@ -138,6 +138,10 @@ struct SampleRecord {
   // The rung whose path the outputs are (solvers::Rung's number: 0 linear, 1 quasistatic,
   // 2 dynamic; the auto rung picks one per sample); kNoRung when no rung ran.
   std::int8_t rung = kNoRung;
+  // [%] for each roller of the scene, in its order: the share of the revolution's angles
+  // at which it carried nothing, off the bore with the ring resting on the others
+  // (solvers::RollerForceRange::off_bore); empty when status != kOk.
+  std::vector<double> off_bore;
   double solve_time = 0.0;               // [s] wall time of realise + simulate
   // DrawChecksum of this record, when whoever drew it computed it (SampleDrawer does, on
   // the computing thread, so that the writer need not): empty otherwise.

@@ -166,7 +166,8 @@ std::vector<ShardContents> GatherContents(MPI_Comm world, const ShardContents& m
   int ranks = 1;
   MPI_Comm_rank(world, &rank);
   MPI_Comm_size(world, &ranks);
-  std::vector<std::int64_t> packed = {mine.samples, mine.chunk_rows, mine.inputs_stored_below, mine.failure_rows};
+  std::vector<std::int64_t> packed = {mine.samples, mine.chunk_rows, mine.inputs_stored_below, mine.failure_rows,
+                                      mine.schema};
   for (const SampleRange& range : mine.finished) packed.insert(packed.end(), {range.begin, range.end});
   const int count = static_cast<int>(packed.size());
   std::vector<int> counts(static_cast<std::size_t>(ranks));
@@ -183,8 +184,8 @@ std::vector<ShardContents> GatherContents(MPI_Comm world, const ShardContents& m
       contents.push_back(ReadShardContents(ShardPath(out, r), identity, samples));
       continue;
     }
-    ShardContents shard{ShardPath(out, r), at[0], at[1], at[2], at[3], {}};
-    for (int k = 4; k + 1 < counts[static_cast<std::size_t>(r)]; k += 2) shard.finished.push_back({at[k], at[k + 1]});
+    ShardContents shard{ShardPath(out, r), at[0], at[1], at[2], at[3], {}, static_cast<int>(at[4])};
+    for (int k = 5; k + 1 < counts[static_cast<std::size_t>(r)]; k += 2) shard.finished.push_back({at[k], at[k + 1]});
     contents.push_back(std::move(shard));
   }
   return contents;
@@ -252,7 +253,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   std::unique_ptr<CampaignStore> store;
   std::vector<ShardContents> stale;  // shards of ranks this run does not have
   std::vector<SampleRange> finished;  // ascending, disjoint runs
-  std::array<std::int64_t, 3> layout = {0, 0, 0};  // sharded, chunk rows, inputs stored below
+  std::array<std::int64_t, 4> layout = {0, 0, 0, 0};  // sharded, chunk rows, inputs stored below, schema
   std::string error;
   if (rank == 0) {
     error = Attempt([&] {
@@ -270,14 +271,14 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
             command.resume ? CampaignStore::Resume(command.out, campaign->identity(), campaign->samples())
                            : CampaignStore::Create(command.out, campaign->identity(), campaign->samples(), options));
       }
-      layout = {plan.sharded ? 1 : 0, store->chunk_rows(), store->inputs_stored_below()};
+      layout = {plan.sharded ? 1 : 0, store->chunk_rows(), store->inputs_stored_below(), store->schema()};
     });
   }
   ThrowAgreed(world, error);
 
-  // Every other rank files what it computes in a shard of its own, chunked as rank 0's and
-  // keeping the same samples' inputs.
-  MPI_Bcast(layout.data(), 3, MPI_INT64_T, 0, world);
+  // Every other rank files what it computes in a shard of its own, chunked as rank 0's,
+  // keeping the same samples' inputs, in its schema.
+  MPI_Bcast(layout.data(), static_cast<int>(layout.size()), MPI_INT64_T, 0, world);
   const bool sharded = layout[0] != 0;
   const std::int64_t chunk_rows = layout[1];
   pool.align_samples = chunk_rows;
@@ -287,6 +288,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
       CampaignStoreOptions options;
       options.chunk_samples = chunk_rows;
       options.inputs_stored_below = layout[2];
+      options.schema = static_cast<int>(layout[3]);
       shard = std::make_unique<CampaignStore>(
           OpenCampaignShard(command.out, rank, campaign->identity(), campaign->samples(), options));
     });

@@ -63,7 +63,7 @@ void PutMetrics(nlohmann::json& j, const engine::Scene& scene, const solvers::Si
       forces.push_back({{"roller", scene.rollers[i].name},
                         {"min", result.contact_force[i].min},
                         {"max", result.contact_force[i].max},
-                        {"off_bore_percent", 100.0 * result.contact_force[i].off_bore}});
+                        {"off_bore_percent", units::kPercentPerFraction * result.contact_force[i].off_bore}});
     }
   }
   j["contact_force_N"] = forces;
@@ -153,7 +153,7 @@ void PrintResult(std::ostream& out, const engine::Scene& scene, const solvers::S
   for (std::size_t i = 0; i < scene.rollers.size(); ++i) {
     const solvers::RollerForceRange& range = result.contact_force[i];
     fmt::print(out, "contact force     {:<10} {:.3f} .. {:.3f} N{}\n", scene.rollers[i].name, range.min, range.max,
-               range.off_bore > 0.0 ? fmt::format(", off the bore over {:.1f} % of the turn", 100.0 * range.off_bore)
+               range.off_bore > 0.0 ? fmt::format(", off the bore over {:.1f} % of the turn", units::kPercentPerFraction * range.off_bore)
                                     : std::string());
   }
   if (!result.steady) return;

@@ -425,6 +425,8 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   }
 
   report.settled_by = CountRungs(reader, status, used);
+  report.openings = CountOpenings(reader, status, used, options.confidence);
+  report.life_missing = CountLifeMissing(reader, status, used);
 
   report.primary_output = "d_trajectory_mm";
   for (const char* name : kOutputNames) {
@@ -478,20 +480,26 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
     if (!reader.HasOutput(name) || !ShowsOutput(report.identity, name)) continue;
     std::vector<double> all = ReadInBlocks<double>(
         read_end, [&](std::int64_t begin, std::int64_t count) { return reader.ReadOutput(name, begin, count); });
-    std::vector<double> values;
+    std::vector<double> values;  // in used_ok order, NaN where an ok sample has none (a life output)
     values.reserve(used_ok.size());
     for (const std::int64_t i : used_ok) values.push_back(all[static_cast<std::size_t>(i)]);
     const std::optional<double> limit = SpecOf(report.identity, name);
     for (std::size_t k = 0; k < values.size() && limit; ++k) {
       if (!(values[k] <= *limit)) within_every_limit[k] = false;
     }
+    std::vector<double> finite;
+    std::copy_if(values.begin(), values.end(), std::back_inserter(finite), [](double v) { return std::isfinite(v); });
     OutputReport out =
-        DescribeOutput(name, limit, values, report.done - report.ok, kSummaryProbabilities, options);
+        DescribeOutput(name, limit, finite, report.done - report.ok, kSummaryProbabilities, options);
     // Sensitivities need spread: an output that never varies (or no ok sample) has none.
     if (out.distribution && out.distribution->standard_deviation > 0.0) {
       if (saltelli) {
         report.sensitivities.push_back(SobolSensitivity(name, all, status, report.samples, design, groups, inputs, options));
-      } else if (screened.size() >= 2) {
+      } else if (screened.size() >= 2 &&
+                 std::all_of(screened.begin(), screened.end(),
+                             [&](std::int64_t i) { return std::isfinite(all[static_cast<std::size_t>(i)]); })) {
+        // The screening shares its samples' inputs across outputs: an output some of them
+        // lack (a life output where a roller left the bore) is not screened.
         screened_names.emplace_back(name);
         std::vector<double>& y_screen = y_screens.emplace_back();
         y_screen.reserve(screened.size());
@@ -526,7 +534,10 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
       const auto found = ranking_values.find(output);
       if (found == ranking_values.end()) continue;  // a column this file lacks
       const std::vector<double>& value = found->second;
-      std::vector<std::int64_t> ranked = used_ok;
+      std::vector<std::int64_t> ranked;
+      std::copy_if(used_ok.begin(), used_ok.end(), std::back_inserter(ranked),
+                   [&](std::int64_t i) { return std::isfinite(value[static_cast<std::size_t>(i)]); });
+      if (ranked.empty()) continue;
       std::sort(ranked.begin(), ranked.end(), [&](std::int64_t a, std::int64_t b) {
         const double va = value[static_cast<std::size_t>(a)], vb = value[static_cast<std::size_t>(b)];
         return va != vb ? va < vb : a < b;
@@ -749,6 +760,7 @@ nlohmann::json ReportJson(const CampaignReport& report) {
     failed.push_back({{"index", f.index}, {"status", f.status}, {"message", f.message}});
   j["failed_samples"] = std::move(failed);
   if (RungsRan(report.settled_by) > 0) j["rungs"] = RungsJson(report.settled_by);
+  if (report.openings) j["contacts"] = OpeningsJson(*report.openings);
   j["primary_output"] = report.primary_output;
   const auto proportion = [](const std::optional<analysis::ProportionEstimate>& p) {
     return p ? Json(*p) : nlohmann::json(nullptr);
@@ -790,7 +802,7 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   j["trajectories"] = std::move(trajectories);
   j["replay_problem"] = report.replay_problem ? nlohmann::json(*report.replay_problem) : nlohmann::json(nullptr);
   if (nlohmann::json life = LifeJson(report.identity.life, report.life_gaps, report.life_error_motion,
-                                     report.identity.error_motion_filter);
+                                     report.identity.error_motion_filter, report.life_missing);
       !life.is_null()) {
     j["life"] = std::move(life);
   }

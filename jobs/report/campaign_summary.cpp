@@ -159,10 +159,10 @@ nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion, const engine::
 }
 
 nlohmann::json LifeJson(bool computed, const std::vector<LifeGap>& gaps, const std::optional<LifeErrorMotion>& motion,
-                        const engine::ErrorMotionFilter& filter) {
+                        const engine::ErrorMotionFilter& filter, std::int64_t missing) {
   if (!computed) return {{"computed", false}};
-  if (gaps.empty() && !motion) return nullptr;
-  nlohmann::json life = {{"computed", true}};
+  if (gaps.empty() && !motion && missing == 0) return nullptr;
+  nlohmann::json life = {{"computed", true}, {"samples_without_life", missing}};
   for (const LifeGap& gap : gaps) life[gap.label] = LifeGapJson(gap);
   if (motion) life["error_motion"] = LifeErrorMotionJson(*motion, filter);
   return life;
@@ -170,7 +170,7 @@ nlohmann::json LifeJson(bool computed, const std::vector<LifeGap>& gaps, const s
 
 std::vector<std::int64_t> CountRungs(const CampaignReader& results, const std::vector<SampleStatus>& status,
                                      const std::vector<bool>& used, std::vector<std::int64_t>* failed_by) {
-  if (results.schema_version() < kCampaignSchemaVersion) return {};
+  if (results.schema_version() < kFirstSchemaWithRungs) return {};
   const std::vector<std::int8_t> rungs = ReadInBlocks<std::int8_t>(
       static_cast<std::int64_t>(status.size()),
       [&](std::int64_t begin, std::int64_t count) { return results.ReadRungs(begin, count); });
@@ -184,6 +184,92 @@ std::vector<std::int64_t> CountRungs(const CampaignReader& results, const std::v
     }
   }
   return settled_by;
+}
+
+std::int64_t CountLifeMissing(const CampaignReader& results, const std::vector<SampleStatus>& status,
+                              const std::vector<bool>& used) {
+  const std::size_t first_life = static_cast<std::size_t>(
+      std::find_if(kOutputs.begin(), kOutputs.end(), [](const OutputDescription& o) { return o.span == OutputSpan::kLife; }) -
+      kOutputs.begin());
+  if (first_life == kOutputCount || !results.HasOutput(kOutputNames[first_life])) return 0;
+  const std::vector<double> life = ReadInBlocks<double>(
+      static_cast<std::int64_t>(status.size()),
+      [&](std::int64_t begin, std::int64_t count) { return results.ReadOutput(kOutputNames[first_life], begin, count); });
+  std::int64_t missing = 0;
+  for (std::size_t i = 0; i < status.size(); ++i) {
+    if (used[i] && status[i] == SampleStatus::kOk && !std::isfinite(life[i])) ++missing;
+  }
+  return missing;
+}
+
+std::string LifeMissingSentence(std::int64_t missing, std::int64_t ok) {
+  constexpr std::string_view kWhy =
+      "the life reads the linear rung's phasors, which assume every contact closed (docs/model.md §9)";
+  if (missing >= ok) return fmt::format("none of the {} ok samples has life values: a roller left the bore in each, and {}", ok, kWhy);
+  return fmt::format("{} of {} ok samples have no life values: a roller left the bore, and {}; the life's numbers are over the other {}",
+                     missing, ok, kWhy, ok - missing);
+}
+
+std::optional<ContactOpenings> CountOpenings(const CampaignReader& results, const std::vector<SampleStatus>& status,
+                                             const std::vector<bool>& used, double confidence) {
+  if (!results.HasOffBore()) return std::nullopt;
+  const std::vector<std::string>& names = results.identity().rollers;
+  const std::size_t z = names.size();
+  const std::vector<float> shares = ReadInBlocks<float>(
+      static_cast<std::int64_t>(status.size()),
+      [&](std::int64_t begin, std::int64_t count) { return results.ReadOffBore(begin, count); });
+  ContactOpenings openings;
+  std::vector<std::vector<double>> opened(z);  // per roller: its share on the samples it left the bore
+  std::int64_t any = 0;
+  for (std::size_t i = 0; i < status.size(); ++i) {
+    if (!used[i] || status[i] != SampleStatus::kOk) continue;
+    ++openings.ok;
+    bool left = false;
+    for (std::size_t r = 0; r < z; ++r) {
+      const double share = shares[i * z + r];
+      if (!(share > 0.0)) continue;
+      opened[r].push_back(share);
+      left = true;
+    }
+    if (left) ++any;
+  }
+  if (openings.ok == 0) return std::nullopt;
+  openings.any = analysis::EstimateProportion(any, openings.ok, confidence);
+  for (std::size_t r = 0; r < z; ++r) {
+    RollerOpenings roller{names[r], static_cast<std::int64_t>(opened[r].size()), analysis::Median(opened[r]), 0.0};
+    for (const double share : opened[r]) roller.max_percent = std::max(roller.max_percent, share);
+    openings.rollers.push_back(std::move(roller));
+  }
+  return openings;
+}
+
+std::string OpeningsSentence(const ContactOpenings& openings) {
+  if (openings.any.successes == 0) {
+    return fmt::format("every roller touched the bore throughout, in all {} ok samples", openings.ok);
+  }
+  std::string rollers;
+  for (const RollerOpenings& roller : openings.rollers) {
+    if (roller.samples == 0) continue;
+    rollers += fmt::format("{}{} in {} (median {:.1f} %, at most {:.1f} % of the turn)", rollers.empty() ? "" : ", ",
+                           roller.roller, roller.samples, roller.median_percent, roller.max_percent);
+  }
+  return fmt::format("{} of {} ok samples ({}) had a roller off the bore for part of the turn: {}",
+                     openings.any.successes, openings.ok, YieldWithInterval(openings.any), rollers);
+}
+
+nlohmann::json OpeningsJson(const ContactOpenings& openings) {
+  nlohmann::json rollers = nlohmann::json::object();
+  for (const RollerOpenings& roller : openings.rollers) {
+    rollers[roller.roller] = {
+        {"samples", roller.samples},
+        {"median_percent_of_turn", roller.samples > 0 ? nlohmann::json(roller.median_percent) : nlohmann::json(nullptr)},
+        {"max_percent_of_turn", roller.max_percent}};
+  }
+  return {{"samples_ok", openings.ok},
+          {"samples_with_opening", openings.any.successes},
+          {"share",
+           {{"value", openings.any.value}, {"lower", openings.any.interval.lower}, {"upper", openings.any.interval.upper}}},
+          {"rollers", std::move(rollers)}};
 }
 
 namespace {
@@ -260,6 +346,8 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
   summary.schema_note = SchemaNote(results);
   summary.settled_by = CountRungs(results, status, used, &summary.failed_by);
   summary.auto_rung = results.identity().solver.starts_with(NameOf(solvers::kRungNames, solvers::Rung::kAuto));
+  summary.openings = CountOpenings(results, status, used, confidence);
+  summary.life_missing = CountLifeMissing(results, status, used);
 
   std::vector<bool> within(status.size(), true);
   bool any_spec = false;
@@ -277,10 +365,14 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     });
     std::vector<double> values;
     values.reserve(static_cast<std::size_t>(summary.ok));
+    std::vector<double> ok_values;  // every used ok sample's, in sample order: pairs are by sample
     std::int64_t within_limit = 0;
     for (std::size_t i = 0; i < all.size(); ++i) {
       if (!used[i] || status[i] != SampleStatus::kOk) continue;
-      values.push_back(all[i]);
+      ok_values.push_back(all[i]);
+      // An ok sample without a value (a life output where a roller left the bore) is out of
+      // the distribution and, like a failure, outside a limit on it.
+      if (std::isfinite(all[i])) values.push_back(all[i]);
       if (!output.upper_spec_limit) continue;
       if (all[i] <= *output.upper_spec_limit) {
         ++within_limit;
@@ -294,7 +386,7 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     }
     any_spec = any_spec || output.upper_spec_limit.has_value();
     output.count = static_cast<std::int64_t>(values.size());
-    if (IsLifeColumn(name) || IsErrorMotionColumn(name)) paired[name] = values;  // before the sort: pairs are by sample
+    if (IsLifeColumn(name) || IsErrorMotionColumn(name)) paired[name] = std::move(ok_values);
     if (!values.empty()) {
       std::sort(values.begin(), values.end());
       double sum = 0.0;
@@ -345,7 +437,9 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
     fmt::print(out, "dynamic           {} samples, {} of them failed: {}\n", dynamic,
                s.failed_by[static_cast<std::size_t>(solvers::Rung::kDynamic)], kDynamicReason);
   }
+  if (s.openings) fmt::print(out, "contacts          {}\n", OpeningsSentence(*s.openings));
   if (!s.life) fmt::print(out, "life              {}\n", LifeNotComputed());
+  if (s.life_missing > 0) fmt::print(out, "life              {}\n", LifeMissingSentence(s.life_missing, s.ok));
   for (const LifeGap& gap : s.life_gaps) fmt::print(out, "life              {}\n", LifeGapSentence(gap));
   if (s.life_error_motion) fmt::print(out, "life              {}\n", LifeErrorMotionSentence(*s.life_error_motion, s.error_motion_filter));
   const int level = static_cast<int>(std::lround(100.0 * s.confidence));
@@ -376,11 +470,16 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
     if (lines.size() != 1) lines.emplace_back(joint, *s.in_spec);
     std::size_t width = 0;
     for (const auto& line : lines) width = std::max(width, line.first.size());
+    // A limit on a life output cannot pass a sample that has no life value: it counts as
+    // outside, as a failure does, and the line says so where it happened.
+    const bool life_limit = std::any_of(s.in_spec_by_limit.begin(), s.in_spec_by_limit.end(),
+                                        [](const LimitYield& l) { return OutputNamed(l.output).span == OutputSpan::kLife; });
+    const char* outside = life_limit && s.life_missing > 0 ? "; failures and ok samples without life values count as outside"
+                                                           : "; failures count as outside";
     for (std::size_t k = 0; k < lines.size(); ++k) {
       const analysis::ProportionEstimate& p = lines[k].second;
       fmt::print(out, "{}{:<{}}  {} ({} of {} done samples{})\n", k == 0 ? "\nwithin spec       " : kSummaryIndent,
-                 lines[k].first, width, YieldWithInterval(p), p.successes, p.trials,
-                 k + 1 == lines.size() ? "; failures count as outside" : "");
+                 lines[k].first, width, YieldWithInterval(p), p.successes, p.trials, k + 1 == lines.size() ? outside : "");
     }
     if (s.in_spec_ok) {
       fmt::print(out, "within spec, ok   {:<{}}  {} (of the {} ok samples)\n", joint, width,
@@ -403,6 +502,7 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
     for (std::size_t r = 0; r < s.failed_by.size(); ++r) j["rungs"][RungName(r)]["failed"] = s.failed_by[r];
     if (s.auto_rung && DynamicSamples(s) > 0) j["rungs"]["dynamic"]["reason"] = kDynamicReason;
   }
+  if (s.openings) j["contacts"] = OpeningsJson(*s.openings);
   nlohmann::json outputs = nlohmann::json::object();
   for (const OutputSummary& o : s.outputs) {
     nlohmann::json x;
@@ -426,7 +526,8 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
     outputs[o.name] = x;
   }
   j["outputs"] = outputs;
-  if (nlohmann::json life = LifeJson(s.life, s.life_gaps, s.life_error_motion, s.error_motion_filter); !life.is_null()) {
+  if (nlohmann::json life = LifeJson(s.life, s.life_gaps, s.life_error_motion, s.error_motion_filter, s.life_missing);
+      !life.is_null()) {
     j["life"] = std::move(life);
   }
   auto proportion = [](const std::optional<analysis::ProportionEstimate>& p) {

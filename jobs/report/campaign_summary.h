@@ -106,6 +106,16 @@ struct LifeErrorMotion {
   std::array<double, 3> q50{}, q99{};
 };
 
+// How many used ok samples have no life values, because a roller left the bore and the life
+// reads the linear rung's phasors, which assume every contact closed
+// (solvers::SimulationResult::life_missing): from the first life column, NaN there on an ok
+// sample. 0 for a file without life columns.
+std::int64_t CountLifeMissing(const CampaignReader& results, const std::vector<SampleStatus>& status,
+                              const std::vector<bool>& used);
+// "12 of 512 ok samples have no life values: a roller left the bore, ...; the life's
+// numbers are over the other 500." Plain text.
+std::string LifeMissingSentence(std::int64_t missing, std::int64_t ok);
+
 // What the summary and the report say of a campaign that left the life out
 // (CampaignIdentity::life false), in place of its numbers: "The life outputs
 // (life_d_trajectory_mm, ...) were not computed: ...", every life output of the outputs
@@ -126,11 +136,40 @@ std::string LifeErrorMotionSentence(const LifeErrorMotion& motion, const engine:
 // "synchronous_mm": ..., "asynchronous_mm": ...}.
 nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion, const engine::ErrorMotionFilter& filter);
 // The "life" object of the summary's and the report's JSON: {"computed": false} for a
-// campaign that left the life out; else {"computed": true, <label>: LifeGapJson, ...,
-// "error_motion": LifeErrorMotionJson}; null when there is nothing to say (a file of a
-// schema before the life outputs, or without ok samples).
+// campaign that left the life out; else {"computed": true, "samples_without_life":
+// `missing` (CountLifeMissing), <label>: LifeGapJson, ..., "error_motion":
+// LifeErrorMotionJson}; null when there is nothing to say (a file of a schema before the
+// life outputs, or without ok samples).
 nlohmann::json LifeJson(bool computed, const std::vector<LifeGap>& gaps, const std::optional<LifeErrorMotion>& motion,
-                        const engine::ErrorMotionFilter& filter);
+                        const engine::ErrorMotionFilter& filter, std::int64_t missing);
+
+// How often rollers left the bore (docs/model.md §7, "Contacts that open"): over the used
+// ok samples, from /outputs/off_bore_percent. On more fixed rollers than the ring needs,
+// openings are the support's normal state, not a failure; they rock the ring between
+// subsets of rollers, which is itself a source of runout.
+struct RollerOpenings {
+  std::string roller;               // CampaignIdentity::rollers
+  std::int64_t samples = 0;         // ok samples on which it left the bore at some angle
+  double median_percent = 0.0;      // [%] of the turn, the median over those samples; NaN when none
+  double max_percent = 0.0;         // [%] of the turn, the largest
+};
+struct ContactOpenings {
+  std::int64_t ok = 0;  // used ok samples
+  // Of them, those with a roller off the bore at some angle, with its confidence interval.
+  analysis::ProportionEstimate any;
+  std::vector<RollerOpenings> rollers;  // every roller, in the scene's order
+};
+// None for a file that does not record openings (schema < 6) or has no used ok sample.
+// `status` and `used` cover the file's first samples, as CountRungs's.
+std::optional<ContactOpenings> CountOpenings(const CampaignReader& results, const std::vector<SampleStatus>& status,
+                                             const std::vector<bool>& used, double confidence);
+// "every roller touched the bore throughout, in all 512 ok samples", or "37 of 512 ok
+// samples (7.2 % [5.1, 9.9 %]) had a roller off the bore for part of the turn: fixed_a in
+// 30 (median 12.1 %, at most 33.9 % of the turn), ...". Plain text.
+std::string OpeningsSentence(const ContactOpenings& openings);
+// {"samples_ok", "samples_with_opening", "share": {"value", "lower", "upper"}, "rollers":
+// {<name>: {"samples", "median_percent_of_turn", "max_percent_of_turn"}, ...}}.
+nlohmann::json OpeningsJson(const ContactOpenings& openings);
 
 // One spec limit's own yield.
 struct LimitYield {
@@ -160,9 +199,11 @@ struct CampaignSummary {
   // What an older results file's columns are, in its schema's terms; empty for the current.
   std::string schema_note;
   bool life = true;  // CampaignIdentity::life: whether the samples computed the life outputs
+  std::int64_t life_missing = 0;  // used ok samples without life values (CountLifeMissing)
   std::vector<LifeGap> life_gaps;  // kLifeColumns order, those the file holds both columns of
   std::optional<LifeErrorMotion> life_error_motion;  // none for a file without the columns
   engine::ErrorMotionFilter error_motion_filter;     // the campaign's, which the error_motion_* outputs passed
+  std::optional<ContactOpenings> openings;           // none for files of schema < 6
 };
 
 inline constexpr double kSummaryProbabilities[] = {0.5, 0.9, 0.99, 0.999};

@@ -347,7 +347,11 @@ void AnswerSection(std::string& html, const CampaignReport& report, const Output
     html += fmt::format("<p>Rungs: {} (of the {} samples a rung ran on).</p>\n",
                         EscapeXml(RungShares(report.settled_by)), ran);
   }
+  if (report.openings) html += fmt::format("<p>Contacts: {}.</p>\n", EscapeXml(OpeningsSentence(*report.openings)));
   if (!report.identity.life) html += fmt::format("<p>{}</p>\n", EscapeXml(LifeNotComputed()));
+  if (report.life_missing > 0) {
+    html += fmt::format("<p>{}.</p>\n", EscapeXml(LifeMissingSentence(report.life_missing, report.ok)));
+  }
   for (const LifeGap& gap : report.life_gaps) html += fmt::format("<p>{}</p>\n", EscapeXml(LifeGapSentence(gap)));
   if (report.life_error_motion) {
     html += fmt::format("<p>{}</p>\n", EscapeXml(LifeErrorMotionSentence(*report.life_error_motion, report.identity.error_motion_filter)));

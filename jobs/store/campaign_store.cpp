@@ -55,6 +55,7 @@ enum Column : std::size_t {
   kSolveTime,
   kRung,
   kErrorBound,
+  kOffBore,
   kFirstOutput,
   kStatus = kFirstOutput + kOutputCount,
   kColumnCount
@@ -80,6 +81,8 @@ std::string ColumnPath(std::size_t column) {
       return "/outputs/rung";
     case kErrorBound:
       return "/outputs/d_trajectory_error_mm";
+    case kOffBore:
+      return "/outputs/off_bore_percent";
     case kStatus:
       return "/outputs/status";
     default:
@@ -107,11 +110,16 @@ constexpr const char* kSwingDefinition =
 // is now runout_total_mm; it had no swing. Schemas 1 and 2 had no rung and error bound,
 // schemas 1 to 3 no life outputs, nor has a file of a campaign that left the life out
 // (`life`: CampaignIdentity::life). Schema 5 keeps failure messages in /failures instead of
-// a message per sample, and a draw checksum per sample.
-constexpr int kFirstSchemaWithRungs = 3;
+// a message per sample, and a draw checksum per sample. Schema 6 adds each roller's share
+// of the turn off the bore, and the rollers' names.
 constexpr int kFirstSchemaWithLife = 4;
 constexpr int kFirstSchemaWithSlimRows = 5;
+constexpr int kFirstSchemaWithOpenings = 6;
+constexpr const char* kRollerNames = "/rollers/name";
+// The rows of an index written before the layout attribute: that ringtol's schema.
+constexpr int kLegacyIndexRowsSchema = 5;
 std::string StoredColumnPath(std::size_t column, int schema, bool life) {
+  if (column == kOffBore && schema < kFirstSchemaWithOpenings) return {};
   if (column == kMessage && schema >= kFirstSchemaWithSlimRows) return {};
   if (column == kDrawChecksum && schema < kFirstSchemaWithSlimRows) return {};
   if ((column == kRung || column == kErrorBound) && schema < kFirstSchemaWithRungs) return {};
@@ -245,16 +253,16 @@ Stored ReadStored(const Where& where, hid_t file) {
   const auto schema =
       Require(where, ReadNumberAttribute<std::int64_t>(where, file, "schema_version", H5T_INTEGER, H5T_NATIVE_INT64),
               "schema_version");
-  if (schema > kShardIndexSchemaVersion) {
+  if (schema > kNewestSchemaVersion) {
     throw InputError(fmt::format("{}: was written by a newer ringtol (schema {}); this ringtol reads schema {}",
-                                 where.file, schema, kShardIndexSchemaVersion));
+                                 where.file, schema, kNewestSchemaVersion));
   }
   if (schema < kOldestReadableSchema) {
     throw InputError(fmt::format("{}: has unknown schema version {}; this ringtol reads schemas {} to {}", where.file,
-                                 schema, kOldestReadableSchema, kShardIndexSchemaVersion));
+                                 schema, kOldestReadableSchema, kNewestSchemaVersion));
   }
   const StoredLayout layout =
-      ReadLayout(where, file, static_cast<int>(schema), kShardIndexSchemaVersion, kCampaignSchemaVersion);
+      ReadLayout(where, file, static_cast<int>(schema), kShardIndexSchemaVersion, kLegacyIndexRowsSchema);
   if (layout.rows_schema > kCampaignSchemaVersion || layout.rows_schema < kOldestReadableSchema) {
     throw InputError(fmt::format("{}: keeps rows of schema {}; this ringtol reads schemas {} to {}", where.file,
                                  layout.rows_schema, kOldestReadableSchema, kCampaignSchemaVersion));
@@ -300,6 +308,10 @@ Stored ReadStored(const Where& where, hid_t file) {
   }
 
   identity.inputs = ReadInputDescriptions(where, file);
+  if (stored.schema_version >= kFirstSchemaWithOpenings) {
+    identity.rollers = ReadStrings(where, file, kRollerNames);
+    if (identity.rollers.empty()) Fail(where, fmt::format("{} is empty: a scene has rollers", kRollerNames));
+  }
   identity.calibrations = ReadCalibrations(where, file);
 
   for (std::size_t k = 0; k < kOutputCount; ++k) {
@@ -383,16 +395,16 @@ TypeId RungType(const Where& where) {
 
 constexpr int kSmallColumnDeflateLevel = 1;
 
+// The columns of a file of `schema` written for `identity` (its life, inputs and rollers).
 // `inputs_stored_below`: the first sample whose u and values are not stored.
-// `life`: CampaignIdentity::life.
-std::vector<ColumnSpec> Columns(int schema, bool life, std::size_t inputs, int deflate_level,
+std::vector<ColumnSpec> Columns(int schema, const CampaignIdentity& identity, int deflate_level,
                                 std::int64_t inputs_stored_below) {
   std::vector<ColumnSpec> columns(kColumnCount);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t c = 0; c < kColumnCount; ++c) {
     ColumnSpec& spec = columns[c];
     spec.path = ColumnPath(c);
-    spec.stored_path = StoredColumnPath(c, schema, life);
+    spec.stored_path = StoredColumnPath(c, schema, identity.life);
     spec.fill = nan;
     // The floating-point columns barely compress (design points are random bits below the
     // exponent) and, in SWMR mode, every rewrite of a compressed chunk that grows leaves its
@@ -434,12 +446,17 @@ std::vector<ColumnSpec> Columns(int schema, bool life, std::size_t inputs, int d
       case kSolveTime:
       case kErrorBound:
         break;
-      default:  // outputs
+      case kOffBore:  // a row of every roller, in percent: float32 resolves far below one angle's share
+        spec.type = ColumnType::kFloat32;
+        spec.width = identity.rollers.size();
         spec.finite = FiniteRule::kWhenOk;
+        break;
+      default:  // outputs; an ok sample whose roller left the bore has no life values (NaN)
+        spec.finite = IsLifeOutput(c - kFirstOutput) ? FiniteRule::kNone : FiniteRule::kWhenOk;
         break;
     }
     if (c == kU || c == kValues) {  // a row of every input, for the first samples only
-      spec.width = inputs;
+      spec.width = identity.inputs.size();
       spec.cached = true;
       spec.stored_below = inputs_stored_below;
     }
@@ -463,7 +480,7 @@ RowSpace Rows(std::int64_t samples, std::int64_t chunk_samples = 1) {
 SampleTable OpenColumns(const Where& where, hid_t file, const Stored& stored, std::size_t cache_bytes = 0) {
   return SampleTable::Open(
       where, file, Rows(stored.samples, stored.chunk_rows),
-      Columns(stored.schema_version, stored.identity.life, stored.identity.inputs.size(), 0, stored.inputs_stored_below),
+      Columns(stored.schema_version, stored.identity, 0, stored.inputs_stored_below),
       cache_bytes);
 }
 
@@ -609,6 +626,9 @@ void CheckArguments(const CampaignIdentity& identity, std::int64_t samples, cons
   if (identity.inputs.empty()) {
     throw std::invalid_argument("CampaignStore: a campaign needs at least one sampled input");
   }
+  if (options.schema >= kFirstSchemaWithOpenings && identity.rollers.empty()) {
+    throw std::invalid_argument("CampaignStore: a campaign's scene has rollers: name them");
+  }
   if (InvalidOption invalid; !options.IsValid(&invalid)) {
     throw std::invalid_argument(fmt::format("CampaignStore: {} = {} is out of its range", invalid.field, invalid.value));
   }
@@ -637,13 +657,13 @@ hsize_t DefaultChunkRows(const CampaignStoreOptions& options, std::int64_t sampl
 }
 
 // The root's attributes, the groups, the input descriptions and the calibrations: what a
-// results file and an index of shards (`schema`) share.
+// results file and an index of shards share, its rows in options.schema.
 void WriteIdentity(const Where& where, hid_t file, const CampaignIdentity& identity, std::int64_t samples,
                    const CampaignStoreOptions& options, Layout layout) {
-  const std::int32_t schema = layout == Layout::kFile ? kCampaignSchemaVersion : kShardIndexSchemaVersion;
+  const std::int32_t schema = layout == Layout::kFile ? options.schema : kShardIndexSchemaVersion;
   WriteStringAttribute(where, file, "format", kFormat);
   WriteAttribute(where, file, "schema_version", H5T_STD_I32LE, H5T_NATIVE_INT32, &schema);
-  WriteLayout(where, file, {layout, kCampaignSchemaVersion});
+  WriteLayout(where, file, {layout, options.schema});
   WriteIdentityAttributes(where, file, identity, kIdentityAttributes);
   WriteAttribute(where, file, "samples", H5T_STD_I64LE, H5T_NATIVE_INT64, &samples);
   WriteStringAttribute(where, file, "life", identity.life ? kLifeComputed : kLifeNotComputed);
@@ -655,6 +675,10 @@ void WriteIdentity(const Where& where, hid_t file, const CampaignIdentity& ident
   }
 
   WriteInputDescriptions(where, file, identity.inputs, options.checksums);
+  if (options.schema >= kFirstSchemaWithOpenings) {
+    GroupId(Check(H5Gcreate2(file, "rollers", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), where, "creating group", "rollers"));
+    WriteStrings(where, file, kRollerNames, identity.rollers, options.checksums);
+  }
   WriteCalibrations(where, file, identity.calibrations, gcpl);
 
   const std::int64_t stored_below = options.inputs_stored_below;
@@ -692,8 +716,7 @@ void WriteSchema(const Where& where, hid_t file, const CampaignIdentity& identit
   const auto chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples));
   SampleTable::Create(
       where, file, Rows(samples, chunk_rows),
-      Columns(kCampaignSchemaVersion, identity.life, identity.inputs.size(), options.deflate_level,
-              options.inputs_stored_below),
+      Columns(options.schema, identity, options.deflate_level, options.inputs_stored_below),
       options.checksums);
   CreateFailures(where, file, options.checksums);
   WriteColumnAttributes(where, file, identity);
@@ -749,7 +772,9 @@ ResultsCheck Check(const Where& where, hid_t file, const SampleTable& table, con
   ResultsCheck check;
   check.samples = table.space().samples;
   // ReadStored has read the descriptions whole: a damaged one does not get this far.
-  for (const char* path : kDescriptions) {
+  std::vector<const char*> descriptions(kDescriptions.begin(), kDescriptions.end());
+  if (H5Lexists(file, "/rollers", H5P_DEFAULT) > 0) descriptions.push_back(kRollerNames);
+  for (const char* path : descriptions) {
     const DatasetId dataset(hdf5::Check(H5Dopen2(file, path, H5P_DEFAULT), where, "opening dataset", path));
     DatasetCheck description;
     description.path = path;
@@ -845,7 +870,7 @@ struct CampaignStore::File {
   // (entering SWMR reopens open datasets with default access, losing the chunk cache).
   void StartWriting(const CampaignStoreOptions& options) {
     CheckStatus(H5Fstart_swmr_write(file.get()), where, "starting", "SWMR writing");
-    table = SampleTable::Open(where, file.get(), Rows(samples), Columns(schema, identity.life, inputs, 0, inputs_stored_below),
+    table = SampleTable::Open(where, file.get(), Rows(samples), Columns(schema, identity, 0, inputs_stored_below),
                               options.chunk_cache_bytes);
     if (schema >= kFirstSchemaWithSlimRows) {
       failure_samples = DatasetId(
@@ -895,6 +920,7 @@ CampaignStore CampaignStore::Create(const fs::path& path, const CampaignIdentity
   file->identity = identity;
   file->chunk_rows = static_cast<std::int64_t>(DefaultChunkRows(options, samples));
   file->inputs_stored_below = options.inputs_stored_below;
+  file->schema = options.schema;
   CreateWhole(
       path, ExistsMessage(name), file->file, file->lock,
       [&] {
@@ -996,6 +1022,11 @@ void CampaignStore::Add(SampleRecord record) {
   if (record.status == SampleStatus::kPending || !IsKnownStatus(static_cast<std::int8_t>(record.status))) {
     throw std::invalid_argument(fmt::format("CampaignStore::Add: sample {} has no final status", record.index));
   }
+  const std::size_t rollers = file_->identity.rollers.size();
+  if (record.status == SampleStatus::kOk && record.off_bore.size() != rollers) {
+    throw std::invalid_argument(fmt::format("CampaignStore::Add: ok sample {} has {} off-bore shares for {} rollers",
+                                            record.index, record.off_bore.size(), rollers));
+  }
   if (record.index >= file_->inputs_stored_below) {
     // Not kept: the buffer holds the sample's checksum of its draw instead of the draw, so
     // that thousands of buffered samples take kilobytes, not megabytes.
@@ -1036,6 +1067,8 @@ void CampaignStore::Commit() {
   std::vector<double> solve_times(m);
   std::vector<std::int8_t> rungs(m);
   std::vector<double> error_bounds(m);
+  const std::size_t z = f.identity.rollers.size();
+  std::vector<float> off_bore(m * z, std::numeric_limits<float>::quiet_NaN());
   std::vector<std::vector<double>> outputs(kOutputCount, std::vector<double>(m));
   std::vector<std::int8_t> statuses(m);
   std::size_t i = 0;
@@ -1060,6 +1093,10 @@ void CampaignStore::Commit() {
     const bool ok = record.status == SampleStatus::kOk;
     rungs[i] = record.rung;
     error_bounds[i] = ok ? record.d_trajectory_error : std::numeric_limits<double>::quiet_NaN();
+    if (ok) {
+      std::transform(record.off_bore.begin(), record.off_bore.end(), off_bore.begin() + static_cast<std::ptrdiff_t>(i * z),
+                     [](double percent) { return static_cast<float>(percent); });
+    }
     for (std::size_t k = 0; k < kOutputCount; ++k) {
       outputs[k][i] = ok ? record.outputs[k] : std::numeric_limits<double>::quiet_NaN();
     }
@@ -1076,6 +1113,7 @@ void CampaignStore::Commit() {
   columns[kSolveTime] = solve_times.data();
   columns[kRung] = rungs.data();
   columns[kErrorBound] = error_bounds.data();
+  columns[kOffBore] = off_bore.data();
   for (std::size_t k = 0; k < kOutputCount; ++k) columns[kFirstOutput + k] = outputs[k].data();
   columns[kStatus] = statuses.data();
   // Before the statuses (Write's last column): a status on disk vouches for its message.
@@ -1087,6 +1125,8 @@ void CampaignStore::Commit() {
 std::int64_t CampaignStore::chunk_rows() const { return file_->chunk_rows; }
 
 std::int64_t CampaignStore::inputs_stored_below() const { return file_->inputs_stored_below; }
+
+int CampaignStore::schema() const { return file_->schema; }
 
 CampaignStore::Absorbed CampaignStore::Absorb(const fs::path& shard_path) {
   const QuietErrors quiet;
@@ -1237,17 +1277,22 @@ ShardContents ReadShardContents(const fs::path& shard, const CampaignIdentity& i
   Stored expected;
   expected.identity = identity;
   expected.samples = samples;
-  expected.schema_version = kCampaignSchemaVersion;
   const Where opening{shard.string(), true};
   const FileId file = OpenForReading(shard);
   const Stored stored = ReadStored(opening, file.get());
+  expected.schema_version = std::max(stored.schema_version, kFirstSchemaWithShards);
   expected.inputs_stored_below = stored.inputs_stored_below;
   CheckShardStored(opening, opening, stored, expected);
   const SampleTable table = OpenColumns(opening, file.get(), stored);
   const DatasetId failures(Check(H5Dopen2(file.get(), kFailureSamples, H5P_DEFAULT), opening, "opening dataset",
                                  kFailureSamples));
-  return {shard, stored.samples, table.space().chunk_samples, stored.inputs_stored_below,
-          static_cast<std::int64_t>(FailureRowCount(opening, failures.get())), table.Finished()};
+  return {shard,
+          stored.samples,
+          table.space().chunk_samples,
+          stored.inputs_stored_below,
+          static_cast<std::int64_t>(FailureRowCount(opening, failures.get())),
+          table.Finished(),
+          stored.schema_version};
 }
 
 ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentity& identity, std::int64_t samples,
@@ -1273,6 +1318,7 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
   }
   const std::int64_t chunk_rows = shards.front().chunk_rows;
   const std::int64_t stored_below = shards.front().inputs_stored_below;
+  const int schema = shards.front().schema;
   ShardIndexSummary summary;
   summary.shards = static_cast<std::int64_t>(shards.size());
   std::vector<VirtualSource> sources;
@@ -1280,7 +1326,8 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
   std::vector<hsize_t> failure_rows;
   std::vector<SampleRange> owned;  // by the shards before: the first listed wins
   for (const ShardContents& shard : shards) {
-    if (shard.samples > samples || shard.chunk_rows != chunk_rows || shard.inputs_stored_below != stored_below) {
+    if (shard.samples > samples || shard.chunk_rows != chunk_rows || shard.inputs_stored_below != stored_below ||
+        shard.schema != schema) {
       throw std::invalid_argument("WriteShardIndex: shard " + shard.path.string() + " is not a shard of " + name);
     }
     VirtualSource source{shard.path.filename().string(), shard.samples, Without(shard.finished, owned), {}};
@@ -1302,11 +1349,12 @@ ShardIndexSummary WriteShardIndex(const fs::path& results, const CampaignIdentit
   ReplaceIndex(where, results, names, [&](hid_t file) {
     CampaignStoreOptions options;
     options.inputs_stored_below = stored_below;
+    options.schema = schema;
     WriteIdentity(where, file, identity, samples, options, Layout::kShardIndex);
     WriteAttribute(where, file, "shard_chunk_rows", H5T_STD_I64LE, H5T_NATIVE_INT64, &chunk_rows);
     WriteAttribute(where, file, "shard_digest", H5T_STD_U32LE, H5T_NATIVE_UINT32, &digest);
     summary.mappings = SampleTable::CreateVirtual(
-        where, file, Rows(samples, chunk_rows), Columns(kCampaignSchemaVersion, identity.life, identity.inputs.size(), 0, stored_below),
+        where, file, Rows(samples, chunk_rows), Columns(schema, identity, 0, stored_below),
         sources);
     CreateFailureViews(where, file, names, failure_rows);
     WriteColumnAttributes(where, file, identity);
@@ -1320,7 +1368,7 @@ ShardContents CampaignStore::Contents() {
   File& f = *file_;
   const auto failures =
       f.failure_samples.get() >= 0 ? static_cast<std::int64_t>(FailureRowCount(f.where, f.failure_samples.get())) : 0;
-  return {f.path, f.samples, f.chunk_rows, f.inputs_stored_below, failures, f.table.Finished()};
+  return {f.path, f.samples, f.chunk_rows, f.inputs_stored_below, failures, f.table.Finished(), f.schema};
 }
 
 std::vector<fs::path> IndexedShards(const fs::path& results) {
@@ -1335,7 +1383,7 @@ std::vector<fs::path> IndexedShards(const fs::path& results) {
 ShardPlan PlanCampaignShards(const fs::path& results, const CampaignIdentity& identity, std::int64_t samples,
                              int ranks, bool resume) {
   return PlanShards(results, ranks, resume, [&](const fs::path& file) {
-    if (const int schema = CampaignReader(file).schema_version(); schema < kCampaignSchemaVersion) {
+    if (const int schema = CampaignReader(file).schema_version(); schema < kFirstSchemaWithShards) {
       throw InputError(fmt::format("{}: was written by an older ringtol (schema {}), which keeps it in one file: "
                                    "resume it without mpirun",
                                    file.string(), schema));
@@ -1353,6 +1401,7 @@ CampaignStore OpenCampaignShard(const fs::path& results, int rank, const Campaig
       const ShardContents other = ReadShardContents(shards.front(), identity, samples);
       options.chunk_samples = other.chunk_rows;
       options.inputs_stored_below = other.inputs_stored_below;
+      options.schema = other.schema;
     }
   }
   return CampaignStore::Create(own, identity, samples, options);
@@ -1392,6 +1441,7 @@ CampaignStore::Absorbed JoinShards(const fs::path& results, const fs::path& out)
   CampaignStoreOptions options;
   options.chunk_samples = stored.chunk_rows;
   options.inputs_stored_below = stored.inputs_stored_below;
+  options.schema = stored.schema_version;
   CampaignStore::Absorbed joined;
   {
     CampaignStore store = CampaignStore::Create(target, stored.identity, stored.samples, options);
@@ -1569,6 +1619,13 @@ std::vector<std::int8_t> CampaignReader::ReadRungs(std::int64_t begin, std::int6
   return file_->Rows<std::int8_t>("CampaignReader::ReadRungs", kRung, begin, count);
 }
 
+bool CampaignReader::HasOffBore() const { return file_->table.stored(kOffBore); }
+
+std::vector<float> CampaignReader::ReadOffBore(std::int64_t begin, std::int64_t count) const {
+  if (!HasOffBore()) return {};
+  return file_->Rows<float>("CampaignReader::ReadOffBore", kOffBore, begin, count);
+}
+
 SampleRecord CampaignReader::ReadSample(std::int64_t index) const {
   const QuietErrors quiet;
   file_->CheckRows("CampaignReader::ReadSample", index, 1);
@@ -1593,6 +1650,10 @@ SampleRecord CampaignReader::ReadSample(std::int64_t index) const {
   record.solve_time = table.Read<double>(kSolveTime, 0, index, 1).front();
   record.rung = table.Read<std::int8_t>(kRung, 0, index, 1).front();
   record.d_trajectory_error = table.Read<double>(kErrorBound, 0, index, 1).front();
+  if (table.stored(kOffBore) && record.status == SampleStatus::kOk) {
+    const std::vector<float> off_bore = table.Read<float>(kOffBore, 0, index, 1, status);
+    record.off_bore.assign(off_bore.begin(), off_bore.end());
+  }
   for (std::size_t k = 0; k < kOutputCount; ++k) {
     record.outputs[k] = table.Read<double>(kFirstOutput + k, 0, index, 1, status).front();
   }

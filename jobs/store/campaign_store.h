@@ -4,8 +4,9 @@
 // safe against a kill at any moment. docs/results.md documents the schema for
 // readers; this header is the contract for writers.
 //
-// Schema version 5 (N = samples, d = sampler inputs, S = min(N, inputs_stored_below)):
-//   /                          attributes: format = "ringtol campaign", schema_version = 5,
+// Schema version 6 (N = samples, d = sampler inputs, S = min(N, inputs_stored_below), Z =
+// rollers):
+//   /                          attributes: format = "ringtol campaign", schema_version = 6,
 //                              layout = "file" (jobs/store/hdf5_file.h: an index of shards
 //                              says "shard index"; files before it have none), ringtol_version, catalogue_version, seed (uint64), samples
 //                              (int64, N), design, solver, campaign_path, campaign_file (the
@@ -23,7 +24,8 @@
 //   /inputs/redraws            int32 [N]
 //   /inputs/draw_checksum      uint32 [N]      DrawChecksum of each finished sample's draw, so
 //                              that a replay which no longer reproduces it is refused
-//   /outputs/<kOutputNames>    float64 [N]     NaN when the sample failed; attribute
+//   /outputs/<kOutputNames>    float64 [N]     NaN when the sample failed, and the life
+//                              outputs of an ok sample whose roller left the bore; attribute
 //                              upper_spec_limit when the campaign sets one; runout_mm and
 //                              swing_mm carry a `definition` string, swing_mm also the
 //                              resolution_um and cutoff_upr it was read with
@@ -33,6 +35,10 @@
 //                              ran (schema 3: plain int8)
 //   /outputs/d_trajectory_error_mm  float64 [N]  that rung's own bound on its error in
 //                              d_trajectory_mm (SampleRecord::d_trajectory_error); NaN unless ok
+//   /outputs/off_bore_percent  float32 [N, Z]  each roller's share of the turn off the bore
+//                              (SampleRecord::off_bore); NaN unless ok
+//   /rollers/name              [Z] strings: the base scene's rollers, the columns of
+//                              off_bore_percent (CampaignIdentity::rollers)
 //   /outputs/status            int8 enum [N]   SampleStatusName names; fill value "pending"
 //   /failures/sample           int64 [M]       the failed samples committed, in commit order
 //   /failures/message          fixed 256-byte strings [M]: why each failed (truncated); a
@@ -47,6 +53,7 @@
 //                              draws (int32). Optional: files before it, or campaigns without form
 //                              tolerances, have none, and readers that ignore it lose nothing
 //                              but the time to calibrate again, so the schema stays 3.
+// Schema 5 is schema 6 without /outputs/off_bore_percent and /rollers.
 // Schema 4 is schema 5 with u and values for every sample, no draw checksum, and a message
 // per sample (/outputs/message, fixed 256-byte strings [N], empty unless the sample failed)
 // instead of /failures; ringtol still resumes such a file in its own schema.
@@ -101,14 +108,21 @@
 
 namespace ringtol::jobs {
 
-inline constexpr int kCampaignSchemaVersion = 5;
-// The schema_version of an index of shards (WriteShardIndex: schema 5's datasets, the
-// per-sample ones virtual), which numbers the index's layout; its root attributes layout =
-// "shard index" and rows_schema = 5 say what it is. Indexes written before `layout`
-// existed are recognised by this number alone.
+inline constexpr int kCampaignSchemaVersion = 6;
+// The schema_version of an index of shards (WriteShardIndex: its rows' schema's datasets,
+// the per-sample ones virtual), which numbers the index's layout; its root attributes
+// layout = "shard index" and rows_schema say what it is. Indexes written before `layout`
+// existed are recognised by this number alone (with no layout, their rows are schema 5);
+// a file of rows schema 6 says layout = "file".
 inline constexpr int kShardIndexSchemaVersion = 6;
+// The newest schema_version a file of this ringtol has, whatever its layout.
+inline constexpr int kNewestSchemaVersion = std::max(kCampaignSchemaVersion, kShardIndexSchemaVersion);
 // The oldest schema Resume continues (in its own schema).
 inline constexpr int kOldestResumableSchema = 4;
+// The oldest schema that records each sample's rung (/outputs/rung).
+inline constexpr int kFirstSchemaWithRungs = 3;
+// The oldest schema a sharded run writes (its failure rows are what an index joins).
+inline constexpr int kFirstSchemaWithShards = 5;
 // Samples whose design points and drawn values a file keeps unless told otherwise
 // (CampaignStoreOptions::inputs_stored_below): those the report's screening reads
 // (ReportOptions::screening_samples); the rest are replayed from (campaign, index).
@@ -132,6 +146,7 @@ struct ShardContents {
   std::int64_t inputs_stored_below = 0;
   std::int64_t failure_rows = 0;         // rows of /failures/sample
   std::vector<SampleRange> finished;     // ascending, disjoint, not touching
+  int schema = kCampaignSchemaVersion;   // its rows' schema: every shard of a run has the same
 };
 
 // Each field's range is the Range beside it; IsValid checks them all.
@@ -149,13 +164,18 @@ struct CampaignStoreOptions {
   // int64 keeps every one: --store-inputs). Create only: a resumed file keeps its own.
   std::int64_t inputs_stored_below = kStoredInputSamples;
   static constexpr Range kInputsStoredBelowRange = AtLeast(0);
+  // The schema a new file is written in: this ringtol's, or the one of a sharded run an
+  // earlier ringtol began, whose new shards and joined file keep it. Create only.
+  int schema = kCampaignSchemaVersion;
+  static constexpr Range kSchemaRange = Between(kFirstSchemaWithShards, kCampaignSchemaVersion);
 
   // Whether every field lies in its range; the first that does not is described in
   // *invalid (engine/option_range.h).
   bool IsValid(InvalidOption* invalid = nullptr) const {
     return CheckOption("deflate_level", deflate_level, kDeflateLevelRange, invalid) &&
            CheckOption("chunk_samples", chunk_samples, kChunkSamplesRange, invalid) &&
-           CheckOption("inputs_stored_below", inputs_stored_below, kInputsStoredBelowRange, invalid);
+           CheckOption("inputs_stored_below", inputs_stored_below, kInputsStoredBelowRange, invalid) &&
+           CheckOption("schema", schema, kSchemaRange, invalid);
   }
 };
 
@@ -202,6 +222,8 @@ class CampaignStore {
   std::int64_t chunk_rows() const;
   // The first sample whose u and values the file does not keep (schema 4: the largest int64).
   std::int64_t inputs_stored_below() const;
+  // The file's schema: this ringtol's, or a resumed file's own.
+  int schema() const;
 
   // Copies into this file every finished sample of the shard at `shard` (a results file of
   // the same campaign, no larger) that this file has pending, and flushes; the shard stays
@@ -231,7 +253,8 @@ class CampaignStore {
 std::vector<UnreadableShard> SetAsideUnreadableShards(const std::filesystem::path& results);
 
 // Shards as the results file: under mpirun every computing rank keeps its shard, and the
-// results file becomes their index (schema 6, layout "shard index", rows_schema 5): the root's attributes, /inputs descriptions
+// results file becomes their index (schema 6, layout "shard index", rows_schema the shards'
+// schema): the root's attributes, /inputs descriptions, /rollers
 // and /calibration of a results file, /shards/file [K] (the shards' file names, beside the
 // index) and root attribute shard_chunk_rows, and every per-sample dataset a virtual
 // dataset of N rows showing each sample from the shard that finished it (the first listed
@@ -272,12 +295,13 @@ std::vector<std::filesystem::path> IndexedShards(const std::filesystem::path& re
 CampaignStore::Absorbed JoinShards(const std::filesystem::path& results, const std::filesystem::path& out);
 
 // A run of a campaign in shards (PlanShards, jobs/store/shards.h): a self-contained file of
-// an older schema is refused (it resumes only in one process).
+// a schema before kFirstSchemaWithShards is refused (it resumes only in one process); one
+// of a later schema becomes shard 0 in its own schema, which the run's new shards take.
 ShardPlan PlanCampaignShards(const std::filesystem::path& results, const CampaignIdentity& identity,
                              std::int64_t samples, int ranks, bool resume);
 // Rank `rank`'s own shard of `results`: resumed when it exists, else created with `options`,
-// except that rank 0 chunks it as the shards an earlier run left, when there are any (a run
-// killed before rank 0 wrote a sample).
+// except that rank 0 chunks it, and writes it in the schema of, the shards an earlier run
+// left, when there are any (a run killed before rank 0 wrote a sample).
 CampaignStore OpenCampaignShard(const std::filesystem::path& results, int rank, const CampaignIdentity& identity,
                                 std::int64_t samples, CampaignStoreOptions options);
 // What the shards of ranks a run does not have (ShardPlan::stale) hold, each resumed
@@ -337,6 +361,12 @@ class CampaignReader {
   std::vector<std::int32_t> ReadRedraws(std::int64_t begin, std::int64_t count) const;
   // /outputs/rung: kNoRung for samples no rung ran and in files of schema < 3.
   std::vector<std::int8_t> ReadRungs(std::int64_t begin, std::int64_t count) const;
+  // Whether the file records each roller's share of the turn off the bore (schema >= 6).
+  bool HasOffBore() const;
+  // Row-major [count, identity().rollers.size()]: each roller's share of the turn off the
+  // bore [%] (SampleRecord::off_bore), NaN unless the sample is ok; empty for a file that
+  // does not record it (HasOffBore).
+  std::vector<float> ReadOffBore(std::int64_t begin, std::int64_t count) const;
   // Everything stored about one sample (solve_time included), its inputs drawn again as
   // ReadValues's, and its message from the failure rows.
   SampleRecord ReadSample(std::int64_t index) const;

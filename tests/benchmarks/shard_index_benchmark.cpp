@@ -32,6 +32,7 @@ CampaignIdentity Identity() {
   identity.design = "sobol";
   identity.solver = "linear";
   identity.seed = 1;
+  identity.rollers = {"spring", "fixed_a", "fixed_b"};
   for (std::size_t i = 0; i < kInputs; ++i) {
     const int order = static_cast<int>(i) + 2;
     identity.inputs.push_back({"ring.order" + std::to_string(order) + ".amplitude_um",

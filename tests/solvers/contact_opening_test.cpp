@@ -53,6 +53,26 @@ solvers::SimulationResult Simulated(const engine::Scene& scene, const solvers::S
   return solvers::Simulate(scene, solver, options);
 }
 
+// The life reads the linear rung's phasors, which assume every contact closed: where a
+// redundant roller leaves the bore the sample keeps its revolution's outputs and says why
+// it has no life values; where none leaves, the life is there.
+TEST(ContactOpening, CostsTheLifeValuesNotTheSample) {
+  const solvers::QuasistaticSolver quasistatic;
+  solvers::SimulationOptions options;
+  options.steps = 360;
+  options.life = true;
+  const solvers::SimulationResult opened = solvers::Simulate(FourRollers(100e-6), quasistatic, options);
+  ASSERT_EQ(opened.status, solvers::Status::kOk) << opened.message;
+  EXPECT_GT(opened.contact_force[kOpening].off_bore, 0.2);
+  EXPECT_FALSE(opened.life.has_value());
+  EXPECT_THAT(opened.life_missing, HasSubstr("roller fixed_a leaves the bore"));
+  const solvers::SimulationResult closed = solvers::Simulate(FourRollers(20e-6), quasistatic, options);
+  ASSERT_EQ(closed.status, solvers::Status::kOk) << closed.message;
+  EXPECT_EQ(closed.contact_force[kOpening].off_bore, 0.0);
+  EXPECT_TRUE(closed.life.has_value());
+  EXPECT_TRUE(closed.life_missing.empty());
+}
+
 TEST(SupportRule, OnThreeRollersEveryContactIsNeeded) {
   const engine::Scene scene = testing::PaperScene();  // spring, fixed_a, fixed_b
   EXPECT_EQ(solvers::RollerLosingSupport(scene, std::vector{19.0, 10.0, 10.0}), -1);

@@ -16,17 +16,19 @@
 
 namespace ringtol::testing {
 
-// Rewrites the results file at `path` as schema `schema` (< 5) had it: a message per
-// sample in /outputs/message instead of the failure rows, no draw checksums; `edit`
-// changes its datasets as that schema kept them, and below schema 4 the life outputs,
-// which every schema before 4 lacked, are removed. Throws std::runtime_error where HDF5
-// refuses. The file must keep every sample's inputs (fewer than kStoredInputSamples).
+// Rewrites the results file at `path` as schema `schema` (< 6) had it: no off-bore shares
+// and roller names; below 5, a message per sample in /outputs/message instead of the
+// failure rows, no draw checksums; `edit` changes its datasets as that schema kept them,
+// and below schema 4 the life outputs, which every schema before 4 lacked, are removed.
+// Throws std::runtime_error where HDF5 refuses. The file must keep every sample's inputs
+// (fewer than kStoredInputSamples).
 inline void AsOlderSchema(const std::filesystem::path& path, int schema,
                           const std::function<void(hid_t)>& edit = {}) {
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   if (file < 0) throw std::runtime_error("AsOlderSchema: cannot open " + path.string());
-  bool done = true;
-  {
+  bool done = H5Ldelete(file, "/outputs/off_bore_percent", H5P_DEFAULT) >= 0 &&
+              H5Ldelete(file, "/rollers", H5P_DEFAULT) >= 0;
+  if (schema < 5) {
     constexpr std::size_t kMessageBytes = 256;
     const hid_t text = H5Tcopy(H5T_C_S1);
     H5Tset_size(text, kMessageBytes);

@@ -886,9 +886,6 @@ TEST(CampaignSlow, SigkillWhileWritingThenResumeMatchesAnUninterruptedRun) {
   ExpectSameResults(folder / "whole.h5", out);
 }
 
-// A campaign that leaves the life out ([outputs] life = false): its summary, its report and
-// its JSON say so instead of showing numbers, verify finds the file whole, and resuming it
-// with the life on is refused, naming the key.
 // The six-roller stage (examples/six_roller_stage): four fixed rollers, two more than the
 // ring needs, under two springs. Its campaign ends with every sample ok and none sent to
 // the dynamic rung; before the support rule (docs/model.md §7, "Contacts that open") 227
@@ -903,6 +900,74 @@ TEST(Campaign, TheSixRollerStagesCampaignEndsWithEverySampleOk) {
   EXPECT_EQ(summary["rungs"]["dynamic"]["samples"], 0);
   EXPECT_EQ(summary["rungs"]["quasistatic"]["failed"], 0);
   EXPECT_TRUE(summary["life"]["computed"].get<bool>());
+}
+
+// A campaign that leaves the life out ([outputs] life = false): its summary, its report and
+// its JSON say so instead of showing numbers, verify finds the file whole, and resuming it
+// with the life on is refused, naming the key.
+// The article's assembly with a third fixed roller at 250 deg and an order-2 bore of 0.1 mm
+// (tests/solvers/contact_opening_test.cpp): fixed_a leaves the bore for about a third of
+// every turn, the ring resting on the others. A campaign around it ends with every sample
+// ok and stores each sample's shares, which are what `ringtol simulate` gives the sample
+// replayed alone; its summary and its report count the samples and name the roller. The
+// life, which reads the linear rung's phasors, is NaN for those samples and counted, and
+// verify takes that for what it is, not for damage.
+TEST(Campaign, RecordsWhichRollersLeftTheBoreAndHowOftenItHappens) {
+  const std::filesystem::path folder = Folder();
+  std::string scene = testing::ReadText(std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/paper/scene.toml");
+  const std::string round = "harmonics = []                    # e.g.";
+  const std::size_t at = scene.find(round);
+  ASSERT_NE(at, std::string::npos) << "examples/paper/scene.toml's ring harmonics line moved";
+  scene.replace(at, round.size(), "harmonics = [{ order = 2, amplitude_mm = 0.1, phase_deg = 30.0 }] #");
+  scene += "\n[[rollers]]\nname = \"fixed_c\"\nangle_deg = 250.0\nradius_mm = 5.0\nmount = \"fixed\"\nwidth_mm = 4.0\ndensity_kg_per_m3 = 7850.0\n";
+  testing::WriteText(folder / "scene.toml", scene);
+  const std::filesystem::path file = folder / "campaign.toml", results = folder / "results.h5";
+  testing::WriteText(file,
+                     "scene = \"scene.toml\"\nseed = 5\n[design]\nkind = \"monte_carlo\"\nsamples = 8\n"
+                     "[tolerances.roller_positions]\nzone_diameter_mm = 0.005\n[solver]\nname = \"quasistatic\"\n");
+  const Outcome run = Campaign(file, results, "--json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(run.out);
+  EXPECT_EQ(summary["samples_ok"], 8) << summary["failures"].dump();
+  EXPECT_EQ(summary["life"]["samples_without_life"], 8);
+  EXPECT_EQ(summary["outputs"]["life_d_trajectory_mm"]["count"], 0);
+  const nlohmann::json contacts = summary["contacts"];
+  EXPECT_EQ(contacts["samples_ok"], 8);
+  EXPECT_EQ(contacts["samples_with_opening"], 8);
+  const nlohmann::json& fixed_a = contacts["rollers"]["fixed_a"];
+  EXPECT_EQ(fixed_a["samples"], 8);
+  EXPECT_GT(fixed_a["median_percent_of_turn"].get<double>(), 20.0);
+  EXPECT_LT(fixed_a["max_percent_of_turn"].get<double>(), 50.0);
+  for (const char* closed : {"spring", "fixed_b", "fixed_c"}) {
+    EXPECT_EQ(contacts["rollers"][closed]["samples"], 0) << closed;
+  }
+
+  const jobs::CampaignReader reader(results);
+  EXPECT_EQ(reader.identity().rollers, (std::vector<std::string>{"spring", "fixed_a", "fixed_b", "fixed_c"}));
+  constexpr std::int64_t kReplayed = 3;
+  const jobs::SampleRecord stored = reader.ReadSample(kReplayed);
+  ASSERT_EQ(stored.off_bore.size(), 4u);
+  const std::filesystem::path replayed = folder / "sample.toml";
+  ASSERT_EQ(RunRingtol("", fmt::format("sample {} --index {} --scene {}", file.string(), kReplayed, replayed.string()))
+                .exit_code,
+            0);
+  const Outcome alone = RunRingtol(
+      "", fmt::format("simulate {} --solver quasistatic --steps {} --json", replayed.string(), stored.steps));
+  ASSERT_EQ(alone.exit_code, 0) << alone.err;
+  const nlohmann::json forces = nlohmann::json::parse(alone.out)["contact_force_N"];
+  for (std::size_t r = 0; r < 4; ++r) {
+    EXPECT_EQ(stored.off_bore[r], static_cast<double>(forces[r]["off_bore_percent"].get<float>())) << "roller " << r;
+  }
+
+  const std::filesystem::path html = folder / "report.html", json = folder / "report.json";
+  const Outcome report = RunRingtol("", "report " + results.string() + " --out " + html.string() + " --json " + json.string());
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const nlohmann::json reported = nlohmann::json::parse(testing::ReadText(json));
+  EXPECT_EQ(reported["contacts"], contacts);
+  EXPECT_EQ(reported["life"]["samples_without_life"], 8);
+  EXPECT_THAT(testing::ReadText(html), AllOf(HasSubstr("8 of 8 ok samples"), HasSubstr("has life values")));
+  const Outcome verify = RunRingtol("", "verify " + results.string());
+  EXPECT_EQ(verify.exit_code, 0) << verify.err << verify.out;
 }
 
 TEST(Campaign, WithoutTheLifeItSaysSoAndItsReportAndVerifyRead) {

@@ -8,9 +8,9 @@ import numpy as np
 
 with h5py.File(sys.argv[1], "r") as f:
     assert f.attrs["format"] == "ringtol campaign", f.attrs["format"]
-    # 6: written under mpirun, an index whose per-sample datasets are virtual, over shards
-    index = int(f.attrs["schema_version"]) == 6
-    assert int(f.attrs["schema_version"]) in (5, 6)
+    # Written under mpirun: an index whose per-sample datasets are virtual, over shards.
+    index = f.attrs["layout"] == "shard index"
+    assert int(f.attrs["schema_version"]) == 6 and (not index or int(f.attrs["rows_schema"]) == 6)
     if index:
         assert all(f[path].is_virtual for path in ("inputs/u", "outputs/status", "failures/sample"))
         assert len(f["shards/file"]) >= 2 and int(f.attrs["shard_chunk_rows"]) >= 1
@@ -59,4 +59,8 @@ with h5py.File(sys.argv[1], "r") as f:
         attrs = f["outputs/error_motion_" + part + "_mm"].attrs
         assert attrs["filter"] == "ISO 16610-21 Gaussian" and attrs["cutoff_upr"] == 50.0, dict(attrs)
         assert attrs["revolutions"] == "every revolution of the life", dict(attrs)
-    print(f"{int(ok.sum())} samples ok of {n}, {d} inputs")
+    rollers = [x.decode() for x in f["rollers/name"][:]]
+    off_bore = f["outputs/off_bore_percent"][:]
+    assert off_bore.shape == (n, len(rollers)) and off_bore.dtype == np.float32, off_bore.shape
+    assert np.all((off_bore[ok] >= 0.0) & (off_bore[ok] <= 100.0)) and np.all(np.isnan(off_bore[~ok]))
+    print(f"{int(ok.sum())} samples ok of {n}, {d} inputs, {len(rollers)} rollers")

@@ -418,6 +418,7 @@ TEST(AllocationStore, ResumeAndReaderRefuseACampaignFileNamingItsKind) {
   const fs::path campaign = folder / "campaign.h5";
   CampaignIdentity identity;
   identity.inputs = TestIdentity().inputs;
+  identity.rollers = {"spring", "fixed_a", "fixed_b"};
   CampaignStore::Create(campaign, identity, 8);
   EXPECT_THAT(InputErrorOf([&] { AllocationStore::Resume(campaign, TestIdentity()); }),
               HasSubstr("is a ringtol campaign results file, not an allocation's"));
@@ -431,6 +432,7 @@ TEST(ReadResultsKind, TellsCampaignsFromAllocationsAndRefusesOtherHdf5Files) {
   const fs::path campaign = folder / "campaign.h5";
   CampaignIdentity identity;
   identity.inputs = TestIdentity().inputs;
+  identity.rollers = {"spring", "fixed_a", "fixed_b"};
   CampaignStore::Create(campaign, identity, 8);
   const fs::path foreign = folder / "foreign.h5";
   H5Fclose(H5Fcreate(foreign.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT));

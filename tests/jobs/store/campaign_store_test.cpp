@@ -73,6 +73,7 @@ CampaignIdentity TestIdentity() {
   identity.design = "sobol";
   identity.solver = "quasistatic";
   identity.seed = 0x9E3779B97F4A7C15u;
+  identity.rollers = {"spring", "fixed_a", "fixed_b"};
   for (std::size_t i = 0; i + 1 < kInputs; ++i) {
     const int order = static_cast<int>(i) + 2;
     identity.inputs.push_back({"ring.order" + std::to_string(order) + ".amplitude_um",
@@ -112,6 +113,8 @@ SampleRecord DeterministicRecord(std::int64_t index) {
   } else {
     record.status = SampleStatus::kOk;
     for (std::size_t k = 0; k < kOutputCount; ++k) record.outputs[k] = x * 1e-3 + static_cast<double>(k) / 7.0;
+    // Shares no float32 holds exactly, and a roller that never leaves the bore.
+    record.off_bore = {std::fmod(x * 0.37, 100.0), 0.0, 100.0 / (x + 3.0)};
   }
   return record;
 }
@@ -131,9 +134,11 @@ std::vector<std::uint64_t> Bits(const std::array<double, kOutputCount>& values) 
 SampleRecord AsStored(SampleRecord written) {
   for (double& value : written.values) value = static_cast<double>(static_cast<float>(value));
   if (written.message.size() > kStoredMessageChars) written.message.resize(kStoredMessageChars);
+  for (double& share : written.off_bore) share = static_cast<double>(static_cast<float>(share));
   if (written.status != SampleStatus::kOk) {
     written.outputs.fill(std::numeric_limits<double>::quiet_NaN());
     written.d_trajectory_error = std::numeric_limits<double>::quiet_NaN();
+    written.off_bore.clear();
   }
   return written;
 }
@@ -158,6 +163,7 @@ void ExpectStored(const SampleRecord& actual, const SampleRecord& written) {
   EXPECT_EQ(actual.redraws, expected.redraws);
   EXPECT_EQ(actual.steps, expected.steps);
   EXPECT_EQ(Bits(actual.outputs), Bits(expected.outputs));
+  EXPECT_EQ(Bits(actual.off_bore), Bits(expected.off_bore));
   EXPECT_EQ(actual.rung, expected.rung);
   EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.d_trajectory_error), std::bit_cast<std::uint64_t>(expected.d_trajectory_error));
   EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.solve_time), std::bit_cast<std::uint64_t>(expected.solve_time));
@@ -285,6 +291,7 @@ TEST(CampaignStore, RoundTripsEveryFieldBitForBitAcrossOutOfOrderCommits) {
   EXPECT_EQ(identity.design, expected.design);
   EXPECT_EQ(identity.solver, expected.solver);
   EXPECT_EQ(identity.seed, expected.seed);
+  EXPECT_EQ(identity.rollers, expected.rollers);
   ASSERT_EQ(identity.inputs.size(), expected.inputs.size());
   for (std::size_t i = 0; i < expected.inputs.size(); ++i) {
     EXPECT_EQ(identity.inputs[i].name, expected.inputs[i].name);
@@ -799,6 +806,7 @@ TEST(CampaignStore, ASlimRowTakesAtMost150BytesBeyondTheStoredInputs) {
         SampleRecord record = DeterministicRecord(i);
         record.status = SampleStatus::kOk;
         record.message.clear();
+        record.off_bore.assign(TestIdentity().rollers.size(), 0.0);
         for (std::size_t k = 0; k < kOutputCount; ++k) record.outputs[k] = 1e-3 * static_cast<double>(i) + static_cast<double>(k);
         store.Add(std::move(record));
         if (i % 1000 == 999) store.Commit();
@@ -814,21 +822,75 @@ TEST(CampaignStore, ASlimRowTakesAtMost150BytesBeyondTheStoredInputs) {
   EXPECT_GE(per_row, 128.0);  // the float64 columns alone: nothing was left out
 }
 
-// A schema-4 file (a message per sample, every sample's inputs, no draw checksums) is
-// resumed in its own schema: it grows, and what the resume adds reads back as written.
-TEST(CampaignStore, ResumesASchemaFourFileInItsOwnSchema) {
+// What a file of schema 5 or before holds for a record: no off-bore shares.
+SampleRecord WithoutOffBore(SampleRecord record) {
+  record.off_bore.clear();
+  return record;
+}
+
+// A schema-4 file (a message per sample, every sample's inputs, no draw checksums) and a
+// schema-5 file (no off-bore shares, no roller names) are resumed in their own schema:
+// each grows, and what the resume adds reads back as that schema keeps it.
+TEST(CampaignStore, ResumesASchemaFourOrFiveFileInItsOwnSchema) {
   constexpr std::int64_t kSamples = 20;
   constexpr std::int64_t kGrown = 40;
-  const fs::path path = OlderFile(kSamples, 4, {});
+  for (const int schema : {4, 5}) {
+    SCOPED_TRACE("schema " + std::to_string(schema));
+    const fs::path path = OlderFile(kSamples, schema, {});
+    {
+      CampaignStore store = CampaignStore::Resume(path, TestIdentity(), kGrown);
+      EXPECT_EQ(store.schema(), schema);
+      for (const std::int64_t index : Indices(store.Pending(0, kGrown))) store.Add(DeterministicRecord(index));
+    }
+    const CampaignReader reader(path);
+    EXPECT_EQ(reader.schema_version(), schema);
+    EXPECT_EQ(reader.samples(), kGrown);
+    EXPECT_FALSE(reader.HasOffBore());
+    EXPECT_TRUE(reader.identity().rollers.empty());
+    EXPECT_TRUE(reader.ReadOffBore(0, kGrown).empty());
+    for (std::int64_t index = 0; index < kGrown; ++index) {
+      ExpectStored(reader.ReadSample(index), WithoutOffBore(DeterministicRecord(index)));
+    }
+    EXPECT_TRUE(CheckResults(path).intact());
+  }
+}
+
+// Each roller's share of the turn off the bore reads back per sample, rounded to float32,
+// NaN for the samples that failed, with the rollers' names in their order.
+TEST(CampaignReader, ReadsEachRollersShareOfTheTurnOffTheBore) {
+  constexpr std::int64_t kSamples = 24;
+  const fs::path path = TestFolder() / "results.h5";
   {
-    CampaignStore store = CampaignStore::Resume(path, TestIdentity(), kGrown);
-    for (const std::int64_t index : Indices(store.Pending(0, kGrown))) store.Add(DeterministicRecord(index));
+    CampaignStore store = CampaignStore::Create(path, TestIdentity(), kSamples);
+    for (std::int64_t i = 0; i < kSamples; ++i) store.Add(DeterministicRecord(i));
   }
   const CampaignReader reader(path);
-  EXPECT_EQ(reader.schema_version(), 4);
-  EXPECT_EQ(reader.samples(), kGrown);
-  for (std::int64_t index = 0; index < kGrown; ++index) ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
-  EXPECT_TRUE(CheckResults(path).intact());
+  ASSERT_TRUE(reader.HasOffBore());
+  EXPECT_EQ(reader.identity().rollers, TestIdentity().rollers);
+  const std::vector<float> shares = reader.ReadOffBore(0, kSamples);
+  const std::size_t z = TestIdentity().rollers.size();
+  ASSERT_EQ(shares.size(), static_cast<std::size_t>(kSamples) * z);
+  for (std::int64_t i = 0; i < kSamples; ++i) {
+    const SampleRecord written = AsStored(DeterministicRecord(i));
+    for (std::size_t r = 0; r < z; ++r) {
+      const float share = shares[static_cast<std::size_t>(i) * z + r];
+      if (written.status == SampleStatus::kOk) {
+        EXPECT_EQ(share, static_cast<float>(written.off_bore[r])) << "sample " << i << ", roller " << r;
+      } else {
+        EXPECT_TRUE(std::isnan(share)) << "sample " << i << ", roller " << r;
+      }
+    }
+  }
+}
+
+// An ok sample must say, for every roller, whether it left the bore: a record without
+// (a caller that forgot) is refused, not stored as NaN that would later read as damage.
+TEST(CampaignStore, RefusesAnOkSampleWithoutAShareForEveryRoller) {
+  CampaignStore store = CampaignStore::Create(TestFolder() / "results.h5", TestIdentity(), 4);
+  SampleRecord record = DeterministicRecord(0);
+  ASSERT_EQ(record.status, SampleStatus::kOk);
+  record.off_bore.pop_back();
+  EXPECT_THROW(store.Add(record), std::invalid_argument);
 }
 
 // A schema-1 file as ringtol 0.3 wrote it, made from a current one: its max - min sat in
@@ -998,8 +1060,9 @@ const std::vector<std::string> kDamagedDatasets = {"/inputs/u",           "/inpu
 TEST(CampaignStore, EveryDatasetEndsItsFiltersWithTheFletcher32Checksum) {
   const fs::path path = WriteFinished(TestFolder() / "results.h5");
   const ResultsCheck check = CheckResults(path);
-  // Descriptions, the failure rows, per-sample columns (rung and error bound among them), outputs.
-  EXPECT_EQ(check.datasets.size(), 6 + 2 + 9 + kOutputCount);
+  // Descriptions (the rollers' names among them), the failure rows, per-sample columns (rung,
+  // error bound and off-bore shares among them), outputs.
+  EXPECT_EQ(check.datasets.size(), 7 + 2 + 10 + kOutputCount);
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   for (const DatasetCheck& dataset : check.datasets) {
     SCOPED_TRACE(dataset.path);
@@ -1415,14 +1478,6 @@ std::optional<std::string> RootText(const fs::path& path, const char* name) {
   return value;
 }
 
-void SetRootInt(const fs::path& path, const char* name, int value) {
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  const hid_t attribute = H5Aopen(file, name, H5P_DEFAULT);
-  H5Awrite(attribute, H5T_NATIVE_INT, &value);
-  H5Aclose(attribute);
-  H5Fclose(file);
-}
-
 TEST(ShardIndex, SaysWhatItIsAndItsRowsSchemaInItsRootAttributes) {
   const fs::path path = TestFolder() / "results.h5";
   WriteShardIndex(path, TestIdentity(), kShardedSamples, BlockCyclicShards(path));
@@ -1437,19 +1492,36 @@ TEST(ShardIndex, SaysWhatItIsAndItsRowsSchemaInItsRootAttributes) {
   EXPECT_EQ(rows, kCampaignSchemaVersion);
 }
 
-TEST(CampaignReader, ReadsAFileWhoseSchemaIsTheIndexNumberAsAFileOfRowsItDoesNotKnow) {
+// A file whose schema_version is the index's number but whose layout says "file" is a
+// file of schema-6 rows, not an index.
+TEST(CampaignReader, ReadsAFileOfTheIndexsSchemaNumberByItsLayout) {
   const fs::path path = TestFolder() / "results.h5";
-  CampaignStore::Create(path, TestIdentity(), 2);
-  SetRootInt(path, "schema_version", kShardIndexSchemaVersion);
-  const std::string expected = "keeps rows of schema " + std::to_string(kShardIndexSchemaVersion);
-  EXPECT_THAT(InputErrorOf([&] { CampaignReader reader(path); }), HasSubstr(expected));
-  EXPECT_THAT(InputErrorOf([&] { CampaignStore::Resume(path, TestIdentity(), 2); }), HasSubstr(expected));
+  { CampaignStore store = CampaignStore::Create(path, TestIdentity(), 2); store.Add(DeterministicRecord(0)); }
+  ASSERT_EQ(kCampaignSchemaVersion, kShardIndexSchemaVersion);
+  const CampaignReader reader(path);
+  EXPECT_EQ(reader.schema_version(), kCampaignSchemaVersion);
+  ExpectStored(reader.ReadSample(0), DeterministicRecord(0));
+  EXPECT_TRUE(IndexedShards(path).empty());
 }
 
-// Indexes written before the attribute existed are recognised by their schema number.
-TEST(ShardIndex, AnIndexWithoutALayoutAttributeReadsAsAnIndex) {
+// Indexes written before the attribute existed (their shards schema 5) are recognised by
+// their schema number; such an index, and one of schema-5 shards written today, reads and
+// joins in its shards' schema.
+TEST(ShardIndex, AnIndexOfSchemaFiveShardsReadsAndJoinsInTheirSchemaWithOrWithoutALayout) {
   const fs::path path = TestFolder() / "results.h5";
-  WriteShardIndex(path, TestIdentity(), kShardedSamples, BlockCyclicShards(path));
+  const std::vector<fs::path> shards = BlockCyclicShards(path);
+  for (const fs::path& shard : shards) testing::AsOlderSchema(shard, 5);
+  WriteShardIndex(path, TestIdentity(), kShardedSamples, shards);
+  const auto expect_every_sample = [&](const fs::path& file) {
+    const CampaignReader reader(file);
+    EXPECT_EQ(reader.schema_version(), 5);
+    EXPECT_FALSE(reader.HasOffBore());
+    for (std::int64_t index = 0; index < kShardedSamples; ++index) {
+      ExpectStored(reader.ReadSample(index), WithoutOffBore(DeterministicRecord(index)));
+    }
+    EXPECT_EQ(CheckResults(file).done, kShardedSamples);
+  };
+  expect_every_sample(path);
   {
     const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
     H5Adelete(file, "layout");
@@ -1457,11 +1529,11 @@ TEST(ShardIndex, AnIndexWithoutALayoutAttributeReadsAsAnIndex) {
     H5Fclose(file);
   }
   ASSERT_EQ(RootText(path, "layout"), std::nullopt);
-  const CampaignReader reader(path);
-  for (std::int64_t index = 0; index < kShardedSamples; ++index) {
-    ExpectStored(reader.ReadSample(index), DeterministicRecord(index));
-  }
-  EXPECT_EQ(CheckResults(path).done, kShardedSamples);
+  expect_every_sample(path);
+  const fs::path joined = path.parent_path() / "joined.h5";
+  JoinShards(path, joined);
+  expect_every_sample(joined);
+  EXPECT_EQ(RootText(joined, "layout"), std::optional<std::string>("file"));
 }
 
 // A campaign of 2^40 samples stopped early, as mpirun leaves it: its index is read and
