@@ -230,7 +230,22 @@ ConstraintJudgement JudgeConstraint(const Constraint& constraint, std::span<cons
     possibly += lower[i] <= limit ? 1 : 0;
     within += value[i] <= limit ? 1 : 0;
   }
-  const double level = constraint.level;
+  return JudgeYield({surely, possibly, within, n}, constraint.level, confidence);
+}
+
+ConstraintJudgement JudgeYield(const YieldCounts& counts, double level, double confidence) {
+  const auto [surely, possibly, within, n] = counts;
+  if (!(n >= 1 && surely >= 0 && surely <= within && within <= possibly && possibly <= n)) {
+    throw std::invalid_argument("JudgeYield: counts surely " + std::to_string(surely) + ", within " +
+                                std::to_string(within) + ", possibly " + std::to_string(possibly) + " of n " +
+                                std::to_string(n) + ": allowed 0 <= surely <= within <= possibly <= n, n >= 1");
+  }
+  if (!(level > 0.0 && level < 1.0) || !(confidence > 0.0 && confidence < 1.0)) {
+    throw std::invalid_argument("JudgeYield: level = " + std::to_string(level) + ", confidence = " +
+                                std::to_string(confidence) + ": allowed (0, 1) each");
+  }
+  ConstraintJudgement judgement;
+  judgement.samples = n;
   judgement.estimate = static_cast<double>(within) / static_cast<double>(n);
   judgement.interval.lower = EstimateProportion(surely, n, confidence).interval.lower;
   judgement.interval.upper = EstimateProportion(possibly, n, confidence).interval.upper;

@@ -134,6 +134,21 @@ ConstraintJudgement JudgeConstraint(const Constraint& constraint, std::span<cons
                                     std::span<const double> lower, std::span<const double> upper,
                                     double confidence);
 
+// The samples of a yield: those surely within the limit (even at the far end of their error
+// bound), those within by their value, those possibly within (at the near end), of n.
+struct YieldCounts {
+  std::int64_t surely = 0;
+  std::int64_t possibly = 0;
+  std::int64_t within = 0;
+  std::int64_t n = 0;
+};
+// JudgeConstraint's yield from its counts, against the least fraction `level` in (0, 1):
+// feasible when the Clopper-Pearson interval [lower bound of `surely`, upper bound of
+// `possibly`] lies at or above `level`, infeasible when below, else undecided with
+// samples_to_decide. Throws std::invalid_argument for counts not 0 <= surely <= within <=
+// possibly <= n with n >= 1, or a level or confidence outside (0, 1).
+ConstraintJudgement JudgeYield(const YieldCounts& counts, double level, double confidence);
+
 // A candidate's verdict from its constraints' verdicts: infeasible when any is
 // infeasible, feasible when all are feasible (so when there are none), else undecided
 // (kUnknown when any is).

@@ -1,5 +1,6 @@
 #include "jobs/campaign/campaign_file.h"
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <string_view>
@@ -102,6 +103,13 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
     if (IsLifeOutput(k)) field = std::move(field).When([&life](const SpecInput&) { return life; }, kLifeOn);
     spec_fields.push_back(std::move(field));
   }
+  // A verdict at 100 % or at certainty would need every assembly or infinitely many samples.
+  const std::vector<Field<DispositionRule>> disposition_fields{
+      Number("required_yield_percent", Presence::kRequired, units::kFractionPerPercent, Range{0, true, 100, true},
+             &DispositionRule::required_yield),
+      Number("confidence_percent", Presence::kOptional, units::kFractionPerPercent, Range{50, false, 100, true},
+             &DispositionRule::confidence),
+  };
   struct Root {};
   Root unused;
   std::vector<Field<Root>> fields{
@@ -119,10 +127,21 @@ CampaignPlan ReadCampaignFile(const std::filesystem::path& file, const StoredSam
                       life = outputs.life;
                     }),
       Section<Root>("spec", Presence::kOptional, [&](const TableReader& t, Root&) { t.Read(spec_fields, spec); }),
+      Section<Root>("disposition", Presence::kOptional,
+                    [&](const TableReader& t, Root&) {
+                      DispositionRule rule;
+                      t.Read(disposition_fields, rule);
+                      // [spec] is read first (the fields are in that order).
+                      if (std::none_of(spec.upper.begin(), spec.upper.end(), [](const auto& u) { return u.has_value(); })) {
+                        t.Fail("required_yield_percent", "judges the share of assemblies within [spec], and the file sets no [spec] limit",
+                               "a [spec] table with at least one limit");
+                      }
+                      plan.disposition = rule;
+                    }),
   };
   // The sampling half was read and checked above; here only the campaign's own tables.
   for (const auto& [key, node] : document) {
-    if (key.str() != "solver" && key.str() != "outputs" && key.str() != "spec") {
+    if (std::find(kCampaignTables.begin(), kCampaignTables.end(), key.str()) == kCampaignTables.end()) {
       fields.push_back({key.str(), Presence::kOptional, "", [](const Site&, Root&) {}, {}, {}});
     }
   }

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string_view>
 #include <string>
 #include <vector>
@@ -34,16 +35,26 @@ inline solvers::SolverSettings CampaignSolverDefaults() {
   return settings;
 }
 
+// [disposition]: the verdict on the measured part a campaign's scene holds (docs/usage.md,
+// "Disposition of a measured part"): pass when the share of assemblies within every [spec]
+// limit is at least `required_yield` at `confidence`, fail when it is surely below, else
+// undecided (analysis::JudgeYield).
+struct DispositionRule {
+  double required_yield = 0.0;  // (0, 1): the file's required_yield_percent
+  double confidence = 0.95;     // (0, 1): the file's confidence_percent
+};
+
 struct CampaignPlan {
   std::filesystem::path file;
   SamplingPlan sampling;
   // [solver], and in `simulation.life` the [outputs] table's choice of the life outputs.
   solvers::SolverSettings solver = CampaignSolverDefaults();
   std::vector<SpecLimit> spec;  // in the order of kOutputNames
+  std::optional<DispositionRule> disposition;  // [disposition]; needs a [spec]
 };
 
 // The root tables a campaign file adds to a sampling file.
-inline constexpr std::array<std::string_view, 3> kCampaignTables = {"solver", "outputs", "spec"};
+inline constexpr std::array<std::string_view, 4> kCampaignTables = {"solver", "outputs", "spec", "disposition"};
 
 // The keys of a [solver] table (above), read from the table's reader: a campaign's and an
 // allocation file's (jobs/allocation/allocation_file.h). Throws InputError.

@@ -350,8 +350,14 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
   signals.reset();  // the file is complete and closed: a signal now ends the summary at once
 
   const CampaignReader results(command.out);
-  const CampaignSummary summary =
-      Summarise(results, [&campaign = *campaign](std::int64_t index) { return campaign.IndependentDraw(index); });
+  // A disposition's intervals are at its confidence, the summary's with them.
+  const std::optional<DispositionRule>& disposition = campaign->plan().disposition;
+  CampaignSummary summary =
+      Summarise(results, [&campaign = *campaign](std::int64_t index) { return campaign.IndependentDraw(index); },
+                disposition ? disposition->confidence : kSummaryConfidence);
+  if (disposition && summary.in_spec) {
+    summary.disposition = Dispose(*disposition, summary.in_spec->successes, summary.in_spec->trials);
+  }
   if (command.json) {
     nlohmann::json json = SummaryJson(summary);
     json["run"] = RunJson(run, indexed);
@@ -365,7 +371,7 @@ int RunCampaign(const CampaignCommand& command, std::ostream& out, std::ostream&
     PrintRun(out, run);
     PrintShards(out, run, indexed);
   }
-  return 0;
+  return summary.disposition ? DispositionExitCode(*summary.disposition) : 0;
 }
 
 }  // namespace ringtol::jobs

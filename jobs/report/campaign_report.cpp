@@ -516,6 +516,9 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
     const auto within = static_cast<std::int64_t>(std::count(within_every_limit.begin(), within_every_limit.end(), true));
     report.within_every_limit = analysis::EstimateProportion(within, report.ok, options.confidence);
     report.within_every_limit_counting_failures = analysis::EstimateProportion(within, report.done, options.confidence);
+    if (const std::optional<DispositionRule>& rule = campaign.plan().disposition) {
+      report.disposition = Dispose(*rule, within, report.done);
+    }
   }
   // Every output's screening at once: they share the inputs' sorting, decompositions and
   // bootstrap draws.
@@ -767,6 +770,7 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   };
   j["within_every_limit"] = proportion(report.within_every_limit);
   j["within_every_limit_counting_failures"] = proportion(report.within_every_limit_counting_failures);
+  if (report.disposition) j["disposition"] = DispositionJson(*report.disposition);
   nlohmann::json outputs = nlohmann::json::object();
   for (const OutputReport& out : report.outputs) outputs[out.name] = OutputJson(out, report.samples_per_draw);
   j["outputs"] = std::move(outputs);

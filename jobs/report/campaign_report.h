@@ -195,6 +195,8 @@ struct CampaignReport {
   // done samples with the failed ones counted as outside; none without a spec. Each
   // limit's own is its output's (OutputReport).
   std::optional<analysis::ProportionEstimate> within_every_limit, within_every_limit_counting_failures;
+  // The verdict on the measured part, when the campaign file has a [disposition].
+  std::optional<Disposition> disposition;
   std::vector<OutputSensitivity> sensitivities;  // one per output
   // Per output ranked by (ReplayedTrajectory::by), in kOutputNames order: the worst, then
   // the median (if another sample).

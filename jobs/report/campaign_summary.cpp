@@ -210,6 +210,77 @@ std::string LifeMissingSentence(std::int64_t missing, std::int64_t ok) {
                      missing, ok, kWhy, ok - missing);
 }
 
+std::optional<Disposition> Dispose(const DispositionRule& rule, std::int64_t within, std::int64_t done) {
+  if (done < 1) return std::nullopt;
+  return Disposition{rule, analysis::JudgeYield({within, within, within, done}, rule.required_yield, rule.confidence)};
+}
+
+std::string_view DispositionVerdictName(const Disposition& disposition) {
+  switch (disposition.judgement.verdict) {
+    case analysis::Verdict::kFeasible:
+      return "pass";
+    case analysis::Verdict::kInfeasible:
+      return "fail";
+    default:
+      return "undecided";
+  }
+}
+
+int DispositionExitCode(const Disposition& disposition) {
+  switch (disposition.judgement.verdict) {
+    case analysis::Verdict::kFeasible:
+      return 0;
+    case analysis::Verdict::kInfeasible:
+      return kDispositionFailExitCode;
+    default:
+      return kDispositionUndecidedExitCode;
+  }
+}
+
+namespace {
+
+analysis::ProportionEstimate YieldOf(const Disposition& d) {
+  const analysis::ConstraintJudgement& j = d.judgement;
+  return {static_cast<std::int64_t>(std::llround(j.estimate * static_cast<double>(j.samples))), j.samples, j.estimate,
+          j.interval, d.rule.confidence};
+}
+
+}  // namespace
+
+std::string DispositionSentence(const Disposition& d) {
+  const analysis::ConstraintJudgement& j = d.judgement;
+  const std::string required = fmt::format("{} required at {} confidence", Percent(d.rule.required_yield),
+                                           Percent(d.rule.confidence));
+  std::string sentence = fmt::format("{}: {} of {} assemblies are within every spec limit (failures outside), ",
+                                     DispositionVerdictName(d), YieldWithInterval(YieldOf(d)), j.samples);
+  switch (j.verdict) {
+    case analysis::Verdict::kFeasible:
+      return sentence + "at least the " + required;
+    case analysis::Verdict::kInfeasible:
+      return sentence + "below the " + required;
+    default:
+      sentence += "an interval that holds the " + required;
+      if (j.samples_to_decide > j.samples) {
+        sentence += fmt::format("; about {} samples would decide it (--resume --samples {})", j.samples_to_decide,
+                                j.samples_to_decide);
+      } else if (j.samples_to_decide < 0) {
+        sentence += "; its share sits on the requirement, which no sample count decides";
+      }
+      return sentence;
+  }
+}
+
+nlohmann::json DispositionJson(const Disposition& d) {
+  const analysis::ProportionEstimate y = YieldOf(d);
+  return {{"verdict", DispositionVerdictName(d)},
+          {"required_yield", d.rule.required_yield},
+          {"confidence", d.rule.confidence},
+          {"yield",
+           {{"value", y.value}, {"lower", y.interval.lower}, {"upper", y.interval.upper}, {"successes", y.successes},
+            {"trials", y.trials}}},
+          {"samples_to_decide", d.judgement.samples_to_decide}};
+}
+
 std::optional<ContactOpenings> CountOpenings(const CampaignReader& results, const std::vector<SampleStatus>& status,
                                              const std::vector<bool>& used, double confidence) {
   if (!results.HasOffBore()) return std::nullopt;
@@ -486,6 +557,7 @@ void PrintSummary(std::ostream& out, const CampaignSummary& s) {
                  YieldWithInterval(*s.in_spec_ok), s.in_spec_ok->trials);
     }
   }
+  if (s.disposition) fmt::print(out, "disposition       {}\n", DispositionSentence(*s.disposition));
 }
 
 nlohmann::json SummaryJson(const CampaignSummary& s) {
@@ -545,6 +617,7 @@ nlohmann::json SummaryJson(const CampaignSummary& s) {
     by_limit.push_back(std::move(entry));
   }
   j["in_spec_by_limit"] = std::move(by_limit);
+  if (s.disposition) j["disposition"] = DispositionJson(*s.disposition);
   return j;
 }
 

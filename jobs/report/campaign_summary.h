@@ -32,7 +32,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/allocation.h"
 #include "analysis/order_statistics.h"
+#include "jobs/campaign/campaign_file.h"
 #include "jobs/campaign/sample_record.h"
 #include "jobs/store/campaign_store.h"
 
@@ -178,6 +180,32 @@ struct LimitYield {
   analysis::ProportionEstimate within;
 };
 
+// The verdict on a measured part (CampaignPlan::disposition, docs/usage.md "Disposition of a
+// measured part"): the share of the done samples within every spec limit, failures outside
+// as in CampaignSummary::in_spec, judged against the required yield at the rule's confidence
+// (analysis::JudgeYield).
+struct Disposition {
+  DispositionRule rule;
+  analysis::ConstraintJudgement judgement;  // kFeasible: pass; kInfeasible: fail; kUndecided
+};
+// From the done samples within every limit and the done samples (CampaignSummary::in_spec's
+// successes and trials); none without a done sample.
+std::optional<Disposition> Dispose(const DispositionRule& rule, std::int64_t within, std::int64_t done);
+// "pass", "fail", "undecided".
+std::string_view DispositionVerdictName(const Disposition& disposition);
+// What `ringtol campaign` exits with, so that an inspection script can gate on it: 0 pass,
+// 3 fail, 4 undecided (1 and 2 are errors).
+int DispositionExitCode(const Disposition& disposition);
+inline constexpr int kDispositionFailExitCode = 3;
+inline constexpr int kDispositionUndecidedExitCode = 4;
+// "pass: 99.71 % [99.32, 99.91 %] of 2048 assemblies are within every spec limit, at least
+// the 99 % required at 95 % confidence", with, when undecided, about how many samples would
+// decide it. Plain text.
+std::string DispositionSentence(const Disposition& disposition);
+// {"verdict", "required_yield", "confidence", "yield": {"value", "lower", "upper",
+// "successes", "trials"}, "samples_to_decide"}.
+nlohmann::json DispositionJson(const Disposition& disposition);
+
 struct CampaignSummary {
   std::int64_t samples = 0;  // of the campaign
   std::int64_t used = 0;     // independent draws among them (see above)
@@ -204,9 +232,14 @@ struct CampaignSummary {
   std::optional<LifeErrorMotion> life_error_motion;  // none for a file without the columns
   engine::ErrorMotionFilter error_motion_filter;     // the campaign's, which the error_motion_* outputs passed
   std::optional<ContactOpenings> openings;           // none for files of schema < 6
+  // The verdict on the measured part, when the campaign file has a [disposition] (set by
+  // whoever holds the campaign: Dispose on in_spec).
+  std::optional<Disposition> disposition;
 };
 
 inline constexpr double kSummaryProbabilities[] = {0.5, 0.9, 0.99, 0.999};
+// The confidence of the summary's intervals unless a [disposition] states its own.
+inline constexpr double kSummaryConfidence = 0.95;
 
 // What an older results file's columns are, in its schema's terms; empty for the current.
 std::string SchemaNote(const CampaignReader& results);
@@ -226,7 +259,7 @@ nlohmann::json RungsJson(const std::vector<std::int64_t>& settled_by);
 
 // `independent(index)` says whether a sample is an independent draw (empty: all are).
 CampaignSummary Summarise(const CampaignReader& results, const std::function<bool(std::int64_t)>& independent,
-                          double confidence = 0.95);
+                          double confidence = kSummaryConfidence);
 
 // Text for the terminal, and the same as JSON. What a run of the pool cost is the
 // campaign command's to add (jobs/cli/campaign_command.cpp): a summary is also made of

@@ -341,6 +341,9 @@ void AnswerSection(std::string& html, const CampaignReport& report, const Output
   } else {
     SpecAnswer(html, report);
   }
+  if (report.disposition) {
+    html += fmt::format("<p><strong>Disposition</strong>: {}.</p>\n", EscapeXml(DispositionSentence(*report.disposition)));
+  }
   html += fmt::format("<p>{} of {} samples used are ok; {} failed; {} pending.</p>\n", report.ok, report.used,
                       report.done - report.ok, report.pending);
   if (const std::int64_t ran = RungsRan(report.settled_by); ran > 0) {

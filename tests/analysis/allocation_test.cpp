@@ -255,6 +255,33 @@ TEST(JudgeConstraint, YieldWithoutFailuresIsFeasibleExactlyFromTheClopperPearson
   EXPECT_EQ(JudgeAccurate(constraint, beyond).verdict, Verdict::kInfeasible);
 }
 
+// JudgeYield on counts is JudgeConstraint's yield: the same verdict, interval and samples
+// to decide on the samples the counts describe, and pass exactly from the Clopper-Pearson
+// count.
+TEST(JudgeYield, IsTheConstraintsYieldOnItsCounts) {
+  const Constraint constraint{"runout_mm", ConstraintKind::kYield, 0.99, 1.0};
+  for (const auto& [within, n] : {std::pair{1024, 1024}, {1015, 1024}, {900, 1000}, {5, 5}}) {
+    SCOPED_TRACE(std::to_string(within) + " of " + std::to_string(n));
+    std::vector<double> values(static_cast<std::size_t>(n), 2.0);
+    std::fill_n(values.begin(), within, 0.5);
+    const ConstraintJudgement expected = JudgeAccurate(constraint, values);
+    const ConstraintJudgement counted = JudgeYield({within, within, within, n}, 0.99, 0.95);
+    EXPECT_EQ(counted.verdict, expected.verdict);
+    EXPECT_EQ(counted.estimate, expected.estimate);
+    EXPECT_EQ(counted.interval.lower, expected.interval.lower);
+    EXPECT_EQ(counted.interval.upper, expected.interval.upper);
+    EXPECT_EQ(counted.samples_to_decide, expected.samples_to_decide);
+  }
+  // n of n within passes from n >= ln 0.025 / ln 0.99 = 367.04.
+  EXPECT_EQ(JudgeYield({368, 368, 368, 368}, 0.99, 0.95).verdict, Verdict::kFeasible);
+  EXPECT_EQ(JudgeYield({367, 367, 367, 367}, 0.99, 0.95).verdict, Verdict::kUndecided);
+  EXPECT_EQ(JudgeYield({900, 900, 900, 1000}, 0.99, 0.95).verdict, Verdict::kInfeasible);
+  EXPECT_GT(JudgeYield({1015, 1015, 1015, 1024}, 0.99, 0.95).samples_to_decide, 1024);
+  EXPECT_THROW(JudgeYield({5, 4, 5, 10}, 0.99, 0.95), std::invalid_argument);
+  EXPECT_THROW(JudgeYield({0, 0, 0, 0}, 0.99, 0.95), std::invalid_argument);
+  EXPECT_THROW(JudgeYield({1, 1, 1, 1}, 1.0, 0.95), std::invalid_argument);
+}
+
 TEST(JudgeConstraint, FailedSamplesCountAsBeyondTheLimit) {
   // 1000 samples all within: the 0.99 quantile is bounded (n >= 368) and the yield's lower
   // bound 0.025^(1/1000) = 0.9963 clears 0.99. Failing 50 of them puts ranks 951..1000

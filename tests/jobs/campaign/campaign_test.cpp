@@ -222,6 +222,30 @@ TEST(CampaignFile, ABadOutputsKeyOrALimitOnAnOutputLeftOutNamesTheKeyTheValueAnd
   EXPECT_EQ(CampaignErrorOf(ReplaceOnce(kLifeOff, "d_trajectory_mm = 0.25", "runout_mm = 0.05")), "no error");
 }
 
+// [disposition]: read in fractions, its confidence 95 % unless stated; a disposition
+// without a [spec] limit, at 100 % or below 50 % confidence, is refused naming the key.
+TEST(CampaignFile, ADispositionReadsItsRequirementAndNeedsASpecLimit) {
+  using testing::ReplaceOnce;
+  const TempFile stated(kSmallCampaign + "[disposition]\nrequired_yield_percent = 99.5\nconfidence_percent = 90\n");
+  const std::optional<DispositionRule> rule = ReadCampaignFile(stated.path()).disposition;
+  ASSERT_TRUE(rule.has_value());
+  EXPECT_DOUBLE_EQ(rule->required_yield, 0.995);
+  EXPECT_DOUBLE_EQ(rule->confidence, 0.90);
+  const TempFile defaulted(kSmallCampaign + "[disposition]\nrequired_yield_percent = 99\n");
+  EXPECT_DOUBLE_EQ(ReadCampaignFile(defaulted.path()).disposition->confidence, 0.95);
+  EXPECT_FALSE(ReadCampaignFile(TempFile(kSmallCampaign).path()).disposition.has_value());
+
+  const std::string without_spec = ReplaceOnce(kSmallCampaign, "[spec]\nd_trajectory_mm = 0.25\n", "");
+  EXPECT_THAT(CampaignErrorOf(without_spec + "[disposition]\nrequired_yield_percent = 99\n"),
+              AllOf(HasSubstr(".toml:"), HasSubstr("disposition.required_yield_percent"), HasSubstr("[spec]")));
+  EXPECT_THAT(CampaignErrorOf(kSmallCampaign + "[disposition]\nrequired_yield_percent = 100\n"),
+              AllOf(HasSubstr("disposition.required_yield_percent = 100"), HasSubstr("> 0 and < 100")));
+  EXPECT_THAT(CampaignErrorOf(kSmallCampaign + "[disposition]\nrequired_yield_percent = 99\nconfidence_percent = 40\n"),
+              AllOf(HasSubstr("disposition.confidence_percent = 40"), HasSubstr(">= 50 and < 100")));
+  EXPECT_THAT(CampaignErrorOf(kSmallCampaign + "[disposition]\nconfidence_percent = 90\n"),
+              HasSubstr("disposition.required_yield_percent"));
+}
+
 // With the life off the solver never computes it (not merely drops it), the one-revolution
 // outputs are the same bits, the results file holds no life column and the summary says
 // the life was not computed instead of showing numbers.

@@ -970,6 +970,53 @@ TEST(Campaign, RecordsWhichRollersLeftTheBoreAndHowOftenItHappens) {
   EXPECT_EQ(verify.exit_code, 0) << verify.err << verify.out;
 }
 
+// Disposition of a measured ring (examples/measured/disposition.toml): its D_trajectory
+// spreads about 0.150 mm with the rollers' draws, its q99 near 0.160 mm. Against 0.17 mm
+// the ring passes (exit 0), against 0.16 mm the verdict is undecided and names the samples
+// that would decide it (exit 4), against 0.15 mm it fails (exit 3); the report gives the
+// same verdict as the summary.
+TEST(Campaign, ADispositionGivesItsVerdictAsItsExitCode) {
+  const std::filesystem::path folder = Folder();
+  const std::filesystem::path example = std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/measured";
+  const std::string text = testing::ReadText(example / "disposition.toml");
+  ASSERT_NE(text.find("d_trajectory_mm = 0.17\n"), std::string::npos);
+  for (const std::string name : {"scene.toml", "ring_profile.csv"}) {
+    std::filesystem::copy_file(example / name, folder / name);
+  }
+  struct Case {
+    const char* limit;
+    int exit_code;
+    const char* verdict;
+  };
+  for (const Case& c : {Case{"0.17", 0, "pass"}, Case{"0.16", 4, "undecided"}, Case{"0.15", 3, "fail"}}) {
+    SCOPED_TRACE(c.limit);
+    std::string campaign = text;
+    campaign.replace(campaign.find("d_trajectory_mm = 0.17"), 22, std::string("d_trajectory_mm = ") + c.limit);
+    const std::filesystem::path file = folder / (std::string("disposition_") + c.verdict + ".toml");
+    const std::filesystem::path results = folder / (std::string(c.verdict) + ".h5");
+    testing::WriteText(file, campaign);
+    const Outcome run = Campaign(file, results, "--samples 512 --json");
+    ASSERT_EQ(run.exit_code, c.exit_code) << run.err;
+    const nlohmann::json disposition = nlohmann::json::parse(run.out)["disposition"];
+    EXPECT_EQ(disposition["verdict"], c.verdict);
+    EXPECT_EQ(disposition["yield"]["trials"], 512);
+    EXPECT_DOUBLE_EQ(disposition["required_yield"].get<double>(), 0.99);
+    if (c.exit_code == 4) {
+      EXPECT_GT(disposition["samples_to_decide"].get<std::int64_t>(), 512);
+    }
+    const Outcome text_run = RunRingtol("", "campaign " + file.string() + " --out " + (folder / "text.h5").string() +
+                                                " --samples 512 --quiet");
+    EXPECT_EQ(text_run.exit_code, c.exit_code);
+    EXPECT_THAT(text_run.out, HasSubstr(std::string("disposition       ") + c.verdict + ":"));
+    std::filesystem::remove(folder / "text.h5");
+    const std::filesystem::path html = folder / "report.html", json = folder / "report.json";
+    const Outcome report = RunRingtol("", "report " + results.string() + " --out " + html.string() + " --json " + json.string());
+    ASSERT_EQ(report.exit_code, 0) << report.err;
+    EXPECT_EQ(nlohmann::json::parse(testing::ReadText(json))["disposition"], disposition);
+    EXPECT_THAT(testing::ReadText(html), HasSubstr(std::string("Disposition</strong>: ") + c.verdict));
+  }
+}
+
 TEST(Campaign, WithoutTheLifeItSaysSoAndItsReportAndVerifyRead) {
   const std::filesystem::path folder = Folder();
   const std::string life_on = testing::SmallCampaign(std::string(RINGTOL_SOURCE_DIR) + "/examples/paper/scene.toml", 3, 8);
