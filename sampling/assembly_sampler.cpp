@@ -46,7 +46,18 @@ double Capability::Coverage() const { return std::erf(3.0 * cp / std::numbers::s
 
 // One toleranced part of the assembly and the coordinates it draws from.
 struct AssemblySampler::Component {
-  enum class Kind { kRingForm, kRollerEccentricity, kRollerForm, kRollerSize, kPosition, kStiffness, kPreload };
+  enum class Kind {
+    kRingForm,
+    kRingPart,       // a measured part, resampled
+    kRingOrderModel, // one order of a population model
+    kRingSizeModel,  // a population model's size
+    kRollerEccentricity,
+    kRollerForm,
+    kRollerSize,
+    kPosition,
+    kStiffness,
+    kPreload
+  };
   explicit Component(Kind k, int r = -1) : kind(k), roller(r) {}
   Kind kind;
   int roller;
@@ -59,6 +70,8 @@ struct AssemblySampler::Component {
   double lower = 0.0, upper = 0.0;  // size: accepted interval [m]
   SpectrumShape shape;              // form only
   std::vector<double> relative_scales;  // form only: RelativeScales(shape)
+  int order = 0;                    // kRingOrderModel: its order
+  double mean_b = 0.0;              // kRingOrderModel: mean of C sin phi (`mean`: of C cos phi)
 };
 
 // The construction's steps, one per kind of tolerance: each validates its tolerance and
@@ -81,6 +94,50 @@ class AssemblySampler::Builder {
     c.shape = t.spectrum;
     Calibrate(c, "ring", FormMeasure::kRoundness, t.capability);
     AddInputs(std::move(c), ErrorSource::kRingShape, "ring", SpectrumInputs(t.spectrum), "ring");
+  }
+
+  void AddRingPopulation(const RingPopulation& population) {
+    const std::size_t m = population.parts.size();
+    if (m == 0) throw std::invalid_argument("the ring population has no parts");
+    if (population.draw == PopulationDraw::kResample) {
+      AddInputs(Component(Component::Kind::kRingPart), ErrorSource::kRingShape, "ring", {{"part_index", 0}},
+                "ring.population");
+      return;
+    }
+    if (m < 2) throw std::invalid_argument("a ring population model needs at least 2 parts; it has 1");
+    // Per order, the parts' coefficients; an order a part lacks is 0 there.
+    std::map<int, std::vector<std::pair<double, double>>> coefficients;
+    for (std::size_t p = 0; p < m; ++p) {
+      for (const engine::Harmonic& h : population.parts[p].harmonics) {
+        auto& list = coefficients[h.order];
+        list.resize(m, {0.0, 0.0});
+        list[p].first += h.amplitude * std::cos(h.phase);
+        list[p].second += h.amplitude * std::sin(h.phase);
+      }
+    }
+    const double parts = static_cast<double>(m);
+    for (auto& [order, list] : coefficients) {
+      list.resize(m, {0.0, 0.0});
+      Component c(Component::Kind::kRingOrderModel);
+      c.order = order;
+      for (const auto& [a, b] : list) {
+        c.mean += a / parts;
+        c.mean_b += b / parts;
+      }
+      double squares = 0.0;
+      for (const auto& [a, b] : list) squares += (a - c.mean) * (a - c.mean) + (b - c.mean_b) * (b - c.mean_b);
+      // Two coordinates share the variance, each with m - 1 degrees of freedom.
+      c.sigma = std::sqrt(squares / (2.0 * (parts - 1.0)));
+      AddInputs(std::move(c), ErrorSource::kRingShape, "ring", {{"amplitude_um", order}, {"phase_deg", order}}, "ring");
+    }
+    Component size(Component::Kind::kRingSizeModel);
+    for (const MeasuredPart& part : population.parts) size.mean += part.mean_deviation / parts;
+    double squares = 0.0;
+    for (const MeasuredPart& part : population.parts) squares += (part.mean_deviation - size.mean) * (part.mean_deviation - size.mean);
+    size.sigma = std::sqrt(squares / (parts - 1.0));
+    if (size.mean != 0.0 || size.sigma > 0.0) {
+      AddInputs(std::move(size), ErrorSource::kRingShape, "ring", {{"mean_deviation_um", 0}}, "ring.size");
+    }
   }
 
   void AddRollerShape(int index, const std::string& prefix, const RollerShapeTolerance& t) {
@@ -274,7 +331,11 @@ AssemblySampler::AssemblySampler(engine::Scene base, AssemblyTolerances toleranc
   check_size(tolerances_.springs.size(), "spring tolerances");
 
   Builder builder(*this);
+  if (tolerances_.ring && tolerances_.ring_population) {
+    throw std::invalid_argument("the ring has a form tolerance and a population: draw it from one");
+  }
   if (tolerances_.ring) builder.AddRingForm(*tolerances_.ring);
+  if (tolerances_.ring_population) builder.AddRingPopulation(*tolerances_.ring_population);
   for (std::size_t i = 0; i < rollers; ++i) {
     const engine::Roller& roller = base_.rollers[i];
     const std::string prefix = "roller." + roller.name;
@@ -342,6 +403,7 @@ SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const dou
   engine::Scene& scene = out.scene;
 
   std::vector<engine::Harmonic> ring_harmonics;
+  double ring_mean = 0.0;
   std::vector<std::vector<engine::Harmonic>> roller_harmonics(scene.rollers.size());
   std::vector<double> roller_mean(scene.rollers.size(), 0.0);
 
@@ -384,6 +446,15 @@ SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const dou
           harmonics = {{1, Rayleigh(c.sigma, w[0]), UniformPhase(w[1])}};
           inside = 2.0 * harmonics[0].amplitude <= c.tolerance;
           break;
+        case Component::Kind::kRingPart:
+        case Component::Kind::kRingSizeModel:
+          break;
+        case Component::Kind::kRingOrderModel: {
+          const double a = c.mean + c.sigma * StandardNormal(w[0]);
+          const double b = c.mean_b + c.sigma * StandardNormal(w[1]);
+          harmonics = {{c.order, std::hypot(a, b), std::atan2(b, a)}};
+          break;
+        }
         case Component::Kind::kPosition:
           drawn = Rayleigh(c.sigma, w[0]);
           inside = drawn <= c.tolerance;
@@ -418,6 +489,25 @@ SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const dou
         values[0] = drawn * units::kMicrometresPerMetre;
         roller_mean[r] += drawn / 2.0;  // the profile's mean radius deviation
         break;
+      case Component::Kind::kRingPart: {
+        const std::vector<MeasuredPart>& parts = tolerances_.ring_population->parts;
+        const auto part = std::min(parts.size() - 1, static_cast<std::size_t>(w[0] * static_cast<double>(parts.size())));
+        values[0] = static_cast<double>(part);
+        ring_harmonics.insert(ring_harmonics.end(), parts[part].harmonics.begin(), parts[part].harmonics.end());
+        ring_mean += parts[part].mean_deviation;
+        break;
+      }
+      case Component::Kind::kRingOrderModel:
+        values[0] = harmonics[0].amplitude * units::kMicrometresPerMetre;
+        values[1] = harmonics[0].phase * units::kDegreesPerRadian;
+        ring_harmonics.push_back(harmonics[0]);
+        break;
+      case Component::Kind::kRingSizeModel: {
+        const double drawn_size = c.mean + c.sigma * StandardNormal(w[0]);
+        values[0] = drawn_size * units::kMicrometresPerMetre;
+        ring_mean += drawn_size;
+        break;
+      }
       case Component::Kind::kPosition: {
         const double direction = UniformPhase(w[1]);
         values[0] = drawn * units::kMicrometresPerMetre;
@@ -443,7 +533,7 @@ SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const dou
     all.insert(all.end(), added.begin(), added.end());
     profile = engine::PolarProfile(profile.radius(), profile.mean_deviation() + mean, std::move(all));
   };
-  rebuild(scene.ring.inner, ring_harmonics, 0.0);
+  rebuild(scene.ring.inner, ring_harmonics, ring_mean);
   for (std::size_t i = 0; i < scene.rollers.size(); ++i)
     rebuild(scene.rollers[i].outline, roller_harmonics[i], roller_mean[i]);
   return out;
@@ -462,6 +552,13 @@ engine::FastestHarmonic FastestDrawnHarmonic(const engine::Scene& base, const As
   engine::FastestHarmonic fastest = engine::FindFastestHarmonic(base);
   if (tolerances.ring && tolerances.ring->spectrum.max_order > fastest.rate) {
     fastest = {static_cast<double>(tolerances.ring->spectrum.max_order), -1, tolerances.ring->spectrum.max_order};
+  }
+  if (tolerances.ring_population) {
+    for (const MeasuredPart& part : tolerances.ring_population->parts) {
+      for (const engine::Harmonic& h : part.harmonics) {
+        if (h.order > fastest.rate) fastest = {static_cast<double>(h.order), -1, h.order};
+      }
+    }
   }
   for (std::size_t i = 0; i < tolerances.roller_shapes.size() && i < base.rollers.size(); ++i) {
     const std::optional<RollerShapeTolerance>& shape = tolerances.roller_shapes[i];

@@ -78,9 +78,34 @@ struct SpringTolerance {
   Capability capability;
 };
 
+// A measured part as its fitted profile gives it: its deviation from the nominal profile.
+struct MeasuredPart {
+  std::string name;             // what the records call it: its export's file name
+  double mean_deviation = 0.0;  // [m] its size about the nominal radius (0: its form alone)
+  std::vector<engine::Harmonic> harmonics;
+};
+
+// How parts are drawn from a measured population (docs/usage.md, "Populations of measured
+// parts"). kResample: each assembly takes one of the measured parts, every part equally
+// likely. kModel: per harmonic order the Fourier coefficients (C cos phi, C sin phi) of the
+// parts are a two-dimensional normal law, their mean (a systematic lobe at a fixed phase)
+// and one isotropic variance fitted to the parts, so that the amplitude is Rice distributed
+// about that mean with uniform phase where it is zero; the size likewise normal. It draws
+// parts the supplier has not made yet.
+enum class PopulationDraw { kResample, kModel };
+inline constexpr NameTable<PopulationDraw, 2> kPopulationDrawNames = {
+    {{PopulationDraw::kResample, "resample"}, {PopulationDraw::kModel, "model"}}};
+
+struct RingPopulation {
+  std::vector<MeasuredPart> parts;  // >= 1 to resample, >= 2 to model
+  PopulationDraw draw = PopulationDraw::kResample;
+};
+
 // What is toleranced; an absent entry is an error source held at its nominal value.
 struct AssemblyTolerances {
   std::optional<RingFormTolerance> ring;
+  // Rings drawn from measured parts instead of a class: exclusive with `ring`.
+  std::optional<RingPopulation> ring_population;
   std::vector<std::optional<RollerShapeTolerance>> roller_shapes;  // empty or one per scene roller
   std::vector<std::optional<PositionTolerance>> roller_positions;  // empty or one per scene roller
   std::vector<std::optional<SpringTolerance>> springs;             // empty or one per scene roller; springs only
@@ -192,7 +217,9 @@ class AssemblySampler {
   // Validates the tolerances against the scene and calibrates every spectrum. Throws
   // std::invalid_argument naming the roller and quantity for vectors of the wrong size, a
   // spring tolerance on a fixed roller, non-positive or non-finite tolerances, a
-  // capability outside (0, 1.33] for form errors, and what CalibrateSpectrum refuses.
+  // capability outside (0, 1.33] for form errors, a ring population beside a ring
+  // tolerance, one without parts or with fewer than two to model, and what
+  // CalibrateSpectrum refuses.
   AssemblySampler(engine::Scene base, AssemblyTolerances tolerances, AssemblySamplerOptions options = {});
   ~AssemblySampler();
   AssemblySampler(const AssemblySampler&);

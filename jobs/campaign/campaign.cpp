@@ -70,6 +70,7 @@ Campaign::Campaign(CampaignPlan plan, const std::string& source_name,
   identity_.solver = solvers::SolverDescription(plan_.solver);
   identity_.seed = plan_.sampling.seed;
   identity_.inputs = sampling_.sampler.inputs();
+  identity_.population = plan_.sampling.population;
   for (const engine::Roller& roller : plan_.sampling.scene.rollers) identity_.rollers.push_back(roller.name);
   identity_.spec = plan_.spec;
   identity_.life = plan_.solver.simulation.life;

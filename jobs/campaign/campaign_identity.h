@@ -35,6 +35,8 @@ struct CampaignIdentity {
   // The base scene's rollers by name, in its order: what SampleRecord::off_bore's entries
   // are. Not compared, since base_scene holds them.
   std::vector<std::string> rollers;
+  // The measured parts the campaign draws from (SamplingPlan::population); empty without.
+  std::string population;
   std::vector<SpecLimit> spec;
   // Whether the samples computed the life outputs (IsLifeOutput): the campaign file's
   // [outputs] life. A results file without them holds none of their columns.

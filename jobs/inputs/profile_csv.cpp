@@ -325,4 +325,31 @@ std::vector<engine::Harmonic> FormHarmonics(const sampling::FourierFit& fit, boo
   return form;
 }
 
+double MeanDeviation(const MeasuredFit& measured, double ring_radius) {
+  // A measured radius is the nominal radius plus the mean deviation.
+  return measured.quantity == ProfileQuantity::kRadius ? measured.fit.mean - ring_radius : measured.fit.mean;
+}
+
+std::string OtherRingReason(const MeasuredFit& measured, double ring_radius, const std::string& file) {
+  const double offset = MeanDeviation(measured, ring_radius);
+  if (!(std::abs(offset) > kSameRingShare * ring_radius)) return {};
+  const std::string what =
+      measured.quantity == ProfileQuantity::kRadius
+          ? fmt::format("its mean radius {} mm lies {} mm from ring.inner_radius_mm = {} mm",
+                        units::InMillimetres(measured.fit.mean), ShowDerived(units::InMillimetres(offset)),
+                        units::InMillimetres(ring_radius))
+          : fmt::format("its mean deviation is {} mm on a ring of {} mm", ShowDerived(units::InMillimetres(offset)),
+                        units::InMillimetres(ring_radius));
+  return fmt::format("{}: {}, more than {} %: a profile of another ring (or deviations in another unit)", file, what,
+                     100.0 * kSameRingShare);
+}
+
+std::filesystem::path ReadProfilePath(const Site& site, const std::filesystem::path& folder, std::string_view allowed) {
+  const std::filesystem::path file = folder / ReadText(site, allowed);
+  std::error_code error;
+  if (std::filesystem::is_regular_file(file, error)) return file;
+  const bool exists = std::filesystem::exists(file, error);
+  site.Fail(fmt::format("{}: {}", exists ? "not a file" : "no such file", file.string()), allowed);
+}
+
 }  // namespace ringtol::jobs

@@ -23,6 +23,7 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/enum_names.h"
 #include "engine/profile.h"
 #include "sampling/profile_fit.h"
 
@@ -89,5 +90,31 @@ MeasuredFit FitProfileFile(const std::filesystem::path& file, int orders, std::o
 // The fit's harmonics that describe the part: orders 2..N, or 1..N when
 // keep_eccentricity; in order, amplitudes [m] and phases [rad] as fitted.
 std::vector<engine::Harmonic> FormHarmonics(const sampling::FourierFit& fit, bool keep_eccentricity);
+
+// The export a file key names (a string at `site`), resolved against `folder` (an absolute
+// path stays as it is). InputError naming the key when it is not an existing file;
+// `allowed` words what the key takes.
+struct Site;
+std::filesystem::path ReadProfilePath(const Site& site, const std::filesystem::path& folder, std::string_view allowed);
+
+// What a measured ring's export is held to (a scene's ring.measured_profile, a campaign's
+// [population.ring]):
+//   kNominal (the default): the export's own size counts: a radius file's mean radius less
+//     the ring's nominal inner radius, or a deviation file's mean deviation, becomes the
+//     ring's mean deviation; a size more than kSameRingShare of the radius from nominal is
+//     a profile of another ring, refused as such (OtherRingReason);
+//   kOwnMean: the form alone, about the export's own mean: its harmonics on a ring of any
+//     nominal size (a measured 302 mm ring's form on a 150 mm design).
+enum class ProfileReference { kNominal, kOwnMean };
+inline constexpr NameTable<ProfileReference, 2> kProfileReferenceNames = {
+    {{ProfileReference::kNominal, "nominal"}, {ProfileReference::kOwnMean, "own_mean"}}};
+
+// [m] The export's size about a ring of nominal inner radius `ring_radius`: a radius file's
+// mean radius less it, a deviation file's mean deviation.
+double MeanDeviation(const MeasuredFit& measured, double ring_radius);
+// Why `file`'s export cannot be a profile of that ring held to its nominal size: "its mean
+// radius 310 mm lies 8 mm from ring.inner_radius_mm = 302 mm, more than 1 %: a profile of
+// another ring (or deviations in another unit)"; empty when it can be one.
+std::string OtherRingReason(const MeasuredFit& measured, double ring_radius, const std::string& file);
 
 }  // namespace ringtol::jobs

@@ -1,6 +1,11 @@
 #include "jobs/inputs/sampling_file.h"
 
+#include <zlib.h>
+
+#include <algorithm>
 #include <charconv>
+#include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -9,8 +14,11 @@
 #include <utility>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "jobs/inputs/catalogue_file.h"
 #include "jobs/inputs/input_error.h"
+#include "jobs/inputs/profile_csv.h"
 #include "jobs/inputs/scene_file.h"
 #include "jobs/inputs/toml_fields.h"
 #include "engine/units.h"
@@ -216,6 +224,104 @@ std::vector<Field<ToleranceInputs>> ToleranceFields() {
   };
 }
 
+// zlib's CRC-32 of a file's bytes: what tells a changed export from the one a campaign ran with.
+std::uint32_t FileCrc32(const std::filesystem::path& file) {
+  const std::string bytes = ReadTextFile(file);
+  return static_cast<std::uint32_t>(
+      crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size())));
+}
+
+// [population.ring]: rings drawn from measured parts (sampling::RingPopulation), each export
+// fitted as a scene's ring.measured_profile is.
+struct RingPopulationInput {
+  std::vector<std::filesystem::path> profiles;  // resolved against the sampling file's folder
+  std::optional<std::filesystem::path> folder;
+  int orders = 0;
+  bool keep_eccentricity = false;
+  ProfileReference reference = ProfileReference::kNominal;
+  sampling::PopulationDraw draw = sampling::PopulationDraw::kResample;
+};
+
+constexpr std::string_view kPopulationProfilesAllowed =
+    "an array of paths of existing CSV files (docs/inputs.md, \"Profile CSV files\"), relative to this file's folder";
+constexpr std::string_view kPopulationFolderAllowed =
+    "the path of a folder of CSV files (docs/inputs.md, \"Profile CSV files\"), relative to this file's folder";
+
+std::vector<Field<RingPopulationInput>> RingPopulationFields(const std::filesystem::path& folder) {
+  return {
+      Field<RingPopulationInput>{"profiles", Presence::kOptional, std::string(kPopulationProfilesAllowed),
+                                 [folder](const Site& site, RingPopulationInput& in) {
+                                   const toml::array& list = ReadArray(site, kPopulationProfilesAllowed);
+                                   if (list.empty()) site.Fail("no profiles", kPopulationProfilesAllowed);
+                                   for (std::size_t k = 0; k < list.size(); ++k) {
+                                     in.profiles.push_back(
+                                         ReadProfilePath(site.Element(k), folder, kPopulationProfilesAllowed));
+                                   }
+                                 },
+                                 {}, {}},
+      Field<RingPopulationInput>{"folder", Presence::kOptional, std::string(kPopulationFolderAllowed),
+                                 [folder](const Site& site, RingPopulationInput& in) {
+                                   const std::filesystem::path path = folder / ReadText(site, kPopulationFolderAllowed);
+                                   std::error_code error;
+                                   if (!std::filesystem::is_directory(path, error)) {
+                                     site.Fail("no such folder: " + path.string(), kPopulationFolderAllowed);
+                                   }
+                                   in.folder = path;
+                                 },
+                                 {}, {}},
+      Integer("orders", Presence::kRequired, Between(1.0, kMaxHarmonicOrder), &RingPopulationInput::orders),
+      Flag("keep_eccentricity", Presence::kOptional, &RingPopulationInput::keep_eccentricity),
+      Choice("reference", Presence::kOptional, kProfileReferenceNames, &RingPopulationInput::reference),
+      Choice("draw", Presence::kOptional, sampling::kPopulationDrawNames, &RingPopulationInput::draw),
+  };
+}
+
+// The population's parts, fitted in the order listed (a folder's *.csv files by name), and
+// what identifies it: a line per part with its file's CRC-32, and the fit's settings.
+void ResolveRingPopulation(const TableReader& table, RingPopulationInput in, SamplingPlan& plan) {
+  table.RequireExactlyOne("profiles", "folder", std::string(kPopulationProfilesAllowed) + ", or folder = " +
+                                                    std::string(kPopulationFolderAllowed));
+  if (in.folder) {
+    for (const auto& entry : std::filesystem::directory_iterator(*in.folder)) {
+      if (entry.is_regular_file() && entry.path().extension() == ".csv") in.profiles.push_back(entry.path());
+    }
+    std::sort(in.profiles.begin(), in.profiles.end());
+    if (in.profiles.empty()) table.Fail("folder", "holds no .csv file", kPopulationFolderAllowed);
+  }
+  const std::size_t least = in.draw == sampling::PopulationDraw::kModel ? 2 : 1;
+  if (in.profiles.size() < least) {
+    table.Fail("draw", fmt::format("needs at least {} parts, and the population has {}", least, in.profiles.size()),
+               "\"resample\" for a single part, or more profiles");
+  }
+  const double radius = plan.scene.ring.inner.radius();
+  sampling::RingPopulation population;
+  population.draw = in.draw;
+  std::string identity = fmt::format("population.ring: draw = {}, orders = {}, keep_eccentricity = {}, reference = {}\n",
+                                     NameOf(sampling::kPopulationDrawNames, in.draw), in.orders, in.keep_eccentricity,
+                                     NameOf(kProfileReferenceNames, in.reference));
+  for (const std::filesystem::path& file : in.profiles) {
+    const std::string key = in.folder ? "folder" : "profiles";
+    MeasuredFit measured;
+    try {
+      measured = FitProfileFile(file, in.orders, radius);
+    } catch (const InputError& error) {
+      table.FailAbout(key, table.KeyPath(key), error.what(), "profiles that read and fit (docs/inputs.md)");
+    }
+    sampling::MeasuredPart part{file.filename().string(), 0.0, FormHarmonics(measured.fit, in.keep_eccentricity)};
+    if (in.reference == ProfileReference::kNominal) {
+      if (const std::string other = OtherRingReason(measured, radius, file.string()); !other.empty()) {
+        table.FailAbout(key, table.KeyPath(key), other,
+                        "reference = \"own_mean\" to take the parts' form alone, or profiles of rings of this size");
+      }
+      part.mean_deviation = MeanDeviation(measured, radius);
+    }
+    identity += fmt::format("{} crc32 {:08x}\n", file.filename().string(), FileCrc32(file));
+    population.parts.push_back(std::move(part));
+  }
+  plan.tolerances.ring_population = std::move(population);
+  plan.population = std::move(identity);
+}
+
 // [design], checked against the names the sampling library knows.
 void ResolveDesign(const TableReader& root, const FileInput& in, SamplingPlan& plan) {
   const TableReader design = SubTable(root, "design");
@@ -351,6 +457,7 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
 
   FileInput in;
   ToleranceInputs tolerances;
+  std::optional<RingPopulationInput> ring_population;
   const std::vector<Field<FileInput>> design_fields = DesignFields();
   const std::vector<Field<ToleranceInputs>> tolerance_fields = ToleranceFields();
   std::vector<Field<FileInput>> fields{
@@ -366,6 +473,17 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
                          [&](const TableReader& t, FileInput& f) { t.Read(design_fields, f); }),
       Section<FileInput>("tolerances", Presence::kOptional,
                          [&](const TableReader& t, FileInput&) { t.Read(tolerance_fields, tolerances); }),
+      Section<FileInput>("population", Presence::kOptional,
+                         [&](const TableReader& t, FileInput&) {
+                           t.Read(std::vector<Field<FileInput>>{Section<FileInput>(
+                                      "ring", Presence::kOptional,
+                                      [&](const TableReader& ring, FileInput&) {
+                                        RingPopulationInput read;
+                                        ring.Read(RingPopulationFields(file.parent_path()), read);
+                                        ring_population = std::move(read);
+                                      })},
+                                  in);
+                         }),
       Section<FileInput>("catalogue", Presence::kOptional,
                          [&](const TableReader& t, FileInput&) {
                            AddCatalogueClasses(t.table(), "catalogue", source, false, plan.catalogue);
@@ -395,6 +513,14 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
   if (tolerances.rollers) ResolveRollers(SubTable(table, "rollers"), *tolerances.rollers, plan);
   if (tolerances.positions) ResolvePositions(SubTable(table, "roller_positions"), *tolerances.positions, plan);
   if (tolerances.springs) ResolveSprings(SubTable(table, "springs"), *tolerances.springs, plan);
+  if (ring_population) {
+    const TableReader population = SubTable(SubTable(root, "population"), "ring");
+    if (tolerances.ring) {
+      population.Fail("draw", "draws the ring, and [tolerances.ring] draws it too",
+                      "one of [population.ring] and [tolerances.ring]");
+    }
+    ResolveRingPopulation(population, std::move(*ring_population), plan);
+  }
   return plan;
 }
 
@@ -503,7 +629,7 @@ Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name,
   if (options.kind == sampling::DesignKind::kSaltelli) options.groups = sampler->Groups(plan.grouping).coordinates;
   if (sampler->dimension() == 0)
     throw InputError(source_name + ": [tolerances]: nothing is toleranced; allowed: at least one of [tolerances.ring], "
-                     "[tolerances.rollers], [tolerances.roller_positions], [tolerances.springs]");
+                     "[tolerances.rollers], [tolerances.roller_positions], [tolerances.springs], [population.ring]");
   std::optional<sampling::Design> design;
   try {
     design.emplace(sampler->dimension(), options);

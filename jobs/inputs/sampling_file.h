@@ -40,6 +40,10 @@ struct SamplingPlan {
   sampling::DiameterSeries roller_series = sampling::DiameterSeries::kSeries9;
   sampling::ToleranceCatalogue catalogue;  // shipped plus [catalogue]
   std::string text;                        // the file as read, for provenance
+  // What identifies the measured parts of [population.*] beyond the file's text: a line of
+  // settings and, per part, its export's name and the CRC-32 of its bytes; empty without
+  // a population. A results file keeps it, and --resume refuses a population that changed.
+  std::string population;
 };
 
 // `other_tables`: root tables of a larger file (a campaign file's [solver] and [spec]) that

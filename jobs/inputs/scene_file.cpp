@@ -107,16 +107,8 @@ void RequireDeviationsBelowRadius(const TableReader& table, const engine::PolarP
 
 // ---- [ring]
 
-// ring.measured_profile: a roundness tester's export, fitted on reading.
-//   reference = "nominal" (the default): the export's own size counts: a radius file's
-//     mean radius less ring.inner_radius_mm, or a deviation file's mean deviation, becomes
-//     the ring's mean deviation. A mean radius more than kSameRingShare (profile_csv.h) from
-//     the nominal one is a profile of another ring, refused as such.
-//   reference = "own_mean": the form alone, about the export's own mean: its harmonics on
-//     a ring of any nominal size (a measured 302 mm ring's form on a 150 mm design).
-enum class ProfileReference { kNominal, kOwnMean };
-inline constexpr NameTable<ProfileReference, 2> kProfileReferenceNames = {
-    {{ProfileReference::kNominal, "nominal"}, {ProfileReference::kOwnMean, "own_mean"}}};
+// ring.measured_profile: a roundness tester's export, fitted on reading, held to the ring
+// as its `reference` says (ProfileReference, profile_csv.h).
 
 struct MeasuredProfileInput {
   std::filesystem::path file;  // resolved against the scene file's folder
@@ -125,26 +117,22 @@ struct MeasuredProfileInput {
   ProfileReference reference = ProfileReference::kNominal;
 };
 
+constexpr std::string_view kOwnMeanAdvice =
+    "reference = \"own_mean\" to take its form alone on this ring, or a profile of a ring of this size";
 constexpr std::string_view kProfileFileAllowed =
     "the path of an existing CSV file (docs/inputs.md, \"Profile CSV files\"), relative to the scene file's folder";
 constexpr std::string_view kMeasuredProfileAllowed =
     "a table { file = \"profile.csv\", orders = integer 1..1000, keep_eccentricity = false, reference = "
     "\"nominal\" or \"own_mean\" }";
 
-// The file named at `site`, resolved against `folder` (an absolute path stays as it is).
-std::filesystem::path ReadProfilePath(const Site& site, const std::filesystem::path& folder) {
-  const std::filesystem::path file = folder / ReadText(site, kProfileFileAllowed);
-  std::error_code error;
-  if (std::filesystem::is_regular_file(file, error)) return file;
-  const bool exists = std::filesystem::exists(file, error);
-  site.Fail(fmt::format("{}: {}", exists ? "not a file" : "no such file", file.string()), kProfileFileAllowed);
-}
-
 std::vector<Field<MeasuredProfileInput>> MeasuredProfileFields(const std::filesystem::path& folder) {
   return {
       Field<MeasuredProfileInput>{
           "file", Presence::kRequired, std::string(kProfileFileAllowed),
-          [folder](const Site& site, MeasuredProfileInput& in) { in.file = ReadProfilePath(site, folder); }, {}, {}},
+          [folder](const Site& site, MeasuredProfileInput& in) {
+            in.file = ReadProfilePath(site, folder, kProfileFileAllowed);
+          },
+          {}, {}},
       Integer("orders", Presence::kRequired, Between(1.0, kMaxHarmonicOrder), &MeasuredProfileInput::orders),
       Flag("keep_eccentricity", Presence::kOptional, &MeasuredProfileInput::keep_eccentricity),
       Choice("reference", Presence::kOptional, kProfileReferenceNames, &MeasuredProfileInput::reference),
@@ -153,9 +141,8 @@ std::vector<Field<MeasuredProfileInput>> MeasuredProfileFields(const std::filesy
 
 // What a measured profile adds to the ring's keys.
 struct MeasuredRing {
-  ProfileQuantity quantity = ProfileQuantity::kRadius;
+  MeasuredFit fit;
   ProfileReference reference = ProfileReference::kNominal;
-  double mean = 0.0;  // [m] fitted order 0: a radius or a mean deviation, as the file holds
   std::vector<engine::Harmonic> harmonics;
   std::string file;   // the export, for messages
 };
@@ -168,9 +155,9 @@ MeasuredRing ReadMeasuredProfile(const Site& site, const std::filesystem::path& 
   MeasuredProfileInput in;
   table.Read(MeasuredProfileFields(folder), in);
   try {
-    const MeasuredFit measured = FitProfileFile(in.file, in.orders, ring_radius);
-    return {measured.quantity, in.reference, measured.fit.mean, FormHarmonics(measured.fit, in.keep_eccentricity),
-            in.file.string()};
+    MeasuredFit measured = FitProfileFile(in.file, in.orders, ring_radius);
+    std::vector<engine::Harmonic> harmonics = FormHarmonics(measured.fit, in.keep_eccentricity);
+    return {std::move(measured), in.reference, std::move(harmonics), in.file.string()};
   } catch (const InputError& error) {
     throw InputError(fmt::format("{}: {}: {}", Where(site.file, site.node.source()), site.key_path, error.what()));
   }
@@ -216,30 +203,16 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
   table.Read(RingFields(folder), in);
   if (in.measured) {
     const MeasuredRing& measured = *in.measured;
-    const double limit = kSameRingShare * in.inner_radius;
-    const double form = AmplitudeSum(measured.harmonics);
     // A form as large as the ring is a fit gone wild (too many orders across a gap), which
     // RequireDeviationsBelowRadius blames below; the check here is for sane fits. Their
     // form's size was checked on reading (FitProfileFile).
-    const bool sane = form < in.inner_radius;
-    // A measured radius is the nominal radius plus the mean deviation.
-    const double offset =
-        measured.quantity == ProfileQuantity::kRadius ? measured.mean - in.inner_radius : measured.mean;
-    if (sane && measured.reference == ProfileReference::kNominal && std::abs(offset) > limit) {
-      const std::string what =
-          measured.quantity == ProfileQuantity::kRadius
-              ? fmt::format("its mean radius {} mm lies {} mm from ring.inner_radius_mm = {} mm",
-                            units::InMillimetres(measured.mean), ShowDerived(units::InMillimetres(offset)),
-                            units::InMillimetres(in.inner_radius))
-              : fmt::format("its mean deviation is {} mm on a ring of {} mm", ShowDerived(units::InMillimetres(offset)),
-                            units::InMillimetres(in.inner_radius));
-      table.FailAbout(
-          "measured_profile", table.KeyPath("measured_profile"),
-          fmt::format("{}: {}, more than {} %: a profile of another ring (or deviations in another unit)",
-                      measured.file, what, 100.0 * kSameRingShare),
-          "reference = \"own_mean\" to take its form alone on this ring, or a profile of a ring of this size");
+    const bool sane = AmplitudeSum(measured.harmonics) < in.inner_radius;
+    if (measured.reference == ProfileReference::kNominal && sane) {
+      if (const std::string other = OtherRingReason(measured.fit, in.inner_radius, measured.file); !other.empty()) {
+        table.FailAbout("measured_profile", table.KeyPath("measured_profile"), other, kOwnMeanAdvice);
+      }
     }
-    if (measured.reference == ProfileReference::kNominal) in.mean_deviation += offset;
+    if (measured.reference == ProfileReference::kNominal) in.mean_deviation += MeanDeviation(measured.fit, in.inner_radius);
     in.harmonics.insert(in.harmonics.end(), measured.harmonics.begin(), measured.harmonics.end());
   }
   if (!(in.outer_radius > in.inner_radius)) {

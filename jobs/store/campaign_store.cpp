@@ -294,6 +294,8 @@ Stored ReadStored(const Where& where, hid_t file) {
     }
     identity.accuracy = *named;
   }
+  // Only a campaign that draws from measured parts has one.
+  identity.population = ReadStringAttribute(where, file, "population").value_or("");
   stored.samples = Require(
       where, ReadNumberAttribute<std::int64_t>(where, file, "samples", H5T_INTEGER, H5T_NATIVE_INT64), "samples");
   if (stored.samples < 1) Fail(where, fmt::format("attribute samples = {} is not positive", stored.samples));
@@ -369,6 +371,8 @@ std::optional<std::string> IdentityDifference(const CampaignIdentity& file, cons
                               NameOf(solvers::kAccuracyNames, now.accuracy))) {
     return d;
   }
+  // Before the campaign file's text: a part's export can change while the file's text does not.
+  if (auto d = TextDifference("population", file.population, now.population)) return d;
   if (auto d = IdentityAttributeDifference(file, now, kIdentityAttributes)) return d;
   if (auto d = InputDifference(file.inputs, now.inputs, "this campaign")) return d;
   return SpecDifference(file.spec, now.spec);
@@ -668,6 +672,7 @@ void WriteIdentity(const Where& where, hid_t file, const CampaignIdentity& ident
   WriteAttribute(where, file, "samples", H5T_STD_I64LE, H5T_NATIVE_INT64, &samples);
   WriteStringAttribute(where, file, "life", identity.life ? kLifeComputed : kLifeNotComputed);
   WriteStringAttribute(where, file, "accuracy", std::string(NameOf(solvers::kAccuracyNames, identity.accuracy)));
+  if (!identity.population.empty()) WriteStringAttribute(where, file, "population", identity.population);
 
   const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
   for (const char* name : {"inputs", "outputs", "timing"}) {

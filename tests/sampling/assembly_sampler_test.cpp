@@ -1,9 +1,11 @@
 #include "sampling/assembly_sampler.h"
 
+#include <boost/math/special_functions/erf.hpp>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <vector>
 
@@ -220,6 +222,108 @@ TEST(AssemblySampler, RefusesTolerancesItCannotDraw) {
   too_capable.ring = RingFormTolerance{"", 100 * kUm, {2, 10, 1.0, {}}, {ToleranceMode::kProcess, 2.0}};
   EXPECT_THAT([&] { AssemblySampler(scene, too_capable, Fast()); },
               ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("<= 1.33")));
+}
+
+// ---- Populations of measured parts
+
+double NormalQuantile(double p) { return std::numbers::sqrt2 * boost::math::erf_inv(2.0 * p - 1.0); }
+
+MeasuredPart Part(std::string name, double mean_deviation, std::vector<engine::Harmonic> harmonics) {
+  return {std::move(name), mean_deviation, std::move(harmonics)};
+}
+
+AssemblyTolerances RingsFrom(std::vector<MeasuredPart> parts, PopulationDraw draw) {
+  AssemblyTolerances t;
+  t.ring_population = RingPopulation{std::move(parts), draw};
+  return t;
+}
+
+// Resampling: u in [k/M, (k+1)/M) takes part k, whose size and harmonics add to the base
+// scene's ring, and records k.
+TEST(RingPopulation, ResamplingTakesThePartTheCoordinateFallsOn) {
+  engine::Scene base = testing::PaperScene();
+  base.ring.inner = engine::PolarProfile(base.ring.inner.radius(), 0.0, {{5, 1 * kUm, 0.0}});
+  const std::vector<MeasuredPart> parts = {Part("a.csv", 2 * kUm, {{2, 10 * kUm, 0.5}}),
+                                           Part("b.csv", -3 * kUm, {{3, 20 * kUm, -1.0}}),
+                                           Part("c.csv", 0.0, {{2, 7 * kUm, 0.1}, {4, 4 * kUm, 2.0}})};
+  const AssemblySampler sampler(base, RingsFrom(parts, PopulationDraw::kResample));
+  ASSERT_EQ(sampler.dimension(), 1);
+  EXPECT_EQ(sampler.inputs()[0].name, "ring.population.part_index");
+  for (const auto& [u, part] : {std::pair{0.0, 0}, {0.3333, 0}, {0.3334, 1}, {0.6667, 2}, {0.9999999, 2}}) {
+    SCOPED_TRACE(u);
+    const SampledAssembly drawn = sampler.Realise(0, std::vector{u});
+    EXPECT_EQ(drawn.values[0], part);
+    const auto p = static_cast<std::size_t>(part);
+    EXPECT_EQ(drawn.scene.ring.inner.mean_deviation(), parts[p].mean_deviation);
+    std::vector<engine::Harmonic> expected = {{5, 1 * kUm, 0.0}};
+    expected.insert(expected.end(), parts[p].harmonics.begin(), parts[p].harmonics.end());
+    EXPECT_EQ(drawn.scene.ring.inner.harmonics(), expected);
+  }
+}
+
+// The model: per order, the coefficients' mean and one spread. Parts (+-1 um, 0) at order 2
+// and (5, 0) and (7, 0) um at order 3 give order 2 a spread of 1 um about 0 and order 3
+// a spread of 1 um about (6, 0): a coordinate at the normal's 84.13 % point draws one spread
+// above the mean.
+TEST(RingPopulation, TheModelDrawsEachOrdersCoefficientsAboutTheirMeanWithTheirSpread) {
+  const std::vector<MeasuredPart> parts = {Part("a.csv", 1 * kUm, {{2, 1 * kUm, 0.0}, {3, 5 * kUm, 0.0}}),
+                                           Part("b.csv", 3 * kUm, {{2, 1 * kUm, std::numbers::pi}, {3, 7 * kUm, 0.0}})};
+  const AssemblySampler sampler(testing::PaperScene(), RingsFrom(parts, PopulationDraw::kModel));
+  ASSERT_EQ(sampler.dimension(), 5);  // two orders' amplitude and phase, the size
+  EXPECT_EQ(sampler.inputs()[0].name, "ring.order2.amplitude_um");
+  EXPECT_EQ(sampler.inputs()[4].name, "ring.size.mean_deviation_um");
+  const double one_sigma = 0.5 * (1.0 + std::erf(1.0 / std::numbers::sqrt2));
+  const SampledAssembly at_means = sampler.Realise(0, std::vector{0.5, 0.5, 0.5, 0.5, 0.5});
+  EXPECT_NEAR(at_means.values[0], 0.0, 1e-9);  // order 2's mean is zero
+  EXPECT_NEAR(at_means.values[2], 6.0, 1e-9);
+  EXPECT_NEAR(at_means.values[3], 0.0, 1e-9);
+  EXPECT_NEAR(at_means.values[4], 2.0, 1e-9);
+  EXPECT_NEAR(at_means.scene.ring.inner.mean_deviation(), 2 * kUm, 1e-15);
+  const SampledAssembly above = sampler.Realise(0, std::vector{one_sigma, 0.5, 0.5, one_sigma, one_sigma});
+  EXPECT_NEAR(above.values[0], 1.0, 1e-9);   // (1, 0) um: amplitude 1, phase 0
+  EXPECT_NEAR(above.values[1], 0.0, 1e-9);
+  EXPECT_NEAR(above.values[2], std::hypot(6.0, 1.0), 1e-9);  // (6, 1) um
+  EXPECT_NEAR(above.values[3], std::atan2(1.0, 6.0) * 180.0 / std::numbers::pi, 1e-9);
+  EXPECT_NEAR(above.values[4], 2.0 + std::sqrt(2.0), 1e-9);  // sizes 1 and 3 um: spread sqrt 2
+}
+
+// Fitted to many parts drawn from a known law, the model draws that law: the mean and spread
+// of the drawn coefficients approach the law's, within their sampling error.
+TEST(RingPopulation, AModelFittedToManyPartsOfAKnownLawDrawsThatLaw) {
+  constexpr int kParts = 4000;
+  constexpr double kMean = 15 * kUm, kSpread = 4 * kUm;
+  std::vector<MeasuredPart> parts;
+  for (int k = 0; k < kParts; ++k) {
+    const double a = kMean + kSpread * NormalQuantile((k + 0.5) / kParts);
+    const double b = kSpread * NormalQuantile(std::fmod((k * 0.6180339887498949) + 0.5 / kParts, 1.0));
+    parts.push_back(Part("p.csv", 0.0, {{3, std::hypot(a, b), std::atan2(b, a)}}));
+  }
+  const AssemblySampler sampler(testing::PaperScene(), RingsFrom(parts, PopulationDraw::kModel));
+  ASSERT_EQ(sampler.dimension(), 2);  // no size: every part's is 0
+  double sum_a = 0.0, sum_b = 0.0, squares = 0.0;
+  constexpr int kDraws = 4000;
+  for (int k = 0; k < kDraws; ++k) {
+    const std::vector<double> u = {(k + 0.5) / kDraws, std::fmod(k * 0.7548776662466927 + 0.5 / kDraws, 1.0)};
+    const engine::Harmonic h = sampler.Realise(k, u).scene.ring.inner.harmonics().front();
+    const double a = h.amplitude * std::cos(h.phase), b = h.amplitude * std::sin(h.phase);
+    sum_a += a;
+    sum_b += b;
+    squares += (a - kMean) * (a - kMean) + b * b;
+  }
+  EXPECT_NEAR(sum_a / kDraws, kMean, 0.1 * kUm);
+  EXPECT_NEAR(sum_b / kDraws, 0.0, 0.1 * kUm);
+  EXPECT_NEAR(std::sqrt(squares / (2.0 * kDraws)), kSpread, 0.1 * kUm);
+}
+
+TEST(RingPopulation, IsRefusedBesideARingToleranceWithoutPartsOrWithOnePartToModel) {
+  AssemblyTolerances both = RingsFrom({Part("a.csv", 0.0, {})}, PopulationDraw::kResample);
+  both.ring = RingFormTolerance{"", 200 * kUm, {2, 12, 1.0, {}}, {}};
+  EXPECT_THAT([&] { AssemblySampler(testing::PaperScene(), both, Fast()); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("draw it from one")));
+  EXPECT_THAT([] { AssemblySampler(testing::PaperScene(), RingsFrom({}, PopulationDraw::kResample)); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("no parts")));
+  EXPECT_THAT([] { AssemblySampler(testing::PaperScene(), RingsFrom({Part("a.csv", 0.0, {})}, PopulationDraw::kModel)); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("at least 2 parts")));
 }
 
 }  // namespace

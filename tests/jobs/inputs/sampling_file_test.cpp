@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +13,7 @@
 
 #include "jobs/inputs/catalogue_file.h"
 #include "jobs/inputs/input_error.h"
+#include "jobs/inputs/profile_csv.h"
 #include "tests/support/text_files.h"
 
 namespace ringtol::jobs {
@@ -126,6 +129,50 @@ TEST(SamplingFile, BadFilesNameKeyValueAndAllowedRange) {
   EXPECT_THAT(ErrorOf(head + "[tolerances.springs]\nstiffness_percent = 5\n"), HasSubstr("preload_percent"));
   EXPECT_THAT(ErrorOf(head + "[tolerances.ring]\ncircularity_mm = 0.1\ncapability_cp = 2\n"), HasSubstr("<= 1.33"));
   EXPECT_THAT(ErrorOf(head + "colour = 3\n"), HasSubstr("unknown key 'colour'"));
+}
+
+// [population.ring]: the exports of a folder (by name) or a list, each fitted, and a line
+// per part naming its export and the CRC-32 of its bytes.
+TEST(SamplingFile, APopulationOfRingsReadsItsPartsAndWhatIdentifiesThem) {
+  // The examples are campaign files: their [spec] is the campaign reader's.
+  constexpr std::array<std::string_view, 1> kSpec = {"spec"};
+  const std::filesystem::path examples = std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/populations";
+  const SamplingPlan resample = ReadSamplingFile(examples / "resample.toml", kSpec);
+  ASSERT_TRUE(resample.tolerances.ring_population.has_value());
+  const sampling::RingPopulation& rings = *resample.tolerances.ring_population;
+  EXPECT_EQ(rings.draw, sampling::PopulationDraw::kResample);
+  ASSERT_EQ(rings.parts.size(), 20u);
+  EXPECT_EQ(rings.parts.front().name, "ring_01.csv");
+  EXPECT_EQ(rings.parts.back().name, "ring_20.csv");
+  EXPECT_FALSE(resample.tolerances.ring.has_value());
+  // Each part is its export fitted as a scene's measured profile (reference = "nominal").
+  const std::filesystem::path first = examples / "rings/ring_01.csv";
+  const MeasuredFit fit = FitProfileFile(first, 12, resample.scene.ring.inner.radius());
+  EXPECT_EQ(rings.parts.front().harmonics, FormHarmonics(fit.fit, false));
+  EXPECT_EQ(rings.parts.front().mean_deviation, MeanDeviation(fit, resample.scene.ring.inner.radius()));
+  EXPECT_THAT(resample.population, AllOf(HasSubstr("draw = resample, orders = 12"), HasSubstr("ring_01.csv crc32 "),
+                                         HasSubstr("ring_20.csv crc32 ")));
+  EXPECT_EQ(std::count(resample.population.begin(), resample.population.end(), '\n'), 21);
+  EXPECT_EQ(ReadSamplingFile(examples / "model.toml", kSpec).tolerances.ring_population->draw, sampling::PopulationDraw::kModel);
+}
+
+TEST(SamplingFile, ABadPopulationNamesItsKeyAndWhatIsAllowed) {
+  const std::string rings = (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/populations/rings").string();
+  const std::string one = "\"" + rings + "/ring_01.csv\"";
+  const std::string head = kSceneLine + "[population.ring]\norders = 8\n";
+  EXPECT_THAT(ErrorOf(head + "profiles = [" + one + "]\nfolder = \"" + rings + "\"\n"),
+              AllOf(HasSubstr("profiles"), HasSubstr("folder")));
+  EXPECT_THAT(ErrorOf(head), AllOf(HasSubstr("population.ring"), HasSubstr("folder")));
+  EXPECT_THAT(ErrorOf(head + "folder = \"" + rings + "/none\"\n"), HasSubstr("no such folder"));
+  EXPECT_THAT(ErrorOf(head + "profiles = []\n"), AllOf(HasSubstr("population.ring.profiles"), HasSubstr("no profiles")));
+  EXPECT_THAT(ErrorOf(head + "profiles = [\"missing.csv\"]\n"), HasSubstr("no such file"));
+  EXPECT_THAT(ErrorOf(head + "profiles = [" + one + "]\ndraw = \"model\"\n"),
+              AllOf(HasSubstr("population.ring.draw"), HasSubstr("at least 2 parts")));
+  EXPECT_THAT(ErrorOf(head + "profiles = [" + one + "]\ndraw = \"bootstrap\"\n"),
+              AllOf(HasSubstr("population.ring.draw"), HasSubstr("\"resample\", \"model\"")));
+  EXPECT_THAT(ErrorOf(head + "profiles = [" + one + "]\n[tolerances.ring]\nclass = \"waterjet\"\n"),
+              AllOf(HasSubstr("population.ring"), HasSubstr("[tolerances.ring] draws it too")));
+  EXPECT_EQ(ErrorOf(head + "profiles = [" + one + "]\n"), "no error");
 }
 
 TEST(SamplingFile, CampaignCataloguesAddClasses) {

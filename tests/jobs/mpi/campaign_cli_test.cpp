@@ -1017,6 +1017,34 @@ TEST(Campaign, ADispositionGivesItsVerdictAsItsExitCode) {
   }
 }
 
+// A campaign that draws its rings from measured parts keeps what identifies them: its
+// results file names each export with its CRC-32, resuming with the same parts goes on, and
+// resuming after one export changed is refused, naming it.
+TEST(Campaign, APopulationIsPartOfTheResultsIdentityAndAChangedPartIsRefused) {
+  const std::filesystem::path folder = Folder();
+  std::filesystem::copy(std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/populations/rings", folder / "rings");
+  const std::filesystem::path file = folder / "campaign.toml", results = folder / "results.h5";
+  testing::WriteText(file, "scene = \"" + std::string(RINGTOL_SOURCE_DIR) +
+                               "/examples/paper/scene.toml\"\n[design]\nkind = \"monte_carlo\"\nsamples = 8\n"
+                               "[population.ring]\nfolder = \"rings\"\norders = 8\n"
+                               "[tolerances.roller_positions]\nclass = \"IT7\"\n[solver]\nname = \"quasistatic\"\n"
+                               "[outputs]\nlife = false\n");
+  const Outcome run = Campaign(file, results, "--samples 4");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_THAT(jobs::CampaignReader(results).identity().population,
+              AllOf(HasSubstr("draw = resample"), HasSubstr("ring_03.csv crc32 "), HasSubstr("ring_20.csv crc32 ")));
+  const Outcome grown = Campaign(file, results, "--resume --samples 8");
+  ASSERT_EQ(grown.exit_code, 0) << grown.err;
+
+  std::string ring = testing::ReadText(folder / "rings/ring_03.csv");
+  const std::size_t reading = ring.find("\n0.0, ") + 7;
+  ring[reading + 8] = ring[reading + 8] == '9' ? '8' : '9';  // one reading, in its last digits
+  testing::WriteText(folder / "rings/ring_03.csv", ring);
+  const Outcome resumed = Campaign(file, results, "--resume --samples 12");
+  EXPECT_EQ(resumed.exit_code, 1);
+  EXPECT_THAT(resumed.err, AllOf(HasSubstr("population"), HasSubstr("ring_03.csv")));
+}
+
 TEST(Campaign, WithoutTheLifeItSaysSoAndItsReportAndVerifyRead) {
   const std::filesystem::path folder = Folder();
   const std::string life_on = testing::SmallCampaign(std::string(RINGTOL_SOURCE_DIR) + "/examples/paper/scene.toml", 3, 8);
