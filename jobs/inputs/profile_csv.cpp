@@ -278,8 +278,8 @@ void RequireTheFitToExplainTheOutline(const MeasuredProfile& profile, const samp
                                source_name, what, orders, kMinRSquared));
 }
 
-void RequireAFormOfTheRingsSize(const MeasuredProfile& profile, const sampling::FourierFit& fit,
-                                const std::string& source_name, std::optional<double> ring_radius) {
+void RequireAFormOfThePartsSize(const MeasuredProfile& profile, const sampling::FourierFit& fit,
+                                const std::string& source_name, std::optional<double> ring_radius, std::string_view part) {
   const bool radii = profile.quantity == ProfileQuantity::kRadius;
   if (radii) ring_radius = ring_radius.value_or(fit.mean);
   const double form = AmplitudeSum(FormHarmonics(fit, false));
@@ -289,7 +289,7 @@ void RequireAFormOfTheRingsSize(const MeasuredProfile& profile, const sampling::
   const double limit = radii ? share_limit : std::min(share_limit, kMaxDeviationForm);
   if (form <= limit) return;
   const std::string bound =
-      limit == share_limit ? fmt::format("more than {} % of a ring of {} mm", 100.0 * kSameRingShare,
+      limit == share_limit ? fmt::format("more than {} % of a {} of {} mm", 100.0 * kSameRingShare, part,
                                          ShowDerived(units::InMillimetres(*ring_radius)))
                            : fmt::format("more than {} mm, five times the loosest circularity class of the catalogue",
                                          units::InMillimetres(kMaxDeviationForm));
@@ -302,7 +302,8 @@ void RequireAFormOfTheRingsSize(const MeasuredProfile& profile, const sampling::
 
 }  // namespace
 
-MeasuredFit FitProfileFile(const std::filesystem::path& file, int orders, std::optional<double> ring_radius) {
+MeasuredFit FitProfileFile(const std::filesystem::path& file, int orders, std::optional<double> ring_radius,
+                           std::string_view part) {
   const std::string name = file.string();
   const MeasuredProfile profile = ReadProfileCsv(file);
   RequireDegreesUnderAngleDeg(profile, name);
@@ -313,7 +314,7 @@ MeasuredFit FitProfileFile(const std::filesystem::path& file, int orders, std::o
     throw InputError(fmt::format("{}: {}", name, error.what()));
   }
   RequireTheFitToExplainTheOutline(profile, measured.fit, orders, name);
-  RequireAFormOfTheRingsSize(profile, measured.fit, name, ring_radius);
+  RequireAFormOfThePartsSize(profile, measured.fit, name, ring_radius, part);
   return measured;
 }
 
@@ -330,18 +331,18 @@ double MeanDeviation(const MeasuredFit& measured, double ring_radius) {
   return measured.quantity == ProfileQuantity::kRadius ? measured.fit.mean - ring_radius : measured.fit.mean;
 }
 
-std::string OtherRingReason(const MeasuredFit& measured, double ring_radius, const std::string& file) {
+std::string OtherPartReason(const MeasuredFit& measured, double ring_radius, const std::string& file,
+                            std::string_view radius_key, std::string_view part) {
   const double offset = MeanDeviation(measured, ring_radius);
   if (!(std::abs(offset) > kSameRingShare * ring_radius)) return {};
   const std::string what =
       measured.quantity == ProfileQuantity::kRadius
-          ? fmt::format("its mean radius {} mm lies {} mm from ring.inner_radius_mm = {} mm",
-                        units::InMillimetres(measured.fit.mean), ShowDerived(units::InMillimetres(offset)),
-                        units::InMillimetres(ring_radius))
-          : fmt::format("its mean deviation is {} mm on a ring of {} mm", ShowDerived(units::InMillimetres(offset)),
+          ? fmt::format("its mean radius {} mm lies {} mm from {} = {} mm", units::InMillimetres(measured.fit.mean),
+                        ShowDerived(units::InMillimetres(offset)), radius_key, units::InMillimetres(ring_radius))
+          : fmt::format("its mean deviation is {} mm on a {} of {} mm", ShowDerived(units::InMillimetres(offset)), part,
                         units::InMillimetres(ring_radius));
-  return fmt::format("{}: {}, more than {} %: a profile of another ring (or deviations in another unit)", file, what,
-                     100.0 * kSameRingShare);
+  return fmt::format("{}: {}, more than {} %: a profile of another {} (or deviations in another unit)", file, what,
+                     100.0 * kSameRingShare, part);
 }
 
 std::filesystem::path ReadProfilePath(const Site& site, const std::filesystem::path& folder, std::string_view allowed) {

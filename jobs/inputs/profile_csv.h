@@ -85,7 +85,9 @@ inline constexpr double kMaxDeviationForm = 1e-3;  // [m]
 // "<file>: <what the numbers show>: <likely cause>; allowed: ...", naming the angles' span,
 // the fit's R^2 or the form's size. A form as large as the radius (a fit gone wild across a
 // gap) is left to the caller, whose message can blame the orders.
-MeasuredFit FitProfileFile(const std::filesystem::path& file, int orders, std::optional<double> ring_radius = {});
+// `part` names what the export is a profile of in messages: "ring" or "roller".
+MeasuredFit FitProfileFile(const std::filesystem::path& file, int orders, std::optional<double> ring_radius = {},
+                           std::string_view part = "ring");
 
 // The fit's harmonics that describe the part: orders 2..N, or 1..N when
 // keep_eccentricity; in order, amplitudes [m] and phases [rad] as fitted.
@@ -97,12 +99,12 @@ std::vector<engine::Harmonic> FormHarmonics(const sampling::FourierFit& fit, boo
 struct Site;
 std::filesystem::path ReadProfilePath(const Site& site, const std::filesystem::path& folder, std::string_view allowed);
 
-// What a measured ring's export is held to (a scene's ring.measured_profile, a campaign's
-// [population.ring]):
+// What a measured part's export is held to (a scene's ring.measured_profile or
+// rollers[].measured_profile, a campaign's [population.ring]):
 //   kNominal (the default): the export's own size counts: a radius file's mean radius less
 //     the ring's nominal inner radius, or a deviation file's mean deviation, becomes the
 //     ring's mean deviation; a size more than kSameRingShare of the radius from nominal is
-//     a profile of another ring, refused as such (OtherRingReason);
+//     a profile of another part, refused as such (OtherPartReason);
 //   kOwnMean: the form alone, about the export's own mean: its harmonics on a ring of any
 //     nominal size (a measured 302 mm ring's form on a 150 mm design).
 enum class ProfileReference { kNominal, kOwnMean };
@@ -112,9 +114,11 @@ inline constexpr NameTable<ProfileReference, 2> kProfileReferenceNames = {
 // [m] The export's size about a ring of nominal inner radius `ring_radius`: a radius file's
 // mean radius less it, a deviation file's mean deviation.
 double MeanDeviation(const MeasuredFit& measured, double ring_radius);
-// Why `file`'s export cannot be a profile of that ring held to its nominal size: "its mean
-// radius 310 mm lies 8 mm from ring.inner_radius_mm = 302 mm, more than 1 %: a profile of
-// another ring (or deviations in another unit)"; empty when it can be one.
-std::string OtherRingReason(const MeasuredFit& measured, double ring_radius, const std::string& file);
+// Why `file`'s export cannot be a profile of that part (`part`: "ring", "roller") held to its
+// nominal size, whose key `radius_key` names: "its mean radius 310 mm lies 8 mm from
+// ring.inner_radius_mm = 302 mm, more than 1 %: a profile of another ring (or deviations in
+// another unit)"; empty when it can be one.
+std::string OtherPartReason(const MeasuredFit& measured, double ring_radius, const std::string& file,
+                            std::string_view radius_key = "ring.inner_radius_mm", std::string_view part = "ring");
 
 }  // namespace ringtol::jobs

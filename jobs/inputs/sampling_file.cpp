@@ -309,7 +309,7 @@ void ResolveRingPopulation(const TableReader& table, RingPopulationInput in, Sam
     }
     sampling::MeasuredPart part{file.filename().string(), 0.0, FormHarmonics(measured.fit, in.keep_eccentricity)};
     if (in.reference == ProfileReference::kNominal) {
-      if (const std::string other = OtherRingReason(measured, radius, file.string()); !other.empty()) {
+      if (const std::string other = OtherPartReason(measured, radius, file.string()); !other.empty()) {
         table.FailAbout(key, table.KeyPath(key), other,
                         "reference = \"own_mean\" to take the parts' form alone, or profiles of rings of this size");
       }

@@ -107,8 +107,8 @@ void RequireDeviationsBelowRadius(const TableReader& table, const engine::PolarP
 
 // ---- [ring]
 
-// ring.measured_profile: a roundness tester's export, fitted on reading, held to the ring
-// as its `reference` says (ProfileReference, profile_csv.h).
+// ring.measured_profile, rollers[].measured_profile: a roundness tester's export, fitted on
+// reading, held to the part as its `reference` says (ProfileReference, profile_csv.h).
 
 struct MeasuredProfileInput {
   std::filesystem::path file;  // resolved against the scene file's folder
@@ -139,8 +139,8 @@ std::vector<Field<MeasuredProfileInput>> MeasuredProfileFields(const std::filesy
   };
 }
 
-// What a measured profile adds to the ring's keys.
-struct MeasuredRing {
+// What a measured profile adds to a part's keys.
+struct MeasuredOutline {
   MeasuredFit fit;
   ProfileReference reference = ProfileReference::kNominal;
   std::vector<engine::Harmonic> harmonics;
@@ -148,14 +148,15 @@ struct MeasuredRing {
 };
 
 // Errors of the CSV and of the fit come with the key's position and path in front:
-// "scene.toml:5:1: ring.measured_profile: ring.csv:7: radius_mm = abc: ...". ring_radius
-// [m]: the ring's nominal inner radius, which the export's form is held to.
-MeasuredRing ReadMeasuredProfile(const Site& site, const std::filesystem::path& folder, double ring_radius) {
+// "scene.toml:5:1: ring.measured_profile: ring.csv:7: radius_mm = abc: ...". radius [m]:
+// the part's nominal radius, which the export's form is held to; `part`: "ring", "roller".
+MeasuredOutline ReadMeasuredProfile(const Site& site, const std::filesystem::path& folder, double radius,
+                                    std::string_view part) {
   const TableReader table(ReadTable(site, kMeasuredProfileAllowed), site.key_path, site.file);
   MeasuredProfileInput in;
   table.Read(MeasuredProfileFields(folder), in);
   try {
-    MeasuredFit measured = FitProfileFile(in.file, in.orders, ring_radius);
+    MeasuredFit measured = FitProfileFile(in.file, in.orders, radius, part);
     std::vector<engine::Harmonic> harmonics = FormHarmonics(measured.fit, in.keep_eccentricity);
     return {std::move(measured), in.reference, std::move(harmonics), in.file.string()};
   } catch (const InputError& error) {
@@ -172,10 +173,27 @@ struct RingInput {
   std::optional<double> spin_inertia;  // [kg m^2]
   double mean_deviation = 0.0;         // [m]
   std::vector<engine::Harmonic> harmonics;
-  std::optional<MeasuredRing> measured;
+  std::optional<MeasuredOutline> measured;
   double youngs_modulus = engine::Material{}.youngs_modulus;  // [Pa]
   double poisson_ratio = engine::Material{}.poisson_ratio;    // [-]
 };
+
+// A measured outline's size and form joined to a part's own keys, once its sanity is
+// checked: `mean_deviation` and `harmonics` are the part's, `radius` its nominal radius,
+// `radius_key` that key (for the message refusing another part's profile).
+void JoinMeasured(const TableReader& table, const MeasuredOutline& measured, double radius, std::string_view radius_key,
+                  std::string_view part, double& mean_deviation, std::vector<engine::Harmonic>& harmonics) {
+  // A form as large as the part is a fit gone wild (too many orders across a gap), which
+  // RequireDeviationsBelowRadius blames later; the check here is for sane fits. Their
+  // form's size was checked on reading (FitProfileFile).
+  const bool sane = AmplitudeSum(measured.harmonics) < radius;
+  if (measured.reference == ProfileReference::kNominal && sane) {
+    const std::string other = OtherPartReason(measured.fit, radius, measured.file, table.KeyPath(radius_key), part);
+    if (!other.empty()) table.FailAbout("measured_profile", table.KeyPath("measured_profile"), other, kOwnMeanAdvice);
+  }
+  if (measured.reference == ProfileReference::kNominal) mean_deviation += MeanDeviation(measured.fit, radius);
+  harmonics.insert(harmonics.end(), measured.harmonics.begin(), measured.harmonics.end());
+}
 
 std::vector<Field<RingInput>> RingFields(const std::filesystem::path& folder) {
   std::vector<Field<RingInput>> fields = {
@@ -189,7 +207,7 @@ std::vector<Field<RingInput>> RingFields(const std::filesystem::path& folder) {
       HarmonicList(scene_key::kHarmonics, Presence::kOptional, &RingInput::harmonics),
       Field<RingInput>{"measured_profile", Presence::kOptional, std::string(kMeasuredProfileAllowed),
                        [folder](const Site& site, RingInput& in) {
-                         in.measured = ReadMeasuredProfile(site, folder, in.inner_radius);
+                         in.measured = ReadMeasuredProfile(site, folder, in.inner_radius, "ring");
                        },
                        {}, {}},
   };
@@ -202,18 +220,7 @@ void ReadRing(const TableReader& table, const std::filesystem::path& folder, eng
   RingInput in;
   table.Read(RingFields(folder), in);
   if (in.measured) {
-    const MeasuredRing& measured = *in.measured;
-    // A form as large as the ring is a fit gone wild (too many orders across a gap), which
-    // RequireDeviationsBelowRadius blames below; the check here is for sane fits. Their
-    // form's size was checked on reading (FitProfileFile).
-    const bool sane = AmplitudeSum(measured.harmonics) < in.inner_radius;
-    if (measured.reference == ProfileReference::kNominal && sane) {
-      if (const std::string other = OtherRingReason(measured.fit, in.inner_radius, measured.file); !other.empty()) {
-        table.FailAbout("measured_profile", table.KeyPath("measured_profile"), other, kOwnMeanAdvice);
-      }
-    }
-    if (measured.reference == ProfileReference::kNominal) in.mean_deviation += MeanDeviation(measured.fit, in.inner_radius);
-    in.harmonics.insert(in.harmonics.end(), measured.harmonics.begin(), measured.harmonics.end());
+    JoinMeasured(table, *in.measured, in.inner_radius, scene_key::kInnerRadiusMm, "ring", in.mean_deviation, in.harmonics);
   }
   if (!(in.outer_radius > in.inner_radius)) {
     table.Fail(scene_key::kOuterRadiusMm, "not larger than the inner radius",
@@ -281,11 +288,13 @@ struct RollerInput {
   double spin_phase = 0.0;                // [rad]
   double mean_deviation = 0.0;            // [m]
   std::vector<engine::Harmonic> harmonics;
+  std::optional<MeasuredOutline> measured;
   double youngs_modulus = engine::Material{}.youngs_modulus;  // [Pa]
   double poisson_ratio = engine::Material{}.poisson_ratio;    // [-]
 };
 
-std::vector<Field<RollerInput>> RollerFields() {
+// folder: the scene file's, against which rollers[].measured_profile.file is resolved.
+std::vector<Field<RollerInput>> RollerFields(const std::filesystem::path& folder) {
   const auto is_spring = [](const RollerInput& roller) { return roller.mount == RollerMount::kSpring; };
   // mount comes before the spring keys: whether they are allowed depends on it.
   std::vector<Field<RollerInput>> fields = {
@@ -315,15 +324,23 @@ std::vector<Field<RollerInput>> RollerFields() {
       Number(scene_key::kSpinPhaseDeg, Presence::kOptional, units::kRadiansPerDegree, AnyFinite(), &RollerInput::spin_phase),
       Number(scene_key::kMeanDeviationMm, Presence::kOptional, units::kMetresPerMillimetre, AnyFinite(), &RollerInput::mean_deviation),
       HarmonicList(scene_key::kHarmonics, Presence::kOptional, &RollerInput::harmonics),
+      Field<RollerInput>{"measured_profile", Presence::kOptional, std::string(kMeasuredProfileAllowed),
+                         [folder](const Site& site, RollerInput& in) {
+                           in.measured = ReadMeasuredProfile(site, folder, in.radius, "roller");
+                         },
+                         {}, {}},
   };
   AddMaterialFields(fields);
   return fields;
 }
 
-void ReadRoller(const TableReader& table, std::size_t index, engine::Scene& scene) {
+void ReadRoller(const TableReader& table, std::size_t index, const std::filesystem::path& folder, engine::Scene& scene) {
   RollerInput in;
   in.name = fmt::format("roller{}", index + 1);
-  table.Read(RollerFields(), in);
+  table.Read(RollerFields(folder), in);
+  if (in.measured) {
+    JoinMeasured(table, *in.measured, in.radius, scene_key::kRadiusMm, "roller", in.mean_deviation, in.harmonics);
+  }
   const double ring_radius = scene.ring.inner.radius();
   if (!(in.radius < ring_radius)) {
     table.Fail(scene_key::kRadiusMm, "not smaller than the ring's inner radius",
@@ -551,7 +568,10 @@ std::vector<Field<engine::Scene>> SceneFields(const std::filesystem::path& folde
       Section<Scene>("ring", Presence::kRequired,
                      [folder](const TableReader& table, Scene& scene) { ReadRing(table, folder, scene); }),
       Section<Scene>("roller_positions", Presence::kOptional, ReadRollerPositions),
-      Sections<Scene>("rollers", Presence::kRequired, kMinRollers, ReadRoller),
+      Sections<Scene>("rollers", Presence::kRequired, kMinRollers,
+                      [folder](const TableReader& table, std::size_t index, Scene& scene) {
+                        ReadRoller(table, index, folder, scene);
+                      }),
       Section<Scene>("contact", Presence::kOptional, ReadContact),
       Section<Scene>(scene_key::kFriction, Presence::kOptional, ReadFriction),
       Section<Scene>("sensor", Presence::kOptional,

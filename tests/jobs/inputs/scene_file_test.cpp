@@ -650,6 +650,33 @@ TEST(SceneFile, MeasuredProfileGivesTheRingTheFittedHarmonics) {
   }
 }
 
+// rollers[].measured_profile: a roller's export, fitted as the ring's is and held to the
+// roller's radius: its form becomes the outline's harmonics, its size (reference "nominal")
+// the outline's mean deviation; an export of another roller's size is refused naming the
+// roller's radius key.
+TEST(SceneFile, ARollersMeasuredProfileGivesItsOutlineTheFittedSizeAndForm) {
+  const std::filesystem::path folder = MeasuredFolder();
+  constexpr double kRollerRadius = 5e-3;  // [m] fixed_a's
+  constexpr double kSize = -2e-6;         // [m] its export's mean radius less 5 mm
+  const std::vector<engine::Harmonic> form = {{2, 1.5e-6, 0.3}, {3, 2e-6, -1.0}, {5, 0.8e-6, 1.7}};
+  WriteText(folder / "roller.csv", MeasuredCsv("radius_mm", 1e-3, kRollerRadius + kSize, form));
+  WriteText(folder / "scene.toml", FixedAWith("harmonics = []\n", "harmonics = []\nmeasured_profile = { file = \"roller.csv\", orders = 6 }\n"));
+  const engine::PolarProfile& outline = ReadScene(folder / "scene.toml").rollers[1].outline;
+  EXPECT_EQ(outline.radius(), kRollerRadius);
+  const double round_off = (2 * 6 + 1) * 2.0 * kEps * 10.0 * kRollerRadius;
+  EXPECT_NEAR(outline.mean_deviation(), kSize, round_off);
+  for (int n = 1; n <= 6; ++n) {
+    SCOPED_TRACE("order " + std::to_string(n));
+    EXPECT_NEAR(outline.cos_coefficient(n), CosCoefficient(form, n), round_off);
+    EXPECT_NEAR(outline.sin_coefficient(n), SinCoefficient(form, n), round_off);
+  }
+  WriteText(folder / "other.csv", MeasuredCsv("radius_mm", 1e-3, 5.2e-3, form));
+  WriteText(folder / "scene.toml", FixedAWith("harmonics = []\n", "harmonics = []\nmeasured_profile = { file = \"other.csv\", orders = 6 }\n"));
+  const std::string error = ringtol::testing::MessageOf<InputError>([&] { ReadScene(folder / "scene.toml"); });
+  EXPECT_THAT(error, AllOf(HasSubstr("rollers[1].measured_profile"), HasSubstr("from rollers[1].radius_mm = 5 mm"),
+                           HasSubstr("a profile of another roller"), HasSubstr("own_mean")));
+}
+
 TEST(SceneFile, MeasuredProfileAddsToTheRingsOwnHarmonicsAndMeanDeviation) {
   const std::filesystem::path folder = MeasuredFolder();
   constexpr std::string_view kOwnKeys = "mean_deviation_mm = 0.0\nharmonics = []                    # e.g.";
