@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <numeric>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -44,13 +45,42 @@ void CheckCapability(const Capability& c, const std::string& what, bool form) {
 
 double Capability::Coverage() const { return std::erf(3.0 * cp / std::numbers::sqrt2); }
 
+namespace {
+
+// Drawn errors add to the base scene's: harmonics of equal order add, as do mean deviations.
+void AddToProfile(engine::PolarProfile& profile, const std::vector<engine::Harmonic>& added, double mean) {
+  if (added.empty() && mean == 0.0) return;
+  std::vector<engine::Harmonic> all = profile.harmonics();
+  all.insert(all.end(), added.begin(), added.end());
+  profile = engine::PolarProfile(profile.radius(), profile.mean_deviation() + mean, std::move(all));
+}
+
+}  // namespace
+
+engine::Scene WithRollerParts(const engine::Scene& base, const PartPopulation& batch, std::span<const std::size_t> parts) {
+  if (parts.size() != base.rollers.size()) {
+    throw std::invalid_argument("WithRollerParts: " + std::to_string(parts.size()) + " parts for " +
+                                std::to_string(base.rollers.size()) + " rollers");
+  }
+  engine::Scene scene = base;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (parts[i] >= batch.parts.size()) {
+      throw std::invalid_argument("WithRollerParts: part " + std::to_string(parts[i]) + " of a batch of " +
+                                  std::to_string(batch.parts.size()));
+    }
+    const MeasuredPart& part = batch.parts[parts[i]];
+    AddToProfile(scene.rollers[i].outline, part.harmonics, part.mean_deviation);
+  }
+  return scene;
+}
+
 // One toleranced part of the assembly and the coordinates it draws from.
 struct AssemblySampler::Component {
   enum class Kind {
     kRingForm,
-    kRingPart,       // a measured part, resampled
-    kRingOrderModel, // one order of a population model
-    kRingSizeModel,  // a population model's size
+    kPart,        // a measured part, resampled (the ring's, or a roller's without replacement)
+    kOrderModel,  // one order of a population model, of the ring or a roller
+    kSizeModel,   // a population model's size
     kRollerEccentricity,
     kRollerForm,
     kRollerSize,
@@ -70,8 +100,9 @@ struct AssemblySampler::Component {
   double lower = 0.0, upper = 0.0;  // size: accepted interval [m]
   SpectrumShape shape;              // form only
   std::vector<double> relative_scales;  // form only: RelativeScales(shape)
-  int order = 0;                    // kRingOrderModel: its order
-  double mean_b = 0.0;              // kRingOrderModel: mean of C sin phi (`mean`: of C cos phi)
+  int order = 0;                    // kOrderModel: its order
+  double mean_b = 0.0;              // kOrderModel: mean of C sin phi (`mean`: of C cos phi)
+  double size_scale = 1.0;          // kSizeModel: recorded value per metre of radius (2: a diameter)
 };
 
 // The construction's steps, one per kind of tolerance: each validates its tolerance and
@@ -96,15 +127,23 @@ class AssemblySampler::Builder {
     AddInputs(std::move(c), ErrorSource::kRingShape, "ring", SpectrumInputs(t.spectrum), "ring");
   }
 
-  void AddRingPopulation(const RingPopulation& population) {
+  // The ring's population (roller = -1, prefix "ring") or one roller's share of the rollers'
+  // (its index, prefix "roller.<name>"): named as the class's draws of the same part are.
+  void AddPopulation(const PartPopulation& population, int roller, const std::string& prefix) {
+    const bool ring = roller < 0;
+    const std::string component = ring ? prefix : prefix + ".shape";
+    const ErrorSource source = ring ? ErrorSource::kRingShape : ErrorSource::kRollerShape;
     const std::size_t m = population.parts.size();
-    if (m == 0) throw std::invalid_argument("the ring population has no parts");
+    if (m == 0) throw std::invalid_argument(std::string(ring ? "the ring" : "the rollers'") + " population has no parts");
     if (population.draw == PopulationDraw::kResample) {
-      AddInputs(Component(Component::Kind::kRingPart), ErrorSource::kRingShape, "ring", {{"part_index", 0}},
-                "ring.population");
+      AddInputs(Component(Component::Kind::kPart, roller), source, component, {{"part_index", 0}},
+                prefix + ".population");
       return;
     }
-    if (m < 2) throw std::invalid_argument("a ring population model needs at least 2 parts; it has 1");
+    if (m < 2) {
+      throw std::invalid_argument(std::string(ring ? "a ring" : "a roller") +
+                                  " population model needs at least 2 parts; it has 1");
+    }
     // Per order, the parts' coefficients; an order a part lacks is 0 there.
     std::map<int, std::vector<std::pair<double, double>>> coefficients;
     for (std::size_t p = 0; p < m; ++p) {
@@ -118,7 +157,7 @@ class AssemblySampler::Builder {
     const double parts = static_cast<double>(m);
     for (auto& [order, list] : coefficients) {
       list.resize(m, {0.0, 0.0});
-      Component c(Component::Kind::kRingOrderModel);
+      Component c(Component::Kind::kOrderModel, roller);
       c.order = order;
       for (const auto& [a, b] : list) {
         c.mean += a / parts;
@@ -128,15 +167,18 @@ class AssemblySampler::Builder {
       for (const auto& [a, b] : list) squares += (a - c.mean) * (a - c.mean) + (b - c.mean_b) * (b - c.mean_b);
       // Two coordinates share the variance, each with m - 1 degrees of freedom.
       c.sigma = std::sqrt(squares / (2.0 * (parts - 1.0)));
-      AddInputs(std::move(c), ErrorSource::kRingShape, "ring", {{"amplitude_um", order}, {"phase_deg", order}}, "ring");
+      AddInputs(std::move(c), source, component, {{"amplitude_um", order}, {"phase_deg", order}}, prefix);
     }
-    Component size(Component::Kind::kRingSizeModel);
+    Component size(Component::Kind::kSizeModel, roller);
+    // A roller's size is stated as its class states it, a mean diameter deviation.
+    size.size_scale = ring ? 1.0 : 2.0;
     for (const MeasuredPart& part : population.parts) size.mean += part.mean_deviation / parts;
     double squares = 0.0;
     for (const MeasuredPart& part : population.parts) squares += (part.mean_deviation - size.mean) * (part.mean_deviation - size.mean);
     size.sigma = std::sqrt(squares / (parts - 1.0));
     if (size.mean != 0.0 || size.sigma > 0.0) {
-      AddInputs(std::move(size), ErrorSource::kRingShape, "ring", {{"mean_deviation_um", 0}}, "ring.size");
+      AddInputs(std::move(size), source, component,
+                {{ring ? "mean_deviation_um" : "mean_diameter_deviation_um", 0}}, prefix + ".size");
     }
   }
 
@@ -334,14 +376,27 @@ AssemblySampler::AssemblySampler(engine::Scene base, AssemblyTolerances toleranc
   if (tolerances_.ring && tolerances_.ring_population) {
     throw std::invalid_argument("the ring has a form tolerance and a population: draw it from one");
   }
+  if (tolerances_.roller_population) {
+    if (std::any_of(tolerances_.roller_shapes.begin(), tolerances_.roller_shapes.end(),
+                    [](const auto& shape) { return shape.has_value(); })) {
+      throw std::invalid_argument("the rollers have a shape tolerance and a population: draw them from one");
+    }
+    const PartPopulation& batch = *tolerances_.roller_population;
+    if (batch.draw == PopulationDraw::kResample && !batch.parts.empty() && batch.parts.size() < rollers) {
+      throw std::invalid_argument("the rollers' batch has " + std::to_string(batch.parts.size()) +
+                                  " parts for the scene's " + std::to_string(rollers) +
+                                  " rollers; resampling takes each part once");
+    }
+  }
   if (tolerances_.ring) builder.AddRingForm(*tolerances_.ring);
-  if (tolerances_.ring_population) builder.AddRingPopulation(*tolerances_.ring_population);
+  if (tolerances_.ring_population) builder.AddPopulation(*tolerances_.ring_population, -1, "ring");
   for (std::size_t i = 0; i < rollers; ++i) {
     const engine::Roller& roller = base_.rollers[i];
     const std::string prefix = "roller." + roller.name;
     const int index = static_cast<int>(i);
     if (i < tolerances_.roller_shapes.size() && tolerances_.roller_shapes[i])
       builder.AddRollerShape(index, prefix, *tolerances_.roller_shapes[i]);
+    if (tolerances_.roller_population) builder.AddPopulation(*tolerances_.roller_population, index, prefix);
     if (i < tolerances_.roller_positions.size() && tolerances_.roller_positions[i])
       builder.AddRollerPosition(index, prefix, *tolerances_.roller_positions[i]);
     if (i < tolerances_.springs.size() && tolerances_.springs[i])
@@ -404,6 +459,12 @@ SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const dou
 
   std::vector<engine::Harmonic> ring_harmonics;
   double ring_mean = 0.0;
+  // The rollers' batch parts not yet taken by an earlier roller of this assembly.
+  std::vector<std::size_t> batch_left;
+  if (tolerances_.roller_population) {
+    batch_left.resize(tolerances_.roller_population->parts.size());
+    std::iota(batch_left.begin(), batch_left.end(), std::size_t{0});
+  }
   std::vector<std::vector<engine::Harmonic>> roller_harmonics(scene.rollers.size());
   std::vector<double> roller_mean(scene.rollers.size(), 0.0);
 
@@ -446,10 +507,10 @@ SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const dou
           harmonics = {{1, Rayleigh(c.sigma, w[0]), UniformPhase(w[1])}};
           inside = 2.0 * harmonics[0].amplitude <= c.tolerance;
           break;
-        case Component::Kind::kRingPart:
-        case Component::Kind::kRingSizeModel:
+        case Component::Kind::kPart:
+        case Component::Kind::kSizeModel:
           break;
-        case Component::Kind::kRingOrderModel: {
+        case Component::Kind::kOrderModel: {
           const double a = c.mean + c.sigma * StandardNormal(w[0]);
           const double b = c.mean_b + c.sigma * StandardNormal(w[1]);
           harmonics = {{c.order, std::hypot(a, b), std::atan2(b, a)}};
@@ -489,23 +550,33 @@ SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const dou
         values[0] = drawn * units::kMicrometresPerMetre;
         roller_mean[r] += drawn / 2.0;  // the profile's mean radius deviation
         break;
-      case Component::Kind::kRingPart: {
-        const std::vector<MeasuredPart>& parts = tolerances_.ring_population->parts;
-        const auto part = std::min(parts.size() - 1, static_cast<std::size_t>(w[0] * static_cast<double>(parts.size())));
+      case Component::Kind::kPart: {
+        const bool ring = c.roller < 0;
+        const std::vector<MeasuredPart>& parts = (ring ? tolerances_.ring_population : tolerances_.roller_population)->parts;
+        std::size_t part = 0;
+        if (ring) {
+          part = std::min(parts.size() - 1, static_cast<std::size_t>(w[0] * static_cast<double>(parts.size())));
+        } else {
+          const std::size_t left = batch_left.size();
+          const auto at = std::min(left - 1, static_cast<std::size_t>(w[0] * static_cast<double>(left)));
+          part = batch_left[at];
+          batch_left.erase(batch_left.begin() + static_cast<std::ptrdiff_t>(at));
+        }
         values[0] = static_cast<double>(part);
-        ring_harmonics.insert(ring_harmonics.end(), parts[part].harmonics.begin(), parts[part].harmonics.end());
-        ring_mean += parts[part].mean_deviation;
+        auto& target = ring ? ring_harmonics : roller_harmonics[r];
+        target.insert(target.end(), parts[part].harmonics.begin(), parts[part].harmonics.end());
+        (ring ? ring_mean : roller_mean[r]) += parts[part].mean_deviation;
         break;
       }
-      case Component::Kind::kRingOrderModel:
+      case Component::Kind::kOrderModel:
         values[0] = harmonics[0].amplitude * units::kMicrometresPerMetre;
         values[1] = harmonics[0].phase * units::kDegreesPerRadian;
-        ring_harmonics.push_back(harmonics[0]);
+        (c.roller < 0 ? ring_harmonics : roller_harmonics[r]).push_back(harmonics[0]);
         break;
-      case Component::Kind::kRingSizeModel: {
+      case Component::Kind::kSizeModel: {
         const double drawn_size = c.mean + c.sigma * StandardNormal(w[0]);
-        values[0] = drawn_size * units::kMicrometresPerMetre;
-        ring_mean += drawn_size;
+        values[0] = c.size_scale * drawn_size * units::kMicrometresPerMetre;
+        (c.roller < 0 ? ring_mean : roller_mean[r]) += drawn_size;
         break;
       }
       case Component::Kind::kPosition: {
@@ -527,15 +598,8 @@ SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const dou
     }
   }
 
-  auto rebuild = [](engine::PolarProfile& profile, const std::vector<engine::Harmonic>& added, double mean) {
-    if (added.empty() && mean == 0.0) return;
-    std::vector<engine::Harmonic> all = profile.harmonics();
-    all.insert(all.end(), added.begin(), added.end());
-    profile = engine::PolarProfile(profile.radius(), profile.mean_deviation() + mean, std::move(all));
-  };
-  rebuild(scene.ring.inner, ring_harmonics, ring_mean);
-  for (std::size_t i = 0; i < scene.rollers.size(); ++i)
-    rebuild(scene.rollers[i].outline, roller_harmonics[i], roller_mean[i]);
+  AddToProfile(scene.ring.inner, ring_harmonics, ring_mean);
+  for (std::size_t i = 0; i < scene.rollers.size(); ++i) AddToProfile(scene.rollers[i].outline, roller_harmonics[i], roller_mean[i]);
   return out;
 }
 
@@ -557,6 +621,16 @@ engine::FastestHarmonic FastestDrawnHarmonic(const engine::Scene& base, const As
     for (const MeasuredPart& part : tolerances.ring_population->parts) {
       for (const engine::Harmonic& h : part.harmonics) {
         if (h.order > fastest.rate) fastest = {static_cast<double>(h.order), -1, h.order};
+      }
+    }
+  }
+  if (tolerances.roller_population) {
+    for (const MeasuredPart& part : tolerances.roller_population->parts) {
+      for (const engine::Harmonic& h : part.harmonics) {
+        for (std::size_t i = 0; i < base.rollers.size(); ++i) {
+          const double rate = h.order * engine::SpinRatio(base, static_cast<int>(i));
+          if (rate > fastest.rate) fastest = {rate, static_cast<int>(i), h.order};
+        }
       }
     }
   }

@@ -87,7 +87,8 @@ struct MeasuredPart {
 
 // How parts are drawn from a measured population (docs/usage.md, "Populations of measured
 // parts"). kResample: each assembly takes one of the measured parts, every part equally
-// likely. kModel: per harmonic order the Fourier coefficients (C cos phi, C sin phi) of the
+// likely; rollers take theirs without replacement, as from a batch on the bench (the i-th
+// roller of the scene among the B - i parts left). kModel: per harmonic order the Fourier coefficients (C cos phi, C sin phi) of the
 // parts are a two-dimensional normal law, their mean (a systematic lobe at a fixed phase)
 // and one isotropic variance fitted to the parts, so that the amplitude is Rice distributed
 // about that mean with uniform phase where it is zero; the size likewise normal. It draws
@@ -96,8 +97,8 @@ enum class PopulationDraw { kResample, kModel };
 inline constexpr NameTable<PopulationDraw, 2> kPopulationDrawNames = {
     {{PopulationDraw::kResample, "resample"}, {PopulationDraw::kModel, "model"}}};
 
-struct RingPopulation {
-  std::vector<MeasuredPart> parts;  // >= 1 to resample, >= 2 to model
+struct PartPopulation {
+  std::vector<MeasuredPart> parts;  // >= 1 to resample (rollers: >= the scene's), >= 2 to model
   PopulationDraw draw = PopulationDraw::kResample;
 };
 
@@ -105,7 +106,9 @@ struct RingPopulation {
 struct AssemblyTolerances {
   std::optional<RingFormTolerance> ring;
   // Rings drawn from measured parts instead of a class: exclusive with `ring`.
-  std::optional<RingPopulation> ring_population;
+  std::optional<PartPopulation> ring_population;
+  // Every roller's running surface from a measured batch: exclusive with `roller_shapes`.
+  std::optional<PartPopulation> roller_population;
   std::vector<std::optional<RollerShapeTolerance>> roller_shapes;  // empty or one per scene roller
   std::vector<std::optional<PositionTolerance>> roller_positions;  // empty or one per scene roller
   std::vector<std::optional<SpringTolerance>> springs;             // empty or one per scene roller; springs only
@@ -206,6 +209,11 @@ struct AssemblySamplerOptions {
   std::vector<ComponentScale> known_scales;
 };
 
+// `base` with roller i's running surface joined by part parts[i] of `batch` (its size and
+// form added to the outline's, as a resampled draw adds them): the assembly built with those
+// rollers. Throws std::invalid_argument unless there is one part per roller, each in the batch.
+engine::Scene WithRollerParts(const engine::Scene& base, const PartPopulation& batch, std::span<const std::size_t> parts);
+
 // The fastest term any assembly drawn from (base, tolerances) can have: the base scene's
 // own harmonics, the ring's spectrum up to its cutoff, each roller's form up to its cutoff
 // (its eccentricity where only Kea is toleranced) at the base scene's spin ratios. Drawn
@@ -217,9 +225,9 @@ class AssemblySampler {
   // Validates the tolerances against the scene and calibrates every spectrum. Throws
   // std::invalid_argument naming the roller and quantity for vectors of the wrong size, a
   // spring tolerance on a fixed roller, non-positive or non-finite tolerances, a
-  // capability outside (0, 1.33] for form errors, a ring population beside a ring
-  // tolerance, one without parts or with fewer than two to model, and what
-  // CalibrateSpectrum refuses.
+  // capability outside (0, 1.33] for form errors, a population beside its part's tolerance,
+  // one without parts, with fewer than two to model or, to resample rollers, fewer parts
+  // than rollers, and what CalibrateSpectrum refuses.
   AssemblySampler(engine::Scene base, AssemblyTolerances tolerances, AssemblySamplerOptions options = {});
   ~AssemblySampler();
   AssemblySampler(const AssemblySampler&);

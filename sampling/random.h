@@ -22,6 +22,7 @@ enum class RandomStream : std::uint64_t {
   kSobolShift = 4,      // digital shifts: (replicate, dimension, 0)
   kRedraw = 5,          // inspected parts drawn again after rejection: (sample, dimension, attempt)
   kCalibration = 6,     // spectrum calibration draws: (draw, dimension, 0)
+  kMatch = 7,           // `ringtol match`'s random assignments: (assignment, slot, 0)
 };
 
 // 64 random bits for (seed, stream, a, b, c).

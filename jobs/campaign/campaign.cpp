@@ -129,9 +129,65 @@ SampleEvaluator::SampleEvaluator(const Campaign& campaign, EvaluatorFaults fault
   simulation_.keep_trajectory = false;
 }
 
+void RecordSimulation(const solvers::SimulationResult& result, bool life_asked, SampleRecord& record) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  record.steps = result.steps;
+  if (result.trajectory.rung && *result.trajectory.rung != solvers::Rung::kAuto) {
+    record.rung = static_cast<std::int8_t>(*result.trajectory.rung);
+  }
+  record.status = FromSolverStatus(result.status);
+  record.message = result.message;
+  // A time-simulating rung's steady revolution is an output too: when it failed (a
+  // contact opened, the law stopped before it) the sample did.
+  const double steady_d_trajectory = result.steady ? result.steady->d_trajectory : result.d_trajectory;
+  if (result.status == solvers::Status::kOk && result.steady && result.steady->status != solvers::Status::kOk) {
+    record.status = FromSolverStatus(result.steady->status);
+    record.message = "steady revolution: " + result.steady->message;
+  }
+  if (record.status == SampleStatus::kOk) {
+    double max_force = -std::numeric_limits<double>::infinity();
+    for (const solvers::RollerForceRange& range : result.contact_force) max_force = std::max(max_force, range.max);
+    // A campaign reads the life unless told not to ([outputs] life = false, or an
+    // allocation whose constraints name none of its outputs), or unless a roller left
+    // the bore (SimulationResult::life_missing): its outputs are NaN then, and only then.
+    const bool reads_life = life_asked && result.life_missing.empty();
+    const solvers::LifeValues life = result.life.value_or(
+        solvers::LifeValues{kNaN, kNaN, {kNaN, kNaN, kNaN, kNaN}});
+    // One value for each row of kOutputs, in its order: a row left without one does not
+    // compile, where a std::array's brace list would quietly give it 0.
+    const auto outputs = std::to_array<double>({
+        result.d_trajectory * units::kMillimetresPerMetre, result.dist_init * units::kMillimetresPerMetre,
+        result.static_offset * units::kMillimetresPerMetre, result.runout * units::kMillimetresPerMetre,
+        result.swing * units::kMillimetresPerMetre, result.min_contact_force, max_force,
+        result.d_trajectory * units::kMillimetresPerMetre, steady_d_trajectory * units::kMillimetresPerMetre,
+        life.d_trajectory * units::kMillimetresPerMetre, life.runout * units::kMillimetresPerMetre,
+        life.error_motion.total * units::kMillimetresPerMetre,
+        life.error_motion.synchronous * units::kMillimetresPerMetre,
+        life.error_motion.asynchronous * units::kMillimetresPerMetre,
+#ifdef RINGTOL_TEST_OUTPUT
+        2.0 * result.d_trajectory * units::kMillimetresPerMetre,  // test_output_mm, tests/jobs/fake_output only
+#endif
+    });
+    static_assert(outputs.size() == kOutputCount, "one value for each row of kOutputs");
+    bool finite = true;
+    for (std::size_t k = 0; k < kOutputCount; ++k) {
+      finite = finite && (std::isfinite(outputs[k]) || (!reads_life && IsLifeOutput(k)));
+    }
+    if (finite) {
+      record.outputs = outputs;
+      for (const solvers::RollerForceRange& range : result.contact_force) {
+        record.off_bore.push_back(units::kPercentPerFraction * range.off_bore);
+      }
+      record.d_trajectory_error = result.trajectory.error_estimate * units::kMillimetresPerMetre;
+    } else {
+      record.status = SampleStatus::kNonFiniteOutput;
+      record.message = "the solver reported ok but an output is not finite";
+    }
+  }
+}
+
 SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
   const auto start = std::chrono::steady_clock::now();
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   std::optional<sampling::SampledAssembly> assembly;
   SampleRecord record = drawer_.Draw(index, &assembly);
   if (assembly) {
@@ -139,59 +195,7 @@ SampleRecord SampleEvaluator::Evaluate(std::int64_t index) {
       if (faults_.before_simulate) faults_.before_simulate(index);
       solvers::SimulationResult result = solvers::Simulate(assembly->scene, *solver_, simulation_);
       if (faults_.after_simulate) faults_.after_simulate(index, result);
-      record.steps = result.steps;
-      if (result.trajectory.rung && *result.trajectory.rung != solvers::Rung::kAuto) {
-        record.rung = static_cast<std::int8_t>(*result.trajectory.rung);
-      }
-      record.status = FromSolverStatus(result.status);
-      record.message = result.message;
-      // A time-simulating rung's steady revolution is an output too: when it failed (a
-      // contact opened, the law stopped before it) the sample did.
-      const double steady_d_trajectory = result.steady ? result.steady->d_trajectory : result.d_trajectory;
-      if (result.status == solvers::Status::kOk && result.steady && result.steady->status != solvers::Status::kOk) {
-        record.status = FromSolverStatus(result.steady->status);
-        record.message = "steady revolution: " + result.steady->message;
-      }
-      if (record.status == SampleStatus::kOk) {
-        double max_force = -std::numeric_limits<double>::infinity();
-        for (const solvers::RollerForceRange& range : result.contact_force) max_force = std::max(max_force, range.max);
-        // A campaign reads the life unless told not to ([outputs] life = false, or an
-        // allocation whose constraints name none of its outputs), or unless a roller left
-        // the bore (SimulationResult::life_missing): its outputs are NaN then, and only then.
-        const bool reads_life = campaign_->simulation().life && result.life_missing.empty();
-        const solvers::LifeValues life = result.life.value_or(
-            solvers::LifeValues{kNaN, kNaN, {kNaN, kNaN, kNaN, kNaN}});
-        // One value for each row of kOutputs, in its order: a row left without one does not
-        // compile, where a std::array's brace list would quietly give it 0.
-        const auto outputs = std::to_array<double>({
-            result.d_trajectory * units::kMillimetresPerMetre, result.dist_init * units::kMillimetresPerMetre,
-            result.static_offset * units::kMillimetresPerMetre, result.runout * units::kMillimetresPerMetre,
-            result.swing * units::kMillimetresPerMetre, result.min_contact_force, max_force,
-            result.d_trajectory * units::kMillimetresPerMetre, steady_d_trajectory * units::kMillimetresPerMetre,
-            life.d_trajectory * units::kMillimetresPerMetre, life.runout * units::kMillimetresPerMetre,
-            life.error_motion.total * units::kMillimetresPerMetre,
-            life.error_motion.synchronous * units::kMillimetresPerMetre,
-            life.error_motion.asynchronous * units::kMillimetresPerMetre,
-#ifdef RINGTOL_TEST_OUTPUT
-            2.0 * result.d_trajectory * units::kMillimetresPerMetre,  // test_output_mm, tests/jobs/fake_output only
-#endif
-        });
-        static_assert(outputs.size() == kOutputCount, "one value for each row of kOutputs");
-        bool finite = true;
-        for (std::size_t k = 0; k < kOutputCount; ++k) {
-          finite = finite && (std::isfinite(outputs[k]) || (!reads_life && IsLifeOutput(k)));
-        }
-        if (finite) {
-          record.outputs = outputs;
-          for (const solvers::RollerForceRange& range : result.contact_force) {
-            record.off_bore.push_back(units::kPercentPerFraction * range.off_bore);
-          }
-          record.d_trajectory_error = result.trajectory.error_estimate * units::kMillimetresPerMetre;
-        } else {
-          record.status = SampleStatus::kNonFiniteOutput;
-          record.message = "the solver reported ok but an output is not finite";
-        }
-      }
+      RecordSimulation(result, campaign_->simulation().life, record);
     } catch (const std::exception& e) {
       record.status = SampleStatus::kException;
       record.message = e.what();

@@ -81,6 +81,12 @@ class SampleDrawer {
   std::vector<double> u_;
 };
 
+// Fills `record`'s status, message, steps, rung and, when the simulation is ok, its outputs
+// (kOutputs' order and units), error bound and off-bore shares from one simulation;
+// `life_asked`: whether its options read the life (SimulationOptions::life). A non-finite
+// output the life's absence does not explain makes the record kNonFiniteOutput.
+void RecordSimulation(const solvers::SimulationResult& result, bool life_asked, SampleRecord& record);
+
 // Computes samples of one campaign. Not thread-safe (it owns a Design, whose Sobol'
 // engine is stateful): one per thread.
 class SampleEvaluator {

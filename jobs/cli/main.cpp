@@ -20,6 +20,7 @@
 #include "jobs/cli/classes_command.h"
 #include "jobs/cli/fit_command.h"
 #include "jobs/cli/report_command.h"
+#include "jobs/cli/match_command.h"
 #include "jobs/cli/sample_command.h"
 #include "jobs/cli/simulate_command.h"
 #include "jobs/cli/inputs_command.h"
@@ -217,6 +218,21 @@ CLI::App* AddSample(CLI::App& app, ringtol::jobs::SampleCommand& sample) {
   sub->add_option("--index", sample.index, "With --scene: the sample to write (0-based)")
       ->transform(DecimalIn(0, kMostSamples - 1));
   sub->add_option("--scene", sample.scene, "Write sample --index as a standalone scene file, to replay it");
+  return sub;
+}
+
+CLI::App* AddMatch(CLI::App& app, ringtol::jobs::MatchCommand& match) {
+  CLI::App* sub = app.add_subcommand(
+      "match", "Which rollers of a measured batch to install with a measured ring ([population.rollers] resampled)");
+  AddInputFile(*sub, "file", match.file, "Campaign file: the ring's scene and the batch");
+  sub->add_option("--output", match.output, "The output to lower (default: the first [spec] limit's, else d_trajectory_mm)");
+  sub->add_option("--exhaustive-limit", match.exhaustive_limit,
+                  "Search every assignment up to this many, the heuristic beyond (default 20000)")
+      ->transform(DecimalIn(1, kMostSamples));
+  sub->add_option("--budget", match.budget, "The heuristic's random assignments (default 2000)")
+      ->transform(DecimalIn(1, kMostSamples));
+  sub->add_option("--top", match.top, "Assignments listed (default 5)")->transform(DecimalIn(1, 1000));
+  sub->add_flag("--json", match.json, "Print one JSON object");
   return sub;
 }
 
@@ -469,6 +485,7 @@ int main(int argc, char** argv) {
   ringtol::jobs::SimulateCommand simulate;
   ringtol::jobs::SweepCommand sweep;
   ringtol::jobs::SampleCommand sample;
+  ringtol::jobs::MatchCommand match;
   ringtol::jobs::FitCommand fit;
   bool classes_toml = false;
   ringtol::jobs::BenchDynamicsCommand dynamics;
@@ -483,6 +500,7 @@ int main(int argc, char** argv) {
   const CLI::App* simulate_app = AddSimulate(app, simulate);
   const CLI::App* sweep_app = AddSweep(app, sweep);
   const CLI::App* sample_app = AddSample(app, sample);
+  const CLI::App* match_app = AddMatch(app, match);
   const CLI::App* fit_app = AddFit(app, fit);
   CLI::App* classes_app = app.add_subcommand("classes", "List the tolerance classes of the built-in catalogue");
   classes_app->add_flag("--toml", classes_toml, "Print the catalogue file itself, every row with its source");
@@ -532,6 +550,7 @@ int main(int argc, char** argv) {
     if (*simulate_app) return ringtol::jobs::RunSimulate(simulate, std::cout, std::cerr);
     if (*sweep_app) return ringtol::jobs::RunSweep(sweep, std::cout, std::cerr);
     if (*sample_app) return ringtol::jobs::RunSample(sample, std::cout);
+    if (*match_app) return ringtol::jobs::RunMatch(match, std::cout);
     if (*fit_app) return ringtol::jobs::RunFit(fit, std::cout);
     if (*classes_app) return ringtol::jobs::RunClasses(classes_toml, std::cout);
     if (*dynamics_app) return ringtol::jobs::RunBenchDynamics(dynamics, std::cout);

@@ -231,9 +231,9 @@ std::uint32_t FileCrc32(const std::filesystem::path& file) {
       crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size())));
 }
 
-// [population.ring]: rings drawn from measured parts (sampling::RingPopulation), each export
-// fitted as a scene's ring.measured_profile is.
-struct RingPopulationInput {
+// [population.ring], [population.rollers]: parts drawn from measured exports
+// (sampling::PartPopulation), each fitted as a scene's measured_profile is.
+struct PopulationInput {
   std::vector<std::filesystem::path> profiles;  // resolved against the sampling file's folder
   std::optional<std::filesystem::path> folder;
   int orders = 0;
@@ -247,10 +247,10 @@ constexpr std::string_view kPopulationProfilesAllowed =
 constexpr std::string_view kPopulationFolderAllowed =
     "the path of a folder of CSV files (docs/inputs.md, \"Profile CSV files\"), relative to this file's folder";
 
-std::vector<Field<RingPopulationInput>> RingPopulationFields(const std::filesystem::path& folder) {
+std::vector<Field<PopulationInput>> PopulationFields(const std::filesystem::path& folder) {
   return {
-      Field<RingPopulationInput>{"profiles", Presence::kOptional, std::string(kPopulationProfilesAllowed),
-                                 [folder](const Site& site, RingPopulationInput& in) {
+      Field<PopulationInput>{"profiles", Presence::kOptional, std::string(kPopulationProfilesAllowed),
+                                 [folder](const Site& site, PopulationInput& in) {
                                    const toml::array& list = ReadArray(site, kPopulationProfilesAllowed);
                                    if (list.empty()) site.Fail("no profiles", kPopulationProfilesAllowed);
                                    for (std::size_t k = 0; k < list.size(); ++k) {
@@ -259,8 +259,8 @@ std::vector<Field<RingPopulationInput>> RingPopulationFields(const std::filesyst
                                    }
                                  },
                                  {}, {}},
-      Field<RingPopulationInput>{"folder", Presence::kOptional, std::string(kPopulationFolderAllowed),
-                                 [folder](const Site& site, RingPopulationInput& in) {
+      Field<PopulationInput>{"folder", Presence::kOptional, std::string(kPopulationFolderAllowed),
+                                 [folder](const Site& site, PopulationInput& in) {
                                    const std::filesystem::path path = folder / ReadText(site, kPopulationFolderAllowed);
                                    std::error_code error;
                                    if (!std::filesystem::is_directory(path, error)) {
@@ -269,16 +269,24 @@ std::vector<Field<RingPopulationInput>> RingPopulationFields(const std::filesyst
                                    in.folder = path;
                                  },
                                  {}, {}},
-      Integer("orders", Presence::kRequired, Between(1.0, kMaxHarmonicOrder), &RingPopulationInput::orders),
-      Flag("keep_eccentricity", Presence::kOptional, &RingPopulationInput::keep_eccentricity),
-      Choice("reference", Presence::kOptional, kProfileReferenceNames, &RingPopulationInput::reference),
-      Choice("draw", Presence::kOptional, sampling::kPopulationDrawNames, &RingPopulationInput::draw),
+      Integer("orders", Presence::kRequired, Between(1.0, kMaxHarmonicOrder), &PopulationInput::orders),
+      Flag("keep_eccentricity", Presence::kOptional, &PopulationInput::keep_eccentricity),
+      Choice("reference", Presence::kOptional, kProfileReferenceNames, &PopulationInput::reference),
+      Choice("draw", Presence::kOptional, sampling::kPopulationDrawNames, &PopulationInput::draw),
   };
 }
 
-// The population's parts, fitted in the order listed (a folder's *.csv files by name), and
-// what identifies it: a line per part with its file's CRC-32, and the fit's settings.
-void ResolveRingPopulation(const TableReader& table, RingPopulationInput in, SamplingPlan& plan) {
+// The population's parts (`ring`: the ring's, else the rollers'), fitted in the order listed
+// (a folder's *.csv files by name), and what identifies it: a line of the fit's settings,
+// then a line per part with its file's CRC-32, appended to plan.population.
+// `classed`: whether a [tolerances.*] table draws the same parts, which the file may not.
+void ResolvePopulation(const TableReader& table, PopulationInput in, bool ring, bool classed, SamplingPlan& plan) {
+  if (classed) {
+    table.Fail("draw",
+               ring ? "draws the ring, and [tolerances.ring] draws it too"
+                    : "draws the rollers' shapes, and [tolerances.rollers] draws them too",
+               ring ? "one of [population.ring] and [tolerances.ring]" : "one of [population.rollers] and [tolerances.rollers]");
+  }
   table.RequireExactlyOne("profiles", "folder", std::string(kPopulationProfilesAllowed) + ", or folder = " +
                                                     std::string(kPopulationFolderAllowed));
   if (in.folder) {
@@ -293,33 +301,53 @@ void ResolveRingPopulation(const TableReader& table, RingPopulationInput in, Sam
     table.Fail("draw", fmt::format("needs at least {} parts, and the population has {}", least, in.profiles.size()),
                "\"resample\" for a single part, or more profiles");
   }
-  const double radius = plan.scene.ring.inner.radius();
-  sampling::RingPopulation population;
+  const std::vector<engine::Roller>& rollers = plan.scene.rollers;
+  if (!ring) {
+    for (const engine::Roller& roller : rollers) {
+      if (roller.outline.radius() == rollers.front().outline.radius()) continue;
+      table.FailAbout("draw", "population.rollers",
+                      fmt::format("the scene's rollers {} and {} differ in radius_mm ({} and {} mm)", rollers.front().name,
+                                  roller.name, units::InMillimetres(rollers.front().outline.radius()),
+                                  units::InMillimetres(roller.outline.radius())),
+                      "rollers of one size: a batch is of one size");
+    }
+    if (in.draw == sampling::PopulationDraw::kResample && in.profiles.size() < rollers.size()) {
+      table.Fail("draw", fmt::format("takes each part once, and the batch has {} parts for {} rollers",
+                                     in.profiles.size(), rollers.size()),
+                 "\"model\", or at least as many profiles as rollers");
+    }
+  }
+  const double radius = ring ? plan.scene.ring.inner.radius() : rollers.front().outline.radius();
+  const std::string_view part_name = ring ? "ring" : "roller";
+  const std::string radius_key = ring ? "ring.inner_radius_mm" : "rollers[].radius_mm";
+  sampling::PartPopulation population;
   population.draw = in.draw;
-  std::string identity = fmt::format("population.ring: draw = {}, orders = {}, keep_eccentricity = {}, reference = {}\n",
-                                     NameOf(sampling::kPopulationDrawNames, in.draw), in.orders, in.keep_eccentricity,
-                                     NameOf(kProfileReferenceNames, in.reference));
+  std::string identity = fmt::format("population.{}: draw = {}, orders = {}, keep_eccentricity = {}, reference = {}\n",
+                                     ring ? "ring" : "rollers", NameOf(sampling::kPopulationDrawNames, in.draw),
+                                     in.orders, in.keep_eccentricity, NameOf(kProfileReferenceNames, in.reference));
   for (const std::filesystem::path& file : in.profiles) {
     const std::string key = in.folder ? "folder" : "profiles";
     MeasuredFit measured;
     try {
-      measured = FitProfileFile(file, in.orders, radius);
+      measured = FitProfileFile(file, in.orders, radius, part_name);
     } catch (const InputError& error) {
       table.FailAbout(key, table.KeyPath(key), error.what(), "profiles that read and fit (docs/inputs.md)");
     }
     sampling::MeasuredPart part{file.filename().string(), 0.0, FormHarmonics(measured.fit, in.keep_eccentricity)};
     if (in.reference == ProfileReference::kNominal) {
-      if (const std::string other = OtherPartReason(measured, radius, file.string()); !other.empty()) {
+      if (const std::string other = OtherPartReason(measured, radius, file.string(), radius_key, part_name);
+          !other.empty()) {
         table.FailAbout(key, table.KeyPath(key), other,
-                        "reference = \"own_mean\" to take the parts' form alone, or profiles of rings of this size");
+                        fmt::format("reference = \"own_mean\" to take the parts' form alone, or profiles of {}s of this size",
+                                    part_name));
       }
       part.mean_deviation = MeanDeviation(measured, radius);
     }
     identity += fmt::format("{} crc32 {:08x}\n", file.filename().string(), FileCrc32(file));
     population.parts.push_back(std::move(part));
   }
-  plan.tolerances.ring_population = std::move(population);
-  plan.population = std::move(identity);
+  (ring ? plan.tolerances.ring_population : plan.tolerances.roller_population) = std::move(population);
+  plan.population += identity;
 }
 
 // [design], checked against the names the sampling library knows.
@@ -457,7 +485,7 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
 
   FileInput in;
   ToleranceInputs tolerances;
-  std::optional<RingPopulationInput> ring_population;
+  std::optional<PopulationInput> ring_population, roller_population;
   const std::vector<Field<FileInput>> design_fields = DesignFields();
   const std::vector<Field<ToleranceInputs>> tolerance_fields = ToleranceFields();
   std::vector<Field<FileInput>> fields{
@@ -475,13 +503,17 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
                          [&](const TableReader& t, FileInput&) { t.Read(tolerance_fields, tolerances); }),
       Section<FileInput>("population", Presence::kOptional,
                          [&](const TableReader& t, FileInput&) {
-                           t.Read(std::vector<Field<FileInput>>{Section<FileInput>(
-                                      "ring", Presence::kOptional,
-                                      [&](const TableReader& ring, FileInput&) {
-                                        RingPopulationInput read;
-                                        ring.Read(RingPopulationFields(file.parent_path()), read);
-                                        ring_population = std::move(read);
-                                      })},
+                           const auto population = [&](std::string_view key, std::optional<PopulationInput>& slot) {
+                             return Section<FileInput>(key, Presence::kOptional,
+                                                       [&slot, folder = file.parent_path()](const TableReader& table,
+                                                                                           FileInput&) {
+                                                         PopulationInput read;
+                                                         table.Read(PopulationFields(folder), read);
+                                                         slot = std::move(read);
+                                                       });
+                           };
+                           t.Read(std::vector<Field<FileInput>>{population("ring", ring_population),
+                                                                population("rollers", roller_population)},
                                   in);
                          }),
       Section<FileInput>("catalogue", Presence::kOptional,
@@ -513,13 +545,13 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
   if (tolerances.rollers) ResolveRollers(SubTable(table, "rollers"), *tolerances.rollers, plan);
   if (tolerances.positions) ResolvePositions(SubTable(table, "roller_positions"), *tolerances.positions, plan);
   if (tolerances.springs) ResolveSprings(SubTable(table, "springs"), *tolerances.springs, plan);
+  const TableReader populations = SubTable(root, "population");
   if (ring_population) {
-    const TableReader population = SubTable(SubTable(root, "population"), "ring");
-    if (tolerances.ring) {
-      population.Fail("draw", "draws the ring, and [tolerances.ring] draws it too",
-                      "one of [population.ring] and [tolerances.ring]");
-    }
-    ResolveRingPopulation(population, std::move(*ring_population), plan);
+    ResolvePopulation(SubTable(populations, "ring"), std::move(*ring_population), true, tolerances.ring.has_value(), plan);
+  }
+  if (roller_population) {
+    ResolvePopulation(SubTable(populations, "rollers"), std::move(*roller_population), false,
+                      tolerances.rollers.has_value(), plan);
   }
   return plan;
 }
@@ -629,7 +661,8 @@ Sampling MakeSampling(const SamplingPlan& plan, const std::string& source_name,
   if (options.kind == sampling::DesignKind::kSaltelli) options.groups = sampler->Groups(plan.grouping).coordinates;
   if (sampler->dimension() == 0)
     throw InputError(source_name + ": [tolerances]: nothing is toleranced; allowed: at least one of [tolerances.ring], "
-                     "[tolerances.rollers], [tolerances.roller_positions], [tolerances.springs], [population.ring]");
+                     "[tolerances.rollers], [tolerances.roller_positions], [tolerances.springs], [population.ring], "
+                     "[population.rollers]");
   std::optional<sampling::Design> design;
   try {
     design.emplace(sampler->dimension(), options);

@@ -234,7 +234,7 @@ MeasuredPart Part(std::string name, double mean_deviation, std::vector<engine::H
 
 AssemblyTolerances RingsFrom(std::vector<MeasuredPart> parts, PopulationDraw draw) {
   AssemblyTolerances t;
-  t.ring_population = RingPopulation{std::move(parts), draw};
+  t.ring_population = PartPopulation{std::move(parts), draw};
   return t;
 }
 
@@ -313,6 +313,47 @@ TEST(RingPopulation, AModelFittedToManyPartsOfAKnownLawDrawsThatLaw) {
   EXPECT_NEAR(sum_a / kDraws, kMean, 0.1 * kUm);
   EXPECT_NEAR(sum_b / kDraws, 0.0, 0.1 * kUm);
   EXPECT_NEAR(std::sqrt(squares / (2.0 * kDraws)), kSpread, 0.1 * kUm);
+}
+
+// A batch of rollers is resampled without replacement, as a fitter takes rollers off the
+// bench: the i-th roller of the scene takes, among the parts still left in list order, the
+// one its coordinate falls on; no two rollers of an assembly are the same part.
+TEST(RollerPopulation, ResamplingTakesEachPartOnceInAnAssembly) {
+  const engine::Scene base = testing::PaperScene();  // spring, fixed_a, fixed_b
+  std::vector<MeasuredPart> batch;
+  for (int k = 0; k < 4; ++k) batch.push_back(Part("r" + std::to_string(k) + ".csv", -1e-6 * k, {{2 + k, 1e-6, 0.0}}));
+  AssemblyTolerances t;
+  t.roller_population = PartPopulation{batch, PopulationDraw::kResample};
+  const AssemblySampler sampler(base, t);
+  ASSERT_EQ(sampler.dimension(), 3);
+  EXPECT_EQ(sampler.inputs()[1].name, "roller.fixed_a.population.part_index");
+  const auto taken = [&](std::vector<double> u) {
+    const SampledAssembly drawn = sampler.Realise(0, u);
+    for (std::size_t i = 0; i < 3; ++i) {
+      const auto part = static_cast<std::size_t>(drawn.values[i]);
+      EXPECT_EQ(drawn.scene.rollers[i].outline.harmonics(), batch[part].harmonics) << "roller " << i;
+      EXPECT_EQ(drawn.scene.rollers[i].outline.mean_deviation(), batch[part].mean_deviation) << "roller " << i;
+    }
+    return drawn.values;
+  };
+  EXPECT_EQ(taken({0.0, 0.0, 0.0}), (std::vector<double>{0, 1, 2}));
+  EXPECT_EQ(taken({0.99, 0.99, 0.99}), (std::vector<double>{3, 2, 1}));
+  EXPECT_EQ(taken({0.5, 0.5, 0.5}), (std::vector<double>{2, 1, 3}));  // of 4: the third; of 0, 1, 3: 1; of 0, 3: 3
+  for (int k = 0; k < 64; ++k) {
+    const std::vector<double> values = taken({(k + 0.5) / 64.0, std::fmod(k * 0.618034, 1.0), std::fmod(k * 0.414214, 1.0)});
+    EXPECT_NE(values[0], values[1]);
+    EXPECT_NE(values[0], values[2]);
+    EXPECT_NE(values[1], values[2]);
+  }
+  // A roller model draws each roller on its own, named as the class's draws are.
+  t.roller_population->draw = PopulationDraw::kModel;
+  const AssemblySampler model(base, t);
+  EXPECT_EQ(model.inputs().front().name, "roller.spring.order2.amplitude_um");
+  EXPECT_EQ(model.inputs().back().name, "roller.fixed_b.size.mean_diameter_deviation_um");
+  t.roller_population->parts.resize(2);
+  t.roller_population->draw = PopulationDraw::kResample;
+  EXPECT_THAT([&] { AssemblySampler(base, t); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("2 parts for the scene's 3 rollers")));
 }
 
 TEST(RingPopulation, IsRefusedBesideARingToleranceWithoutPartsOrWithOnePartToModel) {

@@ -139,7 +139,7 @@ TEST(SamplingFile, APopulationOfRingsReadsItsPartsAndWhatIdentifiesThem) {
   const std::filesystem::path examples = std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/populations";
   const SamplingPlan resample = ReadSamplingFile(examples / "resample.toml", kSpec);
   ASSERT_TRUE(resample.tolerances.ring_population.has_value());
-  const sampling::RingPopulation& rings = *resample.tolerances.ring_population;
+  const sampling::PartPopulation& rings = *resample.tolerances.ring_population;
   EXPECT_EQ(rings.draw, sampling::PopulationDraw::kResample);
   ASSERT_EQ(rings.parts.size(), 20u);
   EXPECT_EQ(rings.parts.front().name, "ring_01.csv");
@@ -154,6 +154,27 @@ TEST(SamplingFile, APopulationOfRingsReadsItsPartsAndWhatIdentifiesThem) {
                                          HasSubstr("ring_20.csv crc32 ")));
   EXPECT_EQ(std::count(resample.population.begin(), resample.population.end(), '\n'), 21);
   EXPECT_EQ(ReadSamplingFile(examples / "model.toml", kSpec).tolerances.ring_population->draw, sampling::PopulationDraw::kModel);
+}
+
+// [population.rollers]: a batch fitted against the scene's roller radius, resampled without
+// replacement, and refused beside [tolerances.rollers] or smaller than the scene's rollers.
+TEST(SamplingFile, ABatchOfRollersReadsAndIsHeldToTheScenesRollers) {
+  constexpr std::array<std::string_view, 1> kSpec = {"spec"};
+  const std::filesystem::path examples = std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/populations";
+  const SamplingPlan plan = ReadSamplingFile(examples / "roller_batch.toml", kSpec);
+  ASSERT_TRUE(plan.tolerances.roller_population.has_value());
+  EXPECT_EQ(plan.tolerances.roller_population->parts.size(), 12u);
+  EXPECT_THAT(plan.population, AllOf(HasSubstr("population.rollers: draw = resample, orders = 8"),
+                                     HasSubstr("roller_12.csv crc32 ")));
+  const MeasuredFit fit = FitProfileFile(examples / "rollers/roller_01.csv", 8, 5e-3, "roller");
+  EXPECT_EQ(plan.tolerances.roller_population->parts.front().mean_deviation, MeanDeviation(fit, 5e-3));
+  const std::string rollers = (examples / "rollers").string();
+  const std::string head = kSceneLine + "[population.rollers]\norders = 6\n";
+  EXPECT_THAT(ErrorOf(head + "folder = \"" + rollers + "\"\n[tolerances.rollers]\nclass = \"Normal\"\n"),
+              AllOf(HasSubstr("population.rollers"), HasSubstr("[tolerances.rollers] draws them too")));
+  EXPECT_THAT(ErrorOf(head + "profiles = [\"" + rollers + "/roller_01.csv\", \"" + rollers + "/roller_02.csv\"]\n"),
+              AllOf(HasSubstr("population.rollers.draw"), HasSubstr("2 parts for 3 rollers")));
+  EXPECT_EQ(ErrorOf(head + "folder = \"" + rollers + "\"\n"), "no error");
 }
 
 TEST(SamplingFile, ABadPopulationNamesItsKeyAndWhatIsAllowed) {

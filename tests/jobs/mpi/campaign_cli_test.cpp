@@ -1045,6 +1045,63 @@ TEST(Campaign, APopulationIsPartOfTheResultsIdentityAndAChangedPartIsRefused) {
   EXPECT_THAT(resumed.err, AllOf(HasSubstr("population"), HasSubstr("ring_03.csv")));
 }
 
+// `ringtol match`: a measured ring and a batch of four rollers, three nearly round and one
+// with a 20 um three-lobe form. Every one of the 24 assignments is simulated. A fixed roller's
+// lobe moves the ring by its own size, while the soft spring takes up the spring roller's:
+// the 12 assignments that put the lobed roller on a fixed slot rank last, tens of micrometres
+// behind, and the best does not. What a random choice gives is the distribution over all 24,
+// and the heuristic, limited below 24, also keeps the lobed roller off the fixed slots.
+TEST(Match, RecommendsTheRollersThatLowerTheOutputAndStatesTheGainOverARandomChoice) {
+  const std::filesystem::path folder = Folder();
+  std::filesystem::create_directory(folder / "batch");
+  for (int k = 0; k < 4; ++k) {
+    const double lobe = k == 2 ? 20.0 : 0.3;  // um: roller_2 is the lobed one
+    std::string csv = "angle_deg, deviation_um\n";
+    for (int degree = 0; degree < 360; degree += 5) {
+      const double theta = degree * 3.141592653589793 / 180.0;
+      csv += fmt::format("{}, {:.4f}\n", degree, lobe * std::cos(3.0 * theta + k) + 0.2 * std::cos(2.0 * theta + 2.0 * k));
+    }
+    testing::WriteText(folder / "batch" / fmt::format("roller_{}.csv", k), csv);
+  }
+  const std::filesystem::path measured = std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/measured";
+  for (const std::string name : {"scene.toml", "ring_profile.csv"}) std::filesystem::copy_file(measured / name, folder / name);
+  const std::filesystem::path file = folder / "campaign.toml";
+  testing::WriteText(file, "scene = \"scene.toml\"\n[population.rollers]\nfolder = \"batch\"\norders = 6\n"
+                           "reference = \"own_mean\"\n[solver]\nname = \"quasistatic\"\n[spec]\nd_trajectory_mm = 0.2\n");
+  const Outcome exhaustive = RunRingtol("", "match " + file.string() + " --json --top 24");
+  ASSERT_EQ(exhaustive.exit_code, 0) << exhaustive.err;
+  const nlohmann::json all = nlohmann::json::parse(exhaustive.out);
+  EXPECT_EQ(all["output"], "d_trajectory_mm");
+  EXPECT_TRUE(all["search"]["exhaustive"].get<bool>());
+  EXPECT_EQ(all["search"]["assignments"], 24);
+  ASSERT_EQ(all["ranked"].size(), 24u);
+  const auto lobed_on_fixed = [](const nlohmann::json& ranked) {
+    return ranked["rollers"]["fixed_a"] == "roller_2.csv" || ranked["rollers"]["fixed_b"] == "roller_2.csv";
+  };
+  EXPECT_FALSE(lobed_on_fixed(all["best"])) << all["best"].dump();
+  for (std::size_t k = 0; k < 24; ++k) EXPECT_EQ(lobed_on_fixed(all["ranked"][k]), k >= 12) << k;
+  const double best = all["best"]["value"].get<double>();
+  EXPECT_GT(all["ranked"][12]["value"].get<double>() - all["ranked"][11]["value"].get<double>(), 0.01);
+  EXPECT_EQ(all["random_choice"]["assignments"], 24);
+  EXPECT_GT(all["random_choice"]["mean"].get<double>(), best);
+  EXPECT_GT(all["gain_over_median_percent"].get<double>(), 0.0);
+
+  const Outcome heuristic = RunRingtol("", "match " + file.string() + " --json --exhaustive-limit 10 --budget 4");
+  ASSERT_EQ(heuristic.exit_code, 0) << heuristic.err;
+  const nlohmann::json searched = nlohmann::json::parse(heuristic.out);
+  EXPECT_FALSE(searched["search"]["exhaustive"].get<bool>());
+  EXPECT_THAT(searched["search"]["description"].get<std::string>(), HasSubstr("not proven optimal"));
+  EXPECT_FALSE(lobed_on_fixed(searched["best"])) << searched["best"].dump();
+
+  const Outcome text = RunRingtol("", "match " + file.string());
+  EXPECT_THAT(text.out, AllOf(HasSubstr("search            exhaustive: all 24 assignments of 4 parts to 3 rollers"),
+                              HasSubstr("random choice"), HasSubstr("gain")));
+  testing::WriteText(folder / "ring.toml", "scene = \"scene.toml\"\n[tolerances.rollers]\nclass = \"Normal\"\n");
+  const Outcome refused = RunRingtol("", "match " + (folder / "ring.toml").string());
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_THAT(refused.err, HasSubstr("[population.rollers]"));
+}
+
 TEST(Campaign, WithoutTheLifeItSaysSoAndItsReportAndVerifyRead) {
   const std::filesystem::path folder = Folder();
   const std::string life_on = testing::SmallCampaign(std::string(RINGTOL_SOURCE_DIR) + "/examples/paper/scene.toml", 3, 8);

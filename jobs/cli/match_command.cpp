@@ -1,0 +1,294 @@
+#include "jobs/cli/match_command.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <nlohmann/json.hpp>
+
+#include "analysis/order_statistics.h"
+#include "jobs/campaign/campaign.h"
+#include "jobs/campaign/campaign_file.h"
+#include "jobs/inputs/input_error.h"
+#include "jobs/report/report_text.h"
+#include "sampling/random.h"
+#include "solvers/simulation.h"
+
+namespace ringtol::jobs {
+namespace {
+
+using Assignment = std::vector<std::size_t>;  // slot i (scene roller i) takes batch part [i]
+
+// One assembly of the search: its assignment, its output (NaN when it failed) and why.
+struct Matched {
+  Assignment parts;
+  double value = 0.0;
+  std::string failure;  // the status name and message of a failed assembly; empty when ok
+};
+
+// B! / (B - Z)!, or `cap` + 1 once it exceeds `cap`.
+std::int64_t AssignmentCount(std::size_t batch, std::size_t slots, std::int64_t cap) {
+  std::int64_t count = 1;
+  for (std::size_t k = 0; k < slots; ++k) {
+    const auto factor = static_cast<std::int64_t>(batch - k);
+    if (count > (cap + 1) / factor) return cap + 1;
+    count *= factor;
+  }
+  return count;
+}
+
+// The search: evaluates assignments once each, whatever order it meets them in.
+class Search {
+ public:
+  Search(const CampaignPlan& plan, std::size_t output, solvers::SimulationOptions options)
+      : plan_(plan), output_(output), options_(std::move(options)), solver_(solvers::MakeSolver(plan.solver)) {}
+
+  const Matched& Evaluate(const Assignment& parts) {
+    if (const auto found = done_.find(parts); found != done_.end()) return found->second;
+    const engine::Scene scene =
+        sampling::WithRollerParts(plan_.sampling.scene, *plan_.sampling.tolerances.roller_population, parts);
+    SampleRecord record;
+    try {
+      RecordSimulation(solvers::Simulate(scene, *solver_, options_), options_.life, record);
+    } catch (const std::exception& e) {
+      record.status = SampleStatus::kException;
+      record.message = e.what();
+    }
+    Matched matched{parts, std::numeric_limits<double>::quiet_NaN(), {}};
+    if (record.status == SampleStatus::kOk) {
+      matched.value = record.outputs[output_];
+    } else {
+      matched.failure = fmt::format("{}: {}", SampleStatusName(record.status), record.message);
+    }
+    return done_.emplace(parts, std::move(matched)).first->second;
+  }
+
+  std::vector<Matched> Evaluated() const {
+    std::vector<Matched> all;
+    for (const auto& [parts, matched] : done_) all.push_back(matched);
+    return all;
+  }
+
+ private:
+  const CampaignPlan& plan_;
+  std::size_t output_;
+  solvers::SimulationOptions options_;
+  std::unique_ptr<solvers::Solver> solver_;
+  std::map<Assignment, Matched> done_;
+};
+
+// Lower is better; a failed assembly is worst.
+bool Better(const Matched& a, const Matched& b) {
+  if (std::isnan(a.value) != std::isnan(b.value)) return !std::isnan(a.value);
+  return a.value != b.value ? a.value < b.value : a.parts < b.parts;
+}
+
+void EveryAssignment(std::size_t batch, Assignment& parts, std::vector<bool>& used, std::size_t slot, Search& search) {
+  if (slot == parts.size()) {
+    search.Evaluate(parts);
+    return;
+  }
+  for (std::size_t p = 0; p < batch; ++p) {
+    if (used[p]) continue;
+    used[p] = true;
+    parts[slot] = p;
+    EveryAssignment(batch, parts, used, slot + 1, search);
+    used[p] = false;
+  }
+}
+
+// `budget` assignments drawn uniformly (slot i among the parts left), reproducibly from the
+// campaign's seed; returns them in draw order.
+std::vector<Assignment> RandomAssignments(std::size_t batch, std::size_t slots, std::int64_t budget, std::uint64_t seed) {
+  std::vector<Assignment> drawn;
+  for (std::int64_t k = 0; k < budget; ++k) {
+    std::vector<std::size_t> left(batch);
+    std::iota(left.begin(), left.end(), std::size_t{0});
+    Assignment parts(slots);
+    for (std::size_t i = 0; i < slots; ++i) {
+      const double u = sampling::RandomUnit(seed, sampling::RandomStream::kMatch, static_cast<std::uint64_t>(k), i, 0);
+      const auto at = std::min(left.size() - 1, static_cast<std::size_t>(u * static_cast<double>(left.size())));
+      parts[i] = left[at];
+      left.erase(left.begin() + static_cast<std::ptrdiff_t>(at));
+    }
+    drawn.push_back(std::move(parts));
+  }
+  return drawn;
+}
+
+// From `start`, the best of every move of one slot's part (to a part left in the batch, or
+// a swap with another slot), repeated while a move lowers the output. Returns the moves
+// made.
+int SwapDescent(std::size_t batch, Assignment current, Search& search) {
+  int moves = 0;
+  for (bool improved = true; improved;) {
+    improved = false;
+    const Matched here = search.Evaluate(current);
+    Matched best = here;
+    for (std::size_t slot = 0; slot < current.size(); ++slot) {
+      for (std::size_t p = 0; p < batch; ++p) {
+        if (p == current[slot]) continue;
+        Assignment moved = current;
+        const auto other = std::find(moved.begin(), moved.end(), p);
+        if (other != moved.end()) *other = moved[slot];
+        moved[slot] = p;
+        const Matched& tried = search.Evaluate(moved);
+        if (Better(tried, best)) best = tried;
+      }
+    }
+    if (best.parts != here.parts) {
+      current = best.parts;
+      improved = true;
+      ++moves;
+    }
+  }
+  return moves;
+}
+
+std::string Named(const Matched& m, const engine::Scene& scene, const sampling::PartPopulation& batch) {
+  std::string text;
+  for (std::size_t i = 0; i < m.parts.size(); ++i) {
+    text += fmt::format("{}{} {}", i == 0 ? "" : ", ", scene.rollers[i].name, batch.parts[m.parts[i]].name);
+  }
+  return text;
+}
+
+}  // namespace
+
+int RunMatch(const MatchCommand& command, std::ostream& out) {
+  const std::string file = command.file.string();
+  CampaignPlan plan = ReadCampaignFile(command.file);
+  const std::optional<sampling::PartPopulation>& batch = plan.sampling.tolerances.roller_population;
+  if (!batch || batch->draw != sampling::PopulationDraw::kResample) {
+    throw InputError(file + ": ringtol match assigns a measured batch's rollers: the file needs [population.rollers] "
+                            "with draw = \"resample\"");
+  }
+  const std::string name =
+      command.output.value_or(plan.spec.empty() ? std::string("d_trajectory_mm") : plan.spec.front().output);
+  const std::size_t output = OutputIndex(name);
+  if (output == kOutputCount) {
+    throw InputError(fmt::format("--output {}: not an output; allowed: {}", name, fmt::join(kOutputNames, ", ")));
+  }
+  solvers::SimulationOptions options = plan.solver.simulation;
+  options.keep_trajectory = false;
+  // The life costs 40 % of a sample: read it only for a life output.
+  if (IsLifeOutput(output) && !options.life) {
+    throw InputError(fmt::format("{}: --output {} is a life output, and the file sets [outputs] life = false", file, name));
+  }
+  options.life = IsLifeOutput(output);
+  const std::optional<double> limit = [&]() -> std::optional<double> {
+    for (const SpecLimit& spec : plan.spec) {
+      if (spec.output == name) return spec.upper;
+    }
+    return std::nullopt;
+  }();
+
+  const std::size_t parts = batch->parts.size();
+  const std::size_t slots = plan.sampling.scene.rollers.size();
+  const std::int64_t count = AssignmentCount(parts, slots, command.exhaustive_limit);
+  const bool exhaustive = count <= command.exhaustive_limit;
+  Search search(plan, output, options);
+  std::vector<Matched> random_choice;  // what choosing at random gives: every assignment, or the drawn ones
+  int moves = 0;
+  if (exhaustive) {
+    Assignment assignment(slots);
+    std::vector<bool> used(parts, false);
+    EveryAssignment(parts, assignment, used, 0, search);
+    random_choice = search.Evaluated();
+  } else {
+    for (const Assignment& drawn : RandomAssignments(parts, slots, command.budget, plan.sampling.seed)) {
+      random_choice.push_back(search.Evaluate(drawn));
+    }
+    const Matched start = *std::min_element(random_choice.begin(), random_choice.end(), Better);
+    moves = SwapDescent(parts, start.parts, search);
+  }
+  std::vector<Matched> ranked = search.Evaluated();
+  std::sort(ranked.begin(), ranked.end(), Better);
+  const Matched& best = ranked.front();
+
+  std::vector<double> values;
+  std::int64_t failed = 0, within = 0;
+  for (const Matched& m : random_choice) {
+    if (std::isnan(m.value)) {
+      ++failed;
+      continue;
+    }
+    values.push_back(m.value);
+    if (limit && m.value <= *limit) ++within;
+  }
+  std::sort(values.begin(), values.end());
+  const double mean = values.empty() ? std::numeric_limits<double>::quiet_NaN()
+                                     : std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
+  const double median = analysis::Median(values);
+  const double worst = values.empty() ? std::numeric_limits<double>::quiet_NaN() : values.back();
+  const auto trials = static_cast<std::int64_t>(random_choice.size());
+  const std::int64_t total = AssignmentCount(parts, slots, std::numeric_limits<std::int64_t>::max() - 1);
+  const std::string assignments =
+      total < std::numeric_limits<std::int64_t>::max() ? fmt::format("{}", total) : std::string("more than 9.2e18");
+  const std::string search_text =
+      exhaustive ? fmt::format("exhaustive: all {} assignments of {} parts to {} rollers", count, parts, slots)
+                 : fmt::format("heuristic ({} assignments of {} parts to {} rollers, more than --exhaustive-limit {}): "
+                               "{} drawn at random, then {} swap moves from the best; {} assemblies simulated, the "
+                               "best not proven optimal",
+                               assignments, parts, slots, command.exhaustive_limit, command.budget, moves, ranked.size());
+  const std::string unit = OutputNamed(name).unit;
+  const auto gain = [&](double reference) {
+    return reference > 0.0 ? 100.0 * (reference - best.value) / reference : 0.0;
+  };
+
+  if (command.json) {
+    nlohmann::json ranked_json = nlohmann::json::array();
+    for (std::size_t k = 0; k < ranked.size() && k < static_cast<std::size_t>(command.top); ++k) {
+      nlohmann::json rollers = nlohmann::json::object();
+      for (std::size_t i = 0; i < slots; ++i) {
+        rollers[plan.sampling.scene.rollers[i].name] = batch->parts[ranked[k].parts[i]].name;
+      }
+      ranked_json.push_back({{"rollers", rollers},
+                             {"value", std::isnan(ranked[k].value) ? nlohmann::json(nullptr) : nlohmann::json(ranked[k].value)},
+                             {"failure", ranked[k].failure}});
+    }
+    nlohmann::json random = {{"assignments", trials}, {"failed", failed}, {"mean", mean}, {"median", median},
+                             {"worst", worst}};
+    if (limit) random["within_spec"] = trials > 0 ? static_cast<double>(within) / static_cast<double>(trials) : 0.0;
+    nlohmann::json json;
+    json["output"] = name;
+    json["upper_spec_limit"] = limit ? nlohmann::json(*limit) : nlohmann::json(nullptr);
+    json["search"] = {{"exhaustive", exhaustive},
+                      {"assignments", exhaustive ? nlohmann::json(count) : nlohmann::json(nullptr)},
+                      {"simulated", ranked.size()},
+                      {"description", search_text}};
+    json["best"] = ranked_json.front();
+    json["ranked"] = ranked_json;
+    json["random_choice"] = random;
+    json["gain_over_median_percent"] = gain(median);
+    json["gain_over_mean_percent"] = gain(mean);
+    out << json.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print(out, "match             {}: {} of {} measured rollers onto the scene's {} as it stands\n", file, slots, parts,
+             slots);
+  fmt::print(out, "search            {}\n", search_text);
+  fmt::print(out, "best              {}: {} {:.5g} {}{}\n", Named(best, plan.sampling.scene, *batch), name, best.value, unit,
+             limit ? (best.value <= *limit ? fmt::format(" (within {:g})", *limit) : fmt::format(" (beyond {:g})", *limit))
+                   : std::string());
+  fmt::print(out, "random choice     {} {:.5g} median, {:.5g} mean, {:.5g} worst over {} assignments{}{}\n", name, median,
+             mean, worst, trials, failed > 0 ? fmt::format(", {} failed", failed) : std::string(),
+             limit ? fmt::format("; {} within {:g}", Percent(static_cast<double>(within) / static_cast<double>(trials)), *limit)
+                   : std::string());
+  fmt::print(out, "gain              {:.5g} {} below the median random choice ({:.1f} %), {:.5g} below the mean ({:.1f} %)\n",
+             median - best.value, unit, gain(median), mean - best.value, gain(mean));
+  for (std::size_t k = 0; k < ranked.size() && k < static_cast<std::size_t>(command.top); ++k) {
+    fmt::print(out, "{}{}: {}\n", k == 0 ? "ranked            " : kSummaryIndent, Named(ranked[k], plan.sampling.scene, *batch),
+               ranked[k].failure.empty() ? fmt::format("{:.5g}", ranked[k].value) : ranked[k].failure);
+  }
+  return 0;
+}
+
+}  // namespace ringtol::jobs
