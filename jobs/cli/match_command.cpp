@@ -64,6 +64,8 @@ class Search {
     Matched matched{parts, std::numeric_limits<double>::quiet_NaN(), {}};
     if (record.status == SampleStatus::kOk) {
       matched.value = record.outputs[output_];
+      // Only a life output can be missing from an ok assembly.
+      if (std::isnan(matched.value)) matched.failure = "no life values: a roller left the bore";
     } else {
       matched.failure = fmt::format("{}: {}", SampleStatusName(record.status), record.message);
     }

@@ -123,7 +123,12 @@ struct RingToleranceInput : Common {
 struct RollerToleranceInput : Common {
   std::string series = "9";
   double kea = 0.0, vdsp = 0.0, lower = 0.0, upper = 0.0;
+  // The rollers the table draws, by name: every roller when absent. A measured roller left
+  // out keeps the scene's outline, so that a campaign judges it alone (a disposition).
+  std::optional<std::vector<std::string>> names;
 };
+
+constexpr std::string_view kRollerNamesAllowed = "an array of the scene's roller names, each once";
 struct PositionToleranceInput : Common {
   double zone = 0.0;
 };
@@ -202,6 +207,17 @@ std::vector<Field<ToleranceInputs>> ToleranceFields() {
       ToleranceSection<RollerToleranceInput>(
           "rollers", kRollerMaxOrder,
           {Text("diameter_series", Presence::kOptional, "\"9\", \"0\", \"1\", \"2\", \"3\", \"4\"", &RollerToleranceInput::series),
+           Field<RollerToleranceInput>{"rollers", Presence::kOptional, std::string(kRollerNamesAllowed),
+                                       [](const Site& site, RollerToleranceInput& in) {
+                                         const toml::array& list = ReadArray(site, kRollerNamesAllowed);
+                                         if (list.empty()) site.Fail("names no roller", kRollerNamesAllowed);
+                                         std::vector<std::string> names;
+                                         for (std::size_t k = 0; k < list.size(); ++k) {
+                                           names.push_back(ReadText(site.Element(k), kRollerNamesAllowed));
+                                         }
+                                         in.names = std::move(names);
+                                       },
+                                       {}, {}},
            Number("kea_um", Presence::kOptional, um, AtLeast(0), &RollerToleranceInput::kea).WithoutDefault(),
            Number("vdsp_um", Presence::kOptional, um, AtLeast(0), &RollerToleranceInput::vdsp).WithoutDefault(),
            Number("mean_diameter_lower_um", Presence::kOptional, um, AnyFinite(), &RollerToleranceInput::lower).WithoutDefault(),
@@ -438,10 +454,26 @@ void ResolveRollers(const TableReader& t, const RollerToleranceInput& in, Sampli
   std::vector<sampling::RollerShapeTolerance> rollers =
       by_class ? Lookup(t, [&] { return RollersOfClass(plan, *in.class_name, plan.roller_series); })
                : std::vector<sampling::RollerShapeTolerance>(count, {"", in.kea, in.vdsp, in.lower, in.upper, {}, {}});
-  for (sampling::RollerShapeTolerance& r : rollers) {
+  std::vector<std::string> names;
+  for (const engine::Roller& roller : plan.scene.rollers) names.push_back(roller.name);
+  if (in.names) {
+    for (std::size_t k = 0; k < in.names->size(); ++k) {
+      const std::string& name = (*in.names)[k];
+      const bool known = std::find(names.begin(), names.end(), name) != names.end();
+      const bool again = std::find(in.names->begin(), in.names->begin() + static_cast<std::ptrdiff_t>(k), name) !=
+                         in.names->begin() + static_cast<std::ptrdiff_t>(k);
+      if (!known || again) {
+        t.Fail("rollers", fmt::format("{} \"{}\"", known ? "names twice" : "names no roller", name),
+               fmt::format("{}: {}", kRollerNamesAllowed, fmt::join(names, ", ")));
+      }
+    }
+  }
+  for (std::size_t i = 0; i < rollers.size(); ++i) {
+    sampling::RollerShapeTolerance& r = rollers[i];
     r.form = Spectrum(t, in);
     r.capability = in.capability();
-    plan.tolerances.roller_shapes.push_back(r);
+    const bool drawn = !in.names || std::find(in.names->begin(), in.names->end(), names[i]) != in.names->end();
+    plan.tolerances.roller_shapes.push_back(drawn ? std::optional(r) : std::nullopt);
   }
 }
 
@@ -580,13 +612,17 @@ sampling::AssemblyTolerances ToleranceOfClass(const SamplingPlan& plan, sampling
     }
     case sampling::ErrorSource::kRollerShape: {
       const std::optional<sampling::RollerShapeTolerance> inherited = first(current.roller_shapes);
+      std::size_t i = 0;
       for (sampling::RollerShapeTolerance& r : RollersOfClass(plan, class_name, plan.roller_series)) {
         if (inherited) {
           r.form = inherited->form;
           r.capability = inherited->capability;
         }
         r.capability.mode = mode;
-        result.roller_shapes.push_back(r);
+        // A roller the file's table leaves out ([tolerances.rollers] rollers) stays as measured.
+        const bool drawn = current.roller_shapes.empty() || current.roller_shapes[i].has_value();
+        result.roller_shapes.push_back(drawn ? std::optional(r) : std::nullopt);
+        ++i;
       }
       break;
     }

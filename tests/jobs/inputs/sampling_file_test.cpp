@@ -177,6 +177,27 @@ TEST(SamplingFile, ABatchOfRollersReadsAndIsHeldToTheScenesRollers) {
   EXPECT_EQ(ErrorOf(head + "folder = \"" + rollers + "\"\n"), "no error");
 }
 
+// [tolerances.rollers] rollers: the class draws only the rollers named; one left out keeps
+// the scene's outline (a measured roller judged alone), in the allocation's classes too.
+TEST(SamplingFile, ARollerClassCanLeaveAMeasuredRollerOut) {
+  const std::string table = "[tolerances.rollers]\nclass = \"Normal\"\n";
+  const SamplingPlan plan = ReadVariant(kSceneLine + table + "rollers = [\"fixed_a\", \"fixed_b\"]\n");
+  ASSERT_EQ(plan.tolerances.roller_shapes.size(), 3u);
+  EXPECT_FALSE(plan.tolerances.roller_shapes[0].has_value());  // spring
+  EXPECT_TRUE(plan.tolerances.roller_shapes[1].has_value());
+  EXPECT_TRUE(plan.tolerances.roller_shapes[2].has_value());
+  const sampling::AssemblyTolerances classed = ToleranceOfClass(plan, sampling::ErrorSource::kRollerShape, "5",
+                                                                sampling::ToleranceMode::kProcess);
+  EXPECT_FALSE(classed.roller_shapes[0].has_value());
+  EXPECT_TRUE(classed.roller_shapes[1].has_value());
+  EXPECT_THAT(ErrorOf(kSceneLine + table + "rollers = [\"fixed_c\"]\n"),
+              AllOf(HasSubstr("tolerances.rollers.rollers"), HasSubstr("names no roller \"fixed_c\""),
+                    HasSubstr("spring, fixed_a, fixed_b")));
+  EXPECT_THAT(ErrorOf(kSceneLine + table + "rollers = [\"fixed_a\", \"fixed_a\"]\n"),
+              HasSubstr("names twice \"fixed_a\""));
+  EXPECT_THAT(ErrorOf(kSceneLine + table + "rollers = []\n"), HasSubstr("names no roller"));
+}
+
 TEST(SamplingFile, ABadPopulationNamesItsKeyAndWhatIsAllowed) {
   const std::string rings = (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/populations/rings").string();
   const std::string one = "\"" + rings + "/ring_01.csv\"";

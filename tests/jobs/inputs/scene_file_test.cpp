@@ -661,7 +661,8 @@ TEST(SceneFile, ARollersMeasuredProfileGivesItsOutlineTheFittedSizeAndForm) {
   const std::vector<engine::Harmonic> form = {{2, 1.5e-6, 0.3}, {3, 2e-6, -1.0}, {5, 0.8e-6, 1.7}};
   WriteText(folder / "roller.csv", MeasuredCsv("radius_mm", 1e-3, kRollerRadius + kSize, form));
   WriteText(folder / "scene.toml", FixedAWith("harmonics = []\n", "harmonics = []\nmeasured_profile = { file = \"roller.csv\", orders = 6 }\n"));
-  const engine::PolarProfile& outline = ReadScene(folder / "scene.toml").rollers[1].outline;
+  const engine::Scene scene = ReadScene(folder / "scene.toml");
+  const engine::PolarProfile& outline = scene.rollers[1].outline;
   EXPECT_EQ(outline.radius(), kRollerRadius);
   const double round_off = (2 * 6 + 1) * 2.0 * kEps * 10.0 * kRollerRadius;
   EXPECT_NEAR(outline.mean_deviation(), kSize, round_off);

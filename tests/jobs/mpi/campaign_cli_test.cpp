@@ -1102,6 +1102,25 @@ TEST(Match, RecommendsTheRollersThatLowerTheOutputAndStatesTheGainOverARandomCho
   EXPECT_THAT(refused.err, HasSubstr("[population.rollers]"));
 }
 
+// Disposition of a measured roller (examples/measured/roller_disposition.toml): the class
+// draws the other two rollers only, so the measured one at fixed_a keeps its fitted outline
+// in every assembly, and the verdict comes as for a ring.
+TEST(Campaign, AMeasuredRollerIsJudgedWithTheOthersDrawnFromTheirClass) {
+  const std::filesystem::path file = std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/measured/roller_disposition.toml";
+  const std::filesystem::path results = Folder() / "roller.h5";
+  const Outcome run = Campaign(file, results, "--samples 64 --json");
+  ASSERT_EQ(run.exit_code, 4) << run.err;  // 64 samples cannot show 99 % at 95 % confidence
+  EXPECT_EQ(nlohmann::json::parse(run.out)["disposition"]["verdict"], "undecided");
+  const jobs::CampaignReader reader(results);
+  int drawn_shapes = 0;
+  for (const sampling::SampledInput& input : reader.identity().inputs) {
+    EXPECT_FALSE(input.name.starts_with("roller.fixed_a.order") || input.name.starts_with("roller.fixed_a.size"))
+        << input.name;
+    drawn_shapes += input.source == sampling::ErrorSource::kRollerShape ? 1 : 0;
+  }
+  EXPECT_GT(drawn_shapes, 0);  // spring's and fixed_b's
+}
+
 TEST(Campaign, WithoutTheLifeItSaysSoAndItsReportAndVerifyRead) {
   const std::filesystem::path folder = Folder();
   const std::string life_on = testing::SmallCampaign(std::string(RINGTOL_SOURCE_DIR) + "/examples/paper/scene.toml", 3, 8);
