@@ -12,6 +12,9 @@
 //   roller position  offset of the axis from its nominal place: Rayleigh magnitude with
 //                    P(2 |offset| <= zone diameter) = p, uniform direction
 //   spring           relative stiffness and preload deviations, normal on +-tolerance
+//   measured parts   instead of the ring's or the rollers' class (PartPopulation): one
+//                    coordinate picks a measured part, or two per order draw from a law
+//                    fitted to the parts (PopulationDraw)
 // Capability: p = erf(3 Cp / sqrt 2) is the fraction of parts inside their tolerance
 // (Cp = 1: 99.73 %; a normal quantity's +-tolerance is then 3 sigma Cp). Mode kProcess
 // keeps every part, as made; kInspected rejects parts outside the tolerance and draws
@@ -88,11 +91,11 @@ struct MeasuredPart {
 // How parts are drawn from a measured population (docs/usage.md, "Populations of measured
 // parts"). kResample: each assembly takes one of the measured parts, every part equally
 // likely; rollers take theirs without replacement, as from a batch on the bench (the i-th
-// roller of the scene among the B - i parts left). kModel: per harmonic order the Fourier coefficients (C cos phi, C sin phi) of the
-// parts are a two-dimensional normal law, their mean (a systematic lobe at a fixed phase)
-// and one isotropic variance fitted to the parts, so that the amplitude is Rice distributed
-// about that mean with uniform phase where it is zero; the size likewise normal. It draws
-// parts the supplier has not made yet.
+// roller of the scene among the B - i parts left). kModel: per harmonic order the Fourier
+// coefficients (C cos phi, C sin phi) of the parts are a two-dimensional normal law, their
+// mean (a systematic lobe at a fixed phase) and one isotropic variance fitted to the parts,
+// so that the amplitude is Rice distributed about that mean with uniform phase where it is
+// zero; the size likewise normal. It draws parts the supplier has not made yet.
 enum class PopulationDraw { kResample, kModel };
 inline constexpr NameTable<PopulationDraw, 2> kPopulationDrawNames = {
     {{PopulationDraw::kResample, "resample"}, {PopulationDraw::kModel, "model"}}};
