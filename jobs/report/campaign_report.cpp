@@ -426,7 +426,6 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
 
   report.settled_by = CountRungs(reader, status, used);
   report.openings = CountOpenings(reader, status, used, options.confidence);
-  report.life_missing = CountLifeMissing(reader, status, used);
 
   report.primary_output = "d_trajectory_mm";
   for (const char* name : kOutputNames) {
@@ -507,6 +506,7 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
       }
     }
     report.outputs.push_back(std::move(out));
+    if (IsLifeOutput(OutputIndex(name))) report.life_missing = CountNotFinite(values);
     if (IsErrorMotionColumn(name) || IsLifeColumn(name)) life_values[name] = std::move(values);
     if (std::find(ranked_by.begin(), ranked_by.end(), name) != ranked_by.end()) ranking_values[name] = std::move(all);
   }

@@ -188,7 +188,7 @@ struct CampaignReport {
   // schema < 3.
   std::vector<std::int64_t> settled_by;
   std::optional<ContactOpenings> openings;       // how often rollers left the bore; none before schema 6
-  std::int64_t life_missing = 0;                 // used ok samples without life values (CountLifeMissing)
+  std::int64_t life_missing = 0;                 // used ok samples without life values (CountNotFinite)
   std::vector<OutputReport> outputs;             // kOutputNames order
   std::string primary_output;                    // the first spec'd output, else d_trajectory_mm
   // The fraction within every spec limit at once, of the used ok samples, and of the used

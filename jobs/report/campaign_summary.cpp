@@ -186,20 +186,8 @@ std::vector<std::int64_t> CountRungs(const CampaignReader& results, const std::v
   return settled_by;
 }
 
-std::int64_t CountLifeMissing(const CampaignReader& results, const std::vector<SampleStatus>& status,
-                              const std::vector<bool>& used) {
-  const std::size_t first_life = static_cast<std::size_t>(
-      std::find_if(kOutputs.begin(), kOutputs.end(), [](const OutputDescription& o) { return o.span == OutputSpan::kLife; }) -
-      kOutputs.begin());
-  if (first_life == kOutputCount || !results.HasOutput(kOutputNames[first_life])) return 0;
-  const std::vector<double> life = ReadInBlocks<double>(
-      static_cast<std::int64_t>(status.size()),
-      [&](std::int64_t begin, std::int64_t count) { return results.ReadOutput(kOutputNames[first_life], begin, count); });
-  std::int64_t missing = 0;
-  for (std::size_t i = 0; i < status.size(); ++i) {
-    if (used[i] && status[i] == SampleStatus::kOk && !std::isfinite(life[i])) ++missing;
-  }
-  return missing;
+std::int64_t CountNotFinite(std::span<const double> values) {
+  return std::count_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); });
 }
 
 std::string LifeMissingSentence(std::int64_t missing, std::int64_t ok) {
@@ -418,7 +406,6 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
   summary.settled_by = CountRungs(results, status, used, &summary.failed_by);
   summary.auto_rung = results.identity().solver.starts_with(NameOf(solvers::kRungNames, solvers::Rung::kAuto));
   summary.openings = CountOpenings(results, status, used, confidence);
-  summary.life_missing = CountLifeMissing(results, status, used);
 
   std::vector<bool> within(status.size(), true);
   bool any_spec = false;
@@ -457,6 +444,8 @@ CampaignSummary Summarise(const CampaignReader& results, const std::function<boo
     }
     any_spec = any_spec || output.upper_spec_limit.has_value();
     output.count = static_cast<std::int64_t>(values.size());
+    // The life outputs are NaN together: any one's count is theirs.
+    if (IsLifeOutput(OutputIndex(name))) summary.life_missing = CountNotFinite(ok_values);
     if (IsLifeColumn(name) || IsErrorMotionColumn(name)) paired[name] = std::move(ok_values);
     if (!values.empty()) {
       std::sort(values.begin(), values.end());

@@ -108,12 +108,10 @@ struct LifeErrorMotion {
   std::array<double, 3> q50{}, q99{};
 };
 
-// How many used ok samples have no life values, because a roller left the bore and the life
-// reads the linear rung's phasors, which assume every contact closed
-// (solvers::SimulationResult::life_missing): from the first life column, NaN there on an ok
-// sample. 0 for a file without life columns.
-std::int64_t CountLifeMissing(const CampaignReader& results, const std::vector<SampleStatus>& status,
-                              const std::vector<bool>& used);
+// How many of the ok samples' `values` of a life column are not finite: the samples without
+// life values, because a roller left the bore and the life reads the linear rung's phasors,
+// which assume every contact closed (solvers::SimulationResult::life_missing).
+std::int64_t CountNotFinite(std::span<const double> values);
 // "12 of 512 ok samples have no life values: a roller left the bore, ...; the life's
 // numbers are over the other 500." Plain text.
 std::string LifeMissingSentence(std::int64_t missing, std::int64_t ok);
@@ -139,7 +137,7 @@ std::string LifeErrorMotionSentence(const LifeErrorMotion& motion, const engine:
 nlohmann::json LifeErrorMotionJson(const LifeErrorMotion& motion, const engine::ErrorMotionFilter& filter);
 // The "life" object of the summary's and the report's JSON: {"computed": false} for a
 // campaign that left the life out; else {"computed": true, "samples_without_life":
-// `missing` (CountLifeMissing), <label>: LifeGapJson, ..., "error_motion":
+// `missing` (CountNotFinite), <label>: LifeGapJson, ..., "error_motion":
 // LifeErrorMotionJson}; null when there is nothing to say (a file of a schema before the
 // life outputs, or without ok samples).
 nlohmann::json LifeJson(bool computed, const std::vector<LifeGap>& gaps, const std::optional<LifeErrorMotion>& motion,
@@ -227,7 +225,7 @@ struct CampaignSummary {
   // What an older results file's columns are, in its schema's terms; empty for the current.
   std::string schema_note;
   bool life = true;  // CampaignIdentity::life: whether the samples computed the life outputs
-  std::int64_t life_missing = 0;  // used ok samples without life values (CountLifeMissing)
+  std::int64_t life_missing = 0;  // used ok samples without life values (CountNotFinite)
   std::vector<LifeGap> life_gaps;  // kLifeColumns order, those the file holds both columns of
   std::optional<LifeErrorMotion> life_error_motion;  // none for a file without the columns
   engine::ErrorMotionFilter error_motion_filter;     // the campaign's, which the error_motion_* outputs passed
