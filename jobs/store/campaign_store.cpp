@@ -35,8 +35,8 @@ namespace fs = std::filesystem;
 constexpr const char* kFormat = "ringtol campaign";
 constexpr const char* kAllocationFormat = "ringtol allocation";
 // The root attribute `life`: whether the samples computed the life outputs.
-constexpr const char* kLifeComputed = "computed";
-constexpr const char* kLifeNotComputed = "not computed";
+constexpr std::string_view kLifeComputed = "computed";
+constexpr std::string_view kLifeNotComputed = "not computed";
 constexpr std::size_t kMessageBytes = 256;
 constexpr std::size_t kMessageChars = kMessageBytes - 1;  // and the terminator
 // Default chunk of /inputs/u: large enough that deflate works well, small enough that the
@@ -213,9 +213,33 @@ std::vector<sampling::ComponentScale> ReadCalibrations(const Where& where, hid_t
 // ---------------------------------------------------------------------------------------
 // Identity
 
-// The identity's root attributes, but for `life` and `accuracy`: named values that files
-// written before them lack.
-constexpr std::array<IdentityAttribute<CampaignIdentity>, 8> kIdentityAttributes = {{
+// The identity's root attributes. The first three come first so that a resume names them,
+// not the campaign file's line that changed them.
+constexpr WordMember<CampaignIdentity> kLife = {
+    [](const CampaignIdentity& c) { return std::string(c.life ? kLifeComputed : kLifeNotComputed); },
+    [](const CampaignIdentity& c) { return std::string(c.life ? "true" : "false"); },
+    [](CampaignIdentity& c, std::string_view word) {
+      c.life = word == kLifeComputed;
+      return c.life || word == kLifeNotComputed;
+    },
+    [] { return fmt::format("\"{}\", \"{}\"", kLifeComputed, kLifeNotComputed); }};
+constexpr WordMember<CampaignIdentity> kAccuracy = {
+    [](const CampaignIdentity& c) { return std::string(NameOf(solvers::kAccuracyNames, c.accuracy)); },
+    [](const CampaignIdentity& c) { return std::string(NameOf(solvers::kAccuracyNames, c.accuracy)); },
+    [](CampaignIdentity& c, std::string_view word) {
+      const std::optional<solvers::Accuracy> named = ValueNamed(solvers::kAccuracyNames, word);
+      if (named) c.accuracy = *named;
+      return named.has_value();
+    },
+    [] { return NameList(solvers::kAccuracyNames); }};
+
+// `life`, `accuracy` and `population` are younger than the rest: files before them computed
+// the life wherever their schema has it, at full accuracy, from tolerance classes.
+constexpr std::array<IdentityAttribute<CampaignIdentity>, 11> kIdentityAttributes = {{
+    {"life", kLife, Comparison::kWord, Presence::kSince, "outputs.life"},
+    {"accuracy", kAccuracy, Comparison::kWord, Presence::kSince, "solver.accuracy"},
+    // A part's export can change while the campaign file's text does not.
+    {"population", &CampaignIdentity::population, Comparison::kText, Presence::kSince},
     {"ringtol_version", &CampaignIdentity::ringtol_version},
     {"catalogue_version", &CampaignIdentity::catalogue_version},
     {"campaign_path", &CampaignIdentity::campaign_path, Comparison::kNever},
@@ -278,24 +302,6 @@ Stored ReadStored(const Where& where, hid_t file) {
 
   CampaignIdentity& identity = stored.identity;
   ReadIdentityAttributes(where, file, identity, kIdentityAttributes, kFormat);
-  // Files written before the choice computed the life wherever their schema has it.
-  if (const std::optional<std::string> life = ReadStringAttribute(where, file, "life")) {
-    if (*life != kLifeComputed && *life != kLifeNotComputed) {
-      Fail(where, fmt::format("attribute life = \"{}\" is neither \"{}\" nor \"{}\"", *life, kLifeComputed,
-                              kLifeNotComputed));
-    }
-    identity.life = *life == kLifeComputed;
-  }
-  if (const std::optional<std::string> accuracy = ReadStringAttribute(where, file, "accuracy")) {
-    const std::optional<solvers::Accuracy> named = ValueNamed(solvers::kAccuracyNames, *accuracy);
-    if (!named) {
-      Fail(where, fmt::format("attribute accuracy = \"{}\" is not one of {}", *accuracy,
-                              NameList(solvers::kAccuracyNames)));
-    }
-    identity.accuracy = *named;
-  }
-  // Only a campaign that draws from measured parts has one.
-  identity.population = ReadStringAttribute(where, file, "population").value_or("");
   stored.samples = Require(
       where, ReadNumberAttribute<std::int64_t>(where, file, "samples", H5T_INTEGER, H5T_NATIVE_INT64), "samples");
   if (stored.samples < 1) Fail(where, fmt::format("attribute samples = {} is not positive", stored.samples));
@@ -365,14 +371,6 @@ std::optional<std::string> SpecDifference(const std::vector<SpecLimit>& file, co
 
 // The first identity field in which `now` differs from the file, or nothing.
 std::optional<std::string> IdentityDifference(const CampaignIdentity& file, const CampaignIdentity& now) {
-  // Before the campaign file's text, which says it too, but only by a line number.
-  if (auto d = WordDifference("outputs.life", file.life, now.life)) return d;
-  if (auto d = WordDifference("solver.accuracy", NameOf(solvers::kAccuracyNames, file.accuracy),
-                              NameOf(solvers::kAccuracyNames, now.accuracy))) {
-    return d;
-  }
-  // Before the campaign file's text: a part's export can change while the file's text does not.
-  if (auto d = TextDifference("population", file.population, now.population)) return d;
   if (auto d = IdentityAttributeDifference(file, now, kIdentityAttributes)) return d;
   if (auto d = InputDifference(file.inputs, now.inputs, "this campaign")) return d;
   return SpecDifference(file.spec, now.spec);
@@ -670,9 +668,6 @@ void WriteIdentity(const Where& where, hid_t file, const CampaignIdentity& ident
   WriteLayout(where, file, {layout, options.schema});
   WriteIdentityAttributes(where, file, identity, kIdentityAttributes);
   WriteAttribute(where, file, "samples", H5T_STD_I64LE, H5T_NATIVE_INT64, &samples);
-  WriteStringAttribute(where, file, "life", identity.life ? kLifeComputed : kLifeNotComputed);
-  WriteStringAttribute(where, file, "accuracy", std::string(NameOf(solvers::kAccuracyNames, identity.accuracy)));
-  if (!identity.population.empty()) WriteStringAttribute(where, file, "population", identity.population);
 
   const PlistId gcpl = ObjectCreation(where, H5P_GROUP_CREATE);
   for (const char* name : {"inputs", "outputs", "timing"}) {

@@ -615,6 +615,10 @@ TEST(CampaignStore, ResumeRefusesAnotherCampaignNamingWhatDiffers) {
       {"inputs differ (input 3", [](auto& id) { id.inputs[3].roller = 2; }},
       {"spec differs (upper_spec_limit of runout_mm: 0.012 in the file, 0.02 now)",
        [](auto& id) { id.spec[0].upper = 0.02; }},
+      {"outputs.life differs ('true' in the file, 'false' now)", [](auto& id) { id.life = false; }},
+      {"solver.accuracy differs ('full' in the file, 'fast' now)",
+       [](auto& id) { id.accuracy = solvers::Accuracy::kFast; }},
+      {"population differs (first at line 1)", [](auto& id) { id.population = "ring_01.csv 1a2b3c4d"; }},
       {"spec differs (upper_spec_limit of swing_mm: not set in the file, 0.03 now)",
        [](auto& id) {
          id.spec.push_back({"swing_mm", 0.03});
@@ -628,6 +632,59 @@ TEST(CampaignStore, ResumeRefusesAnotherCampaignNamingWhatDiffers) {
         AllOf(HasSubstr(path.string()), HasSubstr("was written by another campaign"), HasSubstr(change.expected)));
   }
   EXPECT_EQ(ReadBytes(path), before);
+}
+
+// Rewrites the string attribute `name` of the file's root, or removes it (nullopt).
+void SetRootText(const fs::path& path, const char* name, std::optional<std::string> text) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  H5Adelete(file, name);
+  if (text) {
+    const hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, H5T_VARIABLE);
+    const hid_t space = H5Screate(H5S_SCALAR);
+    const hid_t attribute = H5Acreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+    const char* value = text->c_str();
+    H5Awrite(attribute, type, &value);
+    H5Aclose(attribute);
+    H5Sclose(space);
+    H5Tclose(type);
+  }
+  H5Fclose(file);
+}
+
+// life, accuracy and population are younger than the file format: a file without them is
+// one of a campaign that computed the life at full accuracy from tolerance classes, and a
+// word that names no value is refused with the words that do.
+TEST(CampaignReader, ReadsTheYoungerIdentityAttributesAsTheirDefaultsAndRefusesAnUnknownWord) {
+  const fs::path path = TestFolder() / "results.h5";
+  CampaignIdentity written = TestIdentity();
+  written.life = false;
+  written.accuracy = solvers::Accuracy::kFast;
+  written.population = "ring_01.csv 1a2b3c4d";
+  CampaignStore::Create(path, written, 2);
+  {
+    const CampaignReader reader(path);
+    EXPECT_FALSE(reader.identity().life);
+    EXPECT_EQ(reader.identity().accuracy, solvers::Accuracy::kFast);
+    EXPECT_EQ(reader.identity().population, written.population);
+  }
+  const fs::path older = TestFolder() / "older.h5";
+  CampaignStore::Create(older, TestIdentity(), 2);
+  for (const char* name : {"life", "accuracy", "population"}) SetRootText(older, name, std::nullopt);
+  {
+    const CampaignReader reader(older);
+    EXPECT_TRUE(reader.identity().life);
+    EXPECT_EQ(reader.identity().accuracy, solvers::Accuracy::kFull);
+    EXPECT_EQ(reader.identity().population, "");
+  }
+  SetRootText(older, "life", "maybe");
+  EXPECT_THAT(InputErrorOf([&] { CampaignReader reader(older); }),
+              AllOf(HasSubstr(older.string()), HasSubstr("attribute life = \"maybe\" is not one of \"computed\", "
+                                                        "\"not computed\"")));
+  SetRootText(older, "life", "computed");
+  SetRootText(older, "accuracy", "rough");
+  EXPECT_THAT(InputErrorOf([&] { CampaignReader reader(older); }),
+              AllOf(HasSubstr("attribute accuracy = \"rough\" is not one of"), HasSubstr("\"fast\"")));
 }
 
 // A plain HDF5 file, as another program would write it.
