@@ -57,19 +57,28 @@ void AddToProfile(engine::PolarProfile& profile, const std::vector<engine::Harmo
 
 }  // namespace
 
-engine::Scene WithRollerParts(const engine::Scene& base, const PartPopulation& batch, std::span<const std::size_t> parts) {
-  if (parts.size() != base.rollers.size()) {
+std::vector<std::size_t> BatchRollers(const AssemblyTolerances& tolerances, std::size_t rollers) {
+  if (!tolerances.batch_rollers.empty()) return tolerances.batch_rollers;
+  std::vector<std::size_t> all(rollers);
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  return all;
+}
+
+engine::Scene WithRollerParts(const engine::Scene& base, const PartPopulation& batch,
+                              std::span<const std::size_t> rollers, std::span<const std::size_t> parts) {
+  if (parts.size() != rollers.size()) {
     throw std::invalid_argument("WithRollerParts: " + std::to_string(parts.size()) + " parts for " +
-                                std::to_string(base.rollers.size()) + " rollers");
+                                std::to_string(rollers.size()) + " rollers");
   }
   engine::Scene scene = base;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    if (parts[i] >= batch.parts.size()) {
-      throw std::invalid_argument("WithRollerParts: part " + std::to_string(parts[i]) + " of a batch of " +
-                                  std::to_string(batch.parts.size()));
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    if (parts[k] >= batch.parts.size() || rollers[k] >= base.rollers.size()) {
+      throw std::invalid_argument("WithRollerParts: part " + std::to_string(parts[k]) + " of a batch of " +
+                                  std::to_string(batch.parts.size()) + " on roller " + std::to_string(rollers[k]) +
+                                  " of " + std::to_string(base.rollers.size()));
     }
-    const MeasuredPart& part = batch.parts[parts[i]];
-    AddToProfile(scene.rollers[i].outline, part.harmonics, part.mean_deviation);
+    const MeasuredPart& part = batch.parts[parts[k]];
+    AddToProfile(scene.rollers[rollers[k]].outline, part.harmonics, part.mean_deviation);
   }
   return scene;
 }
@@ -376,16 +385,24 @@ AssemblySampler::AssemblySampler(engine::Scene base, AssemblyTolerances toleranc
   if (tolerances_.ring && tolerances_.ring_population) {
     throw std::invalid_argument("the ring has a form tolerance and a population: draw it from one");
   }
+  std::vector<bool> batch_fills(rollers, false);
   if (tolerances_.roller_population) {
-    if (std::any_of(tolerances_.roller_shapes.begin(), tolerances_.roller_shapes.end(),
-                    [](const auto& shape) { return shape.has_value(); })) {
-      throw std::invalid_argument("the rollers have a shape tolerance and a population: draw them from one");
+    const std::vector<std::size_t> filled = BatchRollers(tolerances_, rollers);
+    for (std::size_t k = 0; k < filled.size(); ++k) {
+      if (filled[k] >= rollers || (k > 0 && filled[k] <= filled[k - 1])) {
+        throw std::invalid_argument("the rollers' batch fills roller " + std::to_string(filled[k]) +
+                                    ": not one of the scene's " + std::to_string(rollers) + " in ascending order");
+      }
+      if (filled[k] < tolerances_.roller_shapes.size() && tolerances_.roller_shapes[filled[k]]) {
+        throw std::invalid_argument("roller " + base_.rollers[filled[k]].name +
+                                    " has a shape tolerance and a population: draw it from one");
+      }
+      batch_fills[filled[k]] = true;
     }
     const PartPopulation& batch = *tolerances_.roller_population;
-    if (batch.draw == PopulationDraw::kResample && !batch.parts.empty() && batch.parts.size() < rollers) {
-      throw std::invalid_argument("the rollers' batch has " + std::to_string(batch.parts.size()) +
-                                  " parts for the scene's " + std::to_string(rollers) +
-                                  " rollers; resampling takes each part once");
+    if (batch.draw == PopulationDraw::kResample && !batch.parts.empty() && batch.parts.size() < filled.size()) {
+      throw std::invalid_argument("the rollers' batch has " + std::to_string(batch.parts.size()) + " parts for " +
+                                  std::to_string(filled.size()) + " rollers; resampling takes each part once");
     }
   }
   if (tolerances_.ring) builder.AddRingForm(*tolerances_.ring);
@@ -396,7 +413,7 @@ AssemblySampler::AssemblySampler(engine::Scene base, AssemblyTolerances toleranc
     const int index = static_cast<int>(i);
     if (i < tolerances_.roller_shapes.size() && tolerances_.roller_shapes[i])
       builder.AddRollerShape(index, prefix, *tolerances_.roller_shapes[i]);
-    if (tolerances_.roller_population) builder.AddPopulation(*tolerances_.roller_population, index, prefix);
+    if (batch_fills[i]) builder.AddPopulation(*tolerances_.roller_population, index, prefix);
     if (i < tolerances_.roller_positions.size() && tolerances_.roller_positions[i])
       builder.AddRollerPosition(index, prefix, *tolerances_.roller_positions[i]);
     if (i < tolerances_.springs.size() && tolerances_.springs[i])
@@ -625,9 +642,10 @@ engine::FastestHarmonic FastestDrawnHarmonic(const engine::Scene& base, const As
     }
   }
   if (tolerances.roller_population) {
+    const std::vector<std::size_t> filled = BatchRollers(tolerances, base.rollers.size());
     for (const MeasuredPart& part : tolerances.roller_population->parts) {
       for (const engine::Harmonic& h : part.harmonics) {
-        for (std::size_t i = 0; i < base.rollers.size(); ++i) {
+        for (const std::size_t i : filled) {
           const double rate = h.order * engine::SpinRatio(base, static_cast<int>(i));
           if (rate > fastest.rate) fastest = {rate, static_cast<int>(i), h.order};
         }

@@ -110,8 +110,12 @@ struct AssemblyTolerances {
   std::optional<RingFormTolerance> ring;
   // Rings drawn from measured parts instead of a class: exclusive with `ring`.
   std::optional<PartPopulation> ring_population;
-  // Every roller's running surface from a measured batch: exclusive with `roller_shapes`.
+  // Rollers' running surfaces from a measured batch: exclusive with `roller_shapes` on the
+  // rollers it fills.
   std::optional<PartPopulation> roller_population;
+  // The scene rollers the batch fills, ascending (resampled in this order); empty: every
+  // roller. The others keep their own outline, or their class's draw.
+  std::vector<std::size_t> batch_rollers;
   std::vector<std::optional<RollerShapeTolerance>> roller_shapes;  // empty or one per scene roller
   std::vector<std::optional<PositionTolerance>> roller_positions;  // empty or one per scene roller
   std::vector<std::optional<SpringTolerance>> springs;             // empty or one per scene roller; springs only
@@ -212,10 +216,16 @@ struct AssemblySamplerOptions {
   std::vector<ComponentScale> known_scales;
 };
 
-// `base` with roller i's running surface joined by part parts[i] of `batch` (its size and
-// form added to the outline's, as a resampled draw adds them): the assembly built with those
-// rollers. Throws std::invalid_argument unless there is one part per roller, each in the batch.
-engine::Scene WithRollerParts(const engine::Scene& base, const PartPopulation& batch, std::span<const std::size_t> parts);
+// The scene rollers a roller batch fills: `tolerances.batch_rollers`, or all `rollers` of
+// the scene when it is empty.
+std::vector<std::size_t> BatchRollers(const AssemblyTolerances& tolerances, std::size_t rollers);
+
+// `base` with roller rollers[k]'s running surface joined by part parts[k] of `batch` (its
+// size and form added to the outline's, as a resampled draw adds them): the assembly built
+// with those rollers. Throws std::invalid_argument unless there is one part per listed
+// roller, each in the batch and each roller in the scene.
+engine::Scene WithRollerParts(const engine::Scene& base, const PartPopulation& batch,
+                              std::span<const std::size_t> rollers, std::span<const std::size_t> parts);
 
 // The fastest term any assembly drawn from (base, tolerances) can have: the base scene's
 // own harmonics, the ring's spectrum up to its cutoff, each roller's form up to its cutoff

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <numeric>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -24,7 +25,7 @@
 namespace ringtol::jobs {
 namespace {
 
-using Assignment = std::vector<std::size_t>;  // slot i (scene roller i) takes batch part [i]
+using Assignment = std::vector<std::size_t>;  // slot k (the batch's k-th roller) takes batch part [k]
 
 // One assembly of the search: its assignment, its output (NaN when it failed) and why.
 struct Matched {
@@ -47,13 +48,18 @@ std::int64_t AssignmentCount(std::size_t batch, std::size_t slots, std::int64_t 
 // The search: evaluates assignments once each, whatever order it meets them in.
 class Search {
  public:
-  Search(const CampaignPlan& plan, std::size_t output, solvers::SimulationOptions options)
-      : plan_(plan), output_(output), options_(std::move(options)), solver_(solvers::MakeSolver(plan.solver)) {}
+  Search(const CampaignPlan& plan, std::vector<std::size_t> rollers, std::size_t output,
+         solvers::SimulationOptions options)
+      : plan_(plan),
+        rollers_(std::move(rollers)),
+        output_(output),
+        options_(std::move(options)),
+        solver_(solvers::MakeSolver(plan.solver)) {}
 
   const Matched& Evaluate(const Assignment& parts) {
     if (const auto found = done_.find(parts); found != done_.end()) return found->second;
     const engine::Scene scene =
-        sampling::WithRollerParts(plan_.sampling.scene, *plan_.sampling.tolerances.roller_population, parts);
+        sampling::WithRollerParts(plan_.sampling.scene, *plan_.sampling.tolerances.roller_population, rollers_, parts);
     SampleRecord record;
     try {
       RecordSimulation(solvers::Simulate(scene, *solver_, options_), options_.life, record);
@@ -80,6 +86,7 @@ class Search {
 
  private:
   const CampaignPlan& plan_;
+  std::vector<std::size_t> rollers_;  // the scene rollers the slots are
   std::size_t output_;
   solvers::SimulationOptions options_;
   std::unique_ptr<solvers::Solver> solver_;
@@ -154,10 +161,11 @@ int SwapDescent(std::size_t batch, Assignment current, Search& search) {
   return moves;
 }
 
-std::string Named(const Matched& m, const engine::Scene& scene, const sampling::PartPopulation& batch) {
+std::string Named(const Matched& m, const engine::Scene& scene, std::span<const std::size_t> rollers,
+                  const sampling::PartPopulation& batch) {
   std::string text;
-  for (std::size_t i = 0; i < m.parts.size(); ++i) {
-    text += fmt::format("{}{} {}", i == 0 ? "" : ", ", scene.rollers[i].name, batch.parts[m.parts[i]].name);
+  for (std::size_t k = 0; k < m.parts.size(); ++k) {
+    text += fmt::format("{}{} {}", k == 0 ? "" : ", ", scene.rollers[rollers[k]].name, batch.parts[m.parts[k]].name);
   }
   return text;
 }
@@ -193,10 +201,12 @@ int RunMatch(const MatchCommand& command, std::ostream& out) {
   }();
 
   const std::size_t parts = batch->parts.size();
-  const std::size_t slots = plan.sampling.scene.rollers.size();
+  const std::vector<std::size_t> rollers =
+      sampling::BatchRollers(plan.sampling.tolerances, plan.sampling.scene.rollers.size());
+  const std::size_t slots = rollers.size();
   const std::int64_t count = AssignmentCount(parts, slots, command.exhaustive_limit);
   const bool exhaustive = count <= command.exhaustive_limit;
-  Search search(plan, output, options);
+  Search search(plan, rollers, output, options);
   std::vector<Matched> random_choice;  // what choosing at random gives: every assignment, or the drawn ones
   int moves = 0;
   if (exhaustive) {
@@ -248,11 +258,11 @@ int RunMatch(const MatchCommand& command, std::ostream& out) {
   if (command.json) {
     nlohmann::json ranked_json = nlohmann::json::array();
     for (std::size_t k = 0; k < ranked.size() && k < static_cast<std::size_t>(command.top); ++k) {
-      nlohmann::json rollers = nlohmann::json::object();
+      nlohmann::json fitted = nlohmann::json::object();
       for (std::size_t i = 0; i < slots; ++i) {
-        rollers[plan.sampling.scene.rollers[i].name] = batch->parts[ranked[k].parts[i]].name;
+        fitted[plan.sampling.scene.rollers[rollers[i]].name] = batch->parts[ranked[k].parts[i]].name;
       }
-      ranked_json.push_back({{"rollers", rollers},
+      ranked_json.push_back({{"rollers", fitted},
                              {"value", std::isnan(ranked[k].value) ? nlohmann::json(nullptr) : nlohmann::json(ranked[k].value)},
                              {"failure", ranked[k].failure}});
     }
@@ -274,10 +284,10 @@ int RunMatch(const MatchCommand& command, std::ostream& out) {
     out << json.dump(2) << "\n";
     return 0;
   }
-  fmt::print(out, "match             {}: {} of {} measured rollers onto the scene's {} as it stands\n", file, slots, parts,
-             slots);
+  fmt::print(out, "match             {}: {} of {} measured rollers onto {} of the scene's {} rollers as it stands\n", file,
+             slots, parts, slots, plan.sampling.scene.rollers.size());
   fmt::print(out, "search            {}\n", search_text);
-  fmt::print(out, "best              {}: {} {:.5g} {}{}\n", Named(best, plan.sampling.scene, *batch), name, best.value, unit,
+  fmt::print(out, "best              {}: {} {:.5g} {}{}\n", Named(best, plan.sampling.scene, rollers, *batch), name, best.value, unit,
              limit ? (best.value <= *limit ? fmt::format(" (within {:g})", *limit) : fmt::format(" (beyond {:g})", *limit))
                    : std::string());
   fmt::print(out, "random choice     {} {:.5g} median, {:.5g} mean, {:.5g} worst over {} assignments{}{}\n", name, median,
@@ -287,7 +297,7 @@ int RunMatch(const MatchCommand& command, std::ostream& out) {
   fmt::print(out, "gain              {:.5g} {} below the median random choice ({:.1f} %), {:.5g} below the mean ({:.1f} %)\n",
              median - best.value, unit, gain(median), mean - best.value, gain(mean));
   for (std::size_t k = 0; k < ranked.size() && k < static_cast<std::size_t>(command.top); ++k) {
-    fmt::print(out, "{}{}: {}\n", k == 0 ? "ranked            " : kSummaryIndent, Named(ranked[k], plan.sampling.scene, *batch),
+    fmt::print(out, "{}{}: {}\n", k == 0 ? "ranked            " : kSummaryIndent, Named(ranked[k], plan.sampling.scene, rollers, *batch),
                ranked[k].failure.empty() ? fmt::format("{:.5g}", ranked[k].value) : ranked[k].failure);
   }
   return 0;

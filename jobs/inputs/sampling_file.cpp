@@ -117,6 +117,45 @@ auto Lookup(const TableReader& table, F lookup) {
   }
 }
 
+constexpr std::string_view kRollerNamesAllowed = "an array of the scene's roller names, each once";
+
+// `rollers = [...]`: scene roller names, checked against the scene by RollerIndices.
+template <typename Input>
+Field<Input> RollerNamesField(std::optional<std::vector<std::string>> Input::*names) {
+  return {"rollers", Presence::kOptional, std::string(kRollerNamesAllowed),
+          [names](const Site& site, Input& in) {
+            const toml::array& list = ReadArray(site, kRollerNamesAllowed);
+            if (list.empty()) site.Fail("names no roller", kRollerNamesAllowed);
+            std::vector<std::string> read;
+            for (std::size_t k = 0; k < list.size(); ++k) read.push_back(ReadText(site.Element(k), kRollerNamesAllowed));
+            in.*names = std::move(read);
+          },
+          {}, {}};
+}
+
+// The scene rollers `names` names, ascending; every roller when `names` is absent.
+std::vector<std::size_t> RollerIndices(const TableReader& t, const std::optional<std::vector<std::string>>& names,
+                                       const engine::Scene& scene) {
+  std::vector<std::string> known;
+  for (const engine::Roller& roller : scene.rollers) known.push_back(roller.name);
+  std::vector<std::size_t> indices;
+  for (std::size_t i = 0; i < known.size(); ++i) {
+    if (!names || std::find(names->begin(), names->end(), known[i]) != names->end()) indices.push_back(i);
+  }
+  if (!names) return indices;
+  for (std::size_t k = 0; k < names->size(); ++k) {
+    const std::string& name = (*names)[k];
+    const bool found = std::find(known.begin(), known.end(), name) != known.end();
+    const bool again = std::find(names->begin(), names->begin() + static_cast<std::ptrdiff_t>(k), name) !=
+                       names->begin() + static_cast<std::ptrdiff_t>(k);
+    if (!found || again) {
+      t.Fail("rollers", fmt::format("{} \"{}\"", found ? "names twice" : "names no roller", name),
+             fmt::format("{}: {}", kRollerNamesAllowed, fmt::join(known, ", ")));
+    }
+  }
+  return indices;
+}
+
 struct RingToleranceInput : Common {
   double circularity = 0.0;
 };
@@ -128,7 +167,6 @@ struct RollerToleranceInput : Common {
   std::optional<std::vector<std::string>> names;
 };
 
-constexpr std::string_view kRollerNamesAllowed = "an array of the scene's roller names, each once";
 struct PositionToleranceInput : Common {
   double zone = 0.0;
 };
@@ -207,17 +245,7 @@ std::vector<Field<ToleranceInputs>> ToleranceFields() {
       ToleranceSection<RollerToleranceInput>(
           "rollers", kRollerMaxOrder,
           {Text("diameter_series", Presence::kOptional, "\"9\", \"0\", \"1\", \"2\", \"3\", \"4\"", &RollerToleranceInput::series),
-           Field<RollerToleranceInput>{"rollers", Presence::kOptional, std::string(kRollerNamesAllowed),
-                                       [](const Site& site, RollerToleranceInput& in) {
-                                         const toml::array& list = ReadArray(site, kRollerNamesAllowed);
-                                         if (list.empty()) site.Fail("names no roller", kRollerNamesAllowed);
-                                         std::vector<std::string> names;
-                                         for (std::size_t k = 0; k < list.size(); ++k) {
-                                           names.push_back(ReadText(site.Element(k), kRollerNamesAllowed));
-                                         }
-                                         in.names = std::move(names);
-                                       },
-                                       {}, {}},
+           RollerNamesField(&RollerToleranceInput::names),
            Number("kea_um", Presence::kOptional, um, AtLeast(0), &RollerToleranceInput::kea).WithoutDefault(),
            Number("vdsp_um", Presence::kOptional, um, AtLeast(0), &RollerToleranceInput::vdsp).WithoutDefault(),
            Number("mean_diameter_lower_um", Presence::kOptional, um, AnyFinite(), &RollerToleranceInput::lower).WithoutDefault(),
@@ -256,6 +284,8 @@ struct PopulationInput {
   bool keep_eccentricity = false;
   ProfileReference reference = ProfileReference::kNominal;
   sampling::PopulationDraw draw = sampling::PopulationDraw::kResample;
+  // [population.rollers]: the rollers the batch fills, by name; every roller when absent.
+  std::optional<std::vector<std::string>> names;
 };
 
 constexpr std::string_view kPopulationProfilesAllowed =
@@ -263,8 +293,9 @@ constexpr std::string_view kPopulationProfilesAllowed =
 constexpr std::string_view kPopulationFolderAllowed =
     "the path of a folder of CSV files (docs/inputs.md, \"Profile CSV files\"), relative to this file's folder";
 
-std::vector<Field<PopulationInput>> PopulationFields(const std::filesystem::path& folder) {
-  return {
+// `ring`: [population.ring]'s, else [population.rollers]', which may name its rollers.
+std::vector<Field<PopulationInput>> PopulationFields(const std::filesystem::path& folder, bool ring) {
+  std::vector<Field<PopulationInput>> fields{
       Field<PopulationInput>{"profiles", Presence::kOptional, std::string(kPopulationProfilesAllowed),
                                  [folder](const Site& site, PopulationInput& in) {
                                    const toml::array& list = ReadArray(site, kPopulationProfilesAllowed);
@@ -290,18 +321,28 @@ std::vector<Field<PopulationInput>> PopulationFields(const std::filesystem::path
       Choice("reference", Presence::kOptional, kProfileReferenceNames, &PopulationInput::reference),
       Choice("draw", Presence::kOptional, sampling::kPopulationDrawNames, &PopulationInput::draw),
   };
+  if (!ring) fields.push_back(RollerNamesField(&PopulationInput::names));
+  return fields;
 }
 
 // The population's parts (`ring`: the ring's, else the rollers'), fitted in the order listed
 // (a folder's *.csv files by name), and what identifies it: a line of the fit's settings,
 // then a line per part with its file's CRC-32, appended to plan.population.
-// `classed`: whether a [tolerances.*] table draws the same parts, which the file may not.
+// `classed`: whether [tolerances.ring] draws the ring too, which the file may not; the
+// rollers' class may draw only rollers the batch does not fill.
 void ResolvePopulation(const TableReader& table, PopulationInput in, bool ring, bool classed, SamplingPlan& plan) {
-  if (classed) {
-    table.Fail("draw",
-               ring ? "draws the ring, and [tolerances.ring] draws it too"
-                    : "draws the rollers' shapes, and [tolerances.rollers] draws them too",
-               ring ? "one of [population.ring] and [tolerances.ring]" : "one of [population.rollers] and [tolerances.rollers]");
+  if (ring && classed) {
+    table.Fail("draw", "draws the ring, and [tolerances.ring] draws it too",
+               "one of [population.ring] and [tolerances.ring]");
+  }
+  const std::vector<engine::Roller>& rollers = plan.scene.rollers;
+  const std::vector<std::size_t> filled = ring ? std::vector<std::size_t>() : RollerIndices(table, in.names, plan.scene);
+  for (const std::size_t i : filled) {
+    if (i < plan.tolerances.roller_shapes.size() && plan.tolerances.roller_shapes[i]) {
+      table.FailAbout(in.names ? "rollers" : "draw", "population.rollers",
+                      fmt::format("fills roller \"{}\", and [tolerances.rollers] draws it too", rollers[i].name),
+                      "disjoint rollers: rollers = [...] in [tolerances.rollers] and [population.rollers]");
+    }
   }
   table.RequireExactlyOne("profiles", "folder", std::string(kPopulationProfilesAllowed) + ", or folder = " +
                                                     std::string(kPopulationFolderAllowed));
@@ -317,23 +358,23 @@ void ResolvePopulation(const TableReader& table, PopulationInput in, bool ring, 
     table.Fail("draw", fmt::format("needs at least {} parts, and the population has {}", least, in.profiles.size()),
                "\"resample\" for a single part, or more profiles");
   }
-  const std::vector<engine::Roller>& rollers = plan.scene.rollers;
   if (!ring) {
-    for (const engine::Roller& roller : rollers) {
-      if (roller.outline.radius() == rollers.front().outline.radius()) continue;
+    const engine::Roller& first = rollers[filled.front()];
+    for (const std::size_t i : filled) {
+      if (rollers[i].outline.radius() == first.outline.radius()) continue;
       table.FailAbout("draw", "population.rollers",
-                      fmt::format("the scene's rollers {} and {} differ in radius_mm ({} and {} mm)", rollers.front().name,
-                                  roller.name, units::InMillimetres(rollers.front().outline.radius()),
-                                  units::InMillimetres(roller.outline.radius())),
+                      fmt::format("the rollers {} and {} differ in radius_mm ({} and {} mm)", first.name,
+                                  rollers[i].name, units::InMillimetres(first.outline.radius()),
+                                  units::InMillimetres(rollers[i].outline.radius())),
                       "rollers of one size: a batch is of one size");
     }
-    if (in.draw == sampling::PopulationDraw::kResample && in.profiles.size() < rollers.size()) {
+    if (in.draw == sampling::PopulationDraw::kResample && in.profiles.size() < filled.size()) {
       table.Fail("draw", fmt::format("takes each part once, and the batch has {} parts for {} rollers",
-                                     in.profiles.size(), rollers.size()),
-                 "\"model\", or at least as many profiles as rollers");
+                                     in.profiles.size(), filled.size()),
+                 "\"model\", or at least as many profiles as rollers it fills");
     }
   }
-  const double radius = ring ? plan.scene.ring.inner.radius() : rollers.front().outline.radius();
+  const double radius = ring ? plan.scene.ring.inner.radius() : rollers[filled.front()].outline.radius();
   const std::string_view part_name = ring ? "ring" : "roller";
   const std::string radius_key = ring ? "ring.inner_radius_mm" : "rollers[].radius_mm";
   sampling::PartPopulation population;
@@ -341,6 +382,8 @@ void ResolvePopulation(const TableReader& table, PopulationInput in, bool ring, 
   std::string identity = fmt::format("population.{}: draw = {}, orders = {}, keep_eccentricity = {}, reference = {}\n",
                                      ring ? "ring" : "rollers", NameOf(sampling::kPopulationDrawNames, in.draw),
                                      in.orders, in.keep_eccentricity, NameOf(kProfileReferenceNames, in.reference));
+  // Only where named, so that a campaign that fills every roller keeps the identity it had.
+  if (in.names) identity.insert(identity.size() - 1, fmt::format(", rollers = {}", fmt::join(*in.names, ", ")));
   for (const std::filesystem::path& file : in.profiles) {
     const std::string key = in.folder ? "folder" : "profiles";
     MeasuredFit measured;
@@ -363,6 +406,7 @@ void ResolvePopulation(const TableReader& table, PopulationInput in, bool ring, 
     population.parts.push_back(std::move(part));
   }
   (ring ? plan.tolerances.ring_population : plan.tolerances.roller_population) = std::move(population);
+  if (!ring && in.names) plan.tolerances.batch_rollers = filled;
   plan.population += identity;
 }
 
@@ -454,26 +498,13 @@ void ResolveRollers(const TableReader& t, const RollerToleranceInput& in, Sampli
   std::vector<sampling::RollerShapeTolerance> rollers =
       by_class ? Lookup(t, [&] { return RollersOfClass(plan, *in.class_name, plan.roller_series); })
                : std::vector<sampling::RollerShapeTolerance>(count, {"", in.kea, in.vdsp, in.lower, in.upper, {}, {}});
-  std::vector<std::string> names;
-  for (const engine::Roller& roller : plan.scene.rollers) names.push_back(roller.name);
-  if (in.names) {
-    for (std::size_t k = 0; k < in.names->size(); ++k) {
-      const std::string& name = (*in.names)[k];
-      const bool known = std::find(names.begin(), names.end(), name) != names.end();
-      const bool again = std::find(in.names->begin(), in.names->begin() + static_cast<std::ptrdiff_t>(k), name) !=
-                         in.names->begin() + static_cast<std::ptrdiff_t>(k);
-      if (!known || again) {
-        t.Fail("rollers", fmt::format("{} \"{}\"", known ? "names twice" : "names no roller", name),
-               fmt::format("{}: {}", kRollerNamesAllowed, fmt::join(names, ", ")));
-      }
-    }
-  }
+  const std::vector<std::size_t> drawn = RollerIndices(t, in.names, plan.scene);
   for (std::size_t i = 0; i < rollers.size(); ++i) {
     sampling::RollerShapeTolerance& r = rollers[i];
     r.form = Spectrum(t, in);
     r.capability = in.capability();
-    const bool drawn = !in.names || std::find(in.names->begin(), in.names->end(), names[i]) != in.names->end();
-    plan.tolerances.roller_shapes.push_back(drawn ? std::optional(r) : std::nullopt);
+    const bool listed = std::binary_search(drawn.begin(), drawn.end(), i);
+    plan.tolerances.roller_shapes.push_back(listed ? std::optional(r) : std::nullopt);
   }
 }
 
@@ -537,10 +568,10 @@ SamplingPlan ReadSamplingFile(const std::filesystem::path& file, std::span<const
                          [&](const TableReader& t, FileInput&) {
                            const auto population = [&](std::string_view key, std::optional<PopulationInput>& slot) {
                              return Section<FileInput>(key, Presence::kOptional,
-                                                       [&slot, folder = file.parent_path()](const TableReader& table,
-                                                                                           FileInput&) {
+                                                       [&slot, folder = file.parent_path(),
+                                                        ring = key == "ring"](const TableReader& table, FileInput&) {
                                                          PopulationInput read;
-                                                         table.Read(PopulationFields(folder), read);
+                                                         table.Read(PopulationFields(folder, ring), read);
                                                          slot = std::move(read);
                                                        });
                            };

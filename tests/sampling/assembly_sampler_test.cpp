@@ -4,8 +4,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -353,7 +355,50 @@ TEST(RollerPopulation, ResamplingTakesEachPartOnceInAnAssembly) {
   t.roller_population->parts.resize(2);
   t.roller_population->draw = PopulationDraw::kResample;
   EXPECT_THAT([&] { AssemblySampler(base, t); },
-              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("2 parts for the scene's 3 rollers")));
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("2 parts for 3 rollers")));
+}
+
+// A batch may fill some rollers only (batch_rollers): the others keep the scene's outline
+// (a measured roller judged against the batch) or their class's draw, and the filled ones
+// take distinct parts in the order listed; a roller both drawn and filled is refused.
+TEST(RollerPopulation, ABatchFillsOnlyTheRollersItIsGiven) {
+  engine::Scene base = testing::PaperScene();  // spring, fixed_a, fixed_b
+  base.rollers[1].outline = engine::PolarProfile(base.rollers[1].outline.radius(), 0.0, {{3, 2e-6, 0.5}});
+  std::vector<MeasuredPart> batch;
+  for (int k = 0; k < 3; ++k) batch.push_back(Part("r" + std::to_string(k) + ".csv", -1e-6 * k, {{2 + k, 1e-6, 0.0}}));
+  AssemblyTolerances t;
+  t.roller_population = PartPopulation{batch, PopulationDraw::kResample};
+  t.batch_rollers = {0, 2};
+  const AssemblySampler sampler(base, t);
+  ASSERT_EQ(sampler.dimension(), 2);
+  EXPECT_EQ(sampler.inputs()[0].name, "roller.spring.population.part_index");
+  EXPECT_EQ(sampler.inputs()[1].name, "roller.fixed_b.population.part_index");
+  for (int k = 0; k < 16; ++k) {
+    const SampledAssembly drawn = sampler.Realise(k, std::vector<double>{(k + 0.5) / 16.0, std::fmod(k * 0.618034, 1.0)});
+    const auto spring = static_cast<std::size_t>(drawn.values[0]);
+    const auto fixed_b = static_cast<std::size_t>(drawn.values[1]);
+    EXPECT_NE(spring, fixed_b);
+    EXPECT_EQ(drawn.scene.rollers[0].outline.harmonics(), batch[spring].harmonics);
+    EXPECT_EQ(drawn.scene.rollers[2].outline.harmonics(), batch[fixed_b].harmonics);
+    EXPECT_EQ(drawn.scene.rollers[1].outline.harmonics(), base.rollers[1].outline.harmonics());
+    const std::array<std::size_t, 2> rollers = {0, 2};
+    const std::array<std::size_t, 2> parts = {spring, fixed_b};
+    EXPECT_EQ(WithRollerParts(base, *t.roller_population, rollers, parts).rollers[2].outline.mean_deviation(),
+              drawn.scene.rollers[2].outline.mean_deviation());
+  }
+  EXPECT_EQ(BatchRollers(t, 3), (std::vector<std::size_t>{0, 2}));
+  EXPECT_EQ(BatchRollers(AssemblyTolerances(), 3), (std::vector<std::size_t>{0, 1, 2}));
+  AssemblyTolerances overlapping = t;
+  overlapping.roller_shapes = {RollerShapeTolerance{"", 5 * kUm, 0.0, 0.0, 0.0, {}, {}}, std::nullopt, std::nullopt};
+  EXPECT_THAT([&] { AssemblySampler(base, overlapping); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("roller spring has a shape tolerance")));
+  AssemblyTolerances disjoint = overlapping;
+  disjoint.batch_rollers = {1, 2};
+  EXPECT_EQ(AssemblySampler(base, disjoint).dimension(), 2 + 2);  // the spring's eccentricity, and two parts
+  AssemblyTolerances unsorted = t;
+  unsorted.batch_rollers = {2, 0};
+  EXPECT_THAT([&] { AssemblySampler(base, unsorted); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("ascending")));
 }
 
 TEST(RingPopulation, IsRefusedBesideARingToleranceWithoutPartsOrWithOnePartToModel) {

@@ -171,10 +171,32 @@ TEST(SamplingFile, ABatchOfRollersReadsAndIsHeldToTheScenesRollers) {
   const std::string rollers = (examples / "rollers").string();
   const std::string head = kSceneLine + "[population.rollers]\norders = 6\n";
   EXPECT_THAT(ErrorOf(head + "folder = \"" + rollers + "\"\n[tolerances.rollers]\nclass = \"Normal\"\n"),
-              AllOf(HasSubstr("population.rollers"), HasSubstr("[tolerances.rollers] draws them too")));
+              AllOf(HasSubstr("population.rollers"),
+                    HasSubstr("fills roller \"spring\", and [tolerances.rollers] draws it too")));
   EXPECT_THAT(ErrorOf(head + "profiles = [\"" + rollers + "/roller_01.csv\", \"" + rollers + "/roller_02.csv\"]\n"),
               AllOf(HasSubstr("population.rollers.draw"), HasSubstr("2 parts for 3 rollers")));
   EXPECT_EQ(ErrorOf(head + "folder = \"" + rollers + "\"\n"), "no error");
+}
+
+// [population.rollers] rollers: the batch fills the rollers named, so that one measured
+// roller (or a class) keeps the others; two parts are then enough for two rollers.
+TEST(SamplingFile, ABatchOfRollersCanFillSomeRollersOnly) {
+  const std::string rollers = (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/populations/rollers").string();
+  const std::string batch = kSceneLine + "[population.rollers]\norders = 6\nprofiles = [\"" + rollers +
+                            "/roller_01.csv\", \"" + rollers + "/roller_02.csv\"]\n";
+  const SamplingPlan plan = ReadVariant(batch + "rollers = [\"fixed_b\", \"spring\"]\n");
+  EXPECT_EQ(plan.tolerances.batch_rollers, (std::vector<std::size_t>{0, 2}));  // spring, fixed_a, fixed_b
+  EXPECT_THAT(plan.population, HasSubstr("reference = nominal, rollers = fixed_b, spring\n"));
+  const SamplingPlan beside_a_class = ReadVariant(batch + "rollers = [\"fixed_b\", \"spring\"]\n"
+                                                  "[tolerances.rollers]\nclass = \"Normal\"\nrollers = [\"fixed_a\"]\n");
+  EXPECT_EQ(beside_a_class.tolerances.roller_shapes[1].has_value(), true);
+  EXPECT_THAT(ErrorOf(batch + "rollers = [\"fixed_b\", \"middle\"]\n"),
+              AllOf(HasSubstr("population.rollers.rollers"), HasSubstr("names no roller \"middle\"")));
+  EXPECT_THAT(ErrorOf(batch), HasSubstr("2 parts for 3 rollers"));
+  EXPECT_THAT(ErrorOf(batch + "rollers = [\"fixed_b\", \"spring\"]\n[tolerances.rollers]\nclass = \"Normal\"\n"),
+              HasSubstr("fills roller \"spring\", and [tolerances.rollers] draws it too"));
+  EXPECT_THAT(ErrorOf(kSceneLine + "[population.ring]\norders = 6\nfolder = \"" + rollers + "\"\nrollers = [\"spring\"]\n"),
+              HasSubstr("population.ring.rollers"));
 }
 
 // [tolerances.rollers] rollers: the class draws only the rollers named; one left out keeps

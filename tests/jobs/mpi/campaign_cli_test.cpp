@@ -1096,6 +1096,20 @@ TEST(Match, RecommendsTheRollersThatLowerTheOutputAndStatesTheGainOverARandomCho
   const Outcome text = RunRingtol("", "match " + file.string());
   EXPECT_THAT(text.out, AllOf(HasSubstr("search            exhaustive: all 24 assignments of 4 parts to 3 rollers"),
                               HasSubstr("random choice"), HasSubstr("gain")));
+
+  // Only the fixed slots from the batch (the spring roller stays as the scene has it): the
+  // 6 of 12 assignments that take the lobed roller rank last.
+  const std::filesystem::path fixed = folder / "fixed.toml";
+  testing::WriteText(fixed, "scene = \"scene.toml\"\n[population.rollers]\nfolder = \"batch\"\norders = 6\n"
+                            "reference = \"own_mean\"\nrollers = [\"fixed_a\", \"fixed_b\"]\n[solver]\n"
+                            "name = \"quasistatic\"\n[spec]\nd_trajectory_mm = 0.2\n");
+  const Outcome two = RunRingtol("", "match " + fixed.string() + " --json --top 12");
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  const nlohmann::json slots = nlohmann::json::parse(two.out);
+  EXPECT_EQ(slots["search"]["assignments"], 12);
+  ASSERT_EQ(slots["ranked"].size(), 12u);
+  EXPECT_FALSE(slots["best"]["rollers"].contains("spring")) << slots["best"].dump();
+  for (std::size_t k = 0; k < 12; ++k) EXPECT_EQ(lobed_on_fixed(slots["ranked"][k]), k >= 6) << k;
   testing::WriteText(folder / "ring.toml", "scene = \"scene.toml\"\n[tolerances.rollers]\nclass = \"Normal\"\n");
   const Outcome refused = RunRingtol("", "match " + (folder / "ring.toml").string());
   EXPECT_EQ(refused.exit_code, 1);
@@ -1119,6 +1133,35 @@ TEST(Campaign, AMeasuredRollerIsJudgedWithTheOthersDrawnFromTheirClass) {
     drawn_shapes += input.source == sampling::ErrorSource::kRollerShape ? 1 : 0;
   }
   EXPECT_GT(drawn_shapes, 0);  // spring's and fixed_b's
+}
+
+// Disposition of a measured roller against a measured batch
+// (examples/measured/roller_batch_disposition.toml): the batch fills the spring and fixed_b
+// with two different parts of its 12, and fixed_a keeps its measured outline.
+TEST(Campaign, AMeasuredRollerIsJudgedWithTheOthersFromAMeasuredBatch) {
+  const std::filesystem::path file =
+      std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/measured/roller_batch_disposition.toml";
+  const std::filesystem::path results = Folder() / "roller.h5";
+  const Outcome run = Campaign(file, results, "--samples 64 --json");
+  ASSERT_EQ(run.exit_code, 4) << run.err;  // 64 samples cannot show 99 % at 95 % confidence
+  EXPECT_EQ(nlohmann::json::parse(run.out)["disposition"]["verdict"], "undecided");
+  const jobs::CampaignReader reader(results);
+  std::vector<std::size_t> parts;
+  for (std::size_t k = 0; k < reader.identity().inputs.size(); ++k) {
+    const std::string& name = reader.identity().inputs[k].name;
+    EXPECT_FALSE(name.starts_with("roller.fixed_a.population") || name.starts_with("roller.fixed_a.order") ||
+                 name.starts_with("roller.fixed_a.size"))
+        << name;  // its position is drawn, its shape is its own
+    if (name.ends_with("population.part_index")) parts.push_back(k);
+  }
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(reader.identity().inputs[parts[0]].name, "roller.spring.population.part_index");
+  const std::size_t d = reader.identity().inputs.size();
+  const std::vector<double> values = reader.ReadValues(0, 64);
+  for (std::size_t i = 0; i < 64; ++i) {
+    EXPECT_NE(values[i * d + parts[0]], values[i * d + parts[1]]) << "sample " << i;
+    EXPECT_LT(values[i * d + parts[1]], 12.0);
+  }
 }
 
 TEST(Campaign, WithoutTheLifeItSaysSoAndItsReportAndVerifyRead) {
