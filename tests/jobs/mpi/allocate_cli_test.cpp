@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -111,6 +112,48 @@ TEST(Allocate, AloneItRecommendsTheCheapestFeasibleCandidate) {
       EXPECT_GE(c.cost, r["cost"].get<double>());
     }
   }
+}
+
+// The six-roller stage's allocation (examples/six_roller_stage/allocation.toml, at a
+// quarter of its samples, so on the 90 % quantiles, which 128 samples bound): four fixed rollers, two more than the ring needs, under two
+// springs, with a life constraint. It ends with a recommendation, and no sample it computed
+// failed but those the linear screen refused (beyond_linear_range), which the confirming
+// rung then computed.
+TEST(Allocate, OnTheSixRollerStageItRecommendsAndEverySampleItConfirmsIsOk) {
+  const std::filesystem::path folder = Folder();
+  const std::filesystem::path stage = std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/six_roller_stage";
+  std::string text = testing::ReadText(stage / "allocation.toml");
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"samples = 512", "samples = 128"},
+                                 {"first_samples = 128", "first_samples = 32"},
+                                 {"quantile = 0.99", "quantile = 0.9"},
+                                 {"quantile = 0.99", "quantile = 0.9"},
+                                 {"scene = \"scene.toml\"", "scene = \"" + (stage / "scene.toml").string() + "\""}}) {
+    const std::size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  }
+  const auto file = Write(folder / "allocation.toml", text);
+  const Outcome run = Allocate(file, folder / "six.h5", "--json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(run.out);
+  EXPECT_TRUE(summary["complete"].get<bool>());
+  ASSERT_FALSE(summary["recommendation"].is_null()) << run.out;
+  EXPECT_EQ(summary["recommendation"]["verdict"], "feasible");
+  const AllocationReader reader(folder / "six.h5");
+  const std::int64_t candidates = static_cast<std::int64_t>(reader.ReadOutcome().candidates.size());
+  std::int64_t confirmed = 0;
+  for (std::int64_t c = 0; c < candidates; ++c) {
+    for (const SampleStatus status : reader.ReadStatus(EvaluationRole::kConfirm, c, 0, 128)) {
+      EXPECT_TRUE(status == SampleStatus::kOk || status == SampleStatus::kPending) << SampleStatusName(status);
+      confirmed += status == SampleStatus::kOk ? 1 : 0;
+    }
+    for (const SampleStatus status : reader.ReadStatus(EvaluationRole::kScreen, c, 0, 128)) {
+      EXPECT_TRUE(status == SampleStatus::kOk || status == SampleStatus::kPending ||
+                  status == FromSolverStatus(solvers::Status::kBeyondLinearRange))
+          << SampleStatusName(status);
+    }
+  }
+  EXPECT_GT(confirmed, 0);
 }
 
 TEST(Allocate, ItsBenchNotesTheContactLawAsItDoes) {
