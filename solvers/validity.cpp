@@ -26,10 +26,12 @@ std::string Degrees(double radians) {
 
 namespace {
 
-// Fixed rollers in contact the support needs (RollerLosingSupport).
+// Fixed rollers in contact the support needs (RollerLosingSupport): on three rollers
+// every one; beyond, one where a spring presses the ring onto it, else three.
 std::size_t NeededFixedRollers(const engine::Scene& scene) {
   const auto fixed = static_cast<std::size_t>(engine::FixedRollerCount(scene));
-  return std::min<std::size_t>(engine::SpringRollerCount(scene) > 0 ? 2 : 3, fixed);
+  if (scene.rollers.size() <= 3) return fixed;
+  return std::min<std::size_t>(engine::SpringRollerCount(scene) > 0 ? 1 : 3, fixed);
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 //   2. a spring roller's |travel| <= its travel limit             else kRollerDoesNotFit
 //   3. it touches the bore at one point only                      else kTwoPointContact
 // in that order. A contact that opens while the ring keeps its support is the normal state
-// of a support with more fixed rollers than the two a spring presses the ring onto: the
+// of a support with more fixed rollers than a spring needs to press the ring onto: the
 // exact rungs follow it (ValidityOptions::contacts_may_open). The linear rung's path, and
 // every shortcut built on it, assumes each contact of the error-free assembly stays closed:
 // for it such an opening is kBeyondLinearRange, for an exact rung to follow. Condition 3 is searched only where Blaschke's rolling theorem cannot rule
@@ -47,14 +47,19 @@ struct ValidityOptions {
 // The support rule (docs/model.md §7, "Contacts that open"). `load` [N or m] is positive
 // for each roller whose contact carries load (a force, or a penetration). The ring keeps the
 // support it needs while every spring roller touches (its spring pushes it out to its
-// travel limit otherwise) and at least two fixed rollers do, or three where no spring
-// roller presses the ring onto them, or every fixed roller where there are fewer. Returns
-// the first roller, in scene order, whose lost contact breaks that rule, or -1 while it
-// holds. On three rollers every contact is needed: any opening breaks it.
+// travel limit otherwise) and, beyond three rollers, at least one fixed roller does: the
+// springs press the ring onto whichever touch, and whether an equilibrium exists on them
+// (a fixed roller opposite a spring holds the ring, the contacts' curvature holding it
+// sideways) is the exact rungs' equations' to decide, not a count's. Without a spring
+// roller three fixed rollers must touch, or every fixed roller where there are fewer. On
+// three rollers every contact is needed: any opening breaks it (the article's lift-off).
+// Returns the first roller, in scene order, whose lost contact breaks that rule, or -1
+// while it holds.
 int RollerLosingSupport(const engine::Scene& scene, std::span<const double> load);
 
 // [N] The least force the support rests on at one configuration: the smallest spring
-// roller's, and the k-th largest fixed roller's for the k fixed rollers the rule needs.
+// roller's, and the k-th largest fixed roller's for the k fixed rollers the rule needs (the
+// largest beyond three rollers with a spring).
 // What a push on the ring must overcome before it loses a support it needs; on three
 // rollers, the smallest contact force.
 double SupportForce(const engine::Scene& scene, std::span<const double> contact_force);

@@ -81,15 +81,64 @@ TEST(SupportRule, OnThreeRollersEveryContactIsNeeded) {
   EXPECT_EQ(solvers::SupportForce(scene, std::vector{19.0, 7.0, 10.0}), 7.0);
 }
 
-TEST(SupportRule, ASpringPressesTheRingOntoAnyTwoFixedRollers) {
+// Beyond three rollers, a spring presses the ring onto whichever fixed rollers touch: one
+// is support enough where an equilibrium exists on it (the exact rungs' equations decide
+// that), none is not, and a spring roller off the bore never is.
+TEST(SupportRule, BeyondThreeRollersASpringPressesTheRingOntoAnyFixedRoller) {
   const engine::Scene scene = FourRollers(0.0);  // spring, fixed_a, fixed_b, fixed_c
   EXPECT_EQ(solvers::RollerLosingSupport(scene, std::vector{19.0, 10.0, 10.0, 0.0}), -1);
   EXPECT_EQ(solvers::RollerLosingSupport(scene, std::vector{19.0, 0.0, 10.0, 10.0}), -1);
-  EXPECT_EQ(solvers::RollerLosingSupport(scene, std::vector{19.0, 0.0, 10.0, 0.0}), 1);
+  EXPECT_EQ(solvers::RollerLosingSupport(scene, std::vector{19.0, 0.0, 10.0, 0.0}), -1);
+  EXPECT_EQ(solvers::RollerLosingSupport(scene, std::vector{19.0, 0.0, 0.0, 0.0}), 1);
   EXPECT_EQ(solvers::RollerLosingSupport(scene, std::vector{0.0, 10.0, 10.0, 10.0}), 0);
-  // The second largest fixed force: the ring keeps two fixed rollers until it is gone.
-  EXPECT_EQ(solvers::SupportForce(scene, std::vector{19.0, 3.0, 10.0, 0.0}), 3.0);
+  // The largest fixed force: the ring keeps a fixed roller until it is gone.
+  EXPECT_EQ(solvers::SupportForce(scene, std::vector{19.0, 3.0, 10.0, 0.0}), 10.0);
   EXPECT_EQ(solvers::SupportForce(scene, std::vector{2.0, 3.0, 10.0, 0.0}), 2.0);
+}
+
+// Three fixed rollers at 210, 270 and 330 deg under the article's spring at 90 deg, and an
+// order-2 bore of `amplitude` [m]: the middle roller, opposite the spring, carries most of
+// its push, and the outer ones a few newtons on a round bore.
+engine::Scene SymmetricFourRollers(double amplitude) {
+  engine::Scene scene = testing::PaperScene();
+  scene.rollers.push_back(testing::PaperRoller("fixed_c", 270.0, false));
+  testing::SetRing(scene, {{2, amplitude, 30.0 * kDeg}});
+  return scene;
+}
+
+// On the symmetric layout both outer rollers leave the bore at once where the bore's form
+// lets the ring settle onto the middle roller alone: the spring presses it there, and the
+// contacts' curvature holds it sideways. The quasistatic rung follows the path through that
+// state (it was lift_off under a rule that asked for two fixed rollers), continuous in the
+// amplitude and converged in the steps.
+TEST(ContactOpening, OnASymmetricLayoutTheRingMayRestOnTheMiddleRollerAlone) {
+  const solvers::QuasistaticSolver solver;
+  constexpr double kStep = 10e-6;  // [m]
+  double previous = -1.0;
+  bool alone_seen = false;
+  for (double amplitude = 40e-6; amplitude <= 120e-6; amplitude += kStep) {
+    const engine::Scene scene = SymmetricFourRollers(amplitude);
+    const solvers::SimulationResult coarse = Simulated(scene, solver, 720);
+    ASSERT_EQ(coarse.status, solvers::Status::kOk) << amplitude * 1e6 << " um: " << coarse.message;
+    const solvers::Trajectory& path = coarse.trajectory;
+    for (std::size_t k = 0; k < path.psi.size(); ++k) {
+      const double* force = &path.contact_force[k * 4];
+      if (force[1] == 0.0 && force[2] == 0.0) {
+        alone_seen = true;
+        EXPECT_GT(force[3], 0.0);
+        EXPECT_GT(force[0], 0.0);
+      }
+    }
+    if (previous >= 0.0) {
+      EXPECT_LE(std::abs(coarse.d_trajectory - previous), 4.0 * kStep + 2e-7) << amplitude * 1e6 << " um";
+    }
+    previous = coarse.d_trajectory;
+    const solvers::SimulationResult fine = Simulated(scene, solver, 2880);
+    ASSERT_EQ(fine.status, solvers::Status::kOk) << fine.message;
+    EXPECT_NEAR(coarse.d_trajectory, fine.d_trajectory, solvers::SamplingErrorBoundsAt(scene, 720).d_trajectory + 2e-12)
+        << amplitude * 1e6 << " um";
+  }
+  EXPECT_TRUE(alone_seen) << "the sweep must reach the middle roller alone";
 }
 
 TEST(SupportRule, WithoutSpringsThreeFixedRollersAreNeeded) {
