@@ -53,6 +53,32 @@ solvers::SimulationResult Simulated(const engine::Scene& scene, const solvers::S
   return solvers::Simulate(scene, solver, options);
 }
 
+// A sweep of the quasistatic path over the bore's amplitude [from, to] in `step`s [m] on
+// scene_of(amplitude), each path handed to `visit`: every one ok, D_trajectory continuous
+// in the amplitude (the centre cannot move by more than the bore does: D changes by at most
+// 4 times the amplitude's change, the rigid three-roller gain of an order that is a
+// multiple of 3, the largest any order has, plus the sampling's bound) and converged in the
+// steps (720 against 2880 within the sampling bound).
+template <typename SceneOf, typename Visit>
+void ExpectWellPosedAcrossAmplitudes(SceneOf scene_of, double from, double to, double step, Visit visit) {
+  const solvers::QuasistaticSolver solver;
+  double previous = -1.0;
+  for (double amplitude = from; amplitude <= to; amplitude += step) {
+    const engine::Scene scene = scene_of(amplitude);
+    const solvers::SimulationResult coarse = Simulated(scene, solver, 720);
+    ASSERT_EQ(coarse.status, solvers::Status::kOk) << amplitude * 1e6 << " um: " << coarse.message;
+    visit(coarse, scene);
+    if (previous >= 0.0) {
+      EXPECT_LE(std::abs(coarse.d_trajectory - previous), 4.0 * step + 2e-7) << amplitude * 1e6 << " um";
+    }
+    previous = coarse.d_trajectory;
+    const solvers::SimulationResult fine = Simulated(scene, solver, 2880);
+    ASSERT_EQ(fine.status, solvers::Status::kOk) << fine.message;
+    EXPECT_NEAR(coarse.d_trajectory, fine.d_trajectory, solvers::SamplingErrorBoundsAt(scene, 720).d_trajectory + 2e-12)
+        << amplitude * 1e6 << " um";
+  }
+}
+
 // The life reads the linear rung's phasors, which assume every contact closed: where a
 // redundant roller leaves the bore the sample keeps its revolution's outputs and says why
 // it has no life values; where none leaves, the life is there.
@@ -112,32 +138,18 @@ engine::Scene SymmetricFourRollers(double amplitude) {
 // state (it was lift_off under a rule that asked for two fixed rollers), continuous in the
 // amplitude and converged in the steps.
 TEST(ContactOpening, OnASymmetricLayoutTheRingMayRestOnTheMiddleRollerAlone) {
-  const solvers::QuasistaticSolver solver;
-  constexpr double kStep = 10e-6;  // [m]
-  double previous = -1.0;
   bool alone_seen = false;
-  for (double amplitude = 40e-6; amplitude <= 120e-6; amplitude += kStep) {
-    const engine::Scene scene = SymmetricFourRollers(amplitude);
-    const solvers::SimulationResult coarse = Simulated(scene, solver, 720);
-    ASSERT_EQ(coarse.status, solvers::Status::kOk) << amplitude * 1e6 << " um: " << coarse.message;
-    const solvers::Trajectory& path = coarse.trajectory;
-    for (std::size_t k = 0; k < path.psi.size(); ++k) {
-      const double* force = &path.contact_force[k * 4];
-      if (force[1] == 0.0 && force[2] == 0.0) {
-        alone_seen = true;
-        EXPECT_GT(force[3], 0.0);
-        EXPECT_GT(force[0], 0.0);
-      }
-    }
-    if (previous >= 0.0) {
-      EXPECT_LE(std::abs(coarse.d_trajectory - previous), 4.0 * kStep + 2e-7) << amplitude * 1e6 << " um";
-    }
-    previous = coarse.d_trajectory;
-    const solvers::SimulationResult fine = Simulated(scene, solver, 2880);
-    ASSERT_EQ(fine.status, solvers::Status::kOk) << fine.message;
-    EXPECT_NEAR(coarse.d_trajectory, fine.d_trajectory, solvers::SamplingErrorBoundsAt(scene, 720).d_trajectory + 2e-12)
-        << amplitude * 1e6 << " um";
-  }
+  ExpectWellPosedAcrossAmplitudes(SymmetricFourRollers, 40e-6, 120e-6, 10e-6,
+                                  [&](const solvers::SimulationResult& result, const engine::Scene&) {
+                                    const solvers::Trajectory& path = result.trajectory;
+                                    for (std::size_t k = 0; k < path.psi.size(); ++k) {
+                                      const double* force = &path.contact_force[k * 4];
+                                      if (force[1] > 0.0 || force[2] > 0.0) continue;
+                                      alone_seen = true;
+                                      EXPECT_GT(force[3], 0.0);
+                                      EXPECT_GT(force[0], 0.0);
+                                    }
+                                  });
   EXPECT_TRUE(alone_seen) << "the sweep must reach the middle roller alone";
 }
 
@@ -167,30 +179,14 @@ TEST(ContactOpening, TheQuasistaticRungFollowsARedundantRollerOffTheBoreAndBack)
 // Well-posed through the contact change: D_trajectory is continuous in the amplitude from
 // below the opening (every contact closed) to well past it, and converged in the steps.
 TEST(ContactOpening, DTrajectoryIsContinuousInTheAmplitudeAcrossTheOpeningAndConvergedInTheSteps) {
-  const solvers::QuasistaticSolver solver;
-  constexpr double kStep = 5e-6;  // [m]
-  double previous = -1.0;
   bool closed_seen = false;
   bool open_seen = false;
-  for (double amplitude = 20e-6; amplitude <= 120e-6; amplitude += kStep) {
-    const engine::Scene scene = FourRollers(amplitude);
-    const solvers::SimulationResult coarse = Simulated(scene, solver, 720);
-    ASSERT_EQ(coarse.status, solvers::Status::kOk) << amplitude << ": " << coarse.message;
-    const bool open = OpenShare(coarse.trajectory, kOpening, scene.rollers.size()) > 0.0;
-    closed_seen = closed_seen || !open;
-    open_seen = open_seen || open;
-    // The centre cannot move by more than the bore does: D changes by at most 4 times the
-    // amplitude's change (the rigid three-roller gain of an order that is a multiple of 3,
-    // the largest any order has), plus the sampling's bound.
-    if (previous >= 0.0) {
-      EXPECT_LE(std::abs(coarse.d_trajectory - previous), 4.0 * kStep + 2e-7) << amplitude * 1e6 << " um";
-    }
-    previous = coarse.d_trajectory;
-    const solvers::SimulationResult fine = Simulated(scene, solver, 2880);
-    ASSERT_EQ(fine.status, solvers::Status::kOk) << fine.message;
-    EXPECT_NEAR(coarse.d_trajectory, fine.d_trajectory, solvers::SamplingErrorBoundsAt(scene, 720).d_trajectory + 2e-12)
-        << amplitude * 1e6 << " um";
-  }
+  ExpectWellPosedAcrossAmplitudes(FourRollers, 20e-6, 120e-6, 5e-6,
+                                  [&](const solvers::SimulationResult& result, const engine::Scene& scene) {
+                                    const bool open = OpenShare(result.trajectory, kOpening, scene.rollers.size()) > 0.0;
+                                    closed_seen = closed_seen || !open;
+                                    open_seen = open_seen || open;
+                                  });
   EXPECT_TRUE(closed_seen && open_seen) << "the sweep must cross the opening";
 }
 
