@@ -232,6 +232,10 @@ CLI::App* AddMatch(CLI::App& app, ringtol::jobs::MatchCommand& match) {
   sub->add_option("--budget", match.budget, "The heuristic's random assignments (default 2000)")
       ->transform(DecimalIn(1, kMostSamples));
   sub->add_option("--top", match.top, "Assignments listed (default 5)")->transform(DecimalIn(1, 1000));
+  sub->add_option("--draws", match.draws,
+                  "Fit each assignment to this many assemblies of the file's other tolerances, the same for each, and "
+                  "rank by the mean (default 0: the scene as it stands)")
+      ->transform(DecimalIn(0, kMostSamples));
   sub->add_flag("--json", match.json, "Print one JSON object");
   return sub;
 }

@@ -27,11 +27,16 @@ namespace {
 
 using Assignment = std::vector<std::size_t>;  // slot k (the batch's k-th roller) takes batch part [k]
 
-// One assembly of the search: its assignment, its output (NaN when it failed) and why.
+// One assignment of the search, judged on every base assembly (the scene as it stands, or
+// the draws of the file's other tolerances): the mean of its output over those whose
+// simulation gave it, the worst, the share within the spec limit, and how many failed, why.
 struct Matched {
   Assignment parts;
-  double value = 0.0;
-  std::string failure;  // the status name and message of a failed assembly; empty when ok
+  double value = 0.0;  // NaN when none gave the output
+  double worst = 0.0;
+  double within = 0.0;   // share of the bases within the spec limit (failures outside)
+  std::int64_t failed = 0;
+  std::string failure;  // the first failed base's status and message; empty when none failed
 };
 
 // B! / (B - Z)!, or `cap` + 1 once it exceeds `cap`.
@@ -48,33 +53,49 @@ std::int64_t AssignmentCount(std::size_t batch, std::size_t slots, std::int64_t 
 // The search: evaluates assignments once each, whatever order it meets them in.
 class Search {
  public:
-  Search(const CampaignPlan& plan, std::vector<std::size_t> rollers, std::size_t output,
-         solvers::SimulationOptions options)
+  Search(const CampaignPlan& plan, std::vector<engine::Scene> bases, std::vector<std::size_t> rollers,
+         std::size_t output, std::optional<double> limit, solvers::SimulationOptions options)
       : plan_(plan),
+        bases_(std::move(bases)),
         rollers_(std::move(rollers)),
         output_(output),
+        limit_(limit),
         options_(std::move(options)),
         solver_(solvers::MakeSolver(plan.solver)) {}
 
   const Matched& Evaluate(const Assignment& parts) {
     if (const auto found = done_.find(parts); found != done_.end()) return found->second;
-    const engine::Scene scene =
-        sampling::WithRollerParts(plan_.sampling.scene, *plan_.sampling.tolerances.roller_population, rollers_, parts);
-    SampleRecord record;
-    try {
-      RecordSimulation(solvers::Simulate(scene, *solver_, options_), options_.life, record);
-    } catch (const std::exception& e) {
-      record.status = SampleStatus::kException;
-      record.message = e.what();
+    Matched matched{parts, 0.0, 0.0, 0.0, 0, {}};
+    std::int64_t given = 0;
+    std::int64_t within = 0;
+    for (const engine::Scene& base : bases_) {
+      const engine::Scene scene =
+          sampling::WithRollerParts(base, *plan_.sampling.tolerances.roller_population, rollers_, parts);
+      SampleRecord record;
+      try {
+        RecordSimulation(solvers::Simulate(scene, *solver_, options_), options_.life, record);
+      } catch (const std::exception& e) {
+        record.status = SampleStatus::kException;
+        record.message = e.what();
+      }
+      std::string failure;
+      if (record.status != SampleStatus::kOk) {
+        failure = fmt::format("{}: {}", SampleStatusName(record.status), record.message);
+      } else if (std::isnan(record.outputs[output_])) {
+        failure = "no life values: a roller left the bore";  // only a life output can be missing
+      }
+      if (!failure.empty()) {
+        if (matched.failed++ == 0) matched.failure = std::move(failure);
+        continue;
+      }
+      const double value = record.outputs[output_];
+      matched.value += value;
+      matched.worst = given++ == 0 ? value : std::max(matched.worst, value);
+      within += limit_ && value <= *limit_ ? 1 : 0;
     }
-    Matched matched{parts, std::numeric_limits<double>::quiet_NaN(), {}};
-    if (record.status == SampleStatus::kOk) {
-      matched.value = record.outputs[output_];
-      // Only a life output can be missing from an ok assembly.
-      if (std::isnan(matched.value)) matched.failure = "no life values: a roller left the bore";
-    } else {
-      matched.failure = fmt::format("{}: {}", SampleStatusName(record.status), record.message);
-    }
+    matched.value = given > 0 ? matched.value / static_cast<double>(given) : std::numeric_limits<double>::quiet_NaN();
+    if (given == 0) matched.worst = matched.value;
+    matched.within = static_cast<double>(within) / static_cast<double>(bases_.size());
     return done_.emplace(parts, std::move(matched)).first->second;
   }
 
@@ -86,17 +107,54 @@ class Search {
 
  private:
   const CampaignPlan& plan_;
+  std::vector<engine::Scene> bases_;  // what each assignment's parts are fitted to
   std::vector<std::size_t> rollers_;  // the scene rollers the slots are
   std::size_t output_;
+  std::optional<double> limit_;
   solvers::SimulationOptions options_;
   std::unique_ptr<solvers::Solver> solver_;
   std::map<Assignment, Matched> done_;
 };
 
-// Lower is better; a failed assembly is worst.
+// Fewer failed bases first, then the lower mean output.
 bool Better(const Matched& a, const Matched& b) {
+  if (a.failed != b.failed) return a.failed < b.failed;
   if (std::isnan(a.value) != std::isnan(b.value)) return !std::isnan(a.value);
   return a.value != b.value ? a.value < b.value : a.parts < b.parts;
+}
+
+// The assemblies every assignment is fitted to: the scene as it stands (draws = 0), or the
+// first `draws` samples of the file's design with its other tolerances ([tolerances.*],
+// [population.ring]; the batch left out), the same for every assignment (common random
+// numbers). Throws InputError where the file draws nothing else or has fewer samples.
+std::vector<engine::Scene> Bases(const CampaignPlan& plan, std::int64_t draws) {
+  if (draws == 0) return {plan.sampling.scene};
+  const std::string file = plan.file.string();
+  if (draws > plan.sampling.samples) {
+    throw InputError(fmt::format("--draws {}: more than the {} samples of {}'s design", draws, plan.sampling.samples,
+                                 file));
+  }
+  CampaignPlan others = plan;
+  others.sampling.tolerances.roller_population.reset();
+  others.sampling.tolerances.batch_rollers.clear();
+  others.sampling.population.clear();
+  const sampling::AssemblyTolerances& t = others.sampling.tolerances;
+  const auto any = [](const auto& list) {
+    return std::any_of(list.begin(), list.end(), [](const auto& entry) { return entry.has_value(); });
+  };
+  if (!t.ring && !t.ring_population && !any(t.roller_shapes) && !any(t.roller_positions) && !any(t.springs)) {
+    throw InputError(file + ": --draws draws the file's other tolerances, and it has none beside [population.rollers]");
+  }
+  const Campaign campaign(std::move(others), file, nullptr);
+  SampleDrawer drawer(campaign);
+  std::vector<engine::Scene> bases;
+  for (std::int64_t k = 0; k < draws; ++k) {
+    std::optional<sampling::SampledAssembly> assembly;
+    const SampleRecord drawn = drawer.Draw(k, &assembly);
+    if (!assembly) throw InputError(fmt::format("{}: sample {} cannot be drawn: {}", file, k, drawn.message));
+    bases.push_back(std::move(assembly->scene));
+  }
+  return bases;
 }
 
 void EveryAssignment(std::size_t batch, Assignment& parts, std::vector<bool>& used, std::size_t slot, Search& search) {
@@ -206,7 +264,7 @@ int RunMatch(const MatchCommand& command, std::ostream& out) {
   const std::size_t slots = rollers.size();
   const std::int64_t count = AssignmentCount(parts, slots, command.exhaustive_limit);
   const bool exhaustive = count <= command.exhaustive_limit;
-  Search search(plan, rollers, output, options);
+  Search search(plan, Bases(plan, command.draws), rollers, output, limit, options);
   std::vector<Matched> random_choice;  // what choosing at random gives: every assignment, or the drawn ones
   int moves = 0;
   if (exhaustive) {
@@ -226,14 +284,12 @@ int RunMatch(const MatchCommand& command, std::ostream& out) {
   const Matched& best = ranked.front();
 
   std::vector<double> values;
-  std::int64_t failed = 0, within = 0;
+  std::int64_t failed = 0;
+  double within_sum = 0.0;
   for (const Matched& m : random_choice) {
-    if (std::isnan(m.value)) {
-      ++failed;
-      continue;
-    }
-    values.push_back(m.value);
-    if (limit && m.value <= *limit) ++within;
+    within_sum += m.within;
+    if (m.failed > 0) ++failed;
+    if (!std::isnan(m.value)) values.push_back(m.value);
   }
   std::sort(values.begin(), values.end());
   const double mean = values.empty() ? std::numeric_limits<double>::quiet_NaN()
@@ -241,6 +297,8 @@ int RunMatch(const MatchCommand& command, std::ostream& out) {
   const double median = analysis::Median(values);
   const double worst = values.empty() ? std::numeric_limits<double>::quiet_NaN() : values.back();
   const auto trials = static_cast<std::int64_t>(random_choice.size());
+  const double within = trials > 0 ? within_sum / static_cast<double>(trials) : 0.0;
+  const std::string over = command.draws > 0 ? fmt::format(" mean over {} assemblies", command.draws) : std::string();
   const std::int64_t total = AssignmentCount(parts, slots, std::numeric_limits<std::int64_t>::max() - 1);
   const std::string assignments =
       total < std::numeric_limits<std::int64_t>::max() ? fmt::format("{}", total) : std::string("more than 9.2e18");
@@ -262,15 +320,19 @@ int RunMatch(const MatchCommand& command, std::ostream& out) {
       for (std::size_t i = 0; i < slots; ++i) {
         fitted[plan.sampling.scene.rollers[rollers[i]].name] = batch->parts[ranked[k].parts[i]].name;
       }
-      ranked_json.push_back({{"rollers", fitted},
-                             {"value", std::isnan(ranked[k].value) ? nlohmann::json(nullptr) : nlohmann::json(ranked[k].value)},
-                             {"failure", ranked[k].failure}});
+      const auto number = [](double x) { return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x); };
+      nlohmann::json entry = {{"rollers", fitted},      {"value", number(ranked[k].value)},
+                              {"worst", number(ranked[k].worst)}, {"failed", ranked[k].failed},
+                              {"failure", ranked[k].failure}};
+      if (limit) entry["within_spec"] = ranked[k].within;
+      ranked_json.push_back(std::move(entry));
     }
     nlohmann::json random = {{"assignments", trials}, {"failed", failed}, {"mean", mean}, {"median", median},
                              {"worst", worst}};
-    if (limit) random["within_spec"] = trials > 0 ? static_cast<double>(within) / static_cast<double>(trials) : 0.0;
+    if (limit) random["within_spec"] = within;
     nlohmann::json json;
     json["output"] = name;
+    json["draws"] = command.draws;
     json["upper_spec_limit"] = limit ? nlohmann::json(*limit) : nlohmann::json(nullptr);
     json["search"] = {{"exhaustive", exhaustive},
                       {"assignments", exhaustive ? nlohmann::json(count) : nlohmann::json(nullptr)},
@@ -284,21 +346,32 @@ int RunMatch(const MatchCommand& command, std::ostream& out) {
     out << json.dump(2) << "\n";
     return 0;
   }
-  fmt::print(out, "match             {}: {} of {} measured rollers onto {} of the scene's {} rollers as it stands\n", file,
-             slots, parts, slots, plan.sampling.scene.rollers.size());
+  fmt::print(out, "match             {}: {} of {} measured rollers onto {} of the scene's {} rollers, {}\n", file, slots,
+             parts, slots, plan.sampling.scene.rollers.size(),
+             command.draws > 0 ? fmt::format("each assignment on the same {} assemblies of the file's other tolerances",
+                                             command.draws)
+                               : std::string("as the scene stands"));
   fmt::print(out, "search            {}\n", search_text);
-  fmt::print(out, "best              {}: {} {:.5g} {}{}\n", Named(best, plan.sampling.scene, rollers, *batch), name, best.value, unit,
-             limit ? (best.value <= *limit ? fmt::format(" (within {:g})", *limit) : fmt::format(" (beyond {:g})", *limit))
-                   : std::string());
+  const auto judged = [&](const Matched& m) {
+    std::string text = fmt::format("{} {:.5g} {}{}", name, m.value, unit, over);
+    if (command.draws > 0) {
+      text += fmt::format(" (worst {:.5g}{})", m.worst,
+                          limit ? fmt::format("; {} within {:g}", Percent(m.within), *limit) : std::string());
+    } else if (limit) {
+      text += m.value <= *limit ? fmt::format(" (within {:g})", *limit) : fmt::format(" (beyond {:g})", *limit);
+    }
+    if (m.failed > 0) text += fmt::format("; {} of {} failed, first {}", m.failed, std::max<std::int64_t>(command.draws, 1), m.failure);
+    return text;
+  };
+  fmt::print(out, "best              {}: {}\n", Named(best, plan.sampling.scene, rollers, *batch), judged(best));
   fmt::print(out, "random choice     {} {:.5g} median, {:.5g} mean, {:.5g} worst over {} assignments{}{}\n", name, median,
              mean, worst, trials, failed > 0 ? fmt::format(", {} failed", failed) : std::string(),
-             limit ? fmt::format("; {} within {:g}", Percent(static_cast<double>(within) / static_cast<double>(trials)), *limit)
-                   : std::string());
+             limit ? fmt::format("; {} within {:g}", Percent(within), *limit) : std::string());
   fmt::print(out, "gain              {:.5g} {} below the median random choice ({:.1f} %), {:.5g} below the mean ({:.1f} %)\n",
              median - best.value, unit, gain(median), mean - best.value, gain(mean));
   for (std::size_t k = 0; k < ranked.size() && k < static_cast<std::size_t>(command.top); ++k) {
     fmt::print(out, "{}{}: {}\n", k == 0 ? "ranked            " : kSummaryIndent, Named(ranked[k], plan.sampling.scene, rollers, *batch),
-               ranked[k].failure.empty() ? fmt::format("{:.5g}", ranked[k].value) : ranked[k].failure);
+               command.draws == 0 && ranked[k].failed > 0 ? ranked[k].failure : judged(ranked[k]));
   }
   return 0;
 }

@@ -1,9 +1,12 @@
 // `ringtol match`: which rollers of a measured batch to install with a measured ring.
 //
 // The campaign file names the ring (its scene, with ring.measured_profile) and the batch
-// ([population.rollers], draw = "resample"). Every assignment of batch parts to the scene's
-// roller slots is one assembly, built as the scene stands (its [tolerances.*] draws are not
-// applied: the match is for the parts in hand), and simulated with the campaign's [solver].
+// ([population.rollers], draw = "resample"). Every assignment of batch parts to the roller
+// slots the batch fills is fitted to the scene as it stands (`draws` = 0: the match is for
+// the parts in hand), or to each of the first `draws` assemblies the file's other
+// tolerances draw (the same for every assignment: roller positions and springs not yet
+// measured), and simulated with the campaign's [solver]; assignments rank by the mean
+// output over those assemblies, fewer failed ones first.
 // Exhaustive where the assignments number at most `exhaustive_limit` (B! / (B - Z)! for B
 // parts and Z rollers); beyond it, a stated heuristic: `budget` assignments drawn at random,
 // then, from the best, swaps of one slot's part for another (a part left in the batch or
@@ -29,6 +32,7 @@ struct MatchCommand {
   std::int64_t exhaustive_limit = 20000;  // >= 1: the most assignments searched exhaustively
   std::int64_t budget = 2000;             // >= 1: the random assignments of the heuristic
   int top = 5;                            // >= 1: assignments listed
+  std::int64_t draws = 0;                 // >= 0, <= the file's samples: 0 fits the scene as it stands
   bool json = false;
 };
 

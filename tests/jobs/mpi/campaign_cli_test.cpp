@@ -1110,6 +1110,29 @@ TEST(Match, RecommendsTheRollersThatLowerTheOutputAndStatesTheGainOverARandomCho
   ASSERT_EQ(slots["ranked"].size(), 12u);
   EXPECT_FALSE(slots["best"]["rollers"].contains("spring")) << slots["best"].dump();
   for (std::size_t k = 0; k < 12; ++k) EXPECT_EQ(lobed_on_fixed(slots["ranked"][k]), k >= 6) << k;
+  // Fitted to assemblies of the file's other tolerances (roller positions not yet bored):
+  // the same 4 draws for every assignment, ranked by the mean; the lobed roller still goes
+  // on the spring. A file with nothing else to draw is refused.
+  const Outcome bare = RunRingtol("", "match " + file.string() + " --draws 4");
+  EXPECT_EQ(bare.exit_code, 1);
+  EXPECT_THAT(bare.err, HasSubstr("--draws draws the file's other tolerances"));
+  const std::filesystem::path positions = folder / "positions.toml";
+  testing::WriteText(positions, testing::ReadText(file) + "[tolerances.roller_positions]\nzone_diameter_mm = 0.07\n"
+                                                          "[design]\nkind = \"sobol\"\nsamples = 8\n");
+  const Outcome drawn = RunRingtol("", "match " + positions.string() + " --json --top 24 --draws 4");
+  ASSERT_EQ(drawn.exit_code, 0) << drawn.err;
+  const nlohmann::json robust = nlohmann::json::parse(drawn.out);
+  EXPECT_EQ(robust["draws"], 4);
+  ASSERT_EQ(robust["ranked"].size(), 24u);
+  for (std::size_t k = 0; k < 24; ++k) {
+    const nlohmann::json& entry = robust["ranked"][k];
+    EXPECT_EQ(lobed_on_fixed(entry), k >= 12) << k;
+    EXPECT_GE(entry["worst"].get<double>(), entry["value"].get<double>()) << k;
+    EXPECT_EQ(entry["failed"], 0) << entry.dump();
+  }
+  EXPECT_NE(robust["best"]["value"].get<double>(), best);  // the positions moved it
+  EXPECT_EQ(RunRingtol("", "match " + positions.string() + " --draws 9").exit_code, 1);  // beyond the design's 8
+
   testing::WriteText(folder / "ring.toml", "scene = \"scene.toml\"\n[tolerances.rollers]\nclass = \"Normal\"\n");
   const Outcome refused = RunRingtol("", "match " + (folder / "ring.toml").string());
   EXPECT_EQ(refused.exit_code, 1);
