@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <utility>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -152,8 +153,11 @@ std::string PopulationLine(const PopulationView& view) {
   line += fmt::format("; against {}: {} of {} within {} {}{}", ClassWords(view), PartsWithinClass(view),
                       view.parts.size(), view.ring ? "RONt" : "VDsp", Micrometres(view.class_limit_um),
                       PartsOutside(view));
+  // The parts' dominant order among those the class draws: a kept order 1 is mostly the
+  // tester's centring, which no ring class draws.
   const auto largest = std::max_element(view.orders.begin(), view.orders.end(), [](const auto& a, const auto& b) {
-    return a.measured_median_um < b.measured_median_um;
+    return std::pair(a.class_median_um.has_value(), a.measured_median_um) <
+           std::pair(b.class_median_um.has_value(), b.measured_median_um);
   });
   if (largest == view.orders.end()) return line;
   line += fmt::format("; order {} median {} against ", largest->order, Micrometres(largest->measured_median_um));

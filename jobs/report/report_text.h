@@ -46,10 +46,11 @@ inline constexpr const char* kSummaryIndent = "                  ";
 
 // One line for a measured population (jobs/report/population_view.h): its parts and how
 // they are drawn, the class compared with and how many parts lie within it (those outside
-// named), and the order whose measured median is largest against the class's median there:
-// "ring population: 20 measured parts, resampled; against IT7/2, the tightest class every
-// part meets at 604 mm: 20 of 20 within RONt 35 µm; order 3 median 14.2 µm against the
-// class's 2.312 µm".
+// named), and the order whose measured median is largest (of those the class draws, if any)
+// against the class's median there:
+// "ring population: 20 measured parts, resampled; against precise, the tightest class every
+// part meets at 604 mm: 20 of 20 within RONt 100 µm; order 3 median 15.78 µm against the
+// class's 6.53 µm".
 struct PopulationView;
 std::string PopulationLine(const PopulationView& view);
 

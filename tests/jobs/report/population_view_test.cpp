@@ -47,14 +47,20 @@ class PopulationViewTest : public ::testing::Test {
   void SetUp() override { dir_ = ringtol::testing::FreshTestFolder("population_view_test"); }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  // An export of a part of nominal radius `radius_mm`, `size_um` above it, with one lobe of
-  // `amplitude_um` at `order`: a reading every degree.
-  void WritePart(const std::string& name, double radius_mm, double size_um, int order, double amplitude_um,
-                 double phase_rad) {
+  struct Lobe {
+    int order = 0;
+    double amplitude_um = 0.0;
+    double phase_rad = 0.0;
+  };
+
+  // An export of a part of nominal radius `radius_mm`, `size_um` above it, with `lobes`: a
+  // reading every degree.
+  void WritePart(const std::string& name, double radius_mm, double size_um, const std::vector<Lobe>& lobes) {
     std::string text = "angle_deg, radius_mm\n";
     for (int step = 0; step < 360; ++step) {
       const double theta = step * kPi / 180.0;
-      const double deviation_um = size_um + amplitude_um * std::cos(order * theta + phase_rad);
+      double deviation_um = size_um;
+      for (const Lobe& lobe : lobes) deviation_um += lobe.amplitude_um * std::cos(lobe.order * theta + lobe.phase_rad);
       text += fmt::format("{}, {:.10f}\n", step, radius_mm + deviation_um * 1e-3);
     }
     ringtol::testing::WriteText(dir_ / name, text);
@@ -63,8 +69,8 @@ class PopulationViewTest : public ::testing::Test {
   // Rings of the paper's scene (bore 604 mm), each a lobe of order 3: RONt twice its amplitude.
   void WriteRings(const std::vector<double>& amplitudes_um) {
     for (std::size_t k = 0; k < amplitudes_um.size(); ++k) {
-      WritePart(fmt::format("ring_{}.csv", k + 1), 302.0, 3.0 + static_cast<double>(k), 3, amplitudes_um[k],
-                0.4 * static_cast<double>(k));
+      WritePart(fmt::format("ring_{}.csv", k + 1), 302.0, 3.0 + static_cast<double>(k),
+                {{3, amplitudes_um[k], 0.4 * static_cast<double>(k)}});
     }
   }
 
@@ -117,9 +123,13 @@ TEST_F(PopulationViewTest, ASingleLobeComesBackAsEachPartsAmplitudeAndTheMedianO
 
 // Drawn again here with another seed, the class's median and 95th percentile of every order
 // agree with the view's to the draws' precision (about 1.5 % for either at 4096 parts); an
-// order the class does not draw (a ring's order 1) has no class column.
+// order the class does not draw (a ring's order 1) has no class column, and the line quotes
+// the largest order the class draws rather than the tester's centring.
 TEST_F(PopulationViewTest, TheClassColumnIsWhatTheSamplerDrawsFromTheClass) {
   WriteRings({9.0, 10.0, 13.0});
+  for (const char* name : {"ring_1.csv", "ring_2.csv", "ring_3.csv"}) {
+    WritePart(name, 302.0, 0.0, {{1, 40.0, 0.0}, {3, 10.0, 0.0}});
+  }
   const SamplingPlan plan =
       Plan("ring", "profiles = [\"ring_1.csv\", \"ring_2.csv\", \"ring_3.csv\"]\norders = 6\nkeep_eccentricity = true\n"
                    "class = \"IT7/2\"\nmode = \"inspected\"\n");
@@ -127,6 +137,8 @@ TEST_F(PopulationViewTest, TheClassColumnIsWhatTheSamplerDrawsFromTheClass) {
   EXPECT_EQ(view.class_parts_drawn, 4096);
   ASSERT_EQ(view.orders.size(), 6u);
   EXPECT_FALSE(view.orders[0].class_median_um.has_value());
+  EXPECT_NEAR(view.orders[0].measured_median_um, 40.0, kFitUm);
+  EXPECT_THAT(PopulationLine(view), HasSubstr("order 3 median 10 µm against the class's"));
 
   const sampling::AssemblyTolerances tolerances =
       ToleranceOfClass(plan, sampling::ErrorSource::kRingShape, "IT7/2", sampling::ToleranceMode::kInspected);
@@ -199,7 +211,7 @@ TEST_F(PopulationViewTest, PartsNoClassHoldsAreComparedWithTheLoosestAndTheLineS
 TEST_F(PopulationViewTest, RollersAreJudgedOnTheirTwoPointVariationAgainstVdsp) {
   const double amplitudes[] = {1.0, 1.1, 2.0};
   for (std::size_t k = 0; k < 3; ++k) {
-    WritePart(fmt::format("roller_{}.csv", k + 1), 5.0, -1.0, 2, amplitudes[k], 0.3 * static_cast<double>(k));
+    WritePart(fmt::format("roller_{}.csv", k + 1), 5.0, -1.0, {{2, amplitudes[k], 0.3 * static_cast<double>(k)}});
   }
   const std::string parts = "profiles = [\"roller_1.csv\", \"roller_2.csv\", \"roller_3.csv\"]\norders = 3\n";
   const PopulationView view = ViewPopulations(Plan("rollers", parts), Quick()).front();
