@@ -235,6 +235,28 @@ TEST_F(PopulationViewTest, RollersAreJudgedOnTheirTwoPointVariationAgainstVdsp) 
                               "within VDsp 5 µm (outside: roller_3.csv)")));
 }
 
+// The line of a view built by hand: a model's words, at most five parts named outside, an
+// order the class does not draw, and a population compared with no class.
+TEST(PopulationLine, NamesFiveOutsidePartsCountsTheRestAndSaysWhyNoClassWasCompared) {
+  PopulationView view;
+  view.draw = sampling::PopulationDraw::kModel;
+  view.class_name = "IT5/2";
+  view.class_limit_um = 16.0;
+  view.mode = sampling::ToleranceMode::kInspected;
+  for (int k = 1; k <= 8; ++k) view.parts.push_back({fmt::format("p{}.csv", k), std::nullopt, 20.0, 20.0, false, {}});
+  view.parts.front().within_class = true;
+  view.orders.push_back({2, 4.0, 5.0, std::nullopt, std::nullopt});
+  EXPECT_EQ(PopulationLine(view),
+            "ring population: 8 measured parts, drawn from a law fitted to them; against IT5/2 (inspected): 1 of 8 "
+            "within RONt 16 µm (outside: p2.csv, p3.csv, p4.csv, p5.csv, p6.csv and 2 more); order 2 median 4 µm "
+            "against nothing the class draws");
+  view.class_name.clear();
+  view.class_problem = "no class of the catalogue has a row at this diameter";
+  EXPECT_EQ(PopulationLine(view),
+            "ring population: 8 measured parts, drawn from a law fitted to them; not compared with a class: no class "
+            "of the catalogue has a row at this diameter");
+}
+
 TEST_F(PopulationViewTest, AnUnknownClassIsRefusedNamingTheKey) {
   WriteRings({9.0});
   const std::string message = ringtol::testing::MessageOf<InputError>(
