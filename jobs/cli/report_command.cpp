@@ -15,6 +15,7 @@
 #include "jobs/report/allocation_report.h"
 #include "jobs/store/allocation_store.h"
 #include "jobs/report/report_html.h"
+#include "jobs/report/report_text.h"
 #include "jobs/store/campaign_store.h"
 
 namespace ringtol::jobs {
@@ -110,7 +111,9 @@ int RunReport(const ReportCommand& command, std::ostream& out) {
     throw InputError(DamageMessage(command.results, check));
   }
   const CampaignReport report = BuildReport(command.results, options);
-  return WriteReport(command, ReportHtml(report), [&] { return ReportJson(report); }, out);
+  const int status = WriteReport(command, ReportHtml(report), [&] { return ReportJson(report); }, out);
+  for (const PopulationView& view : report.populations) out << PopulationLine(view) << "\n";
+  return status;
 }
 
 }  // namespace ringtol::jobs

@@ -46,14 +46,24 @@ struct Common {
   sampling::Capability capability() const { return {mode, cp}; }
 };
 
+// `class` and `mode`, as every tolerance table and a population's comparison read them.
+template <typename T>
+Field<T> ClassField() {
+  return Field<T>{"class", Presence::kOptional, "a class name of the catalogue (`ringtol classes` lists them)",
+                  [](const Site& site, T& t) { t.class_name = ReadText(site, "a class name"); }, {}, {}};
+}
+template <typename T>
+Field<T> ModeField() {
+  return Choice<T, ToleranceMode>(
+      "mode", Presence::kOptional, {{"process", ToleranceMode::kProcess}, {"inspected", ToleranceMode::kInspected}},
+      &T::mode);
+}
+
 template <typename T>
 std::vector<Field<T>> CommonFields(bool spectrum) {
   std::vector<Field<T>> fields{
-      Field<T>{"class", Presence::kOptional, "a class name of the catalogue (`ringtol classes` lists them)",
-               [](const Site& site, T& t) { t.class_name = ReadText(site, "a class name"); }, {}, {}},
-      Choice<T, ToleranceMode>(
-          "mode", Presence::kOptional, {{"process", ToleranceMode::kProcess}, {"inspected", ToleranceMode::kInspected}},
-          &T::mode),
+      ClassField<T>(),
+      ModeField<T>(),
       Number<T, double>("capability_cp", Presence::kOptional, kSameUnit, Range{0, true, 1000, false}, &T::cp),
   };
   if (spectrum) {
@@ -284,6 +294,8 @@ struct PopulationInput {
   bool keep_eccentricity = false;
   ProfileReference reference = ProfileReference::kNominal;
   sampling::PopulationDraw draw = sampling::PopulationDraw::kResample;
+  std::optional<std::string> class_name;  // compared with in the report only
+  ToleranceMode mode = ToleranceMode::kProcess;
   // [population.rollers]: the rollers the batch fills, by name; every roller when absent.
   std::optional<std::vector<std::string>> names;
 };
@@ -320,6 +332,8 @@ std::vector<Field<PopulationInput>> PopulationFields(const std::filesystem::path
       Flag("keep_eccentricity", Presence::kOptional, &PopulationInput::keep_eccentricity),
       Choice("reference", Presence::kOptional, kProfileReferenceNames, &PopulationInput::reference),
       Choice("draw", Presence::kOptional, sampling::kPopulationDrawNames, &PopulationInput::draw),
+      ClassField<PopulationInput>(),
+      ModeField<PopulationInput>(),
   };
   if (!ring) fields.push_back(RollerNamesField(&PopulationInput::names));
   return fields;
@@ -405,6 +419,16 @@ void ResolvePopulation(const TableReader& table, PopulationInput in, bool ring, 
     identity += fmt::format("{} crc32 {:08x}\n", file.filename().string(), FileCrc32(file));
     population.parts.push_back(std::move(part));
   }
+  if (in.class_name) {
+    // Refused here, as a [tolerances.*] class is, rather than when a report first compares.
+    Lookup(table, [&] {
+      return ToleranceOfClass(plan, ring ? sampling::ErrorSource::kRingShape : sampling::ErrorSource::kRollerShape,
+                              *in.class_name, in.mode);
+    });
+  }
+  (ring ? plan.ring_population : plan.roller_population) =
+      PopulationSettings{in.orders, in.keep_eccentricity, in.reference == ProfileReference::kNominal, in.class_name,
+                         in.mode};
   (ring ? plan.tolerances.ring_population : plan.tolerances.roller_population) = std::move(population);
   if (!ring && in.names) plan.tolerances.batch_rollers = filled;
   plan.population += identity;

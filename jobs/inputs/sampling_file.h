@@ -27,6 +27,18 @@
 
 namespace ringtol::jobs {
 
+// What a [population.*] table says beyond its parts, for the report's view of the
+// population (jobs/report/population_view.h); nothing here changes what is drawn.
+struct PopulationSettings {
+  int orders = 0;                  // each export fitted to orders 0..orders
+  bool keep_eccentricity = false;  // its order 1 kept
+  bool sized = true;               // reference = "nominal": each part's size about the nominal radius counts
+  // `class`: the catalogue class the parts were made or bought to, checked to have a row at
+  // the parts' diameter; none: the report picks the tightest every part meets.
+  std::optional<std::string> class_name;
+  sampling::ToleranceMode mode = sampling::ToleranceMode::kProcess;  // how that class is drawn
+};
+
 struct SamplingPlan {
   std::filesystem::path scene_file;  // as resolved
   engine::Scene scene;
@@ -44,6 +56,8 @@ struct SamplingPlan {
   // settings and, per part, its export's name and the CRC-32 of its bytes; empty without
   // a population. A results file keeps it, and --resume refuses a population that changed.
   std::string population;
+  // Set exactly where tolerances.ring_population / roller_population is.
+  std::optional<PopulationSettings> ring_population, roller_population;
 };
 
 // `other_tables`: root tables of a larger file (a campaign file's [solver] and [spec]) that

@@ -384,6 +384,7 @@ CampaignReport BuildReport(const std::filesystem::path& results, const ReportOpt
   const sampling::Design& design = campaign.sampling().design;
   const bool saltelli = design.options().kind == sampling::DesignKind::kSaltelli;
   report.rollers = static_cast<int>(campaign.sampling().sampler.base().rollers.size());
+  report.populations = ViewPopulations(campaign.plan().sampling);
   const std::vector<sampling::SampledInput>& inputs = report.identity.inputs;
   const int d = static_cast<int>(inputs.size());
 
@@ -771,6 +772,9 @@ nlohmann::json ReportJson(const CampaignReport& report) {
   j["within_every_limit"] = proportion(report.within_every_limit);
   j["within_every_limit_counting_failures"] = proportion(report.within_every_limit_counting_failures);
   if (report.disposition) j["disposition"] = DispositionJson(*report.disposition);
+  nlohmann::json populations = nlohmann::json::array();
+  for (const PopulationView& view : report.populations) populations.push_back(PopulationJson(view));
+  j["populations"] = std::move(populations);
   nlohmann::json outputs = nlohmann::json::object();
   for (const OutputReport& out : report.outputs) outputs[out.name] = OutputJson(out, report.samples_per_draw);
   j["outputs"] = std::move(outputs);

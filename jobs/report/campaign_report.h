@@ -8,8 +8,10 @@
 // holds the life columns (docs/model.md §9), also how much of the life's D_trajectory and
 // runout one revolution misses, what the error motion over the life is, and the ISO 230-7
 // polar plot of the sample with the largest total error motion, replayed over several
-// revolutions (jobs/report/error_motion_plot.h). `ringtol report` writes it as one
-// self-contained HTML page (jobs/report/report_html.h) and as JSON (ReportJson).
+// revolutions (jobs/report/error_motion_plot.h). Where the campaign draws measured parts,
+// also what they are beside the class they were made to (jobs/report/population_view.h).
+// `ringtol report` writes it as one self-contained HTML page (jobs/report/report_html.h) and
+// as JSON (ReportJson).
 //
 // The numbers come from analysis/ (order statistics, distributions, sensitivities); this
 // layer reads the HDF5 file, picks the samples each statistic may use, and names things.
@@ -49,6 +51,7 @@
 #include "sampling/assembly_sampler.h"
 #include "jobs/report/campaign_summary.h"
 #include "jobs/report/error_motion_plot.h"
+#include "jobs/report/population_view.h"
 #include "jobs/store/campaign_store.h"
 #include "solvers/simulation.h"
 
@@ -210,6 +213,8 @@ struct CampaignReport {
   // empty for a file without the column.
   std::optional<ErrorMotionPlot> error_motion;
   std::optional<std::string> error_motion_problem;
+  // The measured populations the campaign drew from, beside their classes; empty without one.
+  std::vector<PopulationView> populations;
   ReportOptions options;
 };
 

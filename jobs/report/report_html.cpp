@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string_view>
 
 #include <fmt/format.h>
@@ -359,6 +360,9 @@ void AnswerSection(std::string& html, const CampaignReport& report, const Output
   if (report.life_error_motion) {
     html += fmt::format("<p>{}</p>\n", EscapeXml(LifeErrorMotionSentence(*report.life_error_motion, report.identity.error_motion_filter)));
   }
+  for (const PopulationView& view : report.populations) {
+    html += fmt::format("<p>{}.</p>\n", EscapeXml(PopulationLine(view)));
+  }
   html += "</div>\n";
 }
 
@@ -388,6 +392,84 @@ void SamplesSection(std::string& html, const CampaignReport& report) {
           "message in the results file.</p>\n",
           report.failed.size());
     }
+  }
+}
+
+// A measured population's parts per harmonic order, beside the median and 95th percentile
+// of the amplitudes its class draws there.
+std::string PopulationSvg(const PopulationView& view) {
+  svg::Chart chart;
+  chart.title = fmt::format("{} population: amplitude per order, against {}", view.ring ? "Ring" : "Roller",
+                            view.class_name.empty() ? std::string("no class") : view.class_name);
+  chart.x.label = "harmonic order";
+  chart.y.label = "amplitude [µm]";
+  chart.y.min = 0.0;
+  chart.x.step = 1.0;
+  // The parts of one order spread over a third of an order, so that equal amplitudes stay apart.
+  constexpr double kSpread = 1.0 / 3.0;
+  svg::Series parts{.name = "measured parts", .style = svg::Series::Style::kPoints, .colour = 0};
+  svg::Series median{.name = "measured median", .colour = 0};
+  svg::Series class_median{.name = "class: median", .colour = 1, .dashed = true};
+  svg::Series class_q95{.name = "class: 95th percentile", .colour = 2, .dashed = true};
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  const double n = static_cast<double>(view.parts.size());
+  for (std::size_t k = 0; k < view.orders.size(); ++k) {
+    const OrderComparison& o = view.orders[k];
+    const double x = o.order;
+    for (std::size_t p = 0; p < view.parts.size(); ++p) {
+      parts.x.push_back(n > 1 ? x + kSpread * (static_cast<double>(p) / (n - 1) - 0.5) : x);
+      parts.y.push_back(view.parts[p].amplitudes_um[k]);
+    }
+    median.x.push_back(x);
+    median.y.push_back(o.measured_median_um);
+    class_median.x.push_back(x);
+    class_median.y.push_back(o.class_median_um.value_or(kNaN));
+    class_q95.x.push_back(x);
+    class_q95.y.push_back(o.class_q95_um.value_or(kNaN));
+  }
+  chart.series = {std::move(parts), std::move(median), std::move(class_median), std::move(class_q95)};
+  return svg::RenderChart(chart);
+}
+
+void PopulationSection(std::string& html, const CampaignReport& report) {
+  if (report.populations.empty()) return;
+  html += "<h2 id=\"measured-parts\">Measured parts</h2>\n";
+  for (const PopulationView& view : report.populations) {
+    html += fmt::format("<h3>The {} population</h3>\n<p>{}.</p>\n", view.ring ? "ring" : "roller",
+                        EscapeXml(PopulationLine(view)));
+    if (!view.class_name.empty()) {
+      html += fmt::format(
+          "<p class=\"note\">Each part is judged on its fitted form's {} against {}'s {} at {:g} mm{}; its size and "
+          "eccentricity are shown, not judged. The class's columns are {} parts drawn from it{} by the campaign's "
+          "sampler, with a fixed seed.</p>\n",
+          EscapeXml(sampling::FormMeasureName(view.measure)), EscapeXml(view.class_name),
+          Micrometres(view.class_limit_um), view.diameter_mm,
+          view.class_chosen ? " (the report chose the class: the file names none)" : "", view.class_parts_drawn,
+          view.mode == sampling::ToleranceMode::kInspected ? " as inspected" : "");
+    }
+    if (view.class_problem) html += fmt::format("<p class=\"warn\">{}.</p>\n", EscapeXml(*view.class_problem));
+    html += "<div class=\"charts\">\n";
+    html += Figure(PopulationSvg(view),
+                   "Points: the parts' amplitudes (spread within each order); line: their median; dashed: the "
+                   "class's median and 95th percentile.",
+                   FigureWidth::kAlone);
+    html += "</div>\n<table>\n";
+    Row(html, {"order", "measured median [µm]", "measured largest [µm]", "class median [µm]", "class 95 % [µm]"},
+        true);
+    for (const OrderComparison& o : view.orders) {
+      Row(html, {fmt::format("{}", o.order), Num(o.measured_median_um), Num(o.measured_max_um),
+                 o.class_median_um ? Num(*o.class_median_um) : "-", o.class_q95_um ? Num(*o.class_q95_um) : "-"});
+    }
+    html += "</table>\n<table>\n";
+    Row(html,
+        {"part", view.ring ? "radius deviation [µm]" : "mean diameter deviation [µm]", "roundness RONt [µm]",
+         view.ring ? "judged: RONt [µm]" : "judged: VDsp [µm]", "within the class"},
+        true);
+    for (const MeasuredPartView& p : view.parts) {
+      Row(html, {EscapeXml(p.name), p.size_deviation_um ? Num(*p.size_deviation_um) : "-", Num(p.roundness_um),
+                 Num(p.form_um), view.class_name.empty() ? "-" : (p.within_class ? "yes" : "<b>no</b>")});
+    }
+    html += "</table>\n";
   }
 }
 
@@ -684,6 +766,7 @@ std::string ReportHtml(const CampaignReport& report) {
   const OutputReport* primary = Find(report, report.primary_output);
   AnswerSection(html, report, primary);
   SamplesSection(html, report);
+  PopulationSection(html, report);
   if (primary != nullptr && primary->distribution) {
     DistributionSection(html, *primary, report.options.confidence);
     ConvergenceSection(html, report, *primary);

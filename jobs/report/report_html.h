@@ -2,7 +2,8 @@
 // beside it; charts are inline SVG (jobs/report/svg_chart.h), styles inline, and a print style
 // sheet keeps every chart and table whole on paper. The page shows exactly the numbers of
 // ReportJson (jobs/report/campaign_report.h), in this order: the answer in three lines, samples
-// and failures, the distribution of the spec'd output (histogram, CDF, quantiles,
+// and failures, measured parts beside their class (where the campaign draws from measured
+// populations), the distribution of the spec'd output (histogram, CDF, quantiles,
 // capability, yield), convergence and the samples a stated precision needs, sensitivities
 // (contributors, by source, by the harmonic orders that carry the variance against the
 // roller count), the orbits of the worst and the median sample (centre path with its

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <utility>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "jobs/campaign/sample_record.h"
+#include "jobs/report/population_view.h"
 
 namespace ringtol::jobs {
 namespace {
@@ -105,6 +108,63 @@ std::string ErrorMotionName(ErrorMotionValue value) { return fmt::format("{} err
 std::string ErrorMotionFilterName(const engine::ErrorMotionFilter& filter) {
   return filter.filtered() ? fmt::format("Gaussian filter at {:g} UPR (ISO 16610-21)", filter.cutoff_upr)
                            : std::string("unfiltered");
+}
+
+namespace {
+
+// Parts named in a line before the rest are counted: a line stays a line.
+constexpr std::size_t kPartsNamed = 5;
+
+std::string PartsOutside(const PopulationView& view) {
+  std::vector<std::string> names;
+  for (const MeasuredPartView& part : view.parts) {
+    if (!part.within_class) names.push_back(part.name);
+  }
+  if (names.empty()) return "";
+  const std::size_t more = names.size() > kPartsNamed ? names.size() - kPartsNamed : 0;
+  names.resize(names.size() - more);
+  return fmt::format(" (outside: {}{})", fmt::join(names, ", "), more > 0 ? fmt::format(" and {} more", more) : "");
+}
+
+std::string ClassWords(const PopulationView& view) {
+  std::string words = view.class_name;
+  if (view.mode == sampling::ToleranceMode::kInspected) words += " (inspected)";
+  if (!view.class_chosen) return words;
+  const std::string at = fmt::format("{:g} mm", view.diameter_mm);
+  return PartsWithinClass(view) == static_cast<std::int64_t>(view.parts.size())
+             ? fmt::format("{}, the tightest class every part meets at {}", words, at)
+             : fmt::format("{}, the loosest class at {} (none holds every part)", words, at);
+}
+
+}  // namespace
+
+std::string PopulationLine(const PopulationView& view) {
+  std::string draw;
+  if (view.draw == sampling::PopulationDraw::kModel) {
+    draw = "drawn from a law fitted to them";
+  } else {
+    draw = view.ring ? "resampled" : "resampled without replacement";
+  }
+  std::string line = fmt::format("{} population: {} measured parts, {}", view.ring ? "ring" : "roller",
+                                 view.parts.size(), draw);
+  if (view.class_name.empty()) {
+    return line + fmt::format("; not compared with a class: {}", view.class_problem.value_or(""));
+  }
+  line += fmt::format("; against {}: {} of {} within {} {}{}", ClassWords(view), PartsWithinClass(view),
+                      view.parts.size(), view.ring ? "RONt" : "VDsp", Micrometres(view.class_limit_um),
+                      PartsOutside(view));
+  // The parts' dominant order among those the class draws: a kept order 1 is mostly the
+  // tester's centring, which no ring class draws.
+  const auto largest = std::max_element(view.orders.begin(), view.orders.end(), [](const auto& a, const auto& b) {
+    return std::pair(a.class_median_um.has_value(), a.measured_median_um) <
+           std::pair(b.class_median_um.has_value(), b.measured_median_um);
+  });
+  if (largest == view.orders.end()) return line;
+  line += fmt::format("; order {} median {} against ", largest->order, Micrometres(largest->measured_median_um));
+  line += largest->class_median_um ? fmt::format("the class's {}", Micrometres(*largest->class_median_um))
+                                   : std::string("nothing the class draws");
+  if (view.class_problem) line += fmt::format(" ({})", *view.class_problem);
+  return line;
 }
 
 std::string ErrorMotionConditions(const ErrorMotionReading& reading) {

@@ -199,6 +199,28 @@ TEST(SamplingFile, ABatchOfRollersCanFillSomeRollersOnly) {
               HasSubstr("population.ring.rollers"));
 }
 
+// [population.*] class and mode: kept for the report's comparison, looked up at the parts'
+// diameter as a [tolerances.*] class is, and never drawn from.
+TEST(SamplingFile, APopulationsClassIsKeptForTheReportAndChangesNoDraw) {
+  const std::string rollers = (std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/populations/rollers").string();
+  const std::string head = kSceneLine + "[population.rollers]\norders = 6\nfolder = \"" + rollers + "\"\n";
+  const SamplingPlan unnamed = ReadVariant(head);
+  ASSERT_TRUE(unnamed.roller_population.has_value());
+  EXPECT_FALSE(unnamed.roller_population->class_name.has_value());
+  EXPECT_EQ(unnamed.roller_population->mode, sampling::ToleranceMode::kProcess);
+  EXPECT_EQ(unnamed.roller_population->orders, 6);
+  EXPECT_FALSE(unnamed.ring_population.has_value());
+  const SamplingPlan named = ReadVariant(head + "class = \"P5\"\nmode = \"inspected\"\n");
+  EXPECT_EQ(named.roller_population->class_name, "P5");
+  EXPECT_EQ(named.roller_population->mode, sampling::ToleranceMode::kInspected);
+  EXPECT_TRUE(named.tolerances.roller_shapes.empty());
+  EXPECT_EQ(named.population, unnamed.population);
+  // A ring class has no row for a 10 mm roller, whose catalogue names the rows there are.
+  EXPECT_THAT(ErrorOf(head + "class = \"IT7/2\"\n"), AllOf(HasSubstr("population.rollers.class"), HasSubstr("IT7/2")));
+  EXPECT_THAT(ErrorOf(head + "mode = \"sorted\"\n"),
+              AllOf(HasSubstr("population.rollers.mode"), HasSubstr("\"process\", \"inspected\"")));
+}
+
 // [tolerances.rollers] rollers: the class draws only the rollers named; one left out keeps
 // the scene's outline (a measured roller judged alone), in the allocation's classes too.
 TEST(SamplingFile, ARollerClassCanLeaveAMeasuredRollerOut) {
