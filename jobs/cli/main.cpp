@@ -236,6 +236,8 @@ CLI::App* AddMatch(CLI::App& app, ringtol::jobs::MatchCommand& match) {
                   "Fit each assignment to this many assemblies of the file's other tolerances, the same for each, and "
                   "rank by the mean (default 0: the scene as it stands)")
       ->transform(DecimalIn(0, kMostSamples));
+  sub->add_option("--threads", match.threads, "Simulating threads (default 0: one per core)")
+      ->transform(DecimalIn(ringtol::jobs::PoolOptions::kThreadsRange));
   sub->add_flag("--json", match.json, "Print one JSON object");
   return sub;
 }

@@ -1,6 +1,7 @@
 #include "jobs/cli/match_command.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -8,6 +9,7 @@
 #include <numeric>
 #include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -50,21 +52,52 @@ std::int64_t AssignmentCount(std::size_t batch, std::size_t slots, std::int64_t 
   return count;
 }
 
-// The search: evaluates assignments once each, whatever order it meets them in.
+// The search: evaluates assignments once each, whatever order it meets them in, a list at a
+// time on `threads` threads (each with its own solver); an assignment's result does not
+// depend on the thread or the order.
 class Search {
  public:
   Search(const CampaignPlan& plan, std::vector<engine::Scene> bases, std::vector<std::size_t> rollers,
-         std::size_t output, std::optional<double> limit, solvers::SimulationOptions options)
+         std::size_t output, std::optional<double> limit, solvers::SimulationOptions options, int threads)
       : plan_(plan),
         bases_(std::move(bases)),
         rollers_(std::move(rollers)),
         output_(output),
         limit_(limit),
         options_(std::move(options)),
-        solver_(solvers::MakeSolver(plan.solver)) {}
+        threads_(threads) {}
 
-  const Matched& Evaluate(const Assignment& parts) {
-    if (const auto found = done_.find(parts); found != done_.end()) return found->second;
+  // The results of `list`, in its order.
+  std::vector<Matched> Evaluate(const std::vector<Assignment>& list) {
+    std::vector<Assignment> todo;
+    for (const Assignment& parts : list) {
+      if (!done_.contains(parts) && std::find(todo.begin(), todo.end(), parts) == todo.end()) todo.push_back(parts);
+    }
+    std::vector<Matched> judged(todo.size());
+    std::atomic<std::size_t> next{0};
+    const auto work = [&] {
+      const std::unique_ptr<solvers::Solver> solver = solvers::MakeSolver(plan_.solver);
+      for (std::size_t k = next++; k < todo.size(); k = next++) judged[k] = Judge(todo[k], *solver);
+    };
+    const auto helpers = static_cast<std::size_t>(std::max(1, threads_)) - 1;
+    std::vector<std::jthread> pool;
+    for (std::size_t t = 0; t < std::min(helpers, todo.size()); ++t) pool.emplace_back(work);
+    work();
+    pool.clear();  // joins
+    for (Matched& matched : judged) done_.emplace(matched.parts, std::move(matched));
+    std::vector<Matched> out;
+    for (const Assignment& parts : list) out.push_back(done_.at(parts));
+    return out;
+  }
+
+  std::vector<Matched> Evaluated() const {
+    std::vector<Matched> all;
+    for (const auto& [parts, matched] : done_) all.push_back(matched);
+    return all;
+  }
+
+ private:
+  Matched Judge(const Assignment& parts, const solvers::Solver& solver) const {
     Matched matched{parts, 0.0, 0.0, 0.0, 0, {}};
     std::int64_t given = 0;
     std::int64_t within = 0;
@@ -73,7 +106,7 @@ class Search {
           sampling::WithRollerParts(base, *plan_.sampling.tolerances.roller_population, rollers_, parts);
       SampleRecord record;
       try {
-        RecordSimulation(solvers::Simulate(scene, *solver_, options_), options_.life, record);
+        RecordSimulation(solvers::Simulate(scene, solver, options_), options_.life, record);
       } catch (const std::exception& e) {
         record.status = SampleStatus::kException;
         record.message = e.what();
@@ -96,23 +129,16 @@ class Search {
     matched.value = given > 0 ? matched.value / static_cast<double>(given) : std::numeric_limits<double>::quiet_NaN();
     if (given == 0) matched.worst = matched.value;
     matched.within = static_cast<double>(within) / static_cast<double>(bases_.size());
-    return done_.emplace(parts, std::move(matched)).first->second;
+    return matched;
   }
 
-  std::vector<Matched> Evaluated() const {
-    std::vector<Matched> all;
-    for (const auto& [parts, matched] : done_) all.push_back(matched);
-    return all;
-  }
-
- private:
   const CampaignPlan& plan_;
   std::vector<engine::Scene> bases_;  // what each assignment's parts are fitted to
   std::vector<std::size_t> rollers_;  // the scene rollers the slots are
   std::size_t output_;
   std::optional<double> limit_;
   solvers::SimulationOptions options_;
-  std::unique_ptr<solvers::Solver> solver_;
+  int threads_;
   std::map<Assignment, Matched> done_;
 };
 
@@ -157,16 +183,17 @@ std::vector<engine::Scene> Bases(const CampaignPlan& plan, std::int64_t draws) {
   return bases;
 }
 
-void EveryAssignment(std::size_t batch, Assignment& parts, std::vector<bool>& used, std::size_t slot, Search& search) {
+void EveryAssignment(std::size_t batch, Assignment& parts, std::vector<bool>& used, std::size_t slot,
+                     std::vector<Assignment>& all) {
   if (slot == parts.size()) {
-    search.Evaluate(parts);
+    all.push_back(parts);
     return;
   }
   for (std::size_t p = 0; p < batch; ++p) {
     if (used[p]) continue;
     used[p] = true;
     parts[slot] = p;
-    EveryAssignment(batch, parts, used, slot + 1, search);
+    EveryAssignment(batch, parts, used, slot + 1, all);
     used[p] = false;
   }
 }
@@ -197,8 +224,7 @@ int SwapDescent(std::size_t batch, Assignment current, Search& search) {
   int moves = 0;
   for (bool improved = true; improved;) {
     improved = false;
-    const Matched here = search.Evaluate(current);
-    Matched best = here;
+    std::vector<Assignment> neighbours = {current};
     for (std::size_t slot = 0; slot < current.size(); ++slot) {
       for (std::size_t p = 0; p < batch; ++p) {
         if (p == current[slot]) continue;
@@ -206,11 +232,12 @@ int SwapDescent(std::size_t batch, Assignment current, Search& search) {
         const auto other = std::find(moved.begin(), moved.end(), p);
         if (other != moved.end()) *other = moved[slot];
         moved[slot] = p;
-        const Matched& tried = search.Evaluate(moved);
-        if (Better(tried, best)) best = tried;
+        neighbours.push_back(std::move(moved));
       }
     }
-    if (best.parts != here.parts) {
+    const std::vector<Matched> tried = search.Evaluate(neighbours);
+    const Matched& best = *std::min_element(tried.begin(), tried.end(), Better);
+    if (best.parts != current) {
       current = best.parts;
       improved = true;
       ++moves;
@@ -264,18 +291,19 @@ int RunMatch(const MatchCommand& command, std::ostream& out) {
   const std::size_t slots = rollers.size();
   const std::int64_t count = AssignmentCount(parts, slots, command.exhaustive_limit);
   const bool exhaustive = count <= command.exhaustive_limit;
-  Search search(plan, Bases(plan, command.draws), rollers, output, limit, options);
+  const int threads =
+      command.threads > 0 ? command.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  Search search(plan, Bases(plan, command.draws), rollers, output, limit, options, threads);
   std::vector<Matched> random_choice;  // what choosing at random gives: every assignment, or the drawn ones
   int moves = 0;
   if (exhaustive) {
     Assignment assignment(slots);
     std::vector<bool> used(parts, false);
-    EveryAssignment(parts, assignment, used, 0, search);
-    random_choice = search.Evaluated();
+    std::vector<Assignment> all;
+    EveryAssignment(parts, assignment, used, 0, all);
+    random_choice = search.Evaluate(all);
   } else {
-    for (const Assignment& drawn : RandomAssignments(parts, slots, command.budget, plan.sampling.seed)) {
-      random_choice.push_back(search.Evaluate(drawn));
-    }
+    random_choice = search.Evaluate(RandomAssignments(parts, slots, command.budget, plan.sampling.seed));
     const Matched start = *std::min_element(random_choice.begin(), random_choice.end(), Better);
     moves = SwapDescent(parts, start.parts, search);
   }

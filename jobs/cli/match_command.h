@@ -33,6 +33,7 @@ struct MatchCommand {
   std::int64_t budget = 2000;             // >= 1: the random assignments of the heuristic
   int top = 5;                            // >= 1: assignments listed
   std::int64_t draws = 0;                 // >= 0, <= the file's samples: 0 fits the scene as it stands
+  int threads = 0;                        // >= 0: simulating threads, 0 one per core (results do not depend on it)
   bool json = false;
 };
 

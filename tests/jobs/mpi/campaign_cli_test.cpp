@@ -1088,6 +1088,14 @@ TEST(Match, RecommendsTheRollersThatLowerTheOutputAndStatesTheGainOverARandomCho
 
   const Outcome heuristic = RunRingtol("", "match " + file.string() + " --json --exhaustive-limit 10 --budget 4");
   ASSERT_EQ(heuristic.exit_code, 0) << heuristic.err;
+  // The threads share the assignments out, never the answer.
+  for (const char* threads : {"1", "3"}) {
+    EXPECT_EQ(RunRingtol("", "match " + file.string() + " --json --exhaustive-limit 10 --budget 4 --threads " + threads).out,
+              heuristic.out)
+        << threads << " threads";
+    EXPECT_EQ(RunRingtol("", "match " + file.string() + " --json --top 24 --threads " + threads).out, exhaustive.out)
+        << threads << " threads";
+  }
   const nlohmann::json searched = nlohmann::json::parse(heuristic.out);
   EXPECT_FALSE(searched["search"]["exhaustive"].get<bool>());
   EXPECT_THAT(searched["search"]["description"].get<std::string>(), HasSubstr("not proven optimal"));
