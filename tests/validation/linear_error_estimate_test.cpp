@@ -74,14 +74,24 @@ TEST(LinearErrorEstimate, BoundsTheTrueErrorOfCampaignLikeScenesUpToTheLoosestCl
 // The same draws on stages of four to eight rollers, one or two of them on springs, whose
 // extra fixed rollers carry a few newtons each; the ring at a quarter of the waterjet class,
 // where none of them leaves contact (at the class itself most do).
+// The estimate there is loose (its third-order terms are bounded term by term), but the
+// response's drift taken contact by contact keeps it within `loosest` times the true error,
+// 1.2 times what it measured (347 to 50,541); the largest drift times the whole correction
+// gave 578 to 73,962.
 TEST(LinearErrorEstimate, BoundsTheTrueErrorOnStagesOfFourToEightRollers) {
-  for (const auto& [rollers, springs] : {std::pair{4, 1}, std::pair{5, 2}, std::pair{6, 2}, std::pair{8, 2}}) {
+  struct Stage {
+    int rollers, springs;
+    double loosest;
+  };
+  for (const auto& [rollers, springs, loosest] :
+       {Stage{4, 1, 6.1e4}, Stage{5, 2, 4.7e3}, Stage{6, 2, 4.2e2}, Stage{8, 2, 5.6e2}}) {
     engine::Scene scene = testing::CampaignLikeStage(rollers, springs);
     std::vector<engine::Harmonic> ring = scene.ring.inner.harmonics();
     for (engine::Harmonic& h : ring) h.amplitude *= 0.25;
     testing::SetRing(scene, std::move(ring));
     const Comparison c = Compare(scene);
     EXPECT_LE(c.true_error, c.estimate + kExactRungError) << rollers << " rollers, " << springs << " springs";
+    EXPECT_LT(c.estimate, loosest * c.true_error) << rollers << " rollers, " << springs << " springs";
     RecordProperty("estimate_over_true_error_" + std::to_string(rollers) + "_rollers",
                    std::to_string(c.estimate / c.true_error));
   }
