@@ -902,6 +902,21 @@ TEST(Campaign, TheSixRollerStagesCampaignEndsWithEverySampleOk) {
   EXPECT_TRUE(summary["life"]["computed"].get<bool>());
 }
 
+// The symmetric stage (examples/symmetric_stage): a third fixed roller opposite the spring.
+// Its campaign ends with every sample ok, some with the outer rollers off the bore for part
+// of the turn and the ring on the middle one; under a rule that asked for two fixed rollers
+// nearly all of its draws failed (docs/model.md §7, "Contacts that open").
+TEST(Campaign, TheSymmetricStagesCampaignEndsWithEverySampleOkThoughRollersOpen) {
+  const std::filesystem::path file =
+      std::filesystem::path(RINGTOL_SOURCE_DIR) / "examples/symmetric_stage/campaign.toml";
+  const Outcome run = Campaign(file, Folder() / "symmetric.h5", "--samples 128 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(run.out);
+  EXPECT_EQ(summary["samples_ok"], 128) << summary["failures"].dump();
+  EXPECT_GT(summary["contacts"]["samples_with_opening"].get<int>(), 0) << summary["contacts"].dump();
+  EXPECT_EQ(summary["contacts"]["rollers"]["fixed_c"]["samples"], 0) << summary["contacts"].dump();  // the middle one holds
+}
+
 // A campaign that leaves the life out ([outputs] life = false): its summary, its report and
 // its JSON say so instead of showing numbers, verify finds the file whole, and resuming it
 // with the life on is refused, naming the key.
