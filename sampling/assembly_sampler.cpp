@@ -57,6 +57,13 @@ void AddToProfile(engine::PolarProfile& profile, const std::vector<engine::Harmo
 
 }  // namespace
 
+std::size_t TakePart(std::vector<std::size_t>& left, double u) {
+  const auto at = std::min(left.size() - 1, static_cast<std::size_t>(u * static_cast<double>(left.size())));
+  const std::size_t part = left[at];
+  left.erase(left.begin() + static_cast<std::ptrdiff_t>(at));
+  return part;
+}
+
 std::vector<std::size_t> BatchRollers(const AssemblyTolerances& tolerances, std::size_t rollers) {
   if (!tolerances.batch_rollers.empty()) return tolerances.batch_rollers;
   std::vector<std::size_t> all(rollers);
@@ -574,10 +581,7 @@ SampledAssembly AssemblySampler::Realise(std::int64_t index, std::span<const dou
         if (ring) {
           part = std::min(parts.size() - 1, static_cast<std::size_t>(w[0] * static_cast<double>(parts.size())));
         } else {
-          const std::size_t left = batch_left.size();
-          const auto at = std::min(left - 1, static_cast<std::size_t>(w[0] * static_cast<double>(left)));
-          part = batch_left[at];
-          batch_left.erase(batch_left.begin() + static_cast<std::ptrdiff_t>(at));
+          part = TakePart(batch_left, w[0]);
         }
         values[0] = static_cast<double>(part);
         auto& target = ring ? ring_harmonics : roller_harmonics[r];

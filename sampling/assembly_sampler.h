@@ -42,6 +42,8 @@
 namespace ringtol::sampling {
 
 enum class ToleranceMode { kProcess, kInspected };
+inline constexpr NameTable<ToleranceMode, 2> kToleranceModeNames = {
+    {{ToleranceMode::kProcess, "process"}, {ToleranceMode::kInspected, "inspected"}}};
 
 struct Capability {
   ToleranceMode mode = ToleranceMode::kProcess;
@@ -215,6 +217,11 @@ struct AssemblySamplerOptions {
   // stored scales whatever this build would calibrate.
   std::vector<ComponentScale> known_scales;
 };
+
+// Resampling without replacement: the part a coordinate u in [0, 1) picks among the parts
+// `left` (in their order), removed from them. A batch's k-th roller takes its part so from
+// the B - k left.
+std::size_t TakePart(std::vector<std::size_t>& left, double u);
 
 // The scene rollers a roller batch fills: `tolerances.batch_rollers`, or all `rollers` of
 // the scene when it is empty.

@@ -121,6 +121,23 @@ SupportRemainder<Lane> SupportRemainderOf(const OutlineAtContact<Lane>& ring, co
   return out;
 }
 
+// Remainder term 5 of one contact, taken contact by contact (SecondOrderKernel's comment),
+// shared with Over: the contact's stiffness drifting by `law_drift` (relative) and turning
+// by `phi` [rad], its geometric entry F / g'' changing by `force_change` [N] and turning
+// with `force` [N], each acting on the correction's displacement at the contact along its
+// normal and tangent [m] and carried to the centre by its gains. The operations and their
+// order are At's own, so its results keep their bits.
+template <class Lane>
+Lane ContactDrift(const SecondOrderScene::Contact& k, Lane law_drift, Lane phi, Lane force, Lane force_change,
+                  Lane along_n, Lane along_t) {
+  const double kc = k.force_stiffness;
+  const Lane bending = force * phi / k.gap_curvature;  // the geometric entry's turn [N/m]
+  return kc * (law_drift * along_n * k.normal_force_gain +
+               phi * (along_n * k.tangent_force_gain + along_t * k.normal_force_gain)) +
+         force_change / k.gap_curvature * along_t * k.tangent_force_gain +
+         bending * (along_t * k.normal_force_gain + along_n * k.tangent_force_gain);
+}
+
 // Per contact, what the kernel carries from one pass over the contacts to the next: gamma,
 // the turn g'_i with its known second-order slopes, the gap's curvature, the penetration
 // change d_i, the first-order turn's slope, the correction's own turn, and the corrections
@@ -335,13 +352,8 @@ void SecondOrderKernel(const SecondOrderScene& scene, const Input& first, Contac
       }
       const Lane along_n = Ops::Abs(shift_x * k.normal.x() + shift_y * k.normal.y());
       const Lane along_t = Ops::Abs(shift_x * k.tangent.x() + shift_y * k.tangent.y());
-      const double kc = k.force_stiffness;
-      const Lane bending = force * phi / k.gap_curvature;  // the geometric entry's turn [N/m]
-      drift_by_contact = drift_by_contact +
-                         kc * (law_drift * along_n * k.normal_force_gain +
-                               phi * (along_n * k.tangent_force_gain + along_t * k.normal_force_gain)) +
-                         force_change / k.gap_curvature * along_t * k.tangent_force_gain +
-                         bending * (along_t * k.normal_force_gain + along_n * k.tangent_force_gain);
+      drift_by_contact =
+          drift_by_contact + ContactDrift<Lane>(k, law_drift, phi, force, force_change, along_n, along_t);
     }
   }
   Lane drifted = drift * correction;
@@ -706,11 +718,7 @@ void SecondOrderTerms::Over(const FirstOrderRange& range, SecondOrderRange& out)
     if (by_contact) {
       const double along_n = kRoundingAllowance * shift_n[i].Magnitude();
       const double along_t = kRoundingAllowance * shift_t[i].Magnitude();
-      const double bending = force_bound * phi / k.gap_curvature;
-      drift_by_contact += k.force_stiffness * (law_drift * along_n * k.normal_force_gain +
-                                               phi * (along_n * k.tangent_force_gain + along_t * k.normal_force_gain)) +
-                          change / k.gap_curvature * along_t * k.tangent_force_gain +
-                          bending * (along_t * k.normal_force_gain + along_n * k.tangent_force_gain);
+      drift_by_contact += ContactDrift<double>(k, law_drift, phi, force_bound, change, along_n, along_t);
     }
   }
   const double drifted = by_contact ? std::min(drift * correction, drift_by_contact) : drift * correction;

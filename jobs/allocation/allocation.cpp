@@ -29,10 +29,6 @@ bool SameInputs(const std::vector<sampling::SampledInput>& a, const std::vector<
   });
 }
 
-std::string_view ModeName(sampling::ToleranceMode mode) {
-  return mode == sampling::ToleranceMode::kInspected ? "inspected" : "process";
-}
-
 std::vector<std::string> StoredOutputs(const std::vector<analysis::Constraint>& constraints) {
   std::vector<std::string> outputs;
   for (const char* name : kOutputNames) {
@@ -71,7 +67,8 @@ Allocation::Allocation(const std::filesystem::path& file)
     identity_.components.emplace_back(NameOf(kAllocatedComponentNames, choice.component));
     std::vector<AllocationIdentity::Option>& options = identity_.options.emplace_back();
     for (const AllocationOption& option : choice.options)
-      options.push_back({option.class_name, std::string(ModeName(option.mode)), option.tolerance, option.cost});
+      options.push_back({option.class_name, std::string(NameOf(sampling::kToleranceModeNames, option.mode)),
+                         option.tolerance, option.cost});
   }
   identity_.constraints = plan_.constraints;
   identity_.reference = plan_.reference == CostReference::kCurrent ? plan_.current : std::optional<std::int64_t>(0);

@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <numeric>
+#include <set>
 #include <span>
 #include <string>
 #include <thread>
@@ -70,8 +71,9 @@ class Search {
   // The results of `list`, in its order.
   std::vector<Matched> Evaluate(const std::vector<Assignment>& list) {
     std::vector<Assignment> todo;
+    std::set<Assignment> listed;  // a list may name one twice (random draws)
     for (const Assignment& parts : list) {
-      if (!done_.contains(parts) && std::find(todo.begin(), todo.end(), parts) == todo.end()) todo.push_back(parts);
+      if (!done_.contains(parts) && listed.insert(parts).second) todo.push_back(parts);
     }
     std::vector<Matched> judged(todo.size());
     std::atomic<std::size_t> next{0};
@@ -207,10 +209,8 @@ std::vector<Assignment> RandomAssignments(std::size_t batch, std::size_t slots, 
     std::iota(left.begin(), left.end(), std::size_t{0});
     Assignment parts(slots);
     for (std::size_t i = 0; i < slots; ++i) {
-      const double u = sampling::RandomUnit(seed, sampling::RandomStream::kMatch, static_cast<std::uint64_t>(k), i, 0);
-      const auto at = std::min(left.size() - 1, static_cast<std::size_t>(u * static_cast<double>(left.size())));
-      parts[i] = left[at];
-      left.erase(left.begin() + static_cast<std::ptrdiff_t>(at));
+      parts[i] = sampling::TakePart(
+          left, sampling::RandomUnit(seed, sampling::RandomStream::kMatch, static_cast<std::uint64_t>(k), i, 0));
     }
     drawn.push_back(std::move(parts));
   }

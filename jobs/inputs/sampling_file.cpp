@@ -54,9 +54,7 @@ Field<T> ClassField() {
 }
 template <typename T>
 Field<T> ModeField() {
-  return Choice<T, ToleranceMode>(
-      "mode", Presence::kOptional, {{"process", ToleranceMode::kProcess}, {"inspected", ToleranceMode::kInspected}},
-      &T::mode);
+  return Choice<T, ToleranceMode>("mode", Presence::kOptional, sampling::kToleranceModeNames, &T::mode);
 }
 
 template <typename T>

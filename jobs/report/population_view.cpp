@@ -124,9 +124,11 @@ PopulationView ViewPopulation(const SamplingPlan& plan, bool ring, const samplin
   view.draw = population.draw;
   view.mode = settings.mode;
   view.measure = ring ? sampling::FormMeasure::kRoundness : sampling::FormMeasure::kTwoPointVariation;
-  view.diameter_mm =
-      2.0 * (ring ? plan.scene.ring.inner.radius() : plan.scene.rollers.front().outline.radius()) *
-      units::kMillimetresPerMetre;
+  // A batch's parts share the size of the rollers it fills, which the reader checked.
+  const double radius = ring ? plan.scene.ring.inner.radius()
+                             : plan.scene.rollers[sampling::BatchRollers(plan.tolerances, plan.scene.rollers.size()).front()]
+                                   .outline.radius();
+  view.diameter_mm = 2.0 * radius * units::kMillimetresPerMetre;
   std::vector<int> orders;
   for (int n = settings.keep_eccentricity ? 1 : 2; n <= settings.orders; ++n) orders.push_back(n);
   double largest_um = 0.0;
@@ -225,7 +227,7 @@ nlohmann::json PopulationJson(const PopulationView& view) {
       view.class_name.empty() ? std::nullopt : std::optional<std::string>(view.class_name);
   nlohmann::json comparison = {{"name", Optional(name)},
                                {"chosen", view.class_chosen},
-                               {"mode", view.mode == sampling::ToleranceMode::kInspected ? "inspected" : "process"},
+                               {"mode", NameOf(sampling::kToleranceModeNames, view.mode)},
                                {"measure", sampling::FormMeasureName(view.measure)},
                                {"limit_um", view.class_limit_um},
                                {"diameter_mm", view.diameter_mm},
